@@ -1,0 +1,62 @@
+# pscbranch: build, test, demo, examples, benchmarks.
+#   make test    build everything with strict warnings and run the suite
+#   make demo    run the main demo
+#   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
+CC ?= cc
+CXX ?= c++
+LAPACK_LIBS ?= -llapack -lblas
+WARN = -std=c99 -Wall -Wextra -Wpedantic -Werror
+OPT ?= -O2
+CFLAGS ?=
+SAN ?=
+ALL_CFLAGS = $(WARN) $(OPT) $(SAN) -I. $(CFLAGS)
+LIBS = $(LAPACK_LIBS) -lm
+SHARED ?= ../shared
+BUILD ?= build
+
+HEADER = pscbranch.h
+TESTS = $(BUILD)/test_core $(BUILD)/test_contact $(BUILD)/test_linkage
+EXAMPLES = examples/01_branching examples/fc_solve
+
+.PHONY: all test demo examples asan ubsan clean check-tools
+
+all: $(TESTS) $(EXAMPLES)
+
+$(BUILD):
+	mkdir -p $(BUILD)
+
+$(BUILD)/test_core: tests/test_core.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_core.c -o $@ $(LIBS)
+
+$(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)
+
+$(BUILD)/linkage_impl.o: tests/linkage_impl.cpp $(HEADER) | $(BUILD)
+	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -c tests/linkage_impl.cpp -o $@
+
+$(BUILD)/test_linkage: tests/test_linkage.c $(BUILD)/linkage_impl.o tests/harness.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) tests/test_linkage.c $(BUILD)/linkage_impl.o -o $@ $(LIBS)
+
+examples/%: examples/%.c $(HEADER)
+	$(CC) $(ALL_CFLAGS) $< -o $@ $(LIBS)
+
+examples: $(EXAMPLES)
+
+SMOKE = "smoke:examples/01_branching" \
+	"smoke:examples/fc_solve $(SHARED)/fc-problems/*.dat"
+
+test: $(TESTS) $(EXAMPLES)
+	@bash tests/run.sh $(TESTS) $(SMOKE)
+
+demo: examples/01_branching
+	@mkdir -p out
+	./examples/01_branching --out out
+
+asan:
+	$(MAKE) BUILD=build-asan OPT="-O1 -g" SAN="-fsanitize=address -fno-omit-frame-pointer" EXAMPLES= SMOKE= test
+
+ubsan:
+	$(MAKE) BUILD=build-ubsan OPT="-O1 -g" SAN="-fsanitize=undefined -fno-sanitize-recover=all" EXAMPLES= SMOKE= test
+
+clean:
+	rm -rf build build-asan build-ubsan out $(EXAMPLES)

@@ -1,0 +1,201 @@
+/* block - Section 3.2 of Ligursky & Renard: a 40 mm x 80 mm Ciarlet-Geymonat block fixed on top,
+   sheared by h(gamma, x) = gamma (-2, 0.12 (x1 - 20)) N/mm^2 on both lateral sides, lying on a
+   rigid foundation with Coulomb friction (F = 1, r = 10). Six branches meet at gamma = 0: forcing
+   to the right (gamma < 0) or to the left, each with no contact, contact-stick or contact-slip.
+
+   The run: Newton at gamma = --start (default -1), continuation to the nonsmooth point gamma = 0,
+   Algorithms 2.1-2.2 (c_diff = 0.99999, h = 5e-7, h_min = h / 2^14, h_init = 5e-4), then every
+   branch is traced to |gamma| = 1. Exit status 0 only when the six branches of the paper are found,
+   each ends on |gamma| = 1 with a small residual, and the contact states are as in the paper.
+
+   Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--kappa 1|1/N|VALUE]
+                [--start -1|1] [--dirichlet mult|elim] [--seed S] [--out DIR] [--verbose]
+   Build (from the repository root):
+     cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
+#define _POSIX_C_SOURCE 200809L
+#include <sys/stat.h>
+#include <time.h>
+#define PSCBRANCH_IMPLEMENTATION
+#include "pscbranch.h"
+#include "wip/pscbranch_contact.h"
+#define FE_USE_PSB_CONTACT
+#include "fe.h"
+
+typedef struct args {
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose;
+    double kappa; /* < 0: 1/N */
+    unsigned long long seed;
+    const char *out;
+} args;
+
+static int parse(int argc, char **argv, args *a)
+{
+    int i;
+    a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
+    a->multipliers = 1; a->verbose = 0; a->kappa = -1; a->seed = 0; a->out = NULL;
+    for (i = 1; i < argc; i++) {
+        const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
+        if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
+        if (!v) { fprintf(stderr, "block: %s needs a value\n", o); return -1; }
+        i++;
+        if (!strcmp(o, "--mesh")) { if (sscanf(v, "%dx%d", &a->nx, &a->ny) != 2 || a->nx < 2 || a->ny < 2) return -1; }
+        else if (!strcmp(o, "--ndir")) a->ndir = atoi(v);
+        else if (!strcmp(o, "--nspan")) a->nspan = atoi(v);
+        else if (!strcmp(o, "--input")) a->input = atoi(v);
+        else if (!strcmp(o, "--start")) a->start = atoi(v) < 0 ? -1 : 1;
+        else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
+        else if (!strcmp(o, "--out")) a->out = v;
+        else if (!strcmp(o, "--dirichlet")) a->multipliers = strcmp(v, "elim") != 0;
+        else if (!strcmp(o, "--kappa")) a->kappa = !strcmp(v, "1/N") ? -1 : atof(v);
+        else { fprintf(stderr, "block: unknown option %s\n", o); return -1; }
+    }
+    if (a->ndir < 1 || a->nspan < 1 || a->input < 0 || a->input > 6 || a->kappa == 0) return -1;
+    return 0;
+}
+
+/* The paper's numbering: 1-3 to the right (gamma < 0), 4-6 to the left; no contact, stick, slip. */
+static void classify(fe_branch *b, double gamma)
+{
+    int right = gamma < 0, slip = b->states[FE_SLIP_POS] + b->states[FE_SLIP_NEG], kind;
+    kind = slip ? 3 : (b->states[FE_STICK] ? 2 : 1);
+    b->number = (right ? 0 : 3) + kind;
+    snprintf(b->label, sizeof b->label, "%s, %s", right ? "right" : "left",
+             kind == 1 ? "no contact" : (kind == 2 ? "contact-stick" : "contact-slip"));
+}
+
+/* Expected end states: slipping nodes slide the way the block is forced, at least one contact
+   node touches on contact branches, and stick/slip branches have no node in the other state. */
+static int check_branch(const fe_branch *b, int n, double tol)
+{
+    int right = b->number <= 3, kind = (b->number - 1) % 3 + 1;
+    if (b->end != PSB_PARAM_BOUND || fabs(b->y[n]) != 1.0) return 0;
+    if (!(b->resnorm <= tol)) return 0;
+    if (kind == 1) return b->states[FE_STICK] + b->states[FE_SLIP_POS] + b->states[FE_SLIP_NEG] == 0;
+    if (kind == 2) return b->states[FE_STICK] > 0 && b->states[FE_SLIP_POS] + b->states[FE_SLIP_NEG] == 0;
+    return b->states[right ? FE_SLIP_NEG : FE_SLIP_POS] == 0 && b->states[right ? FE_SLIP_POS : FE_SLIP_NEG] > 0;
+}
+
+static double seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
+
+/* One branching run from the couple (y, t) arriving at gamma = 0; returns the input branch number. */
+static int branch_and_trace(fe_run *run, double *y, double *t, const args *a)
+{
+    int k, n = run->md->n;
+    psb_result r = fe_run_approach(run, y, t, a->verbose);
+    if (r < 0) {
+        printf("block: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run->s));
+        return -1;
+    }
+    r = fe_run_branching(run, y, t);
+    if (r < 0) {
+        printf("block: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run->s));
+        return -1;
+    }
+    if (a->verbose) {
+        printf("  Algorithm 2.1: gamma = %.3e, precision %.2e; Algorithm 2.2: %d branches\n", y[n], run->precision, run->nbr);
+        for (k = 0; k < run->nbr; k++)
+            printf("    found %d: gamma = %.3e, t_gamma = %+.4f\n", k, run->ys[(size_t)k * (n + 1) + n], run->ts[(size_t)k * (n + 1) + n]);
+    }
+    run->ndiag = 0;
+    fe_run_trace_all(run, 1.0);
+    for (k = 0; k < run->nbr; k++) classify(&run->br[k], run->br[k].y[n]);
+    return run->br[0].number;
+}
+
+int main(int argc, char **argv)
+{
+    args a;
+    fe_mesh mesh;
+    fe_model md;
+    fe_run run;
+    psb_options opt;
+    double *y, *t, t0, t1, tol = 1e-8;
+    int n, k, input, ok, seen[7] = {0, 0, 0, 0, 0, 0, 0};
+    psb_result r;
+
+    if (parse(argc, argv, &a)) {
+        fprintf(stderr, "usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--kappa 1|1/N|VALUE]\n"
+                        "             [--start -1|1] [--dirichlet mult|elim] [--seed S] [--out DIR] [--verbose]\n");
+        return 2;
+    }
+    if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory\n"); return 1; }
+    n = md.n;
+    memset(&opt, 0, sizeof opt);
+    opt.kappa = a.kappa > 0 ? a.kappa : 1.0 / n;
+    opt.h_init = 1e-2; opt.h_max = 0.2; opt.h_min = 1e-9;
+    opt.tol_residual = 1e-9; opt.tol_correction = 1e-9;
+    opt.c_diff = 0.99999; opt.branch_h = 5e-7; opt.branch_h_min = 5e-7 / 16384; opt.branch_h_init = 5e-4;
+    opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed;
+    if (fe_run_init(&run, &md, &opt)) { fprintf(stderr, "block: solver set-up failed\n"); return 1; }
+    y = calloc((size_t)n + 1, sizeof(double));
+    t = calloc((size_t)n + 1, sizeof(double));
+    if (!y || !t) return 1;
+
+    printf("block: M%d (%d x %d Q1, 3x3 Gauss), N = %d unknowns (%s), %d contact nodes, kappa = %s\n",
+           a.nx * a.ny, a.nx, a.ny, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated",
+           md.ncontact, a.kappa > 0 ? "given" : "1/N");
+    printf("  Algorithms 2.1-2.2: c_diff = %g, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
+           opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
+    t0 = seconds();
+    y[n] = a.start;
+    r = psb_solve_at_param(&run.s, y, 50);
+    if (r != PSB_SUCCESS) { printf("block: Newton at gamma = %d failed: %s\n", a.start, psb_result_string(r)); return 1; }
+    {
+        double *rv = calloc((size_t)n + 1, sizeof(double));
+        rv[n] = -a.start; /* towards gamma = 0 */
+        r = psb_tangent(&run.s, y, rv, t);
+        free(rv);
+        if (r != PSB_SUCCESS) { printf("block: tangent failed: %s\n", psb_result_string(r)); return 1; }
+    }
+    input = branch_and_trace(&run, y, t, &a);
+    if (input < 0) return 1;
+    if (a.input && a.input != input) {
+        /* come back to gamma = 0 along branch K and branch again from there */
+        for (k = 0; k < run.nbr && run.br[k].number != a.input; k++) {}
+        if (k == run.nbr) { printf("block: branch %d was not found in the first run\n", a.input); return 1; }
+        printf("  first run from branch %d: %d branches, n_pc = %ld, n_rand = %d; branching again from branch %d\n",
+               input, run.nbr, run.brep.n_pc, run.brep.n_rand, a.input);
+        memcpy(y, run.br[k].y, sizeof(double) * ((size_t)n + 1));
+        {
+            double *rv = calloc((size_t)n + 1, sizeof(double));
+            rv[n] = y[n] < 0 ? 1 : -1;
+            r = psb_tangent(&run.s, y, rv, t);
+            free(rv);
+        }
+        if (r != PSB_SUCCESS) { printf("block: tangent failed: %s\n", psb_result_string(r)); return 1; }
+        t0 = seconds();
+        input = branch_and_trace(&run, y, t, &a);
+        if (input < 0) return 1;
+    }
+    t1 = seconds();
+
+    printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d, tangents = %ld\n",
+           input, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_tangents);
+    printf("\n  branch  direction  type            gamma   sep stick slip+ slip-  steps kinks  |H|       end\n");
+    ok = run.nbr == 6;
+    for (k = 0; k < run.nbr; k++) {
+        fe_branch *b = &run.br[k];
+        int good = check_branch(b, n, tol) && !seen[b->number];
+        seen[b->number] = 1;
+        ok = ok && good;
+        printf("  %-6d  %-9s  %-14s %+6.3f  %4d %5d %5d %5d  %5ld %5d  %.1e   %s%s\n", b->number,
+               b->number <= 3 ? "right" : "left", strchr(b->label, ',') + 2, b->y[n], b->states[0], b->states[1],
+               b->states[2], b->states[3], b->steps, b->switches, b->resnorm, psb_result_string(b->end),
+               good ? "" : "  <-- unexpected");
+    }
+    printf("\n  %d branches (paper: 6), time %.2f s (CPU), factorisations %ld, PC trials %ld\n", run.nbr, t1 - t0,
+           run.s.stats.n_factor, run.s.stats.n_pc_steps);
+    if (a.out) {
+        mkdir(a.out, 0777);
+        if (fe_run_write(&run, a.out, "block", 1) || fe_run_write_gnuplot(&run, a.out, "block", "mm"))
+            printf("block: could not write to %s\n", a.out);
+        else
+            printf("  wrote %s/branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp\n", a.out);
+    }
+    printf("block: %s\n", ok ? "OK (six branches as in the paper)" : "FAILED (branches differ from the paper)");
+    free(y); free(t);
+    fe_run_free(&run);
+    fe_model_free(&md);
+    fe_mesh_free(&mesh);
+    return ok ? 0 : 1;
+}

@@ -1,0 +1,1048 @@
+/* fe.h - a small 2D finite-element toolkit for the pscbranch contact examples (plain C99).
+
+   What it does: structured meshes of a rectangle (Q1 squares) and of a right isosceles triangle
+   (P1 triangles), Gauss quadrature, plane-strain Hooke and Ciarlet-Geymonat laws, assembly of the
+   internal forces and of their consistent tangent, affine line loads h(gamma, x) = h0(x) + gamma h1(x)
+   on tagged boundary edges, the Dirichlet condition (multipliers as in eq. (2) of the paper, or
+   elimination of the fixed dofs), and nodal contact with Coulomb friction on a flat foundation below
+   the body (nu = (0,-1) points into the foundation, tau = (1,0)).
+
+   Unknowns: y = (state, gamma), gamma last at index n. The state is numbered node by node in mesh
+   order (meshes are numbered row by row along x1): for each node its displacements (u1, u2) unless
+   eliminated, then its Dirichlet multipliers (lD1, lD2) if it is a Dirichlet node in multiplier
+   mode, then its contact multipliers (l_nu, l_tau) if it is a contact node. Residual rows follow
+   the same numbering (equilibrium row for u, B_D u row for lD, contact row for l_nu / l_tau), so
+   the state part of the Jacobian is banded with a half band of about 2-4 times the nodes per mesh
+   row; only the gamma column is dense. Assembly goes through fe_mat_add, which also knows the LAPACK
+   general band layout, so a banded core can reuse it.
+
+   Everything is `static` (or `static inline` for helpers a program may not use), no global state.
+   fe_newton needs LAPACK's dgesv; link -llapack -lblas -lm. */
+#ifndef FE_H
+#define FE_H
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- small utilities ------------------------------------------------------------------------ */
+
+/* 1D Gauss-Legendre rule with n = 1, 2 or 3 points on [-1, 1]. */
+static inline int fe_gauss1d(int n, double *pts, double *wts)
+{
+    if (n == 1) {
+        pts[0] = 0.0; wts[0] = 2.0;
+    } else if (n == 2) {
+        pts[0] = -1.0 / sqrt(3.0); pts[1] = -pts[0]; wts[0] = wts[1] = 1.0;
+    } else if (n == 3) {
+        pts[0] = -sqrt(0.6); pts[1] = 0.0; pts[2] = sqrt(0.6);
+        wts[0] = wts[2] = 5.0 / 9.0; wts[1] = 8.0 / 9.0;
+    } else {
+        return -1;
+    }
+    return 0;
+}
+
+/* A matrix sink: dense column-major (kl < 0) or LAPACK general band storage for dgbsv
+   (row kl + ku + i - j of column j, ld >= 2 kl + ku + 1). Entries outside the band are an error
+   reported through `overflow`, never written out of bounds. */
+typedef struct fe_mat {
+    double *a;
+    int ld, kl, ku;
+    int overflow;
+} fe_mat;
+
+static inline void fe_mat_add(fe_mat *m, int i, int j, double v)
+{
+    if (m->kl < 0) {
+        m->a[i + (size_t)j * m->ld] += v;
+    } else if (i - j <= m->kl && j - i <= m->ku) {
+        m->a[(m->kl + m->ku + i - j) + (size_t)j * m->ld] += v;
+    } else if (v != 0.0) {
+        m->overflow = 1;
+    }
+}
+
+/* ---- meshes ---------------------------------------------------------------------------------- */
+
+/* Boundary edge tags. Rectangle: bottom, right, top, left. Triangle: bottom leg, hypotenuse, left leg. */
+enum { FE_BOTTOM = 0, FE_RIGHT = 1, FE_TOP = 2, FE_LEFT = 3, FE_HYPOTENUSE = 1 };
+
+typedef struct fe_mesh {
+    int nnode, nelem, nvert; /* nvert: 4 = Q1 quadrilaterals, 3 = P1 triangles */
+    double *x;               /* 2 * nnode coordinates */
+    int *conn;               /* nvert * nelem, counter-clockwise */
+    int nedge;               /* boundary edges */
+    int *edge;               /* 2 * nedge node pairs, counter-clockwise along the boundary */
+    int *edge_tag;           /* nedge tags */
+} fe_mesh;
+
+static inline void fe_mesh_free(fe_mesh *m)
+{
+    free(m->x); free(m->conn); free(m->edge); free(m->edge_tag);
+    memset(m, 0, sizeof *m);
+}
+
+static inline int fe_mesh_alloc(fe_mesh *m, int nnode, int nelem, int nvert, int nedge)
+{
+    memset(m, 0, sizeof *m);
+    m->nnode = nnode; m->nelem = nelem; m->nvert = nvert; m->nedge = nedge;
+    m->x = malloc(sizeof(double) * 2 * (size_t)nnode);
+    m->conn = malloc(sizeof(int) * (size_t)nvert * (size_t)nelem);
+    m->edge = malloc(sizeof(int) * 2 * (size_t)nedge);
+    m->edge_tag = malloc(sizeof(int) * (size_t)nedge);
+    if (!m->x || !m->conn || !m->edge || !m->edge_tag) {
+        fe_mesh_free(m);
+        return -1;
+    }
+    return 0;
+}
+
+/* [0, lx] x [0, ly] cut into nx x ny Q1 squares; node (i, j) is j * (nx + 1) + i. */
+static inline int fe_mesh_rectangle(fe_mesh *m, double lx, double ly, int nx, int ny)
+{
+    int i, j, e = 0, k = 0, w = nx + 1;
+    if (nx < 1 || ny < 1 || fe_mesh_alloc(m, (nx + 1) * (ny + 1), nx * ny, 4, 2 * (nx + ny)))
+        return -1;
+    for (j = 0; j <= ny; j++)
+        for (i = 0; i <= nx; i++) {
+            m->x[2 * (j * w + i)] = lx * i / nx;
+            m->x[2 * (j * w + i) + 1] = ly * j / ny;
+        }
+    for (j = 0; j < ny; j++)
+        for (i = 0; i < nx; i++, e++) {
+            int *c = m->conn + 4 * e;
+            c[0] = j * w + i; c[1] = c[0] + 1; c[2] = c[1] + w; c[3] = c[0] + w;
+        }
+    for (i = 0; i < nx; i++, k++) { m->edge[2 * k] = i; m->edge[2 * k + 1] = i + 1; m->edge_tag[k] = FE_BOTTOM; }
+    for (j = 0; j < ny; j++, k++) { m->edge[2 * k] = j * w + nx; m->edge[2 * k + 1] = (j + 1) * w + nx; m->edge_tag[k] = FE_RIGHT; }
+    for (i = nx; i > 0; i--, k++) { m->edge[2 * k] = ny * w + i; m->edge[2 * k + 1] = ny * w + i - 1; m->edge_tag[k] = FE_TOP; }
+    for (j = ny; j > 0; j--, k++) { m->edge[2 * k] = j * w; m->edge[2 * k + 1] = (j - 1) * w; m->edge_tag[k] = FE_LEFT; }
+    return 0;
+}
+
+/* Right isosceles triangle with legs `len` on the axes, hypotenuse from (len, 0) to (0, len): the
+   n x n grid of squares, each cut along its diagonal parallel to the hypotenuse, keeping the n^2
+   triangles inside. Rows j = 0..n hold n - j + 1 nodes, numbered row by row. */
+static inline int fe_tri_node(int n, int i, int j) { return j * (n + 1) - j * (j - 1) / 2 + i; }
+
+static inline int fe_mesh_triangle(fe_mesh *m, double len, int n)
+{
+    int i, j, e = 0, k = 0;
+    if (n < 1 || fe_mesh_alloc(m, (n + 1) * (n + 2) / 2, n * n, 3, 3 * n))
+        return -1;
+    for (j = 0; j <= n; j++)
+        for (i = 0; i <= n - j; i++) {
+            m->x[2 * fe_tri_node(n, i, j)] = len * i / n;
+            m->x[2 * fe_tri_node(n, i, j) + 1] = len * j / n;
+        }
+    for (j = 0; j < n; j++)
+        for (i = 0; i + j < n; i++) {
+            int *c = m->conn + 3 * e++;
+            c[0] = fe_tri_node(n, i, j); c[1] = fe_tri_node(n, i + 1, j); c[2] = fe_tri_node(n, i, j + 1);
+            if (i + j + 1 < n) { /* the upper triangle of the square is inside too */
+                c = m->conn + 3 * e++;
+                c[0] = fe_tri_node(n, i + 1, j); c[1] = fe_tri_node(n, i + 1, j + 1); c[2] = fe_tri_node(n, i, j + 1);
+            }
+        }
+    for (i = 0; i < n; i++, k++) { m->edge[2 * k] = fe_tri_node(n, i, 0); m->edge[2 * k + 1] = fe_tri_node(n, i + 1, 0); m->edge_tag[k] = FE_BOTTOM; }
+    for (j = 0; j < n; j++, k++) { m->edge[2 * k] = fe_tri_node(n, n - j, j); m->edge[2 * k + 1] = fe_tri_node(n, n - j - 1, j + 1); m->edge_tag[k] = FE_HYPOTENUSE; }
+    for (j = n; j > 0; j--, k++) { m->edge[2 * k] = fe_tri_node(n, 0, j); m->edge[2 * k + 1] = fe_tri_node(n, 0, j - 1); m->edge_tag[k] = FE_LEFT; }
+    return (e == n * n) ? 0 : -1;
+}
+
+/* ---- materials ------------------------------------------------------------------------------ */
+
+/* 2x2 tensors are stored row-major: F[2 i + J]. Tangents A[p + 4 q] = dP_p / dF_q. */
+enum { FE_HOOKE = 0, FE_CIARLET_GEYMONAT = 1 };
+
+typedef struct fe_material {
+    int law;
+    double lambda, mu, a; /* a: Ciarlet-Geymonat only */
+} fe_material;
+
+/* Ciarlet-Geymonat constants of the paper: b = mu/2 - a, c = lambda/4 - mu/2 + a, d = lambda/2 + mu. */
+static inline void fe_cg_constants(const fe_material *m, double *b, double *c, double *d)
+{
+    *b = m->mu / 2 - m->a;
+    *c = m->lambda / 4 - m->mu / 2 + m->a;
+    *d = m->lambda / 2 + m->mu;
+}
+
+/* Strain energy density; Hooke in the small-strain sense (F = I + grad u). Returns HUGE_VAL when
+   det F <= 0 for Ciarlet-Geymonat. W is shifted so that W(I) = 0.
+   Ciarlet-Geymonat: W = a I1 + b I2 + c I3 - (d/2) ln I3 for C = Ft^T Ft, Ft = diag(F, 1). With
+   Ft block diagonal, I1 = |F|^2 + 1, I2 = det C2 + tr C2 = J^2 + |F|^2, I3 = J^2 (J = det F), so
+   W = (a + b)|F|^2 + (b + c) J^2 - d ln J + const. */
+static inline double fe_energy_density(const fe_material *m, const double F[4])
+{
+    if (m->law == FE_HOOKE) {
+        double e11 = F[0] - 1, e22 = F[3] - 1, e12 = 0.5 * (F[1] + F[2]), tr = e11 + e22;
+        return 0.5 * m->lambda * tr * tr + m->mu * (e11 * e11 + e22 * e22 + 2 * e12 * e12);
+    } else {
+        double b, c, d, J = F[0] * F[3] - F[1] * F[2];
+        double f2 = F[0] * F[0] + F[1] * F[1] + F[2] * F[2] + F[3] * F[3];
+        fe_cg_constants(m, &b, &c, &d);
+        if (!(J > 0))
+            return HUGE_VAL;
+        return (m->a + b) * (f2 - 2) + (b + c) * (J * J - 1) - d * log(J);
+    }
+}
+
+/* First Piola-Kirchhoff stress P and (if A != NULL) its tangent. Returns 0, or 1 when det F <= 0
+   (a recoverable failure: the caller should shorten its step).
+   Ciarlet-Geymonat: P = dW/dF = 2(a + b) F + (2(b + c) J - d / J) cof F, using dJ/dF = cof F =
+   J F^{-T}; at F = I this is 2a + 4b + 2c - d = 0 with the paper's b, c, d. (The 3D form
+   2aFt + 2b(I1 Ft - Ft Ft^T Ft) + (2c I3 - d) Ft^{-T} reduces to this by Cayley-Hamilton.) */
+static inline int fe_stress(const fe_material *m, const double F[4], double P[4], double A[16])
+{
+    int p, q;
+    if (m->law == FE_HOOKE) {
+        double la = m->lambda, mu = m->mu, tr = F[0] + F[3] - 2;
+        P[0] = la * tr + 2 * mu * (F[0] - 1);
+        P[3] = la * tr + 2 * mu * (F[3] - 1);
+        P[1] = P[2] = mu * (F[1] + F[2]);
+        if (A) {
+            /* A_iJkL = la d_iJ d_kL + mu (d_ik d_JL + d_iL d_Jk) */
+            for (p = 0; p < 16; p++) A[p] = 0;
+            for (p = 0; p < 4; p++)
+                for (q = 0; q < 4; q++) {
+                    int i = p / 2, J = p % 2, k = q / 2, L = q % 2;
+                    A[p + 4 * q] = la * (i == J) * (k == L) + mu * ((i == k) * (J == L) + (i == L) * (J == k));
+                }
+        }
+        return 0;
+    } else {
+        double b, c, d, J = F[0] * F[3] - F[1] * F[2], al, be, s, cof[4];
+        static const int dcof[4] = {3, 2, 1, 0}; /* d cof_p / dF_q is nonzero for q = dcof[p] */
+        static const double dsgn[4] = {1, -1, -1, 1};
+        fe_cg_constants(m, &b, &c, &d);
+        if (!(J > 0))
+            return 1;
+        cof[0] = F[3]; cof[1] = -F[2]; cof[2] = -F[1]; cof[3] = F[0];
+        al = 2 * (m->a + b);
+        be = 2 * (b + c);
+        s = be * J - d / J;
+        for (p = 0; p < 4; p++)
+            P[p] = al * F[p] + s * cof[p];
+        if (A) {
+            double g = be + d / (J * J); /* ds/dJ */
+            for (q = 0; q < 4; q++)
+                for (p = 0; p < 4; p++)
+                    A[p + 4 * q] = al * (p == q) + g * cof[p] * cof[q];
+            for (p = 0; p < 4; p++)
+                A[p + 4 * dcof[p]] += s * dsgn[p];
+        }
+        return 0;
+    }
+}
+
+/* ---- nodal contact with Coulomb friction (eq. (2) rows) --------------------------------------- */
+
+enum { FE_SEPARATED = 0, FE_STICK = 1, FE_SLIP_POS = 2, FE_SLIP_NEG = 3 };
+
+/* The two contact rows of eq. (2) for one node:
+     -(1/r)(l_n - (l_n - r u_n)_-),  -(1/r)(l_t - P_[F s, -F s](l_t - r u_t)),  s = (l_n - r u_n)_-.
+   jac (may be NULL): column-major 2 x 4 with respect to (u_n, u_t, l_n, l_t). state: the smooth
+   piece used (separated, stick, slip with u_t > 0 / u_t < 0 at a solution). Kinks go to the
+   separated / stick side. Own implementation; the examples may use psb_ac2d_node instead. */
+static inline int fe_contact_node(double un, double ut, double ln, double lt, double r, double fr,
+                                  double res[2], double jac[8])
+{
+    double zn = ln - r * un, zt = lt - r * ut, g = (zn < 0) ? -fr * zn : 0.0; /* g = -F s >= 0 */
+    int state;
+    if (jac) memset(jac, 0, 8 * sizeof(double));
+    if (zn < 0) {
+        res[0] = -un;
+        if (jac) jac[0] = -1;
+    } else {
+        res[0] = -ln / r;
+        if (jac) jac[4] = -1 / r;
+    }
+    if (zn >= 0) {
+        res[1] = -lt / r;
+        if (jac) jac[7] = -1 / r;
+        state = FE_SEPARATED;
+    } else if (fabs(zt) <= g) {
+        res[1] = -ut;
+        if (jac) jac[3] = -1;
+        state = FE_STICK;
+    } else {
+        /* projection on the bound sg g, with g = -F (l_n - r u_n) */
+        double sg = (zt > 0) ? 1.0 : -1.0;
+        res[1] = -(lt - sg * g) / r;
+        if (jac) {
+            jac[7] = -1 / r;
+            jac[5] = -sg * fr / r; /* d/dl_n of (sg g)/r = -sg F / r */
+            jac[1] = sg * fr;      /* d/du_n */
+        }
+        /* at a solution l_t = sg g, so z_t - l_t = -r u_t has the sign of z_t: u_t < 0 for z_t > 0 */
+        state = (zt > 0) ? FE_SLIP_NEG : FE_SLIP_POS;
+    }
+    return state;
+}
+
+/* ---- the discrete contact problem ----------------------------------------------------------- */
+
+/* Affine surface load on edges with tag `tag`: h(gamma, x) = h0(x) + gamma h1(x). */
+typedef void (*fe_load_fn)(const double x[2], int tag, double h0[2], double h1[2], void *ctx);
+
+typedef struct fe_model {
+    const fe_mesh *mesh;
+    fe_material mat;
+    int ngauss;          /* Gauss points per direction for Q1 (3 in the paper); P1 uses one point */
+    int dirichlet_tag;   /* edges fixed to zero displacement */
+    int multipliers;     /* 1: lambda_D as in eq. (2); 0: eliminate the fixed dofs */
+    int contact_tag;     /* edges lying on the foundation; Dirichlet nodes are left out */
+    double r, friction;
+    /* derived by fe_model_setup */
+    int n;               /* state size; gamma is y[n] */
+    int *udof;           /* nnode: index of u1 (u2 = u1 + 1) or -1 if eliminated */
+    int *ddof;           /* nnode: index of lD1 or -1 */
+    int *cdof;           /* nnode: index of l_nu or -1 */
+    int ncontact, *cnode;/* contact nodes sorted by x1 */
+    int nd_pair;         /* Dirichlet boundary mass entries: (node i, node j, value) */
+    int *d_pair;
+    double *d_val;
+    double *load0, *load1; /* L(gamma) = load0 + gamma load1 over the state rows */
+    int half_band;       /* max |row - col| of the state part */
+    double *work;        /* 4 * nnode scratch: displacements, internal forces */
+} fe_model;
+
+static inline void fe_model_free(fe_model *md)
+{
+    free(md->udof); free(md->ddof); free(md->cdof); free(md->cnode); free(md->d_pair);
+    free(md->d_val); free(md->load0); free(md->load1); free(md->work);
+    md->udof = md->ddof = md->cdof = md->cnode = md->d_pair = NULL;
+    md->d_val = md->load0 = md->load1 = md->work = NULL;
+}
+
+/* Number the unknowns, collect the Dirichlet mass matrix and the contact nodes, integrate the load.
+   Fill mesh, mat, ngauss, dirichlet_tag, multipliers, contact_tag, r, friction first. */
+static inline int fe_model_setup(fe_model *md, fe_load_fn load, int load_tag_mask, void *ctx)
+{
+    const fe_mesh *m = md->mesh;
+    int nn = m->nnode, e, k, a, *isd, *isc;
+    md->udof = malloc(sizeof(int) * (size_t)nn);
+    md->ddof = malloc(sizeof(int) * (size_t)nn);
+    md->cdof = malloc(sizeof(int) * (size_t)nn);
+    md->cnode = malloc(sizeof(int) * (size_t)nn);
+    md->d_pair = malloc(sizeof(int) * 2 * (size_t)m->nedge);
+    md->d_val = malloc(sizeof(double) * 2 * (size_t)m->nedge);
+    md->work = malloc(sizeof(double) * 4 * (size_t)nn);
+    isd = calloc((size_t)nn, sizeof(int));
+    isc = calloc((size_t)nn, sizeof(int));
+    if (!md->udof || !md->ddof || !md->cdof || !md->cnode || !md->d_pair || !md->d_val || !md->work || !isd || !isc) {
+        free(isd); free(isc); fe_model_free(md);
+        return -1;
+    }
+    md->nd_pair = 0;
+    for (e = 0; e < m->nedge; e++) {
+        int i = m->edge[2 * e], j = m->edge[2 * e + 1];
+        if (m->edge_tag[e] == md->dirichlet_tag) {
+            double dx = m->x[2 * j] - m->x[2 * i], dy = m->x[2 * j + 1] - m->x[2 * i + 1], len = sqrt(dx * dx + dy * dy);
+            isd[i] = isd[j] = 1;
+            /* exact 1D mass matrix of the edge (linear traces): diagonal len/3, off-diagonal len/6 */
+            md->d_pair[2 * md->nd_pair] = i; md->d_pair[2 * md->nd_pair + 1] = j;
+            md->d_val[2 * md->nd_pair] = len / 3; md->d_val[2 * md->nd_pair + 1] = len / 6;
+            md->nd_pair++;
+        }
+    }
+    for (e = 0; e < m->nedge; e++)
+        if (m->edge_tag[e] == md->contact_tag) {
+            if (!isd[m->edge[2 * e]]) isc[m->edge[2 * e]] = 1;
+            if (!isd[m->edge[2 * e + 1]]) isc[m->edge[2 * e + 1]] = 1;
+        }
+    k = 0;
+    md->ncontact = 0;
+    for (a = 0; a < nn; a++) {
+        md->udof[a] = md->ddof[a] = md->cdof[a] = -1;
+        if (!(isd[a] && !md->multipliers)) { md->udof[a] = k; k += 2; }
+        if (isd[a] && md->multipliers) { md->ddof[a] = k; k += 2; }
+        if (isc[a]) { md->cdof[a] = k; k += 2; md->cnode[md->ncontact++] = a; }
+    }
+    md->n = k;
+    free(isd); free(isc);
+    /* contact nodes by increasing x1 (insertion sort; few nodes) */
+    for (a = 1; a < md->ncontact; a++) {
+        int v = md->cnode[a], b = a - 1;
+        while (b >= 0 && m->x[2 * md->cnode[b]] > m->x[2 * v]) { md->cnode[b + 1] = md->cnode[b]; b--; }
+        md->cnode[b + 1] = v;
+    }
+    /* line loads: 3-point Gauss on each edge, linear trace shape functions */
+    md->load0 = calloc((size_t)md->n, sizeof(double));
+    md->load1 = calloc((size_t)md->n, sizeof(double));
+    if (!md->load0 || !md->load1) { fe_model_free(md); return -1; }
+    for (e = 0; e < m->nedge; e++) {
+        double pts[3], wts[3];
+        int i = m->edge[2 * e], j = m->edge[2 * e + 1], g, c;
+        double dx, dy, len;
+        if (!((load_tag_mask >> m->edge_tag[e]) & 1)) continue;
+        dx = m->x[2 * j] - m->x[2 * i]; dy = m->x[2 * j + 1] - m->x[2 * i + 1]; len = sqrt(dx * dx + dy * dy);
+        fe_gauss1d(3, pts, wts);
+        for (g = 0; g < 3; g++) {
+            double s = 0.5 * (1 + pts[g]), x[2], h0[2], h1[2], w = 0.5 * wts[g] * len;
+            x[0] = m->x[2 * i] + s * dx; x[1] = m->x[2 * i + 1] + s * dy;
+            load(x, m->edge_tag[e], h0, h1, ctx);
+            for (c = 0; c < 2; c++) {
+                if (md->udof[i] >= 0) { md->load0[md->udof[i] + c] += w * (1 - s) * h0[c]; md->load1[md->udof[i] + c] += w * (1 - s) * h1[c]; }
+                if (md->udof[j] >= 0) { md->load0[md->udof[j] + c] += w * s * h0[c]; md->load1[md->udof[j] + c] += w * s * h1[c]; }
+            }
+        }
+    }
+    /* half band of the state block: every element couples all its nodes' unknowns */
+    md->half_band = 0;
+    for (e = 0; e < m->nelem; e++) {
+        int lo = md->n, hi = 0, v;
+        for (v = 0; v < m->nvert; v++) {
+            int nd = m->conn[m->nvert * e + v], idx[3] = {md->udof[nd], md->ddof[nd], md->cdof[nd]}, t;
+            for (t = 0; t < 3; t++)
+                if (idx[t] >= 0) { if (idx[t] < lo) lo = idx[t]; if (idx[t] + 1 > hi) hi = idx[t] + 1; }
+        }
+        if (hi - lo > md->half_band) md->half_band = hi - lo;
+    }
+    return 0;
+}
+
+/* Nodal displacements of all nodes (zero where eliminated) from the state y. */
+static inline void fe_displacements(const fe_model *md, const double *y, double *u)
+{
+    int a;
+    for (a = 0; a < md->mesh->nnode; a++) {
+        u[2 * a] = md->udof[a] >= 0 ? y[md->udof[a]] : 0.0;
+        u[2 * a + 1] = md->udof[a] >= 0 ? y[md->udof[a] + 1] : 0.0;
+    }
+}
+
+/* Shape function gradients and det J of element e at reference point (xi, eta). */
+static inline void fe_shape_grad(const fe_mesh *m, int e, double xi, double eta, double dN[8], double *detj)
+{
+    const int *c = m->conn + m->nvert * e;
+    double dr[8], jm[4] = {0, 0, 0, 0}, det, inv[4];
+    int a, nv = m->nvert;
+    if (nv == 4) {
+        static const double sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
+        for (a = 0; a < 4; a++) {
+            dr[2 * a] = 0.25 * sx[a] * (1 + sy[a] * eta);
+            dr[2 * a + 1] = 0.25 * sy[a] * (1 + sx[a] * xi);
+        }
+    } else {
+        dr[0] = -1; dr[1] = -1; dr[2] = 1; dr[3] = 0; dr[4] = 0; dr[5] = 1;
+    }
+    for (a = 0; a < nv; a++) { /* jm[2 i + r] = dx_i / dxi_r */
+        jm[0] += m->x[2 * c[a]] * dr[2 * a]; jm[1] += m->x[2 * c[a]] * dr[2 * a + 1];
+        jm[2] += m->x[2 * c[a] + 1] * dr[2 * a]; jm[3] += m->x[2 * c[a] + 1] * dr[2 * a + 1];
+    }
+    det = jm[0] * jm[3] - jm[1] * jm[2];
+    inv[0] = jm[3] / det; inv[1] = -jm[1] / det; inv[2] = -jm[2] / det; inv[3] = jm[0] / det;
+    for (a = 0; a < nv; a++) { /* dN/dx_J = sum_r dN/dxi_r dxi_r/dx_J */
+        dN[2 * a] = dr[2 * a] * inv[0] + dr[2 * a + 1] * inv[2];
+        dN[2 * a + 1] = dr[2 * a] * inv[1] + dr[2 * a + 1] * inv[3];
+    }
+    *detj = det;
+}
+
+/* Quadrature points of an element: Q1 ngauss x ngauss Gauss, P1 one point (gradients are constant). */
+static inline int fe_quad(const fe_model *md, double *qx, double *qy, double *qw)
+{
+    int n = 0, i, j;
+    if (md->mesh->nvert == 3) {
+        qx[0] = qy[0] = 1.0 / 3; qw[0] = 0.5;
+        return 1;
+    } else {
+        double p[3], w[3];
+        fe_gauss1d(md->ngauss, p, w);
+        for (j = 0; j < md->ngauss; j++)
+            for (i = 0; i < md->ngauss; i++, n++) { qx[n] = p[i]; qy[n] = p[j]; qw[n] = w[i] * w[j]; }
+        return n;
+    }
+}
+
+/* Total strain energy for nodal displacements u (2 * nnode); HUGE_VAL if inverted. */
+static inline double fe_strain_energy(const fe_model *md, const double *u)
+{
+    const fe_mesh *m = md->mesh;
+    double qx[9], qy[9], qw[9], total = 0;
+    int nq = fe_quad(md, qx, qy, qw), e, g, a;
+    for (e = 0; e < m->nelem; e++)
+        for (g = 0; g < nq; g++) {
+            double dN[8], detj, F[4] = {1, 0, 0, 1};
+            fe_shape_grad(m, e, qx[g], qy[g], dN, &detj);
+            for (a = 0; a < m->nvert; a++) {
+                int nd = m->conn[m->nvert * e + a];
+                F[0] += u[2 * nd] * dN[2 * a]; F[1] += u[2 * nd] * dN[2 * a + 1];
+                F[2] += u[2 * nd + 1] * dN[2 * a]; F[3] += u[2 * nd + 1] * dN[2 * a + 1];
+            }
+            total += qw[g] * detj * fe_energy_density(&md->mat, F);
+        }
+    return total;
+}
+
+/* Internal forces f (2 * nnode, all nodes) and, if K != NULL, their tangent added into K at the
+   unknown numbering (eliminated dofs dropped). Returns 0, or 1 if some element is inverted. */
+static inline int fe_internal(const fe_model *md, const double *u, double *f, fe_mat *K)
+{
+    const fe_mesh *m = md->mesh;
+    double qx[9], qy[9], qw[9];
+    int nq = fe_quad(md, qx, qy, qw), e, g, a, b, i, k, J, L, nv = m->nvert;
+    if (f) memset(f, 0, sizeof(double) * 2 * (size_t)m->nnode);
+    for (e = 0; e < m->nelem; e++) {
+        const int *c = m->conn + nv * e;
+        double ke[64];
+        if (K) memset(ke, 0, sizeof ke);
+        for (g = 0; g < nq; g++) {
+            double dN[8], detj, F[4] = {1, 0, 0, 1}, P[4], A[16], w;
+            fe_shape_grad(m, e, qx[g], qy[g], dN, &detj);
+            w = qw[g] * detj;
+            for (a = 0; a < nv; a++) {
+                F[0] += u[2 * c[a]] * dN[2 * a]; F[1] += u[2 * c[a]] * dN[2 * a + 1];
+                F[2] += u[2 * c[a] + 1] * dN[2 * a]; F[3] += u[2 * c[a] + 1] * dN[2 * a + 1];
+            }
+            if (fe_stress(&md->mat, F, P, K ? A : NULL))
+                return 1;
+            if (f)
+                for (a = 0; a < nv; a++)
+                    for (i = 0; i < 2; i++)
+                        f[2 * c[a] + i] += w * (P[2 * i] * dN[2 * a] + P[2 * i + 1] * dN[2 * a + 1]);
+            if (K)
+                for (a = 0; a < nv; a++)
+                    for (i = 0; i < 2; i++)
+                        for (b = 0; b < nv; b++)
+                            for (k = 0; k < 2; k++) {
+                                double s = 0;
+                                for (J = 0; J < 2; J++)
+                                    for (L = 0; L < 2; L++)
+                                        s += dN[2 * a + J] * A[(2 * i + J) + 4 * (2 * k + L)] * dN[2 * b + L];
+                                ke[(2 * a + i) + 2 * nv * (2 * b + k)] += w * s;
+                            }
+        }
+        if (K)
+            for (a = 0; a < nv; a++)
+                for (b = 0; b < nv; b++) {
+                    int ra = md->udof[c[a]], cb = md->udof[c[b]];
+                    if (ra < 0 || cb < 0) continue;
+                    for (i = 0; i < 2; i++)
+                        for (k = 0; k < 2; k++)
+                            fe_mat_add(K, ra + i, cb + k, ke[(2 * a + i) + 2 * nv * (2 * b + k)]);
+                }
+    }
+    return 0;
+}
+
+/* Contact quantities of contact node a: u_n = u . nu = -u2, u_t = u . tau = u1. */
+static inline void fe_node_contact(const fe_model *md, const double *y, int a, double res[2], double jac[8])
+{
+    int ud = md->udof[a], cd = md->cdof[a];
+#ifdef FE_USE_PSB_CONTACT
+    /* the library's contact helper (pscbranch.h + its contact part included before this file) */
+    psb_ac2d_node(-y[ud + 1], y[ud], y[cd], y[cd + 1], md->r, md->friction, 0.0, PSB_PIECE_DEFAULT, res, jac, NULL);
+#else
+    fe_contact_node(-y[ud + 1], y[ud], y[cd], y[cd + 1], md->r, md->friction, res, jac);
+#endif
+}
+
+/* Residual H(y) of eq. (2): rows in the unknown numbering. Returns 0 or 1 (inverted element). */
+static inline int fe_residual(const fe_model *md, const double *y, double *h)
+{
+    const fe_mesh *m = md->mesh;
+    double gamma = y[md->n], *u = md->work, *fint = md->work + 2 * m->nnode;
+    int a, p, nn = m->nnode, rc;
+    fe_displacements(md, y, u);
+    rc = fe_internal(md, u, fint, NULL);
+    if (rc) return rc;
+    for (p = 0; p < md->n; p++) h[p] = -md->load0[p] - gamma * md->load1[p];
+    for (a = 0; a < nn; a++) {
+        int ud = md->udof[a];
+        if (ud >= 0) { h[ud] += fint[2 * a]; h[ud + 1] += fint[2 * a + 1]; }
+        if (md->ddof[a] >= 0) { h[md->ddof[a]] = 0; h[md->ddof[a] + 1] = 0; }
+        if (md->cdof[a] >= 0) {
+            double res[2];
+            int cd = md->cdof[a];
+            fe_node_contact(md, y, a, res, NULL);
+            h[cd] = res[0]; h[cd + 1] = res[1];
+            /* -B_nu^T l_nu - B_tau^T l_tau with nu = (0, -1), tau = (1, 0) */
+            h[ud] -= y[cd + 1];
+            h[ud + 1] += y[cd];
+        }
+    }
+    for (p = 0; p < md->nd_pair; p++) { /* -B_D^T l_D and B_D u; B_D symmetric per edge */
+        int i = md->d_pair[2 * p], j = md->d_pair[2 * p + 1], c;
+        double mii = md->d_val[2 * p], mij = md->d_val[2 * p + 1];
+        if (md->ddof[i] < 0) continue;
+        for (c = 0; c < 2; c++) {
+            int ui = md->udof[i] + c, uj = md->udof[j] + c, di = md->ddof[i] + c, dj = md->ddof[j] + c;
+            h[ui] -= mii * y[di] + mij * y[dj];
+            h[uj] -= mij * y[di] + mii * y[dj];
+            h[di] += mii * y[ui] + mij * y[uj];
+            h[dj] += mij * y[ui] + mii * y[uj];
+        }
+    }
+    return 0;
+}
+
+/* Jacobian of the state block into K (zeroed by the caller) and the gamma column dg (length n).
+   The state block is banded with half band md->half_band. Returns 0 or 1 (inverted element). */
+static inline int fe_jacobian_parts(const fe_model *md, const double *y, fe_mat *K, double *dg)
+{
+    const fe_mesh *m = md->mesh;
+    int a, p, rc;
+    fe_displacements(md, y, md->work);
+    rc = fe_internal(md, md->work, NULL, K);
+    if (rc) return rc;
+    for (a = 0; a < m->nnode; a++) {
+        int ud = md->udof[a], cd = md->cdof[a];
+        if (cd >= 0) {
+            double res[2], jc[8];
+            fe_node_contact(md, y, a, res, jc);
+            /* columns: u_n = -u2 -> column ud+1 with sign -1; u_t = u1 -> column ud */
+            for (p = 0; p < 2; p++) {
+                fe_mat_add(K, cd + p, ud + 1, -jc[p]);
+                fe_mat_add(K, cd + p, ud, jc[p + 2]);
+                fe_mat_add(K, cd + p, cd, jc[p + 4]);
+                fe_mat_add(K, cd + p, cd + 1, jc[p + 6]);
+            }
+            fe_mat_add(K, ud, cd + 1, -1.0);
+            fe_mat_add(K, ud + 1, cd, 1.0);
+        }
+    }
+    for (p = 0; p < md->nd_pair; p++) {
+        int i = md->d_pair[2 * p], j = md->d_pair[2 * p + 1], c;
+        double mii = md->d_val[2 * p], mij = md->d_val[2 * p + 1];
+        if (md->ddof[i] < 0) continue;
+        for (c = 0; c < 2; c++) {
+            int ui = md->udof[i] + c, uj = md->udof[j] + c, di = md->ddof[i] + c, dj = md->ddof[j] + c;
+            fe_mat_add(K, ui, di, -mii); fe_mat_add(K, ui, dj, -mij);
+            fe_mat_add(K, uj, di, -mij); fe_mat_add(K, uj, dj, -mii);
+            fe_mat_add(K, di, ui, mii); fe_mat_add(K, di, uj, mij);
+            fe_mat_add(K, dj, ui, mij); fe_mat_add(K, dj, uj, mii);
+        }
+    }
+    if (dg)
+        for (p = 0; p < md->n; p++) dg[p] = -md->load1[p];
+    return 0;
+}
+
+/* Full dense n x (n + 1) column-major Jacobian with leading dimension ld (the core's layout). */
+static inline int fe_jacobian_dense(const fe_model *md, const double *y, double *jac, int ld)
+{
+    fe_mat K;
+    int j;
+    for (j = 0; j <= md->n; j++) memset(jac + (size_t)j * ld, 0, sizeof(double) * (size_t)md->n);
+    K.a = jac; K.ld = ld; K.kl = -1; K.ku = -1; K.overflow = 0;
+    return fe_jacobian_parts(md, y, &K, jac + (size_t)md->n * ld);
+}
+
+/* Contact state counts at y: out[FE_SEPARATED..FE_SLIP_NEG]; states (ncontact) may be NULL.
+   A node is separated when l_n - r u_n >= -tol, sticks when |l_t - r u_t| <= g + tol. The small
+   tolerance keeps grazing nodes of an exact solution on the separated / stick side. */
+static inline void fe_contact_states(const fe_model *md, const double *y, int out[4], int *states)
+{
+    int k;
+    out[0] = out[1] = out[2] = out[3] = 0;
+    for (k = 0; k < md->ncontact; k++) {
+        int a = md->cnode[k], ud = md->udof[a], cd = md->cdof[a], st;
+        double un = -y[ud + 1], ut = y[ud], ln = y[cd], lt = y[cd + 1], r = md->r;
+        double zn = ln - r * un, zt = lt - r * ut, tol = 1e-9 * (1 + fabs(ln) + fabs(r * un));
+        if (zn >= -tol) st = FE_SEPARATED;
+        else if (fabs(zt) <= -md->friction * zn + tol * (1 + md->friction)) st = FE_STICK;
+        else st = (ut > 0) ? FE_SLIP_POS : FE_SLIP_NEG;
+        out[st]++;
+        if (states) states[k] = st;
+    }
+}
+
+/* ---- a plain Newton solver at fixed gamma (dense, LAPACK dgesv) ------------------------------ */
+
+extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b, const int *ldb, int *info);
+
+/* Semismooth Newton on H(y) = 0 with y[n] fixed. Returns iterations used (>= 0), or -1 on
+   failure. The residual norm at exit goes to *resnorm. */
+static inline int fe_newton(const fe_model *md, double *y, int max_iter, double tol, double *resnorm)
+{
+    int n = md->n, it, info, one = 1, p;
+    double *jac = malloc(sizeof(double) * (size_t)n * (size_t)(n + 1)), *h = malloc(sizeof(double) * (size_t)n);
+    int *ipiv = malloc(sizeof(int) * (size_t)n);
+    double nrm = HUGE_VAL;
+    if (!jac || !h || !ipiv) { free(jac); free(h); free(ipiv); return -1; }
+    for (it = 0; it <= max_iter; it++) {
+        if (fe_residual(md, y, h)) { it = -1; break; }
+        for (nrm = 0, p = 0; p < n; p++) nrm += h[p] * h[p];
+        nrm = sqrt(nrm);
+        if (nrm <= tol) break;
+        if (it == max_iter) { it = -1; break; }
+        fe_jacobian_dense(md, y, jac, n);
+        dgesv_(&n, &one, jac, &n, ipiv, h, &n, &info);
+        if (info) { it = -1; break; }
+        for (p = 0; p < n; p++) y[p] -= h[p];
+    }
+    if (resnorm) *resnorm = nrm;
+    free(jac); free(h); free(ipiv);
+    return it;
+}
+
+/* ---- output ---------------------------------------------------------------------------------- */
+
+/* Legacy VTK of the mesh deformed by u (2 * nnode), with the displacement as point data. */
+static inline int fe_write_vtk(const fe_mesh *m, const double *u, const char *path, const char *title)
+{
+    FILE *fp = fopen(path, "w");
+    int a, e, v;
+    if (!fp) return -1;
+    fprintf(fp, "# vtk DataFile Version 3.0\n%s\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS %d double\n", title, m->nnode);
+    for (a = 0; a < m->nnode; a++)
+        fprintf(fp, "%.10g %.10g 0\n", m->x[2 * a] + u[2 * a], m->x[2 * a + 1] + u[2 * a + 1]);
+    fprintf(fp, "CELLS %d %d\n", m->nelem, m->nelem * (m->nvert + 1));
+    for (e = 0; e < m->nelem; e++) {
+        fprintf(fp, "%d", m->nvert);
+        for (v = 0; v < m->nvert; v++) fprintf(fp, " %d", m->conn[m->nvert * e + v]);
+        fprintf(fp, "\n");
+    }
+    fprintf(fp, "CELL_TYPES %d\n", m->nelem);
+    for (e = 0; e < m->nelem; e++) fprintf(fp, "%d\n", m->nvert == 4 ? 9 : 5);
+    fprintf(fp, "POINT_DATA %d\nVECTORS displacement double\n", m->nnode);
+    for (a = 0; a < m->nnode; a++) fprintf(fp, "%.10g %.10g 0\n", u[2 * a], u[2 * a + 1]);
+    return fclose(fp) ? -1 : 0;
+}
+
+/* Element outlines of the deformed mesh as gnuplot line segments (blank line between elements). */
+static inline int fe_write_outline(const fe_mesh *m, const double *u, FILE *fp)
+{
+    int e, v;
+    for (e = 0; e < m->nelem; e++) {
+        for (v = 0; v <= m->nvert; v++) {
+            int a = m->conn[m->nvert * e + v % m->nvert];
+            fprintf(fp, "%.8g %.8g\n", m->x[2 * a] + u[2 * a], m->x[2 * a + 1] + u[2 * a + 1]);
+        }
+        fprintf(fp, "\n");
+    }
+    return 0;
+}
+
+/* ---- the paper's two problems (Section 3.2 and 3.3) ------------------------------------------ */
+
+/* Block: h(gamma, x) = gamma (-2, 0.12 (x1 - 20)) N/mm^2 on both lateral sides. */
+static inline void fe_block_load(const double x[2], int tag, double h0[2], double h1[2], void *ctx)
+{
+    (void)tag; (void)ctx;
+    h0[0] = h0[1] = 0;
+    h1[0] = -2.0; h1[1] = 0.12 * (x[0] - 20.0);
+}
+
+/* Block 40 mm x 80 mm, nx x ny Q1 squares (3 x 3 Gauss), fixed on top, contact on the bottom,
+   Ciarlet-Geymonat lambda = 4000, mu = 120, a = 30, F = 1, r = 10. */
+static inline int fe_block_model(fe_model *md, fe_mesh *mesh, int nx, int ny, int multipliers)
+{
+    memset(md, 0, sizeof *md);
+    if (fe_mesh_rectangle(mesh, 40.0, 80.0, nx, ny)) return -1;
+    md->mesh = mesh;
+    md->mat.law = FE_CIARLET_GEYMONAT; md->mat.lambda = 4000; md->mat.mu = 120; md->mat.a = 30;
+    md->ngauss = 3; md->dirichlet_tag = FE_TOP; md->multipliers = multipliers; md->contact_tag = FE_BOTTOM;
+    md->r = 10; md->friction = 1;
+    return fe_model_setup(md, fe_block_load, (1 << FE_LEFT) | (1 << FE_RIGHT), NULL);
+}
+
+/* Triangle loads on the left leg: branching h = gamma (hx, hy); fold h = (-20 - 10 gamma, -7.5). */
+typedef struct fe_tri_load_ctx { double c0[2], c1[2]; } fe_tri_load_ctx;
+
+static inline void fe_tri_load(const double x[2], int tag, double h0[2], double h1[2], void *ctx)
+{
+    const fe_tri_load_ctx *c = (const fe_tri_load_ctx *)ctx;
+    (void)x; (void)tag;
+    h0[0] = c->c0[0]; h0[1] = c->c0[1]; h1[0] = c->c1[0]; h1[1] = c->c1[1];
+}
+
+/* Triangle with 1 m legs, n subdivisions per leg, P1, lying on the bottom leg, loaded on the left
+   leg by h0 + gamma h1 (GN/m^2), fixed along the hypotenuse; Hooke lambda = 100, mu = 82,
+   F = 1.7, r = 10. The corner (1, 0) belongs to the hypotenuse, so n contact nodes remain. */
+static inline int fe_triangle_model(fe_model *md, fe_mesh *mesh, int n, int multipliers,
+                                    const double h0[2], const double h1[2])
+{
+    fe_tri_load_ctx c;
+    memset(md, 0, sizeof *md);
+    if (fe_mesh_triangle(mesh, 1.0, n)) return -1;
+    md->mesh = mesh;
+    md->mat.law = FE_HOOKE; md->mat.lambda = 100; md->mat.mu = 82; md->mat.a = 0;
+    md->ngauss = 1; md->dirichlet_tag = FE_HYPOTENUSE; md->multipliers = multipliers; md->contact_tag = FE_BOTTOM;
+    md->r = 10; md->friction = 1.7;
+    c.c0[0] = h0[0]; c.c0[1] = h0[1]; c.c1[0] = h1[0]; c.c1[1] = h1[1];
+    return fe_model_setup(md, fe_tri_load, 1 << FE_LEFT, &c);
+}
+
+/* ---- branching driver shared by the examples (needs pscbranch.h included before this file) --- */
+#ifdef PSCBRANCH_H
+
+#define FE_MAX_BRANCHES 16
+
+typedef struct fe_branch {
+    int found;            /* index in psb_find_branches' output */
+    int number;           /* the paper's branch number (set by the example; 0 = unknown) */
+    char label[48];       /* e.g. "right, contact-slip" */
+    psb_result end;       /* how its trace ended */
+    long steps;           /* accepted trace steps */
+    int switches;         /* kinks passed on the way */
+    double resnorm;       /* ||H|| at the end point */
+    int states[4];        /* contact state counts at the end point */
+    double *y;            /* end point (n + 1) */
+} fe_branch;
+
+typedef struct fe_run {
+    fe_model *md;
+    psb_problem prob;
+    psb_solver s;
+    int np1;
+    double kink_tol;      /* |gamma| below which a kink is the branching point */
+    /* every accepted point of the branch traces: (branch, gamma, u1_left, u2_left) */
+    double *diag;
+    long ndiag, capdiag;
+    int cur;              /* branch being traced, -1: record nothing */
+    /* previous couple seen by the point callback (to step back from a bound) */
+    double *yprev, *tprev, *ylast, *tlast;
+    int nbr;
+    fe_branch br[FE_MAX_BRANCHES];
+    double *ys, *ts;      /* psb_find_branches output */
+    psb_branch_report brep;
+    double precision;     /* Algorithm 2.1's last h */
+} fe_run;
+
+static inline int fe_psb_residual(const double *y, double *h, void *user)
+{
+    return fe_residual((const fe_model *)user, y, h);
+}
+
+static inline int fe_psb_jacobian(const double *y, double *jac, int ldjac, void *user)
+{
+    return fe_jacobian_dense((const fe_model *)user, y, jac, ldjac);
+}
+
+static inline double fe_resnorm(const fe_model *md, const double *y)
+{
+    double *h = malloc(sizeof(double) * (size_t)md->n), s = 0;
+    int i;
+    if (!h || fe_residual(md, y, h)) { free(h); return HUGE_VAL; }
+    for (i = 0; i < md->n; i++) s += h[i] * h[i];
+    free(h);
+    return sqrt(s);
+}
+
+static inline int fe_run_point(const psb_point *pt, void *user)
+{
+    fe_run *run = (fe_run *)user;
+    const fe_model *md = run->md;
+    memcpy(run->yprev, run->ylast, sizeof(double) * (size_t)run->np1);
+    memcpy(run->tprev, run->tlast, sizeof(double) * (size_t)run->np1);
+    memcpy(run->ylast, pt->y, sizeof(double) * (size_t)run->np1);
+    memcpy(run->tlast, pt->t, sizeof(double) * (size_t)run->np1);
+    if (run->cur >= 0) {
+        int ud = md->udof[md->cnode[0]];
+        if (run->ndiag == run->capdiag) {
+            long cap = run->capdiag ? 2 * run->capdiag : 1024;
+            double *d = realloc(run->diag, sizeof(double) * 4 * (size_t)cap);
+            if (!d) return 1;
+            run->diag = d; run->capdiag = cap;
+        }
+        run->diag[4 * run->ndiag] = run->cur;
+        run->diag[4 * run->ndiag + 1] = pt->y[md->n];
+        run->diag[4 * run->ndiag + 2] = pt->y[ud];
+        run->diag[4 * run->ndiag + 3] = pt->y[ud + 1];
+        run->ndiag++;
+    }
+    return 0;
+}
+
+static inline int fe_run_init(fe_run *run, fe_model *md, const psb_options *opt)
+{
+    int k;
+    memset(run, 0, sizeof *run);
+    run->md = md;
+    run->np1 = md->n + 1;
+    run->cur = -1;
+    run->kink_tol = 1e-4;
+    psb_problem_init(&run->prob, md->n, fe_psb_residual, fe_psb_jacobian, md);
+    if (psb_solver_init(&run->s, &run->prob, opt) != PSB_SUCCESS) return -1;
+    run->yprev = malloc(sizeof(double) * 4 * (size_t)run->np1);
+    run->ys = malloc(sizeof(double) * (size_t)FE_MAX_BRANCHES * (size_t)run->np1);
+    run->ts = malloc(sizeof(double) * (size_t)FE_MAX_BRANCHES * (size_t)run->np1);
+    if (!run->yprev || !run->ys || !run->ts) return -1;
+    run->tprev = run->yprev + run->np1;
+    run->ylast = run->tprev + run->np1;
+    run->tlast = run->ylast + run->np1;
+    for (k = 0; k < FE_MAX_BRANCHES; k++) {
+        run->br[k].y = malloc(sizeof(double) * (size_t)run->np1);
+        if (!run->br[k].y) return -1;
+    }
+    return 0;
+}
+
+static inline void fe_run_free(fe_run *run)
+{
+    int k;
+    psb_solver_free(&run->s);
+    free(run->yprev); free(run->ys); free(run->ts); free(run->diag);
+    for (k = 0; k < FE_MAX_BRANCHES; k++) free(run->br[k].y);
+    memset(run, 0, sizeof *run);
+}
+
+/* Continue (y, t) towards the branching point at gamma = 0: trace without switching, pass the
+   kinks met on the way (|gamma| > kink_tol) with the simple tangent switch, and if the trace
+   lands on gamma = 0 itself, go back to the last couple before it. Then close in on gamma = 0
+   by steps of half the remaining (linearly estimated) arc length, so that Algorithm 2.1 starts
+   within its step h of the end point. Returns the last trace code (< 0: failure). */
+static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int verbose)
+{
+    int np1 = run->np1, n = run->md->n, pass;
+    double g0 = y[n];
+    psb_trace_options to;
+    psb_trace_report rep;
+    psb_result r = PSB_SUCCESS;
+    memset(&to, 0, sizeof to);
+    to.param_min = g0 < 0 ? g0 : 0;
+    to.param_max = g0 < 0 ? 0 : g0;
+    to.no_switch = 1;
+    to.on_point = fe_run_point;
+    to.point_user = run;
+    run->cur = -1;
+    for (pass = 0; pass < 100; pass++) {
+        r = psb_trace(&run->s, y, t, &to, &rep);
+        if (verbose)
+            printf("  approach: trace %s after %ld steps at gamma = %.3e\n", psb_result_string(r), rep.steps, y[n]);
+        if (r == PSB_PARAM_BOUND && y[n] == 0) {
+            memcpy(y, run->yprev, sizeof(double) * (size_t)np1);
+            memcpy(t, run->tprev, sizeof(double) * (size_t)np1);
+            break;
+        }
+        if (r != PSB_NONSMOOTH_END) return r;
+        if (fabs(y[n]) <= run->kink_tol) break;
+        r = psb_switch_tangent(&run->s, y, t);
+        if (verbose) printf("  approach: kink at gamma = %.6f, switch: %s\n", y[n], psb_result_string(r));
+        if (r != PSB_SUCCESS) return r < 0 ? r : PSB_NONSMOOTH_END;
+    }
+    for (pass = 0; pass < 200; pass++) {
+        double d = fabs(t[n]) > 0 ? -y[n] / t[n] : -1, h;
+        if (!(d > run->s.opt.branch_h)) break;
+        h = 0.5 * d;
+        if (psb_step(&run->s, y, t, &h) != PSB_SUCCESS) break;
+    }
+    if (verbose) printf("  approach: last couple at gamma = %.3e\n", y[n]);
+    return PSB_SUCCESS;
+}
+
+/* Algorithms 2.1 and 2.2 from the last couple (y, t) of the incoming branch. */
+static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
+{
+    psb_result r = psb_locate_end(&run->s, y, t, &run->precision);
+    if (r < 0) return r;
+    r = psb_find_branches(&run->s, y, t, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
+    if (r < 0) return r;
+    run->nbr = run->brep.n_branches;
+    return r;
+}
+
+/* Trace every branch found to the bounds |gamma| = gmax, recording the diagram. */
+static inline void fe_run_trace_all(fe_run *run, double gmax)
+{
+    int k, np1 = run->np1;
+    double *t = malloc(sizeof(double) * (size_t)np1);
+    psb_trace_options to;
+    memset(&to, 0, sizeof to);
+    to.param_min = -gmax;
+    to.param_max = gmax;
+    to.on_point = fe_run_point;
+    to.point_user = run;
+    for (k = 0; k < run->nbr && t; k++) {
+        fe_branch *b = &run->br[k];
+        psb_trace_report rep;
+        memcpy(b->y, run->ys + (size_t)k * np1, sizeof(double) * (size_t)np1);
+        memcpy(t, run->ts + (size_t)k * np1, sizeof(double) * (size_t)np1);
+        b->found = k;
+        run->cur = k;
+        b->end = psb_trace(&run->s, b->y, t, &to, &rep);
+        b->steps = rep.steps;
+        b->switches = rep.n_switches;
+        b->resnorm = fe_resnorm(run->md, b->y);
+        fe_contact_states(run->md, b->y, b->states, NULL);
+    }
+    run->cur = -1;
+    free(t);
+}
+
+/* Output files: branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp (K = paper number
+   when known, else found index + 1). */
+static inline int fe_run_write(const fe_run *run, const char *dir, const char *title, int diag_by_number)
+{
+    char path[1024];
+    FILE *fp;
+    int k, nn = run->md->mesh->nnode, nc = run->md->ncontact;
+    double *u = malloc(sizeof(double) * 2 * (size_t)nn);
+    if (!u) return -1;
+    snprintf(path, sizeof path, "%s/branches.csv", dir);
+    if (!(fp = fopen(path, "w"))) { free(u); return -1; }
+    fprintf(fp, "branch,gamma,u1_left,u2_left,u1_right,u2_right,n_separated,n_stick,n_slip\n");
+    for (k = 0; k < run->nbr; k++) {
+        const fe_branch *b = &run->br[k];
+        int ul = run->md->udof[run->md->cnode[0]], ur = run->md->udof[run->md->cnode[nc - 1]];
+        fprintf(fp, "%d,%.17g,%.10e,%.10e,%.10e,%.10e,%d,%d,%d\n", b->number ? b->number : k + 1, b->y[run->md->n],
+                b->y[ul], b->y[ul + 1], b->y[ur], b->y[ur + 1], b->states[0], b->states[1], b->states[2] + b->states[3]);
+    }
+    fclose(fp);
+    snprintf(path, sizeof path, "%s/diagram.csv", dir);
+    if (!(fp = fopen(path, "w"))) { free(u); return -1; }
+    fprintf(fp, "branch,gamma,u1_left,u2_left\n");
+    {
+        long i;
+        for (i = 0; i < run->ndiag; i++) {
+            int f = (int)run->diag[4 * i], num = (diag_by_number && run->br[f].number) ? run->br[f].number : f + 1;
+            fprintf(fp, "%d,%.10e,%.10e,%.10e\n", num, run->diag[4 * i + 1], run->diag[4 * i + 2], run->diag[4 * i + 3]);
+        }
+    }
+    fclose(fp);
+    for (k = 0; k < run->nbr; k++) {
+        const fe_branch *b = &run->br[k];
+        int num = b->number ? b->number : k + 1;
+        char ttl[128];
+        fe_displacements(run->md, b->y, u);
+        snprintf(ttl, sizeof ttl, "%s branch %d (%s) gamma=%g", title, num, b->label, b->y[run->md->n]);
+        snprintf(path, sizeof path, "%s/branch_%d.vtk", dir, num);
+        if (fe_write_vtk(run->md->mesh, u, path, ttl)) { free(u); return -1; }
+        snprintf(path, sizeof path, "%s/body_%d.dat", dir, num);
+        if (!(fp = fopen(path, "w"))) { free(u); return -1; }
+        fe_write_outline(run->md->mesh, u, fp);
+        fclose(fp);
+    }
+    free(u);
+    return 0;
+}
+
+/* gnuplot script: diagram.png (gamma against u1, u2 of the left-most contact node) and
+   bodies.png (the deformed bodies at the branch ends). */
+static inline int fe_run_write_gnuplot(const fe_run *run, const char *dir, const char *title, const char *unit)
+{
+    char path[1024];
+    FILE *fp;
+    int k, cols = run->nbr <= 4 ? run->nbr : 3, rows = (run->nbr + cols - 1) / (cols ? cols : 1);
+    snprintf(path, sizeof path, "%s/plot.gp", dir);
+    if (!(fp = fopen(path, "w"))) return -1;
+    fprintf(fp, "# gnuplot script written by the pscbranch %s example: cd to this folder, run gnuplot plot.gp\n", title);
+    fprintf(fp, "set datafile separator ','\nset terminal pngcairo size 1200,500\nset output 'diagram.png'\n");
+    fprintf(fp, "set multiplot layout 1,2 title '%s: left-most contact node'\nset grid\nset key outside\n", title);
+    fprintf(fp, "set xlabel 'gamma'\nset ylabel 'u1 (%s)'\n", unit);
+    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):3 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", run->nbr);
+    fprintf(fp, "set ylabel 'u2 (%s)'\n", unit);
+    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):4 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", run->nbr);
+    fprintf(fp, "unset multiplot\nset datafile separator whitespace\n");
+    fprintf(fp, "set terminal pngcairo size %d,%d\nset output 'bodies.png'\nunset grid\nunset key\nset size ratio -1\nunset xlabel\nunset ylabel\n",
+            400 * cols, 450 * rows);
+    fprintf(fp, "set multiplot layout %d,%d title '%s: deformed bodies at the branch ends'\n", rows, cols, title);
+    for (k = 0; k < run->nbr; k++) {
+        const fe_branch *b = &run->br[k];
+        int num = b->number ? b->number : k + 1;
+        fprintf(fp, "set title 'branch %d: %s, gamma = %g'\n", num, b->label, b->y[run->md->n]);
+        fprintf(fp, "plot 'body_%d.dat' with lines lc rgb '#3060a0', 0 with lines lc rgb 'black' lw 2\n", num);
+    }
+    fprintf(fp, "unset multiplot\n");
+    return fclose(fp) ? -1 : 0;
+}
+
+#endif /* PSCBRANCH_H */
+
+#endif /* FE_H */

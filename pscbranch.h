@@ -1,0 +1,2290 @@
+/* pscbranch.h - manual placeholder */
+#ifndef PSCBRANCH_H
+#define PSCBRANCH_H
+
+#include <stddef.h>
+
+#ifndef PSCBRANCH_DEF
+#ifdef PSCBRANCH_STATIC
+#define PSCBRANCH_DEF static
+#else
+#define PSCBRANCH_DEF extern
+#endif
+#endif
+
+#define PSCBRANCH_VERSION_MAJOR 0
+#define PSCBRANCH_VERSION_MINOR 1
+#define PSCBRANCH_VERSION_PATCH 0
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- result codes: 0 success, > 0 informational, < 0 failure (test with `< 0`) ---------- */
+typedef enum psb_result {
+    PSB_SUCCESS = 0,
+    PSB_PARAM_BOUND = 1,      /* trace: landed exactly on a parameter bound */
+    PSB_STEP_BUDGET = 2,      /* trace: the step budget was used up */
+    PSB_NONSMOOTH_END = 3,    /* trace/switch: an end point the tangent switch could not pass */
+    PSB_STOPPED = 4,          /* trace: the point callback asked to stop */
+    PSB_LOOP_CLOSED = 5,      /* trace: the curve came back to its starting point */
+    PSB_BRANCH_CAPACITY = 6,  /* branching: more branches than room; the first ones are kept */
+
+    PSB_ERR_NULL = -1,            /* a required pointer is NULL */
+    PSB_ERR_SIZE = -2,            /* a size or index is out of range */
+    PSB_ERR_OPTIONS = -3,         /* inconsistent or invalid options */
+    PSB_ERR_NOMEM = -4,           /* allocation failed or caller memory too small */
+    PSB_ERR_CALLBACK = -5,        /* a callback returned < 0: stopped at once */
+    PSB_ERR_CALLBACK_FAILED = -6, /* a callback returned > 0 where no retry is possible */
+    PSB_ERR_NONFINITE = -7,       /* NaN or Inf in the input or in a callback's output */
+    PSB_ERR_SINGULAR = -8,        /* singular (bordered) matrix: no unique tangent or correction */
+    PSB_ERR_LAPACK = -9,          /* LAPACK rejected an argument (a library bug: please report) */
+    PSB_ERR_NO_CONVERGENCE = -10, /* Newton/corrector iterations did not converge */
+    PSB_ERR_STEP_TOO_SMALL = -11, /* every trial step down to h_min failed */
+    PSB_ERR_INPUT = -12           /* invalid numerical input (zero tangent, start out of bounds...) */
+} psb_result;
+
+/* Name of a result code ("PSB_ERR_SINGULAR: ..."); never NULL. */
+PSCBRANCH_DEF const char *psb_result_string(psb_result code);
+
+/* ---- the problem ------------------------------------------------------------------------ */
+
+/* H(y): y has n+1 components (in), h has n (out). Return 0 on success, > 0 for a recoverable
+   failure (the step is rejected and shortened), < 0 to stop at once. */
+typedef int (*psb_residual_fn)(const double *y, double *h, void *user);
+/* dH/dy at y: an n x (n+1) column-major matrix with leading dimension ldjac >= n; entry (i, j)
+   is jac[i + j*ldjac]. Fill every entry of the n x (n+1) block. Same return convention. */
+typedef int (*psb_jacobian_fn)(const double *y, double *jac, int ldjac, void *user);
+
+typedef struct psb_problem {
+    int n;                    /* N, the number of equations; y has N+1 components */
+    psb_residual_fn residual; /* required */
+    psb_jacobian_fn jacobian; /* optional: NULL means finite differences (see psb_options) */
+    void *user;               /* passed to every callback */
+    int param_index;          /* component of y that is the load parameter, 0..N
+                                 (psb_problem_init sets N, the last component) */
+} psb_problem;
+
+/* Fills *p and sets param_index to n (the last component). */
+PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn residual,
+                                    psb_jacobian_fn jacobian, void *user);
+
+/* Random spans of Algorithm 2.2 (after the pairs of known branches are used up): t~1 stays
+   and t~2 becomes the tangent at y0 + h d, where d is
+   PSB_RESTART_PAPER:  the previous t~2 plus 0.1 times a random unit vector (Remark 2.3(ii));
+   PSB_RESTART_GLOBAL: a random unit vector, uniform on the sphere of the weighted norm;
+   PSB_RESTART_MIXED:  the two alternately, PAPER first. */
+typedef enum psb_restart { PSB_RESTART_MIXED = 0, PSB_RESTART_PAPER = 1, PSB_RESTART_GLOBAL = 2 } psb_restart;
+
+/* ---- options: every field's zero value means "the default in brackets" ------------------ */
+typedef struct psb_options {
+    /* weighted inner product <a,b>_w = sum_i w_i a_i b_i, used for every norm, cosine and
+       normalisation in the library */
+    double kappa;          /* weight of each state component [1]; the parameter's weight is 1 */
+    const double *weights; /* N+1 positive weights overriding kappa [NULL]; copied at init */
+
+    /* predictor-corrector */
+    double h_init;         /* first step size, and after each tangent switch [1e-2] */
+    double h_min;          /* smallest step before the step is declared failed [1e-6] */
+    double h_max;          /* largest step [1e-1] */
+    double h_inc;          /* growth factor after an easy step, > 1 [1.3] */
+    double h_dec;          /* shrink factor after a rejected step, in (0,1) [0.5] */
+    int max_iter;          /* corrector iterations per trial step [10] */
+    int iter_threshold;    /* the step grows only when the corrector took fewer iterations [4] */
+    double tol_residual;   /* ||H(y)||_2 at convergence [1e-10] */
+    double tol_correction; /* ||last correction||_w at convergence [1e-10] */
+    double c_min;          /* smallest cosine between successive tangents in a step [0.9] */
+
+    /* simple tangent switch: trial points y + delta t, delta doubling from min to max */
+    double switch_delta_min; /* [h_min] */
+    double switch_delta_max; /* [h_init] */
+
+    /* finite-difference Jacobian (when problem.jacobian is NULL): column j uses the step
+       fd_step * max(1, |y_j|), forward differences unless fd_central */
+    double fd_step; /* [sqrt(DBL_EPSILON) ~ 1.49e-8; 6.06e-6 ~ cbrt(DBL_EPSILON) if central] */
+    int fd_central; /* 0: forward (n+1 residuals per Jacobian), 1: central (2(n+1)) [0] */
+
+    /* branching: Algorithm 2.1 (end point) and 2.2 (branches) of Ligursky-Renard */
+    double c_diff;        /* cosine above which two tangents are the same branch [0.99999] */
+    double branch_h;      /* h of Algorithms 2.1 and 2.2 [h_min] */
+    double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
+    double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
+    int n_dir;            /* directions per span of two tangents [20] */
+    int n_span;           /* selections of the two spanning tangents [15] */
+    int restart;          /* how random spans are drawn once the pairs of known branches are
+                             used up [PSB_RESTART_MIXED]: see psb_restart */
+    unsigned long long seed; /* seed of the generator of the random spans [0 is a valid seed] */
+} psb_options;
+
+/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by its
+   default, so a log or a test can show what will be used. Does not validate. */
+PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt);
+
+/* ---- counters ---------------------------------------------------------------------------- */
+typedef struct psb_stats {
+    long n_residual;    /* evaluations of H, finite differences included */
+    long n_jacobian;    /* Jacobians formed (analytic or finite differences) */
+    long n_factor;      /* LU or QR factorisations */
+    long n_pc_steps;    /* predictor-corrector trials (accepted or rejected) */
+    long n_newton;      /* corrector / Newton iterations */
+    long n_rejected;    /* rejected trials */
+    long n_switches;    /* successful tangent switches */
+    long n_tangents;    /* tangents computed on their own (not inside a corrector) */
+} psb_stats;
+
+/* ---- the solver: caller-owned state, all memory set up at init ------------------------ */
+typedef struct psb_solver {
+    psb_problem prob;
+    psb_options opt;  /* resolved */
+    psb_stats stats;  /* cumulative; zero it whenever you like */
+    char message[200]; /* diagnostic of the last failure ("" when none) */
+    /* private */
+    int n_, np1_;
+    double *w_;
+    double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
+    int *ipiv_, *iwork_;
+    void *owned_;
+    unsigned long long rng_[4];
+    int last_fail_;
+} psb_solver;
+
+/* Bytes of memory psb_solver_init_with_memory needs for n equations (0 if n is invalid). */
+PSCBRANCH_DEF size_t psb_solver_memory_size(int n);
+/* Sets up s on caller memory (at least psb_solver_memory_size(p->n) bytes, aligned for double);
+   never allocates. Validates the problem and the options.
+   Returns PSB_SUCCESS, PSB_ERR_NULL, PSB_ERR_SIZE, PSB_ERR_OPTIONS, PSB_ERR_NOMEM (too small). */
+PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_problem *p,
+                                                     const psb_options *opt, void *memory,
+                                                     size_t bytes);
+/* Same, allocating with PSCBRANCH_MALLOC; release with psb_solver_free. */
+PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
+                                         const psb_options *opt);
+/* Frees what psb_solver_init allocated (nothing for caller memory). s may be NULL. */
+PSCBRANCH_DEF void psb_solver_free(psb_solver *s);
+/* The last diagnostic message, "" if none; never NULL. */
+PSCBRANCH_DEF const char *psb_solver_message(const psb_solver *s);
+
+/* Weighted inner product and norm of vectors of n+1 components. */
+PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b);
+PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a);
+
+/* ---- single operations (none allocates; all may be called from a point callback) -------- */
+
+/* Newton's method on H(y) = 0 with y[param_index] held fixed, for a starting point.
+   y (in/out, n+1): untouched unless PSB_SUCCESS. max_iter <= 0 means 50.
+   Returns PSB_SUCCESS, PSB_ERR_NO_CONVERGENCE, PSB_ERR_SINGULAR, PSB_ERR_NONFINITE,
+   PSB_ERR_CALLBACK(_FAILED), PSB_ERR_NULL. */
+PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_iter);
+
+/* Unit tangent t (out, n+1) at y (in): dH(y) t = 0, ||t||_w = 1, <t, ref>_w >= 0. Solves the
+   bordered system [dH(y); (W ref)^T] t = e_{n+1}; when that is singular or ill-conditioned
+   (ref nearly orthogonal to the kernel, e.g. at a fold with ref = e_param) it falls back to
+   the QR factorisation of dH(y)^T. ref may be NULL (then e_param orients t).
+   Returns PSB_SUCCESS, PSB_ERR_SINGULAR (rank of dH(y) < n), PSB_ERR_NONFINITE, ... */
+PSCBRANCH_DEF psb_result psb_tangent(psb_solver *s, const double *y, const double *ref,
+                                     double *t);
+
+/* Moore-Penrose corrector from the couple (y, t) (in/out): each iteration factors
+   [dH(y); (W t)^T] once and solves it for the point update (rhs [H(y); 0]) and the new
+   tangent (rhs [0; 1]). iterations (out, may be NULL).
+   Returns PSB_SUCCESS, PSB_ERR_NO_CONVERGENCE, PSB_ERR_SINGULAR, ...; y, t untouched on failure. */
+PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *iterations);
+
+/* One predictor-corrector step from (y, t) with step size *h, shrinking it (h_dec) until the
+   corrector converges no farther than *h from the prediction y + *h t, with a tangent within
+   c_min of t, or until *h < h_min. On success (y, t) is
+   the new couple and *h the step that was accepted, already adapted for the next step (h_inc
+   when the corrector was quick, capped at h_max).
+   Returns PSB_SUCCESS, PSB_ERR_STEP_TOO_SMALL, PSB_ERR_CALLBACK, ... */
+PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h);
+
+/* Simple tangent switch at a couple (y, t) where steps fail (a kink ahead): computes the
+   tangent t~ at y + delta t for delta = switch_delta_min, 2 delta, ... <= switch_delta_max and,
+   once t~ differs from t (cosine < c_diff), tries steps from y along +t~ then -t~, accepting a
+   new couple that does not go back along the incoming branch.
+   Returns PSB_SUCCESS (y, t updated), PSB_NONSMOOTH_END (nothing found), or a failure. */
+PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t);
+
+/* ---- the driver -------------------------------------------------------------------------- */
+#define PSB_POINT_START 1  /* the first point of a trace */
+#define PSB_POINT_FOLD 2   /* the parameter component of t changed sign since the last point */
+#define PSB_POINT_SWITCH 4 /* reached through a tangent switch (a kink was passed) */
+#define PSB_POINT_BOUND 8  /* the point lies exactly on a parameter bound */
+#define PSB_POINT_KINK 16  /* the last couple before a kink, located to h_min (locate_kinks) */
+#define PSB_MAX_FOLDS 16
+
+typedef struct psb_point {
+    const double *y, *t; /* the accepted couple (n+1 each) */
+    double h;            /* the step that reached it (0 for the start) */
+    long index;          /* 0 for the start, then 1, 2, ... */
+    int flags;           /* PSB_POINT_* */
+    double fold_param;   /* with PSB_POINT_FOLD: estimated parameter value of the limit point */
+} psb_point;
+
+/* Called for every accepted point; return nonzero to stop the trace (PSB_STOPPED). */
+typedef int (*psb_point_fn)(const psb_point *pt, void *user);
+
+typedef struct psb_trace_options {
+    double param_min, param_max; /* bounds on y[param_index]; ignored when param_min >= param_max */
+    long max_steps;              /* accepted steps [0 -> 10000] */
+    int no_switch;               /* 1: stop (PSB_NONSMOOTH_END) instead of switching at a kink */
+    int detect_loop;             /* 1: stop (PSB_LOOP_CLOSED) when the curve returns to its start */
+    int locate_kinks;            /* 1: locate every kink passed (where the tangent turns by an
+                                    angle that does not shrink with the step) to within h_min and
+                                    report the couple just before it as a PSB_POINT_KINK point;
+                                    a nonzero return from on_point there stops the trace on it */
+    psb_point_fn on_point;       /* optional */
+    void *point_user;
+} psb_trace_options;
+
+typedef struct psb_trace_report {
+    psb_result end;   /* how the trace ended (the return value) */
+    long steps;       /* accepted steps */
+    int n_switches;   /* kinks passed */
+    int n_folds;      /* limit points detected */
+    int n_kinks;      /* kinks located (locate_kinks) */
+    double fold_params[PSB_MAX_FOLDS]; /* their parameter values (the first PSB_MAX_FOLDS) */
+    double h;         /* the step size at the end */
+} psb_trace_report;
+
+/* Traces the curve through (y, t) (in/out; t is the direction of travel, ||t||_w = 1 is
+   enforced) until a bound, the step budget, an end point it cannot pass, or a failure. At the
+   end (y, t) is the last accepted couple. With bounds, the last point lies exactly on the bound.
+   to and rep may be NULL. Returns PSB_PARAM_BOUND, PSB_STEP_BUDGET, PSB_NONSMOOTH_END,
+   PSB_STOPPED, PSB_LOOP_CLOSED, or a failure (PSB_ERR_CALLBACK when a callback returned < 0). */
+PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
+                                   const psb_trace_options *to, psb_trace_report *rep);
+
+/* ---- branching at a nonsmooth point ---------------------------------------------------- */
+
+/* Algorithm 2.1: from the last couple (y, t) (in/out) of a branch ending at a nonsmooth point,
+   halves h from branch_h down to branch_h_min, moving y towards the end point whenever a
+   correction of y + h t converges with a tangent within c_diff of t. On return y approximates
+   the end point, t (unit) points out of the branch's region, *precision (may be NULL) is the
+   last h tried. Returns PSB_SUCCESS or a failure (PSB_ERR_CALLBACK...). */
+PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision);
+
+typedef struct psb_branch_report {
+    int n_branches;   /* found, input branch included */
+    long n_pc;        /* trial predictor-corrector steps (Step 5 and 6), as n_pc of the paper */
+    int n_rand;       /* spans chosen at random (Remark 2.3(ii)), as n_rand of the paper */
+    int n_span;       /* spans used */
+    long n_tangents;  /* tangents computed at y0 + h v */
+} psb_branch_report;
+
+/* Algorithm 2.2 with the restarts of Section 3: n_span spans of two tangents, each swept in
+   n_dir directions. (y0, t0) is Algorithm 2.1's output. Branch k (k < max_branches) is the
+   couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented away from the point; branch 0 is
+   the incoming branch (y0, -t0). rep may be NULL. Same seed, same result, bit for bit.
+   Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
+PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
+                                           int max_branches, double *ys, double *ts,
+                                           psb_branch_report *rep);
+
+/* ---- contact helpers: see the manual section "Contact helpers" ----------------------------- */
+
+/* Pass as piece_request for automatic piece selection (documented default on kinks). */
+#define PSB_PIECE_DEFAULT (-1)
+
+/* Piece ids. Value and Jacobian of a projection are always those of the returned piece. */
+enum { PSB_HALF_IN = 0, PSB_HALF_OUT = 1 };                       /* half-lines: x / 0     */
+enum { PSB_IVL_IN = 0, PSB_IVL_LOWER = 1, PSB_IVL_UPPER = 2 };    /* interval: x / a / b   */
+enum { PSB_DISK_IN = 0, PSB_DISK_BOUNDARY = 1, PSB_DISK_ZERO = 2 }; /* disk: x / s x/|x| / 0 */
+enum { PSB_CONE_IN = 0, PSB_CONE_POLAR = 1, PSB_CONE_BOUNDARY = 2 }; /* cone: x / 0 / ray  */
+
+/* Composite piece ids of the nodal residuals (pn: half-line piece, pi/pd: interval/disk piece,
+   pr: piece of (r_N)_+ in the Jean-Moreau radius). */
+#define PSB_AC2D_PIECE(pn, pi) ((pn) + 2 * (pi))              /* 0..5  */
+#define PSB_FC3D_AC_PIECE(pn, pd) ((pn) + 2 * (pd))           /* 0..5  */
+#define PSB_FC3D_JM_PIECE(pn, pr, pd) ((pn) + 2 * (pr) + 4 * (pd)) /* 0..11 */
+
+/* Nodal contact state of the 2D Alart-Curnier law (slip named by the sign of u_t). */
+typedef enum psb_contact_state {
+    PSB_CONTACT_SEPARATED = 0, /* s = (lam_n - r(u_n - g))_- = 0: no contact force        */
+    PSB_CONTACT_STICK = 1,     /* |lam_t - r u_t| <= F|s|                                   */
+    PSB_CONTACT_SLIP_POS = 2,  /* lam_t - r u_t < F s: slides towards +tau, lam_t = F s      */
+    PSB_CONTACT_SLIP_NEG = 3   /* lam_t - r u_t > -F s: slides towards -tau, lam_t = -F s    */
+} psb_contact_state;
+
+/* Projection onto ]-inf, 0] (the papers' (x)_- = min(x, 0)).
+   in: x; piece_request (PSB_PIECE_DEFAULT or PSB_HALF_IN/OUT).
+   out: *value = P(x); *deriv = dP/dx (may be NULL); *piece (may be NULL).
+   Default: x <= 0 -> IN (value x, deriv 1), x > 0 -> OUT (0, 0).
+   Returns PSB_ERR_NULL (value NULL), PSB_ERR_NONFINITE, PSB_ERR_SIZE (bad piece_request). */
+PSCBRANCH_DEF psb_result psb_proj_nonpos(double x, int piece_request, double *value,
+                                         double *deriv, int *piece);
+
+/* Projection onto [0, +inf[ (max(x, 0)). Same arguments and results as psb_proj_nonpos.
+   Default: x >= 0 -> IN, x < 0 -> OUT. */
+PSCBRANCH_DEF psb_result psb_proj_nonneg(double x, int piece_request, double *value,
+                                         double *deriv, int *piece);
+
+/* Pieces of a half-line projection whose closure contains x within tol >= 0.
+   in: x, tol; nonpos != 0 selects ]-inf,0], else [0,inf[.  out: *mask, bit k set = piece k.
+   Returns PSB_ERR_NULL, PSB_ERR_NONFINITE, PSB_ERR_INPUT (tol < 0). */
+PSCBRANCH_DEF psb_result psb_proj_half_active(double x, int nonpos, double tol, unsigned *mask);
+
+/* Projection onto the interval [a, b], a <= b.
+   in: x, a, b; piece_request (PSB_PIECE_DEFAULT or PSB_IVL_*).
+   out: *value; d[3] = (dP/dx, dP/da, dP/db) (may be NULL); *piece (may be NULL).
+   Default: x < a -> LOWER, x > b -> UPPER, a <= x <= b -> IN, except a == b -> LOWER.
+   Returns PSB_ERR_NULL, PSB_ERR_NONFINITE, PSB_ERR_INPUT (a > b), PSB_ERR_SIZE. */
+PSCBRANCH_DEF psb_result psb_proj_interval(double x, double a, double b, int piece_request,
+                                           double *value, double d[3], int *piece);
+
+/* Active interval pieces at (x, a, b) within tol (closures in (x, a, b)-space). out: *mask. */
+PSCBRANCH_DEF psb_result psb_proj_interval_active(double x, double a, double b, double tol,
+                                                  unsigned *mask);
+
+/* Projection onto the disk {|y| <= s} of R^2 (s <= 0: the set {0}).
+   in: x[2], s; piece_request (PSB_PIECE_DEFAULT or PSB_DISK_*).
+   out: p[2]; jx[4] = dP/dx, 2x2 column-major (may be NULL); js[2] = dP/ds (may be NULL);
+   *piece (may be NULL). Default: s <= 0 -> ZERO, |x| <= s -> IN, else BOUNDARY.
+   Returns PSB_ERR_NULL, PSB_ERR_NONFINITE, PSB_ERR_SIZE. */
+PSCBRANCH_DEF psb_result psb_proj_disk(const double x[2], double s, int piece_request, double p[2],
+                                       double jx[4], double js[2], int *piece);
+
+/* Active disk pieces at (x, s) within tol. out: *mask. */
+PSCBRANCH_DEF psb_result psb_proj_disk_active(const double x[2], double s, double tol,
+                                              unsigned *mask);
+
+/* Projection onto the Coulomb cone K = {|x_T| <= mu x_N} of R^3, x = (x_N, x_T1, x_T2), mu >= 0
+   (mu = 0: the half-line x_T = 0, x_N >= 0).
+   in: x[3], mu; piece_request (PSB_PIECE_DEFAULT or PSB_CONE_*).
+   out: p[3]; j[9] = dP/dx, 3x3 column-major (may be NULL); *piece (may be NULL).
+   Default: mu > 0 and |x_T| <= mu x_N -> IN; else mu|x_T| <= -x_N -> POLAR; else BOUNDARY.
+   Returns PSB_ERR_NULL, PSB_ERR_NONFINITE, PSB_ERR_INPUT (mu < 0), PSB_ERR_SIZE. */
+PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_request,
+                                       double p[3], double j[9], int *piece);
+
+/* Active cone pieces at x within tol (IN is never reported when mu = 0). out: *mask. */
+PSCBRANCH_DEF psb_result psb_proj_cone_active(const double x[3], double mu, double tol,
+                                              unsigned *mask);
+
+/* 2D Alart-Curnier nodal residual, eq. (2) of Haslinger et al. (multipliers <= 0, nu pointing
+   into the foundation):  s = (lam_n - r (u_n - gap))_-,
+   res[0] = -(1/r) (lam_n - s),  res[1] = -(1/r) (lam_t - P_[F s, -F s](lam_t - r u_t)).
+   in: u_n, u_t, lam_n, lam_t; r > 0; friction F >= 0; gap (0: none); piece_request
+   (PSB_PIECE_DEFAULT or PSB_AC2D_PIECE(pn, pi)).
+   out: res[2]; jac[8] = 2x4 column-major d res / d(u_n, u_t, lam_n, lam_t) (may be NULL);
+   *piece = PSB_AC2D_PIECE(pn, pi) used (may be NULL).
+   Returns PSB_ERR_NULL, PSB_ERR_NONFINITE, PSB_ERR_INPUT (r <= 0, F < 0), PSB_ERR_SIZE. */
+PSCBRANCH_DEF psb_result psb_ac2d_node(double u_n, double u_t, double lam_n, double lam_t,
+                                       double r, double friction, double gap, int piece_request,
+                                       double res[2], double jac[8], int *piece);
+
+/* Composite pieces PSB_AC2D_PIECE(pn, pi) active at the node within tol. out: *mask (bit id). */
+PSCBRANCH_DEF psb_result psb_ac2d_active(double u_n, double u_t, double lam_n, double lam_t,
+                                         double r, double friction, double gap, double tol,
+                                         unsigned *mask);
+
+/* Contact state of the node (see psb_contact_state). out: *state.
+   Returns PSB_ERR_NULL, PSB_ERR_NONFINITE, PSB_ERR_INPUT (r <= 0, F < 0). */
+PSCBRANCH_DEF psb_result psb_ac2d_state(double u_n, double u_t, double lam_n, double lam_t,
+                                        double r, double friction, double gap,
+                                        psb_contact_state *state);
+
+/* 3D Alart-Curnier residual of one contact, eq. (11) of Acary et al. (reactions in K, u = W r + q):
+   f_N = r_N - (r_N - rho_n u_N)_+,  f_T = r_T - P_D(mu (r_N - rho_n u_N)_+)(r_T - rho_t u_T).
+   in: r[3], u[3] (N first); mu >= 0; rho_n, rho_t > 0; piece_request (PSB_PIECE_DEFAULT or
+   PSB_FC3D_AC_PIECE(pn, pd)).  out: f[3]; jr[9] = df/dr, ju[9] = df/du, 3x3 column-major
+   (may be NULL); *piece (may be NULL).
+   Returns PSB_ERR_NULL, PSB_ERR_NONFINITE, PSB_ERR_INPUT (mu < 0, rho <= 0), PSB_ERR_SIZE. */
+PSCBRANCH_DEF psb_result psb_fc3d_ac(const double r[3], const double u[3], double mu, double rho_n,
+                                     double rho_t, int piece_request, double f[3], double jr[9],
+                                     double ju[9], int *piece);
+
+/* 3D Jean-Moreau residual, eq. (12): as psb_fc3d_ac with disk radius mu (r_N)_+.
+   piece_request / *piece: PSB_FC3D_JM_PIECE(pn, pr, pd). Same results. */
+PSCBRANCH_DEF psb_result psb_fc3d_jm(const double r[3], const double u[3], double mu, double rho_n,
+                                     double rho_t, int piece_request, double f[3], double jr[9],
+                                     double ju[9], int *piece);
+
+/* De Saxce's modified velocity uhat = u + mu |u_T| e_N.
+   out: uhat[3]; j[9] = d uhat / du column-major (may be NULL; at u_T = 0 uses d|u_T|/du_T = e_1).
+   Returns PSB_ERR_NULL, PSB_ERR_NONFINITE, PSB_ERR_INPUT (mu < 0). */
+PSCBRANCH_DEF psb_result psb_fc3d_desaxce(const double u[3], double mu, double uhat[3], double j[9]);
+
+/* Natural map with De Saxce's velocity, eq. (13): f = r - P_K(r - rho (u + mu |u_T| e_N)).
+   piece_request / *piece: cone piece (PSB_CONE_*). Other arguments as psb_fc3d_ac (rho > 0). */
+PSCBRANCH_DEF psb_result psb_fc3d_nat(const double r[3], const double u[3], double mu, double rho,
+                                      int piece_request, double f[3], double jr[9], double ju[9],
+                                      int *piece);
+
+/* Error of eq. (15): |F_nat(r)| / qnorm with rho = 1, over nc contacts of dimension dim (2 or 3;
+   in 2D each contact is (N, T)). in: r[dim*nc], u[dim*nc] = W r + q, mu[nc], qnorm (<= 0: the
+   absolute |F_nat(r)| is returned). out: *err.
+   Returns PSB_ERR_NULL, PSB_ERR_SIZE (dim), PSB_ERR_NONFINITE, PSB_ERR_INPUT (mu < 0). */
+PSCBRANCH_DEF psb_result psb_fc_nat_error(int dim, size_t nc, const double *r, const double *u,
+                                          const double *mu, double qnorm, double *err);
+
+/* Sign-convention map between Haslinger et al. (multipliers lam <= 0, displacement u with nu
+   into the foundation, gap g: u_n <= g) and Acary et al. (reactions r in K, r_N >= 0, velocity
+   or gap u with u_N >= 0 separating):  r = -lam,  u_N = g - u_n,  u_T = -u_t.
+   It is its own inverse (apply it to (r, u) with the same g to get (lam, u) back).
+   in: dim (2 or 3), force_in[dim], disp_in[dim], gap. out: force_out[dim], disp_out[dim] (may
+   alias the inputs). Returns PSB_ERR_NULL, PSB_ERR_SIZE, PSB_ERR_NONFINITE. */
+PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
+                                             const double *disp_in, double gap,
+                                             double *force_out, double *disp_out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* PSCBRANCH_H */
+
+#ifdef PSCBRANCH_IMPLEMENTATION
+#ifndef PSCBRANCH_IMPLEMENTATION_DONE
+#define PSCBRANCH_IMPLEMENTATION_DONE
+
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#if defined(PSCBRANCH_MALLOC) && defined(PSCBRANCH_FREE)
+#elif !defined(PSCBRANCH_MALLOC) && !defined(PSCBRANCH_FREE)
+#include <stdlib.h>
+#define PSCBRANCH_MALLOC(size) malloc(size)
+#define PSCBRANCH_FREE(ptr) free(ptr)
+#else
+#error "define both PSCBRANCH_MALLOC and PSCBRANCH_FREE, or neither"
+#endif
+
+/* ---- LAPACK through its Fortran symbols ---------------------------------------------------
+   PSCBRANCH_LAPACK_INT: the Fortran INTEGER (int; long for ILP64 builds).
+   PSCBRANCH_FORTRAN(name): the symbol of a routine (name##_ for gfortran and most builds).
+   Character arguments carry a hidden length (gfortran ABI); define PSCBRANCH_NO_FORTRAN_STRLEN
+   for a LAPACK built without it. */
+#ifndef PSCBRANCH_LAPACK_INT
+#define PSCBRANCH_LAPACK_INT int
+#endif
+#ifndef PSCBRANCH_FORTRAN
+#define PSCBRANCH_FORTRAN(name) name##_
+#endif
+#ifdef PSCBRANCH_NO_FORTRAN_STRLEN
+#define PSB__STRLEN_ARG
+#define PSB__STRLEN_ONE
+#else
+#define PSB__STRLEN_ARG , size_t
+#define PSB__STRLEN_ONE , (size_t)1
+#endif
+
+typedef PSCBRANCH_LAPACK_INT psb__lint;
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+extern void PSCBRANCH_FORTRAN(dgetrf)(const psb__lint *m, const psb__lint *n, double *a,
+                                      const psb__lint *lda, psb__lint *ipiv, psb__lint *info);
+extern void PSCBRANCH_FORTRAN(dgetrs)(const char *trans, const psb__lint *n,
+                                      const psb__lint *nrhs, const double *a,
+                                      const psb__lint *lda, const psb__lint *ipiv, double *b,
+                                      const psb__lint *ldb, psb__lint *info PSB__STRLEN_ARG);
+extern void PSCBRANCH_FORTRAN(dgecon)(const char *norm, const psb__lint *n, const double *a,
+                                      const psb__lint *lda, const double *anorm, double *rcond,
+                                      double *work, psb__lint *iwork,
+                                      psb__lint *info PSB__STRLEN_ARG);
+extern void PSCBRANCH_FORTRAN(dgeqr2)(const psb__lint *m, const psb__lint *n, double *a,
+                                      const psb__lint *lda, double *tau, double *work,
+                                      psb__lint *info);
+extern void PSCBRANCH_FORTRAN(dorm2r)(const char *side, const char *trans, const psb__lint *m,
+                                      const psb__lint *n, const psb__lint *k, const double *a,
+                                      const psb__lint *lda, const double *tau, double *c,
+                                      const psb__lint *ldc, double *work,
+                                      psb__lint *info PSB__STRLEN_ARG PSB__STRLEN_ARG);
+#ifdef __cplusplus
+}
+#endif
+
+/* Scratch vectors of n+1 components, carved from one block at init. */
+enum {
+    PSB__V_Y,     /* corrector / Newton iterate */
+    PSB__V_T,     /* corrector tangent iterate */
+    PSB__V_FD,    /* finite-difference point */
+    PSB__V_REF,   /* reference direction copy */
+    PSB__V_STEP_Y, PSB__V_STEP_T,   /* psb_step trial couple */
+    PSB__V_SW_Y, PSB__V_SW_T, PSB__V_SW_D, /* tangent switch */
+    PSB__V_TR_Y, PSB__V_TR_T, PSB__V_TR_Y0, PSB__V_TR_T0, PSB__V_TR_B, PSB__V_TR_S, /* trace */
+    PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
+    PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
+    PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P,           /* branching */
+    PSB__NVEC
+};
+#define PSB__VEC(s, k) ((s)->vec_ + (size_t)(k) * (size_t)(s)->np1_)
+
+/* Why the last recoverable failure happened, to report the right code when steps run out. */
+enum { PSB__FAIL_NONE, PSB__FAIL_CONVERGE, PSB__FAIL_NONFINITE, PSB__FAIL_CALLBACK,
+       PSB__FAIL_SINGULAR, PSB__FAIL_COSINE };
+
+PSCBRANCH_DEF const char *psb_result_string(psb_result code)
+{
+    switch (code) {
+    case PSB_SUCCESS: return "PSB_SUCCESS: success";
+    case PSB_PARAM_BOUND: return "PSB_PARAM_BOUND: reached a parameter bound";
+    case PSB_STEP_BUDGET: return "PSB_STEP_BUDGET: step budget used up";
+    case PSB_NONSMOOTH_END: return "PSB_NONSMOOTH_END: end point that the tangent switch cannot pass";
+    case PSB_STOPPED: return "PSB_STOPPED: stopped by the point callback";
+    case PSB_LOOP_CLOSED: return "PSB_LOOP_CLOSED: the curve returned to its start";
+    case PSB_BRANCH_CAPACITY: return "PSB_BRANCH_CAPACITY: more branches found than room given";
+    case PSB_ERR_NULL: return "PSB_ERR_NULL: a required pointer is NULL";
+    case PSB_ERR_SIZE: return "PSB_ERR_SIZE: a size or index is out of range";
+    case PSB_ERR_OPTIONS: return "PSB_ERR_OPTIONS: invalid or inconsistent options";
+    case PSB_ERR_NOMEM: return "PSB_ERR_NOMEM: out of memory or memory block too small";
+    case PSB_ERR_CALLBACK: return "PSB_ERR_CALLBACK: a callback asked to stop";
+    case PSB_ERR_CALLBACK_FAILED: return "PSB_ERR_CALLBACK_FAILED: a callback failed";
+    case PSB_ERR_NONFINITE: return "PSB_ERR_NONFINITE: NaN or Inf";
+    case PSB_ERR_SINGULAR: return "PSB_ERR_SINGULAR: singular matrix";
+    case PSB_ERR_LAPACK: return "PSB_ERR_LAPACK: LAPACK rejected an argument";
+    case PSB_ERR_NO_CONVERGENCE: return "PSB_ERR_NO_CONVERGENCE: iterations did not converge";
+    case PSB_ERR_STEP_TOO_SMALL: return "PSB_ERR_STEP_TOO_SMALL: step size fell below h_min";
+    case PSB_ERR_INPUT: return "PSB_ERR_INPUT: invalid numerical input";
+    }
+    return "unknown pscbranch result code";
+}
+
+PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn residual,
+                                    psb_jacobian_fn jacobian, void *user)
+{
+    if (!p) return;
+    p->n = n;
+    p->residual = residual;
+    p->jacobian = jacobian;
+    p->user = user;
+    p->param_index = n;
+}
+
+PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
+{
+    psb_options o;
+    if (opt) o = *opt;
+    else memset(&o, 0, sizeof o);
+    if (o.kappa == 0) o.kappa = 1.0;
+    if (o.h_init == 0) o.h_init = 1e-2;
+    if (o.h_min == 0) o.h_min = 1e-6;
+    if (o.h_max == 0) o.h_max = 1e-1;
+    if (o.h_inc == 0) o.h_inc = 1.3;
+    if (o.h_dec == 0) o.h_dec = 0.5;
+    if (o.max_iter == 0) o.max_iter = 10;
+    if (o.iter_threshold == 0) o.iter_threshold = 4;
+    if (o.tol_residual == 0) o.tol_residual = 1e-10;
+    if (o.tol_correction == 0) o.tol_correction = 1e-10;
+    if (o.c_min == 0) o.c_min = 0.9;
+    if (o.switch_delta_min == 0) o.switch_delta_min = o.h_min;
+    if (o.switch_delta_max == 0) o.switch_delta_max = o.h_init;
+    if (o.fd_step == 0) o.fd_step = o.fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
+    if (o.c_diff == 0) o.c_diff = 0.99999;
+    if (o.branch_h == 0) o.branch_h = o.h_min;
+    if (o.branch_h_min == 0) o.branch_h_min = o.branch_h / 16384.0;
+    if (o.branch_h_init == 0) o.branch_h_init = o.h_init;
+    if (o.n_dir == 0) o.n_dir = 20;
+    if (o.n_span == 0) o.n_span = 15;
+    return o;
+}
+
+static int psb__finite(double x) { return x - x == 0; }
+
+static int psb__all_finite(const double *a, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!psb__finite(a[i])) return 0;
+    return 1;
+}
+
+static psb_result psb__fail(psb_solver *s, psb_result code, const char *what)
+{
+    snprintf(s->message, sizeof s->message, "%s: %s", psb_result_string(code), what);
+    return code;
+}
+
+/* Checks the options after resolution; returns a message or NULL. */
+static const char *psb__check_options(const psb_options *o, int np1)
+{
+    int i;
+    if (!(o->kappa > 0) || !psb__finite(o->kappa)) return "kappa must be positive";
+    if (o->weights)
+        for (i = 0; i < np1; i++)
+            if (!(o->weights[i] > 0) || !psb__finite(o->weights[i]))
+                return "weights must be positive and finite";
+    if (!(o->h_min > 0) || !(o->h_min <= o->h_init) || !(o->h_init <= o->h_max) ||
+        !psb__finite(o->h_max))
+        return "need 0 < h_min <= h_init <= h_max < inf";
+    if (!(o->h_inc >= 1) || !psb__finite(o->h_inc)) return "h_inc must be >= 1";
+    if (!(o->h_dec > 0 && o->h_dec < 1)) return "h_dec must lie in (0, 1)";
+    if (o->max_iter < 1 || o->iter_threshold < 1) return "max_iter and iter_threshold must be >= 1";
+    if (!(o->tol_residual > 0) || !(o->tol_correction > 0)) return "tolerances must be positive";
+    if (!(o->c_min > -1 && o->c_min < 1)) return "c_min must lie in (-1, 1)";
+    if (!(o->switch_delta_min > 0) || !(o->switch_delta_min <= o->switch_delta_max) ||
+        !psb__finite(o->switch_delta_max))
+        return "need 0 < switch_delta_min <= switch_delta_max";
+    if (!(o->fd_step > 0) || !(o->fd_step < 1)) return "fd_step must lie in (0, 1)";
+    if (!(o->c_diff > 0 && o->c_diff < 1)) return "c_diff must lie in (0, 1)";
+    if (!(o->branch_h_min > 0) || !(o->branch_h_min < o->branch_h) || !(o->branch_h_init > 0) ||
+        !psb__finite(o->branch_h) || !psb__finite(o->branch_h_init))
+        return "need 0 < branch_h_min < branch_h and branch_h_init > 0";
+    if (o->n_dir < 1 || o->n_span < 1) return "n_dir and n_span must be >= 1";
+    if (o->restart < PSB_RESTART_MIXED || o->restart > PSB_RESTART_GLOBAL)
+        return "restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
+    return NULL;
+}
+
+static size_t psb__align(size_t x) { return (x + 15u) & ~(size_t)15u; }
+
+PSCBRANCH_DEF size_t psb_solver_memory_size(int n)
+{
+    size_t np1, doubles, ints;
+    if (n < 1 || n > 46000) return 0; /* (n+1)^2 doubles must stay addressable with int LAPACK */
+    np1 = (size_t)n + 1;
+    doubles = np1                 /* weights */
+              + (size_t)n * np1   /* Jacobian */
+              + np1 * np1         /* bordered matrix */
+              + 2 * np1           /* right-hand sides */
+              + 2 * (size_t)n     /* residuals */
+              + 4 * np1           /* dgecon / dgeqr2 work */
+              + np1               /* QR tau */
+              + (size_t)PSB__NVEC * np1;
+    ints = 2 * np1;
+    return psb__align(doubles * sizeof(double)) + psb__align(ints * sizeof(psb__lint));
+}
+
+PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_problem *p,
+                                                     const psb_options *opt, void *memory,
+                                                     size_t bytes)
+{
+    const char *bad;
+    size_t need, np1;
+    double *d;
+    int i;
+    if (!s) return PSB_ERR_NULL;
+    memset(s, 0, sizeof *s);
+    if (!p || !memory) return psb__fail(s, PSB_ERR_NULL, "problem or memory is NULL");
+    if (!p->residual) return psb__fail(s, PSB_ERR_NULL, "problem.residual is NULL");
+    need = psb_solver_memory_size(p->n);
+    if (need == 0) return psb__fail(s, PSB_ERR_SIZE, "problem.n must lie in [1, 46000]");
+    if (p->param_index < 0 || p->param_index > p->n)
+        return psb__fail(s, PSB_ERR_SIZE, "problem.param_index must lie in [0, n]");
+    if (bytes < need) return psb__fail(s, PSB_ERR_NOMEM, "memory block smaller than psb_solver_memory_size(n)");
+    s->opt = psb_options_resolve(opt);
+    bad = psb__check_options(&s->opt, p->n + 1);
+    if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    s->prob = *p;
+    s->n_ = p->n;
+    s->np1_ = p->n + 1;
+    np1 = (size_t)s->np1_;
+    d = (double *)memory;
+    s->w_ = d; d += np1;
+    s->jac_ = d; d += (size_t)s->n_ * np1;
+    s->mat_ = d; d += np1 * np1;
+    s->rhs_ = d; d += 2 * np1;
+    s->res_ = d; d += (size_t)s->n_;
+    s->res2_ = d; d += (size_t)s->n_;
+    s->work_ = d; d += 4 * np1;
+    s->tau_ = d; d += np1;
+    s->vec_ = d; d += (size_t)PSB__NVEC * np1;
+    s->ipiv_ = (psb__lint *)((char *)memory + psb__align((size_t)(d - (double *)memory) * sizeof(double)));
+    s->iwork_ = s->ipiv_ + np1;
+    for (i = 0; i < s->np1_; i++)
+        s->w_[i] = s->opt.weights ? s->opt.weights[i]
+                                  : (i == p->param_index ? 1.0 : s->opt.kappa);
+    s->opt.weights = NULL; /* copied: the caller's array need not outlive init */
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
+                                         const psb_options *opt)
+{
+    size_t bytes;
+    void *mem;
+    psb_result r;
+    if (!s) return PSB_ERR_NULL;
+    if (!p) {
+        memset(s, 0, sizeof *s);
+        return psb__fail(s, PSB_ERR_NULL, "problem is NULL");
+    }
+    bytes = psb_solver_memory_size(p->n);
+    if (bytes == 0) {
+        memset(s, 0, sizeof *s);
+        return psb__fail(s, PSB_ERR_SIZE, "problem.n must lie in [1, 46000]");
+    }
+    mem = PSCBRANCH_MALLOC(bytes);
+    if (!mem) {
+        memset(s, 0, sizeof *s);
+        return psb__fail(s, PSB_ERR_NOMEM, "allocation failed");
+    }
+    r = psb_solver_init_with_memory(s, p, opt, mem, bytes);
+    if (r < 0) {
+        PSCBRANCH_FREE(mem);
+        return r;
+    }
+    s->owned_ = mem;
+    return r;
+}
+
+PSCBRANCH_DEF void psb_solver_free(psb_solver *s)
+{
+    if (!s) return;
+    if (s->owned_) PSCBRANCH_FREE(s->owned_);
+    s->owned_ = NULL;
+    s->vec_ = NULL;
+}
+
+PSCBRANCH_DEF const char *psb_solver_message(const psb_solver *s) { return s ? s->message : ""; }
+
+PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b)
+{
+    double sum = 0;
+    int i;
+    for (i = 0; i < s->np1_; i++) sum += s->w_[i] * a[i] * b[i];
+    return sum;
+}
+
+PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a) { return sqrt(psb_dot_w(s, a, a)); }
+
+static double psb__norm2(const double *a, int n)
+{
+    double sum = 0;
+    int i;
+    for (i = 0; i < n; i++) sum += a[i] * a[i];
+    return sqrt(sum);
+}
+
+/* Weighted cosine of the angle between a and b (0 when either vanishes). */
+static double psb__cos_w(const psb_solver *s, const double *a, const double *b)
+{
+    double na = psb_norm_w(s, a), nb = psb_norm_w(s, b);
+    return (na > 0 && nb > 0) ? psb_dot_w(s, a, b) / (na * nb) : 0.0;
+}
+
+static void psb__copy(double *dst, const double *src, int n) { memmove(dst, src, (size_t)n * sizeof *dst); }
+
+/* dst = a + h b */
+static void psb__axpy_to(double *dst, const double *a, double h, const double *b, int n)
+{
+    int i;
+    for (i = 0; i < n; i++) dst[i] = a[i] + h * b[i];
+}
+
+static int psb__normalize_w(const psb_solver *s, double *a)
+{
+    double nrm = psb_norm_w(s, a);
+    int i;
+    if (!(nrm > 0) || !psb__finite(nrm)) return 0;
+    for (i = 0; i < s->np1_; i++) a[i] /= nrm;
+    return 1;
+}
+
+/* Maps a callback's return value: 0 ok, < 0 hard stop, > 0 recoverable. */
+static psb_result psb__callback_code(psb_solver *s, int rc, const char *which)
+{
+    if (rc == 0) return PSB_SUCCESS;
+    if (rc < 0) return psb__fail(s, PSB_ERR_CALLBACK, which);
+    s->last_fail_ = PSB__FAIL_CALLBACK;
+    return psb__fail(s, PSB_ERR_CALLBACK_FAILED, which);
+}
+
+/* H(y) into out (n). */
+static psb_result psb__residual(psb_solver *s, const double *y, double *out)
+{
+    int rc;
+    psb_result r;
+    s->stats.n_residual++;
+    rc = s->prob.residual(y, out, s->prob.user);
+    r = psb__callback_code(s, rc, "residual callback returned nonzero");
+    if (r != PSB_SUCCESS) return r;
+    if (!psb__all_finite(out, s->n_)) {
+        s->last_fail_ = PSB__FAIL_NONFINITE;
+        return psb__fail(s, PSB_ERR_NONFINITE, "residual callback returned NaN or Inf");
+    }
+    return PSB_SUCCESS;
+}
+
+/* dH(y) into s->jac_ (n x (n+1), ld n). h_at_y: H(y) if the caller has it (forward differences
+   reuse it), else NULL. */
+static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_at_y)
+{
+    int n = s->n_, np1 = s->np1_, i, j, rc;
+    psb_result r;
+    s->stats.n_jacobian++;
+    if (s->prob.jacobian) {
+        rc = s->prob.jacobian(y, s->jac_, n, s->prob.user);
+        r = psb__callback_code(s, rc, "jacobian callback returned nonzero");
+        if (r != PSB_SUCCESS) return r;
+        if (!psb__all_finite(s->jac_, n * np1)) {
+            s->last_fail_ = PSB__FAIL_NONFINITE;
+            return psb__fail(s, PSB_ERR_NONFINITE, "jacobian callback returned NaN or Inf");
+        }
+        return PSB_SUCCESS;
+    }
+    {
+        double *yp = PSB__VEC(s, PSB__V_FD);
+        if (!s->opt.fd_central && !h_at_y) {
+            r = psb__residual(s, y, s->res2_);
+            if (r != PSB_SUCCESS) return r;
+            h_at_y = s->res2_;
+        }
+        psb__copy(yp, y, np1);
+        for (j = 0; j < np1; j++) {
+            double step = s->opt.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0);
+            double *col = s->jac_ + (size_t)j * (size_t)n, hp, hm;
+            volatile double probe = y[j] + step; /* the step actually representable */
+            hp = probe - y[j];
+            yp[j] = y[j] + hp;
+            r = psb__residual(s, yp, col);
+            if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
+            if (s->opt.fd_central) {
+                yp[j] = y[j] - hp;
+                hm = hp;
+                r = psb__residual(s, yp, s->res_);
+                if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
+                for (i = 0; i < n; i++) col[i] = (col[i] - s->res_[i]) / (hp + hm);
+            } else {
+                for (i = 0; i < n; i++) col[i] = (col[i] - h_at_y[i]) / hp;
+            }
+            yp[j] = y[j];
+        }
+    }
+    return PSB_SUCCESS;
+}
+
+/* Builds [jac; row^T] in mat_ ((n+1) x (n+1)) and LU-factors it.
+   Returns PSB_SUCCESS or PSB_ERR_SINGULAR; *rcond (if not NULL) gets the 1-norm estimate. */
+static psb_result psb__factor_bordered(psb_solver *s, const double *row, double *rcond)
+{
+    int n = s->n_, np1 = s->np1_, j;
+    psb__lint m = np1, info = 0;
+    double anorm = 0;
+    for (j = 0; j < np1; j++) {
+        double *dst = s->mat_ + (size_t)j * (size_t)np1, colsum = 0;
+        const double *src = s->jac_ + (size_t)j * (size_t)n;
+        int i;
+        memcpy(dst, src, (size_t)n * sizeof *dst);
+        dst[n] = row[j];
+        for (i = 0; i < np1; i++) colsum += fabs(dst[i]);
+        if (colsum > anorm) anorm = colsum;
+    }
+    s->stats.n_factor++;
+    PSCBRANCH_FORTRAN(dgetrf)(&m, &m, s->mat_, &m, s->ipiv_, &info);
+    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrf rejected an argument");
+    if (info > 0) {
+        s->last_fail_ = PSB__FAIL_SINGULAR;
+        return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix is exactly singular");
+    }
+    if (rcond) {
+        PSCBRANCH_FORTRAN(dgecon)("1", &m, s->mat_, &m, &anorm, rcond, s->work_, s->iwork_,
+                                  &info PSB__STRLEN_ONE);
+        if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgecon rejected an argument");
+    }
+    return PSB_SUCCESS;
+}
+
+static psb_result psb__solve_factored(psb_solver *s, double *b, int nrhs)
+{
+    psb__lint m = s->np1_, nr = nrhs, info = 0;
+    PSCBRANCH_FORTRAN(dgetrs)("N", &m, &nr, s->mat_, &m, s->ipiv_, b, &m, &info PSB__STRLEN_ONE);
+    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrs rejected an argument");
+    if (!psb__all_finite(b, s->np1_ * nrhs)) {
+        s->last_fail_ = PSB__FAIL_SINGULAR;
+        return psb__fail(s, PSB_ERR_SINGULAR, "solution of the bordered system is not finite");
+    }
+    return PSB_SUCCESS;
+}
+
+/* Kernel of s->jac_ through the QR factorisation of its transpose: the last column of Q spans
+   the orthogonal complement of range(jac^T) = ker(jac) when jac has rank n. */
+static psb_result psb__kernel_qr(psb_solver *s, double *t)
+{
+    int n = s->n_, np1 = s->np1_, i, j;
+    psb__lint m = np1, nn = n, one = 1, info = 0;
+    double rmax = 0, rmin = HUGE_VAL;
+    for (j = 0; j < np1; j++)
+        for (i = 0; i < n; i++) s->mat_[j + (size_t)i * (size_t)np1] = s->jac_[i + (size_t)j * (size_t)n];
+    s->stats.n_factor++;
+    PSCBRANCH_FORTRAN(dgeqr2)(&m, &nn, s->mat_, &m, s->tau_, s->work_, &info);
+    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgeqr2 rejected an argument");
+    for (i = 0; i < n; i++) {
+        double d = fabs(s->mat_[i + (size_t)i * (size_t)np1]);
+        if (d > rmax) rmax = d;
+        if (d < rmin) rmin = d;
+    }
+    if (!(rmin > rmax * DBL_EPSILON * np1)) {
+        s->last_fail_ = PSB__FAIL_SINGULAR;
+        return psb__fail(s, PSB_ERR_SINGULAR, "Jacobian has rank < n: no unique tangent");
+    }
+    memset(t, 0, (size_t)np1 * sizeof *t);
+    t[n] = 1;
+    PSCBRANCH_FORTRAN(dorm2r)("L", "N", &m, &one, &nn, s->mat_, &m, s->tau_, t, &m, s->work_,
+                              &info PSB__STRLEN_ONE PSB__STRLEN_ONE);
+    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dorm2r rejected an argument");
+    return PSB_SUCCESS;
+}
+
+/* Unit tangent at y oriented by ref (both n+1); y's Jacobian is evaluated here. */
+static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref, double *t)
+{
+    int np1 = s->np1_, i;
+    double rcond = 0, *row = s->rhs_ + np1, *x = s->rhs_;
+    psb_result r;
+    s->stats.n_tangents++;
+    r = psb__jacobian(s, y, NULL);
+    if (r != PSB_SUCCESS) return r;
+    for (i = 0; i < np1; i++) row[i] = s->w_[i] * ref[i];
+    r = psb__factor_bordered(s, row, &rcond);
+    if (r == PSB_SUCCESS && rcond > 1.4901161193847656e-08) {
+        memset(x, 0, (size_t)np1 * sizeof *x);
+        x[np1 - 1] = 1;
+        r = psb__solve_factored(s, x, 1);
+        if (r != PSB_SUCCESS) return r;
+    } else {
+        /* ref (almost) orthogonal to the kernel, or dH itself rank deficient: QR decides. */
+        if (r != PSB_SUCCESS && r != PSB_ERR_SINGULAR) return r;
+        r = psb__kernel_qr(s, x);
+        if (r != PSB_SUCCESS) return r;
+        if (psb_dot_w(s, x, ref) < 0)
+            for (i = 0; i < np1; i++) x[i] = -x[i];
+    }
+    if (!psb__normalize_w(s, x)) {
+        s->last_fail_ = PSB__FAIL_SINGULAR;
+        return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
+    }
+    psb__copy(t, x, np1);
+    return PSB_SUCCESS;
+}
+
+static int psb__is_fatal(psb_result r)
+{
+    return r == PSB_ERR_CALLBACK || r == PSB_ERR_LAPACK || r == PSB_ERR_NULL ||
+           r == PSB_ERR_NOMEM;
+}
+
+/* Moore-Penrose corrector on internal copies; (y, t) replaced only on convergence. */
+static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterations)
+{
+    int n = s->n_, np1 = s->np1_, it, i;
+    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_;
+    psb_result r;
+    psb__copy(yc, y, np1);
+    psb__copy(tc, t, np1);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "zero tangent");
+    r = psb__residual(s, yc, s->res_);
+    if (r != PSB_SUCCESS) return r;
+    for (it = 1; it <= s->opt.max_iter; it++) {
+        double corr, res;
+        s->stats.n_newton++;
+        r = psb__jacobian(s, yc, s->res_);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < np1; i++) row[i] = s->w_[i] * tc[i];
+        r = psb__factor_bordered(s, row, NULL);
+        if (r != PSB_SUCCESS) return r;
+        /* two right-hand sides, one factorisation: [H(y); 0] and [0; 1] */
+        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
+        s->rhs_[n] = 0;
+        memset(s->rhs_ + np1, 0, (size_t)np1 * sizeof(double));
+        s->rhs_[np1 + n] = 1;
+        r = psb__solve_factored(s, s->rhs_, 2);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
+        psb__copy(tc, s->rhs_ + np1, np1);
+        if (!psb__normalize_w(s, tc)) {
+            s->last_fail_ = PSB__FAIL_SINGULAR;
+            return psb__fail(s, PSB_ERR_SINGULAR, "corrector tangent vanished");
+        }
+        corr = psb_norm_w(s, s->rhs_);
+        r = psb__residual(s, yc, s->res_);
+        if (r != PSB_SUCCESS) return r;
+        res = psb__norm2(s->res_, n);
+        if (res <= s->opt.tol_residual && corr <= s->opt.tol_correction) {
+            psb__copy(y, yc, np1);
+            psb__copy(t, tc, np1);
+            if (iterations) *iterations = it;
+            return PSB_SUCCESS;
+        }
+    }
+    s->last_fail_ = PSB__FAIL_CONVERGE;
+    return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector did not converge in max_iter iterations");
+}
+
+/* Trial steps from (y, t) starting at *h and shrinking by h_dec down to h_floor; on success
+   (y, t) is the new couple, *h the accepted step and *iters the corrector's iterations. */
+static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, double h_floor,
+                                int *iters)
+{
+    int np1 = s->np1_;
+    double *yt = PSB__VEC(s, PSB__V_STEP_Y), *tt = PSB__VEC(s, PSB__V_STEP_T), hh = *h;
+    s->last_fail_ = PSB__FAIL_NONE;
+    while (hh >= h_floor) {
+        psb_result r;
+        psb__axpy_to(yt, y, hh, t, np1);
+        psb__copy(tt, t, np1);
+        s->stats.n_pc_steps++;
+        r = psb__correct(s, yt, tt, iters);
+        if (psb__is_fatal(r)) return r;
+        if (r == PSB_SUCCESS) {
+            /* a corrector that travelled farther than the step jumped to another part of the
+               curve (a parallel piece, another loop): the tangent test cannot see that */
+            double jump = 0;
+            int i;
+            for (i = 0; i < np1; i++) {
+                double d = yt[i] - y[i] - hh * t[i];
+                jump += s->w_[i] * d * d;
+            }
+            if (sqrt(jump) <= hh && psb__cos_w(s, tt, t) >= s->opt.c_min) {
+                psb__copy(y, yt, np1);
+                psb__copy(t, tt, np1);
+                *h = hh;
+                return PSB_SUCCESS;
+            }
+            s->last_fail_ = PSB__FAIL_COSINE;
+        }
+        s->stats.n_rejected++;
+        hh *= s->opt.h_dec;
+    }
+    switch (s->last_fail_) {
+    case PSB__FAIL_NONFINITE: return psb__fail(s, PSB_ERR_NONFINITE, "NaN or Inf at every trial step down to h_min");
+    case PSB__FAIL_CALLBACK: return psb__fail(s, PSB_ERR_CALLBACK_FAILED, "callback failed at every trial step down to h_min");
+    default: return psb__fail(s, PSB_ERR_STEP_TOO_SMALL, "no trial step converged down to h_min");
+    }
+}
+
+static psb_result psb__check_couple(psb_solver *s, const void *y, const void *t)
+{
+    if (!s || !s->vec_) return PSB_ERR_NULL;
+    s->message[0] = 0;
+    if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
+    if (!psb__all_finite((const double *)y, s->np1_) || !psb__all_finite((const double *)t, s->np1_))
+        return psb__fail(s, PSB_ERR_NONFINITE, "y or t contains NaN or Inf");
+    if (!(psb_norm_w(s, (const double *)t) > 0)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_iter)
+{
+    int n, np1, it, i, k;
+    double *yc, *yt, *row, res;
+    psb_result r;
+    if (!s || !s->vec_) return PSB_ERR_NULL;
+    s->message[0] = 0;
+    if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
+    if (!psb__all_finite(y, s->np1_)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
+    n = s->n_;
+    np1 = s->np1_;
+    if (max_iter <= 0) max_iter = 50;
+    yc = PSB__VEC(s, PSB__V_Y);
+    yt = PSB__VEC(s, PSB__V_T);
+    row = PSB__VEC(s, PSB__V_REF);
+    memset(row, 0, (size_t)np1 * sizeof *row);
+    row[s->prob.param_index] = 1;
+    psb__copy(yc, y, np1);
+    r = psb__residual(s, yc, s->res_);
+    if (r != PSB_SUCCESS) return r;
+    res = psb__norm2(s->res_, n);
+    for (it = 1; it <= max_iter; it++) {
+        double corr, lambda = 1;
+        s->stats.n_newton++;
+        r = psb__jacobian(s, yc, s->res_);
+        if (r != PSB_SUCCESS) return r;
+        r = psb__factor_bordered(s, row, NULL);
+        if (r != PSB_SUCCESS) return r;
+        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
+        s->rhs_[n] = 0;
+        r = psb__solve_factored(s, s->rhs_, 1);
+        if (r != PSB_SUCCESS) return r;
+        corr = psb_norm_w(s, s->rhs_);
+        /* backtracking on ||H||: full steps when they reduce it, which is the usual case */
+        for (k = 0; k < 12; k++, lambda *= 0.5) {
+            double trial;
+            for (i = 0; i < np1; i++) yt[i] = yc[i] - lambda * s->rhs_[i];
+            r = psb__residual(s, yt, s->res2_);
+            if (psb__is_fatal(r)) return r;
+            if (r != PSB_SUCCESS) continue;
+            trial = psb__norm2(s->res2_, n);
+            if (trial <= (1 - 1e-4 * lambda) * res || k == 11) {
+                res = trial;
+                break;
+            }
+        }
+        if (r != PSB_SUCCESS) return r;
+        psb__copy(yc, yt, np1);
+        memcpy(s->res_, s->res2_, (size_t)n * sizeof(double));
+        if (res <= s->opt.tol_residual && lambda * corr <= s->opt.tol_correction) {
+            psb__copy(y, yc, np1);
+            return PSB_SUCCESS;
+        }
+    }
+    return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Newton at fixed parameter did not converge");
+}
+
+PSCBRANCH_DEF psb_result psb_tangent(psb_solver *s, const double *y, const double *ref, double *t)
+{
+    double *r0;
+    psb_result r;
+    if (!s || !s->vec_) return PSB_ERR_NULL;
+    s->message[0] = 0;
+    if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
+    if (!psb__all_finite(y, s->np1_) || (ref && !psb__all_finite(ref, s->np1_)))
+        return psb__fail(s, PSB_ERR_NONFINITE, "y or ref contains NaN or Inf");
+    r0 = PSB__VEC(s, PSB__V_REF);
+    if (ref) {
+        if (!(psb_norm_w(s, ref) > 0)) return psb__fail(s, PSB_ERR_INPUT, "ref is zero");
+        psb__copy(r0, ref, s->np1_);
+    } else {
+        memset(r0, 0, (size_t)s->np1_ * sizeof *r0);
+        r0[s->prob.param_index] = 1;
+    }
+    r = psb__tangent(s, y, r0, PSB__VEC(s, PSB__V_T));
+    if (r == PSB_SUCCESS) psb__copy(t, PSB__VEC(s, PSB__V_T), s->np1_);
+    return r;
+}
+
+PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *iterations)
+{
+    psb_result r = psb__check_couple(s, y, t);
+    if (r != PSB_SUCCESS) return r;
+    return psb__correct(s, y, t, iterations);
+}
+
+/* Step size for the next step after a step of size h that took iters corrector iterations. */
+static double psb__adapt(const psb_solver *s, double h, int iters)
+{
+    if (iters < s->opt.iter_threshold) h *= s->opt.h_inc;
+    return h < s->opt.h_max ? h : s->opt.h_max;
+}
+
+PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h)
+{
+    int iters = 0;
+    psb_result r = psb__check_couple(s, y, t);
+    if (r != PSB_SUCCESS) return r;
+    if (!h) return psb__fail(s, PSB_ERR_NULL, "h is NULL");
+    if (!(*h > 0) || !psb__finite(*h)) return psb__fail(s, PSB_ERR_INPUT, "step size must be positive");
+    if (*h > s->opt.h_max) *h = s->opt.h_max;
+    if (!psb__normalize_w(s, t)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    r = psb__try_step(s, y, t, h, s->opt.h_min, &iters);
+    if (r == PSB_SUCCESS) *h = psb__adapt(s, *h, iters);
+    return r;
+}
+
+static psb_result psb__switch(psb_solver *s, double *y, double *t)
+{
+    int np1 = s->np1_, sign, iters;
+    double *yd = PSB__VEC(s, PSB__V_SW_Y), *td = PSB__VEC(s, PSB__V_SW_T);
+    double *dir = PSB__VEC(s, PSB__V_SW_D), delta, h;
+    psb_result r;
+    for (delta = s->opt.switch_delta_min; delta <= s->opt.switch_delta_max; delta *= 2) {
+        psb__axpy_to(yd, y, delta, t, np1);
+        r = psb__tangent(s, yd, t, dir);
+        if (psb__is_fatal(r)) return r;
+        if (r != PSB_SUCCESS || psb__cos_w(s, dir, t) >= s->opt.c_diff) continue;
+        for (sign = 1; sign >= -1; sign -= 2) {
+            int i;
+            psb__copy(yd, y, np1);
+            for (i = 0; i < np1; i++) td[i] = sign * dir[i];
+            h = s->opt.h_init;
+            r = psb__try_step(s, yd, td, &h, s->opt.h_min, &iters);
+            if (psb__is_fatal(r)) return r;
+            if (r != PSB_SUCCESS) continue;
+            /* going back along the incoming branch is no continuation */
+            if (-psb__cos_w(s, td, t) >= s->opt.c_diff) continue;
+            psb__copy(y, yd, np1);
+            psb__copy(t, td, np1);
+            s->stats.n_switches++;
+            return PSB_SUCCESS;
+        }
+    }
+    s->message[0] = 0;
+    return PSB_NONSMOOTH_END;
+}
+
+PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t)
+{
+    psb_result r = psb__check_couple(s, y, t);
+    if (r != PSB_SUCCESS) return r;
+    if (!psb__normalize_w(s, t)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    return psb__switch(s, y, t);
+}
+
+/* Parameter value of the limit point between two couples whose tangents' parameter components
+   have opposite signs: extremum of the cubic Hermite interpolant in the (weighted) chord
+   length, whose derivatives at the ends are the tangents' parameter components. */
+static double psb__fold_param(const psb_solver *s, const double *y0, const double *t0,
+                              const double *y1, const double *t1)
+{
+    int p = s->prob.param_index, i;
+    double len = 0, g0 = y0[p], g1 = y1[p], m0, m1, a, b, c, roots[2], best = g0;
+    int nroots = 0;
+    for (i = 0; i < s->np1_; i++) len += s->w_[i] * (y1[i] - y0[i]) * (y1[i] - y0[i]);
+    len = sqrt(len);
+    m0 = t0[p] * len;
+    m1 = t1[p] * len;
+    /* g(x) = (2x^3-3x^2+1) g0 + (x^3-2x^2+x) m0 + (-2x^3+3x^2) g1 + (x^3-x^2) m1, x in [0,1];
+       g'(x) = a x^2 + b x + c */
+    a = 6 * g0 + 3 * m0 - 6 * g1 + 3 * m1;
+    b = -6 * g0 - 4 * m0 + 6 * g1 - 2 * m1;
+    c = m0;
+    if (fabs(a) > 1e-14 * (fabs(b) + fabs(c))) {
+        double disc = b * b - 4 * a * c;
+        if (disc >= 0) {
+            double q = -0.5 * (b + (b >= 0 ? sqrt(disc) : -sqrt(disc)));
+            roots[nroots++] = q / a;
+            if (q != 0) roots[nroots++] = c / q;
+        }
+    } else if (b != 0) {
+        roots[nroots++] = -c / b;
+    }
+    for (i = 0; i < nroots; i++) {
+        double x = roots[i];
+        if (x >= 0 && x <= 1) {
+            double x2 = x * x, x3 = x2 * x;
+            best = (2 * x3 - 3 * x2 + 1) * g0 + (x3 - 2 * x2 + x) * m0 + (-2 * x3 + 3 * x2) * g1 +
+                   (x3 - x2) * m1;
+            break;
+        }
+    }
+    return best;
+}
+
+static double psb__angle_w(const psb_solver *s, const double *a, const double *b)
+{
+    double c = psb__cos_w(s, a, b);
+    return acos(c > 1 ? 1 : (c < -1 ? -1 : c));
+}
+
+/* After an accepted step of size h from (y0, t0) to a couple with tangent t1: decides whether a
+   kink was crossed and, if so, leaves in K_YA/K_TA the last couple before it, within h_min.
+   A smooth turn shrinks with the step (the half step turns by about half the angle); a kink
+   does not, so the half step tells them apart and bisection on the same test locates it.
+   Returns 1 (kink located), 0 (smooth), or a fatal failure code. */
+static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, const double *t1,
+                            double h)
+{
+    int np1 = s->np1_, iters;
+    double *ya = PSB__VEC(s, PSB__V_K_YA), *ta = PSB__VEC(s, PSB__V_K_TA);
+    double *yt = PSB__VEC(s, PSB__V_K_Y), *tt = PSB__VEC(s, PSB__V_K_T);
+    double theta = psb__angle_w(s, t0, t1), hs = 0.5 * h, trial, half_theta;
+    psb_result r;
+    if (psb__cos_w(s, t0, t1) >= s->opt.c_diff) return 0;
+    psb__copy(ya, y0, np1);
+    psb__copy(ta, t0, np1);
+    psb__copy(yt, y0, np1);
+    psb__copy(tt, t0, np1);
+    trial = hs;
+    r = psb__try_step(s, yt, tt, &trial, hs, &iters);
+    if (psb__is_fatal(r)) return r;
+    if (r == PSB_SUCCESS) {
+        half_theta = psb__angle_w(s, t0, tt);
+        if (half_theta >= 0.25 * theta && half_theta <= 0.75 * theta) return 0;
+        if (half_theta < 0.25 * theta) { /* the kink lies in the second half */
+            psb__copy(ya, yt, np1);
+            psb__copy(ta, tt, np1);
+        }
+    }
+    /* the kink lies within hs of ya */
+    while (hs >= s->opt.h_min) {
+        double half = 0.5 * hs;
+        psb__copy(yt, ya, np1);
+        psb__copy(tt, ta, np1);
+        trial = half;
+        r = psb__try_step(s, yt, tt, &trial, half, &iters);
+        if (psb__is_fatal(r)) return r;
+        if (r == PSB_SUCCESS && psb__angle_w(s, ta, tt) < 0.25 * theta) {
+            psb__copy(ya, yt, np1);
+            psb__copy(ta, tt, np1);
+        }
+        hs = half;
+    }
+    s->message[0] = 0;
+    return 1;
+}
+
+/* Solves for the point with y[param] = bound between y0 (inside) and y1 (outside), starting from
+   the chord; on success y1 holds it. */
+static psb_result psb__land_on_bound(psb_solver *s, const double *y0, double *y1, double bound)
+{
+    int p = s->prob.param_index, np1 = s->np1_, i;
+    double *yb = PSB__VEC(s, PSB__V_TR_B), frac = (bound - y0[p]) / (y1[p] - y0[p]);
+    psb_result r;
+    for (i = 0; i < np1; i++) yb[i] = y0[i] + frac * (y1[i] - y0[i]);
+    yb[p] = bound;
+    r = psb_solve_at_param(s, yb, s->opt.max_iter);
+    if (r == PSB_SUCCESS) psb__copy(y1, yb, np1);
+    return r;
+}
+
+PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
+                                   const psb_trace_options *to, psb_trace_report *rep)
+{
+    psb_trace_options opts;
+    psb_trace_report local;
+    psb_point pt;
+    int np1, p, bounded, iters, flags, kink;
+    double h, travelled = 0;
+    double *yc, *tc, *yold, *told, *ystart;
+    psb_result r;
+    if (!rep) rep = &local;
+    memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y, t);
+    if (r != PSB_SUCCESS) return rep->end = r;
+    if (to) opts = *to;
+    else memset(&opts, 0, sizeof opts);
+    if (opts.max_steps <= 0) opts.max_steps = 10000;
+    np1 = s->np1_;
+    p = s->prob.param_index;
+    bounded = opts.param_min < opts.param_max;
+    if (bounded && (!(y[p] >= opts.param_min) || !(y[p] <= opts.param_max)))
+        return rep->end = psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
+    yc = PSB__VEC(s, PSB__V_TR_Y);
+    tc = PSB__VEC(s, PSB__V_TR_T);
+    yold = PSB__VEC(s, PSB__V_TR_Y0);
+    told = PSB__VEC(s, PSB__V_TR_T0);
+    ystart = PSB__VEC(s, PSB__V_TR_S);
+    psb__copy(yc, y, np1);
+    psb__copy(tc, t, np1);
+    psb__normalize_w(s, tc);
+    psb__copy(ystart, yc, np1);
+    h = s->opt.h_init;
+    memset(&pt, 0, sizeof pt);
+    pt.y = yc;
+    pt.t = tc;
+    pt.flags = PSB_POINT_START;
+    if (opts.on_point && opts.on_point(&pt, opts.point_user)) {
+        rep->end = PSB_STOPPED;
+        goto done;
+    }
+    while (rep->steps < opts.max_steps) {
+        psb__copy(yold, yc, np1);
+        psb__copy(told, tc, np1);
+        flags = 0;
+        kink = 0;
+        r = psb__try_step(s, yc, tc, &h, s->opt.h_min, &iters);
+        if (r == PSB_ERR_STEP_TOO_SMALL) {
+            if (opts.no_switch) { rep->end = PSB_NONSMOOTH_END; goto done; }
+            r = psb__switch(s, yc, tc);
+            if (r == PSB_NONSMOOTH_END) { rep->end = r; goto done; }
+            if (r != PSB_SUCCESS) { rep->end = r; goto done; }
+            flags |= PSB_POINT_SWITCH;
+            rep->n_switches++;
+            h = s->opt.h_init;
+            if (opts.locate_kinks) { /* steps failed right before it: yold is the kink couple */
+                psb__copy(PSB__VEC(s, PSB__V_K_YA), yold, np1);
+                psb__copy(PSB__VEC(s, PSB__V_K_TA), told, np1);
+                kink = 1;
+            }
+        } else if (r != PSB_SUCCESS) {
+            rep->end = r;
+            goto done;
+        } else {
+            if (opts.locate_kinks) {
+                int found = psb__locate_kink(s, yold, told, tc, h);
+                if (found < 0) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = (psb_result)found; goto done; }
+                kink = found;
+            }
+            h = psb__adapt(s, h, iters);
+        }
+        if (kink) {
+            psb_point kp;
+            memset(&kp, 0, sizeof kp);
+            kp.y = PSB__VEC(s, PSB__V_K_YA);
+            kp.t = PSB__VEC(s, PSB__V_K_TA);
+            kp.index = rep->steps;
+            kp.flags = PSB_POINT_KINK;
+            rep->n_kinks++;
+            if (opts.on_point && opts.on_point(&kp, opts.point_user)) {
+                psb__copy(yc, kp.y, np1);
+                psb__copy(tc, kp.t, np1);
+                rep->end = PSB_STOPPED;
+                goto done;
+            }
+        }
+        if (bounded && (yc[p] > opts.param_max || yc[p] < opts.param_min)) {
+            double bound = yc[p] > opts.param_max ? opts.param_max : opts.param_min;
+            if (yold[p] == bound) { /* leaving through the bound we started on */
+                psb__copy(yc, yold, np1);
+                psb__copy(tc, told, np1);
+                rep->end = PSB_PARAM_BOUND;
+                goto done;
+            }
+            r = psb__land_on_bound(s, yold, yc, bound);
+            if (psb__is_fatal(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
+            if (r == PSB_SUCCESS) r = psb__tangent(s, yc, tc, tc);
+            if (psb__is_fatal(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
+            if (r != PSB_SUCCESS) {
+                /* land by a shorter step next time */
+                psb__copy(yc, yold, np1);
+                psb__copy(tc, told, np1);
+                h *= s->opt.h_dec;
+                if (h < s->opt.h_min) { rep->end = psb__fail(s, PSB_ERR_NO_CONVERGENCE, "could not land on the parameter bound"); goto done; }
+                continue;
+            }
+            flags |= PSB_POINT_BOUND;
+        }
+        rep->steps++;
+        pt.h = sqrt(psb_dot_w(s, yold, yold) + psb_dot_w(s, yc, yc) - 2 * psb_dot_w(s, yold, yc));
+        travelled += pt.h;
+        pt.fold_param = 0;
+        if (told[p] * tc[p] < 0) {
+            flags |= PSB_POINT_FOLD;
+            pt.fold_param = (flags & PSB_POINT_SWITCH) ? yold[p] : psb__fold_param(s, yold, told, yc, tc);
+            if (rep->n_folds < PSB_MAX_FOLDS) rep->fold_params[rep->n_folds] = pt.fold_param;
+            rep->n_folds++;
+        }
+        pt.index = rep->steps;
+        pt.flags = flags;
+        if (opts.on_point && opts.on_point(&pt, opts.point_user)) { rep->end = PSB_STOPPED; goto done; }
+        if (flags & PSB_POINT_BOUND) { rep->end = PSB_PARAM_BOUND; goto done; }
+        if (opts.detect_loop && rep->steps >= 3) {
+            /* the start lies on the last chord, and the curve already went further than it */
+            int i;
+            double *d = PSB__VEC(s, PSB__V_TR_B), seg2 = 0, proj = 0, dist2 = 0, x;
+            for (i = 0; i < np1; i++) {
+                double e = yc[i] - yold[i];
+                seg2 += s->w_[i] * e * e;
+                proj += s->w_[i] * e * (ystart[i] - yold[i]);
+            }
+            x = seg2 > 0 ? proj / seg2 : -1;
+            if (x >= 0 && x <= 1 && travelled > 4 * sqrt(seg2)) {
+                for (i = 0; i < np1; i++) d[i] = yold[i] + x * (yc[i] - yold[i]) - ystart[i];
+                for (i = 0; i < np1; i++) dist2 += s->w_[i] * d[i] * d[i];
+                if (dist2 <= 0.0025 * seg2 + s->opt.tol_correction * s->opt.tol_correction) {
+                    rep->end = PSB_LOOP_CLOSED;
+                    goto done;
+                }
+            }
+        }
+    }
+    rep->end = PSB_STEP_BUDGET;
+done:
+    psb__copy(y, yc, np1);
+    psb__copy(t, tc, np1);
+    rep->h = h;
+    return rep->end;
+}
+
+PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision)
+{
+    int np1;
+    long advances = 0;
+    double h, *yc, *tc, *yt, *tt;
+    psb_result r = psb__check_couple(s, y, t);
+    if (r != PSB_SUCCESS) return r;
+    np1 = s->np1_;
+    yc = PSB__VEC(s, PSB__V_BR_Y0);
+    tc = PSB__VEC(s, PSB__V_BR_T0);
+    yt = PSB__VEC(s, PSB__V_BR_Y);
+    tt = PSB__VEC(s, PSB__V_BR_T);
+    psb__copy(yc, y, np1);
+    psb__copy(tc, t, np1);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    /* Steps 1-5, except that after a successful move the same h is tried again before it is
+       halved: the paper's version moves at most h in all, so it cannot reach an end point
+       farther than h (the last step of a continuation can stop up to h_min / h_dec away). */
+    h = s->opt.branch_h;
+    do {
+        int moved = 0;
+        h *= 0.5;
+        do {
+            psb__axpy_to(yt, yc, h, tc, np1);
+            psb__copy(tt, tc, np1);
+            s->stats.n_pc_steps++;
+            r = psb__correct(s, yt, tt, NULL);
+            if (psb__is_fatal(r)) return r;
+            moved = r == PSB_SUCCESS && psb__cos_w(s, tt, tc) >= s->opt.c_diff;
+            if (moved) {
+                psb__copy(yc, yt, np1);
+                psb__copy(tc, tt, np1);
+                if (++advances > 1000) return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "no end point within 1000 steps of branch_h");
+            }
+        } while (moved);
+    } while (h >= s->opt.branch_h_min);
+    psb__copy(y, yc, np1);
+    psb__copy(t, tc, np1);
+    if (precision) *precision = h;
+    s->message[0] = 0;
+    return PSB_SUCCESS;
+}
+
+/* splitmix64 seeds xoshiro256**: a small, fast generator with a fixed, portable sequence. */
+static unsigned long long psb__splitmix(unsigned long long *x)
+{
+    unsigned long long z = (*x += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+
+static unsigned long long psb__rotl(unsigned long long x, int k) { return (x << k) | (x >> (64 - k)); }
+
+static unsigned long long psb__next(unsigned long long *st)
+{
+    unsigned long long result = psb__rotl(st[1] * 5, 7) * 9, t = st[1] << 17;
+    st[2] ^= st[0];
+    st[3] ^= st[1];
+    st[1] ^= st[2];
+    st[0] ^= st[3];
+    st[2] ^= t;
+    st[3] = psb__rotl(st[3], 45);
+    return result;
+}
+
+/* Standard normal deviate (Box-Muller; the sine half is dropped to keep the sequence simple). */
+static double psb__gauss(unsigned long long *st)
+{
+    double u1 = ((double)(psb__next(st) >> 11) + 1.0) * (1.0 / 9007199254740993.0);
+    double u2 = (double)(psb__next(st) >> 11) * (1.0 / 9007199254740992.0);
+    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+}
+
+/* One span of Algorithm 2.2 (Steps 2-7) with the spanning tangents t1, t2. */
+static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, const double *t2,
+                             int max_branches, double *ys, double *ts, psb_branch_report *rep,
+                             int *overflow)
+{
+    int np1 = s->np1_, i, k, sign, iters;
+    double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
+    double *tprev = PSB__VEC(s, PSB__V_BR_TP), *yb = PSB__VEC(s, PSB__V_BR_Y);
+    double *tb = PSB__VEC(s, PSB__V_BR_T), *pt = PSB__VEC(s, PSB__V_BR_P);
+    double h = s->opt.branch_h;
+    psb_result r;
+    for (i = 0; i < s->opt.n_dir; i++) {
+        double alpha = 6.283185307179586 * i / s->opt.n_dir;
+        for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * t2[k];
+        if (!psb__normalize_w(s, v)) continue;
+        psb__axpy_to(pt, y0, h, v, np1);
+        rep->n_tangents++;
+        r = psb__tangent(s, pt, v, tt);
+        if (psb__is_fatal(r)) return r;
+        if (r != PSB_SUCCESS) continue;
+        /* Step 4: a tangent seen at the previous direction belongs to the same region */
+        if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
+        psb__copy(tprev, tt, np1);
+        for (sign = 1; sign >= -1; sign -= 2) {
+            double hh = s->opt.branch_h_init, dotp;
+            int j, is_new = 1;
+            psb__copy(yb, y0, np1);
+            for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
+            rep->n_pc++;
+            r = psb__try_step(s, yb, tb, &hh, s->opt.h_min, &iters);
+            if (psb__is_fatal(r)) return r;
+            if (r != PSB_SUCCESS) continue;
+            /* Step 5(i): orient away from the point */
+            dotp = 0;
+            for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
+            if (dotp < 0)
+                for (k = 0; k < np1; k++) tb[k] = -tb[k];
+            /* Step 5(ii): a new branch unless it is within c_diff of a known one */
+            for (j = 0; j < rep->n_branches && j < max_branches; j++)
+                if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
+            if (!is_new) continue;
+            if (rep->n_branches >= max_branches) {
+                *overflow = 1;
+                continue;
+            }
+            psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
+            psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
+            rep->n_branches++;
+        }
+    }
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
+                                           int max_branches, double *ys, double *ts,
+                                           psb_branch_report *rep)
+{
+    psb_branch_report local;
+    int np1, k, span, overflow = 0, global;
+    long next_pair = 0;
+    unsigned long long seed;
+    double *yc, *tc, *t1, *t2, *pt;
+    psb_result r;
+    if (!rep) rep = &local;
+    memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y0, t0);
+    if (r != PSB_SUCCESS) return r;
+    if (!ys || !ts) return psb__fail(s, PSB_ERR_NULL, "ys or ts is NULL");
+    if (max_branches < 1) return psb__fail(s, PSB_ERR_SIZE, "max_branches must be >= 1");
+    np1 = s->np1_;
+    yc = PSB__VEC(s, PSB__V_BR_Y0);
+    tc = PSB__VEC(s, PSB__V_BR_T0);
+    t1 = PSB__VEC(s, PSB__V_BR_T1);
+    t2 = PSB__VEC(s, PSB__V_BR_T2);
+    pt = PSB__VEC(s, PSB__V_BR_P);
+    psb__copy(yc, y0, np1);
+    psb__copy(tc, t0, np1);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
+    seed = s->opt.seed;
+    for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
+
+    /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
+    for (k = 0; k < np1; k++) t1[k] = -tc[k];
+    psb__axpy_to(pt, yc, s->opt.branch_h, tc, np1);
+    rep->n_tangents++;
+    r = psb__tangent(s, pt, tc, t2);
+    if (r != PSB_SUCCESS) return r;
+    psb__copy(ys, yc, np1);
+    psb__copy(ts, t1, np1);
+    rep->n_branches = 1;
+
+    for (span = 0; span < s->opt.n_span; span++) {
+        if (span > 0) {
+            long avail = (long)rep->n_branches * (rep->n_branches - 1) / 2;
+            if (rep->n_branches > max_branches) avail = (long)max_branches * (max_branches - 1) / 2;
+            if (next_pair < avail) {
+                /* Section 3, strategy (1): the pairs of branches found so far, in the order
+                   (0,1), (0,2), (1,2), (0,3), ... so that newly found branches join in */
+                int j = 1, i;
+                while ((long)j * (j + 1) / 2 <= next_pair) j++;
+                i = (int)(next_pair - (long)j * (j - 1) / 2);
+                psb__copy(t1, ts + (size_t)i * (size_t)np1, np1);
+                psb__copy(t2, ts + (size_t)j * (size_t)np1, np1);
+                next_pair++;
+            } else {
+                /* strategy (2), Remark 2.3(ii): keep t~1, perturb the previous t~2 at random */
+                double *rnd = PSB__VEC(s, PSB__V_BR_V), *prev = PSB__VEC(s, PSB__V_BR_TT);
+                /* z / sqrt(w) with z standard normal is isotropic for <.,.>_w */
+                for (k = 0; k < np1; k++) rnd[k] = psb__gauss(s->rng_) / sqrt(s->w_[k]);
+                if (!psb__normalize_w(s, rnd)) continue;
+                psb__copy(prev, t2, np1);
+                /* Remark 2.3(ii) perturbs the previous t~2 by 0.1 of a random direction, which
+                   explores only near it; PSB_RESTART_MIXED alternates it with a direction drawn
+                   uniformly, which reaches regions no span found so far comes near. */
+                global = s->opt.restart == PSB_RESTART_GLOBAL ||
+                         (s->opt.restart == PSB_RESTART_MIXED && rep->n_rand % 2 == 1);
+                for (k = 0; k < np1; k++)
+                    pt[k] = yc[k] + s->opt.branch_h * (global ? rnd[k] : prev[k] + 0.1 * rnd[k]);
+                rep->n_rand++;
+                rep->n_tangents++;
+                r = psb__tangent(s, pt, prev, t2);
+                if (psb__is_fatal(r)) return r;
+                if (r != PSB_SUCCESS) { psb__copy(t2, prev, np1); continue; }
+            }
+        }
+        rep->n_span++;
+        r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
+        if (r != PSB_SUCCESS) return r;
+    }
+    s->message[0] = 0;
+    if (overflow) {
+        if (rep->n_branches > max_branches) rep->n_branches = max_branches;
+        return PSB_BRANCH_CAPACITY;
+    }
+    return PSB_SUCCESS;
+}
+
+/* ==== contact helpers ==================================================================== */
+/* Shared by both half-lines: sign = +1 for [0,inf[, -1 for ]-inf,0]. */
+static psb_result psb__ct_proj_half(double x, double sign, int req, double *value, double *deriv,
+                                 int *piece)
+{
+    int pc;
+    if (!value)
+        return PSB_ERR_NULL;
+    if (!psb__finite(x))
+        return PSB_ERR_NONFINITE;
+    if (req < PSB_PIECE_DEFAULT || req > PSB_HALF_OUT)
+        return PSB_ERR_SIZE;
+    pc = req >= 0 ? req : (sign * x >= 0.0 ? PSB_HALF_IN : PSB_HALF_OUT);
+    *value = pc == PSB_HALF_IN ? x : 0.0;
+    if (deriv)
+        *deriv = pc == PSB_HALF_IN ? 1.0 : 0.0;
+    if (piece)
+        *piece = pc;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_proj_nonpos(double x, int piece_request, double *value,
+                                         double *deriv, int *piece)
+{
+    return psb__ct_proj_half(x, -1.0, piece_request, value, deriv, piece);
+}
+
+PSCBRANCH_DEF psb_result psb_proj_nonneg(double x, int piece_request, double *value,
+                                         double *deriv, int *piece)
+{
+    return psb__ct_proj_half(x, 1.0, piece_request, value, deriv, piece);
+}
+
+PSCBRANCH_DEF psb_result psb_proj_half_active(double x, int nonpos, double tol, unsigned *mask)
+{
+    double y;
+    if (!mask)
+        return PSB_ERR_NULL;
+    if (!psb__finite(x) || !psb__finite(tol))
+        return PSB_ERR_NONFINITE;
+    if (tol < 0.0)
+        return PSB_ERR_INPUT;
+    y = nonpos ? -x : x; /* y >= 0 <=> x in the set */
+    *mask = 0u;
+    if (y >= -tol)
+        *mask |= 1u << PSB_HALF_IN;
+    if (y <= tol)
+        *mask |= 1u << PSB_HALF_OUT;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_proj_interval(double x, double a, double b, int piece_request,
+                                           double *value, double d[3], int *piece)
+{
+    int pc;
+    if (!value)
+        return PSB_ERR_NULL;
+    if (!psb__finite(x) || !psb__finite(a) || !psb__finite(b))
+        return PSB_ERR_NONFINITE;
+    if (a > b)
+        return PSB_ERR_INPUT;
+    if (piece_request < PSB_PIECE_DEFAULT || piece_request > PSB_IVL_UPPER)
+        return PSB_ERR_SIZE;
+    if (piece_request >= 0)
+        pc = piece_request;
+    else if (x > b)
+        pc = PSB_IVL_UPPER;
+    else if (x < a || a == b) /* a == b: {a} has no interior, use a constant piece */
+        pc = PSB_IVL_LOWER;
+    else
+        pc = PSB_IVL_IN;
+    *value = pc == PSB_IVL_IN ? x : (pc == PSB_IVL_LOWER ? a : b);
+    if (d) {
+        d[0] = pc == PSB_IVL_IN ? 1.0 : 0.0;
+        d[1] = pc == PSB_IVL_LOWER ? 1.0 : 0.0;
+        d[2] = pc == PSB_IVL_UPPER ? 1.0 : 0.0;
+    }
+    if (piece)
+        *piece = pc;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_proj_interval_active(double x, double a, double b, double tol,
+                                                  unsigned *mask)
+{
+    if (!mask)
+        return PSB_ERR_NULL;
+    if (!psb__finite(x) || !psb__finite(a) || !psb__finite(b) || !psb__finite(tol))
+        return PSB_ERR_NONFINITE;
+    if (a > b || tol < 0.0)
+        return PSB_ERR_INPUT;
+    *mask = 0u;
+    if (x >= a - tol && x <= b + tol)
+        *mask |= 1u << PSB_IVL_IN;
+    if (x <= a + tol)
+        *mask |= 1u << PSB_IVL_LOWER;
+    if (x >= b - tol)
+        *mask |= 1u << PSB_IVL_UPPER;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_proj_disk(const double x[2], double s, int piece_request, double p[2],
+                                       double jx[4], double js[2], int *piece)
+{
+    double nx, d0, d1, k;
+    int pc;
+    if (!x || !p)
+        return PSB_ERR_NULL;
+    if (!psb__all_finite(x, 2) || !psb__finite(s))
+        return PSB_ERR_NONFINITE;
+    if (piece_request < PSB_PIECE_DEFAULT || piece_request > PSB_DISK_ZERO)
+        return PSB_ERR_SIZE;
+    nx = hypot(x[0], x[1]);
+    if (piece_request >= 0)
+        pc = piece_request;
+    else if (s <= 0.0)
+        pc = PSB_DISK_ZERO;
+    else if (nx <= s)
+        pc = PSB_DISK_IN;
+    else
+        pc = PSB_DISK_BOUNDARY;
+    if (pc == PSB_DISK_BOUNDARY) {
+        /* P = s x/|x|, dP/dx = (s/|x|)(I - d d^T), dP/ds = d. At x = 0 (only a neighbour when
+           s = 0) take the limit along d = e1 with s/|x| -> 0; for s > 0 use s/|x| = 1. */
+        if (nx > 0.0) {
+            d0 = x[0] / nx;
+            d1 = x[1] / nx;
+            k = s / nx;
+        } else {
+            d0 = 1.0;
+            d1 = 0.0;
+            k = s > 0.0 ? 1.0 : 0.0;
+        }
+        p[0] = s * d0;
+        p[1] = s * d1;
+        if (jx) {
+            jx[0] = k * (1.0 - d0 * d0);
+            jx[1] = -k * d0 * d1;
+            jx[2] = jx[1];
+            jx[3] = k * (1.0 - d1 * d1);
+        }
+        if (js) {
+            js[0] = d0;
+            js[1] = d1;
+        }
+    } else {
+        double id = pc == PSB_DISK_IN ? 1.0 : 0.0;
+        p[0] = id * x[0];
+        p[1] = id * x[1];
+        if (jx) {
+            jx[0] = id;
+            jx[1] = 0.0;
+            jx[2] = 0.0;
+            jx[3] = id;
+        }
+        if (js)
+            js[0] = js[1] = 0.0;
+    }
+    if (piece)
+        *piece = pc;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_proj_disk_active(const double x[2], double s, double tol,
+                                              unsigned *mask)
+{
+    double nx;
+    if (!x || !mask)
+        return PSB_ERR_NULL;
+    if (!psb__all_finite(x, 2) || !psb__finite(s) || !psb__finite(tol))
+        return PSB_ERR_NONFINITE;
+    if (tol < 0.0)
+        return PSB_ERR_INPUT;
+    nx = hypot(x[0], x[1]);
+    *mask = 0u;
+    if (s >= -tol && nx <= s + tol) /* closure of {|x| < s} */
+        *mask |= 1u << PSB_DISK_IN;
+    if (s >= -tol && nx >= s - tol) /* closure of {|x| > s > 0} */
+        *mask |= 1u << PSB_DISK_BOUNDARY;
+    if (s <= tol) /* closure of {s < 0} */
+        *mask |= 1u << PSB_DISK_ZERO;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_request,
+                                       double p[3], double j[9], int *piece)
+{
+    double n, t, d0, d1, c, k, w;
+    int pc, a, b;
+    if (!x || !p)
+        return PSB_ERR_NULL;
+    if (!psb__all_finite(x, 3) || !psb__finite(mu))
+        return PSB_ERR_NONFINITE;
+    if (mu < 0.0)
+        return PSB_ERR_INPUT;
+    if (piece_request < PSB_PIECE_DEFAULT || piece_request > PSB_CONE_BOUNDARY)
+        return PSB_ERR_SIZE;
+    n = x[0];
+    t = hypot(x[1], x[2]);
+    if (piece_request >= 0)
+        pc = piece_request;
+    else if (mu > 0.0 && t <= mu * n) /* mu = 0: IN has no interior, never the default */
+        pc = PSB_CONE_IN;
+    else if (mu * t <= -n)
+        pc = PSB_CONE_POLAR;
+    else
+        pc = PSB_CONE_BOUNDARY;
+    if (pc == PSB_CONE_BOUNDARY) {
+        /* Nearest point on the ray (1, mu d)/sqrt(1+mu^2), d = x_T/|x_T|:
+           P = c (1, mu d), c = (x_N + mu |x_T|)/(1+mu^2);
+           dP/dx = [[1, mu d^T], [mu d, mu^2 d d^T]]/(1+mu^2) + k [[0,0],[0, I - d d^T]],
+           k = mu c/|x_T|. At x_T = 0 the formula has no limit; use d = e1 and the limit at the
+           apex along x_N = 0, k = mu^2/(1+mu^2) (for mu = 0 every d-term vanishes anyway). */
+        w = 1.0 / (1.0 + mu * mu);
+        c = (n + mu * t) * w;
+        if (t > 0.0) {
+            d0 = x[1] / t;
+            d1 = x[2] / t;
+            k = mu * c / t;
+        } else {
+            d0 = 1.0;
+            d1 = 0.0;
+            k = mu * mu * w;
+        }
+        p[0] = c;
+        p[1] = mu * c * d0;
+        p[2] = mu * c * d1;
+        if (j) {
+            double dd[2];
+            dd[0] = d0;
+            dd[1] = d1;
+            j[0] = w;
+            j[1] = mu * w * d0;
+            j[2] = mu * w * d1;
+            j[3] = mu * w * d0;
+            j[6] = mu * w * d1;
+            for (a = 0; a < 2; a++)
+                for (b = 0; b < 2; b++)
+                    j[(1 + a) + 3 * (1 + b)] =
+                        mu * mu * w * dd[a] * dd[b] + k * ((a == b ? 1.0 : 0.0) - dd[a] * dd[b]);
+        }
+    } else {
+        double id = pc == PSB_CONE_IN ? 1.0 : 0.0;
+        for (a = 0; a < 3; a++)
+            p[a] = id * x[a];
+        if (j)
+            for (a = 0; a < 9; a++)
+                j[a] = (a % 4 == 0) ? id : 0.0;
+    }
+    if (piece)
+        *piece = pc;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_proj_cone_active(const double x[3], double mu, double tol,
+                                              unsigned *mask)
+{
+    double n, t;
+    if (!x || !mask)
+        return PSB_ERR_NULL;
+    if (!psb__all_finite(x, 3) || !psb__finite(mu) || !psb__finite(tol))
+        return PSB_ERR_NONFINITE;
+    if (mu < 0.0 || tol < 0.0)
+        return PSB_ERR_INPUT;
+    n = x[0];
+    t = hypot(x[1], x[2]);
+    *mask = 0u;
+    if (mu > 0.0 && t <= mu * n + tol)
+        *mask |= 1u << PSB_CONE_IN;
+    if (mu * t <= -n + tol)
+        *mask |= 1u << PSB_CONE_POLAR;
+    if (mu * n <= t + tol && -n <= mu * t + tol)
+        *mask |= 1u << PSB_CONE_BOUNDARY;
+    return PSB_SUCCESS;
+}
+
+static psb_result psb__ct_ac2d_check(double u_n, double u_t, double lam_n, double lam_t, double r,
+                                  double friction, double gap)
+{
+    if (!psb__finite(u_n) || !psb__finite(u_t) || !psb__finite(lam_n) || !psb__finite(lam_t) ||
+        !psb__finite(r) || !psb__finite(friction) || !psb__finite(gap))
+        return PSB_ERR_NONFINITE;
+    if (r <= 0.0 || friction < 0.0)
+        return PSB_ERR_INPUT;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_ac2d_node(double u_n, double u_t, double lam_n, double lam_t,
+                                       double r, double friction, double gap, int piece_request,
+                                       double res[2], double jac[8], int *piece)
+{
+    double xn, xt, s = 0.0, dn = 0.0, pt = 0.0, di[3] = {0.0, 0.0, 0.0}, ps;
+    int pn = 0, pi = 0, rn = PSB_PIECE_DEFAULT, ri = PSB_PIECE_DEFAULT;
+    psb_result e;
+    if (!res)
+        return PSB_ERR_NULL;
+    e = psb__ct_ac2d_check(u_n, u_t, lam_n, lam_t, r, friction, gap);
+    if (e != PSB_SUCCESS)
+        return e;
+    if (piece_request < PSB_PIECE_DEFAULT || piece_request > PSB_AC2D_PIECE(1, 2))
+        return PSB_ERR_SIZE;
+    if (piece_request >= 0) {
+        rn = piece_request % 2;
+        ri = piece_request / 2;
+    }
+    xn = lam_n - r * (u_n - gap);
+    xt = lam_t - r * u_t;
+    /* the only failure left is overflow of xn, xt or F s (F s <= 0 <= -F s always holds) */
+    if (psb_proj_nonpos(xn, rn, &s, &dn, &pn) != PSB_SUCCESS ||
+        psb_proj_interval(xt, friction * s, -friction * s, ri, &pt, di, &pi) != PSB_SUCCESS)
+        return PSB_ERR_NONFINITE;
+    res[0] = -(lam_n - s) / r;
+    res[1] = -(lam_t - pt) / r;
+    if (jac) {
+        ps = friction * (di[1] - di[2]) * dn; /* dP/dx_n through a = F s, b = -F s */
+        jac[0] = -dn;                  /* d res0 / d u_n   */
+        jac[1] = -ps;                  /* d res1 / d u_n   */
+        jac[2] = 0.0;                  /* d res0 / d u_t   */
+        jac[3] = -di[0];               /* d res1 / d u_t   */
+        jac[4] = -(1.0 - dn) / r;      /* d res0 / d lam_n */
+        jac[5] = ps / r;               /* d res1 / d lam_n */
+        jac[6] = 0.0;                  /* d res0 / d lam_t */
+        jac[7] = -(1.0 - di[0]) / r;   /* d res1 / d lam_t */
+    }
+    if (piece)
+        *piece = PSB_AC2D_PIECE(pn, pi);
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_ac2d_active(double u_n, double u_t, double lam_n, double lam_t,
+                                         double r, double friction, double gap, double tol,
+                                         unsigned *mask)
+{
+    double xn, xt, s;
+    unsigned mn = 0u, mi = 0u;
+    int pn, pi;
+    psb_result e;
+    if (!mask)
+        return PSB_ERR_NULL;
+    e = psb__ct_ac2d_check(u_n, u_t, lam_n, lam_t, r, friction, gap);
+    if (e == PSB_SUCCESS && !psb__finite(tol))
+        e = PSB_ERR_NONFINITE;
+    if (e == PSB_SUCCESS && tol < 0.0)
+        e = PSB_ERR_INPUT;
+    if (e != PSB_SUCCESS)
+        return e;
+    xn = lam_n - r * (u_n - gap);
+    xt = lam_t - r * u_t;
+    s = xn < 0.0 ? xn : 0.0;
+    if (psb_proj_half_active(xn, 1, tol, &mn) != PSB_SUCCESS ||
+        psb_proj_interval_active(xt, friction * s, -friction * s, tol, &mi) != PSB_SUCCESS)
+        return PSB_ERR_NONFINITE; /* overflow */
+    *mask = 0u;
+    for (pn = 0; pn < 2; pn++)
+        for (pi = 0; pi < 3; pi++) {
+            if (!(mn & (1u << pn)) || !(mi & (1u << pi)))
+                continue;
+            /* the interval [F s, -F s] has an interior only where s < 0 (pn = IN) and F > 0 */
+            if (pi == PSB_IVL_IN && (pn == PSB_HALF_OUT || friction == 0.0))
+                continue;
+            *mask |= 1u << PSB_AC2D_PIECE(pn, pi);
+        }
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_ac2d_state(double u_n, double u_t, double lam_n, double lam_t,
+                                        double r, double friction, double gap,
+                                        psb_contact_state *state)
+{
+    double xn, xt, s;
+    psb_result e;
+    if (!state)
+        return PSB_ERR_NULL;
+    e = psb__ct_ac2d_check(u_n, u_t, lam_n, lam_t, r, friction, gap);
+    if (e != PSB_SUCCESS)
+        return e;
+    xn = lam_n - r * (u_n - gap);
+    xt = lam_t - r * u_t;
+    s = xn < 0.0 ? xn : 0.0;
+    if (s == 0.0)
+        *state = PSB_CONTACT_SEPARATED;
+    else if (xt < friction * s)
+        *state = PSB_CONTACT_SLIP_POS;
+    else if (xt > -friction * s)
+        *state = PSB_CONTACT_SLIP_NEG;
+    else
+        *state = PSB_CONTACT_STICK;
+    return PSB_SUCCESS;
+}
+
+static psb_result psb__ct_fc3d_check(const double r[3], const double u[3], double mu, double rho_n,
+                                  double rho_t, const double *f)
+{
+    if (!r || !u || !f)
+        return PSB_ERR_NULL;
+    if (!psb__all_finite(r, 3) || !psb__all_finite(u, 3) || !psb__finite(mu) || !psb__finite(rho_n) ||
+        !psb__finite(rho_t))
+        return PSB_ERR_NONFINITE;
+    if (mu < 0.0 || rho_n <= 0.0 || rho_t <= 0.0)
+        return PSB_ERR_INPUT;
+    return PSB_SUCCESS;
+}
+
+/* Shared body of the Alart-Curnier (jm = 0) and Jean-Moreau (jm = 1) residuals. */
+static psb_result psb__ct_fc3d_acjm(const double r[3], const double u[3], double mu, double rho_n,
+                                 double rho_t, int jm, int req, double f[3], double jr[9],
+                                 double ju[9], int *piece)
+{
+    double xn, pn_v = 0.0, an = 0.0, rad_arg, pr_v = 0.0, ar = 0.0, xt[2], pt[2] = {0.0, 0.0};
+    double jx[4] = {0.0, 0.0, 0.0, 0.0}, js[2] = {0.0, 0.0};
+    int rn = PSB_PIECE_DEFAULT, rr = PSB_PIECE_DEFAULT, rd = PSB_PIECE_DEFAULT, pn = 0, pr = 0;
+    int pd = 0;
+    int a, b, nmax;
+    psb_result e = psb__ct_fc3d_check(r, u, mu, rho_n, rho_t, f);
+    if (e != PSB_SUCCESS)
+        return e;
+    nmax = jm ? PSB_FC3D_JM_PIECE(1, 1, 2) : PSB_FC3D_AC_PIECE(1, 2);
+    if (req < PSB_PIECE_DEFAULT || req > nmax)
+        return PSB_ERR_SIZE;
+    if (req >= 0) {
+        rn = req % 2;
+        if (jm) {
+            rr = (req / 2) % 2;
+            rd = req / 4;
+        } else {
+            rd = req / 2;
+        }
+    }
+    xn = r[0] - rho_n * u[0];
+    if (psb_proj_nonneg(xn, rn, &pn_v, &an, &pn) != PSB_SUCCESS)
+        return PSB_ERR_NONFINITE; /* overflow */
+    if (jm) {
+        psb_proj_nonneg(r[0], rr, &pr_v, &ar, &pr);
+        rad_arg = pr_v;
+    } else {
+        pr_v = pn_v;
+        ar = an;
+        rad_arg = pn_v;
+    }
+    xt[0] = r[1] - rho_t * u[1];
+    xt[1] = r[2] - rho_t * u[2];
+    if (rd < 0) {
+        /* The disk's own default at radius 0 is ZERO, but in the composite that is a B-limit only
+           where the radius is identically 0 (its half-line piece OUT, or mu = 0); where the
+           radius can grow (piece IN, radius exactly 0) take the neighbouring BOUNDARY piece, or
+           IN at x_T = 0, so the Jacobian is a limit of the composite's own pieces. */
+        int rpiece = jm ? pr : pn;
+        if (rpiece == PSB_HALF_OUT || mu == 0.0)
+            rd = PSB_DISK_ZERO;
+        else if (rad_arg == 0.0)
+            rd = (xt[0] != 0.0 || xt[1] != 0.0) ? PSB_DISK_BOUNDARY : PSB_DISK_IN;
+    }
+    if (psb_proj_disk(xt, mu * rad_arg, rd, pt, jx, js, &pd) != PSB_SUCCESS)
+        return PSB_ERR_NONFINITE; /* overflow */
+    f[0] = r[0] - pn_v;
+    f[1] = r[1] - pt[0];
+    f[2] = r[2] - pt[1];
+    if (jr || ju) {
+        double tr[9], tu[9];
+        for (a = 0; a < 9; a++)
+            tr[a] = tu[a] = 0.0;
+        tr[0] = 1.0 - an;
+        tu[0] = an * rho_n;
+        for (a = 0; a < 2; a++) {
+            /* radius mu*(x_n)_+ (AC: x_n = r_N - rho_n u_N) or mu*(r_N)_+ (JM) */
+            tr[1 + a] = -js[a] * mu * ar;
+            tu[1 + a] = jm ? 0.0 : js[a] * mu * ar * rho_n;
+            for (b = 0; b < 2; b++) {
+                tr[(1 + a) + 3 * (1 + b)] = (a == b ? 1.0 : 0.0) - jx[a + 2 * b];
+                tu[(1 + a) + 3 * (1 + b)] = rho_t * jx[a + 2 * b];
+            }
+        }
+        if (jr)
+            memcpy(jr, tr, sizeof tr);
+        if (ju)
+            memcpy(ju, tu, sizeof tu);
+    }
+    if (piece)
+        *piece = jm ? PSB_FC3D_JM_PIECE(pn, pr, pd) : PSB_FC3D_AC_PIECE(pn, pd);
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_fc3d_ac(const double r[3], const double u[3], double mu, double rho_n,
+                                     double rho_t, int piece_request, double f[3], double jr[9],
+                                     double ju[9], int *piece)
+{
+    return psb__ct_fc3d_acjm(r, u, mu, rho_n, rho_t, 0, piece_request, f, jr, ju, piece);
+}
+
+PSCBRANCH_DEF psb_result psb_fc3d_jm(const double r[3], const double u[3], double mu, double rho_n,
+                                     double rho_t, int piece_request, double f[3], double jr[9],
+                                     double ju[9], int *piece)
+{
+    return psb__ct_fc3d_acjm(r, u, mu, rho_n, rho_t, 1, piece_request, f, jr, ju, piece);
+}
+
+PSCBRANCH_DEF psb_result psb_fc3d_desaxce(const double u[3], double mu, double uhat[3], double j[9])
+{
+    double t;
+    int a;
+    if (!u || !uhat)
+        return PSB_ERR_NULL;
+    if (!psb__all_finite(u, 3) || !psb__finite(mu))
+        return PSB_ERR_NONFINITE;
+    if (mu < 0.0)
+        return PSB_ERR_INPUT;
+    t = hypot(u[1], u[2]);
+    if (j) {
+        for (a = 0; a < 9; a++)
+            j[a] = (a % 4 == 0) ? 1.0 : 0.0;
+        /* d|u_T|/du_T = u_T/|u_T|; at u_T = 0 the B-limit along e1 */
+        j[3] = t > 0.0 ? mu * u[1] / t : mu;
+        j[6] = t > 0.0 ? mu * u[2] / t : 0.0;
+    }
+    uhat[0] = u[0] + mu * t;
+    uhat[1] = u[1];
+    uhat[2] = u[2];
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_fc3d_nat(const double r[3], const double u[3], double mu, double rho,
+                                      int piece_request, double f[3], double jr[9], double ju[9],
+                                      int *piece)
+{
+    double uh[3], jh[9], z[3], p[3], jk[9];
+    int a, b, c;
+    psb_result e = psb__ct_fc3d_check(r, u, mu, rho, rho, f);
+    if (e != PSB_SUCCESS)
+        return e;
+    if (piece_request < PSB_PIECE_DEFAULT || piece_request > PSB_CONE_BOUNDARY)
+        return PSB_ERR_SIZE;
+    if (psb_fc3d_desaxce(u, mu, uh, jh) != PSB_SUCCESS)
+        return PSB_ERR_NONFINITE;
+    for (a = 0; a < 3; a++)
+        z[a] = r[a] - rho * uh[a];
+    if (psb_proj_cone(z, mu, piece_request, p, jk, piece) != PSB_SUCCESS)
+        return PSB_ERR_NONFINITE; /* overflow of z */
+    for (a = 0; a < 3; a++)
+        f[a] = r[a] - p[a];
+    if (jr)
+        for (a = 0; a < 9; a++)
+            jr[a] = ((a % 4 == 0) ? 1.0 : 0.0) - jk[a];
+    if (ju) /* df/du = rho J_K d uhat/du */
+        for (a = 0; a < 3; a++)
+            for (b = 0; b < 3; b++) {
+                double sum = 0.0;
+                for (c = 0; c < 3; c++)
+                    sum += jk[a + 3 * c] * jh[c + 3 * b];
+                ju[a + 3 * b] = rho * sum;
+            }
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_fc_nat_error(int dim, size_t nc, const double *r, const double *u,
+                                          const double *mu, double qnorm, double *err)
+{
+    size_t i;
+    double sum = 0.0, scale = 0.0, f[3], r3[3], u3[3];
+    int k;
+    psb_result e;
+    if (!err || (nc > 0 && (!r || !u || !mu)))
+        return PSB_ERR_NULL;
+    if (dim != 2 && dim != 3)
+        return PSB_ERR_SIZE;
+    if (!psb__finite(qnorm))
+        return PSB_ERR_NONFINITE;
+    for (i = 0; i < nc; i++) {
+        /* a 2D contact is the 3D one restricted to T2 = 0, which the cone projection keeps */
+        r3[2] = u3[2] = 0.0;
+        for (k = 0; k < dim; k++) {
+            r3[k] = r[i * (size_t)dim + (size_t)k];
+            u3[k] = u[i * (size_t)dim + (size_t)k];
+        }
+        e = psb_fc3d_nat(r3, u3, mu[i], 1.0, PSB_PIECE_DEFAULT, f, NULL, NULL, NULL);
+        if (e != PSB_SUCCESS)
+            return e;
+        for (k = 0; k < 3; k++) { /* scaled sum of squares: no overflow for huge residuals */
+            double v = fabs(f[k]);
+            if (v > scale) {
+                sum = 1.0 + sum * (scale / v) * (scale / v);
+                scale = v;
+            } else if (v > 0.0) {
+                sum += (v / scale) * (v / scale);
+            }
+        }
+    }
+    *err = scale * sqrt(sum);
+    if (qnorm > 0.0)
+        *err /= qnorm;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
+                                             const double *disp_in, double gap,
+                                             double *force_out, double *disp_out)
+{
+    double fi[3], di[3];
+    int k;
+    if (!force_in || !disp_in || !force_out || !disp_out)
+        return PSB_ERR_NULL;
+    if (dim != 2 && dim != 3)
+        return PSB_ERR_SIZE;
+    if (!psb__all_finite(force_in, dim) || !psb__all_finite(disp_in, dim) || !psb__finite(gap))
+        return PSB_ERR_NONFINITE;
+    for (k = 0; k < dim; k++) { /* copy first: outputs may alias inputs */
+        fi[k] = force_in[k];
+        di[k] = disp_in[k];
+    }
+    for (k = 0; k < dim; k++) {
+        force_out[k] = -fi[k];
+        disp_out[k] = -di[k];
+    }
+    disp_out[0] = gap - di[0];
+    return PSB_SUCCESS;
+}
+
+#endif /* PSCBRANCH_IMPLEMENTATION_DONE */
+#endif /* PSCBRANCH_IMPLEMENTATION */

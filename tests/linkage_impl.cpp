@@ -1,0 +1,3 @@
+// The implementation compiled as C++: catches C-only constructs and extern "C" mistakes.
+#define PSCBRANCH_IMPLEMENTATION
+#include "../pscbranch.h"

@@ -1,0 +1,122 @@
+/* Piecewise-linear, positively homogeneous test problems with analytically known branch sets.
+
+   H_i(x, g) = min(x_i, (M x + q g)_i), i = 1..n, y = (x, g), the parameter g last.
+   H(y) = 0 says x solves the linear complementarity problem LCP(M, q g). For g > 0 every solution
+   is g x* with x* a solution of LCP(M, q); for g < 0, |g| x* with x* solving LCP(M, -q). Each
+   solution with strict complementarity is a ray from the origin lying in the open region of one
+   selection, so the branches at y = 0 are exactly the rays (x*, 1) and (x*, -1) scaled, which
+   pl_enumerate_rays finds by trying every complementary index set. */
+#ifndef PSB_TEST_PL_PROBLEMS_H
+#define PSB_TEST_PL_PROBLEMS_H
+#include <math.h>
+#include <string.h>
+
+#define PL_MAX_N 12
+#define PL_MAX_RAYS 64
+
+typedef struct pl_problem {
+    int n;
+    double m[PL_MAX_N * PL_MAX_N]; /* column-major n x n */
+    double q[PL_MAX_N];
+} pl_problem;
+
+static int pl_residual(const double *y, double *h, void *user)
+{
+    const pl_problem *p = (const pl_problem *)user;
+    int i, j, n = p->n;
+    for (i = 0; i < n; i++) {
+        double w = p->q[i] * y[n];
+        for (j = 0; j < n; j++) w += p->m[i + j * n] * y[j];
+        h[i] = y[i] <= w ? y[i] : w;
+    }
+    return 0;
+}
+
+/* The selection's gradient: the row of whichever argument of the min is active (x on ties). */
+static int pl_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    const pl_problem *p = (const pl_problem *)user;
+    int i, j, n = p->n;
+    for (i = 0; i < n; i++) {
+        double w = p->q[i] * y[n];
+        for (j = 0; j < n; j++) w += p->m[i + j * n] * y[j];
+        for (j = 0; j <= n; j++) jac[i + j * ld] = 0;
+        if (y[i] <= w) {
+            jac[i + i * ld] = 1;
+        } else {
+            for (j = 0; j < n; j++) jac[i + j * ld] = p->m[i + j * n];
+            jac[i + n * ld] = p->q[i];
+        }
+    }
+    return 0;
+}
+
+/* Solves the k x k system a z = b in place by Gaussian elimination with partial pivoting
+   (a column-major, leading dimension k). Returns 0 when singular. */
+static int pl_solve_small(double *a, double *b, int k)
+{
+    int i, j, c;
+    for (c = 0; c < k; c++) {
+        int piv = c;
+        for (i = c + 1; i < k; i++)
+            if (fabs(a[i + c * k]) > fabs(a[piv + c * k])) piv = i;
+        if (fabs(a[piv + c * k]) < 1e-13) return 0;
+        if (piv != c) {
+            double tmp;
+            for (j = 0; j < k; j++) { tmp = a[c + j * k]; a[c + j * k] = a[piv + j * k]; a[piv + j * k] = tmp; }
+            tmp = b[c]; b[c] = b[piv]; b[piv] = tmp;
+        }
+        for (i = c + 1; i < k; i++) {
+            double f = a[i + c * k] / a[c + c * k];
+            for (j = c; j < k; j++) a[i + j * k] -= f * a[c + j * k];
+            b[i] -= f * b[c];
+        }
+    }
+    for (c = k - 1; c >= 0; c--) {
+        for (j = c + 1; j < k; j++) b[c] -= a[c + j * k] * b[j];
+        b[c] /= a[c + c * k];
+    }
+    return 1;
+}
+
+/* All strictly complementary solutions of LCP(M, sign*q), as rays (x*, sign) in rays
+   (n+1 each). Returns their number, or -1 if some solution is degenerate (not strictly
+   complementary within margin), which would break the problem's assumptions. */
+static int pl_enumerate_rays(const pl_problem *p, double sign, double margin, double *rays, int max_rays)
+{
+    int n = p->n, count = 0;
+    unsigned long mask;
+    for (mask = 0; mask < (1ul << n); mask++) {
+        double a[PL_MAX_N * PL_MAX_N], b[PL_MAX_N], x[PL_MAX_N];
+        int idx[PL_MAX_N], k = 0, i, j, ok = 1, degenerate = 0;
+        for (i = 0; i < n; i++)
+            if (mask & (1ul << i)) idx[k++] = i;
+        for (i = 0; i < k; i++) {
+            b[i] = -sign * p->q[idx[i]];
+            for (j = 0; j < k; j++) a[i + j * k] = p->m[idx[i] + idx[j] * n];
+        }
+        if (k > 0 && !pl_solve_small(a, b, k)) continue;
+        memset(x, 0, sizeof x);
+        for (i = 0; i < k; i++) x[idx[i]] = b[i];
+        for (i = 0; i < n; i++) {
+            double w = sign * p->q[i];
+            for (j = 0; j < n; j++) w += p->m[i + j * n] * x[j];
+            if (mask & (1ul << i)) {
+                if (x[i] < -margin) ok = 0;
+                else if (x[i] < margin) degenerate = 1;
+            } else {
+                if (w < -margin) ok = 0;
+                else if (w < margin) degenerate = 1;
+            }
+        }
+        if (!ok) continue;
+        if (degenerate) return -1;
+        if (count < max_rays) {
+            for (i = 0; i < n; i++) rays[count * (n + 1) + i] = x[i];
+            rays[count * (n + 1) + n] = sign;
+        }
+        count++;
+    }
+    return count;
+}
+#endif

@@ -1,0 +1,731 @@
+/* Core continuation and branching: analytic curves, kinks, folds, piecewise-linear branch sets,
+   determinism and failure paths. */
+#define PSCBRANCH_IMPLEMENTATION
+#include "pscbranch.h"
+#include "harness.h"
+#include "pl_problems.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- curves ------------------------------------------------------------------------------ */
+
+/* unit circle x^2 + g^2 = 1, y = (x, g) */
+static int circle_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] * y[0] + y[1] * y[1] - 1;
+    return 0;
+}
+static int circle_jac(const double *y, double *j, int ld, void *u)
+{
+    (void)u;
+    (void)ld;
+    j[0] = 2 * y[0];
+    j[ld] = 2 * y[1];
+    return 0;
+}
+
+/* the circle embedded in R^4, y = (x1, x2, x3, g): x1^2 + g^2 = 1, x2 = x1^3, x3 = sin x1 - x2 */
+static int circle3_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] * y[0] + y[3] * y[3] - 1;
+    h[1] = y[1] - y[0] * y[0] * y[0];
+    h[2] = y[2] - sin(y[0]) + y[1];
+    return 0;
+}
+
+typedef struct {
+    int n_points, bad_points, n_kinks, stop_at_kink;
+    double max_residual, kink_params[8];
+    const psb_solver *s;
+} track;
+
+static int track_point(const psb_point *pt, void *user)
+{
+    track *tr = (track *)user;
+    double h[4];
+    int np1 = tr->s->prob.n + 1;
+    if (pt->flags & PSB_POINT_KINK) {
+        if (tr->n_kinks < 8) tr->kink_params[tr->n_kinks] = pt->y[np1 - 1];
+        tr->n_kinks++;
+        return tr->stop_at_kink;
+    }
+    tr->n_points++;
+    tr->s->prob.residual(pt->y, h, tr->s->prob.user);
+    {
+        double r = 0;
+        int i;
+        for (i = 0; i < tr->s->prob.n; i++) r += h[i] * h[i];
+        r = sqrt(r);
+        if (r > tr->max_residual) tr->max_residual = r;
+    }
+    if (fabs(psb_norm_w(tr->s, pt->t) - 1) > 1e-12) tr->bad_points++;
+    return 0;
+}
+
+static void test_circle(void)
+{
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    track tr;
+    double y[2] = {0.6, 0.8}, t[2], ref[2] = {1, 0};
+    memset(&o, 0, sizeof o);
+    psb_problem_init(&p, 1, circle_res, circle_jac, NULL);
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    CHECK(psb_tangent(&s, y, ref, t) == PSB_SUCCESS);
+    CHECK_NEAR(t[0], 0.8, 1e-14);
+    CHECK_NEAR(t[1], -0.6, 1e-14);
+    memset(&to, 0, sizeof to);
+    memset(&tr, 0, sizeof tr);
+    tr.s = &s;
+    to.detect_loop = 1;
+    to.on_point = track_point;
+    to.point_user = &tr;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
+    CHECK(rep.n_folds == 2);
+    /* the limit points of g on the circle are g = -1 (reached first, going clockwise) and +1 */
+    CHECK_NEAR(rep.fold_params[0], -1, 1e-5);
+    CHECK_NEAR(rep.fold_params[1], 1, 1e-5);
+    CHECK(tr.max_residual <= 1e-10);
+    CHECK(tr.bad_points == 0);
+    CHECK(rep.steps > 60 && rep.steps < 200); /* 2 pi at steps of at most h_max = 0.1 */
+    CHECK(s.stats.n_factor > 0 && s.stats.n_newton >= rep.steps);
+    /* at the fold (1, 0) the bordered row e_g is orthogonal to the kernel: QR fallback */
+    y[0] = 1;
+    y[1] = 0;
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+    CHECK_NEAR(fabs(t[1]), 1, 1e-14);
+    CHECK_NEAR(t[0], 0, 1e-14);
+    psb_solver_free(&s);
+}
+
+static void test_circle_fd(void)
+{
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    track tr;
+    double y[4] = {0.6, 0.216, 0, 0.8}, t[4];
+    y[2] = sin(0.6) - 0.216;
+    memset(&o, 0, sizeof o);
+    o.kappa = 0.5;
+    o.tol_residual = 1e-9;
+    o.tol_correction = 1e-8;
+    psb_problem_init(&p, 3, circle3_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+    CHECK(t[3] > 0);
+    memset(&to, 0, sizeof to);
+    memset(&tr, 0, sizeof tr);
+    tr.s = &s;
+    to.detect_loop = 1;
+    to.on_point = track_point;
+    to.point_user = &tr;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
+    CHECK(rep.n_folds == 2);
+    CHECK_NEAR(rep.fold_params[0], 1, 1e-4);
+    CHECK_NEAR(rep.fold_params[1], -1, 1e-4);
+    CHECK(tr.max_residual <= 1e-9);
+    CHECK(s.stats.n_residual > 4 * s.stats.n_jacobian); /* finite differences did the work */
+    psb_solver_free(&s);
+}
+
+/* ---- kinks ------------------------------------------------------------------------------ */
+
+/* zig-zag x = f(g): slopes +2, -2, +2, -2 with kinks at g = -0.5, 0, 0.5; the tangents
+   (2, 1) and (-2, 1) meet at cosine -0.6, so every kink needs the tangent switch */
+static double zigzag(double g)
+{
+    if (g < -0.5) return 2 * (g + 0.5);
+    if (g < 0) return -2 * (g + 0.5);
+    if (g < 0.5) return 2 * g - 1;
+    return -2 * (g - 0.5);
+}
+static int zigzag_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] - zigzag(y[1]);
+    return 0;
+}
+
+static void test_zigzag(int locate)
+{
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    track tr;
+    double y[2], t[2];
+    memset(&o, 0, sizeof o);
+    o.h_max = 0.05;
+    psb_problem_init(&p, 1, zigzag_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    y[0] = zigzag(-1);
+    y[1] = -1;
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+    memset(&to, 0, sizeof to);
+    memset(&tr, 0, sizeof tr);
+    tr.s = &s;
+    to.param_min = -1;
+    to.param_max = 1;
+    to.locate_kinks = locate;
+    to.on_point = track_point;
+    to.point_user = &tr;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_PARAM_BOUND);
+    CHECK(y[1] == 1.0); /* landed exactly on the bound */
+    CHECK_NEAR(y[0], zigzag(1), 1e-12);
+    CHECK(rep.n_switches == 3);
+    CHECK(rep.n_folds == 0);
+    CHECK(tr.max_residual <= 1e-10);
+    if (locate) {
+        CHECK(rep.n_kinks == 3 && tr.n_kinks == 3);
+        CHECK_NEAR(tr.kink_params[0], -0.5, 1e-5);
+        CHECK_NEAR(tr.kink_params[1], 0.0, 1e-5);
+        CHECK_NEAR(tr.kink_params[2], 0.5, 1e-5);
+    }
+    /* without the switch the trace stops before the first kink */
+    y[0] = zigzag(-1);
+    y[1] = -1;
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+    to.no_switch = 1;
+    to.locate_kinks = 0;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_NONSMOOTH_END);
+    CHECK_NEAR(y[1], -0.5, 1e-5);
+    psb_solver_free(&s);
+}
+
+/* a kink of 30 degrees (cos 0.87 < c_min... ) is passed by ordinary steps when c_min allows it,
+   and located when asked: x = 0.2 g for g < 0, x = 0.9 g for g >= 0 */
+static int bend_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] - (y[1] < 0 ? 0.2 : 0.9) * y[1];
+    return 0;
+}
+
+static void test_gentle_kink(void)
+{
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    track tr;
+    double y[2] = {-0.2, -1}, t[2];
+    memset(&o, 0, sizeof o);
+    o.c_min = 0.5;
+    psb_problem_init(&p, 1, bend_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+    memset(&to, 0, sizeof to);
+    memset(&tr, 0, sizeof tr);
+    tr.s = &s;
+    to.param_min = -1;
+    to.param_max = 1;
+    to.locate_kinks = 1;
+    tr.stop_at_kink = 1;
+    to.on_point = track_point;
+    to.point_user = &tr;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_STOPPED);
+    CHECK(rep.n_switches == 0);
+    CHECK(tr.n_kinks == 1);
+    /* stopped on the couple just before the kink, within h_min */
+    CHECK(y[1] < 0 && y[1] > -2e-6);
+    CHECK_NEAR(t[0] / t[1], 0.2, 1e-9);
+    psb_solver_free(&s);
+}
+
+/* V-shaped nonsmooth fold: g = 1 - |x1|, x2 = 2 x1; g rises to 1 at x1 = 0, then falls */
+static int vfold_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[2] + fabs(y[0]) - 1;
+    h[1] = y[1] - 2 * y[0];
+    return 0;
+}
+
+static void test_nonsmooth_fold(void)
+{
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    double y[3] = {-1, -2, 0}, t[3], ref[3] = {1, 0, 0};
+    memset(&o, 0, sizeof o);
+    psb_problem_init(&p, 2, vfold_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    CHECK(psb_tangent(&s, y, ref, t) == PSB_SUCCESS);
+    CHECK(t[2] > 0);
+    memset(&to, 0, sizeof to);
+    to.param_min = -0.5;
+    to.param_max = 2;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_PARAM_BOUND);
+    CHECK(rep.n_switches == 1);
+    CHECK(rep.n_folds == 1);
+    CHECK_NEAR(rep.fold_params[0], 1, 1e-5);
+    CHECK(y[2] == -0.5);
+    CHECK_NEAR(y[0], 1.5, 1e-12);
+    psb_solver_free(&s);
+}
+
+/* ---- branching on piecewise-linear problems ---------------------------------------------- */
+
+static int stop_at_kink(const psb_point *pt, void *u)
+{
+    (void)u;
+    return (pt->flags & PSB_POINT_KINK) != 0;
+}
+
+static void paper_options(psb_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->h_init = 5e-4;
+    o->h_min = 5e-7;
+    o->h_max = 0.1;
+    o->c_diff = 0.99999;
+    o->branch_h = 5e-7;
+    o->branch_h_min = 5e-7 / 16384;
+    o->branch_h_init = 5e-4;
+    o->n_dir = 20;
+    o->n_span = 15;
+}
+
+/* Traces the ray `incoming` to the origin, runs Algorithms 2.1 and 2.2 and counts how many
+   branches match the analytic rays (direction error below 1e-8); *found gets the branches. */
+static int branch_pl(pl_problem *pp, const double *rays, int n_rays, int incoming,
+                     const psb_options *o, int *found, psb_branch_report *br, double *ys,
+                     double *ts)
+{
+    int n = pp->n, np1 = n + 1, i, j, k, matched = 0, hit[PL_MAX_RAYS] = {0};
+    psb_problem prob;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report tr;
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1], prec;
+    psb_result r;
+    psb_problem_init(&prob, n, pl_residual, pl_jacobian, pp);
+    if (psb_solver_init(&s, &prob, o) != PSB_SUCCESS) return -1;
+    for (i = 0; i < np1; i++) {
+        y[i] = 0.5 * rays[incoming * np1 + i];
+        t[i] = -rays[incoming * np1 + i];
+    }
+    memset(&to, 0, sizeof to);
+    to.locate_kinks = 1;
+    to.on_point = stop_at_kink;
+    r = psb_trace(&s, y, t, &to, &tr);
+    CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
+    CHECK(psb_norm_w(&s, y) < 2e-6);
+    CHECK(psb_locate_end(&s, y, t, &prec) == PSB_SUCCESS);
+    CHECK(prec < 5e-7 / 16384);
+    CHECK(psb_norm_w(&s, y) < 1e-9);
+    r = psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, br);
+    CHECK(r == PSB_SUCCESS);
+    *found = br->n_branches;
+    for (k = 0; k < br->n_branches; k++) {
+        for (j = 0; j < n_rays; j++) {
+            double d[PL_MAX_N + 1], nd, err = 0;
+            memcpy(d, rays + j * np1, sizeof(double) * (size_t)np1);
+            nd = psb_norm_w(&s, d);
+            for (i = 0; i < np1; i++) err += (ts[k * np1 + i] - d[i] / nd) * (ts[k * np1 + i] - d[i] / nd);
+            if (sqrt(err) < 1e-8 && !hit[j]) {
+                hit[j] = 1;
+                matched++;
+                break;
+            }
+        }
+    }
+    psb_solver_free(&s);
+    return matched;
+}
+
+static void check_pl(pl_problem *pp, int expect_rays, int incoming, const char *name)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int a = pl_enumerate_rays(pp, 1.0, 1e-6, rays, PL_MAX_RAYS), b, found = 0, matched;
+    psb_options o;
+    psb_branch_report br;
+    CHECK(a >= 0);
+    b = pl_enumerate_rays(pp, -1.0, 1e-6, rays + a * (pp->n + 1), PL_MAX_RAYS - a);
+    CHECK(b >= 0);
+    CHECK(a + b == expect_rays);
+    paper_options(&o);
+    matched = branch_pl(pp, rays, a + b, incoming, &o, &found, &br, ys, ts);
+    if (found != expect_rays || matched != expect_rays)
+        printf("  %s: %d rays, %d branches found, %d matched (n_pc %ld, n_rand %d)\n", name,
+               expect_rays, found, matched, br.n_pc, br.n_rand);
+    CHECK(found == expect_rays);
+    CHECK(matched == expect_rays);
+    CHECK(br.n_pc > 0 && br.n_pc <= 2L * o.n_dir * o.n_span);
+}
+
+static unsigned long long test_rng = 0x1234567ULL;
+static double urand(void)
+{
+    test_rng = test_rng * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(test_rng >> 11) / 9007199254740992.0;
+}
+
+/* Star problems: f(u, g) = ||u| - |g|| - 0.5 (|u| + |g|) + 0.1 u + 0.05 g is linear on each of
+   the eight sectors cut by u = 0, g = 0, |u| = |g|, and vanishes on one ray in each (the
+   asymmetric terms keep the kernels of different sectors apart, Assumption (III)). The embedded
+   version adds z_k = a_k u + b_k g + c_k |u - 0.3 g|, k = 1..nz, with y = (u, z, g). */
+typedef struct {
+    int nz;
+    double a[16], b[16], c[16];
+} star_problem;
+
+static int star_res(const double *y, double *h, void *user)
+{
+    const star_problem *sp = (const star_problem *)user;
+    double u = y[0], g = y[sp->nz + 1];
+    int k;
+    h[0] = fabs(fabs(u) - fabs(g)) - 0.5 * (fabs(u) + fabs(g)) + 0.1 * u + 0.05 * g;
+    for (k = 0; k < sp->nz; k++) h[k + 1] = y[k + 1] - (sp->a[k] * u + sp->b[k] * g + sp->c[k] * fabs(u - 0.3 * g));
+    return 0;
+}
+
+static double sgn(double x) { return x < 0 ? -1.0 : 1.0; }
+
+static int star_jac(const double *y, double *j, int ld, void *user)
+{
+    const star_problem *sp = (const star_problem *)user;
+    int n = sp->nz + 1, k, i;
+    double u = y[0], g = y[n], d = sgn(fabs(u) - fabs(g)), e = sgn(u - 0.3 * g);
+    for (i = 0; i <= n; i++)
+        for (k = 0; k < n; k++) j[k + i * ld] = 0;
+    j[0] = d * sgn(u) - 0.5 * sgn(u) + 0.1;
+    j[n * ld] = -d * sgn(g) - 0.5 * sgn(g) + 0.05;
+    for (k = 0; k < sp->nz; k++) {
+        j[k + 1] = -(sp->a[k] + sp->c[k] * e);
+        j[k + 1 + (k + 1) * ld] = 1;
+        j[k + 1 + n * ld] = -(sp->b[k] - 0.3 * sp->c[k] * e);
+    }
+    return 0;
+}
+
+/* The analytic rays: on each sector f = a u + b g, whose kernel (b, -a) or (-b, a) is a
+   branch when it points strictly into the sector. */
+static int star_rays(const star_problem *sp, double *rays)
+{
+    int su, sg, big, count = 0, k, np1 = sp->nz + 2;
+    for (su = -1; su <= 1; su += 2)
+        for (sg = -1; sg <= 1; sg += 2)
+            for (big = 0; big < 2; big++) { /* big: |u| > |g| */
+                double d = big ? 1 : -1, a = d * su - 0.5 * su + 0.1, b = -d * sg - 0.5 * sg + 0.05;
+                int sign;
+                for (sign = -1; sign <= 1; sign += 2) {
+                    double u = sign * b, g = -sign * a;
+                    if (u * su > 0 && g * sg > 0 && (fabs(u) > fabs(g)) == big) {
+                        rays[count * np1] = u;
+                        rays[count * np1 + np1 - 1] = g;
+                        for (k = 0; k < sp->nz; k++)
+                            rays[count * np1 + 1 + k] = sp->a[k] * u + sp->b[k] * g + sp->c[k] * fabs(u - 0.3 * g);
+                        count++;
+                    }
+                }
+            }
+    return count;
+}
+
+static void check_star(int nz, int incoming)
+{
+    star_problem sp;
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report tr;
+    psb_branch_report br;
+    double rays[8 * 18], ys[16 * 18], ts[16 * 18], y[18], t[18], prec;
+    int n_rays, np1 = nz + 2, i, j, k, matched = 0, hit[8] = {0};
+    memset(&sp, 0, sizeof sp);
+    sp.nz = nz;
+    for (k = 0; k < nz; k++) {
+        sp.a[k] = 2 * urand() - 1;
+        sp.b[k] = 2 * urand() - 1;
+        sp.c[k] = urand();
+    }
+    n_rays = star_rays(&sp, rays);
+    CHECK(n_rays == 8);
+    psb_problem_init(&prob, nz + 1, star_res, star_jac, &sp);
+    paper_options(&o);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    for (i = 0; i < np1; i++) {
+        y[i] = 0.5 * rays[incoming * np1 + i];
+        t[i] = -rays[incoming * np1 + i];
+    }
+    memset(&to, 0, sizeof to);
+    to.locate_kinks = 1;
+    to.on_point = stop_at_kink;
+    CHECK(psb_trace(&s, y, t, &to, &tr) == PSB_STOPPED);
+    CHECK(psb_locate_end(&s, y, t, &prec) == PSB_SUCCESS);
+    CHECK(psb_norm_w(&s, y) < 1e-9);
+    CHECK(psb_find_branches(&s, y, t, 16, ys, ts, &br) == PSB_SUCCESS);
+    CHECK(br.n_branches == 8);
+    for (k = 0; k < br.n_branches; k++)
+        for (j = 0; j < n_rays; j++) {
+            double nd = psb_norm_w(&s, rays + j * np1), err = 0;
+            for (i = 0; i < np1; i++) err += (ts[k * np1 + i] - rays[j * np1 + i] / nd) * (ts[k * np1 + i] - rays[j * np1 + i] / nd);
+            if (sqrt(err) < 1e-8 && !hit[j]) {
+                hit[j] = 1;
+                matched++;
+            }
+        }
+    CHECK(matched == 8);
+    psb_solver_free(&s);
+}
+
+static void test_pl_branching(void)
+{
+    pl_problem p;
+    int i, j;
+    /* N = 1: min(x, -x + g): x = 0 and x = g for g > 0, nothing for g < 0 */
+    memset(&p, 0, sizeof p);
+    p.n = 1;
+    p.m[0] = -1;
+    p.q[0] = 1;
+    check_pl(&p, 2, 0, "N=1, M=-1");
+    /* N = 1: min(x, 2x - g): one ray on each side of g = 0 (a kinked curve) */
+    p.m[0] = 2;
+    p.q[0] = -1;
+    check_pl(&p, 2, 0, "N=1, M=2");
+    /* N = 2, M = -I, q = (1, 1): x in {0, 1}^2, four rays */
+    memset(&p, 0, sizeof p);
+    p.n = 2;
+    p.m[0] = -1;
+    p.m[3] = -1;
+    p.q[0] = 1;
+    p.q[1] = 1;
+    check_pl(&p, 4, 3, "N=2, M=-I");
+    /* N = 12: M = -I_2 (+) a positive definite block, weakly coupled; q positive on the first
+       two components: 4 rays for g > 0, none for g < 0 */
+    memset(&p, 0, sizeof p);
+    p.n = 12;
+    for (j = 0; j < 12; j++)
+        for (i = 0; i < 12; i++) p.m[i + j * 12] = 0.05 * (2 * urand() - 1);
+    for (i = 0; i < 12; i++) {
+        p.m[i + i * 12] = i < 2 ? -1 : 2 + urand();
+        p.q[i] = i < 2 ? 1 : 2 * urand() - 1;
+    }
+    check_pl(&p, 4, 1, "N=12");
+    /* eight branches in the plane, then the same star embedded with N = 11 */
+    check_star(0, 0);
+    check_star(0, 5);
+    check_star(10, 2);
+    check_star(10, 7);
+}
+
+/* Same seed, same branches and counters, bit for bit, also through random restarts. */
+static void test_determinism(void)
+{
+    pl_problem p;
+    double rays[PL_MAX_RAYS * 4], ys1[PL_MAX_RAYS * 4], ts1[PL_MAX_RAYS * 4], ys2[PL_MAX_RAYS * 4], ts2[PL_MAX_RAYS * 4];
+    psb_options o;
+    psb_branch_report b1, b2;
+    int a, found1, found2;
+    memset(&p, 0, sizeof p);
+    p.n = 3;
+    p.m[0] = -1; p.m[4] = -1; p.m[8] = -1;
+    p.q[0] = 1; p.q[1] = 1; p.q[2] = 1;
+    a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+    paper_options(&o);
+    o.n_span = 30; /* long enough to need random spans */
+    o.seed = 42;
+    memset(ys1, 0, sizeof ys1); memset(ts1, 0, sizeof ts1);
+    memset(ys2, 0, sizeof ys2); memset(ts2, 0, sizeof ts2);
+    branch_pl(&p, rays, a, 0, &o, &found1, &b1, ys1, ts1);
+    branch_pl(&p, rays, a, 0, &o, &found2, &b2, ys2, ts2);
+    CHECK(b1.n_rand > 0);
+    CHECK(found1 == found2 && b1.n_pc == b2.n_pc && b1.n_rand == b2.n_rand);
+    CHECK(memcmp(ys1, ys2, sizeof ys1) == 0 && memcmp(ts1, ts2, sizeof ts1) == 0);
+}
+
+/* ---- failure paths ------------------------------------------------------------------------ */
+
+typedef struct {
+    int mode;  /* 0 ok, 1 recoverable failure, 2 stop, 3 NaN */
+    int after; /* fail from this call on */
+    int calls;
+} failing;
+
+static int failing_res(const double *y, double *h, void *u)
+{
+    failing *f = (failing *)u;
+    f->calls++;
+    h[0] = y[0] * y[0] + y[1] * y[1] - 1;
+    if (f->calls <= f->after) return 0;
+    switch (f->mode) {
+    case 1: return 1;
+    case 2: return -1;
+    case 3: h[0] = NAN; return 0;
+    }
+    return 0;
+}
+
+static int rank1_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] - y[2];
+    h[1] = 2 * y[0] - 2 * y[2];
+    return 0;
+}
+
+static void test_failures(void)
+{
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    failing f;
+    double y[3] = {0.6, 0.8, 0}, t[3] = {0.8, -0.6, 0}, y0[3], t0[3], h = 0.1;
+    unsigned char mem[64];
+    memset(&o, 0, sizeof o);
+    memset(&f, 0, sizeof f);
+    psb_problem_init(&p, 1, failing_res, NULL, &f);
+
+    /* invalid problems and options */
+    CHECK(psb_solver_init(NULL, &p, &o) == PSB_ERR_NULL);
+    CHECK(psb_solver_init(&s, NULL, &o) == PSB_ERR_NULL);
+    p.n = 0;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_SIZE);
+    p.n = 1;
+    p.param_index = 2;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_SIZE);
+    p.param_index = 1;
+    p.residual = NULL;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_NULL);
+    p.residual = failing_res;
+    o.h_min = 1;
+    o.h_init = 0.1;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+    CHECK(strlen(psb_solver_message(&s)) > 0);
+    memset(&o, 0, sizeof o);
+    o.h_dec = 1.5;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+    memset(&o, 0, sizeof o);
+    o.c_diff = 1;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+    memset(&o, 0, sizeof o);
+    o.restart = 7;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+    memset(&o, 0, sizeof o);
+    {
+        double wbad[2] = {1, -1};
+        o.weights = wbad;
+        CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+        o.weights = NULL;
+    }
+    CHECK(psb_solver_init_with_memory(&s, &p, &o, mem, sizeof mem) == PSB_ERR_NOMEM);
+    CHECK(psb_solver_memory_size(0) == 0);
+    CHECK(strcmp(psb_result_string(PSB_ERR_SINGULAR), "") != 0);
+    CHECK(strncmp(psb_result_string((psb_result)99), "unknown", 7) == 0);
+
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    CHECK(psb_step(&s, NULL, t, &h) == PSB_ERR_NULL);
+    y[2] = 0;
+    /* a callback that fails recoverably everywhere: steps shrink to h_min, data untouched */
+    memcpy(y0, y, sizeof y);
+    memcpy(t0, t, sizeof t);
+    f.mode = 1;
+    f.after = 0;
+    f.calls = 0;
+    h = 0.1;
+    CHECK(psb_step(&s, y, t, &h) == PSB_ERR_CALLBACK_FAILED);
+    CHECK(memcmp(y, y0, 2 * sizeof(double)) == 0 && memcmp(t, t0, 2 * sizeof(double)) == 0);
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_ERR_CALLBACK_FAILED);
+    CHECK(memcmp(t, t0, 2 * sizeof(double)) == 0);
+    /* recoverable failure only far out: the step shrinks and succeeds */
+    {
+        psb_trace_options to;
+        psb_trace_report rep;
+        memset(&to, 0, sizeof to);
+        to.max_steps = 5;
+        f.mode = 0;
+        CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_STEP_BUDGET);
+        CHECK(rep.steps == 5);
+        /* a stop request in the middle of a trace: the last accepted couple is kept */
+        f.mode = 2;
+        f.calls = 0;
+        f.after = 40;
+        to.max_steps = 1000;
+        memcpy(y0, y, sizeof y);
+        CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_ERR_CALLBACK);
+        CHECK(fabs(y[0] * y[0] + y[1] * y[1] - 1) < 1e-10);
+        CHECK(rep.steps > 0 && rep.steps < 40);
+        /* NaN from H */
+        f.mode = 3;
+        f.calls = 0;
+        f.after = 0;
+        memcpy(y0, y, sizeof y);
+        memcpy(t0, t, sizeof t);
+        CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_ERR_NONFINITE);
+        CHECK(memcmp(y, y0, 2 * sizeof(double)) == 0 && memcmp(t, t0, 2 * sizeof(double)) == 0);
+        f.mode = 0;
+        /* a start outside the bounds */
+        to.param_min = 2;
+        to.param_max = 3;
+        CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_ERR_INPUT);
+    }
+    /* NaN in the caller's input */
+    y0[0] = NAN;
+    CHECK(psb_tangent(&s, y0, NULL, t) == PSB_ERR_NONFINITE);
+    t0[0] = 0;
+    t0[1] = 0;
+    CHECK(psb_correct(&s, y, t0, NULL) == PSB_ERR_INPUT);
+    psb_solver_free(&s);
+
+    /* a rank-deficient Jacobian: no unique tangent */
+    psb_problem_init(&p, 2, rank1_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &p, NULL) == PSB_SUCCESS);
+    y[0] = y[1] = y[2] = 0.5;
+    memcpy(t0, t, sizeof t);
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_ERR_SINGULAR);
+    CHECK(psb_solve_at_param(&s, y, 10) == PSB_ERR_SINGULAR);
+    psb_solver_free(&s);
+}
+
+static void test_solve_at_param(void)
+{
+    psb_problem p;
+    psb_solver s;
+    double y[4] = {0.1, 0, 0, 0.8};
+    psb_problem_init(&p, 3, circle3_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &p, NULL) == PSB_SUCCESS);
+    CHECK(psb_solve_at_param(&s, y, 0) == PSB_SUCCESS);
+    CHECK(y[3] == 0.8);
+    CHECK_NEAR(y[0], 0.6, 1e-9);
+    CHECK_NEAR(y[1], 0.216, 1e-9);
+    psb_solver_free(&s);
+}
+
+static void test_options_resolve(void)
+{
+    psb_options d = psb_options_resolve(NULL);
+    CHECK(d.kappa == 1 && d.h_init == 1e-2 && d.h_min == 1e-6 && d.c_diff == 0.99999);
+    CHECK(d.n_dir == 20 && d.n_span == 15 && d.branch_h == d.h_min);
+    CHECK(d.branch_h_min == d.branch_h / 16384 && d.branch_h_init == d.h_init);
+}
+
+int main(void)
+{
+    test_options_resolve();
+    test_circle();
+    test_circle_fd();
+    test_zigzag(0);
+    test_zigzag(1);
+    test_gentle_kink();
+    test_nonsmooth_fold();
+    test_pl_branching();
+    test_determinism();
+    test_solve_at_param();
+    test_failures();
+    return HARNESS_END();
+}

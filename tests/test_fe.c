@@ -1,0 +1,268 @@
+/* Tests of the examples' FE toolkit (examples/fe.h): constitutive laws against finite differences,
+   assembly against finite differences of the energy and of the residual, contact rows, mesh counts,
+   and a Newton solve of both of the paper's problems.
+   Build: gcc -std=c99 -I. tests/test_fe.c -o tests/test_fe -llapack -lblas -lm */
+#include "examples/fe.h"
+#include "tests/harness.h"
+
+/* Deterministic pseudo-random numbers in [-1, 1] (xorshift; state passed explicitly). */
+static double rnd(unsigned long long *s)
+{
+    *s ^= *s << 13; *s ^= *s >> 7; *s ^= *s << 17;
+    return 2.0 * (double)(*s >> 11) / 9007199254740992.0 - 1.0;
+}
+
+static double max_abs(const double *a, int n)
+{
+    double m = 0;
+    int i;
+    for (i = 0; i < n; i++) if (fabs(a[i]) > m) m = fabs(a[i]);
+    return m;
+}
+
+static void test_materials(void)
+{
+    fe_material cg = {FE_CIARLET_GEYMONAT, 4000, 120, 30}, hk = {FE_HOOKE, 4000, 120, 0};
+    double I[4] = {1, 0, 0, 1}, P[4], A[16], Ah[16];
+    unsigned long long s = 12345;
+    int t, p, q;
+
+    /* stress-free reference configuration, and W(I) = 0 */
+    CHECK(fe_stress(&cg, I, P, A) == 0);
+    CHECK(max_abs(P, 4) < 1e-10);
+    CHECK_NEAR(fe_energy_density(&cg, I), 0.0, 1e-10);
+    /* Hooke is the linearisation of Ciarlet-Geymonat at F = I */
+    fe_stress(&hk, I, P, Ah);
+    for (p = 0; p < 16; p++) CHECK_NEAR(A[p], Ah[p], 1e-9 * 4000);
+    {
+        double H[4] = {0.3, -0.7, 0.5, 0.2}, eps = 1e-6, F[4], Pc[4], Ph[4];
+        for (p = 0; p < 4; p++) F[p] = I[p] + eps * H[p];
+        fe_stress(&cg, F, Pc, NULL);
+        fe_stress(&hk, F, Ph, NULL);
+        for (p = 0; p < 4; p++) CHECK_NEAR(Pc[p] / eps, Ph[p] / eps, 1e-3 * 4000);
+    }
+    /* P = dW/dF and A = dP/dF by central differences at random deformations with det F > 0 */
+    for (t = 0; t < 20; t++) {
+        const fe_material *m = (t % 4 == 3) ? &hk : &cg;
+        double F[4], Fp[4], Fm[4], Pp[4], Pm[4], h = 1e-6, errP = 0, errA = 0, scaleA = max_abs(A, 16);
+        for (p = 0; p < 4; p++) F[p] = I[p] + 0.3 * rnd(&s);
+        if (F[0] * F[3] - F[1] * F[2] < 0.2) { F[0] += 0.5; F[3] += 0.5; }
+        CHECK(fe_stress(m, F, P, A) == 0);
+        for (q = 0; q < 4; q++) {
+            memcpy(Fp, F, sizeof F); memcpy(Fm, F, sizeof F);
+            Fp[q] += h; Fm[q] -= h;
+            errP = fmax(errP, fabs((fe_energy_density(m, Fp) - fe_energy_density(m, Fm)) / (2 * h) - P[q]));
+            fe_stress(m, Fp, Pp, NULL); fe_stress(m, Fm, Pm, NULL);
+            for (p = 0; p < 4; p++) errA = fmax(errA, fabs((Pp[p] - Pm[p]) / (2 * h) - A[p + 4 * q]));
+        }
+        scaleA = fmax(scaleA, max_abs(A, 16));
+        CHECK(errP < 1e-6 * (1 + max_abs(P, 4)));
+        CHECK(errA < 1e-6 * scaleA);
+    }
+    /* inverted deformation: recoverable failure */
+    {
+        double F[4] = {-1, 0, 0, 1};
+        CHECK(fe_stress(&cg, F, P, A) == 1);
+    }
+}
+
+static void test_contact_node(void)
+{
+    unsigned long long s = 777;
+    int t, pieces[4] = {0, 0, 0, 0};
+    for (t = 0; t < 400; t++) {
+        double v[4], res[2], jac[8], r = 10, fr = (t % 2) ? 1.0 : 1.7, h = 1e-7;
+        int st, q, p;
+        for (p = 0; p < 4; p++) v[p] = rnd(&s);
+        st = fe_contact_node(v[0], v[1], v[2], v[3], r, fr, res, jac);
+        pieces[st]++;
+        for (q = 0; q < 4; q++) {
+            double vp[4], vm[4], rp[2], rm[2];
+            memcpy(vp, v, sizeof v); memcpy(vm, v, sizeof v);
+            vp[q] += h; vm[q] -= h;
+            if (fe_contact_node(vp[0], vp[1], vp[2], vp[3], r, fr, rp, NULL) != st) continue;
+            if (fe_contact_node(vm[0], vm[1], vm[2], vm[3], r, fr, rm, NULL) != st) continue;
+            for (p = 0; p < 2; p++) CHECK_NEAR((rp[p] - rm[p]) / (2 * h), jac[p + 2 * q], 1e-6);
+        }
+    }
+    CHECK(pieces[0] > 0 && pieces[1] > 0 && pieces[2] > 0 && pieces[3] > 0);
+    {
+        /* exact solutions of each piece give zero residual */
+        double res[2];
+        fe_contact_node(-0.1, 0.3, 0, 0, 10, 1, res, NULL); /* separated */
+        CHECK(max_abs(res, 2) < 1e-14);
+        fe_contact_node(0, 0, -2, 1.5, 10, 1, res, NULL); /* stick */
+        CHECK(max_abs(res, 2) < 1e-14);
+        CHECK(fe_contact_node(0, 0.2, -2, -2, 10, 1, res, NULL) == FE_SLIP_POS); /* friction opposes u_t > 0 */
+        CHECK(max_abs(res, 2) < 1e-14);
+    }
+}
+
+static void test_meshes(void)
+{
+    fe_mesh m;
+    fe_model md;
+    double hx[2] = {0, 0}, h1[2] = {-26.4, -7.5};
+    CHECK(fe_block_model(&md, &m, 10, 20, 1) == 0);
+    CHECK(m.nnode == 231 && m.nelem == 200 && md.ncontact == 11);
+    CHECK(md.n == 2 * 231 + 2 * 11 + 2 * 11);
+    CHECK(md.half_band < 2 * 2 * 12 + 8);
+    {
+        /* total lateral load: left (-2, -2.4) * 80 + right (-2, 2.4) * 80 */
+        double fx = 0, fy = 0;
+        int a;
+        for (a = 0; a < m.nnode; a++) { fx += md.load1[md.udof[a]]; fy += md.load1[md.udof[a] + 1]; }
+        CHECK_NEAR(fx, -320, 1e-9);
+        CHECK_NEAR(fy, 0, 1e-9);
+    }
+    fe_model_free(&md); fe_mesh_free(&m);
+    CHECK(fe_block_model(&md, &m, 20, 40, 0) == 0);
+    CHECK(m.nelem == 800 && md.ncontact == 21 && md.n == 2 * 21 * 40 + 2 * 21);
+    fe_model_free(&md); fe_mesh_free(&m);
+    CHECK(fe_triangle_model(&md, &m, 64, 1, hx, h1) == 0);
+    CHECK(m.nelem == 4096 && m.nnode == 65 * 66 / 2 && md.ncontact == 64);
+    {
+        /* area is 1/2; the contact nodes run from x1 = 0 to x1 = 63/64 */
+        double area = 0, qx[9], qy[9], qw[9];
+        int e, nq = fe_quad(&md, qx, qy, qw);
+        for (e = 0; e < m.nelem; e++) {
+            double dN[8], dj;
+            fe_shape_grad(&m, e, qx[0], qy[0], dN, &dj);
+            CHECK(dj > 0 || e < 0);
+            area += nq * qw[0] * dj;
+        }
+        CHECK_NEAR(area, 0.5, 1e-12);
+        CHECK_NEAR(m.x[2 * md.cnode[0]], 0.0, 0);
+        CHECK_NEAR(m.x[2 * md.cnode[63]], 63.0 / 64, 1e-15);
+    }
+    fe_model_free(&md); fe_mesh_free(&m);
+    CHECK(fe_triangle_model(&md, &m, 32, 0, hx, h1) == 0);
+    CHECK(m.nelem == 1024 && md.ncontact == 32);
+    fe_model_free(&md); fe_mesh_free(&m);
+}
+
+/* Internal forces against central differences of the total strain energy. */
+static void check_forces(fe_model *md, double amp, unsigned long long seed)
+{
+    int nn = md->mesh->nnode, a, k, bad = 0;
+    double *u = malloc(sizeof(double) * 2 * nn), *f = malloc(sizeof(double) * 2 * nn), fmaxv;
+    for (a = 0; a < 2 * nn; a++) u[a] = amp * rnd(&seed);
+    CHECK(fe_internal(md, u, f, NULL) == 0);
+    fmaxv = max_abs(f, 2 * nn);
+    for (k = 0; k < 2 * nn; k += 7) {
+        double h = 1e-6 * amp, save = u[k], ep, em;
+        u[k] = save + h; ep = fe_strain_energy(md, u);
+        u[k] = save - h; em = fe_strain_energy(md, u);
+        u[k] = save;
+        if (fabs((ep - em) / (2 * h) - f[k]) > 1e-6 * fmaxv) bad++;
+    }
+    CHECK(bad == 0);
+    free(u); free(f);
+}
+
+/* Dense Jacobian (including the gamma column) against central differences of the residual. */
+static void check_jacobian(fe_model *md, double uamp, double lamp, unsigned long long seed)
+{
+    int n = md->n, j, i, bad = 0, a;
+    double *y = malloc(sizeof(double) * (n + 1)), *jac = malloc(sizeof(double) * n * (n + 1));
+    double *hp = malloc(sizeof(double) * n), *hm = malloc(sizeof(double) * n), scale;
+    for (j = 0; j < n; j++) y[j] = uamp * rnd(&seed);
+    for (a = 0; a < md->mesh->nnode; a++) {
+        if (md->ddof[a] >= 0) { y[md->ddof[a]] = lamp * rnd(&seed); y[md->ddof[a] + 1] = lamp * rnd(&seed); }
+        if (md->cdof[a] >= 0) { y[md->cdof[a]] = lamp * rnd(&seed); y[md->cdof[a] + 1] = lamp * rnd(&seed); }
+    }
+    y[n] = 0.7;
+    CHECK(fe_jacobian_dense(md, y, jac, n) == 0);
+    scale = max_abs(jac, n * (n + 1));
+    for (j = 0; j <= n; j++) {
+        double h = 1e-6 * (j == n ? 1 : (fabs(y[j]) + uamp)), save = y[j];
+        y[j] = save + h; fe_residual(md, y, hp);
+        y[j] = save - h; fe_residual(md, y, hm);
+        y[j] = save;
+        for (i = 0; i < n; i++)
+            if (fabs((hp[i] - hm[i]) / (2 * h) - jac[i + j * n]) > 1e-6 * scale) {
+                if (bad < 3) printf("  jac mismatch (%d,%d): fd %g an %g\n", i, j, (hp[i] - hm[i]) / (2 * h), jac[i + j * n]);
+                bad++;
+            }
+    }
+    CHECK(bad == 0);
+    {
+        /* the state block fits the announced band */
+        int out = 0;
+        for (j = 0; j < n; j++)
+            for (i = 0; i < n; i++)
+                if (jac[i + j * n] != 0 && abs(i - j) > md->half_band) out++;
+        CHECK(out == 0);
+    }
+    free(y); free(jac); free(hp); free(hm);
+}
+
+static void test_assembly(void)
+{
+    fe_mesh m;
+    fe_model md;
+    double h0[2] = {0, 0}, h1[2] = {-26.4, -7.5};
+    int mult;
+    for (mult = 0; mult <= 1; mult++) {
+        fe_block_model(&md, &m, 4, 6, mult);
+        check_forces(&md, 0.5, 99 + mult);
+        check_jacobian(&md, 0.3, 5.0, 7 + mult);
+        fe_model_free(&md); fe_mesh_free(&m);
+        fe_triangle_model(&md, &m, 5, mult, h0, h1);
+        check_forces(&md, 0.01, 5 + mult);
+        check_jacobian(&md, 0.01, 0.1, 11 + mult);
+        fe_model_free(&md); fe_mesh_free(&m);
+    }
+}
+
+/* Newton at gamma = -1 for the block and the triangle; both Dirichlet treatments agree. */
+static void test_newton(void)
+{
+    fe_mesh m1, m2;
+    fe_model a, b;
+    double *ya, *yb, ra, rb, h0[2] = {0, 0}, h1[2] = {-26.4, -7.5};
+    int it, k, cnt[4];
+    fe_block_model(&a, &m1, 10, 20, 1);
+    fe_block_model(&b, &m2, 10, 20, 0);
+    ya = calloc(a.n + 1, sizeof(double)); yb = calloc(b.n + 1, sizeof(double));
+    ya[a.n] = yb[b.n] = -1;
+    it = fe_newton(&a, ya, 50, 1e-9, &ra);
+    printf("  block gamma=-1 multipliers: %d iterations, residual %.2e\n", it, ra);
+    CHECK(it >= 0 && ra < 1e-9);
+    it = fe_newton(&b, yb, 50, 1e-9, &rb);
+    CHECK(it >= 0 && rb < 1e-9);
+    {
+        double d = 0;
+        for (k = 0; k < m1.nnode; k++)
+            if (a.udof[k] >= 0 && b.udof[k] >= 0)
+                d = fmax(d, fmax(fabs(ya[a.udof[k]] - yb[b.udof[k]]), fabs(ya[a.udof[k] + 1] - yb[b.udof[k] + 1])));
+            else if (a.udof[k] >= 0)
+                d = fmax(d, fmax(fabs(ya[a.udof[k]]), fabs(ya[a.udof[k] + 1])));
+        CHECK(d < 1e-8);
+    }
+    fe_contact_states(&a, ya, cnt, NULL);
+    printf("  block gamma=-1 states: sep %d stick %d slip+ %d slip- %d, u_left = (%g, %g)\n", cnt[0], cnt[1], cnt[2], cnt[3],
+           ya[a.udof[a.cnode[0]]], ya[a.udof[a.cnode[0]] + 1]);
+    free(ya); free(yb);
+    fe_model_free(&a); fe_model_free(&b); fe_mesh_free(&m1); fe_mesh_free(&m2);
+
+    fe_triangle_model(&a, &m1, 8, 1, h0, h1);
+    ya = calloc(a.n + 1, sizeof(double));
+    ya[a.n] = -1;
+    it = fe_newton(&a, ya, 50, 1e-10, &ra);
+    CHECK(it >= 0 && ra < 1e-10);
+    fe_contact_states(&a, ya, cnt, NULL);
+    printf("  triangle n=8 gamma=-1: %d iterations, sep %d stick %d slip+ %d slip- %d\n", it, cnt[0], cnt[1], cnt[2], cnt[3]);
+    free(ya);
+    fe_model_free(&a); fe_mesh_free(&m1);
+}
+
+int main(void)
+{
+    test_materials();
+    test_contact_node();
+    test_meshes();
+    test_assembly();
+    test_newton();
+    return HARNESS_END();
+}
