@@ -1,4 +1,283 @@
-/* pscbranch.h - manual placeholder */
+/* pscbranch.h - v0.1.0 - piecewise-smooth continuation and numerical branching - MIT license
+
+   Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
+   folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
+   method of T. Ligursky and Y. Renard (restarted predictor-corrector of CMAME 280 (2014);
+   Algorithms 2.1 and 2.2 of "A method of piecewise-smooth numerical branching", ZAMM 97 (2017)).
+   Frictional contact is the motivating case; helpers for it are included.
+
+   In exactly one C or C++ file:       #define PSCBRANCH_IMPLEMENTATION
+                                       #include "pscbranch.h"
+   Link with LAPACK and BLAS:          cc ... -llapack -lblas -lm
+
+   QUICK START: trace a curve to a nonsmooth point and find the branches leaving it
+   ----------------------------------------------------------------------------------
+     static int H(const double *y, double *h, void *user)      // y = (x1, x2, g): N = 2
+     { ... h[0] = ..., h[1] = ...; return 0; }                  // 0 ok, >0 retry smaller, <0 stop
+     static int dH(const double *y, double *jac, int ld, void *user)
+     { ... jac[i + j*ld] = dH_i/dy_j of the smooth piece y lies on ...; return 0; }
+     static int stop_at_kink(const psb_point *p, void *u) { return p->flags & PSB_POINT_KINK; }
+
+     psb_problem prob;  psb_options opt = {0};  psb_solver s;
+     psb_problem_init(&prob, 2, H, dH, NULL);           // the parameter is y[2], the last
+     opt.h_min = 5e-7;  opt.h_init = 5e-4;              // zero fields take their defaults
+     if (psb_solver_init(&s, &prob, &opt) < 0) puts(psb_solver_message(&s));
+     double y[3] = {1, 1, 1}, t[3], ys[8*3], ts[8*3];
+     psb_solve_at_param(&s, y, 0);                      // a solution at g = 1
+     psb_tangent(&s, y, NULL, t);                       // unit tangent, t[2] > 0 ...
+     for (int i = 0; i < 3; i++) t[i] = -t[i];          // ... turned towards smaller g
+     psb_trace_options to = {0};  to.locate_kinks = 1;  to.on_point = stop_at_kink;
+     psb_trace(&s, y, t, &to, NULL);                    // stops just before the first kink
+     psb_locate_end(&s, y, t, NULL);                    // Algorithm 2.1
+     psb_branch_report rep;
+     psb_find_branches(&s, y, t, 8, ys, ts, &rep);      // Algorithm 2.2: rep.n_branches couples
+     psb_solver_free(&s);                               // (ys + k*3, ts + k*3), branch 0 incoming
+   examples/01_branching.c is this program in full.
+
+   CONTENTS
+     1. Concepts             4. Result codes             7. Contact helpers
+     2. The API at a glance  5. Options and defaults     8. Compile-time macros
+     3. Callbacks            6. Algorithms and choices   9. Revision history
+
+   1. CONCEPTS
+   -----------
+   y = (state, parameter) has N+1 components; problem.param_index says which one is the load
+   parameter (psb_problem_init: the last). A couple (y, t) is a point with H(y) ~ 0 and a unit
+   tangent t, dH(y) t = 0, ||t||_w = 1, whose sign is the direction of travel.
+   Weighted inner product <a,b>_w = sum_i w_i a_i b_i, with w_i = kappa for the state and 1 for the
+   parameter (or options.weights). Every norm, cosine and normalisation uses it: predictor,
+   corrector, acceptance cosine, Algorithms 2.1 and 2.2, loop detection.
+   H is PC^1: continuous, and near every point equal to one of finitely many C^1 selections. The
+   Jacobian callback returns the gradient of a selection that is active at y (the B-Jacobian
+   element of the piece y lies on); with finite differences (jacobian = NULL) a step that crosses
+   a kink mixes pieces, so give an analytic selection gradient when branching at kinks.
+   A kink is a point where a curve passes from one piece to another with a different tangent; a
+   nonsmooth point (bifurcation) is one where more than two smooth branches meet. Algorithms 2.1
+   and 2.2 assume the paper's (I)-(III): near the point the solutions form one-sided smooth
+   branches in distinct regions, every selection's gradient has full rank, and the kernels of
+   two different selections meet only in 0.
+
+   2. THE API AT A GLANCE (every function validates its arguments and returns psb_result)
+   ----------------------
+   psb_problem_init, psb_options_resolve          describe the problem; see resolved options
+   psb_solver_init / _init_with_memory / _free    caller-owned state; all memory at init
+   psb_solve_at_param   Newton on H(y) = 0 with the parameter held fixed (a starting point)
+   psb_tangent          unit tangent at y, oriented by a reference direction
+   psb_correct          Moore-Penrose corrector of a couple
+   psb_step             one predictor-corrector step with step control
+   psb_switch_tangent   the simple tangent switch at a couple where steps fail
+   psb_trace            the driver: from (y, t) to a bound, budget, end point, loop or failure
+   psb_locate_end       Algorithm 2.1: approach the end point of a branch
+   psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
+   psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
+   Inputs are never modified on failure: y and t keep the last accepted couple.
+   No function allocates except psb_solver_init. Single operations (solve, tangent, correct,
+   step, switch, locate_end, find_branches) may be called from a point callback of psb_trace;
+   psb_trace itself may not (it would reuse the trace's scratch vectors).
+   The solver is not thread-safe; distinct solvers are independent (no global state).
+
+   3. CALLBACKS
+   ------------
+   int residual(const double *y, double *h, void *user)           h = H(y), N values
+   int jacobian(const double *y, double *jac, int ld, void *user) N x (N+1), column-major,
+                                                                   jac[i + j*ld], all entries
+   Return 0 on success; > 0 for a recoverable failure (the trial step is rejected and shortened;
+   where no retry exists the call returns PSB_ERR_CALLBACK_FAILED); < 0 to stop at once
+   (PSB_ERR_CALLBACK, the last accepted couple is kept). NaN or Inf in h or jac is treated like a
+   recoverable failure and reported as PSB_ERR_NONFINITE when no retry succeeds.
+   int on_point(const psb_point *p, void *user) is called by psb_trace for the start, every
+   accepted point, and (locate_kinks) every kink; a nonzero return stops the trace there.
+   p->flags: PSB_POINT_START, _FOLD (the parameter component of t changed sign; p->fold_param
+   estimates the limit point), _SWITCH (reached through the tangent switch), _BOUND (exactly on a
+   parameter bound), _KINK (the last couple before a kink, located to h_min).
+
+   4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`)
+   ---------------
+   PSB_SUCCESS           0  done
+   PSB_PARAM_BOUND       1  trace landed exactly on param_min or param_max
+   PSB_STEP_BUDGET       2  trace used max_steps accepted steps
+   PSB_NONSMOOTH_END     3  steps failed down to h_min and the tangent switch found no
+                            continuation (or no_switch was set): an end point
+   PSB_STOPPED           4  the point callback returned nonzero
+   PSB_LOOP_CLOSED       5  (detect_loop) the curve came back to its start
+   PSB_BRANCH_CAPACITY   6  more branches than max_branches; the first ones are returned
+   PSB_ERR_NULL         -1  a required pointer is NULL
+   PSB_ERR_SIZE         -2  n < 1, param_index outside [0, n], max_branches < 1, piece id ...
+   PSB_ERR_OPTIONS      -3  inconsistent options (psb_solver_message says which)
+   PSB_ERR_NOMEM        -4  allocation failed, or the caller's memory block is too small
+   PSB_ERR_CALLBACK     -5  a callback returned < 0
+   PSB_ERR_CALLBACK_FAILED -6  a callback returned > 0 with no smaller step to try
+   PSB_ERR_NONFINITE    -7  NaN or Inf in the input or from a callback
+   PSB_ERR_SINGULAR     -8  singular matrix: dH(y) has rank < N (no unique tangent), or a
+                            bordered system has no solution
+   PSB_ERR_LAPACK       -9  LAPACK rejected an argument (a bug in pscbranch: please report)
+   PSB_ERR_NO_CONVERGENCE -10  Newton / corrector iterations did not converge
+   PSB_ERR_STEP_TOO_SMALL -11  psb_step: every trial down to h_min failed
+   PSB_ERR_INPUT       -12  invalid numerical input: zero tangent, r <= 0, start out of bounds
+   After a failure psb_solver_message(s) holds a one-line diagnostic.
+
+   5. OPTIONS AND DEFAULTS (psb_options; every zero field takes the default in brackets)
+   -----------------------
+   kappa [1], weights [NULL]        the weighted inner product (section 1)
+   h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 0 < h_min <= h_init <= h_max
+   h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
+                                    corrector iterations; shrink after a rejected trial
+   max_iter [10]                    corrector iterations per trial
+   tol_residual [1e-10]             ||H(y)||_2 at convergence
+   tol_correction [1e-10]           ||last correction||_w at convergence
+   c_min [0.9]                      least cosine between the tangents before and after a step
+   switch_delta_min [h_min], switch_delta_max [h_init]   probe distances of the tangent switch
+   fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
+                                    finite differences: column j steps fd_step * max(1, |y_j|)
+   c_diff [0.99999]                 cosine above which two tangents are one branch
+   branch_h [h_min]                 h of Algorithms 2.1 and 2.2 (the paper: the continuation's
+                                    smallest step)
+   branch_h_min [branch_h / 2^14]   precision of Algorithm 2.1
+   branch_h_init [h_init]           first step of each trial step of Algorithm 2.2
+   n_dir [20], n_span [15]          directions per span; spans (restarts + 1)
+   restart [PSB_RESTART_MIXED]      random spans: _PAPER, _GLOBAL or alternately (_MIXED)
+   seed [0]                         the generator of the random spans (xoshiro256**)
+   The paper's values for its contact examples: c_diff = 0.99999, branch_h = 5e-7,
+   branch_h_min = branch_h / 2^14, branch_h_init = 5e-4, n_dir = 20, n_span = 15.
+
+   6. ALGORITHMS AND CHOICES
+   -------------------------
+   Tangent. The bordered system [dH(y); (W r)^T] t = e_{N+1} (r the reference direction) is
+   solved by LU (dgetrf); if it is singular or its reciprocal condition number (dgecon) is below
+   sqrt(eps), the kernel is taken from the QR factorisation of dH(y)^T (dgeqr2/dorm2r), which is
+   exact at folds; rank < N gives PSB_ERR_SINGULAR. t is then scaled to ||t||_w = 1 and turned so
+   that <t, r>_w >= 0.
+   Predictor-corrector. Prediction (y + h t, t). Each corrector iteration factors
+   B = [dH(y); (W t)^T] once and solves B [dy, v] = [[H(y); 0], [0; 1]] (one dgetrs, two
+   right-hand sides): y -= dy, t = v / ||v||_w (Moore-Penrose / Gauss-Newton on the curve,
+   point and tangent together). Converged when ||H(y)||_2 <= tol_residual and ||dy||_w <=
+   tol_correction. A trial is accepted when it converged within max_iter, the corrected point
+   lies within h of the prediction (a longer jump landed on another part of the curve), and
+   cos_w(t_new, t) >= c_min; otherwise h *= h_dec until h < h_min.
+   Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
+   switch_delta_max: t~ = tangent at y + delta t; once cos_w(t~, t) < c_diff, try steps from y
+   along +t~ then -t~ (from h_init down to h_min) and accept the first couple that does not go
+   back along the incoming branch (cos_w(t_new, -t) < c_diff). Continuation restarts at h_init.
+   Folds: a sign change of t[param] between accepted points. The estimate is the extremum of
+   the cubic Hermite interpolant of the parameter in the chord length (exact to O(h^4) on smooth
+   folds); at a fold that is a kink (reached by a switch) it is the parameter of the last point
+   before the kink.
+   Kinks (locate_kinks): a smooth turn halves with the step, a kink does not. After a step whose
+   tangents differ by more than c_diff, a half step tells the two apart; a kink is then located
+   by bisection to h_min and reported (the trace continues past it unless told to stop).
+   Bounds: a step that crosses a bound is replaced by Newton at the bound (psb_solve_at_param
+   from the chord), so the last point lies exactly on it.
+   Algorithm 2.1 as in the paper, except that after a successful move the same h is tried again
+   before it is halved: the paper's version moves at most branch_h in all and so cannot reach an
+   end point that the continuation left farther away.
+   Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
+   deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc. Restarts as
+   in Section 3: (1) the pairs (t_i, t_j) of branches found so far, in the order (0,1), (0,2),
+   (1,2), (0,3), ...; (2) then random spans. The paper's Remark 2.3(ii) perturbs the previous t~2
+   by 0.1 of a random vector: it only explores near spans already swept. PSB_RESTART_MIXED (the
+   default) alternates it with a t~2 taken at a uniformly random direction, which on random
+   piecewise-linear problems in R^4 raised the share of complete branch sets from 67% to 94%
+   (89 problems, n_dir = 20, n_span = 15); PSB_RESTART_PAPER keeps the paper's choice.
+   Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
+   at every psb_find_branches call, so equal inputs give bit-identical results.
+
+   7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
+   ------------------
+   Every projection returns its value, one element of its B-Jacobian and a piece id; value and
+   Jacobian always come from the same piece (a smooth formula valid on a closed region). Argument
+   piece_request: PSB_PIECE_DEFAULT (-1) = automatic choice (rules below); k >= 0 = evaluate piece
+   k's formula at the point (continuation uses this to enumerate the pieces around a kink; a piece
+   that is not active there is evaluated by the extension of its formula). The *_active functions
+   return a bitmask (bit k = piece k) of the pieces whose closure contains the point within tol.
+   Jacobians are column-major. Bad input: PSB_ERR_NULL, PSB_ERR_NONFINITE (NaN/Inf, also overflow
+   inside), PSB_ERR_INPUT (r, rho <= 0; mu, F < 0; a > b; tol < 0), PSB_ERR_SIZE (piece id, dim).
+
+   Half-lines. The papers' (x)_- is min(x,0), the projection onto ]-inf,0]; other texts write
+   max(-x,0) for the negative part. Here the names say the set:
+     psb_proj_nonpos(x): P = min(x,0);   psb_proj_nonneg(x): P = max(x,0).
+     Pieces PSB_HALF_IN (P = x, P' = 1), PSB_HALF_OUT (P = 0, P' = 0).
+     Kink x = 0: default IN (a point of the set is its own projection, Jacobian 1).
+
+   Interval, psb_proj_interval(x, a, b), a <= b: P = min(max(x,a),b); d = (dP/dx, dP/da, dP/db).
+     Pieces IN (x; 1,0,0), LOWER (a; 0,1,0), UPPER (b; 0,0,1).
+     Default: x < a LOWER, x > b UPPER, a <= x <= b IN; but a == b -> LOWER (or UPPER if x > b):
+     {a} has no interior, and a constant piece is what a separated 2D node needs (friction
+     interval [F s, -F s] with s = 0).
+
+   Disk, psb_proj_disk(x, s), x in R^2, radius s (s <= 0: the set {0}).
+     IN: P = x, dP/dx = I, dP/ds = 0.
+     BOUNDARY: P = s d, d = x/|x|, dP/dx = (s/|x|)(I - d d^T), dP/ds = d.
+     ZERO: P = 0, dP/dx = 0, dP/ds = 0.
+     Default: s <= 0 ZERO; |x| <= s IN; else BOUNDARY. At x = 0 BOUNDARY uses d = e1 and
+     s/|x| -> 0 (its limit along x = t e1, s = o(t)); no division by zero.
+
+   Coulomb cone, psb_proj_cone(x, mu), K = {|x_T| <= mu x_N}, x = (x_N, x_T) in R^3, mu >= 0;
+     polar cone K° = {mu |x_T| <= -x_N}. With t = |x_T|, d = x_T/t, c = (x_N + mu t)/(1+mu^2):
+     IN: P = x, J = I.      POLAR: P = 0, J = 0.
+     BOUNDARY: P = c (1, mu d),
+       J = [[1, mu d^T], [mu d, mu^2 d d^T]]/(1+mu^2) + (mu c/t) [[0,0],[0, I - d d^T]].
+     Default: mu > 0 and x in K -> IN; else x in K° -> POLAR; else BOUNDARY.
+     At x_T = 0 BOUNDARY uses d = e1 and mu c/t = mu^2/(1+mu^2) (its limit at the apex along
+     x_N = 0; the TT block is then isotropic). mu = 0: K is the half-line x_T = 0, x_N >= 0;
+     IN has empty interior, is never the default nor reported active (but can be requested);
+     BOUNDARY gives P = (x_N, 0, 0), J = diag(1,0,0) without dividing by t.
+
+   Sign conventions.
+     Haslinger et al. (paper 000, 2D): nu is the unit normal pointing into the foundation, tau the
+     tangent; displacements u_nu, u_tau; non-penetration u_nu <= g (gap g, 0 in the paper);
+     multipliers lambda_nu <= 0 (the contact force on the body is B^T lambda); friction opposes
+     u_tau: a node sliding towards +tau has lambda_tau = F lambda_nu.
+     Acary et al. (paper 003, 2D/3D): N points out of the obstacle, reactions r in K (r_N >= 0),
+     u_N >= 0 separating, sliding: r_T = -alpha u_T.
+     psb_contact_convert(dim, force, disp, g): r = -lambda, u_N = g - u_nu, u_T = -u_tau (the
+     frame (N, T) = (-nu, -tau) plus the gap). It is its own inverse. Under it
+       H_000 = F_ac/rho with rho_N = rho_T = r,  dH/dlambda = -(1/r) dF/dr,  dH/du = -(1/r) dF/du.
+
+   2D Alart-Curnier node, eq. (2) of 000 (multipliers <= 0), psb_ac2d_node(u_n, u_t, lam_n, lam_t,
+   r, F, g, piece_request, res, jac, piece):
+     x_n = lam_n - r (u_n - g),  s = min(x_n, 0),  x_t = lam_t - r u_t,
+     res[0] = -(1/r)(lam_n - s),  res[1] = -(1/r)(lam_t - P_[F s, -F s](x_t)).
+     jac = d res/d(u_n, u_t, lam_n, lam_t), 2x4 column-major (jac[0..1] = d/du_n ...).
+     Piece = PSB_AC2D_PIECE(pn, pi) = pn + 2 pi (pn: nonpos piece of x_n, pi: interval piece).
+     Default = defaults of both projections. psb_ac2d_active lists the composite pieces (pairs of
+     active pieces, minus (OUT, IN) and, for F = 0, (., IN): the interval has no interior there).
+     psb_ac2d_state: SEPARATED if s = 0 (x_n >= 0), STICK if |x_t| <= F|s|, SLIP_POS if x_t < F s
+     (slides towards +tau, lam_t = F s), SLIP_NEG if x_t > -F s.
+
+   3D per-contact residuals (003, reactions in K), Jacobians jr = df/dr, ju = df/du (3x3):
+     psb_fc3d_ac, eq. (11): x_N = r_N - rho_n u_N,  f_N = r_N - max(x_N, 0),
+       f_T = r_T - P_D(mu max(x_N,0))(r_T - rho_t u_T).   Piece pn + 2 pd.
+     psb_fc3d_jm, eq. (12): same with the disk radius mu max(r_N, 0).   Piece pn + 2 pr + 4 pd.
+     psb_fc3d_nat, eq. (13): f = r - P_K(r - rho uhat), uhat = u + mu |u_T| e_N (De Saxce,
+       psb_fc3d_desaxce; at u_T = 0 d|u_T|/du_T is taken as e1).   Piece = cone piece.
+     Disk default inside (11)/(12): ZERO where the radius is identically 0 (its half-line piece
+     OUT, or mu = 0); where the radius is exactly 0 but can grow, BOUNDARY (IN if x_T = 0).
+     The standalone disk default (ZERO at s = 0) would not be a B-limit of the composite there.
+     psb_fc_nat_error(dim, nc, r, u, mu, |q|): eq. (15), |F_nat(r)|/|q| with rho = 1 and
+     u = W r + q given; |q| <= 0 gives the absolute |F_nat(r)| (use it when q is ~ 0). 2D
+     contacts (N, T) are 3D ones with T2 = 0, which every projection above preserves.
+
+   Paper notes. The extracted 003 writes K^alpha with |r_N^alpha|; the cone is {|r_T| <= mu r_N}
+   as in its (1). In 000, (2) is used as printed; zeros of each row were re-derived (r_N, u_N
+   complementarity; Coulomb with the interval [F s, -F s], s <= 0).
+
+   8. COMPILE-TIME MACROS (define before including the header)
+   ----------------------
+   PSCBRANCH_IMPLEMENTATION   in exactly one file: compile the implementation there
+   PSCBRANCH_STATIC           make every function static (a private copy per file)
+   PSCBRANCH_DEF              the linkage decorator of every public function [extern]
+   PSCBRANCH_MALLOC(size), PSCBRANCH_FREE(ptr)   the allocator of psb_solver_init [malloc,
+                              free]; define both or neither
+   PSCBRANCH_LAPACK_INT       the Fortran INTEGER of your LAPACK [int]; long for ILP64
+   PSCBRANCH_FORTRAN(name)    the symbol of a LAPACK routine [name##_]
+   PSCBRANCH_NO_FORTRAN_STRLEN  for a LAPACK whose character arguments carry no hidden length
+   LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r.
+
+   9. REVISION HISTORY
+   -------------------
+   0.1.0 (2026-11-22)  first release: dense continuation, tangent switch, kink location,
+                       Algorithms 2.1/2.2 with restarts, contact helpers.
+*/
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
 
@@ -2288,3 +2567,26 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
 
 #endif /* PSCBRANCH_IMPLEMENTATION_DONE */
 #endif /* PSCBRANCH_IMPLEMENTATION */
+
+/*
+------------------------------------------------------------------------------
+MIT License
+
+Copyright (c) 2026 the pscbranch authors
+
+Permission is hereby granted, free of charge, to any person obtaining a copy of this software and
+associated documentation files (the "Software"), to deal in the Software without restriction,
+including without limitation the rights to use, copy, modify, merge, publish, distribute,
+sublicense, and/or sell copies of the Software, and to permit persons to whom the Software is
+furnished to do so, subject to the following conditions:
+
+The above copyright notice and this permission notice shall be included in all copies or
+substantial portions of the Software.
+
+THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND, EXPRESS OR IMPLIED, INCLUDING BUT
+NOT LIMITED TO THE WARRANTIES OF MERCHANTABILITY, FITNESS FOR A PARTICULAR PURPOSE AND
+NONINFRINGEMENT. IN NO EVENT SHALL THE AUTHORS OR COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES
+OR OTHER LIABILITY, WHETHER IN AN ACTION OF CONTRACT, TORT OR OTHERWISE, ARISING FROM, OUT OF OR IN
+CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS IN THE SOFTWARE.
+------------------------------------------------------------------------------
+*/
