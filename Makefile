@@ -15,7 +15,7 @@ SHARED ?= ../shared
 BUILD ?= build
 
 HEADER = pscbranch.h
-TESTS = $(BUILD)/test_core $(BUILD)/test_contact $(BUILD)/test_linkage
+TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_contact $(BUILD)/test_linkage
 EXAMPLES = examples/01_branching examples/fc_solve
 
 .PHONY: all test demo examples asan ubsan clean check-tools
@@ -27,6 +27,9 @@ $(BUILD):
 
 $(BUILD)/test_core: tests/test_core.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_core.c -o $@ $(LIBS)
+
+$(BUILD)/test_linear: tests/test_linear.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_linear.c -o $@ $(LIBS)
 
 $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)

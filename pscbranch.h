@@ -335,16 +335,50 @@ typedef int (*psb_residual_fn)(const double *y, double *h, void *user);
    is jac[i + j*ldjac]. Fill every entry of the n x (n+1) block. Same return convention. */
 typedef int (*psb_jacobian_fn)(const double *y, double *jac, int ldjac, void *user);
 
+/* Banded problems (linear = PSB_LINEAR_BANDED): A = dH/dx, the n x n Jacobian with respect to
+   the state x (y without its parameter component: state column j is y component j when
+   j < param_index, j+1 otherwise), has kl sub- and ku super-diagonals. Fill A(i, j) for
+   max(0, j-ku) <= i <= min(n-1, j+kl) at band[PSB_BAND_INDEX(ku, ldband, i, j)] (LAPACK's
+   band layout, ldband >= kl+ku+1; the block arrives zeroed) and dparam[i] = dH_i/dparameter. */
+typedef int (*psb_band_jacobian_fn)(const double *y, double *band, int ldband, double *dparam,
+                                    void *user);
+#define PSB_BAND_INDEX(ku, ldband, i, j) ((size_t)((ku) + (i) - (j)) + (size_t)(j) * (size_t)(ldband))
+
+/* A linear solver of your own (linear = PSB_LINEAR_USER), e.g. a sparse direct solver: factor
+   the bordered (n+1) x (n+1) matrix B = [dH(y); row^T] (the last row is `row`, n+1 values; you
+   evaluate dH(y) yourself), then solve B z = b for nrhs right-hand sides stored column-major
+   with leading dimension n+1, in place. Return 0 on success, > 0 when B is singular or the
+   factorisation failed (the step is rejected), < 0 to stop at once. The library calls solve
+   only after a successful factor, at most with nrhs = 2, and never calls factor while a
+   previous factorisation is still needed. */
+typedef struct psb_linear_solver {
+    int (*factor)(const double *y, const double *row, void *ctx);
+    int (*solve)(double *b, int nrhs, void *ctx);
+    void *ctx;
+} psb_linear_solver;
+
+/* How the bordered systems are solved (see section 6 of the manual). */
+typedef enum psb_linear {
+    PSB_LINEAR_DENSE = 0,  /* LAPACK dgetrf on the (n+1) x (n+1) matrix (the default) */
+    PSB_LINEAR_BANDED = 1, /* LAPACK dgbtrf on the banded state block + bordering */
+    PSB_LINEAR_USER = 2    /* problem.solver */
+} psb_linear;
+
 typedef struct psb_problem {
     int n;                    /* N, the number of equations; y has N+1 components */
     psb_residual_fn residual; /* required */
-    psb_jacobian_fn jacobian; /* optional: NULL means finite differences (see psb_options) */
+    psb_jacobian_fn jacobian; /* dense: optional, NULL means finite differences (psb_options) */
     void *user;               /* passed to every callback */
     int param_index;          /* component of y that is the load parameter, 0..N
                                  (psb_problem_init sets N, the last component) */
+    psb_linear linear;        /* PSB_LINEAR_DENSE (0), _BANDED or _USER */
+    int kl, ku;               /* banded: bandwidths of dH/dx, 0 <= kl, ku < N */
+    psb_band_jacobian_fn band_jacobian; /* banded: optional, NULL means finite differences
+                                           (kl + ku + 2 residuals per Jacobian) */
+    psb_linear_solver solver; /* user: factor and solve, both required */
 } psb_problem;
 
-/* Fills *p and sets param_index to n (the last component). */
+/* Zeroes *p (dense backend), fills it and sets param_index to n (the last component). */
 PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn residual,
                                     psb_jacobian_fn jacobian, void *user);
 
@@ -418,18 +452,21 @@ typedef struct psb_solver {
     psb_stats stats;  /* cumulative; zero it whenever you like */
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
-    int n_, np1_;
+    int n_, np1_, ldlu_, shifted_;
     double *w_;
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
-    int *ipiv_, *iwork_;
+    double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_;
+    double delta_, shift_, mnorm_;
+    void *ipiv_, *iwork_; /* LAPACK integers */
     void *owned_;
     unsigned long long rng_[4];
     int last_fail_;
 } psb_solver;
 
-/* Bytes of memory psb_solver_init_with_memory needs for n equations (0 if n is invalid). */
-PSCBRANCH_DEF size_t psb_solver_memory_size(int n);
-/* Sets up s on caller memory (at least psb_solver_memory_size(p->n) bytes, aligned for double);
+/* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
+   invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (3 kl + 2 ku + 2) n; user ~ 40 (n+1). */
+PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
+/* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
    Returns PSB_SUCCESS, PSB_ERR_NULL, PSB_ERR_SIZE, PSB_ERR_OPTIONS, PSB_ERR_NOMEM (too small). */
 PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_problem *p,
@@ -764,6 +801,13 @@ extern void PSCBRANCH_FORTRAN(dgecon)(const char *norm, const psb__lint *n, cons
                                       const psb__lint *lda, const double *anorm, double *rcond,
                                       double *work, psb__lint *iwork,
                                       psb__lint *info PSB__STRLEN_ARG);
+extern void PSCBRANCH_FORTRAN(dgbtrf)(const psb__lint *m, const psb__lint *n, const psb__lint *kl,
+                                      const psb__lint *ku, double *ab, const psb__lint *ldab,
+                                      psb__lint *ipiv, psb__lint *info);
+extern void PSCBRANCH_FORTRAN(dgbtrs)(const char *trans, const psb__lint *n, const psb__lint *kl,
+                                      const psb__lint *ku, const psb__lint *nrhs, const double *ab,
+                                      const psb__lint *ldab, const psb__lint *ipiv, double *b,
+                                      const psb__lint *ldb, psb__lint *info PSB__STRLEN_ARG);
 extern void PSCBRANCH_FORTRAN(dgeqr2)(const psb__lint *m, const psb__lint *n, double *a,
                                       const psb__lint *lda, double *tau, double *work,
                                       psb__lint *info);
@@ -826,6 +870,7 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
                                     psb_jacobian_fn jacobian, void *user)
 {
     if (!p) return;
+    memset(p, 0, sizeof *p);
     p->n = n;
     p->residual = residual;
     p->jacobian = jacobian;
@@ -910,21 +955,82 @@ static const char *psb__check_options(const psb_options *o, int np1)
 
 static size_t psb__align(size_t x) { return (x + 15u) & ~(size_t)15u; }
 
-PSCBRANCH_DEF size_t psb_solver_memory_size(int n)
+/* Checks the problem's sizes and callbacks; returns a message or NULL, *code the result. */
+static const char *psb__check_problem(const psb_problem *p, psb_result *code)
 {
-    size_t np1, doubles, ints;
-    if (n < 1 || n > 46000) return 0; /* (n+1)^2 doubles must stay addressable with int LAPACK */
-    np1 = (size_t)n + 1;
-    doubles = np1                 /* weights */
-              + (size_t)n * np1   /* Jacobian */
-              + np1 * np1         /* bordered matrix */
-              + 2 * np1           /* right-hand sides */
-              + 2 * (size_t)n     /* residuals */
-              + 4 * np1           /* dgecon / dgeqr2 work */
-              + np1               /* QR tau */
-              + (size_t)PSB__NVEC * np1;
-    ints = 2 * np1;
-    return psb__align(doubles * sizeof(double)) + psb__align(ints * sizeof(psb__lint));
+    *code = PSB_ERR_SIZE;
+    if (p->n < 1) return "problem.n must be >= 1";
+    if (p->param_index < 0 || p->param_index > p->n) return "problem.param_index must lie in [0, n]";
+    switch (p->linear) {
+    case PSB_LINEAR_DENSE:
+        if (p->n > 46000) return "dense problems are limited to n <= 46000: use PSB_LINEAR_BANDED or _USER";
+        break;
+    case PSB_LINEAR_BANDED:
+        if (p->kl < 0 || p->ku < 0 || p->kl >= p->n || p->ku >= p->n)
+            return "problem.kl and problem.ku must lie in [0, n-1]";
+        if ((double)(2 * (double)p->kl + p->ku + 1) * p->n > 1e15) return "band too large";
+        break;
+    case PSB_LINEAR_USER:
+        *code = PSB_ERR_NULL;
+        if (!p->solver.factor || !p->solver.solve) return "problem.solver.factor and .solve are required";
+        break;
+    default:
+        *code = PSB_ERR_OPTIONS;
+        return "problem.linear must be PSB_LINEAR_DENSE, _BANDED or _USER";
+    }
+    *code = PSB_ERR_NULL;
+    if (!p->residual) return "problem.residual is NULL";
+    return NULL;
+}
+
+/* Carves the solver's arrays out of memory (when s is not NULL) and returns the bytes needed,
+   so that the size query and the layout cannot disagree. */
+static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
+{
+    size_t n = (size_t)p->n, np1 = n + 1, off = 0, ints = 0, kl = (size_t)p->kl, ku = (size_t)p->ku;
+    double *base = (double *)memory;
+#define PSB__TAKE(field, count)                                                                    \
+    do {                                                                                           \
+        if (s) s->field = base + off;                                                              \
+        off += (count);                                                                            \
+    } while (0)
+    PSB__TAKE(w_, np1);
+    PSB__TAKE(rhs_, 2 * np1);
+    PSB__TAKE(res_, n);
+    PSB__TAKE(res2_, n);
+    PSB__TAKE(work_, 4 * np1);
+    PSB__TAKE(yfac_, np1);
+    PSB__TAKE(fdh_, n);
+    PSB__TAKE(vec_, (size_t)PSB__NVEC * np1);
+    if (p->linear == PSB_LINEAR_DENSE) {
+        PSB__TAKE(jac_, n * np1);
+        PSB__TAKE(mat_, np1 * np1);
+        PSB__TAKE(tau_, np1);
+        ints = 2 * np1;
+    } else if (p->linear == PSB_LINEAR_BANDED) {
+        PSB__TAKE(band_, (kl + ku + 1) * n);
+        PSB__TAKE(lu_, (2 * kl + ku + 1) * n);
+        PSB__TAKE(dparam_, n);
+        PSB__TAKE(row_, np1);
+        PSB__TAKE(bv_, n);
+        PSB__TAKE(bx_, np1);
+        PSB__TAKE(bres_, np1);
+        ints = n;
+    }
+#undef PSB__TAKE
+    off = psb__align(off * sizeof(double));
+    if (s) {
+        s->ipiv_ = (char *)memory + off;
+        s->iwork_ = p->linear == PSB_LINEAR_DENSE ? (void *)((psb__lint *)s->ipiv_ + np1) : NULL;
+    }
+    return off + psb__align(ints * sizeof(psb__lint));
+}
+
+PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p)
+{
+    psb_result code;
+    if (!p || psb__check_problem(p, &code)) return 0;
+    return psb__layout(p, NULL, NULL);
 }
 
 PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_problem *p,
@@ -932,37 +1038,23 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
                                                      size_t bytes)
 {
     const char *bad;
-    size_t need, np1;
-    double *d;
+    psb_result code;
     int i;
     if (!s) return PSB_ERR_NULL;
     memset(s, 0, sizeof *s);
     if (!p || !memory) return psb__fail(s, PSB_ERR_NULL, "problem or memory is NULL");
-    if (!p->residual) return psb__fail(s, PSB_ERR_NULL, "problem.residual is NULL");
-    need = psb_solver_memory_size(p->n);
-    if (need == 0) return psb__fail(s, PSB_ERR_SIZE, "problem.n must lie in [1, 46000]");
-    if (p->param_index < 0 || p->param_index > p->n)
-        return psb__fail(s, PSB_ERR_SIZE, "problem.param_index must lie in [0, n]");
-    if (bytes < need) return psb__fail(s, PSB_ERR_NOMEM, "memory block smaller than psb_solver_memory_size(n)");
+    bad = psb__check_problem(p, &code);
+    if (bad) return psb__fail(s, code, bad);
+    if (bytes < psb__layout(p, NULL, NULL))
+        return psb__fail(s, PSB_ERR_NOMEM, "memory block smaller than psb_solver_memory_size(p)");
     s->opt = psb_options_resolve(opt);
     bad = psb__check_options(&s->opt, p->n + 1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->prob = *p;
     s->n_ = p->n;
     s->np1_ = p->n + 1;
-    np1 = (size_t)s->np1_;
-    d = (double *)memory;
-    s->w_ = d; d += np1;
-    s->jac_ = d; d += (size_t)s->n_ * np1;
-    s->mat_ = d; d += np1 * np1;
-    s->rhs_ = d; d += 2 * np1;
-    s->res_ = d; d += (size_t)s->n_;
-    s->res2_ = d; d += (size_t)s->n_;
-    s->work_ = d; d += 4 * np1;
-    s->tau_ = d; d += np1;
-    s->vec_ = d; d += (size_t)PSB__NVEC * np1;
-    s->ipiv_ = (psb__lint *)((char *)memory + psb__align((size_t)(d - (double *)memory) * sizeof(double)));
-    s->iwork_ = s->ipiv_ + np1;
+    s->ldlu_ = 2 * p->kl + p->ku + 1;
+    psb__layout(p, s, memory);
     for (i = 0; i < s->np1_; i++)
         s->w_[i] = s->opt.weights ? s->opt.weights[i]
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
@@ -975,22 +1067,16 @@ PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
 {
     size_t bytes;
     void *mem;
-    psb_result r;
+    psb_result r, code;
+    const char *bad;
     if (!s) return PSB_ERR_NULL;
-    if (!p) {
-        memset(s, 0, sizeof *s);
-        return psb__fail(s, PSB_ERR_NULL, "problem is NULL");
-    }
-    bytes = psb_solver_memory_size(p->n);
-    if (bytes == 0) {
-        memset(s, 0, sizeof *s);
-        return psb__fail(s, PSB_ERR_SIZE, "problem.n must lie in [1, 46000]");
-    }
+    memset(s, 0, sizeof *s);
+    if (!p) return psb__fail(s, PSB_ERR_NULL, "problem is NULL");
+    bad = psb__check_problem(p, &code);
+    if (bad) return psb__fail(s, code, bad);
+    bytes = psb__layout(p, NULL, NULL);
     mem = PSCBRANCH_MALLOC(bytes);
-    if (!mem) {
-        memset(s, 0, sizeof *s);
-        return psb__fail(s, PSB_ERR_NOMEM, "allocation failed");
-    }
+    if (!mem) return psb__fail(s, PSB_ERR_NOMEM, "allocation failed");
     r = psb_solver_init_with_memory(s, p, opt, mem, bytes);
     if (r < 0) {
         PSCBRANCH_FREE(mem);
@@ -1080,7 +1166,7 @@ static psb_result psb__residual(psb_solver *s, const double *y, double *out)
 
 /* dH(y) into s->jac_ (n x (n+1), ld n). h_at_y: H(y) if the caller has it (forward differences
    reuse it), else NULL. */
-static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_at_y)
+static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const double *h_at_y)
 {
     int n = s->n_, np1 = s->np1_, i, j, rc;
     psb_result r;
@@ -1128,7 +1214,7 @@ static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_
 
 /* Builds [jac; row^T] in mat_ ((n+1) x (n+1)) and LU-factors it.
    Returns PSB_SUCCESS or PSB_ERR_SINGULAR; *rcond (if not NULL) gets the 1-norm estimate. */
-static psb_result psb__factor_bordered(psb_solver *s, const double *row, double *rcond)
+static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rcond)
 {
     int n = s->n_, np1 = s->np1_, j;
     psb__lint m = np1, info = 0;
@@ -1143,30 +1229,308 @@ static psb_result psb__factor_bordered(psb_solver *s, const double *row, double 
         if (colsum > anorm) anorm = colsum;
     }
     s->stats.n_factor++;
-    PSCBRANCH_FORTRAN(dgetrf)(&m, &m, s->mat_, &m, s->ipiv_, &info);
+    PSCBRANCH_FORTRAN(dgetrf)(&m, &m, s->mat_, &m, (psb__lint *)s->ipiv_, &info);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrf rejected an argument");
     if (info > 0) {
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix is exactly singular");
     }
     if (rcond) {
-        PSCBRANCH_FORTRAN(dgecon)("1", &m, s->mat_, &m, &anorm, rcond, s->work_, s->iwork_,
+        PSCBRANCH_FORTRAN(dgecon)("1", &m, s->mat_, &m, &anorm, rcond, s->work_, (psb__lint *)s->iwork_,
                                   &info PSB__STRLEN_ONE);
         if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgecon rejected an argument");
     }
     return PSB_SUCCESS;
 }
 
-static psb_result psb__solve_factored(psb_solver *s, double *b, int nrhs)
+static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 {
     psb__lint m = s->np1_, nr = nrhs, info = 0;
-    PSCBRANCH_FORTRAN(dgetrs)("N", &m, &nr, s->mat_, &m, s->ipiv_, b, &m, &info PSB__STRLEN_ONE);
+    PSCBRANCH_FORTRAN(dgetrs)("N", &m, &nr, s->mat_, &m, (psb__lint *)s->ipiv_, b, &m, &info PSB__STRLEN_ONE);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrs rejected an argument");
     if (!psb__all_finite(b, s->np1_ * nrhs)) {
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "solution of the bordered system is not finite");
     }
     return PSB_SUCCESS;
+}
+
+
+/* ---- banded backend: LU of the state block A = dH/dx (dgbtrf) and bordering ----------------
+   The bordered matrix is B = [A b; c^T d] up to the position of the parameter (b = dH/dparam,
+   (c, d) the border row). Mixed block elimination: v = A^{-T} c once per factorisation,
+   delta = d - v.b, then for each right-hand side (f, g): xi = (g - v.f) / delta,
+   x = A^{-1} (f - b xi): one banded solve per right-hand side. Near a fold A is nearly singular
+   (B is not), so the result is checked by its residual in B and refined; if A is exactly
+   singular, or refinement stalls, A is factored with a diagonal shift sigma ~ sqrt(eps) ||A||
+   and refinement against the unshifted B converges at a rate ~ sigma ||B^{-1}||. */
+
+/* state column j <-> y component */
+static int psb__ycol(const psb_solver *s, int j) { return j < s->prob.param_index ? j : j + 1; }
+
+static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const double *h_at_y)
+{
+    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
+    int i, j, g, rc;
+    psb_result r;
+    memset(s->band_, 0, (size_t)ld * (size_t)n * sizeof(double));
+    memset(s->dparam_, 0, (size_t)n * sizeof(double));
+    if (s->prob.band_jacobian) {
+        rc = s->prob.band_jacobian(y, s->band_, ld, s->dparam_, s->prob.user);
+        r = psb__callback_code(s, rc, "band_jacobian callback returned nonzero");
+        if (r != PSB_SUCCESS) return r;
+        if (!psb__all_finite(s->band_, ld * n) || !psb__all_finite(s->dparam_, n)) {
+            s->last_fail_ = PSB__FAIL_NONFINITE;
+            return psb__fail(s, PSB_ERR_NONFINITE, "band_jacobian callback returned NaN or Inf");
+        }
+        return PSB_SUCCESS;
+    }
+    /* finite differences, Curtis-Powell-Reid: state columns j = g, g + ld, g + 2 ld, ... touch
+       disjoint rows, so one residual serves the whole group */
+    {
+        double *yp = PSB__VEC(s, PSB__V_FD), *hp = s->fdh_, *steps = s->bx_;
+        if (!h_at_y) {
+            r = psb__residual(s, y, s->res2_);
+            if (r != PSB_SUCCESS) return r;
+            h_at_y = s->res2_;
+        }
+        for (g = 0; g <= ld; g++) {
+            psb__copy(yp, y, s->np1_);
+            if (g < ld) {
+                for (j = g; j < n; j += ld) {
+                    int c = psb__ycol(s, j);
+                    volatile double probe = y[c] + s->opt.fd_step * (fabs(y[c]) > 1 ? fabs(y[c]) : 1.0);
+                    steps[j] = probe - y[c];
+                    yp[c] = y[c] + steps[j];
+                }
+            } else {
+                volatile double probe = y[p] + s->opt.fd_step * (fabs(y[p]) > 1 ? fabs(y[p]) : 1.0);
+                steps[0] = probe - y[p];
+                yp[p] = y[p] + steps[0];
+            }
+            r = psb__residual(s, yp, hp);
+            if (r != PSB_SUCCESS) return r;
+            if (g < ld) {
+                for (j = g; j < n; j += ld) {
+                    int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
+                    for (i = lo; i <= hi; i++)
+                        s->band_[PSB_BAND_INDEX(ku, ld, i, j)] = (hp[i] - h_at_y[i]) / steps[j];
+                }
+            } else {
+                for (i = 0; i < n; i++) s->dparam_[i] = (hp[i] - h_at_y[i]) / steps[0];
+            }
+        }
+    }
+    return PSB_SUCCESS;
+}
+
+/* LU of A + shift I into lu_ (dgbtrf layout: kl extra rows on top). */
+static psb_result psb__band_lu(psb_solver *s, double shift)
+{
+    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
+    psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->ldlu_, info = 0;
+    for (j = 0; j < n; j++) {
+        double *dst = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+        memset(dst, 0, (size_t)kl * sizeof(double));
+        memcpy(dst + kl, s->band_ + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
+        dst[kl + ku] += shift;
+    }
+    s->stats.n_factor++;
+    PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->lu_, &ldlu, (psb__lint *)s->ipiv_, &info);
+    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
+    if (info > 0) {
+        s->last_fail_ = PSB__FAIL_SINGULAR;
+        return psb__fail(s, PSB_ERR_SINGULAR, "banded block is exactly singular");
+    }
+    return PSB_SUCCESS;
+}
+
+static psb_result psb__band_solve_a(psb_solver *s, const char *trans, double *x)
+{
+    psb__lint nn = s->n_, kkl = s->prob.kl, kku = s->prob.ku, ldlu = s->ldlu_, one = 1, info = 0;
+    PSCBRANCH_FORTRAN(dgbtrs)(trans, &nn, &kkl, &kku, &one, s->lu_, &ldlu, (psb__lint *)s->ipiv_, x,
+                              &nn, &info PSB__STRLEN_ONE);
+    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrs rejected an argument");
+    return PSB_SUCCESS;
+}
+
+/* Factors A (shifted if asked) and forms v = A^{-T} c and delta = d - v.b. */
+static psb_result psb__band_prepare(psb_solver *s, double shift)
+{
+    int n = s->n_, j;
+    double delta;
+    psb_result r = psb__band_lu(s, shift);
+    if (r != PSB_SUCCESS) return r;
+    for (j = 0; j < n; j++) s->bv_[j] = s->row_[psb__ycol(s, j)];
+    r = psb__band_solve_a(s, "T", s->bv_);
+    if (r != PSB_SUCCESS) return r;
+    delta = s->row_[s->prob.param_index];
+    for (j = 0; j < n; j++) delta -= s->bv_[j] * s->dparam_[j];
+    if (!psb__finite(delta) || delta == 0 || !psb__all_finite(s->bv_, n)) {
+        s->last_fail_ = PSB__FAIL_SINGULAR;
+        return psb__fail(s, PSB_ERR_SINGULAR, "bordered banded system is singular");
+    }
+    s->delta_ = delta;
+    s->shift_ = shift;
+    return PSB_SUCCESS;
+}
+
+static psb_result psb__factor_banded(psb_solver *s, const double *row)
+{
+    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, i, j;
+    double anorm = 0;
+    psb_result r;
+    psb__copy(s->row_, row, s->np1_);
+    /* ||B||_inf for the refinement test */
+    for (i = 0; i < n; i++) {
+        double sum = fabs(s->dparam_[i]);
+        int lo = i - kl > 0 ? i - kl : 0, hi = i + ku < n - 1 ? i + ku : n - 1;
+        for (j = lo; j <= hi; j++) sum += fabs(s->band_[PSB_BAND_INDEX(ku, ld, i, j)]);
+        if (sum > anorm) anorm = sum;
+    }
+    {
+        double sum = 0;
+        for (i = 0; i < s->np1_; i++) sum += fabs(row[i]);
+        s->mnorm_ = anorm > sum ? anorm : sum;
+    }
+    r = psb__band_prepare(s, 0.0);
+    if (r == PSB_ERR_SINGULAR) r = psb__band_prepare(s, 1.4901161193847656e-08 * (anorm > 0 ? anorm : 1));
+    s->shifted_ = s->shift_ != 0;
+    return r;
+}
+
+/* One mixed block elimination solve with the current factors: z = B_shift^{-1} rhs. */
+static psb_result psb__band_apply(psb_solver *s, const double *rhs, double *z)
+{
+    int n = s->n_, j, p = s->prob.param_index;
+    double xi = rhs[n], *x = s->work_ + s->np1_; /* work_[0, np1) holds the caller's rhs */
+    psb_result r;
+    for (j = 0; j < n; j++) xi -= s->bv_[j] * rhs[j];
+    xi /= s->delta_;
+    for (j = 0; j < n; j++) x[j] = rhs[j] - s->dparam_[j] * xi;
+    r = psb__band_solve_a(s, "N", x);
+    if (r != PSB_SUCCESS) return r;
+    for (j = 0; j < n; j++) z[psb__ycol(s, j)] = x[j];
+    z[p] = xi;
+    return PSB_SUCCESS;
+}
+
+/* res = rhs - B z with the unshifted B; returns ||res||_inf. */
+static double psb__band_residual(const psb_solver *s, const double *rhs, const double *z, double *res)
+{
+    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, i, j, p = s->prob.param_index;
+    double big = 0, last = rhs[n];
+    for (i = 0; i < n; i++) res[i] = rhs[i] - s->dparam_[i] * z[p];
+    for (j = 0; j < n; j++) {
+        double zj = z[psb__ycol(s, j)];
+        int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
+        for (i = lo; i <= hi; i++) res[i] -= s->band_[PSB_BAND_INDEX(ku, ld, i, j)] * zj;
+    }
+    for (i = 0; i <= n; i++) last -= s->row_[i] * z[i];
+    res[n] = last;
+    for (i = 0; i <= n; i++)
+        if (fabs(res[i]) > big || res[i] != res[i]) big = res[i] != res[i] ? HUGE_VAL : fabs(res[i]);
+    return big;
+}
+
+static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
+{
+    int np1 = s->np1_, k, it, i;
+    for (k = 0; k < nrhs; k++) {
+        double *rhs = s->bres_, *z = b + (size_t)k * (size_t)np1, *dz = s->bx_;
+        double bnorm = 0, znorm, resn, prev = HUGE_VAL;
+        int max_it = s->shifted_ ? 30 : 4, done = 0;
+        psb_result r;
+        /* keep the right-hand side: the solution overwrites it */
+        memcpy(s->work_, z, (size_t)np1 * sizeof(double));
+        for (i = 0; i < np1; i++) bnorm = fabs(z[i]) > bnorm ? fabs(z[i]) : bnorm;
+        r = psb__band_apply(s, s->work_, z);
+        if (r != PSB_SUCCESS) return r;
+        for (it = 0; it <= max_it && !done; it++) {
+            znorm = 0;
+            for (i = 0; i < np1; i++) znorm = fabs(z[i]) > znorm ? fabs(z[i]) : znorm;
+            resn = psb__band_residual(s, s->work_, z, rhs);
+            if (resn <= 32 * DBL_EPSILON * (s->mnorm_ * znorm + bnorm)) { done = 1; break; }
+            if (!(resn < 0.5 * prev) && it >= 2) break; /* stalled */
+            prev = resn;
+            r = psb__band_apply(s, rhs, dz);
+            if (r != PSB_SUCCESS) return r;
+            for (i = 0; i < np1; i++) z[i] += dz[i];
+        }
+        if (!done) {
+            if (!s->shifted_) {
+                /* nearly singular A: refactor shifted, restart this column */
+                r = psb__band_prepare(s, 1.4901161193847656e-08 * (s->mnorm_ > 0 ? s->mnorm_ : 1));
+                if (r != PSB_SUCCESS) return r;
+                s->shifted_ = 1;
+                memcpy(z, s->work_, (size_t)np1 * sizeof(double));
+                k--;
+                continue;
+            }
+            s->last_fail_ = PSB__FAIL_SINGULAR;
+            return psb__fail(s, PSB_ERR_SINGULAR, "bordered banded system: refinement did not converge");
+        }
+    }
+    return PSB_SUCCESS;
+}
+
+/* ---- backend dispatch ------------------------------------------------------------------- */
+
+/* dH(y) for the next factorisation. h_at_y: H(y) if the caller has it (finite differences
+   reuse it), else NULL. */
+static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_at_y)
+{
+    switch (s->prob.linear) {
+    case PSB_LINEAR_BANDED: s->stats.n_jacobian++; return psb__jacobian_banded(s, y, h_at_y);
+    case PSB_LINEAR_USER: psb__copy(s->yfac_, y, s->np1_); return PSB_SUCCESS;
+    default: return psb__jacobian_dense(s, y, h_at_y);
+    }
+}
+
+/* Factors [dH(y); row^T] for the y of the last psb__jacobian. rcond (dense only, may be NULL):
+   reciprocal condition estimate; the other backends report 1 and detect trouble when solving. */
+static psb_result psb__factor_bordered(psb_solver *s, const double *row, double *rcond)
+{
+    int rc;
+    psb_result r;
+    if (rcond) *rcond = 1;
+    switch (s->prob.linear) {
+    case PSB_LINEAR_BANDED: return psb__factor_banded(s, row);
+    case PSB_LINEAR_USER:
+        s->stats.n_factor++;
+        s->stats.n_jacobian++;
+        rc = s->prob.solver.factor(s->yfac_, row, s->prob.solver.ctx);
+        r = psb__callback_code(s, rc, "solver.factor returned nonzero");
+        if (r == PSB_ERR_CALLBACK_FAILED) {
+            s->last_fail_ = PSB__FAIL_SINGULAR;
+            return psb__fail(s, PSB_ERR_SINGULAR, "solver.factor reported a singular matrix");
+        }
+        return r;
+    default: return psb__factor_dense(s, row, rcond);
+    }
+}
+
+static psb_result psb__solve_factored(psb_solver *s, double *b, int nrhs)
+{
+    int rc;
+    psb_result r;
+    switch (s->prob.linear) {
+    case PSB_LINEAR_BANDED: r = psb__solve_banded(s, b, nrhs); break;
+    case PSB_LINEAR_USER:
+        rc = s->prob.solver.solve(b, nrhs, s->prob.solver.ctx);
+        r = psb__callback_code(s, rc, "solver.solve returned nonzero");
+        if (r == PSB_ERR_CALLBACK_FAILED) {
+            s->last_fail_ = PSB__FAIL_SINGULAR;
+            r = psb__fail(s, PSB_ERR_SINGULAR, "solver.solve failed");
+        }
+        break;
+    default: return psb__solve_dense(s, b, nrhs);
+    }
+    if (r == PSB_SUCCESS && !psb__all_finite(b, s->np1_ * nrhs)) {
+        s->last_fail_ = PSB__FAIL_SINGULAR;
+        return psb__fail(s, PSB_ERR_SINGULAR, "solution of the bordered system is not finite");
+    }
+    return r;
 }
 
 /* Kernel of s->jac_ through the QR factorisation of its transpose: the last column of Q spans
@@ -1201,27 +1565,36 @@ static psb_result psb__kernel_qr(psb_solver *s, double *t)
 /* Unit tangent at y oriented by ref (both n+1); y's Jacobian is evaluated here. */
 static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref, double *t)
 {
-    int np1 = s->np1_, i;
+    int np1 = s->np1_, i, attempt;
     double rcond = 0, *row = s->rhs_ + np1, *x = s->rhs_;
     psb_result r;
     s->stats.n_tangents++;
     r = psb__jacobian(s, y, NULL);
     if (r != PSB_SUCCESS) return r;
-    for (i = 0; i < np1; i++) row[i] = s->w_[i] * ref[i];
-    r = psb__factor_bordered(s, row, &rcond);
-    if (r == PSB_SUCCESS && rcond > 1.4901161193847656e-08) {
-        memset(x, 0, (size_t)np1 * sizeof *x);
-        x[np1 - 1] = 1;
-        r = psb__solve_factored(s, x, 1);
-        if (r != PSB_SUCCESS) return r;
-    } else {
-        /* ref (almost) orthogonal to the kernel, or dH itself rank deficient: QR decides. */
+    /* bordered with ref; if that is singular (ref orthogonal to the kernel), the dense backend
+       asks QR of dH^T, the others border with e_param, then with a fixed generic row */
+    for (attempt = 0; attempt < 3; attempt++) {
+        for (i = 0; i < np1; i++)
+            row[i] = s->w_[i] * (attempt == 0 ? ref[i]
+                                 : attempt == 1 ? (double)(i == s->prob.param_index)
+                                                : 1.0 + 0.1 * (i % 7));
+        r = psb__factor_bordered(s, row, &rcond);
+        if (r == PSB_SUCCESS && rcond > 1.4901161193847656e-08) {
+            memset(x, 0, (size_t)np1 * sizeof *x);
+            x[np1 - 1] = 1;
+            r = psb__solve_factored(s, x, 1);
+            if (r == PSB_SUCCESS) break;
+        }
         if (r != PSB_SUCCESS && r != PSB_ERR_SINGULAR) return r;
-        r = psb__kernel_qr(s, x);
-        if (r != PSB_SUCCESS) return r;
-        if (psb_dot_w(s, x, ref) < 0)
-            for (i = 0; i < np1; i++) x[i] = -x[i];
+        if (s->prob.linear == PSB_LINEAR_DENSE) {
+            r = psb__kernel_qr(s, x);
+            if (r != PSB_SUCCESS) return r;
+            break;
+        }
     }
+    if (r != PSB_SUCCESS) return r;
+    if (psb_dot_w(s, x, ref) < 0)
+        for (i = 0; i < np1; i++) x[i] = -x[i];
     if (!psb__normalize_w(s, x)) {
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");

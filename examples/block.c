@@ -9,7 +9,7 @@
    each ends on |gamma| = 1 with a small residual, and the contact states are as in the paper.
 
    Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--kappa 1|1/N|VALUE]
-                [--start -1|1] [--dirichlet mult|elim] [--seed S] [--out DIR] [--verbose]
+                [--start -1|1] [--dirichlet mult|elim] [--hmin H] [--seed S] [--out DIR] [--dense] [--verbose]
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
@@ -17,13 +17,13 @@
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
-#include "wip/pscbranch_contact.h"
 #define FE_USE_PSB_CONTACT
 #include "fe.h"
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense;
     double kappa; /* < 0: 1/N */
+    double hmin;  /* smallest trial step of Algorithm 2.2 and of the traces */
     unsigned long long seed;
     const char *out;
 } args;
@@ -32,10 +32,11 @@ static int parse(int argc, char **argv, args *a)
 {
     int i;
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
-    a->multipliers = 1; a->verbose = 0; a->kappa = -1; a->seed = 0; a->out = NULL;
+    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->kappa = -1; a->hmin = 1e-5; a->seed = 0; a->out = NULL;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
+        if (!strcmp(o, "--dense")) { a->dense = 1; continue; }
         if (!v) { fprintf(stderr, "block: %s needs a value\n", o); return -1; }
         i++;
         if (!strcmp(o, "--mesh")) { if (sscanf(v, "%dx%d", &a->nx, &a->ny) != 2 || a->nx < 2 || a->ny < 2) return -1; }
@@ -43,6 +44,7 @@ static int parse(int argc, char **argv, args *a)
         else if (!strcmp(o, "--nspan")) a->nspan = atoi(v);
         else if (!strcmp(o, "--input")) a->input = atoi(v);
         else if (!strcmp(o, "--start")) a->start = atoi(v) < 0 ? -1 : 1;
+        else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
         else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
         else if (!strcmp(o, "--out")) a->out = v;
         else if (!strcmp(o, "--dirichlet")) a->multipliers = strcmp(v, "elim") != 0;
@@ -53,26 +55,28 @@ static int parse(int argc, char **argv, args *a)
     return 0;
 }
 
-/* The paper's numbering: 1-3 to the right (gamma < 0), 4-6 to the left; no contact, stick, slip. */
-static void classify(fe_branch *b, double gamma)
+/* The paper's numbering: 1-3 forcing to the right (gamma < 0), 4-6 to the left, and the state of
+   the lower vertex on that side: no contact, stick, slip (other contact nodes may touch). */
+static void classify(const fe_model *md, fe_branch *b)
 {
-    int right = gamma < 0, slip = b->states[FE_SLIP_POS] + b->states[FE_SLIP_NEG], kind;
-    kind = slip ? 3 : (b->states[FE_STICK] ? 2 : 1);
+    int st[64], right = b->y[md->n] < 0, kind, corner;
+    fe_contact_states(md, b->y, b->states, st);
+    corner = st[right ? md->ncontact - 1 : 0];
+    kind = corner == FE_SEPARATED ? 1 : (corner == FE_STICK ? 2 : 3);
     b->number = (right ? 0 : 3) + kind;
     snprintf(b->label, sizeof b->label, "%s, %s", right ? "right" : "left",
              kind == 1 ? "no contact" : (kind == 2 ? "contact-stick" : "contact-slip"));
+    b->corner = corner;
 }
 
-/* Expected end states: slipping nodes slide the way the block is forced, at least one contact
-   node touches on contact branches, and stick/slip branches have no node in the other state. */
+/* Expected: the end on |gamma| = 1 with a small residual; a slipping vertex slides the way the
+   block is forced (right: +x1). */
 static int check_branch(const fe_branch *b, int n, double tol)
 {
-    int right = b->number <= 3, kind = (b->number - 1) % 3 + 1;
-    if (b->end != PSB_PARAM_BOUND || fabs(b->y[n]) != 1.0) return 0;
-    if (!(b->resnorm <= tol)) return 0;
-    if (kind == 1) return b->states[FE_STICK] + b->states[FE_SLIP_POS] + b->states[FE_SLIP_NEG] == 0;
-    if (kind == 2) return b->states[FE_STICK] > 0 && b->states[FE_SLIP_POS] + b->states[FE_SLIP_NEG] == 0;
-    return b->states[right ? FE_SLIP_NEG : FE_SLIP_POS] == 0 && b->states[right ? FE_SLIP_POS : FE_SLIP_NEG] > 0;
+    int right = b->number <= 3;
+    if (b->end != PSB_PARAM_BOUND || fabs(b->y[n]) != 1.0 || !(b->resnorm <= tol)) return 0;
+    if (b->corner == FE_SLIP_POS || b->corner == FE_SLIP_NEG) return b->corner == (right ? FE_SLIP_POS : FE_SLIP_NEG);
+    return 1;
 }
 
 static double seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
@@ -98,7 +102,7 @@ static int branch_and_trace(fe_run *run, double *y, double *t, const args *a)
     }
     run->ndiag = 0;
     fe_run_trace_all(run, 1.0);
-    for (k = 0; k < run->nbr; k++) classify(&run->br[k], run->br[k].y[n]);
+    for (k = 0; k < run->nbr; k++) classify(run->md, &run->br[k]);
     return run->br[0].number;
 }
 
@@ -115,7 +119,7 @@ int main(int argc, char **argv)
 
     if (parse(argc, argv, &a)) {
         fprintf(stderr, "usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--kappa 1|1/N|VALUE]\n"
-                        "             [--start -1|1] [--dirichlet mult|elim] [--seed S] [--out DIR] [--verbose]\n");
+                        "             [--start -1|1] [--dirichlet mult|elim] [--hmin H] [--seed S] [--out DIR] [--dense] [--verbose]\n");
         return 2;
     }
     if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory\n"); return 1; }
@@ -126,7 +130,9 @@ int main(int argc, char **argv)
     opt.tol_residual = 1e-9; opt.tol_correction = 1e-9;
     opt.c_diff = 0.99999; opt.branch_h = 5e-7; opt.branch_h_min = 5e-7 / 16384; opt.branch_h_init = 5e-4;
     opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed;
-    if (fe_run_init(&run, &md, &opt)) { fprintf(stderr, "block: solver set-up failed\n"); return 1; }
+    if (fe_run_init(&run, &md, &opt, !a.dense)) { fprintf(stderr, "block: solver set-up failed\n"); return 1; }
+    run.approach_step_min = 1e-9;
+    run.branch_step_min = a.hmin;
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
     if (!y || !t) return 1;
@@ -171,16 +177,16 @@ int main(int argc, char **argv)
 
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d, tangents = %ld\n",
            input, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_tangents);
-    printf("\n  branch  direction  type            gamma   sep stick slip+ slip-  steps kinks  |H|       end\n");
+    printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps kinks  |H|      end\n");
     ok = run.nbr == 6;
     for (k = 0; k < run.nbr; k++) {
         fe_branch *b = &run.br[k];
         int good = check_branch(b, n, tol) && !seen[b->number];
         seen[b->number] = 1;
         ok = ok && good;
-        printf("  %-6d  %-9s  %-14s %+6.3f  %4d %5d %5d %5d  %5ld %5d  %.1e   %s%s\n", b->number,
+        printf("  %-6d  %-9s  %-14s %+6.3f                 %4d %5d %5d %5d  %5ld %5d  %.1e  %s%s\n", b->number,
                b->number <= 3 ? "right" : "left", strchr(b->label, ',') + 2, b->y[n], b->states[0], b->states[1],
-               b->states[2], b->states[3], b->steps, b->switches, b->resnorm, psb_result_string(b->end),
+               b->states[2], b->states[3], b->steps, b->switches, b->resnorm, b->end == PSB_PARAM_BOUND ? "on |gamma| = 1" : psb_result_string(b->end),
                good ? "" : "  <-- unexpected");
     }
     printf("\n  %d branches (paper: 6), time %.2f s (CPU), factorisations %ld, PC trials %ld\n", run.nbr, t1 - t0,

@@ -44,12 +44,12 @@ static inline int fe_gauss1d(int n, double *pts, double *wts)
     return 0;
 }
 
-/* A matrix sink: dense column-major (kl < 0) or LAPACK general band storage for dgbsv
-   (row kl + ku + i - j of column j, ld >= 2 kl + ku + 1). Entries outside the band are an error
-   reported through `overflow`, never written out of bounds. */
+/* A matrix sink: dense column-major (kl < 0), or a band of kl sub- and ku super-diagonals with
+   entry (i, j) at row off + i - j of column j (off = ku for pscbranch's PSB_BAND_INDEX layout,
+   kl + ku for LAPACK dgbsv's). An entry outside the band sets `overflow`, never writes. */
 typedef struct fe_mat {
     double *a;
-    int ld, kl, ku;
+    int ld, kl, ku, off;
     int overflow;
 } fe_mat;
 
@@ -58,7 +58,7 @@ static inline void fe_mat_add(fe_mat *m, int i, int j, double v)
     if (m->kl < 0) {
         m->a[i + (size_t)j * m->ld] += v;
     } else if (i - j <= m->kl && j - i <= m->ku) {
-        m->a[(m->kl + m->ku + i - j) + (size_t)j * m->ld] += v;
+        m->a[(m->off + i - j) + (size_t)j * m->ld] += v;
     } else if (v != 0.0) {
         m->overflow = 1;
     }
@@ -629,7 +629,7 @@ static inline int fe_jacobian_dense(const fe_model *md, const double *y, double 
     fe_mat K;
     int j;
     for (j = 0; j <= md->n; j++) memset(jac + (size_t)j * ld, 0, sizeof(double) * (size_t)md->n);
-    K.a = jac; K.ld = ld; K.kl = -1; K.ku = -1; K.overflow = 0;
+    K.a = jac; K.ld = ld; K.kl = -1; K.ku = -1; K.off = 0; K.overflow = 0;
     return fe_jacobian_parts(md, y, &K, jac + (size_t)md->n * ld);
 }
 
@@ -783,6 +783,7 @@ typedef struct fe_branch {
     int switches;         /* kinks passed on the way */
     double resnorm;       /* ||H|| at the end point */
     int states[4];        /* contact state counts at the end point */
+    int corner;           /* state of the contact node the example watches */
     double *y;            /* end point (n + 1) */
 } fe_branch;
 
@@ -792,6 +793,8 @@ typedef struct fe_run {
     psb_solver s;
     int np1;
     double kink_tol;      /* |gamma| below which a kink is the branching point */
+    double branch_step_min; /* h_min from Algorithm 2.1 on (0: keep the solver's) */
+    double approach_step_min;
     /* every accepted point of the branch traces: (branch, gamma, u1_left, u2_left) */
     double *diag;
     long ndiag, capdiag;
@@ -813,6 +816,18 @@ static inline int fe_psb_residual(const double *y, double *h, void *user)
 static inline int fe_psb_jacobian(const double *y, double *jac, int ldjac, void *user)
 {
     return fe_jacobian_dense((const fe_model *)user, y, jac, ldjac);
+}
+
+/* pscbranch's banded backend: the state block in PSB_BAND_INDEX layout (arrives zeroed) and the
+   parameter column; kl = ku = md->half_band. */
+static inline int fe_psb_band_jacobian(const double *y, double *band, int ldband, double *dparam, void *user)
+{
+    const fe_model *md = (const fe_model *)user;
+    fe_mat K;
+    int rc;
+    K.a = band; K.ld = ldband; K.kl = K.ku = K.off = md->half_band; K.overflow = 0;
+    rc = fe_jacobian_parts(md, y, &K, dparam);
+    return K.overflow ? -1 : rc;
 }
 
 static inline double fe_resnorm(const fe_model *md, const double *y)
@@ -850,7 +865,7 @@ static inline int fe_run_point(const psb_point *pt, void *user)
     return 0;
 }
 
-static inline int fe_run_init(fe_run *run, fe_model *md, const psb_options *opt)
+static inline int fe_run_init(fe_run *run, fe_model *md, const psb_options *opt, int banded)
 {
     int k;
     memset(run, 0, sizeof *run);
@@ -859,6 +874,11 @@ static inline int fe_run_init(fe_run *run, fe_model *md, const psb_options *opt)
     run->cur = -1;
     run->kink_tol = 1e-4;
     psb_problem_init(&run->prob, md->n, fe_psb_residual, fe_psb_jacobian, md);
+    if (banded) {
+        run->prob.linear = PSB_LINEAR_BANDED;
+        run->prob.kl = run->prob.ku = md->half_band;
+        run->prob.band_jacobian = fe_psb_band_jacobian;
+    }
     if (psb_solver_init(&run->s, &run->prob, opt) != PSB_SUCCESS) return -1;
     run->yprev = malloc(sizeof(double) * 4 * (size_t)run->np1);
     run->ys = malloc(sizeof(double) * (size_t)FE_MAX_BRANCHES * (size_t)run->np1);
@@ -883,47 +903,49 @@ static inline void fe_run_free(fe_run *run)
     memset(run, 0, sizeof *run);
 }
 
-/* Continue (y, t) towards the branching point at gamma = 0: trace without switching, pass the
-   kinks met on the way (|gamma| > kink_tol) with the simple tangent switch, and if the trace
-   lands on gamma = 0 itself, go back to the last couple before it. Then close in on gamma = 0
-   by steps of half the remaining (linearly estimated) arc length, so that Algorithm 2.1 starts
-   within its step h of the end point. Returns the last trace code (< 0: failure). */
+/* Point callback of the approach: stop on the kink located at the branching point. */
+static inline int fe_run_approach_point(const psb_point *pt, void *user)
+{
+    fe_run *run = (fe_run *)user;
+    fe_run_point(pt, user);
+    return (pt->flags & PSB_POINT_KINK) && fabs(pt->y[run->md->n]) <= run->kink_tol;
+}
+
+/* Continue (y, t) towards the branching point at gamma = 0 with kink location on: kinks met on
+   the way (|gamma| > kink_tol) are passed, the one at gamma ~ 0 stops the trace on the couple
+   just before it, which is what Algorithm 2.1 wants. Should the trace land on gamma = 0 without
+   having seen that kink, it goes back to the last couple before it and closes in by steps of
+   half the remaining (linearly estimated) arc length. Returns the trace code (< 0: failure). */
 static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int verbose)
 {
     int np1 = run->np1, n = run->md->n, pass;
     double g0 = y[n];
     psb_trace_options to;
     psb_trace_report rep;
-    psb_result r = PSB_SUCCESS;
+    psb_result r;
     memset(&to, 0, sizeof to);
     to.param_min = g0 < 0 ? g0 : 0;
     to.param_max = g0 < 0 ? 0 : g0;
-    to.no_switch = 1;
-    to.on_point = fe_run_point;
+    to.locate_kinks = 1;
+    to.on_point = fe_run_approach_point;
     to.point_user = run;
     run->cur = -1;
-    for (pass = 0; pass < 100; pass++) {
-        r = psb_trace(&run->s, y, t, &to, &rep);
-        if (verbose)
-            printf("  approach: trace %s after %ld steps at gamma = %.3e\n", psb_result_string(r), rep.steps, y[n]);
-        if (r == PSB_PARAM_BOUND && y[n] == 0) {
-            memcpy(y, run->yprev, sizeof(double) * (size_t)np1);
-            memcpy(t, run->tprev, sizeof(double) * (size_t)np1);
-            break;
-        }
-        if (r != PSB_NONSMOOTH_END) return r;
-        if (fabs(y[n]) <= run->kink_tol) break;
-        r = psb_switch_tangent(&run->s, y, t);
-        if (verbose) printf("  approach: kink at gamma = %.6f, switch: %s\n", y[n], psb_result_string(r));
-        if (r != PSB_SUCCESS) return r < 0 ? r : PSB_NONSMOOTH_END;
-    }
+    if (run->approach_step_min > 0) run->s.opt.h_min = run->approach_step_min;
+    r = psb_trace(&run->s, y, t, &to, &rep);
+    if (verbose)
+        printf("  approach: trace %s after %ld steps, %d kinks located, at gamma = %.3e\n", psb_result_string(r),
+               rep.steps, rep.n_kinks, y[n]);
+    if (r == PSB_STOPPED) return r;
+    if (r != PSB_PARAM_BOUND || y[n] != 0) return r < 0 ? r : PSB_ERR_NO_CONVERGENCE;
+    memcpy(y, run->yprev, sizeof(double) * (size_t)np1);
+    memcpy(t, run->tprev, sizeof(double) * (size_t)np1);
     for (pass = 0; pass < 200; pass++) {
         double d = fabs(t[n]) > 0 ? -y[n] / t[n] : -1, h;
         if (!(d > run->s.opt.branch_h)) break;
         h = 0.5 * d;
         if (psb_step(&run->s, y, t, &h) != PSB_SUCCESS) break;
     }
-    if (verbose) printf("  approach: last couple at gamma = %.3e\n", y[n]);
+    if (verbose) printf("  approach: no kink seen before gamma = 0; closed in to gamma = %.3e\n", y[n]);
     return PSB_SUCCESS;
 }
 
@@ -931,6 +953,9 @@ static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int 
 static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
 {
     psb_result r = psb_locate_end(&run->s, y, t, &run->precision);
+    /* the trial steps of Algorithm 2.2 and the traces give up below branch_step_min, not at the
+       tiny h_min the approach to the end point needed */
+    if (run->branch_step_min > 0) run->s.opt.h_min = run->branch_step_min;
     if (r < 0) return r;
     r = psb_find_branches(&run->s, y, t, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
     if (r < 0) return r;

@@ -624,7 +624,9 @@ static void test_failures(void)
         o.weights = NULL;
     }
     CHECK(psb_solver_init_with_memory(&s, &p, &o, mem, sizeof mem) == PSB_ERR_NOMEM);
-    CHECK(psb_solver_memory_size(0) == 0);
+    p.n = 0;
+    CHECK(psb_solver_memory_size(&p) == 0);
+    p.n = 1;
     CHECK(strcmp(psb_result_string(PSB_ERR_SINGULAR), "") != 0);
     CHECK(strncmp(psb_result_string((psb_result)99), "unknown", 7) == 0);
 

@@ -1,0 +1,407 @@
+/* The linear-algebra backends: banded (with its bordering at folds, exact singularity of the
+   state block, finite differences by column groups) and user-supplied, against the dense one. */
+#define PSCBRANCH_IMPLEMENTATION
+#include "pscbranch.h"
+#include "harness.h"
+#include "pl_problems.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- Bratu: -u'' = g exp(u) on (0,1), u(0) = u(1) = 0, n interior points ---------------------
+   Tridiagonal in u; the continuous problem has its fold at g* = 3.513830719, the discrete one
+   slightly off (O(h^2)). */
+typedef struct {
+    int n;
+} bratu;
+
+static int bratu_res(const double *y, double *h, void *user)
+{
+    const bratu *b = (const bratu *)user;
+    int n = b->n, i;
+    double dx = 1.0 / (n + 1), g = y[n];
+    for (i = 0; i < n; i++) {
+        double left = i > 0 ? y[i - 1] : 0, right = i < n - 1 ? y[i + 1] : 0;
+        h[i] = (2 * y[i] - left - right) / (dx * dx) - g * exp(y[i]);
+    }
+    return 0;
+}
+
+static int bratu_jac(const double *y, double *jac, int ld, void *user)
+{
+    const bratu *b = (const bratu *)user;
+    int n = b->n, i, j;
+    double dx = 1.0 / (n + 1), g = y[n];
+    for (j = 0; j <= n; j++)
+        for (i = 0; i < n; i++) jac[i + j * ld] = 0;
+    for (i = 0; i < n; i++) {
+        jac[i + i * ld] = 2 / (dx * dx) - g * exp(y[i]);
+        if (i > 0) jac[i + (i - 1) * ld] = -1 / (dx * dx);
+        if (i < n - 1) jac[i + (i + 1) * ld] = -1 / (dx * dx);
+        jac[i + n * ld] = -exp(y[i]);
+    }
+    return 0;
+}
+
+static int bratu_band(const double *y, double *band, int ld, double *dparam, void *user)
+{
+    const bratu *b = (const bratu *)user;
+    int n = b->n, i;
+    double dx = 1.0 / (n + 1), g = y[n];
+    for (i = 0; i < n; i++) {
+        band[PSB_BAND_INDEX(1, ld, i, i)] = 2 / (dx * dx) - g * exp(y[i]);
+        if (i > 0) band[PSB_BAND_INDEX(1, ld, i, i - 1)] = -1 / (dx * dx);
+        if (i < n - 1) band[PSB_BAND_INDEX(1, ld, i, i + 1)] = -1 / (dx * dx);
+        dparam[i] = -exp(y[i]);
+    }
+    return 0;
+}
+
+typedef struct {
+    double max_res;
+    const psb_solver *s;
+} watch;
+
+static int watch_point(const psb_point *pt, void *user)
+{
+    watch *w = (watch *)user;
+    double h[400], r = 0;
+    int i;
+    w->s->prob.residual(pt->y, h, w->s->prob.user);
+    for (i = 0; i < w->s->prob.n; i++) r += h[i] * h[i];
+    if (sqrt(r) > w->max_res) w->max_res = sqrt(r);
+    return 0;
+}
+
+/* Traces Bratu from u = 0, g = 0 through its fold down to g = 1 on the upper branch. */
+static void trace_bratu(psb_linear linear, int analytic, double *fold, double *u_mid, long *steps)
+{
+    bratu b;
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    watch w;
+    double y[201], t[201];
+    int i;
+    b.n = 200;
+    psb_problem_init(&p, b.n, bratu_res, analytic ? bratu_jac : NULL, &b);
+    p.linear = linear;
+    p.kl = p.ku = 1;
+    p.band_jacobian = analytic ? bratu_band : NULL;
+    memset(&o, 0, sizeof o);
+    o.kappa = 1.0 / b.n;
+    o.h_max = 0.2;
+    o.tol_residual = 1e-7; /* residual scale ~ 1/dx^2 = 4e4 */
+    o.tol_correction = 1e-9;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    for (i = 0; i <= b.n; i++) y[i] = 0;
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+    CHECK(t[b.n] > 0);
+    memset(&to, 0, sizeof to);
+    memset(&w, 0, sizeof w);
+    w.s = &s;
+    to.param_min = 0;
+    to.param_max = 1.0;
+    to.on_point = watch_point;
+    to.point_user = &w;
+    /* first to g = 1 on the lower branch, then the bound is moved below: the fold and back */
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_PARAM_BOUND);
+    to.param_min = 1.0;
+    to.param_max = 5.0;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_PARAM_BOUND);
+    CHECK(y[b.n] == 1.0);
+    CHECK(rep.n_folds == 1);
+    CHECK(w.max_res <= 1e-7);
+    *fold = rep.fold_params[0];
+    *u_mid = y[b.n / 2];
+    *steps = rep.steps;
+    psb_solver_free(&s);
+}
+
+static void test_bratu(void)
+{
+    double fd, fb, fbf, ud, ub, ubf;
+    long sd, sb, sbf;
+    trace_bratu(PSB_LINEAR_DENSE, 1, &fd, &ud, &sd);
+    trace_bratu(PSB_LINEAR_BANDED, 1, &fb, &ub, &sb);
+    trace_bratu(PSB_LINEAR_BANDED, 0, &fbf, &ubf, &sbf);
+    /* the discrete fold converges to the continuous 3.513830719 as O(dx^2) */
+    CHECK_NEAR(fd, 3.513830719, 2e-4);
+    CHECK_NEAR(fb, fd, 1e-9);
+    CHECK_NEAR(ub, ud, 1e-8);
+    CHECK(sb == sd);
+    CHECK_NEAR(fbf, fd, 1e-5);
+    CHECK_NEAR(ubf, ud, 1e-6);
+    /* the upper branch at g = 1 against the exact solution
+       u = -2 ln(cosh((x - 1/2) th/2) / cosh(th/4)), th = sqrt(2 g) cosh(th/4), larger root */
+    {
+        double lo = 4, hi = 20, th;
+        int k;
+        for (k = 0; k < 200; k++) {
+            double mid = 0.5 * (lo + hi);
+            if (mid - sqrt(2.0) * cosh(mid / 4) > 0) lo = mid;
+            else hi = mid;
+        }
+        th = 0.5 * (lo + hi);
+        printf("  upper Bratu branch at g = 1: u(1/2) = %.6f, exact %.6f\n", ud, 2 * log(cosh(th / 4)));
+        CHECK_NEAR(ud, 2 * log(cosh(th / 4)), 2e-3);
+    }
+}
+
+/* ---- a chain whose state block is exactly singular at the folds ---------------------------
+   x0^2 + g^2 = 1, x_i = x_{i-1} (i >= 1): at g = +-1 the first row of dH/dx vanishes. */
+static int chain_res(const double *y, double *h, void *user)
+{
+    int n = *(const int *)user, i;
+    h[0] = y[0] * y[0] + y[n] * y[n] - 1;
+    for (i = 1; i < n; i++) h[i] = y[i] - y[i - 1];
+    return 0;
+}
+
+static int chain_band(const double *y, double *band, int ld, double *dparam, void *user)
+{
+    int n = *(const int *)user, i;
+    band[PSB_BAND_INDEX(0, ld, 0, 0)] = 2 * y[0];
+    dparam[0] = 2 * y[n];
+    for (i = 1; i < n; i++) {
+        band[PSB_BAND_INDEX(0, ld, i, i)] = 1;
+        band[PSB_BAND_INDEX(0, ld, i, i - 1)] = -1;
+    }
+    return 0;
+}
+
+static void test_singular_block(void)
+{
+    int n = 30, i;
+    psb_problem p;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    double y[31], t[31], ref[31];
+    psb_problem_init(&p, n, chain_res, NULL, &n);
+    p.linear = PSB_LINEAR_BANDED;
+    p.kl = 1;
+    p.ku = 0;
+    p.band_jacobian = chain_band;
+    CHECK(psb_solver_init(&s, &p, NULL) == PSB_SUCCESS);
+    /* exactly at the fold: dH/dx singular, the bordered matrix is not */
+    for (i = 0; i < n; i++) y[i] = 0, ref[i] = 1;
+    y[n] = 1;
+    ref[n] = 0;
+    CHECK(psb_tangent(&s, y, ref, t) == PSB_SUCCESS);
+    for (i = 0; i < n; i++) CHECK_NEAR(t[i], 1 / sqrt((double)n), 1e-12);
+    CHECK_NEAR(t[n], 0, 1e-12);
+    /* with e_g as reference (orthogonal to the kernel) the fallback rows still give it */
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+    CHECK_NEAR(fabs(t[0]), 1 / sqrt((double)n), 1e-12);
+    /* all the way round: two folds, both exactly singular for the banded block */
+    for (i = 0; i < n; i++) y[i] = 0.6;
+    y[n] = 0.8;
+    for (i = 0; i <= n; i++) ref[i] = i < n ? 1 : 0;
+    CHECK(psb_tangent(&s, y, ref, t) == PSB_SUCCESS);
+    memset(&to, 0, sizeof to);
+    to.detect_loop = 1;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
+    CHECK(rep.n_folds == 2);
+    CHECK_NEAR(rep.fold_params[0], -1, 1e-5);
+    CHECK_NEAR(rep.fold_params[1], 1, 1e-5);
+    psb_solver_free(&s);
+}
+
+/* ---- a user-supplied solver: dense LU of the bordered matrix, written here ----------------- */
+extern void dgetrf_(const int *, const int *, double *, const int *, int *, int *);
+extern void dgetrs_(const char *, const int *, const int *, const double *, const int *, const int *,
+                    double *, const int *, int *, size_t);
+
+typedef struct {
+    int n, calls, fail_mode; /* 1: factor reports singular, 2: factor stops */
+    pl_problem *pl;
+    double mat[13 * 13];
+    int ipiv[13];
+} user_lu;
+
+static int user_factor(const double *y, const double *row, void *ctx)
+{
+    user_lu *u = (user_lu *)ctx;
+    int np1 = u->n + 1, j, info = 0;
+    u->calls++;
+    if (u->fail_mode == 1) return 1;
+    if (u->fail_mode == 2) return -1;
+    pl_jacobian(y, u->mat, np1, u->pl);
+    for (j = 0; j < np1; j++) u->mat[u->n + j * np1] = row[j];
+    dgetrf_(&np1, &np1, u->mat, &np1, u->ipiv, &info);
+    return info != 0;
+}
+
+static int user_solve(double *b, int nrhs, void *ctx)
+{
+    user_lu *u = (user_lu *)ctx;
+    int np1 = u->n + 1, info = 0;
+    dgetrs_("N", &np1, &nrhs, u->mat, &np1, u->ipiv, b, &np1, &info, 1);
+    return info != 0;
+}
+
+/* PL branching with the three backends: same branches. The LCP matrix is tridiagonal. */
+static int pl_band(const double *y, double *band, int ld, double *dparam, void *user)
+{
+    const pl_problem *p = (const pl_problem *)user;
+    int n = p->n, i, j;
+    for (i = 0; i < n; i++) {
+        double w = p->q[i] * y[n];
+        for (j = 0; j < n; j++) w += p->m[i + j * n] * y[j];
+        if (y[i] <= w) {
+            band[PSB_BAND_INDEX(1, ld, i, i)] = 1;
+        } else {
+            for (j = i - 1; j <= i + 1; j++)
+                if (j >= 0 && j < n) band[PSB_BAND_INDEX(1, ld, i, j)] = p->m[i + j * n];
+            dparam[i] = p->q[i];
+        }
+    }
+    return 0;
+}
+
+static int stop_at_kink(const psb_point *pt, void *u)
+{
+    (void)u;
+    return (pt->flags & PSB_POINT_KINK) != 0;
+}
+
+static int branches_with(psb_linear linear, pl_problem *pl, user_lu *ul, double *ts)
+{
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_branch_report br;
+    double y[13], t[13], ys[16 * 13];
+    int i, n = pl->n;
+    psb_problem_init(&p, n, pl_residual, pl_jacobian, pl);
+    p.linear = linear;
+    p.kl = p.ku = 1;
+    p.band_jacobian = pl_band;
+    p.solver.factor = user_factor;
+    p.solver.solve = user_solve;
+    p.solver.ctx = ul;
+    memset(&o, 0, sizeof o);
+    o.h_init = 5e-4;
+    o.h_min = 5e-7;
+    o.branch_h = 5e-7;
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    /* start on the ray x = (1, 1, 0, ...), g = 1 (both -1 diagonal entries active) */
+    for (i = 0; i <= n; i++) y[i] = 0;
+    y[n] = 1;
+    y[0] = y[1] = 1;
+    CHECK(psb_solve_at_param(&s, y, 0) == PSB_SUCCESS);
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+    for (i = 0; i <= n; i++) t[i] = -t[i];
+    memset(&to, 0, sizeof to);
+    to.locate_kinks = 1;
+    to.on_point = stop_at_kink;
+    {
+        psb_result r = psb_trace(&s, y, t, &to, NULL);
+        CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
+    }
+    CHECK(psb_norm_w(&s, y) < 2e-6);
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y, t, 16, ys, ts, &br) == PSB_SUCCESS);
+    psb_solver_free(&s);
+    return br.n_branches;
+}
+
+static void test_backends_agree(void)
+{
+    pl_problem pl;
+    user_lu ul;
+    double td[16 * 13], tb[16 * 13], tu[16 * 13], rays[64 * 13];
+    int i, nd, nb, nu, n = 12, k, expect;
+    memset(&pl, 0, sizeof pl);
+    pl.n = n;
+    for (i = 0; i < n; i++) {
+        pl.m[i + i * n] = i < 2 ? -1 : 3;
+        if (i > 0) pl.m[i + (i - 1) * n] = 0.3;
+        if (i < n - 1) pl.m[i + (i + 1) * n] = i == 1 ? 0 : -0.2;
+        pl.q[i] = i < 2 ? 1 : (i % 2 ? 0.5 : -0.7);
+    }
+    expect = pl_enumerate_rays(&pl, 1.0, 1e-6, rays, 64);
+    CHECK(pl_enumerate_rays(&pl, -1.0, 1e-6, rays, 64) == 0);
+    CHECK(expect == 4);
+    memset(&ul, 0, sizeof ul);
+    ul.n = n;
+    ul.pl = &pl;
+    nd = branches_with(PSB_LINEAR_DENSE, &pl, &ul, td);
+    nb = branches_with(PSB_LINEAR_BANDED, &pl, &ul, tb);
+    nu = branches_with(PSB_LINEAR_USER, &pl, &ul, tu);
+    CHECK(nd == expect && nb == expect && nu == expect);
+    CHECK(ul.calls > 0);
+    for (k = 0; k < expect && k < nd && k < nb && k < nu; k++)
+        for (i = 0; i <= n; i++) {
+            CHECK_NEAR(tb[k * (n + 1) + i], td[k * (n + 1) + i], 1e-10);
+            CHECK_NEAR(tu[k * (n + 1) + i], td[k * (n + 1) + i], 1e-12);
+        }
+}
+
+static void test_user_failures(void)
+{
+    pl_problem pl;
+    user_lu ul;
+    psb_problem p;
+    psb_solver s;
+    double y[3] = {1, 1, 1}, y0[3], t[3];
+    memset(&pl, 0, sizeof pl);
+    pl.n = 2;
+    pl.m[0] = pl.m[3] = -1;
+    pl.q[0] = pl.q[1] = 1;
+    memset(&ul, 0, sizeof ul);
+    ul.n = 2;
+    ul.pl = &pl;
+    psb_problem_init(&p, 2, pl_residual, NULL, &pl);
+    p.linear = PSB_LINEAR_USER;
+    CHECK(psb_solver_init(&s, &p, NULL) == PSB_ERR_NULL); /* factor/solve missing */
+    p.solver.factor = user_factor;
+    p.solver.solve = user_solve;
+    p.solver.ctx = &ul;
+    CHECK(psb_solver_init(&s, &p, NULL) == PSB_SUCCESS);
+    memcpy(y0, y, sizeof y);
+    ul.fail_mode = 1;
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_ERR_SINGULAR);
+    CHECK(psb_solve_at_param(&s, y, 5) == PSB_ERR_SINGULAR);
+    ul.fail_mode = 2;
+    CHECK(psb_solve_at_param(&s, y, 5) == PSB_ERR_CALLBACK);
+    CHECK(memcmp(y, y0, sizeof y) == 0);
+    psb_solver_free(&s);
+    /* invalid banded sizes */
+    psb_problem_init(&p, 2, pl_residual, NULL, &pl);
+    p.linear = PSB_LINEAR_BANDED;
+    p.kl = 2;
+    CHECK(psb_solver_init(&s, &p, NULL) == PSB_ERR_SIZE);
+    p.kl = -1;
+    CHECK(psb_solver_memory_size(&p) == 0);
+    p.linear = (psb_linear)9;
+    CHECK(psb_solver_init(&s, &p, NULL) == PSB_ERR_OPTIONS);
+}
+
+/* Banded memory stays linear in n: no (n+1)^2 block. */
+static void test_memory(void)
+{
+    psb_problem p;
+    int n = 10000;
+    psb_problem_init(&p, n, chain_res, NULL, &n);
+    p.linear = PSB_LINEAR_BANDED;
+    p.kl = 2;
+    p.ku = 2;
+    CHECK(psb_solver_memory_size(&p) < (size_t)(60 + 9 * 5) * (size_t)(n + 1) * sizeof(double));
+    p.linear = PSB_LINEAR_DENSE;
+    CHECK(psb_solver_memory_size(&p) > (size_t)2 * (size_t)n * (size_t)n * sizeof(double));
+}
+
+int main(void)
+{
+    test_bratu();
+    test_singular_block();
+    test_backends_agree();
+    test_user_failures();
+    test_memory();
+    return HARNESS_END();
+}
