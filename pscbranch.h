@@ -424,6 +424,14 @@ typedef struct psb_options {
     double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
     int n_dir;            /* directions per span of two tangents [20] */
     int n_span;           /* selections of the two spanning tangents [15] */
+    double branch_trial_h_min; /* trial steps of Algorithm 2.2 give up below this step [h_min];
+                                  e.g. branch_h_init / 16 bounds each trial to 5 correctors */
+    int branch_patience;  /* stop after this many spans in a row found no new branch
+                             [0: never, run all n_span] */
+    long branch_max_pc;   /* stop the sweep when n_pc reaches this budget [0: no budget] */
+    int paper_sweep;      /* 1: directions v = sin(a) t~1 + cos(a) t~2 exactly as printed;
+                             0: t~2 is first made w-orthogonal to t~1, so that the directions
+                             spread evenly over the plane [0] */
     int restart;          /* how random spans are drawn once the pairs of known branches are
                              used up [PSB_RESTART_MIXED]: see psb_restart */
     unsigned long long seed; /* seed of the generator of the random spans [0 is a valid seed] */
@@ -831,7 +839,7 @@ enum {
     PSB__V_TR_Y, PSB__V_TR_T, PSB__V_TR_Y0, PSB__V_TR_T0, PSB__V_TR_B, PSB__V_TR_S, /* trace */
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
-    PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P,           /* branching */
+    PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P, PSB__V_BR_Q, /* branching */
     PSB__NVEC
 };
 #define PSB__VEC(s, k) ((s)->vec_ + (size_t)(k) * (size_t)(s)->np1_)
@@ -903,6 +911,7 @@ PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
     if (o.branch_h_init == 0) o.branch_h_init = o.h_init;
     if (o.n_dir == 0) o.n_dir = 20;
     if (o.n_span == 0) o.n_span = 15;
+    if (o.branch_trial_h_min == 0) o.branch_trial_h_min = o.h_min;
     return o;
 }
 
@@ -948,6 +957,8 @@ static const char *psb__check_options(const psb_options *o, int np1)
         !psb__finite(o->branch_h) || !psb__finite(o->branch_h_init))
         return "need 0 < branch_h_min < branch_h and branch_h_init > 0";
     if (o->n_dir < 1 || o->n_span < 1) return "n_dir and n_span must be >= 1";
+    if (!(o->branch_trial_h_min > 0) || o->branch_patience < 0 || o->branch_max_pc < 0)
+        return "need branch_trial_h_min > 0, branch_patience >= 0, branch_max_pc >= 0";
     if (o->restart < PSB_RESTART_MIXED || o->restart > PSB_RESTART_GLOBAL)
         return "restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
     return NULL;
@@ -2194,11 +2205,21 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
     double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
     double *tprev = PSB__VEC(s, PSB__V_BR_TP), *yb = PSB__VEC(s, PSB__V_BR_Y);
     double *tb = PSB__VEC(s, PSB__V_BR_T), *pt = PSB__VEC(s, PSB__V_BR_P);
-    double h = s->opt.branch_h;
+    double h = s->opt.branch_h, *q = PSB__VEC(s, PSB__V_BR_Q);
     psb_result r;
+    psb__copy(q, t2, np1);
+    if (!s->opt.paper_sweep) {
+        /* t2 made w-orthogonal to t1: the same plane, but the n_dir directions spread evenly
+           over it even when t1 and t2 are nearly parallel (then the printed combination
+           bunches them around +-t1 and +-t2 and misses the regions in between) */
+        double c = psb_dot_w(s, t1, t2) / psb_dot_w(s, t1, t1);
+        for (k = 0; k < np1; k++) q[k] = t2[k] - c * t1[k];
+        if (!psb__normalize_w(s, q)) return PSB_SUCCESS; /* t2 parallel to t1: no plane */
+        for (k = 0; k < np1; k++) q[k] *= psb_norm_w(s, t1);
+    }
     for (i = 0; i < s->opt.n_dir; i++) {
         double alpha = 6.283185307179586 * i / s->opt.n_dir;
-        for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * t2[k];
+        for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
         rep->n_tangents++;
@@ -2213,8 +2234,9 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
             int j, is_new = 1;
             psb__copy(yb, y0, np1);
             for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
+            if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
             rep->n_pc++;
-            r = psb__try_step(s, yb, tb, &hh, s->opt.h_min, &iters);
+            r = psb__try_step(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) continue;
             /* Step 5(i): orient away from the point */
@@ -2223,7 +2245,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
             if (dotp < 0)
                 for (k = 0; k < np1; k++) tb[k] = -tb[k];
             /* Step 5(ii): a new branch unless it is within c_diff of a known one */
-            for (j = 0; j < rep->n_branches && j < max_branches; j++)
+            for (j = 0; j < rep->n_branches; j++)
                 if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
             if (!is_new) continue;
             if (rep->n_branches >= max_branches) {
@@ -2243,7 +2265,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                                            psb_branch_report *rep)
 {
     psb_branch_report local;
-    int np1, k, span, overflow = 0, global;
+    int np1, k, span, overflow = 0, global, found_before, idle = 0;
     long next_pair = 0;
     unsigned long long seed;
     double *yc, *tc, *t1, *t2, *pt;
@@ -2279,7 +2301,6 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     for (span = 0; span < s->opt.n_span; span++) {
         if (span > 0) {
             long avail = (long)rep->n_branches * (rep->n_branches - 1) / 2;
-            if (rep->n_branches > max_branches) avail = (long)max_branches * (max_branches - 1) / 2;
             if (next_pair < avail) {
                 /* Section 3, strategy (1): the pairs of branches found so far, in the order
                    (0,1), (0,2), (1,2), (0,3), ... so that newly found branches join in */
@@ -2311,15 +2332,16 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
             }
         }
         rep->n_span++;
+        found_before = rep->n_branches;
         r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
         if (r != PSB_SUCCESS) return r;
+        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) break;
+        /* adaptive end: spans in a row that brought no new branch */
+        idle = rep->n_branches > found_before ? 0 : idle + 1;
+        if (s->opt.branch_patience && idle >= s->opt.branch_patience) break;
     }
     s->message[0] = 0;
-    if (overflow) {
-        if (rep->n_branches > max_branches) rep->n_branches = max_branches;
-        return PSB_BRANCH_CAPACITY;
-    }
-    return PSB_SUCCESS;
+    return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
 
 /* ==== contact helpers ==================================================================== */

@@ -143,7 +143,20 @@ int main(int argc, char **argv)
     printf("  Algorithms 2.1-2.2: c_diff = %g, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
     t0 = seconds();
+    if (a.input) a.start = a.input <= 3 ? -1 : 1;
     y[n] = a.start;
+    if (a.input) {
+        /* Newton from a guess sheared with the load and lifted by 0, 0.5 or 1 mm at the bottom
+           lands (on M200 at least) on the branch whose lower vertex is lifted, sticks, slips */
+        static const double lift[3] = {0.0, 0.5, 1.0};
+        int nd;
+        for (nd = 0; nd < mesh.nnode; nd++)
+            if (md.udof[nd] >= 0) {
+                double s = 1 - mesh.x[2 * nd + 1] / 80;
+                y[md.udof[nd]] = -3.0 * a.start * s;
+                y[md.udof[nd] + 1] = lift[(a.input - 1) % 3] * s;
+            }
+    }
     r = psb_solve_at_param(&run.s, y, 50);
     if (r != PSB_SUCCESS) { printf("block: Newton at gamma = %d failed: %s\n", a.start, psb_result_string(r)); return 1; }
     {

@@ -436,7 +436,7 @@ static int star_rays(const star_problem *sp, double *rays)
     return count;
 }
 
-static void check_star(int nz, int incoming)
+static void check_star(int nz, int incoming, int paper_sweep)
 {
     star_problem sp;
     psb_problem prob;
@@ -458,6 +458,7 @@ static void check_star(int nz, int incoming)
     CHECK(n_rays == 8);
     psb_problem_init(&prob, nz + 1, star_res, star_jac, &sp);
     paper_options(&o);
+    o.paper_sweep = paper_sweep;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     for (i = 0; i < np1; i++) {
         y[i] = 0.5 * rays[incoming * np1 + i];
@@ -481,6 +482,59 @@ static void check_star(int nz, int incoming)
             }
         }
     CHECK(matched == 8);
+    psb_solver_free(&s);
+}
+
+/* The adaptive end, the n_pc budget and the capacity limit on the planar star (8 branches). */
+static void test_branch_budgets(void)
+{
+    star_problem sp;
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_branch_report full, adaptive, budget, cap;
+    double rays[8 * 2], ys[16 * 2], ts[16 * 2], y[2], t[2], y0[2], t0[2];
+    memset(&sp, 0, sizeof sp);
+    CHECK(star_rays(&sp, rays) == 8);
+    psb_problem_init(&prob, 1, star_res, star_jac, &sp);
+    paper_options(&o);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    y[0] = 0.5 * rays[0];
+    y[1] = 0.5 * rays[1];
+    t[0] = -rays[0];
+    t[1] = -rays[1];
+    memset(&to, 0, sizeof to);
+    to.locate_kinks = 1;
+    to.on_point = stop_at_kink;
+    CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_STOPPED);
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+    memcpy(y0, y, sizeof y);
+    memcpy(t0, t, sizeof t);
+    CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &full) == PSB_SUCCESS);
+    CHECK(full.n_branches == 8 && full.n_span == 15);
+    psb_solver_free(&s);
+
+    o.branch_patience = 2;
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &adaptive) == PSB_SUCCESS);
+    CHECK(adaptive.n_branches == 8);
+    CHECK(adaptive.n_span < full.n_span && 2 * adaptive.n_pc <= full.n_pc);
+    psb_solver_free(&s);
+
+    o.branch_patience = 0;
+    o.branch_max_pc = 10;
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &budget) == PSB_SUCCESS);
+    CHECK(budget.n_pc == 10);
+    psb_solver_free(&s);
+
+    o.branch_max_pc = 0;
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y0, t0, 3, ys, ts, &cap) == PSB_BRANCH_CAPACITY);
+    CHECK(cap.n_branches == 3);
+    CHECK(psb_find_branches(&s, y0, t0, 0, ys, ts, &cap) == PSB_ERR_SIZE);
+    CHECK(psb_find_branches(&s, y0, t0, 3, NULL, ts, &cap) == PSB_ERR_NULL);
     psb_solver_free(&s);
 }
 
@@ -518,10 +572,12 @@ static void test_pl_branching(void)
     }
     check_pl(&p, 4, 1, "N=12");
     /* eight branches in the plane, then the same star embedded with N = 11 */
-    check_star(0, 0);
-    check_star(0, 5);
-    check_star(10, 2);
-    check_star(10, 7);
+    check_star(0, 0, 0);
+    check_star(0, 5, 0);
+    check_star(10, 2, 0);
+    check_star(10, 7, 0);
+    check_star(0, 0, 1); /* the directions exactly as printed in the paper */
+    check_star(10, 7, 1);
 }
 
 /* Same seed, same branches and counters, bit for bit, also through random restarts. */
@@ -726,6 +782,7 @@ int main(void)
     test_gentle_kink();
     test_nonsmooth_fold();
     test_pl_branching();
+    test_branch_budgets();
     test_determinism();
     test_solve_at_param();
     test_failures();
