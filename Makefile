@@ -18,7 +18,7 @@ HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_contact $(BUILD)/test_linkage
 EXAMPLES = examples/01_branching examples/fc_solve
 
-.PHONY: all test demo examples asan ubsan clean check-tools
+.PHONY: all test demo examples bench asan ubsan clean
 
 all: $(TESTS) $(EXAMPLES)
 
@@ -55,6 +55,15 @@ demo: examples/01_branching
 	@mkdir -p out
 	./examples/01_branching --out out
 
+BENCH = bench/bench_linear
+
+bench/%: bench/%.c $(HEADER)
+	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
+
+bench: $(BENCH)
+	@mkdir -p bench/out
+	./bench/bench_linear --csv bench/out/linear.csv
+
 asan:
 	$(MAKE) BUILD=build-asan OPT="-O1 -g" SAN="-fsanitize=address -fno-omit-frame-pointer" EXAMPLES= SMOKE= test
 
@@ -62,4 +71,4 @@ ubsan:
 	$(MAKE) BUILD=build-ubsan OPT="-O1 -g" SAN="-fsanitize=undefined -fno-sanitize-recover=all" EXAMPLES= SMOKE= test
 
 clean:
-	rm -rf build build-asan build-ubsan out $(EXAMPLES)
+	rm -rf build build-asan build-ubsan out bench/out $(EXAMPLES) $(BENCH)

@@ -9,7 +9,7 @@
    each ends on |gamma| = 1 with a small residual, and the contact states are as in the paper.
 
    Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--kappa 1|1/N|VALUE]
-                [--start -1|1] [--dirichlet mult|elim] [--hmin H] [--seed S] [--out DIR] [--dense] [--verbose]
+                [--start -1|1] [--dirichlet mult|elim] [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--seed S] [--out DIR] [--dense] [--verbose]
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
@@ -21,7 +21,7 @@
 #include "fe.h"
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 and of the traces */
     unsigned long long seed;
@@ -32,7 +32,7 @@ static int parse(int argc, char **argv, args *a)
 {
     int i;
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
-    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->kappa = -1; a->hmin = 1e-5; a->seed = 0; a->out = NULL;
+    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 1e-5; a->seed = 0; a->out = NULL;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
@@ -45,6 +45,8 @@ static int parse(int argc, char **argv, args *a)
         else if (!strcmp(o, "--input")) a->input = atoi(v);
         else if (!strcmp(o, "--start")) a->start = atoi(v) < 0 ? -1 : 1;
         else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
+        else if (!strcmp(o, "--maxiter")) a->maxiter = atoi(v);
+        else if (!strcmp(o, "--restart")) a->restart = !strcmp(v, "paper") ? PSB_RESTART_PAPER : (!strcmp(v, "global") ? PSB_RESTART_GLOBAL : PSB_RESTART_MIXED);
         else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
         else if (!strcmp(o, "--out")) a->out = v;
         else if (!strcmp(o, "--dirichlet")) a->multipliers = strcmp(v, "elim") != 0;
@@ -114,12 +116,12 @@ int main(int argc, char **argv)
     fe_run run;
     psb_options opt;
     double *y, *t, t0, t1, tol = 1e-8;
-    int n, k, input, ok, seen[7] = {0, 0, 0, 0, 0, 0, 0};
+    int n, k, num, ndist, input, ok, seen[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     psb_result r;
 
     if (parse(argc, argv, &a)) {
         fprintf(stderr, "usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--kappa 1|1/N|VALUE]\n"
-                        "             [--start -1|1] [--dirichlet mult|elim] [--hmin H] [--seed S] [--out DIR] [--dense] [--verbose]\n");
+                        "             [--start -1|1] [--dirichlet mult|elim] [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--seed S] [--out DIR] [--dense] [--verbose]\n");
         return 2;
     }
     if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory\n"); return 1; }
@@ -129,7 +131,7 @@ int main(int argc, char **argv)
     opt.h_init = 1e-2; opt.h_max = 0.2; opt.h_min = 1e-9;
     opt.tol_residual = 1e-9; opt.tol_correction = 1e-9;
     opt.c_diff = 0.99999; opt.branch_h = 5e-7; opt.branch_h_min = 5e-7 / 16384; opt.branch_h_init = 5e-4;
-    opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed;
+    opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.restart = a.restart;
     if (fe_run_init(&run, &md, &opt, !a.dense)) { fprintf(stderr, "block: solver set-up failed\n"); return 1; }
     run.approach_step_min = 1e-9;
     run.branch_step_min = a.hmin;
@@ -190,20 +192,31 @@ int main(int argc, char **argv)
 
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d, tangents = %ld\n",
            input, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_tangents);
-    printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps kinks  |H|      end\n");
-    ok = run.nbr == 6;
-    for (k = 0; k < run.nbr; k++) {
-        fe_branch *b = &run.br[k];
-        int good = check_branch(b, n, tol) && !seen[b->number];
-        seen[b->number] = 1;
-        ok = ok && good;
-        printf("  %-6d  %-9s  %-14s %+6.3f                 %4d %5d %5d %5d  %5ld %5d  %.1e  %s%s\n", b->number,
-               b->number <= 3 ? "right" : "left", strchr(b->label, ',') + 2, b->y[n], b->states[0], b->states[1],
-               b->states[2], b->states[3], b->steps, b->switches, b->resnorm, b->end == PSB_PARAM_BOUND ? "on |gamma| = 1" : psb_result_string(b->end),
-               good ? "" : "  <-- unexpected");
-    }
-    printf("\n  %d branches (paper: 6), time %.2f s (CPU), factorisations %ld, PC trials %ld\n", run.nbr, t1 - t0,
-           run.s.stats.n_factor, run.s.stats.n_pc_steps);
+    printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
+    ndist = 0;
+    ok = 1;
+    for (num = 1; num <= 7; num++) /* by the paper's number; 7: anything else */
+        for (k = 0; k < run.nbr; k++) {
+            fe_branch *b = &run.br[k];
+            int good;
+            if ((num <= 6 && b->number != num) || (num == 7 && b->number >= 1 && b->number <= 6)) continue;
+            good = check_branch(b, n, tol);
+            if (b->duplicate_of < 0) {
+                ndist++;
+                good = good && !seen[b->number];
+                seen[b->number] = 1;
+                ok = ok && good;
+            }
+            printf("  %-6d  %-9s  %-14s %+6.3f                 %4d %5d %5d %5d  %5ld  %.1e  %5d  ", b->number,
+                   b->number <= 3 ? "right" : "left", strchr(b->label, ',') + 2, b->y[n], b->states[0], b->states[1],
+                   b->states[2], b->states[3], b->steps, b->resnorm, k);
+            if (b->duplicate_of >= 0) printf("same end point as found %d: not counted\n", b->duplicate_of);
+            else printf("%s%s\n", b->end == PSB_PARAM_BOUND ? "on |gamma| = 1" : psb_result_string(b->end), good ? "" : "  <-- unexpected");
+        }
+    ok = ok && ndist == 6;
+    printf("\n  %d distinct branches (paper: 6)", ndist);
+    if (ndist != run.nbr) printf(", %d couples returned by psb_find_branches", run.nbr);
+    printf("; time %.2f s (CPU), factorisations %ld, PC trials %ld\n", t1 - t0, run.s.stats.n_factor, run.s.stats.n_pc_steps);
     if (a.out) {
         mkdir(a.out, 0777);
         if (fe_run_write(&run, a.out, "block", 1) || fe_run_write_gnuplot(&run, a.out, "block", "mm"))

@@ -784,6 +784,7 @@ typedef struct fe_branch {
     double resnorm;       /* ||H|| at the end point */
     int states[4];        /* contact state counts at the end point */
     int corner;           /* state of the contact node the example watches */
+    int duplicate_of;     /* -1, or the earlier branch (found index) with the same end point */
     double *y;            /* end point (n + 1) */
 } fe_branch;
 
@@ -936,6 +937,8 @@ static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int 
         printf("  approach: trace %s after %ld steps, %d kinks located, at gamma = %.3e\n", psb_result_string(r),
                rep.steps, rep.n_kinks, y[n]);
     if (r == PSB_STOPPED) return r;
+    /* steps failed down to h_min and the switch found nothing: the end point itself */
+    if (r == PSB_NONSMOOTH_END && fabs(y[n]) <= run->kink_tol) return r;
     if (r != PSB_PARAM_BOUND || y[n] != 0) return r < 0 ? r : PSB_ERR_NO_CONVERGENCE;
     memcpy(y, run->yprev, sizeof(double) * (size_t)np1);
     memcpy(t, run->tprev, sizeof(double) * (size_t)np1);
@@ -986,6 +989,22 @@ static inline void fe_run_trace_all(fe_run *run, double gmax)
         b->switches = rep.n_switches;
         b->resnorm = fe_resnorm(run->md, b->y);
         fe_contact_states(run->md, b->y, b->states, NULL);
+        /* psb_find_branches tells branches apart by the cosine of their tangents at the point;
+           two couples of one smooth branch can still differ there (see wip/fe_notes.md), so
+           compare the end points too */
+        b->duplicate_of = -1;
+        {
+            int j, i;
+            for (j = 0; j < k && b->duplicate_of < 0; j++) {
+                double d = 0, m = 0;
+                if (run->br[j].y[run->md->n] != b->y[run->md->n]) continue;
+                for (i = 0; i < run->md->n; i++) {
+                    d = fmax(d, fabs(run->br[j].y[i] - b->y[i]));
+                    m = fmax(m, fabs(b->y[i]));
+                }
+                if (d <= 1e-6 * m) b->duplicate_of = run->br[j].duplicate_of >= 0 ? run->br[j].duplicate_of : j;
+            }
+        }
     }
     run->cur = -1;
     free(t);
@@ -1006,6 +1025,7 @@ static inline int fe_run_write(const fe_run *run, const char *dir, const char *t
     for (k = 0; k < run->nbr; k++) {
         const fe_branch *b = &run->br[k];
         int ul = run->md->udof[run->md->cnode[0]], ur = run->md->udof[run->md->cnode[nc - 1]];
+        if (b->duplicate_of >= 0) continue;
         fprintf(fp, "%d,%.17g,%.10e,%.10e,%.10e,%.10e,%d,%d,%d\n", b->number ? b->number : k + 1, b->y[run->md->n],
                 b->y[ul], b->y[ul + 1], b->y[ur], b->y[ur + 1], b->states[0], b->states[1], b->states[2] + b->states[3]);
     }
@@ -1017,6 +1037,7 @@ static inline int fe_run_write(const fe_run *run, const char *dir, const char *t
         long i;
         for (i = 0; i < run->ndiag; i++) {
             int f = (int)run->diag[4 * i], num = (diag_by_number && run->br[f].number) ? run->br[f].number : f + 1;
+            if (run->br[f].duplicate_of >= 0) continue;
             fprintf(fp, "%d,%.10e,%.10e,%.10e\n", num, run->diag[4 * i + 1], run->diag[4 * i + 2], run->diag[4 * i + 3]);
         }
     }
@@ -1025,6 +1046,7 @@ static inline int fe_run_write(const fe_run *run, const char *dir, const char *t
         const fe_branch *b = &run->br[k];
         int num = b->number ? b->number : k + 1;
         char ttl[128];
+        if (b->duplicate_of >= 0) continue;
         fe_displacements(run->md, b->y, u);
         snprintf(ttl, sizeof ttl, "%s branch %d (%s) gamma=%g", title, num, b->label, b->y[run->md->n]);
         snprintf(path, sizeof path, "%s/branch_%d.vtk", dir, num);
@@ -1061,6 +1083,7 @@ static inline int fe_run_write_gnuplot(const fe_run *run, const char *dir, const
     for (k = 0; k < run->nbr; k++) {
         const fe_branch *b = &run->br[k];
         int num = b->number ? b->number : k + 1;
+        if (b->duplicate_of >= 0) continue;
         fprintf(fp, "set title 'branch %d: %s, gamma = %g'\n", num, b->label, b->y[run->md->n]);
         fprintf(fp, "plot 'body_%d.dat' with lines lc rgb '#3060a0', 0 with lines lc rgb 'black' lw 2\n", num);
     }
