@@ -628,6 +628,10 @@ typedef struct psb_branch_report {
     int n_rand;       /* spans chosen at random (Remark 2.3(ii)), as n_rand of the paper */
     int n_span;       /* spans used */
     long n_tangents;  /* tangents computed at y0 + h v */
+    int span_last_new;    /* the span (1-based) in which the last new branch was found: the
+                             smallest n_span that finds them all, all else equal */
+    long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
+    int n_rand_last_new;  /* n_span = span_last_new would report */
 } psb_branch_report;
 
 /* Algorithm 2.2 with the restarts of Section 3: n_span spans of two tangents, each swept in
@@ -2373,6 +2377,11 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
         r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
         if (r != PSB_SUCCESS) return r;
         if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) break;
+        if (rep->n_branches > found_before) {
+            rep->span_last_new = rep->n_span;
+            rep->n_pc_last_new = rep->n_pc;
+            rep->n_rand_last_new = rep->n_rand;
+        }
         /* adaptive end: spans in a row that brought no new branch */
         idle = rep->n_branches > found_before ? 0 : idle + 1;
         if (s->opt.branch_patience && idle >= s->opt.branch_patience) break;

@@ -513,6 +513,8 @@ static void test_branch_budgets(void)
     memcpy(t0, t, sizeof t);
     CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &full) == PSB_SUCCESS);
     CHECK(full.n_branches == 8 && full.n_span == 15);
+    CHECK(full.span_last_new >= 1 && full.span_last_new <= 15);
+    CHECK(full.n_pc_last_new <= full.n_pc && full.n_rand_last_new <= full.n_rand);
     psb_solver_free(&s);
 
     o.branch_patience = 2;
@@ -520,6 +522,9 @@ static void test_branch_budgets(void)
     CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &adaptive) == PSB_SUCCESS);
     CHECK(adaptive.n_branches == 8);
     CHECK(adaptive.n_span < full.n_span && 2 * adaptive.n_pc <= full.n_pc);
+    /* the run stopped two idle spans after the last find, which a full run saw at the same n_pc */
+    CHECK(adaptive.n_span == adaptive.span_last_new + 2);
+    CHECK(adaptive.n_pc_last_new == full.n_pc_last_new && adaptive.span_last_new == full.span_last_new);
     psb_solver_free(&s);
 
     o.branch_patience = 0;
