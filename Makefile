@@ -15,7 +15,7 @@ SHARED ?= ../shared
 BUILD ?= build
 
 HEADER = pscbranch.h
-TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_contact $(BUILD)/test_linkage
+TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_linkage
 EXAMPLES = examples/01_branching examples/fc_solve
 
 .PHONY: all test demo examples bench asan ubsan clean
@@ -33,6 +33,9 @@ $(BUILD)/test_linear: tests/test_linear.c tests/harness.h tests/pl_problems.h $(
 
 $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)
+
+$(BUILD)/test_fc_solve: tests/test_fc_solve.c tests/fc_gen.h tests/harness.h examples/fc_solve.c $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_fc_solve.c -o $@ $(LIBS)
 
 $(BUILD)/linkage_impl.o: tests/linkage_impl.cpp $(HEADER) | $(BUILD)
 	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -c tests/linkage_impl.cpp -o $@

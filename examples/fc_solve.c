@@ -1,22 +1,25 @@
 /* fc_solve: reduced frictional-contact problems u = W r + q, r in K, K* ∋ û ⊥ r (Problem 2 of
-   Acary et al.), solved by a nonsmooth Newton method on the Alart-Curnier residual built on the
-   pscbranch contact helpers.
+   Acary et al.), solved by NSGS alternating with a globalised nonsmooth Newton method, both built
+   on the pscbranch contact helpers.
 
    usage: fc_solve [--tol T] [--maxit N] [--verbose] FILE...
    Reads Siconos' plain-text FrictionContact files: dim, nc, storage flag, then W (0: dense, row by
    row; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's cs_print),
-   q (dim*nc values), mu (nc values). Prints `FILE contacts=N iterations=K residual=R time=Ts`,
-   R = |F_nat(r)|/|q| (eq. (15), rho = 1), or the absolute |F_nat(r)| when |q| < 1e-12 (then the
-   line says `residual(abs)=`). Exits 1 if a problem misses the tolerance, 2 on read errors.
+   q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib local problems
+   in HDF5. Prints `FILE contacts=N iterations=K residual=R time=Ts
+   newton=A sweeps=B` (K = A + B), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at the returned r with
+   u recomputed as W r + q, or the absolute |F_nat(r)| when |q| < 1e-12 (then the line says
+   `residual(abs)=`). --maxit caps the Newton iterations (default 1000) and 20x that the NSGS
+   sweeps. Exits 1 if a problem misses the tolerance (default 1e-10), 2 on read errors.
 
-   Method: per iteration build the Alart-Curnier residual F(r) and its blocks A = dF/dr,
-   B = dF/du per contact (psb_fc3d_ac in 3D, psb_ac2d_node through psb_contact_convert in 2D),
-   and solve (A + B (W + eta D)) d = -F, D = diag(W): the Newton step of the proximally
-   regularised problem (W + eta D), which stays solvable when W is rank-deficient (rigid
-   multibody systems) and tends to plain Newton since eta ~ error. A non-monotone Armijo line
-   search on |F|^2 globalises it; when it fails eta grows (towards a damped fixed-point step),
-   and as a last resort a projected fixed-point step on the natural map is taken. Contacts whose
-   Jacobian rows are trivial (separated: A = I, B = 0) are eliminated before the dense LU. */
+   Method (fc_solve below): W is stored block-sparse (rigid multibody W = H^T M^-1 H has a few
+   blocks per row). NSGS sweeps (local closed forms, else a 3x3 / 2x2 nonsmooth Newton per
+   contact) make cheap global progress; Newton phases on the Jean-Moreau residual, with the
+   proximal regularisation W + eta diag(W) (solvable for rank-deficient W) and a non-monotone
+   Armijo search, converge fast once the contact states are about right. Newton systems are
+   solved by a banded LU in reverse Cuthill-McKee order (dense LU when the band is wide), after
+   eliminating separated contacts. The best iterate by the eq. (15) error is returned.
+   Build with -DFC_SOLVE_NO_MAIN to #include the solver elsewhere (tests/test_fc_solve.c). */
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
 
@@ -25,10 +28,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-/* LAPACK, Fortran symbol: solve A X = B by LU with partial pivoting. */
-extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b,
-                   const int *ldb, int *info);
 
 typedef struct {
     int dim, nc, m;
@@ -112,6 +111,124 @@ static char *read_file(const char *path)
     return buf;
 }
 
+#ifdef FC_SOLVE_HDF5
+/* FCLib local problems (HDF5): /fclib_local/spacedim, /fclib_local/W/{m,n,nz,p,i,x} (nz = -1:
+   compressed columns, -2: compressed rows, >= 0: nz triplets with p the column indices) and
+   /fclib_local/vectors/{q,mu}. Optional build: -DFC_SOLVE_HDF5, link libhdf5. */
+#include <hdf5.h>
+
+/* Reads dataset `name` (exactly n values when n >= 0; returns the count in *cnt) into a new
+   buffer of int (isint) or double. NULL on any error. */
+static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
+{
+    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT), sp;
+    hssize_t np;
+    void *buf = NULL;
+    if (ds < 0)
+        return NULL;
+    sp = H5Dget_space(ds);
+    np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
+    if (np >= 0 && np < 100000000 && (n < 0 || np == n)) {
+        buf = malloc((size_t)(np > 0 ? np : 1) * (isint ? sizeof(int) : sizeof(double)));
+        if (buf && H5Dread(ds, isint ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
+                           H5P_DEFAULT, buf) < 0) {
+            free(buf);
+            buf = NULL;
+        }
+    }
+    if (cnt)
+        *cnt = (long)np;
+    if (sp >= 0)
+        H5Sclose(sp);
+    H5Dclose(ds);
+    return buf;
+}
+
+static const char *fc_read_hdf5(const char *path, fc_problem *p)
+{
+    hid_t f;
+    int *dim = NULL, *wm = NULL, *wn = NULL, *wnz = NULL, *pp = NULL, *ii = NULL;
+    double *xx = NULL;
+    long np = 0, ni = 0, nx = 0, k, j, m = 0;
+    const char *err = NULL;
+    memset(p, 0, sizeof *p);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* report through our message, not on stderr */
+    f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0)
+        return "cannot open HDF5 file";
+    dim = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
+    wm = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
+    wn = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
+    wnz = h5_read(f, "/fclib_local/W/nz", 1, 1, NULL);
+    if (!dim || !wm || !wn || !wnz)
+        err = "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz)";
+    else if ((*dim != 2 && *dim != 3) || *wm != *wn || *wm < *dim || *wm % *dim != 0 ||
+             *wm > 60000)
+        err = "unsupported sizes";
+    if (!err) {
+        m = *wm;
+        p->dim = *dim;
+        p->nc = (int)(m / *dim);
+        p->m = (int)m;
+        pp = h5_read(f, "/fclib_local/W/p", 1, -1, &np);
+        ii = h5_read(f, "/fclib_local/W/i", 1, -1, &ni);
+        xx = h5_read(f, "/fclib_local/W/x", 0, -1, &nx);
+        p->q = h5_read(f, "/fclib_local/vectors/q", 0, m, NULL);
+        p->mu = h5_read(f, "/fclib_local/vectors/mu", 0, p->nc, NULL);
+        p->W = calloc((size_t)m * (size_t)m, sizeof(double));
+        if (!pp || !ii || !xx || !p->q || !p->mu || !p->W)
+            err = "missing or malformed W/p, W/i, W/x, vectors/q or vectors/mu";
+    }
+    if (!err && *wnz < 0) { /* compressed: p has m + 1 pointers into i, x */
+        if (*wnz < -2 || np != m + 1 || pp[0] != 0 || pp[m] > ni || pp[m] > nx)
+            err = "bad compressed W";
+        for (j = 0; !err && j < m; j++) {
+            if (pp[j + 1] < pp[j]) {
+                err = "bad compressed W pointers";
+                break;
+            }
+            for (k = pp[j]; k < pp[j + 1]; k++) {
+                long row = *wnz == -1 ? ii[k] : j, col = *wnz == -1 ? j : ii[k];
+                if (ii[k] < 0 || ii[k] >= m) {
+                    err = "bad W index";
+                    break;
+                }
+                p->W[row + col * m] += xx[k];
+            }
+        }
+    } else if (!err) { /* triplets: i rows, p columns */
+        if (ni < *wnz || np < *wnz || nx < *wnz)
+            err = "bad triplet W";
+        for (k = 0; !err && k < *wnz; k++) {
+            if (ii[k] < 0 || ii[k] >= m || pp[k] < 0 || pp[k] >= m)
+                err = "bad W index";
+            else
+                p->W[ii[k] + (long)pp[k] * m] += xx[k];
+        }
+    }
+    for (k = 0; !err && k < p->nc; k++)
+        if (!(p->mu[k] >= 0.0) || !isfinite(p->mu[k]))
+            err = "bad mu";
+    for (k = 0; !err && k < m; k++)
+        if (!isfinite(p->q[k]))
+            err = "bad q";
+    for (k = 0; !err && k < m * m; k++)
+        if (!isfinite(p->W[k]))
+            err = "non-finite W";
+    free(dim);
+    free(wm);
+    free(wn);
+    free(wnz);
+    free(pp);
+    free(ii);
+    free(xx);
+    H5Fclose(f);
+    if (err)
+        fc_free(p);
+    return err;
+}
+#endif
+
 /* Returns 0 on success, else a message. */
 static const char *fc_read(const char *path, fc_problem *p)
 {
@@ -125,7 +242,11 @@ static const char *fc_read(const char *path, fc_problem *p)
         return "cannot read file";
     if (strncmp(t.buf, "\211HDF", 4) == 0) {
         free(t.buf);
-        return "HDF5 (FCLib) files are not supported by this build";
+#ifdef FC_SOLVE_HDF5
+        return fc_read_hdf5(path, p);
+#else
+        return "HDF5 (FCLib) files are not supported by this build (build with -DFC_SOLVE_HDF5)";
+#endif
     }
     t.pos = t.buf;
     t.end = t.buf + strlen(t.buf);
@@ -270,75 +391,387 @@ typedef struct {
 } fc_options;
 
 typedef struct {
-    double *u, *F, *A, *B, *rho, *rt, *d, *J, *rhs, *Ftmp;
-    int *ipiv, *act, *pos;
-} fc_work;
+    int newton, sweeps; /* Newton iterations, NSGS sweeps */
+    int absres;         /* 1: err is the absolute |F_nat| (|q| ~ 0) */
+    double err;         /* eq. (15) error at the returned r */
+} fc_stats;
 
-static void matvec(const fc_problem *p, const double *r, double *u)
+/* W as a block CSR matrix of dim x dim blocks (column-major each): rows rp[c]..rp[c+1]-1, block
+   columns ci[k], values bv + k*dd; dg[c]: index of the diagonal block or -1. Rigid multibody W
+   has a few blocks per row (contacts sharing a body), so products and sweeps cost O(nnz). */
+typedef struct {
+    int nc, d, dd, nnz;
+    int *rp, *ci, *dg;
+    double *bv;
+} fc_bsr;
+
+static void bsr_free(fc_bsr *S)
 {
-    int i, j, m = p->m;
-    for (i = 0; i < m; i++)
-        u[i] = p->q[i];
-    for (j = 0; j < m; j++) {
-        double rj = r[j];
-        const double *col = p->W + (size_t)j * (size_t)m;
-        if (rj == 0.0)
-            continue;
-        for (i = 0; i < m; i++)
-            u[i] += col[i] * rj;
+    free(S->rp);
+    free(S->ci);
+    free(S->dg);
+    free(S->bv);
+    memset(S, 0, sizeof *S);
+}
+
+static int bsr_build(const fc_problem *p, fc_bsr *S)
+{
+    int d = p->dim, dd = d * d, nc = p->nc, m = p->m, c, e, a, b, k, pass;
+    memset(S, 0, sizeof *S);
+    S->nc = nc;
+    S->d = d;
+    S->dd = dd;
+    S->rp = malloc((size_t)(nc + 1) * sizeof(int));
+    S->dg = malloc((size_t)nc * sizeof(int));
+    if (!S->rp || !S->dg)
+        return 0;
+    for (pass = 0; pass < 2; pass++) { /* count, then fill */
+        k = 0;
+        for (c = 0; c < nc; c++) {
+            S->rp[c] = k;
+            S->dg[c] = -1;
+            for (e = 0; e < nc; e++) {
+                int nz = 0;
+                for (b = 0; b < d && !nz; b++)
+                    for (a = 0; a < d; a++)
+                        if (p->W[(size_t)(c * d + a) + (size_t)(e * d + b) * (size_t)m] != 0.0)
+                            nz = 1;
+                if (!nz && e != c) /* keep every diagonal block, even a zero one */
+                    continue;
+                if (pass) {
+                    S->ci[k] = e;
+                    for (b = 0; b < d; b++)
+                        for (a = 0; a < d; a++)
+                            S->bv[(size_t)k * dd + a + d * b] =
+                                p->W[(size_t)(c * d + a) + (size_t)(e * d + b) * (size_t)m];
+                }
+                if (e == c)
+                    S->dg[c] = k;
+                k++;
+            }
+        }
+        S->rp[nc] = k;
+        if (!pass) {
+            S->nnz = k;
+            S->ci = malloc((size_t)k * sizeof(int));
+            S->bv = malloc((size_t)k * (size_t)dd * sizeof(double));
+            if (!S->ci || !S->bv)
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* u = W r + q */
+static void bsr_matvec(const fc_bsr *S, const double *q, const double *r, double *u)
+{
+    int c, k, a, b, d = S->d;
+    for (c = 0; c < S->nc; c++) {
+        double s[3] = {0, 0, 0};
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
+            const double *blk = S->bv + (size_t)k * S->dd, *re = r + S->ci[k] * d;
+            for (b = 0; b < d; b++)
+                for (a = 0; a < d; a++)
+                    s[a] += blk[a + d * b] * re[b];
+        }
+        for (a = 0; a < d; a++)
+            u[c * d + a] = q[c * d + a] + s[a];
     }
 }
 
-/* Alart-Curnier residual F at r (u = W r + q given); with A, B: 3x3 (or 2x2) blocks per contact,
-   column-major dim x dim. Returns 0.5 |F|^2, or -1 on a helper error. */
-static double ac_eval(const fc_problem *p, const double *r, const double *u, const double *rho,
+/* Jean-Moreau residual of one contact (eq. (12): the Alart-Curnier form with disk radius
+   mu (r_N)_+): F (d), and d x d blocks A = dF/dr, B = dF/du (column-major, may be NULL).
+   On the generated rigid-body instances it made the Newton phases fail less often than the
+   Alart-Curnier radius mu (r_N - rho u_N)_+ (2 vs 7 misses in 120). A 2D contact is the 3D one
+   restricted to T2 = 0 (the disk projection keeps that plane). Returns 0.5 |F|^2, or -1 on a
+   helper error (non-finite data). */
+static double contact_res(int d, const double *rc, const double *uc, double mu, const double *rho,
+                         double *F, double *A, double *B)
+{
+    double r3[3] = {0, 0, 0}, u3[3] = {0, 0, 0}, f3[3], a9[9], b9[9];
+    int a, b;
+    for (a = 0; a < d; a++) {
+        r3[a] = rc[a];
+        u3[a] = uc[a];
+    }
+    if (psb_fc3d_jm(r3, u3, mu, rho[0], rho[1], PSB_PIECE_DEFAULT, f3, A || B ? a9 : NULL,
+                    A || B ? b9 : NULL, NULL) != PSB_SUCCESS)
+        return -1.0;
+    for (a = 0; a < d; a++) {
+        F[a] = f3[a];
+        for (b = 0; b < d; b++) {
+            if (A)
+                A[a + d * b] = a9[a + 3 * b];
+            if (B)
+                B[a + d * b] = b9[a + 3 * b];
+        }
+    }
+    return 0.5 * (f3[0] * f3[0] + f3[1] * f3[1] + f3[2] * f3[2]);
+}
+
+/* Global residual; A, B (may be NULL) get nc blocks of dd. Returns 0.5 |F|^2 or -1. */
+static double res_eval(const fc_problem *p, const double *r, const double *u, const double *rho,
                       double *F, double *A, double *B)
 {
-    int c, a, b, d = p->dim, dd = d * d;
+    int c, d = p->dim, dd = d * d;
     double theta = 0.0;
     for (c = 0; c < p->nc; c++) {
-        const double *rc = r + c * d, *uc = u + c * d;
-        double *Fc = F + c * d;
-        if (d == 3) {
-            if (psb_fc3d_ac(rc, uc, p->mu[c], rho[2 * c], rho[2 * c + 1], PSB_PIECE_DEFAULT, Fc,
-                            A ? A + c * dd : NULL, B ? B + c * dd : NULL, NULL) != PSB_SUCCESS)
-                return -1.0;
-        } else {
-            /* 2D through Haslinger et al.'s form: lam = -r, u_000 = -u (gap 0) gives
-               H = F_ac/rho with rho_n = rho_t = rho, so F = rho H, dF/dr = -rho dH/dlam,
-               dF/du = -rho dH/du_000. Exercises the sign-convention map on real data. */
-            double lam[2], w[2], res[2], jac[8], rr = rho[2 * c];
-            if (psb_contact_convert(2, rc, uc, 0.0, lam, w) != PSB_SUCCESS ||
-                psb_ac2d_node(w[0], w[1], lam[0], lam[1], rr, p->mu[c], 0.0, PSB_PIECE_DEFAULT,
-                              res, jac, NULL) != PSB_SUCCESS)
-                return -1.0;
-            Fc[0] = rr * res[0];
-            Fc[1] = rr * res[1];
-            for (a = 0; a < 2; a++)
-                for (b = 0; b < 2; b++) {
-                    if (A)
-                        A[c * dd + a + 2 * b] = -rr * jac[a + 2 * (2 + b)];
-                    if (B)
-                        B[c * dd + a + 2 * b] = -rr * jac[a + 2 * b];
-                }
-        }
-        for (a = 0; a < d; a++)
-            theta += 0.5 * Fc[a] * Fc[a];
+        double th = contact_res(d, r + c * d, u + c * d, p->mu[c], rho + 2 * c, F + c * d,
+                               A ? A + c * dd : NULL, B ? B + c * dd : NULL);
+        if (th < 0.0)
+            return -1.0;
+        theta += th;
     }
     return theta;
 }
 
-/* Newton direction d for (A + B (W + eta D)) d = -F; separated contacts (B = 0, A = I) are
-   eliminated. Returns 0, or the LAPACK info (> 0: singular). */
-static int newton_dir(const fc_problem *p, fc_work *w, double eta, double *dir)
+/* Solves the n x n (n <= 3) system M x = b in place (b <- x) by Gaussian elimination with
+   partial pivoting; M column-major, destroyed. Returns 0, or 1 if (numerically) singular. */
+static int solve_small(int n, double *M, double *b)
 {
-    int c, e, i, j, a, b, k, d = p->dim, dd = d * d, m = p->m, na = 0, n, info = 0, one = 1;
+    int i, j, k;
+    double mx = 0.0;
+    for (i = 0; i < n * n; i++)
+        mx = fabs(M[i]) > mx ? fabs(M[i]) : mx;
+    if (!(mx > 0.0))
+        return 1;
+    for (k = 0; k < n; k++) {
+        int piv = k;
+        double t;
+        for (i = k + 1; i < n; i++)
+            if (fabs(M[i + n * k]) > fabs(M[piv + n * k]))
+                piv = i;
+        if (!(fabs(M[piv + n * k]) > 1e-14 * mx))
+            return 1;
+        if (piv != k) {
+            for (j = 0; j < n; j++) {
+                t = M[k + n * j];
+                M[k + n * j] = M[piv + n * j];
+                M[piv + n * j] = t;
+            }
+            t = b[k];
+            b[k] = b[piv];
+            b[piv] = t;
+        }
+        for (i = k + 1; i < n; i++) {
+            double l = M[i + n * k] / M[k + n * k];
+            for (j = k + 1; j < n; j++)
+                M[i + n * j] -= l * M[k + n * j];
+            b[i] -= l * b[k];
+        }
+    }
+    for (k = n - 1; k >= 0; k--) {
+        for (j = k + 1; j < n; j++)
+            b[k] -= M[k + n * j] * b[j];
+        b[k] /= M[k + n * k];
+    }
+    return 0;
+}
+
+/* P_K(x) for one contact (2D: the T2 = 0 section of the 3D cone, which the projection keeps). */
+static void cone_proj(int d, double mu, double *x)
+{
+    double x3[3] = {0, 0, 0}, p3[3];
+    int a;
+    for (a = 0; a < d; a++)
+        x3[a] = x[a];
+    if (psb_proj_cone(x3, mu, PSB_PIECE_DEFAULT, p3, NULL, NULL) != PSB_SUCCESS)
+        return;
+    for (a = 0; a < d; a++)
+        x[a] = p3[a];
+}
+
+/* One-contact problem u = Wcc r + qt (the NSGS subproblem). Closed forms first (r = 0 solves it
+   iff qt_N >= 0; the sticking r = -Wcc^-1 qt if it lies in K), else a nonsmooth Newton on the
+   local JM residual with Armijo backtracking, and projected fixed-point steps if that fails.
+   rc is the warm start and the result. */
+static void local_solve(int d, const double *Wcc, const double *qt, double mu, const double *rho,
+                        double *rc)
+{
+    double M[9], x[3], u[3], F[3], A[9], B[9], rt[3], ut[3], Ft[3], th, scale, qn = 0.0;
+    int a, b, it, k;
+    if (qt[0] >= 0.0) {
+        for (a = 0; a < d; a++)
+            rc[a] = 0.0;
+        return;
+    }
+    for (a = 0; a < d; a++)
+        qn += qt[a] * qt[a];
+    scale = 1e-15 * (sqrt(qn) * rho[0] + 1e-300);
+    if (mu > 0.0) {
+        memcpy(M, Wcc, (size_t)(d * d) * sizeof(double));
+        for (a = 0; a < d; a++)
+            x[a] = -qt[a];
+        if (solve_small(d, M, x) == 0 && x[0] > 0.0 &&
+            x[1] * x[1] + (d == 3 ? x[2] * x[2] : 0.0) <= mu * mu * x[0] * x[0]) {
+            memcpy(rc, x, (size_t)d * sizeof(double));
+            return;
+        }
+    }
+    cone_proj(d, mu, rc);
+    for (it = 0; it < 40; it++) {
+        double t;
+        int ok = 0;
+        for (a = 0; a < d; a++) {
+            u[a] = qt[a];
+            for (b = 0; b < d; b++)
+                u[a] += Wcc[a + d * b] * rc[b];
+        }
+        th = contact_res(d, rc, u, mu, rho, F, A, B);
+        if (th < 0.0)
+            return;
+        if (sqrt(2.0 * th) <= scale)
+            return;
+        for (a = 0; a < d; a++) /* J = A + B Wcc */
+            for (b = 0; b < d; b++) {
+                double s = A[a + d * b];
+                for (k = 0; k < d; k++)
+                    s += B[a + d * k] * Wcc[k + d * b];
+                M[a + d * b] = s;
+            }
+        for (a = 0; a < d; a++)
+            x[a] = -F[a];
+        if (solve_small(d, M, x) != 0)
+            break;
+        for (t = 1.0; t > 1e-6; t *= 0.5) {
+            double tht;
+            for (a = 0; a < d; a++)
+                rt[a] = rc[a] + t * x[a];
+            for (a = 0; a < d; a++) {
+                ut[a] = qt[a];
+                for (b = 0; b < d; b++)
+                    ut[a] += Wcc[a + d * b] * rt[b];
+            }
+            tht = contact_res(d, rt, ut, mu, rho, Ft, NULL, NULL);
+            if (tht >= 0.0 && tht <= (1.0 - 1e-4 * t) * th) {
+                ok = 1;
+                break;
+            }
+        }
+        if (!ok)
+            break;
+        memcpy(rc, rt, (size_t)d * sizeof(double));
+    }
+    if (it == 40)
+        return;
+    /* fallback: projected fixed point on the natural map, step 1/max diag(Wcc) */
+    {
+        double wmax = 0.0, rr;
+        for (a = 0; a < d; a++)
+            wmax = Wcc[a * (d + 1)] > wmax ? Wcc[a * (d + 1)] : wmax;
+        rr = wmax > 0.0 ? 1.0 / wmax : rho[0];
+        for (it = 0; it < 100; it++) {
+            double tn, z[3];
+            for (a = 0; a < d; a++) {
+                u[a] = qt[a];
+                for (b = 0; b < d; b++)
+                    u[a] += Wcc[a + d * b] * rc[b];
+            }
+            tn = d == 3 ? hypot(u[1], u[2]) : fabs(u[1]);
+            z[0] = rc[0] - rr * (u[0] + mu * tn);
+            for (a = 1; a < d; a++)
+                z[a] = rc[a] - rr * u[a];
+            cone_proj(d, mu, z);
+            memcpy(rc, z, (size_t)d * sizeof(double));
+        }
+    }
+}
+
+/* One projected block Gauss-Seidel sweep (NSGS), contacts in order (reverse if back). */
+static void nsgs_sweep(const fc_bsr *S, const fc_problem *p, const double *rho, double *r,
+                       int back)
+{
+    int i, c, k, a, b, d = S->d;
+    for (i = 0; i < S->nc; i++) {
+        double qt[3];
+        c = back ? S->nc - 1 - i : i;
+        for (a = 0; a < d; a++)
+            qt[a] = p->q[c * d + a];
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
+            const double *blk = S->bv + (size_t)k * S->dd, *re = r + S->ci[k] * d;
+            if (S->ci[k] == c)
+                continue;
+            for (b = 0; b < d; b++)
+                for (a = 0; a < d; a++)
+                    qt[a] += blk[a + d * b] * re[b];
+        }
+        local_solve(d, S->bv + (size_t)S->dg[c] * S->dd, qt, p->mu[c], rho + 2 * c, r + c * d);
+    }
+}
+
+/* LAPACK (Fortran symbols): dense and banded LU solves with partial pivoting. */
+extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b,
+                   const int *ldb, int *info);
+extern void dgbsv_(const int *n, const int *kl, const int *ku, const int *nrhs, double *ab,
+                   const int *ldab, int *ipiv, double *b, const int *ldb, int *info);
+
+typedef struct {
+    double *u, *F, *A, *B, *d, *rhs, *J, *rn, *un, *best;
+    size_t jcap;
+    int *ipiv, *act, *pos, *deg, *queue, *ord;
+} fc_work;
+
+/* Reverse Cuthill-McKee order of the na active contacts act[] (graph of W's block pattern);
+   fills w->ord (order -> contact) and w->pos (contact -> order, -1 when inactive). */
+static void rcm_order(const fc_bsr *S, fc_work *w, int na)
+{
+    int i, k, head = 0, tail = 0, c;
+    for (i = 0; i < na; i++) {
+        c = w->act[i];
+        w->deg[c] = 0;
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++)
+            if (w->pos[S->ci[k]] >= 0 && S->ci[k] != c)
+                w->deg[c]++;
+    }
+    /* pos >= 0 marks "active, unvisited" here; visited contacts get pos = -2 */
+    while (tail < na) {
+        int start = -1;
+        for (i = 0; i < na; i++) { /* new component: start from a minimum-degree contact */
+            c = w->act[i];
+            if (w->pos[c] >= 0 && (start < 0 || w->deg[c] < w->deg[start]))
+                start = c;
+        }
+        w->queue[tail++] = start;
+        w->pos[start] = -2;
+        while (head < tail) {
+            int first = tail, j;
+            c = w->queue[head++];
+            for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
+                int e = S->ci[k];
+                if (w->pos[e] >= 0) {
+                    w->pos[e] = -2;
+                    w->queue[tail++] = e;
+                }
+            }
+            for (i = first + 1; i < tail; i++) { /* neighbours by increasing degree */
+                int v = w->queue[i];
+                for (j = i; j > first && w->deg[w->queue[j - 1]] > w->deg[v]; j--)
+                    w->queue[j] = w->queue[j - 1];
+                w->queue[j] = v;
+            }
+        }
+    }
+    for (i = 0; i < na; i++) {
+        w->ord[i] = w->queue[na - 1 - i];
+        w->pos[w->ord[i]] = i;
+    }
+}
+
+/* Newton direction of the proximally regularised problem: (A + B (W + eta D)) dir = -F,
+   D = diag(W). Separated contacts (A = I, B = 0) give dir = -F and are eliminated; the rest is
+   solved by a banded LU in reverse Cuthill-McKee order when W's block pattern allows a narrow
+   band, else by a dense LU. Returns 0, or nonzero when the system is singular / fails. */
+static int newton_dir(const fc_problem *p, const fc_bsr *S, fc_work *w, double eta, double *dir)
+{
+    int c, k, i, a, b, j, d = p->dim, dd = d * d, na = 0, n, info = 0, one = 1, klb = 0, kub = 0;
+    int kl, ku, ldab, band;
+    size_t need;
     for (c = 0; c < p->nc; c++) {
         int trivial = 1;
         for (a = 0; a < dd; a++)
             if (w->B[c * dd + a] != 0.0 || w->A[c * dd + a] != ((a % (d + 1) == 0) ? 1.0 : 0.0))
                 trivial = 0;
-        w->pos[c] = trivial ? -1 : na;
+        w->pos[c] = trivial ? -1 : 0;
         if (!trivial)
             w->act[na++] = c;
         else
@@ -348,209 +781,321 @@ static int newton_dir(const fc_problem *p, fc_work *w, double eta, double *dir)
     n = na * d;
     if (n == 0)
         return 0;
-    /* rhs = -F_a - B_a W_{a,i} d_i over the eliminated contacts i */
-    for (k = 0; k < na; k++) {
-        c = w->act[k];
-        for (a = 0; a < d; a++) {
-            double wd = 0.0;
-            for (i = 0; i < m; i++) { /* (W d_inactive) row c*d+a */
-                int ci = i / d;
-                if (w->pos[ci] < 0)
-                    wd += p->W[(c * d + a) + (size_t)i * (size_t)m] * dir[i];
-            }
-            w->Ftmp[a] = wd;
-        }
-        for (a = 0; a < d; a++) {
-            double s = -w->F[c * d + a];
-            for (b = 0; b < d; b++)
-                s -= w->B[c * dd + a + d * b] * w->Ftmp[b];
-            w->rhs[k * d + a] = s;
+    rcm_order(S, w, na);
+    for (i = 0; i < na; i++) {
+        c = w->ord[i];
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
+            int pe = w->pos[S->ci[k]];
+            if (pe < 0)
+                continue;
+            if (i - pe > klb)
+                klb = i - pe;
+            if (pe - i > kub)
+                kub = pe - i;
         }
     }
-    /* J_aa' = A_c delta + B_c (W_cc' + eta D_c delta) */
-    for (k = 0; k < na; k++) {
-        c = w->act[k];
-        for (e = 0; e < na; e++) {
-            int ce = w->act[e];
-            for (b = 0; b < d; b++) {
-                int col = ce * d + b;
+    kl = d * (klb + 1) - 1;
+    ku = d * (kub + 1) - 1;
+    ldab = 2 * kl + ku + 1;
+    /* banded LU costs ~ n kl (kl + ku) flops vs n^3 / 3 dense */
+    band = 3.0 * (double)kl * (double)(kl + ku + 1) < 0.5 * (double)n * (double)n;
+    if (!band)
+        kl = ku = n - 1;
+    need = band ? (size_t)ldab * (size_t)n : (size_t)n * (size_t)n;
+    if (need > w->jcap) {
+        double *nj = realloc(w->J, need * sizeof(double));
+        if (!nj)
+            return -1;
+        w->J = nj;
+        w->jcap = need;
+    }
+    memset(w->J, 0, need * sizeof(double));
+    for (i = 0; i < na; i++) {
+        const double *Bc;
+        c = w->ord[i];
+        Bc = w->B + c * dd;
+        /* rhs = -F_c - B_c sum over eliminated e of W_ce dir_e */
+        for (a = 0; a < d; a++)
+            w->rhs[i * d + a] = -w->F[c * d + a];
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
+            int e = S->ci[k], pe = w->pos[e];
+            const double *blk = S->bv + (size_t)k * dd;
+            double Jb[9];
+            if (pe < 0) {
+                double wd[3] = {0, 0, 0};
+                for (b = 0; b < d; b++)
+                    for (a = 0; a < d; a++)
+                        wd[a] += blk[a + d * b] * dir[e * d + b];
+                for (a = 0; a < d; a++)
+                    for (b = 0; b < d; b++)
+                        w->rhs[i * d + a] -= Bc[a + d * b] * wd[b];
+                continue;
+            }
+            for (b = 0; b < d; b++) /* J block = B_c (W_ce + eta D_c delta) + A_c delta */
                 for (a = 0; a < d; a++) {
                     double s = 0.0;
                     for (j = 0; j < d; j++) {
-                        double wv = p->W[(c * d + j) + (size_t)col * (size_t)m];
-                        if (ce == c && j == b) {
-                            double dg = p->W[col + (size_t)col * (size_t)m];
-                            wv += eta * (dg > 0.0 ? dg : 1.0);
-                        }
-                        s += w->B[c * dd + a + d * j] * wv;
+                        double wv = blk[j + d * b];
+                        if (e == c && j == b)
+                            wv += eta * (blk[b * (d + 1)] > 0.0 ? blk[b * (d + 1)] : 1.0);
+                        s += Bc[a + d * j] * wv;
                     }
-                    if (ce == c)
+                    if (e == c)
                         s += w->A[c * dd + a + d * b];
-                    w->J[(k * d + a) + (size_t)(e * d + b) * (size_t)n] = s;
+                    Jb[a + d * b] = s;
                 }
-            }
+            for (b = 0; b < d; b++)
+                for (a = 0; a < d; a++) {
+                    int row = i * d + a, col = pe * d + b;
+                    if (band)
+                        w->J[(size_t)(kl + ku + row - col) + (size_t)col * (size_t)ldab] =
+                            Jb[a + d * b];
+                    else
+                        w->J[(size_t)row + (size_t)col * (size_t)n] = Jb[a + d * b];
+                }
         }
     }
-    dgesv_(&n, &one, w->J, &n, w->ipiv, w->rhs, &n, &info);
+    if (band)
+        dgbsv_(&n, &kl, &ku, &one, w->J, &ldab, w->ipiv, w->rhs, &n, &info);
+    else
+        dgesv_(&n, &one, w->J, &n, w->ipiv, w->rhs, &n, &info);
     if (info != 0)
         return info;
-    for (k = 0; k < na; k++)
+    for (i = 0; i < na; i++)
         for (a = 0; a < d; a++)
-            dir[w->act[k] * d + a] = w->rhs[k * d + a];
-    for (i = 0; i < m; i++)
+            dir[w->ord[i] * d + a] = w->rhs[i * d + a];
+    for (i = 0; i < p->m; i++)
         if (!isfinite(dir[i]))
             return 1;
     return 0;
 }
 
-/* Projected fixed-point step on the natural map: r <- P_K(r - rho (u + g(u))). */
-static void fixed_point_step(const fc_problem *p, double *r, const double *u, const double *rho)
+static double nat_err(const fc_problem *p, const double *r, const double *u, double qn)
 {
-    int c, a, d = p->dim;
-    for (c = 0; c < p->nc; c++) {
-        double r3[3] = {0, 0, 0}, u3[3] = {0, 0, 0}, uh[3], z[3], pr[3];
-        for (a = 0; a < d; a++) {
-            r3[a] = r[c * d + a];
-            u3[a] = u[c * d + a];
-        }
-        psb_fc3d_desaxce(u3, p->mu[c], uh, NULL);
-        for (a = 0; a < 3; a++)
-            z[a] = r3[a] - rho[2 * c] * uh[a];
-        psb_proj_cone(z, p->mu[c], PSB_PIECE_DEFAULT, pr, NULL, NULL);
-        for (a = 0; a < d; a++)
-            r[c * d + a] = pr[a];
-    }
+    double e = HUGE_VAL;
+    if (psb_fc_nat_error(p->dim, (size_t)p->nc, r, u, p->mu, qn, &e) != PSB_SUCCESS)
+        return HUGE_VAL;
+    return e;
 }
 
-/* Solves p; returns the iteration count; *res = error measure at the returned r. */
-static int fc_solve(const fc_problem *p, const fc_options *o, double *r, double *res, int *absres)
+static void work_free(fc_work *w)
 {
-    int m = p->m, d = p->dim, nc = p->nc, it, c, i, fails = 0;
-    double qn = 0.0, err = 0.0, theta, eta_fac = 1.0, hist[8];
-    int nh = 0;
+    free(w->u);
+    free(w->F);
+    free(w->A);
+    free(w->B);
+    free(w->d);
+    free(w->rhs);
+    free(w->J);
+    free(w->rn);
+    free(w->un);
+    free(w->best);
+    free(w->ipiv);
+    free(w->act);
+    free(w->pos);
+    free(w->deg);
+    free(w->queue);
+    free(w->ord);
+}
+
+/* Solves p from the reaction r (in/out; zeros are a fine start). Alternates two phases, keeping
+   the best iterate by the eq. (15) error:
+   - NSGS sweeps (robust, cheap: O(nnz) each), phases of 30 sweeps doubling up to 1000, and
+   - globalised nonsmooth Newton on the Jean-Moreau residual (fast local convergence): direction
+     from the proximally regularised system (A + B (W + eta D)) d = -F, which stays solvable when
+     W is rank-deficient and tends to plain Newton as eta ~ error; non-monotone Armijo search on
+     0.5 |F|^2; on failure eta grows (towards a damped fixed-point step).
+   Newton hands back to NSGS when it stops making progress. Returns 0 on success (st->err <=
+   tol), 1 if the tolerance is missed, -1 on allocation failure. */
+static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stats *st)
+{
+    int m = p->m, d = p->dim, nc = p->nc, i, c, mode = 0, phase_it = 0, nh = 0;
+    int nsgs_len = 30, stall_win = 30;
+    double qn = 0.0, err, best_err, theta, eta_fac = 1.0, hist[8], phase_ref = 0.0;
     fc_work w;
-    double *rn = malloc((size_t)m * sizeof(double)), *un = malloc((size_t)m * sizeof(double));
+    fc_bsr S;
+    int rc = 1;
     memset(&w, 0, sizeof w);
+    memset(st, 0, sizeof *st);
+    st->err = HUGE_VAL;
+    if (!bsr_build(p, &S)) {
+        bsr_free(&S);
+        return -1;
+    }
     w.u = malloc((size_t)m * sizeof(double));
     w.F = malloc((size_t)m * sizeof(double));
     w.A = malloc((size_t)m * (size_t)d * sizeof(double));
     w.B = malloc((size_t)m * (size_t)d * sizeof(double));
-    w.rho = malloc((size_t)nc * 2 * sizeof(double));
     w.d = malloc((size_t)m * sizeof(double));
-    w.J = malloc((size_t)m * (size_t)m * sizeof(double));
     w.rhs = malloc((size_t)m * sizeof(double));
-    w.Ftmp = malloc(3 * sizeof(double));
+    w.rn = malloc((size_t)m * sizeof(double));
+    w.un = malloc((size_t)m * sizeof(double));
+    w.best = malloc((size_t)m * sizeof(double));
     w.ipiv = malloc((size_t)m * sizeof(int));
     w.act = malloc((size_t)nc * sizeof(int));
     w.pos = malloc((size_t)nc * sizeof(int));
-    if (!rn || !un || !w.u || !w.F || !w.A || !w.B || !w.rho || !w.d || !w.J || !w.rhs ||
-        !w.Ftmp || !w.ipiv || !w.act || !w.pos) {
-        it = -1;
-        goto out;
-    }
-    for (i = 0; i < m; i++)
-        qn += p->q[i] * p->q[i];
-    qn = sqrt(qn);
-    *absres = qn < 1e-12;
-    /* rho ~ 1/W_aa makes rho W ~ 1 per contact (fallback 1/max diag when W_aa ~ 0) */
+    w.deg = malloc((size_t)nc * sizeof(int));
+    w.queue = malloc((size_t)nc * sizeof(int));
+    w.ord = malloc((size_t)nc * sizeof(int));
     {
-        double dmax = 0.0;
-        for (i = 0; i < m; i++)
-            if (p->W[i + (size_t)i * (size_t)m] > dmax)
-                dmax = p->W[i + (size_t)i * (size_t)m];
-        if (dmax <= 0.0)
-            dmax = 1.0;
-        for (c = 0; c < nc; c++) {
-            double wn = p->W[(size_t)(c * d) * (size_t)(m + 1)], wt = 0.0;
-            for (i = 1; i < d; i++)
-                if (p->W[(size_t)(c * d + i) * (size_t)(m + 1)] > wt)
-                    wt = p->W[(size_t)(c * d + i) * (size_t)(m + 1)];
-            if (wn < 1e-8 * dmax)
-                wn = dmax;
-            if (wt < 1e-8 * dmax)
-                wt = dmax;
-            w.rho[2 * c] = 1.0 / wn;
-            w.rho[2 * c + 1] = 1.0 / wt;
-            if (d == 2) /* psb_ac2d_node has a single augmentation r */
-                w.rho[2 * c] = w.rho[2 * c + 1] = 1.0 / (wn > wt ? wn : wt);
+        double *rho = malloc((size_t)nc * 2 * sizeof(double));
+        if (!rho || !w.u || !w.F || !w.A || !w.B || !w.d || !w.rhs || !w.rn || !w.un || !w.best ||
+            !w.ipiv || !w.act || !w.pos || !w.deg || !w.queue || !w.ord) {
+            free(rho);
+            work_free(&w);
+            bsr_free(&S);
+            return -1;
         }
-    }
-    for (it = 0;; it++) {
-        double t, th_ref;
-        int accepted = 0;
-        matvec(p, r, w.u);
-        psb_fc_nat_error(d, (size_t)nc, r, w.u, p->mu, *absres ? 0.0 : qn, &err);
-        if (o->verbose)
-            fprintf(stderr, "  it %d err %.3e eta_fac %.1e\n", it, err, eta_fac);
-        if (err <= o->tol || it >= o->maxit)
-            break;
-        theta = ac_eval(p, r, w.u, w.rho, w.F, w.A, w.B);
-        if (theta < 0.0)
-            break;
-        hist[nh++ % 8] = theta;
-        th_ref = theta;
-        for (i = 0; i < (nh < 8 ? nh : 8); i++) /* non-monotone reference: max of the last 8 */
-            if (hist[i] > th_ref)
-                th_ref = hist[i];
-        while (!accepted && eta_fac <= 1e10) {
-            double eta = eta_fac * (err < 1.0 ? err : 1.0);
-            if (newton_dir(p, &w, eta, w.d) == 0) {
-                for (t = 1.0; t >= 1.0 / 1024.0; t *= 0.5) {
-                    double th;
-                    for (i = 0; i < m; i++)
-                        rn[i] = r[i] + t * w.d[i];
-                    matvec(p, rn, un);
-                    th = ac_eval(p, rn, un, w.rho, w.F, NULL, NULL);
-                    if (th >= 0.0 && th <= (1.0 - 1e-4 * t) * th_ref && th < 1e300) {
-                        accepted = 1;
-                        break;
+        for (i = 0; i < m; i++)
+            qn += p->q[i] * p->q[i];
+        qn = sqrt(qn);
+        st->absres = qn < 1e-12;
+        if (st->absres)
+            qn = 0.0;
+        /* rho ~ 1/W_aa makes rho W ~ 1 per contact (1/max diag when W_aa ~ 0: such a contact's
+           velocity hardly depends on its own reaction) */
+        {
+            double dmax = 0.0;
+            for (c = 0; c < nc; c++)
+                for (i = 0; i < d; i++)
+                    if (S.bv[(size_t)S.dg[c] * S.dd + i * (d + 1)] > dmax)
+                        dmax = S.bv[(size_t)S.dg[c] * S.dd + i * (d + 1)];
+            if (dmax <= 0.0)
+                dmax = 1.0;
+            for (c = 0; c < nc; c++) {
+                const double *Wc = S.bv + (size_t)S.dg[c] * S.dd;
+                double wn = Wc[0], wt = 0.0;
+                for (i = 1; i < d; i++)
+                    wt = Wc[i * (d + 1)] > wt ? Wc[i * (d + 1)] : wt;
+                if (wn < 1e-8 * dmax)
+                    wn = dmax;
+                if (wt < 1e-8 * dmax)
+                    wt = dmax;
+                rho[2 * c] = 1.0 / wn;
+                rho[2 * c + 1] = 1.0 / wt;
+                if (d == 2) /* one augmentation: fewer Newton failures in 2D tests */
+                    rho[2 * c] = rho[2 * c + 1] = 1.0 / (wn > wt ? wn : wt);
+            }
+        }
+        for (i = 0; i < m; i++)
+            if (!isfinite(r[i]))
+                r[i] = 0.0;
+        bsr_matvec(&S, p->q, r, w.u);
+        best_err = err = nat_err(p, r, w.u, qn);
+        memcpy(w.best, r, (size_t)m * sizeof(double));
+        phase_ref = err;
+        while (best_err > o->tol && st->newton < o->maxit && st->sweeps < 20 * o->maxit) {
+            if (mode == 0) { /* ---- NSGS sweep (alternating direction) ---- */
+                nsgs_sweep(&S, p, rho, r, st->sweeps % 2);
+                st->sweeps++;
+                phase_it++;
+                bsr_matvec(&S, p->q, r, w.u);
+                err = nat_err(p, r, w.u, qn);
+                if (o->verbose)
+                    fprintf(stderr, "  sweep %d err %.3e\n", st->sweeps, err);
+                if (err < best_err) {
+                    best_err = err;
+                    memcpy(w.best, r, (size_t)m * sizeof(double));
+                }
+                /* to Newton after nsgs_len sweeps (phases double, up to 1000 sweeps) */
+                if (phase_it >= nsgs_len) {
+                    mode = 1;
+                    phase_it = 0;
+                    phase_ref = best_err;
+                    memcpy(r, w.best, (size_t)m * sizeof(double));
+                    eta_fac = 1.0;
+                    nh = 0;
+                }
+                continue;
+            }
+            /* ---- Newton step ---- */
+            {
+                double t = 1.0, th_ref;
+                int accepted = 0;
+                bsr_matvec(&S, p->q, r, w.u);
+                theta = res_eval(p, r, w.u, rho, w.F, w.A, w.B);
+                if (theta < 0.0)
+                    break;
+                hist[nh++ % 8] = theta;
+                th_ref = theta;
+                for (i = 0; i < (nh < 8 ? nh : 8); i++) /* non-monotone: max of the last 8 */
+                    if (hist[i] > th_ref)
+                        th_ref = hist[i];
+                while (!accepted && eta_fac <= 1e10) {
+                    double eta = eta_fac * (err < 1.0 ? err : 1.0);
+                    int e = newton_dir(p, &S, &w, eta, w.d);
+                    if (e < 0)
+                        goto out;
+                    if (e == 0) {
+                        for (t = 1.0; t >= 1.0 / 1024.0; t *= 0.5) {
+                            double th;
+                            for (i = 0; i < m; i++)
+                                w.rn[i] = r[i] + t * w.d[i];
+                            bsr_matvec(&S, p->q, w.rn, w.un);
+                            th = res_eval(p, w.rn, w.un, rho, w.F, NULL, NULL);
+                            if (th >= 0.0 && th <= (1.0 - 1e-4 * t) * th_ref && th < 1e300) {
+                                accepted = 1;
+                                break;
+                            }
+                        }
+                        if (!accepted) /* the search overwrote F: restore it */
+                            res_eval(p, r, w.u, rho, w.F, w.A, w.B);
+                    }
+                    if (accepted) {
+                        memcpy(r, w.rn, (size_t)m * sizeof(double));
+                        if (t == 1.0 && eta_fac > 1e-6)
+                            eta_fac *= 0.1;
+                    } else {
+                        eta_fac *= 10.0;
                     }
                 }
-                /* ac_eval above overwrote F: restore it for a possible retry */
-                if (!accepted)
-                    ac_eval(p, r, w.u, w.rho, w.F, w.A, w.B);
-            }
-            if (accepted) {
-                memcpy(r, rn, (size_t)m * sizeof(double));
-                if (t == 1.0 && eta_fac > 1e-6)
-                    eta_fac *= 0.1;
-            } else {
-                eta_fac *= 10.0;
+                st->newton++;
+                phase_it++;
+                if (accepted) {
+                    bsr_matvec(&S, p->q, r, w.u);
+                    err = nat_err(p, r, w.u, qn);
+                    if (err < best_err) {
+                        best_err = err;
+                        memcpy(w.best, r, (size_t)m * sizeof(double));
+                    }
+                }
+                if (o->verbose)
+                    fprintf(stderr, "  newton %d err %.3e eta_fac %.1e t %g%s\n", st->newton, err,
+                            eta_fac, t, accepted ? "" : " (failed)");
+                /* back to NSGS (from the best point) when the search fails or Newton made less
+                   than 10x progress in stall_win steps; the next NSGS phase is longer */
+                if (!accepted || (phase_it >= stall_win && best_err > 0.1 * phase_ref)) {
+                    mode = 0;
+                    phase_it = 0;
+                    nsgs_len = nsgs_len < 500 ? 2 * nsgs_len : 1000;
+                    memcpy(r, w.best, (size_t)m * sizeof(double));
+                } else if (phase_it >= stall_win) {
+                    phase_it = 0;
+                    phase_ref = best_err;
+                }
             }
         }
-        if (!accepted) { /* last resort: damped projection step, then start afresh */
-            fixed_point_step(p, r, w.u, w.rho);
-            eta_fac = 1.0;
-            nh = 0;
-            fails++;
-        }
+        rc = 0;
+    out:
+        free(rho);
     }
-out:
-    *res = err;
-    free(rn);
-    free(un);
-    free(w.u);
-    free(w.F);
-    free(w.A);
-    free(w.B);
-    free(w.rho);
-    free(w.d);
-    free(w.J);
-    free(w.rhs);
-    free(w.Ftmp);
-    free(w.ipiv);
-    free(w.act);
-    free(w.pos);
-    (void)fails;
-    return it;
+    memcpy(r, w.best, (size_t)m * sizeof(double));
+    bsr_matvec(&S, p->q, r, w.u); /* honest measure at the returned reaction */
+    st->err = nat_err(p, r, w.u, qn);
+    work_free(&w);
+    bsr_free(&S);
+    if (rc < 0)
+        return -1;
+    return st->err <= o->tol ? 0 : 1;
 }
 
+#ifndef FC_SOLVE_NO_MAIN
 int main(int argc, char **argv)
 {
     fc_options o;
     int i, status = 0, nfiles = 0;
     o.tol = 1e-10;
-    o.maxit = 1000;
+    o.maxit = 2000;
     o.verbose = 0;
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--tol") == 0 && i + 1 < argc) {
@@ -568,8 +1113,9 @@ int main(int argc, char **argv)
         {
             fc_problem p;
             const char *msg = fc_read(argv[i], &p);
-            double *r, res = 0.0;
-            int it, absres = 0;
+            double *r;
+            int res;
+            fc_stats st;
             clock_t t0;
             nfiles++;
             if (msg) {
@@ -579,11 +1125,18 @@ int main(int argc, char **argv)
             }
             r = calloc((size_t)p.m, sizeof(double));
             t0 = clock();
-            it = r ? fc_solve(&p, &o, r, &res, &absres) : -1;
-            printf("%s contacts=%d iterations=%d residual%s=%.3e time=%.3fs\n", argv[i], p.nc, it,
-                   absres ? "(abs)" : "", res, (double)(clock() - t0) / CLOCKS_PER_SEC);
-            if (it < 0 || !(res <= o.tol))
+            res = r ? fc_solve(&p, &o, r, &st) : -1;
+            if (res < 0) {
+                printf("%s error: out of memory\n", argv[i]);
                 status = 1;
+            } else {
+                printf("%s contacts=%d iterations=%d residual%s=%.3e time=%.3fs newton=%d "
+                       "sweeps=%d\n",
+                       argv[i], p.nc, st.newton + st.sweeps, st.absres ? "(abs)" : "", st.err,
+                       (double)(clock() - t0) / CLOCKS_PER_SEC, st.newton, st.sweeps);
+                if (res != 0)
+                    status = 1;
+            }
             free(r);
             fc_free(&p);
         }
@@ -594,3 +1147,4 @@ int main(int argc, char **argv)
     }
     return status;
 }
+#endif
