@@ -128,6 +128,7 @@
    tol_correction [1e-10]           ||last correction||_w at convergence
    c_min [0.9]                      least cosine between the tangents before and after a step
    switch_delta_min [h_min], switch_delta_max [h_init]   probe distances of the tangent switch
+   switch_no_sweep [0]              1: no sweep around a kink when nothing lies straight ahead
    fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
                                     finite differences: column j steps fd_step * max(1, |y_j|)
    c_diff [0.99999]                 cosine above which two tangents are one branch
@@ -181,7 +182,16 @@
    Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
    switch_delta_max: t~ = tangent at y + delta t; once cos_w(t~, t) < c_diff, try steps from y
    along +t~ then -t~ (from h_init down to h_min) and accept the first couple that does not go
-   back along the incoming branch (cos_w(t_new, -t) < c_diff). Continuation restarts at h_init.
+   back along the incoming branch (cos_w(t_new, -t) < c_diff; when the point was itself just
+   reached by a switch, nor along the branch before that one). If nothing lies straight ahead
+   (at a sharp turn the region beyond the kink holds no branch), the plane of -t and the tangent
+   ahead is swept in n_dir directions at three probe distances, as Algorithm 2.2 does, with
+   trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). At a point
+   where more than two branches meet, the trace continues on one of them: use Algorithms 2.1
+   and 2.2 to get them all. Continuation restarts at h_init.
+   The tangent switch and the deduplication of branches compare tangents in the weighted norm:
+   two pieces that differ only in components of tiny weight look alike there, so do not weight
+   any group of unknowns (e.g. multipliers) far below the others.
    Folds: a sign change of t[param] between accepted points. The estimate is the extremum of
    the cubic Hermite interpolant of the parameter in the chord length (exact to O(h^4) on smooth
    folds); at a fold that is a kink (reached by a switch) it is the parameter of the last point
@@ -195,9 +205,11 @@
    before it is halved: the paper's version moves at most branch_h in all and so cannot reach an
    end point that the continuation left farther away.
    Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
-   deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc, except
-   that the directions v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1 (and of
-   its norm): the same plane, swept evenly. As printed (paper_sweep = 1), two nearly parallel
+   deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc. A trial
+   that converges closer to y0 than h is discarded: there pieces that merely touch the end point
+   are active, and their tangents would pass for new branches. Also, the directions
+   v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1 (and of its norm): the same
+   plane, swept evenly. As printed (paper_sweep = 1), two nearly parallel
    spanning tangents bunch the n_dir directions around them and leave most of the plane
    unvisited; on the planar 8-branch test problem (tests/test_core.c) the even sweep finds all
    branches in the first span from every incoming branch, the printed one in 3 to 6. Restarts as
@@ -445,6 +457,8 @@ typedef struct psb_options {
     /* simple tangent switch: trial points y + delta t, delta doubling from min to max */
     double switch_delta_min; /* [h_min] */
     double switch_delta_max; /* [h_init] */
+    int switch_no_sweep;     /* 1: when nothing lies straight ahead, stop instead of sweeping
+                                n_dir directions around the kink [0] */
 
     /* finite-difference Jacobian (when problem.jacobian is NULL): column j uses the step
        fd_step * max(1, |y_j|), forward differences unless fd_central */
@@ -873,8 +887,8 @@ enum {
     PSB__V_FD,    /* finite-difference point */
     PSB__V_REF,   /* reference direction copy */
     PSB__V_STEP_Y, PSB__V_STEP_T,   /* psb_step trial couple */
-    PSB__V_SW_Y, PSB__V_SW_T, PSB__V_SW_D, /* tangent switch */
-    PSB__V_TR_Y, PSB__V_TR_T, PSB__V_TR_Y0, PSB__V_TR_T0, PSB__V_TR_B, PSB__V_TR_S, /* trace */
+    PSB__V_SW_Y, PSB__V_SW_T, PSB__V_SW_D, PSB__V_SW_P, PSB__V_SW_A, PSB__V_SW_B, PSB__V_SW_C, /* switch */
+    PSB__V_TR_Y, PSB__V_TR_T, PSB__V_TR_Y0, PSB__V_TR_T0, PSB__V_TR_B, PSB__V_TR_S, PSB__V_TR_K, /* trace */
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
     PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P, PSB__V_BR_Q, /* branching */
@@ -1868,31 +1882,77 @@ PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h
     return r;
 }
 
-static psb_result psb__switch(psb_solver *s, double *y, double *t)
+/* Tries steps from y along +dir then -dir; accepts the first couple that does not go back
+   along t (or t_before). Returns PSB_SUCCESS with (y, t) replaced, PSB_NONSMOOTH_END, or a
+   fatal code. */
+static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const double *t_before,
+                                  const double *dir, double h_floor)
 {
-    int np1 = s->np1_, sign, iters;
-    double *yd = PSB__VEC(s, PSB__V_SW_Y), *td = PSB__VEC(s, PSB__V_SW_T);
-    double *dir = PSB__VEC(s, PSB__V_SW_D), delta, h;
+    int np1 = s->np1_, sign, iters, i;
+    double *yd = PSB__VEC(s, PSB__V_SW_Y), *td = PSB__VEC(s, PSB__V_SW_T), h;
     psb_result r;
+    for (sign = 1; sign >= -1; sign -= 2) {
+        psb__copy(yd, y, np1);
+        for (i = 0; i < np1; i++) td[i] = sign * dir[i];
+        h = s->opt.h_init;
+        r = psb__try_step(s, yd, td, &h, h_floor, &iters);
+        if (psb__is_fatal(r)) return r;
+        if (r != PSB_SUCCESS) continue;
+        /* going back along the incoming branch is no continuation */
+        if (-psb__cos_w(s, td, t) >= s->opt.c_diff) continue;
+        if (t_before && -psb__cos_w(s, td, t_before) >= s->opt.c_diff) continue;
+        psb__copy(y, yd, np1);
+        psb__copy(t, td, np1);
+        s->stats.n_switches++;
+        return PSB_SUCCESS;
+    }
+    return PSB_NONSMOOTH_END;
+}
+
+/* t_before (may be NULL): the tangent before the previous kink when (y, t) was itself reached
+   by a switch with no regular step since: a continuation that reverses it goes back too. */
+static psb_result psb__switch(psb_solver *s, double *y, double *t, const double *t_before)
+{
+    int np1 = s->np1_, i, k, pass;
+    double *dir = PSB__VEC(s, PSB__V_SW_D), *probe = PSB__VEC(s, PSB__V_SW_P);
+    double *t1 = PSB__VEC(s, PSB__V_SW_A), *q = PSB__VEC(s, PSB__V_SW_B), delta;
+    psb_result r;
+    /* the simple tangent switch: probe straight ahead */
     for (delta = s->opt.switch_delta_min; delta <= s->opt.switch_delta_max; delta *= 2) {
-        psb__axpy_to(yd, y, delta, t, np1);
-        r = psb__tangent(s, yd, t, dir);
+        psb__axpy_to(probe, y, delta, t, np1);
+        r = psb__tangent(s, probe, t, dir);
         if (psb__is_fatal(r)) return r;
         if (r != PSB_SUCCESS || psb__cos_w(s, dir, t) >= s->opt.c_diff) continue;
-        for (sign = 1; sign >= -1; sign -= 2) {
-            int i;
-            psb__copy(yd, y, np1);
-            for (i = 0; i < np1; i++) td[i] = sign * dir[i];
-            h = s->opt.h_init;
-            r = psb__try_step(s, yd, td, &h, s->opt.h_min, &iters);
+        r = psb__switch_try(s, y, t, t_before, dir, s->opt.h_min);
+        if (r != PSB_NONSMOOTH_END) return r;
+    }
+    /* Nothing straight ahead (the region there holds no branch, as at sharp turns): sweep the
+       plane of -t and the tangent ahead, as Algorithm 2.2 does, at three probe distances. */
+    if (!s->opt.switch_no_sweep) {
+        for (k = 0; k < np1; k++) t1[k] = -t[k];
+        for (pass = 1; pass <= 3; pass++) {
+            delta = s->opt.switch_delta_min * pow(s->opt.switch_delta_max / s->opt.switch_delta_min, pass / 3.0);
+            psb__axpy_to(probe, y, delta, t, np1);
+            r = psb__tangent(s, probe, t, q);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) continue;
-            /* going back along the incoming branch is no continuation */
-            if (-psb__cos_w(s, td, t) >= s->opt.c_diff) continue;
-            psb__copy(y, yd, np1);
-            psb__copy(t, td, np1);
-            s->stats.n_switches++;
-            return PSB_SUCCESS;
+            {
+                double c = psb_dot_w(s, t1, q);
+                for (k = 0; k < np1; k++) q[k] -= c * t1[k];
+                if (!psb__normalize_w(s, q)) continue;
+            }
+            for (i = 1; i < s->opt.n_dir; i++) { /* i = 0 is straight ahead: done above */
+                double alpha = 6.283185307179586 * i / s->opt.n_dir;
+                for (k = 0; k < np1; k++) dir[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
+                psb__axpy_to(probe, y, delta, dir, np1);
+                psb__copy(PSB__VEC(s, PSB__V_SW_C), dir, np1);
+                r = psb__tangent(s, probe, PSB__VEC(s, PSB__V_SW_C), dir);
+                if (psb__is_fatal(r)) return r;
+                if (r != PSB_SUCCESS || fabs(psb__cos_w(s, dir, t)) >= s->opt.c_diff) continue;
+                /* steps much shorter than the probe distance see only the kink itself */
+                r = psb__switch_try(s, y, t, t_before, dir, fmax(s->opt.h_min, delta / 64));
+                if (r != PSB_NONSMOOTH_END) return r;
+            }
         }
     }
     s->message[0] = 0;
@@ -1904,7 +1964,7 @@ PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t)
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
     if (!psb__normalize_w(s, t)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
-    return psb__switch(s, y, t);
+    return psb__switch(s, y, t, NULL);
 }
 
 /* Parameter value of the limit point between two couples whose tangents' parameter components
@@ -2020,9 +2080,9 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     psb_trace_options opts;
     psb_trace_report local;
     psb_point pt;
-    int np1, p, bounded, iters, flags, kink;
+    int np1, p, bounded, iters, flags, kink, just_switched = 0;
     double h, travelled = 0;
-    double *yc, *tc, *yold, *told, *ystart;
+    double *yc, *tc, *yold, *told, *ystart, *tkink;
     psb_result r;
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
@@ -2041,6 +2101,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     yold = PSB__VEC(s, PSB__V_TR_Y0);
     told = PSB__VEC(s, PSB__V_TR_T0);
     ystart = PSB__VEC(s, PSB__V_TR_S);
+    tkink = PSB__VEC(s, PSB__V_TR_K);
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
     psb__normalize_w(s, tc);
@@ -2062,7 +2123,8 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         r = psb__try_step(s, yc, tc, &h, s->opt.h_min, &iters);
         if (r == PSB_ERR_STEP_TOO_SMALL) {
             if (opts.no_switch) { rep->end = PSB_NONSMOOTH_END; goto done; }
-            r = psb__switch(s, yc, tc);
+            r = psb__switch(s, yc, tc, just_switched ? tkink : NULL);
+            psb__copy(tkink, told, np1);
             if (r == PSB_NONSMOOTH_END) { rep->end = r; goto done; }
             if (r != PSB_SUCCESS) { rep->end = r; goto done; }
             flags |= PSB_POINT_SWITCH;
@@ -2121,6 +2183,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             }
             flags |= PSB_POINT_BOUND;
         }
+        just_switched = (flags & PSB_POINT_SWITCH) != 0;
         rep->steps++;
         pt.h = sqrt(psb_dot_w(s, yold, yold) + psb_dot_w(s, yc, yc) - 2 * psb_dot_w(s, yold, yc));
         travelled += pt.h;
@@ -2271,7 +2334,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         psb__copy(tprev, tt, np1);
         for (sign = 1; sign >= -1; sign -= 2) {
-            double hh = s->opt.branch_h_init, dotp;
+            double hh = s->opt.branch_h_init, dotp, dist;
             int j, is_new = 1;
             psb__copy(yb, y0, np1);
             for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
@@ -2280,6 +2343,11 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
             r = psb__try_step(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) continue;
+            /* a point closer to y0 than the sampling distance h tells nothing reliable about
+               the branches: pieces that touch the end point are active there */
+            dist = 0;
+            for (k = 0; k < np1; k++) dist += s->w_[k] * (yb[k] - y0[k]) * (yb[k] - y0[k]);
+            if (sqrt(dist) < h) continue;
             /* Step 5(i): orient away from the point */
             dotp = 0;
             for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);

@@ -243,6 +243,89 @@ static void test_gentle_kink(void)
     psb_solver_free(&s);
 }
 
+/* A sharp turn: H(r, theta) = r f(theta), f linear on the eight 45-degree sectors with the
+   values (1, -1, -1, -1, 1, 1, 1, 1) at their boundaries: zeros only in sectors 0 and 3, so the
+   curve comes in along one ray and leaves along the other, 135 degrees round, and the sector
+   straight ahead of the incoming ray holds no branch. y = (x, g). */
+static int turn_value(double x, double g, int *sector_out, double grad[2])
+{
+    static const double f[8] = {1, -1, -1, -1, 1, 1, 1, 1};
+    double theta = atan2(g, x), pi4 = 0.7853981633974483, a0, a1, c0, s0, c1, s1, det;
+    int k;
+    if (theta < 0) theta += 8 * pi4;
+    k = (int)(theta / pi4);
+    if (k > 7) k = 7;
+    a0 = k * pi4;
+    a1 = (k + 1) * pi4;
+    c0 = cos(a0), s0 = sin(a0), c1 = cos(a1), s1 = sin(a1);
+    /* the linear function with values f[k] at (c0, s0) and f[k+1] at (c1, s1) */
+    det = c0 * s1 - s0 * c1;
+    grad[0] = (f[k] * s1 - f[(k + 1) % 8] * s0) / det;
+    grad[1] = (f[(k + 1) % 8] * c0 - f[k] * c1) / det;
+    if (sector_out) *sector_out = k;
+    return 0;
+}
+static int turn_res(const double *y, double *h, void *u)
+{
+    double grad[2];
+    (void)u;
+    turn_value(y[0], y[1], NULL, grad);
+    h[0] = grad[0] * y[0] + grad[1] * y[1];
+    return 0;
+}
+static int turn_jac(const double *y, double *j, int ld, void *u)
+{
+    double grad[2];
+    (void)u;
+    turn_value(y[0], y[1], NULL, grad);
+    j[0] = grad[0];
+    j[ld] = grad[1];
+    return 0;
+}
+
+static void test_sharp_turn(int no_sweep)
+{
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    double y[2], t[2], grad[2], ray0[2], ray3[2], len;
+    int k;
+    /* the two rays: zeros of the sector functions in sectors 0 and 3 */
+    turn_value(cos(0.3), sin(0.3), &k, grad);
+    ray0[0] = grad[1];
+    ray0[1] = -grad[0];
+    turn_value(cos(2.6), sin(2.6), &k, grad);
+    ray3[0] = -grad[1];
+    ray3[1] = grad[0];
+    if (ray3[1] < 0) ray3[0] = -ray3[0], ray3[1] = -ray3[1];
+    if (ray0[0] < 0) ray0[0] = -ray0[0], ray0[1] = -ray0[1];
+    len = sqrt(ray0[0] * ray0[0] + ray0[1] * ray0[1]);
+    memset(&o, 0, sizeof o);
+    o.switch_no_sweep = no_sweep;
+    psb_problem_init(&p, 1, turn_res, turn_jac, NULL);
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    y[0] = ray0[0] / len;
+    y[1] = ray0[1] / len;
+    t[0] = -y[0];
+    t[1] = -y[1];
+    memset(&to, 0, sizeof to);
+    to.max_steps = 200;
+    if (no_sweep) {
+        CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_NONSMOOTH_END);
+        CHECK(fabs(y[0]) + fabs(y[1]) < 1e-5);
+    } else {
+        CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_STEP_BUDGET);
+        CHECK(rep.n_switches == 1);
+        /* out along the other ray */
+        len = sqrt(y[0] * y[0] + y[1] * y[1]);
+        CHECK_NEAR(y[0] / len, ray3[0] / sqrt(ray3[0] * ray3[0] + ray3[1] * ray3[1]), 1e-9);
+        CHECK_NEAR(y[1] / len, ray3[1] / sqrt(ray3[0] * ray3[0] + ray3[1] * ray3[1]), 1e-9);
+    }
+    psb_solver_free(&s);
+}
+
 /* V-shaped nonsmooth fold: g = 1 - |x1|, x2 = 2 x1; g rises to 1 at x1 = 0, then falls */
 static int vfold_res(const double *y, double *h, void *u)
 {
@@ -786,6 +869,8 @@ int main(void)
     test_zigzag(1);
     test_gentle_kink();
     test_nonsmooth_fold();
+    test_sharp_turn(1);
+    test_sharp_turn(0);
     test_pl_branching();
     test_branch_budgets();
     test_determinism();
