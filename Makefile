@@ -15,8 +15,9 @@ SHARED ?= ../shared
 BUILD ?= build
 
 HEADER = pscbranch.h
-TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_linkage
-EXAMPLES = examples/01_branching examples/fc_solve
+TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_contact $(BUILD)/test_fc_solve \
+	$(BUILD)/test_fe $(BUILD)/test_linkage
+EXAMPLES = examples/01_branching examples/fc_solve examples/block examples/triangle
 
 .PHONY: all test demo examples bench asan ubsan clean
 
@@ -37,6 +38,9 @@ $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 $(BUILD)/test_fc_solve: tests/test_fc_solve.c tests/fc_gen.h tests/harness.h examples/fc_solve.c $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_fc_solve.c -o $@ $(LIBS)
 
+$(BUILD)/test_fe: tests/test_fe.c tests/harness.h examples/fe.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_fe.c -o $@ $(LIBS)
+
 $(BUILD)/linkage_impl.o: tests/linkage_impl.cpp $(HEADER) | $(BUILD)
 	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -c tests/linkage_impl.cpp -o $@
 
@@ -46,17 +50,27 @@ $(BUILD)/test_linkage: tests/test_linkage.c $(BUILD)/linkage_impl.o tests/harnes
 examples/%: examples/%.c $(HEADER)
 	$(CC) $(ALL_CFLAGS) $< -o $@ $(LIBS)
 
+examples/block examples/triangle: examples/fe.h
+
 examples: $(EXAMPLES)
 
+# each example exits non-zero when its result differs from the analytic or the papers' one
 SMOKE = "smoke:examples/01_branching" \
-	"smoke:examples/fc_solve $(SHARED)/fc-problems/*.dat"
+	"smoke:examples/fc_solve $(SHARED)/fc-problems/*.dat" \
+	"smoke:examples/block" \
+	"smoke:examples/triangle --mesh 16" \
+	"smoke:examples/triangle --mesh 16 --problem fold"
 
 test: $(TESTS) $(EXAMPLES)
 	@bash tests/run.sh $(TESTS) $(SMOKE)
 
-demo: examples/01_branching
-	@mkdir -p out
+demo: examples/01_branching examples/block
+	@mkdir -p out/block
 	./examples/01_branching --out out
+	./examples/block --out out/block
+	@if command -v gnuplot >/dev/null 2>&1; then \
+	  (cd out/block && gnuplot plot.gp) && echo "plots: out/block/*.png"; \
+	else echo "gnuplot not installed (apt-get install gnuplot-nox): plot data and script are in out/block"; fi
 
 BENCH = bench/bench_linear
 

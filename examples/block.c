@@ -1,15 +1,20 @@
 /* block - Section 3.2 of Ligursky & Renard: a 40 mm x 80 mm Ciarlet-Geymonat block fixed on top,
    sheared by h(gamma, x) = gamma (-2, 0.12 (x1 - 20)) N/mm^2 on both lateral sides, lying on a
    rigid foundation with Coulomb friction (F = 1, r = 10). Six branches meet at gamma = 0: forcing
-   to the right (gamma < 0) or to the left, each with no contact, contact-stick or contact-slip.
+   to the right (gamma < 0: branches 1-3) or to the left (4-6), the lower vertex on that side being
+   separated, sticking or slipping (other contact nodes may touch).
 
-   The run: Newton at gamma = --start (default -1), continuation to the nonsmooth point gamma = 0,
-   Algorithms 2.1-2.2 (c_diff = 0.99999, h = 5e-7, h_min = h / 2^14, h_init = 5e-4), then every
-   branch is traced to |gamma| = 1. Exit status 0 only when the six branches of the paper are found,
-   each ends on |gamma| = 1 with a small residual, and the contact states are as in the paper.
+   The run: Newton at gamma = -1 from zero (branch 1; --input K starts from branch K instead),
+   continuation to the nonsmooth point gamma = 0, Algorithms 2.1-2.2 (c_diff = 0.99999, h = 5e-7,
+   h_min = h / 2^14, h_init = 5e-4, n_dir, n_span), then every branch is traced to |gamma| = 1.
+   Inner product: kappa = 1/N for displacements, kappa / r^2 for multipliers (--mult-weight), 1 for
+   gamma. Exit status 0 only when the six branches of the paper are found, each ends on
+   |gamma| = 1 with a small residual, and a slipping vertex slides the way the block is forced.
 
-   Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--kappa 1|1/N|VALUE]
-                [--start -1|1] [--dirichlet mult|elim] [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--seed S] [--out DIR] [--dense] [--verbose]
+   Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]
+                [--kappa 1|1/N|V] [--mult-weight W] [--dirichlet mult|elim] [--start -1|1]
+                [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--seed S]
+                [--dense]
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
@@ -21,9 +26,10 @@
 #include "fe.h"
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart, paper_sweep;
     double kappa; /* < 0: 1/N */
-    double hmin;  /* smallest trial step of Algorithm 2.2 and of the traces */
+    double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min) */
+    double mult_weight; /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
     unsigned long long seed;
     const char *out;
 } args;
@@ -32,11 +38,12 @@ static int parse(int argc, char **argv, args *a)
 {
     int i;
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
-    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 1e-5; a->seed = 0; a->out = NULL;
+    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4 / 16; a->mult_weight = -1; a->seed = 0; a->out = NULL;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
         if (!strcmp(o, "--dense")) { a->dense = 1; continue; }
+        if (!strcmp(o, "--paper-sweep")) { a->paper_sweep = 1; continue; }
         if (!v) { fprintf(stderr, "block: %s needs a value\n", o); return -1; }
         i++;
         if (!strcmp(o, "--mesh")) { if (sscanf(v, "%dx%d", &a->nx, &a->ny) != 2 || a->nx < 2 || a->ny < 2) return -1; }
@@ -45,6 +52,7 @@ static int parse(int argc, char **argv, args *a)
         else if (!strcmp(o, "--input")) a->input = atoi(v);
         else if (!strcmp(o, "--start")) a->start = atoi(v) < 0 ? -1 : 1;
         else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
+        else if (!strcmp(o, "--mult-weight")) a->mult_weight = atof(v);
         else if (!strcmp(o, "--maxiter")) a->maxiter = atoi(v);
         else if (!strcmp(o, "--restart")) a->restart = !strcmp(v, "paper") ? PSB_RESTART_PAPER : (!strcmp(v, "global") ? PSB_RESTART_GLOBAL : PSB_RESTART_MIXED);
         else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
@@ -92,7 +100,9 @@ static int branch_and_trace(fe_run *run, double *y, double *t, const args *a)
         printf("block: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run->s));
         return -1;
     }
+    if (a->verbose) printf("  stats after the approach: factorisations %ld, PC trials %ld\n", run->s.stats.n_factor, run->s.stats.n_pc_steps);
     r = fe_run_branching(run, y, t);
+    if (a->verbose) printf("  stats after Algorithms 2.1-2.2: factorisations %ld, PC trials %ld\n", run->s.stats.n_factor, run->s.stats.n_pc_steps);
     if (r < 0) {
         printf("block: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run->s));
         return -1;
@@ -105,6 +115,20 @@ static int branch_and_trace(fe_run *run, double *y, double *t, const args *a)
     run->ndiag = 0;
     fe_run_trace_all(run, 1.0);
     for (k = 0; k < run->nbr; k++) classify(run->md, &run->br[k]);
+    if (a->verbose) {
+        int j;
+        printf("  weighted cosines between the branch tangents at the point (paper numbers):\n       ");
+        for (j = 0; j < run->nbr; j++) printf(" %9d", run->br[j].number);
+        printf("\n");
+        for (k = 0; k < run->nbr; k++) {
+            printf("    %d: ", run->br[k].number);
+            for (j = 0; j < run->nbr; j++) {
+                const double *tk = run->ts + (size_t)k * (n + 1), *tj = run->ts + (size_t)j * (n + 1);
+                printf(" %+9.6f", psb_dot_w(&run->s, tk, tj) / (psb_norm_w(&run->s, tk) * psb_norm_w(&run->s, tj)));
+            }
+            printf("\n");
+        }
+    }
     return run->br[0].number;
 }
 
@@ -115,13 +139,14 @@ int main(int argc, char **argv)
     fe_model md;
     fe_run run;
     psb_options opt;
-    double *y, *t, t0, t1, tol = 1e-8;
+    double *y, *t, *w, t0, t1, tol = 1e-8;
     int n, k, num, ndist, input, ok, seen[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     psb_result r;
 
     if (parse(argc, argv, &a)) {
-        fprintf(stderr, "usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--kappa 1|1/N|VALUE]\n"
-                        "             [--start -1|1] [--dirichlet mult|elim] [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--seed S] [--out DIR] [--dense] [--verbose]\n");
+        fprintf(stderr, "usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]\n"
+                        "             [--kappa 1|1/N|V] [--mult-weight W] [--dirichlet mult|elim] [--start -1|1]\n"
+                        "             [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--seed S] [--dense]\n");
         return 2;
     }
     if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory\n"); return 1; }
@@ -131,17 +156,22 @@ int main(int argc, char **argv)
     opt.h_init = 1e-2; opt.h_max = 0.2; opt.h_min = 1e-9;
     opt.tol_residual = 1e-9; opt.tol_correction = 1e-9;
     opt.c_diff = 0.99999; opt.branch_h = 5e-7; opt.branch_h_min = 5e-7 / 16384; opt.branch_h_init = 5e-4;
-    opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.restart = a.restart;
+    opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.branch_trial_h_min = a.hmin; opt.paper_sweep = a.paper_sweep; opt.restart = a.restart;
+    w = malloc(sizeof(double) * ((size_t)n + 1));
+    if (!w) return 1;
+    if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);
+    fe_weights(&md, opt.kappa, a.mult_weight, w);
+    opt.weights = w;
     if (fe_run_init(&run, &md, &opt, !a.dense)) { fprintf(stderr, "block: solver set-up failed\n"); return 1; }
-    run.approach_step_min = 1e-9;
-    run.branch_step_min = a.hmin;
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
     if (!y || !t) return 1;
 
-    printf("block: M%d (%d x %d Q1, 3x3 Gauss), N = %d unknowns (%s), %d contact nodes, kappa = %s\n",
+    printf("block: M%d (%d x %d Q1, 3x3 Gauss), N = %d unknowns (%s), %d contact nodes, half band %d\n",
            a.nx * a.ny, a.nx, a.ny, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated",
-           md.ncontact, a.kappa > 0 ? "given" : "1/N");
+           md.ncontact, md.half_band);
+    printf("  weights: kappa = %s for displacements, %g kappa for multipliers, 1 for gamma\n", a.kappa > 0 ? "given" : "1/N",
+           a.mult_weight);
     printf("  Algorithms 2.1-2.2: c_diff = %g, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
     t0 = seconds();
@@ -219,13 +249,13 @@ int main(int argc, char **argv)
     printf("; time %.2f s (CPU), factorisations %ld, PC trials %ld\n", t1 - t0, run.s.stats.n_factor, run.s.stats.n_pc_steps);
     if (a.out) {
         mkdir(a.out, 0777);
-        if (fe_run_write(&run, a.out, "block", 1) || fe_run_write_gnuplot(&run, a.out, "block", "mm"))
+        if (fe_run_write(&run, a.out, "block", 1) || fe_run_write_gnuplot(&run, a.out, "block", "mm", 5))
             printf("block: could not write to %s\n", a.out);
         else
             printf("  wrote %s/branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp\n", a.out);
     }
     printf("block: %s\n", ok ? "OK (six branches as in the paper)" : "FAILED (branches differ from the paper)");
-    free(y); free(t);
+    free(y); free(t); free(w);
     fe_run_free(&run);
     fe_model_free(&md);
     fe_mesh_free(&mesh);

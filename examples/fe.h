@@ -16,8 +16,13 @@
    row; only the gamma column is dense. Assembly goes through fe_mat_add, which also knows the LAPACK
    general band layout, so a banded core can reuse it.
 
-   Everything is `static` (or `static inline` for helpers a program may not use), no global state.
-   fe_newton needs LAPACK's dgesv; link -llapack -lblas -lm. */
+   When pscbranch.h is included before this file, a small driver shared by the examples is
+   compiled too (fe_run_*): callbacks for pscbranch's dense and banded backends, the weights of its
+   inner product (fe_weights), the continuation to the branching point at gamma = 0, Algorithms
+   2.1-2.2, the traces of every branch to |gamma| = 1 and the output files (CSV, VTK, gnuplot).
+
+   Everything is `static inline` (a program may use part of it), no global state. fe_newton needs
+   LAPACK's dgesv; link -llapack -lblas -lm. */
 #ifndef FE_H
 #define FE_H
 
@@ -124,16 +129,17 @@ static inline int fe_mesh_rectangle(fe_mesh *m, double lx, double ly, int nx, in
 
 /* Right isosceles triangle with legs `len` on the axes, hypotenuse from (len, 0) to (0, len): the
    n x n grid of squares, each cut along its diagonal parallel to the hypotenuse, keeping the n^2
-   triangles inside. Rows j = 0..n hold n - j + 1 nodes, numbered row by row. */
-static inline int fe_tri_node(int n, int i, int j) { return j * (n + 1) - j * (j - 1) / 2 + i; }
+   triangles inside. Nodes are numbered column by column (column i holds n - i + 1 nodes): the
+   contact nodes on the bottom leg are then one per column, which keeps the half band near 2n. */
+static inline int fe_tri_node(int n, int i, int j) { return i * (n + 1) - i * (i - 1) / 2 + j; }
 
 static inline int fe_mesh_triangle(fe_mesh *m, double len, int n)
 {
     int i, j, e = 0, k = 0;
     if (n < 1 || fe_mesh_alloc(m, (n + 1) * (n + 2) / 2, n * n, 3, 3 * n))
         return -1;
-    for (j = 0; j <= n; j++)
-        for (i = 0; i <= n - j; i++) {
+    for (i = 0; i <= n; i++)
+        for (j = 0; j <= n - i; j++) {
             m->x[2 * fe_tri_node(n, i, j)] = len * i / n;
             m->x[2 * fe_tri_node(n, i, j) + 1] = len * j / n;
         }
@@ -403,6 +409,19 @@ static inline int fe_model_setup(fe_model *md, fe_load_fn load, int load_tag_mas
         if (hi - lo > md->half_band) md->half_band = hi - lo;
     }
     return 0;
+}
+
+/* Weights of the inner product <a, b>_w = sum w_i a_i b_i for pscbranch (options.weights, n + 1
+   values): kappa for displacements, kappa * mult_weight for every multiplier, 1 for gamma.
+   mult_weight = 1 / r^2 measures a multiplier by lambda / r, a displacement (the augmented
+   quantities lambda - r u of eq. (2)); with mult_weight = 1 the forces dominate the norm. */
+static inline void fe_weights(const fe_model *md, double kappa, double mult_weight, double *w)
+{
+    int a, k;
+    for (k = 0; k < md->n; k++) w[k] = kappa * mult_weight;
+    for (a = 0; a < md->mesh->nnode; a++)
+        if (md->udof[a] >= 0) w[md->udof[a]] = w[md->udof[a] + 1] = kappa;
+    w[md->n] = 1;
 }
 
 /* Nodal displacements of all nodes (zero where eliminated) from the state y. */
@@ -705,14 +724,15 @@ static inline int fe_write_vtk(const fe_mesh *m, const double *u, const char *pa
     return fclose(fp) ? -1 : 0;
 }
 
-/* Element outlines of the deformed mesh as gnuplot line segments (blank line between elements). */
+/* Element outlines for gnuplot: x1 x2 u1 u2 per vertex, a blank line between elements (plot
+   ($1 + s * $3):($2 + s * $4) to magnify the displacement by s). */
 static inline int fe_write_outline(const fe_mesh *m, const double *u, FILE *fp)
 {
     int e, v;
     for (e = 0; e < m->nelem; e++) {
         for (v = 0; v <= m->nvert; v++) {
             int a = m->conn[m->nvert * e + v % m->nvert];
-            fprintf(fp, "%.8g %.8g\n", m->x[2 * a] + u[2 * a], m->x[2 * a + 1] + u[2 * a + 1]);
+            fprintf(fp, "%.8g %.8g %.8g %.8g\n", m->x[2 * a], m->x[2 * a + 1], u[2 * a], u[2 * a + 1]);
         }
         fprintf(fp, "\n");
     }
@@ -794,8 +814,6 @@ typedef struct fe_run {
     psb_solver s;
     int np1;
     double kink_tol;      /* |gamma| below which a kink is the branching point */
-    double branch_step_min; /* h_min from Algorithm 2.1 on (0: keep the solver's) */
-    double approach_step_min;
     /* every accepted point of the branch traces: (branch, gamma, u1_left, u2_left) */
     double *diag;
     long ndiag, capdiag;
@@ -931,7 +949,6 @@ static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int 
     to.on_point = fe_run_approach_point;
     to.point_user = run;
     run->cur = -1;
-    if (run->approach_step_min > 0) run->s.opt.h_min = run->approach_step_min;
     r = psb_trace(&run->s, y, t, &to, &rep);
     if (verbose)
         printf("  approach: trace %s after %ld steps, %d kinks located, at gamma = %.3e\n", psb_result_string(r),
@@ -956,9 +973,6 @@ static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int 
 static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
 {
     psb_result r = psb_locate_end(&run->s, y, t, &run->precision);
-    /* the trial steps of Algorithm 2.2 and the traces give up below branch_step_min, not at the
-       tiny h_min the approach to the end point needed */
-    if (run->branch_step_min > 0) run->s.opt.h_min = run->branch_step_min;
     if (r < 0) return r;
     r = psb_find_branches(&run->s, y, t, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
     if (r < 0) return r;
@@ -1016,17 +1030,23 @@ static inline int fe_run_write(const fe_run *run, const char *dir, const char *t
 {
     char path[1024];
     FILE *fp;
-    int k, nn = run->md->mesh->nnode, nc = run->md->ncontact;
+    int k, order, nn = run->md->mesh->nnode, nc = run->md->ncontact;
     double *u = malloc(sizeof(double) * 2 * (size_t)nn);
     if (!u) return -1;
     snprintf(path, sizeof path, "%s/branches.csv", dir);
     if (!(fp = fopen(path, "w"))) { free(u); return -1; }
     fprintf(fp, "branch,gamma,u1_left,u2_left,u1_right,u2_right,n_separated,n_stick,n_slip\n");
-    for (k = 0; k < run->nbr; k++) {
-        const fe_branch *b = &run->br[k];
-        int ul = run->md->udof[run->md->cnode[0]], ur = run->md->udof[run->md->cnode[nc - 1]];
-        if (b->duplicate_of >= 0) continue;
-        fprintf(fp, "%d,%.17g,%.10e,%.10e,%.10e,%.10e,%d,%d,%d\n", b->number ? b->number : k + 1, b->y[run->md->n],
+    for (order = 0; order < run->nbr; order++) {
+        /* rows by branch number: the order-th smallest (number, found index) */
+        const fe_branch *b = NULL;
+        int ul = run->md->udof[run->md->cnode[0]], ur = run->md->udof[run->md->cnode[nc - 1]], j, rank;
+        for (k = 0; k < run->nbr && !b; k++) {
+            int key = run->br[k].number * FE_MAX_BRANCHES + k;
+            for (rank = 0, j = 0; j < run->nbr; j++) rank += run->br[j].number * FE_MAX_BRANCHES + j < key;
+            if (rank == order) b = &run->br[k];
+        }
+        if (!b || b->duplicate_of >= 0) continue;
+        fprintf(fp, "%d,%.17g,%.10e,%.10e,%.10e,%.10e,%d,%d,%d\n", b->number ? b->number : b->found + 1, b->y[run->md->n],
                 b->y[ul], b->y[ul + 1], b->y[ur], b->y[ur + 1], b->states[0], b->states[1], b->states[2] + b->states[3]);
     }
     fclose(fp);
@@ -1061,32 +1081,40 @@ static inline int fe_run_write(const fe_run *run, const char *dir, const char *t
 }
 
 /* gnuplot script: diagram.png (gamma against u1, u2 of the left-most contact node) and
-   bodies.png (the deformed bodies at the branch ends). */
-static inline int fe_run_write_gnuplot(const fe_run *run, const char *dir, const char *title, const char *unit)
+   bodies.png (the deformed bodies at the branch ends, displacements magnified by mag). */
+static inline int fe_run_write_gnuplot(const fe_run *run, const char *dir, const char *title, const char *unit, double mag)
 {
     char path[1024];
     FILE *fp;
-    int k, cols = run->nbr <= 4 ? run->nbr : 3, rows = (run->nbr + cols - 1) / (cols ? cols : 1);
+    int k, num, nd = 0, maxnum = 0, cols, rows;
+    for (k = 0; k < run->nbr; k++)
+        if (run->br[k].duplicate_of < 0) {
+            nd++;
+            if ((run->br[k].number ? run->br[k].number : k + 1) > maxnum) maxnum = run->br[k].number ? run->br[k].number : k + 1;
+        }
+    cols = nd <= 4 ? (nd ? nd : 1) : 3;
+    rows = (nd + cols - 1) / cols;
     snprintf(path, sizeof path, "%s/plot.gp", dir);
     if (!(fp = fopen(path, "w"))) return -1;
-    fprintf(fp, "# gnuplot script written by the pscbranch %s example: cd to this folder, run gnuplot plot.gp\n", title);
+    fprintf(fp, "# gnuplot script written by the pscbranch %s example: run `gnuplot plot.gp` in this folder\n", title);
+    fprintf(fp, "mag = %g  # magnification of the displacements in bodies.png\n", mag);
     fprintf(fp, "set datafile separator ','\nset terminal pngcairo size 1200,500\nset output 'diagram.png'\n");
     fprintf(fp, "set multiplot layout 1,2 title '%s: left-most contact node'\nset grid\nset key outside\n", title);
     fprintf(fp, "set xlabel 'gamma'\nset ylabel 'u1 (%s)'\n", unit);
-    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):3 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", run->nbr);
+    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):3 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", maxnum);
     fprintf(fp, "set ylabel 'u2 (%s)'\n", unit);
-    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):4 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", run->nbr);
+    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):4 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", maxnum);
     fprintf(fp, "unset multiplot\nset datafile separator whitespace\n");
     fprintf(fp, "set terminal pngcairo size %d,%d\nset output 'bodies.png'\nunset grid\nunset key\nset size ratio -1\nunset xlabel\nunset ylabel\n",
             400 * cols, 450 * rows);
-    fprintf(fp, "set multiplot layout %d,%d title '%s: deformed bodies at the branch ends'\n", rows, cols, title);
-    for (k = 0; k < run->nbr; k++) {
-        const fe_branch *b = &run->br[k];
-        int num = b->number ? b->number : k + 1;
-        if (b->duplicate_of >= 0) continue;
-        fprintf(fp, "set title 'branch %d: %s, gamma = %g'\n", num, b->label, b->y[run->md->n]);
-        fprintf(fp, "plot 'body_%d.dat' with lines lc rgb '#3060a0', 0 with lines lc rgb 'black' lw 2\n", num);
-    }
+    fprintf(fp, "set multiplot layout %d,%d title sprintf('%s: deformed bodies at the branch ends (displacements x %%g)', mag)\n", rows, cols, title);
+    for (num = 1; num <= maxnum; num++)
+        for (k = 0; k < run->nbr; k++) {
+            const fe_branch *b = &run->br[k];
+            if (b->duplicate_of >= 0 || (b->number ? b->number : k + 1) != num) continue;
+            fprintf(fp, "set title 'branch %d: %s, gamma = %g'\n", num, b->label, b->y[run->md->n]);
+            fprintf(fp, "plot 'body_%d.dat' using ($1+mag*$3):($2+mag*$4) with lines lc rgb '#3060a0', 0 with lines lc rgb 'black' lw 2\n", num);
+        }
     fprintf(fp, "unset multiplot\n");
     return fclose(fp) ? -1 : 0;
 }

@@ -1,0 +1,365 @@
+/* triangle - Section 3.3 of Ligursky & Renard: a right isosceles triangle with 1 m legs lying on
+   one leg on a rigid foundation (Coulomb friction F = 1.7, r = 10), fixed along the hypotenuse,
+   loaded on its vertical leg; plane-strain Hooke law, lambda = 100, mu = 82 GN/m^2, P1 elements
+   on the n x n grid of squares cut parallel to the hypotenuse (n^2 triangles, n contact nodes).
+
+   --problem branching (default): h(gamma) = gamma (-26.4, -7.5) when this mesh has four branches
+     for it (n >= 48 or so; on coarser meshes the middle of the cone of loads with four branches,
+     found by the fold problem first, see choose_load). Newton at gamma = -1 (the load
+     pushes the body onto the foundation; from the pulling side Newton from zero does not
+     converge), continuation to the nonsmooth point gamma = 0, Algorithms 2.1-2.2 with the
+     paper's triangle parameters (c_diff = 1 - 1e-10, h = 5e-8, h_min = h / 2^14, h_init = 5e-4,
+     n_dir = 30, n_span = 10), every branch traced to |gamma| = 1. The paper finds four branches:
+     2 (gamma < 0) partial contact slipping to the right; 1, 3, 4 (gamma > 0, pulled to the left)
+     with the lower left vertex separated, sticking, slipping to the left.
+   --problem fold: h(gamma) = (-20 - 10 gamma, -7.5), traced from gamma = -3 (pushing) to
+     gamma = 1; its two limit points bound the gamma interval with three solutions (paper, M4096:
+     0.56541 and 0.66665). H is piecewise linear, so the limit points are kinks: each is located
+     to h_min and reported at the couple just before it.
+
+   Usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
+                   [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR] [--dense] [--verbose]
+   Build (from the repository root):
+     cc -std=c99 -O2 -I. examples/triangle.c -o examples/triangle -llapack -lblas -lm */
+#define _POSIX_C_SOURCE 200809L
+#include <sys/stat.h>
+#include <time.h>
+#define PSCBRANCH_IMPLEMENTATION
+#include "pscbranch.h"
+#include "fe.h"
+
+typedef struct args {
+    int n, fold, ndir, nspan, multipliers, verbose, dense;
+    double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
+    double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
+    unsigned long long seed;
+    const char *out;
+} args;
+
+static int parse(int argc, char **argv, args *a)
+{
+    int i;
+    a->n = 32; a->fold = 0; a->ndir = 30; a->nspan = 10; a->multipliers = 1; a->verbose = 0; a->dense = 0;
+    a->kappa = -1; a->hmin = 5e-4 / 16; a->load = 0; a->mult_weight = -1; a->seed = 0; a->out = NULL;
+    for (i = 1; i < argc; i++) {
+        const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
+        if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
+        if (!strcmp(o, "--dense")) { a->dense = 1; continue; }
+        if (!v) { fprintf(stderr, "triangle: %s needs a value\n", o); return -1; }
+        i++;
+        if (!strcmp(o, "--mesh")) a->n = atoi(v);
+        else if (!strcmp(o, "--problem")) {
+            if (!strcmp(v, "fold")) a->fold = 1;
+            else if (!strcmp(v, "branching")) a->fold = 0;
+            else return -1;
+        }
+        else if (!strcmp(o, "--ndir")) a->ndir = atoi(v);
+        else if (!strcmp(o, "--nspan")) a->nspan = atoi(v);
+        else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
+        else if (!strcmp(o, "--mult-weight")) a->mult_weight = atof(v);
+        else if (!strcmp(o, "--load")) a->load = !strcmp(v, "auto") ? -1 : atof(v);
+        else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
+        else if (!strcmp(o, "--out")) a->out = v;
+        else if (!strcmp(o, "--dirichlet")) a->multipliers = strcmp(v, "elim") != 0;
+        else if (!strcmp(o, "--kappa")) a->kappa = !strcmp(v, "1/N") ? -1 : atof(v);
+        else { fprintf(stderr, "triangle: unknown option %s\n", o); return -1; }
+    }
+    return (a->n < 2 || a->ndir < 1 || a->nspan < 1 || a->kappa == 0) ? -1 : 0;
+}
+
+static double seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
+
+/* Paper numbering: gamma < 0 is branch 2; gamma > 0 by the lower left vertex: 1 separated,
+   3 stick, 4 slip. */
+static void classify(const fe_model *md, fe_branch *b)
+{
+    int st[4096], neg = b->y[md->n] < 0;
+    fe_contact_states(md, b->y, b->states, st);
+    b->corner = st[0];
+    if (neg) {
+        b->number = 2;
+        snprintf(b->label, sizeof b->label, "pushed right, partial contact");
+    } else {
+        b->number = st[0] == FE_SEPARATED ? 1 : (st[0] == FE_STICK ? 3 : 4);
+        snprintf(b->label, sizeof b->label, "pulled left, vertex %s",
+                 st[0] == FE_SEPARATED ? "separated" : (st[0] == FE_STICK ? "sticks" : "slips"));
+    }
+}
+
+/* Expected: on |gamma| = 1 with a small residual; branch 2 has nodes slipping to the right and
+   none to the left; a slipping lower left vertex slides left. */
+static int check_branch(const fe_branch *b, int n, double tol)
+{
+    if (b->end != PSB_PARAM_BOUND || fabs(b->y[n]) != 1.0 || !(b->resnorm <= tol)) return 0;
+    if (b->number == 2) return b->states[FE_SLIP_POS] > 0 && b->states[FE_SLIP_NEG] == 0;
+    if (b->number == 4) return b->corner == FE_SLIP_NEG;
+    return 1;
+}
+
+/* Fold mode: the limit points of a piecewise-linear curve are kinks. Each kink is reported (at the
+   couple before it) before the point beyond it; a sign change of t_gamma at that next point makes
+   the kink a limit point. Smooth folds (none expected) use the library's estimate. */
+typedef struct fold_state {
+    fe_run *run;
+    double kink_gamma;
+    int have_kink;
+    int nfold, verbose;
+    double folds[PSB_MAX_FOLDS];
+} fold_state;
+
+static int fold_point(const psb_point *pt, void *user)
+{
+    fold_state *fs = (fold_state *)user;
+    if (fs->verbose)
+        printf("    point %4ld  gamma %+.6f  t_gamma %+.4f  h %.2e%s%s%s%s\n", pt->index, pt->y[fs->run->md->n], pt->t[fs->run->md->n], pt->h,
+               pt->flags & PSB_POINT_KINK ? "  kink" : "", pt->flags & PSB_POINT_SWITCH ? "  switch" : "",
+               pt->flags & PSB_POINT_FOLD ? "  fold" : "", pt->flags & PSB_POINT_BOUND ? "  bound" : "");
+    if (pt->flags & PSB_POINT_KINK) {
+        fs->kink_gamma = pt->y[fs->run->md->n];
+        fs->have_kink = 1;
+        return 0;
+    }
+    fe_run_point(pt, fs->run);
+    if ((pt->flags & PSB_POINT_FOLD) && fs->nfold < PSB_MAX_FOLDS)
+        fs->folds[fs->nfold++] = fs->have_kink ? fs->kink_gamma : pt->fold_param;
+    fs->have_kink = 0;
+    return 0;
+}
+
+/* Traces the fold problem from (y, t) at gamma = -3 to gamma = 1, collecting the limit points. */
+static psb_result trace_fold(fe_run *run, double *y, double *t, fold_state *fs, psb_trace_report *rep, int verbose)
+{
+    psb_trace_options to;
+    memset(fs, 0, sizeof *fs);
+    fs->verbose = verbose;
+    fs->run = run;
+    memset(&to, 0, sizeof to);
+    to.param_min = -3;
+    to.param_max = 1;
+    to.locate_kinks = 1;
+    to.on_point = fold_point;
+    to.point_user = fs;
+    run->cur = 0;
+    run->nbr = 1;
+    return psb_trace(&run->s, y, t, &to, rep);
+}
+
+static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
+{
+    int n = run->md->n, k, ok;
+    psb_trace_report rep;
+    fold_state fs;
+    psb_result r;
+    fe_branch *b = &run->br[0];
+    r = trace_fold(run, y, t, &fs, &rep, a->verbose);
+    memcpy(b->y, y, sizeof(double) * ((size_t)n + 1));
+    b->end = r;
+    b->steps = rep.steps;
+    b->resnorm = fe_resnorm(run->md, y);
+    b->duplicate_of = -1;
+    b->number = 1;
+    fe_contact_states(run->md, y, b->states, NULL);
+    snprintf(b->label, sizeof b->label, "h = (-20 - 10 gamma, -7.5)");
+    printf("\n  trace from gamma = -3: %s after %ld steps, %d kinks located, %d tangent switches, time %.2f s (CPU)\n",
+           psb_result_string(r), rep.steps, rep.n_kinks, rep.n_switches, seconds() - t0);
+    printf("  end: gamma = %g, |H| = %.1e, contact nodes: %d separated, %d stick, %d slip+, %d slip-\n", y[n], b->resnorm,
+           b->states[0], b->states[1], b->states[2], b->states[3]);
+    printf("  limit points (gamma): ");
+    for (k = 0; k < fs.nfold; k++) printf("%s%.5f", k ? ", " : "", fs.folds[k]);
+    printf("%s   (paper: 0.56541, 0.66665 on M4096; library fold estimates:", fs.nfold ? "" : "none");
+    for (k = 0; k < rep.n_folds && k < PSB_MAX_FOLDS; k++) printf(" %.5f", rep.fold_params[k]);
+    printf(")\n");
+    if (fs.nfold == 2)
+        printf("  three solutions for gamma in (%.5f, %.5f), i.e. h1 in (%.4f, %.4f) with h2 = -7.5\n",
+               fmin(fs.folds[0], fs.folds[1]), fmax(fs.folds[0], fs.folds[1]), 20 + 10 * fmin(fs.folds[0], fs.folds[1]),
+               20 + 10 * fmax(fs.folds[0], fs.folds[1]));
+    ok = r == PSB_PARAM_BOUND && y[n] == 1.0 && b->resnorm <= 1e-8 && fs.nfold == 2;
+    for (k = 0; k < fs.nfold; k++) ok = ok && fs.folds[k] > 0.4 && fs.folds[k] < 0.9;
+    if (a->out) {
+        char path[1024];
+        FILE *fp;
+        mkdir(a->out, 0777);
+        snprintf(path, sizeof path, "%s/folds.csv", a->out);
+        fp = fopen(path, "w");
+        if (fp) {
+            fprintf(fp, "fold,gamma\n");
+            for (k = 0; k < fs.nfold; k++) fprintf(fp, "%d,%.10f\n", k + 1, fs.folds[k]);
+            fclose(fp);
+        }
+        if (!fp || fe_run_write(run, a->out, "triangle (fold)", 0) || fe_run_write_gnuplot(run, a->out, "triangle (fold)", "m", 1))
+            printf("triangle: could not write to %s\n", a->out);
+        else
+            printf("  wrote %s/folds.csv, branches.csv, diagram.csv, branch_1.vtk, body_1.dat, plot.gp\n", a->out);
+    }
+    printf("triangle: %s\n", ok ? "OK (two limit points in (0.4, 0.9))" : "FAILED (limit points differ from the paper)");
+    return ok ? 0 : 1;
+}
+
+static void set_options(psb_options *opt, const args *a, const fe_model *md, double *w, int fold)
+{
+    int n = md->n;
+    memset(opt, 0, sizeof *opt);
+    opt->kappa = a->kappa > 0 ? a->kappa : 1.0 / n;
+    /* multipliers weighted kappa / r^2 for branching (see wip/fe_notes.md); the fold trace keeps
+       kappa for them: with kappa / r^2 the tangent switch at the second limit point on n = 32
+       went onto a short piece and from there back along the incoming one (reported) */
+    fe_weights(md, opt->kappa, a->mult_weight >= 0 ? a->mult_weight : (fold ? 1 : 1 / (md->r * md->r)), w);
+    opt->weights = w;
+    opt->h_init = 1e-2; opt->h_max = 0.2; opt->h_min = 1e-9;
+    opt->tol_residual = 1e-9; opt->tol_correction = 1e-9;
+    opt->c_diff = 1 - 1e-10; opt->branch_h = 5e-8; opt->branch_h_min = 5e-8 / 16384; opt->branch_h_init = 5e-4;
+    opt->branch_trial_h_min = a->hmin;
+    opt->n_dir = a->ndir; opt->n_span = a->nspan; opt->seed = a->seed;
+}
+
+/* Default and --load auto: H is positively homogeneous, so the fold problem's limit points give
+   the cone of forces (h1, -7.5) with three solutions on this mesh, hence four branches at
+   gamma = 0 for h = gamma (-h1, -7.5). The default keeps the paper's h1 = 26.4 when it lies in
+   that cone (meshes from about n = 48 on) and takes the middle of the cone otherwise (on coarser
+   meshes only two branches meet at gamma = 0 for the paper's load); --load auto always takes the
+   middle; --load H1 takes H1 as it is. */
+static int choose_load(args *a)
+{
+    fe_mesh mesh;
+    fe_model md;
+    fe_run run;
+    psb_options opt;
+    psb_trace_report rep;
+    fold_state fs;
+    double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y, *t, *w;
+    int n, ok, k;
+    if (fe_triangle_model(&md, &mesh, a->n, a->multipliers, h0, h1)) return -1;
+    n = md.n;
+    w = malloc(sizeof(double) * ((size_t)n + 1));
+    if (!w) return -1;
+    set_options(&opt, a, &md, w, 1);
+    k = fe_run_init(&run, &md, &opt, !a->dense); /* the weights are copied at init */
+    free(w);
+    if (k) return -1;
+    y = calloc((size_t)n + 1, sizeof(double));
+    t = calloc((size_t)n + 1, sizeof(double));
+    if (!y || !t) return -1;
+    y[n] = -3;
+    t[n] = 1;
+    ok = psb_solve_at_param(&run.s, y, 50) == PSB_SUCCESS && psb_tangent(&run.s, y, t, t) == PSB_SUCCESS &&
+         trace_fold(&run, y, t, &fs, &rep, 0) == PSB_PARAM_BOUND && fs.nfold == 2;
+    if (ok) {
+        double lo = 20 + 10 * fmin(fs.folds[0], fs.folds[1]), hi = 20 + 10 * fmax(fs.folds[0], fs.folds[1]);
+        printf("triangle: on this mesh three solutions exist for h = (h1, -7.5) with h1 in (%.4f, %.4f)\n", lo, hi);
+        if (a->load == 0 && lo < 26.4 && 26.4 < hi) {
+            a->load = 26.4;
+        } else {
+            if (a->load == 0)
+                printf("  the paper's h1 = 26.4 is outside (it is inside from about n = 48 on): four branches need a load in it\n");
+            a->load = 0.5 * (lo + hi);
+            printf("  branching for h = gamma (-%.4f, -7.5), the middle of that interval\n", a->load);
+        }
+    } else {
+        printf("triangle: --load auto: the fold problem did not give two limit points\n");
+    }
+    free(y); free(t);
+    fe_run_free(&run); fe_model_free(&md); fe_mesh_free(&mesh);
+    return ok ? 0 : -1;
+}
+
+int main(int argc, char **argv)
+{
+    args a;
+    fe_mesh mesh;
+    fe_model md;
+    fe_run run;
+    psb_options opt;
+    double *y, *t, *rv, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
+    int n, k, num, ndist, ok, rc, seen[6] = {0, 0, 0, 0, 0, 0};
+    psb_result r;
+
+    if (parse(argc, argv, &a)) {
+        fprintf(stderr, "usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]\n"
+                        "                [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR] [--dense] [--verbose]\n");
+        return 2;
+    }
+    if (!a.fold && a.load <= 0 && choose_load(&a)) return 1;
+    if (a.fold) { h0[0] = -20; h0[1] = -7.5; h1[0] = -10; h1[1] = 0; }
+    else { h0[0] = 0; h0[1] = 0; h1[0] = -a.load; h1[1] = -7.5; }
+    if (fe_triangle_model(&md, &mesh, a.n, a.multipliers, h0, h1)) { fprintf(stderr, "triangle: out of memory\n"); return 1; }
+    n = md.n;
+    w = malloc(sizeof(double) * ((size_t)n + 1));
+    if (!w) return 1;
+    set_options(&opt, &a, &md, w, a.fold);
+    k = fe_run_init(&run, &md, &opt, !a.dense); /* the weights are copied at init */
+    free(w);
+    if (k) { fprintf(stderr, "triangle: solver set-up failed\n"); return 1; }
+    y = calloc((size_t)n + 1, sizeof(double));
+    t = calloc((size_t)n + 1, sizeof(double));
+    rv = calloc((size_t)n + 1, sizeof(double));
+    if (!y || !t || !rv) return 1;
+    printf("triangle: M%d (%d subdivisions per leg, P1), N = %d unknowns (%s), %d contact nodes, half band %d, kappa = %s\n",
+           mesh.nelem, a.n, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated", md.ncontact,
+           md.half_band, a.kappa > 0 ? "given" : "1/N");
+
+    t0 = seconds();
+    y[n] = a.fold ? -3 : -1; /* the pushing side: Newton from zero converges there */
+    r = psb_solve_at_param(&run.s, y, 50);
+    if (r != PSB_SUCCESS) { printf("triangle: Newton at gamma = %g failed: %s\n", y[n], psb_result_string(r)); return 1; }
+    rv[n] = 1; /* towards larger gamma */
+    r = psb_tangent(&run.s, y, rv, t);
+    if (r != PSB_SUCCESS) { printf("triangle: tangent failed: %s\n", psb_result_string(r)); return 1; }
+    if (a.fold) {
+        rc = run_fold(&run, y, t, &a, t0);
+        fe_run_free(&run); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
+        return rc;
+    }
+
+    printf("  weights: kappa = %s for displacements, %g kappa for multipliers, 1 for gamma\n", a.kappa > 0 ? "given" : "1/N",
+           a.mult_weight < 0 ? 1 / (md.r * md.r) : a.mult_weight);
+    printf("  load h = gamma (-%g, -7.5)%s\n", a.load, a.load == 26.4 ? " (the paper's)" : "");
+    printf("  Algorithms 2.1-2.2: c_diff = 1 - %.0e, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
+           1 - opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
+    r = fe_run_approach(&run, y, t, a.verbose);
+    if (r < 0) { printf("triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); return 1; }
+    r = fe_run_branching(&run, y, t);
+    if (r < 0) { printf("triangle: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); return 1; }
+    if (a.verbose)
+        for (k = 0; k < run.nbr; k++)
+            printf("    found %d: gamma = %.3e, t_gamma = %+.4f\n", k, run.ys[(size_t)k * (n + 1) + n], run.ts[(size_t)k * (n + 1) + n]);
+    fe_run_trace_all(&run, 1.0);
+    for (k = 0; k < run.nbr; k++) classify(&md, &run.br[k]);
+    t1 = seconds();
+
+    printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d, tangents = %ld\n",
+           run.br[0].number, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_tangents);
+    printf("\n  branch  gamma   state                           contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
+    ndist = 0;
+    ok = 1;
+    for (num = 1; num <= 5; num++)
+        for (k = 0; k < run.nbr; k++) {
+            fe_branch *b = &run.br[k];
+            int good;
+            if ((num <= 4 && b->number != num) || (num == 5 && b->number >= 1 && b->number <= 4)) continue;
+            good = check_branch(b, n, tol);
+            if (b->duplicate_of < 0) {
+                ndist++;
+                good = good && !seen[b->number];
+                seen[b->number] = 1;
+                ok = ok && good;
+            }
+            printf("  %-6d  %+6.3f  %-32s               %4d %5d %5d %5d  %5ld  %.1e  %5d  ", b->number, b->y[n], b->label,
+                   b->states[0], b->states[1], b->states[2], b->states[3], b->steps, b->resnorm, k);
+            if (b->duplicate_of >= 0) printf("same end point as found %d: not counted\n", b->duplicate_of);
+            else printf("%s%s\n", b->end == PSB_PARAM_BOUND ? "on |gamma| = 1" : psb_result_string(b->end), good ? "" : "  <-- unexpected");
+        }
+    ok = ok && ndist == 4;
+    printf("\n  %d distinct branches (paper: 4)", ndist);
+    if (ndist != run.nbr) printf(", %d couples returned by psb_find_branches", run.nbr);
+    printf("; time %.2f s (CPU), factorisations %ld, PC trials %ld\n", t1 - t0, run.s.stats.n_factor, run.s.stats.n_pc_steps);
+    if (a.out) {
+        mkdir(a.out, 0777);
+        if (fe_run_write(&run, a.out, "triangle", 1) || fe_run_write_gnuplot(&run, a.out, "triangle", "m", 1))
+            printf("triangle: could not write to %s\n", a.out);
+        else
+            printf("  wrote %s/branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp\n", a.out);
+    }
+    printf("triangle: %s\n", ok ? "OK (four branches as in the paper)" : "FAILED (branches differ from the paper)");
+    fe_run_free(&run); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
+    return ok ? 0 : 1;
+}
