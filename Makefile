@@ -77,9 +77,10 @@ BENCH = bench/bench_linear
 bench/%: bench/%.c $(HEADER)
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
 
-bench: $(BENCH)
+bench: $(BENCH) examples/block
 	@mkdir -p bench/out
 	./bench/bench_linear --csv bench/out/linear.csv
+	bash bench/bench_block.sh
 
 asan:
 	$(MAKE) BUILD=build-asan OPT="-O1 -g" SAN="-fsanitize=address -fno-omit-frame-pointer" EXAMPLES= SMOKE= test

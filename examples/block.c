@@ -14,7 +14,7 @@
    Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]
                 [--kappa 1|1/N|V] [--mult-weight W] [--dirichlet mult|elim] [--start -1|1]
                 [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--seed S]
-                [--dense]
+                [--dense] [--patience K]
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
@@ -26,7 +26,7 @@
 #include "fe.h"
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart, paper_sweep;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart, paper_sweep, patience;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min) */
     double mult_weight; /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
@@ -38,7 +38,7 @@ static int parse(int argc, char **argv, args *a)
 {
     int i;
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
-    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4 / 16; a->mult_weight = -1; a->seed = 0; a->out = NULL;
+    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4 / 16; a->mult_weight = -1; a->seed = 0; a->out = NULL; a->patience = 0;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
@@ -49,6 +49,7 @@ static int parse(int argc, char **argv, args *a)
         if (!strcmp(o, "--mesh")) { if (sscanf(v, "%dx%d", &a->nx, &a->ny) != 2 || a->nx < 2 || a->ny < 2) return -1; }
         else if (!strcmp(o, "--ndir")) a->ndir = atoi(v);
         else if (!strcmp(o, "--nspan")) a->nspan = atoi(v);
+        else if (!strcmp(o, "--patience")) a->patience = atoi(v);
         else if (!strcmp(o, "--input")) a->input = atoi(v);
         else if (!strcmp(o, "--start")) a->start = atoi(v) < 0 ? -1 : 1;
         else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
@@ -157,6 +158,7 @@ int main(int argc, char **argv)
     opt.tol_residual = 1e-9; opt.tol_correction = 1e-9;
     opt.c_diff = 0.99999; opt.branch_h = 5e-7; opt.branch_h_min = 5e-7 / 16384; opt.branch_h_init = 5e-4;
     opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.branch_trial_h_min = a.hmin; opt.paper_sweep = a.paper_sweep; opt.restart = a.restart;
+    opt.branch_patience = a.patience;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) return 1;
     if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);
@@ -222,6 +224,8 @@ int main(int argc, char **argv)
 
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d, tangents = %ld\n",
            input, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_tangents);
+    printf("  last new branch in span %d (a run with n_span = %d: n_pc = %ld, n_rand = %d)\n",
+           run.brep.span_last_new, run.brep.span_last_new, run.brep.n_pc_last_new, run.brep.n_rand_last_new);
     printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
     ndist = 0;
     ok = 1;

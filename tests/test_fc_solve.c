@@ -200,6 +200,7 @@ int main(void)
     run_instance(FCG_SPHERES3D, 40, 1.0, 1.0, 13);
     run_instance(FCG_SPHERES3D, 60, 0.3, 5.0, 14);
     run_instance(FCG_SPHERES3D, 60, -2.0, 1.0, 15);
+    run_instance(FCG_BOXES3D, 60, 0.0, 1.0, 7); /* 318 contacts: block-sparse LU path */
     /* rigid, rank-deficient: 2D */
     run_instance(FCG_BOXES2D, 30, 0.0, 1.0, 21);
     run_instance(FCG_BOXES2D, 30, 1.0, 5.0, 22);
