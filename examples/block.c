@@ -247,17 +247,8 @@ int main(int argc, char **argv)
             if (b->duplicate_of >= 0) printf("same end point as found %d: not counted\n", b->duplicate_of);
             else printf("%s%s\n", b->end == PSB_PARAM_BOUND ? "on |gamma| = 1" : psb_result_string(b->end), good ? "" : "  <-- unexpected");
         }
-    ok = ok && ndist == 6;
-    printf("\n  %d distinct branches (paper: 6)", ndist);
-    if (ndist != run.nbr) printf(", %d couples returned by psb_find_branches", run.nbr);
-    printf("; time %.2f s (CPU), factorisations %ld, PC trials %ld\n", t1 - t0, run.s.stats.n_factor, run.s.stats.n_pc_steps);
-    if (a.out) {
-        mkdir(a.out, 0777);
-        if (fe_run_write(&run, a.out, "block", 1) || fe_run_write_gnuplot(&run, a.out, "block", "mm", 5))
-            printf("block: could not write to %s\n", a.out);
-        else
-            printf("  wrote %s/branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp\n", a.out);
-    }
+    if (a.out) mkdir(a.out, 0777);
+    ok = fe_run_summary(&run, ndist, 6, t1 - t0, "block", "mm", 5, a.out) && ok;
     printf("block: %s\n", ok ? "OK (six branches as in the paper)" : "FAILED (branches differ from the paper)");
     free(y); free(t); free(w);
     fe_run_free(&run);

@@ -1119,6 +1119,24 @@ static inline int fe_run_write_gnuplot(const fe_run *run, const char *dir, const
     return fclose(fp) ? -1 : 0;
 }
 
+/* The summary line after the branch table, and the output files when out (an existing
+   directory) is not NULL. Returns whether the number of distinct branches is the expected one. */
+static inline int fe_run_summary(fe_run *run, int ndist, int expected, double seconds, const char *name,
+                                 const char *unit, double mag, const char *out)
+{
+    printf("\n  %d distinct branches (paper: %d)", ndist, expected);
+    if (ndist != run->nbr) printf(", %d couples returned by psb_find_branches", run->nbr);
+    printf("; time %.2f s (CPU), factorisations %ld, PC trials %ld\n", seconds, run->s.stats.n_factor,
+           run->s.stats.n_pc_steps);
+    if (out) {
+        if (fe_run_write(run, out, name, 1) || fe_run_write_gnuplot(run, out, name, unit, mag))
+            printf("%s: could not write to %s\n", name, out);
+        else
+            printf("  wrote %s/branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp\n", out);
+    }
+    return ndist == expected;
+}
+
 #endif /* PSCBRANCH_H */
 
 #endif /* FE_H */
