@@ -44,7 +44,7 @@ static int w_interval(const double *in, int req, double *out, double *jac, int *
 }
 static int w_disk(const double *in, int req, double *out, double *jac, int *piece)
 {
-    double jx[4], js[2];
+    double jx[4] = {0, 0, 0, 0}, js[2] = {0, 0};
     int e = psb_proj_disk(in, in[2], req, out, jx, js, piece);
     if (jac) {
         memcpy(jac, jx, sizeof jx);

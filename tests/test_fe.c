@@ -50,7 +50,7 @@ static void test_materials(void)
     /* P = dW/dF and A = dP/dF by central differences at random deformations with det F > 0 */
     for (t = 0; t < 20; t++) {
         const fe_material *m = (t % 4 == 3) ? &hk : &cg;
-        double F[4], Fp[4], Fm[4], Pp[4], Pm[4], h = 1e-6, errP = 0, errA = 0, scaleA = max_abs(A, 16);
+        double F[4], Fp[4], Fm[4], Pp[4] = {0, 0, 0, 0}, Pm[4] = {0, 0, 0, 0}, h = 1e-6, errP = 0, errA = 0, scaleA = max_abs(A, 16);
         for (p = 0; p < 4; p++) F[p] = I[p] + 0.3 * rnd(&s);
         if (F[0] * F[3] - F[1] * F[2] < 0.2) { F[0] += 0.5; F[3] += 0.5; }
         CHECK(fe_stress(m, F, P, A) == 0);
@@ -152,7 +152,7 @@ static void test_meshes(void)
 static void check_forces(fe_model *md, double amp, unsigned long long seed)
 {
     int nn = md->mesh->nnode, a, k, bad = 0;
-    double *u = malloc(sizeof(double) * 2 * nn), *f = malloc(sizeof(double) * 2 * nn), fmaxv;
+    double *u = calloc((size_t)(2 * nn), sizeof(double)), *f = calloc((size_t)(2 * nn), sizeof(double)), fmaxv;
     for (a = 0; a < 2 * nn; a++) u[a] = amp * rnd(&seed);
     CHECK(fe_internal(md, u, f, NULL) == 0);
     fmaxv = max_abs(f, 2 * nn);
