@@ -272,7 +272,7 @@ static void test_kinks(void)
     CHECK(seen == 7u);
     CHECK(psb_proj_disk_active(x, 0.0, 0.0, &mask) == PSB_SUCCESS && mask == 7u);
     {   /* documented limit at x = 0, s = 0: along x = t e1, s = o(t) */
-        double p[2], jx[4], js[2], y[2] = {1e-7, 0.0}, p2[2], jx2[4], js2[2];
+        double p[2] = {0, 0}, jx[4] = {0, 0, 0, 0}, js[2] = {0, 0}, y[2] = {1e-7, 0.0}, p2[2] = {0, 0}, jx2[4] = {0, 0, 0, 0}, js2[2] = {0, 0};
         int pc;
         CHECK(psb_proj_disk(x, 0.0, PSB_DISK_BOUNDARY, p, jx, js, &pc) == PSB_SUCCESS);
         psb_proj_disk(y, 1e-14, PSB_PIECE_DEFAULT, p2, jx2, js2, &pc);
@@ -451,7 +451,7 @@ static void test_laws(void)
     CHECK(bad_vi == 0);
     /* radius <= 0 is the zero set; no division by zero at x_T = 0 */
     {
-        double x[3] = {0.0, 0.0, 0.0}, p[3], j[9], js[2];
+        double x[3] = {0.0, 0.0, 0.0}, p[3] = {0, 0, 0}, j[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, js[2] = {0, 0};
         int pc, i, fin = 1;
         x[0] = 1.0, x[1] = 0.0;
         psb_proj_disk(x, -1.0, PSB_PIECE_DEFAULT, p, j, js, &pc);

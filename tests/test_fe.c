@@ -271,7 +271,7 @@ static void test_contact_vs_library(void)
     unsigned long long s = 4242;
     int t, p, bad = 0;
     for (t = 0; t < 1000; t++) {
-        double v[4], r1[2], j1[8], r2[2], j2[8], fr = (t % 2) ? 1.0 : 1.7;
+        double v[4], r1[2], j1[8], r2[2] = {0, 0}, j2[8] = {0, 0, 0, 0, 0, 0, 0, 0}, fr = (t % 2) ? 1.0 : 1.7;
         for (p = 0; p < 4; p++) v[p] = rnd(&s);
         fe_contact_node(v[0], v[1], v[2], v[3], 10, fr, r1, j1);
         CHECK(psb_ac2d_node(v[0], v[1], v[2], v[3], 10, fr, 0.0, PSB_PIECE_DEFAULT, r2, j2, NULL) == PSB_SUCCESS);
