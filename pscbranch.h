@@ -220,11 +220,11 @@
    On random complementarity problems min(x, M x + q g) = 0 with 3 or more branches (n_dir = 20,
    n_span = 15), the share of complete branch sets found was, for N = 3 and N = 4:
    as printed (PAPER, paper_sweep) 67% and 56%; even sweep alone 75% and 64%; MIXED (PAPER
-   first) alone 94% and 92%; both (the defaults, GLOBAL first) 98% and 95% (89 and 78 problems). On the block of
-   the paper from input branch 2, seeds 0-6, all six branches appeared after 5, 5, 13, 6, 5, 5, 9
-   spans (PAPER first: 15, 5, 11, 6, 7, 4, 10). Branch sets of random
-   problems in higher dimensions are not the paper's planar scenario: regions that are thin
-   cones can still be missed; raise n_span or n_dir for them.
+   first) alone 94% and 92%; both (the defaults, GLOBAL first) 98% and 95% (89 and 78
+   problems). On the block of the paper from input branch 2, seeds 0-6, all six branches
+   appeared after 5, 5, 13, 6, 5, 5, 9 spans (PAPER first: 15, 5, 11, 6, 7, 4, 10). Branch sets
+   of random problems in higher dimensions are not the paper's planar scenario: regions that
+   are thin cones can still be missed; raise n_span or n_dir for them.
    Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
    at every psb_find_branches call, so equal inputs give bit-identical results.
 
