@@ -82,6 +82,13 @@ static void classify(const fe_model *md, fe_branch *b)
 
 /* Expected: the end on |gamma| = 1 with a small residual; a slipping vertex slides the way the
    block is forced (right: +x1). */
+static void print_row(const fe_branch *b, int n, int found)
+{
+    printf("  %-6d  %-9s  %-14s %+6.3f                 %4d %5d %5d %5d  %5ld  %.1e  %5d  ", b->number,
+           b->number <= 3 ? "right" : "left", strchr(b->label, ',') + 2, b->y[n], b->states[0], b->states[1],
+           b->states[2], b->states[3], b->steps, b->resnorm, found);
+}
+
 static int check_branch(const fe_branch *b, int n, double tol)
 {
     int right = b->number <= 3;
@@ -141,7 +148,7 @@ int main(int argc, char **argv)
     fe_run run;
     psb_options opt;
     double *y, *t, *w, t0, t1, tol = 1e-8;
-    int n, k, num, ndist, input, ok, seen[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    int n, k, ndist, input, ok;
     psb_result r;
 
     if (parse(argc, argv, &a)) {
@@ -227,26 +234,8 @@ int main(int argc, char **argv)
     printf("  last new branch in span %d (a run with n_span = %d: n_pc = %ld, n_rand = %d)\n",
            run.brep.span_last_new, run.brep.span_last_new, run.brep.n_pc_last_new, run.brep.n_rand_last_new);
     printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
-    ndist = 0;
     ok = 1;
-    for (num = 1; num <= 7; num++) /* by the paper's number; 7: anything else */
-        for (k = 0; k < run.nbr; k++) {
-            fe_branch *b = &run.br[k];
-            int good;
-            if ((num <= 6 && b->number != num) || (num == 7 && b->number >= 1 && b->number <= 6)) continue;
-            good = check_branch(b, n, tol);
-            if (b->duplicate_of < 0) {
-                ndist++;
-                good = good && !seen[b->number];
-                seen[b->number] = 1;
-                ok = ok && good;
-            }
-            printf("  %-6d  %-9s  %-14s %+6.3f                 %4d %5d %5d %5d  %5ld  %.1e  %5d  ", b->number,
-                   b->number <= 3 ? "right" : "left", strchr(b->label, ',') + 2, b->y[n], b->states[0], b->states[1],
-                   b->states[2], b->states[3], b->steps, b->resnorm, k);
-            if (b->duplicate_of >= 0) printf("same end point as found %d: not counted\n", b->duplicate_of);
-            else printf("%s%s\n", b->end == PSB_PARAM_BOUND ? "on |gamma| = 1" : psb_result_string(b->end), good ? "" : "  <-- unexpected");
-        }
+    ndist = fe_run_branch_table(&run, 6, n, tol, check_branch, print_row, &ok);
     if (a.out) mkdir(a.out, 0777);
     ok = fe_run_summary(&run, ndist, 6, t1 - t0, "block", "mm", 5, a.out) && ok;
     printf("block: %s\n", ok ? "OK (six branches as in the paper)" : "FAILED (branches differ from the paper)");

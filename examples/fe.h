@@ -1119,6 +1119,37 @@ static inline int fe_run_write_gnuplot(const fe_run *run, const char *dir, const
     return fclose(fp) ? -1 : 0;
 }
 
+/* The branch table: visits the branches by the paper's number (1..expected, then any other),
+   prints each row with row() and its end, counts the distinct ones (a branch ending where an
+   earlier one did is not counted) and clears *ok when a distinct branch fails check() or
+   repeats a number. Returns the number of distinct branches. */
+typedef int (*fe_branch_check_fn)(const fe_branch *b, int n, double tol);
+typedef void (*fe_branch_row_fn)(const fe_branch *b, int n, int found);
+static inline int fe_run_branch_table(const fe_run *run, int expected, int n, double tol,
+                                      fe_branch_check_fn check, fe_branch_row_fn row, int *ok)
+{
+    int num, k, ndist = 0, seen[FE_MAX_BRANCHES + 2];
+    memset(seen, 0, sizeof seen);
+    for (num = 1; num <= expected + 1; num++)
+        for (k = 0; k < run->nbr; k++) {
+            const fe_branch *b = &run->br[k];
+            int numbered = b->number >= 1 && b->number <= expected, good;
+            if (num <= expected ? b->number != num : numbered) continue;
+            good = check(b, n, tol);
+            if (b->duplicate_of < 0) {
+                ndist++;
+                good = good && numbered && !seen[b->number];
+                if (numbered) seen[b->number] = 1;
+                *ok = *ok && good;
+            }
+            row(b, n, k);
+            if (b->duplicate_of >= 0) printf("same end point as found %d: not counted\n", b->duplicate_of);
+            else printf("%s%s\n", b->end == PSB_PARAM_BOUND ? "on |gamma| = 1" : psb_result_string(b->end),
+                        good ? "" : "  <-- unexpected");
+        }
+    return ndist;
+}
+
 /* The summary line after the branch table, and the output files when out (an existing
    directory) is not NULL. Returns whether the number of distinct branches is the expected one. */
 static inline int fe_run_summary(fe_run *run, int ndist, int expected, double seconds, const char *name,

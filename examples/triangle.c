@@ -88,6 +88,12 @@ static void classify(const fe_model *md, fe_branch *b)
 
 /* Expected: on |gamma| = 1 with a small residual; branch 2 has nodes slipping to the right and
    none to the left; a slipping lower left vertex slides left. */
+static void print_row(const fe_branch *b, int n, int found)
+{
+    printf("  %-6d  %+6.3f  %-32s               %4d %5d %5d %5d  %5ld  %.1e  %5d  ", b->number, b->y[n], b->label,
+           b->states[0], b->states[1], b->states[2], b->states[3], b->steps, b->resnorm, found);
+}
+
 static int check_branch(const fe_branch *b, int n, double tol)
 {
     if (b->end != PSB_PARAM_BOUND || fabs(b->y[n]) != 1.0 || !(b->resnorm <= tol)) return 0;
@@ -270,7 +276,7 @@ int main(int argc, char **argv)
     fe_run run;
     psb_options opt;
     double *y, *t, *rv, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
-    int n, k, num, ndist, ok, rc, seen[6] = {0, 0, 0, 0, 0, 0};
+    int n, k, ndist, ok, rc;
     psb_result r;
 
     if (parse(argc, argv, &a)) {
@@ -329,25 +335,8 @@ int main(int argc, char **argv)
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d, tangents = %ld\n",
            run.br[0].number, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_tangents);
     printf("\n  branch  gamma   state                           contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
-    ndist = 0;
     ok = 1;
-    for (num = 1; num <= 5; num++)
-        for (k = 0; k < run.nbr; k++) {
-            fe_branch *b = &run.br[k];
-            int good;
-            if ((num <= 4 && b->number != num) || (num == 5 && b->number >= 1 && b->number <= 4)) continue;
-            good = check_branch(b, n, tol);
-            if (b->duplicate_of < 0) {
-                ndist++;
-                good = good && !seen[b->number];
-                seen[b->number] = 1;
-                ok = ok && good;
-            }
-            printf("  %-6d  %+6.3f  %-32s               %4d %5d %5d %5d  %5ld  %.1e  %5d  ", b->number, b->y[n], b->label,
-                   b->states[0], b->states[1], b->states[2], b->states[3], b->steps, b->resnorm, k);
-            if (b->duplicate_of >= 0) printf("same end point as found %d: not counted\n", b->duplicate_of);
-            else printf("%s%s\n", b->end == PSB_PARAM_BOUND ? "on |gamma| = 1" : psb_result_string(b->end), good ? "" : "  <-- unexpected");
-        }
+    ndist = fe_run_branch_table(&run, 4, n, tol, check_branch, print_row, &ok);
     if (a.out) mkdir(a.out, 0777);
     ok = fe_run_summary(&run, ndist, 4, t1 - t0, "triangle", "m", 1, a.out) && ok;
     printf("triangle: %s\n", ok ? "OK (four branches as in the paper)" : "FAILED (branches differ from the paper)");
