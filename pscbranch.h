@@ -333,7 +333,11 @@
 
 #ifndef PSCBRANCH_DEF
 #ifdef PSCBRANCH_STATIC
+#if defined(__GNUC__) || defined(__clang__)
+#define PSCBRANCH_DEF static __attribute__((unused)) /* a private copy need not use everything */
+#else
 #define PSCBRANCH_DEF static
+#endif
 #else
 #define PSCBRANCH_DEF extern
 #endif
