@@ -28,7 +28,8 @@
 typedef struct args {
     int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart, paper_sweep, patience;
     double kappa; /* < 0: 1/N */
-    double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min) */
+    double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min); h_init: one trial
+                     per direction, enough near a conical point (see the manual) */
     double mult_weight; /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
     unsigned long long seed;
     const char *out;
@@ -38,7 +39,7 @@ static int parse(int argc, char **argv, args *a)
 {
     int i;
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
-    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4 / 16; a->mult_weight = -1; a->seed = 0; a->out = NULL; a->patience = 0;
+    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->seed = 0; a->out = NULL; a->patience = 0;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }

@@ -31,6 +31,7 @@
 typedef struct args {
     int n, fold, ndir, nspan, multipliers, verbose, dense;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
+    /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
     unsigned long long seed;
     const char *out;
@@ -40,7 +41,7 @@ static int parse(int argc, char **argv, args *a)
 {
     int i;
     a->n = 32; a->fold = 0; a->ndir = 30; a->nspan = 10; a->multipliers = 1; a->verbose = 0; a->dense = 0;
-    a->kappa = -1; a->hmin = 5e-4 / 16; a->load = 0; a->mult_weight = -1; a->seed = 0; a->out = NULL;
+    a->kappa = -1; a->hmin = 5e-4; a->load = 0; a->mult_weight = -1; a->seed = 0; a->out = NULL;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
