@@ -1180,6 +1180,15 @@ PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const doubl
 
 PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a) { return sqrt(psb_dot_w(s, a, a)); }
 
+/* ||a - b||_w, formed from the differences (not from dot products, which cancel for close points) */
+static double psb__dist_w(const psb_solver *s, const double *a, const double *b)
+{
+    double sum = 0;
+    int i;
+    for (i = 0; i < s->np1_; i++) sum += s->w_[i] * (a[i] - b[i]) * (a[i] - b[i]);
+    return sqrt(sum);
+}
+
 static double psb__norm2(const double *a, int n)
 {
     double sum = 0;
@@ -1985,10 +1994,8 @@ static double psb__fold_param(const psb_solver *s, const double *y0, const doubl
                               const double *y1, const double *t1)
 {
     int p = s->prob.param_index, i;
-    double len = 0, g0 = y0[p], g1 = y1[p], m0, m1, a, b, c, roots[2], best = g0;
+    double len = psb__dist_w(s, y0, y1), g0 = y0[p], g1 = y1[p], m0, m1, a, b, c, roots[2], best = g0;
     int nroots = 0;
-    for (i = 0; i < s->np1_; i++) len += s->w_[i] * (y1[i] - y0[i]) * (y1[i] - y0[i]);
-    len = sqrt(len);
     m0 = t0[p] * len;
     m1 = t1[p] * len;
     /* g(x) = (2x^3-3x^2+1) g0 + (x^3-2x^2+x) m0 + (-2x^3+3x^2) g1 + (x^3-x^2) m1, x in [0,1];
@@ -2196,7 +2203,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         }
         just_switched = (flags & PSB_POINT_SWITCH) != 0;
         rep->steps++;
-        pt.h = sqrt(psb_dot_w(s, yold, yold) + psb_dot_w(s, yc, yc) - 2 * psb_dot_w(s, yold, yc));
+        pt.h = psb__dist_w(s, yold, yc);
         travelled += pt.h;
         pt.fold_param = 0;
         if (told[p] * tc[p] < 0) {
@@ -2212,12 +2219,8 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         if (opts.detect_loop && rep->steps >= 3) {
             /* the start lies on the last chord, and the curve already went further than it */
             int i;
-            double *d = PSB__VEC(s, PSB__V_TR_B), seg2 = 0, proj = 0, dist2 = 0, x;
-            for (i = 0; i < np1; i++) {
-                double e = yc[i] - yold[i];
-                seg2 += s->w_[i] * e * e;
-                proj += s->w_[i] * e * (ystart[i] - yold[i]);
-            }
+            double *d = PSB__VEC(s, PSB__V_TR_B), seg2 = pt.h * pt.h, proj = 0, dist2 = 0, x;
+            for (i = 0; i < np1; i++) proj += s->w_[i] * (yc[i] - yold[i]) * (ystart[i] - yold[i]);
             x = seg2 > 0 ? proj / seg2 : -1;
             if (x >= 0 && x <= 1 && travelled > 4 * sqrt(seg2)) {
                 for (i = 0; i < np1; i++) d[i] = yold[i] + x * (yc[i] - yold[i]) - ystart[i];
@@ -2345,7 +2348,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         psb__copy(tprev, tt, np1);
         for (sign = 1; sign >= -1; sign -= 2) {
-            double hh = s->opt.branch_h_init, dotp, dist;
+            double hh = s->opt.branch_h_init, dotp;
             int j, is_new = 1;
             psb__copy(yb, y0, np1);
             for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
@@ -2356,9 +2359,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
             if (r != PSB_SUCCESS) continue;
             /* a point closer to y0 than the sampling distance h tells nothing reliable about
                the branches: pieces that touch the end point are active there */
-            dist = 0;
-            for (k = 0; k < np1; k++) dist += s->w_[k] * (yb[k] - y0[k]) * (yb[k] - y0[k]);
-            if (sqrt(dist) < h) continue;
+            if (psb__dist_w(s, yb, y0) < h) continue;
             /* Step 5(i): orient away from the point */
             dotp = 0;
             for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
