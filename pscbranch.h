@@ -642,7 +642,8 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
 
 /* Algorithm 2.1: from the last couple (y, t) (in/out) of a branch ending at a nonsmooth point,
    halves h from branch_h down to branch_h_min, moving y towards the end point whenever a
-   correction of y + h t converges with a tangent within c_diff of t. On return y approximates
+   correction of y + h t converges with a tangent within c_diff of t (and trying the same h
+   again after each such move, see section 6). On return y approximates
    the end point, t (unit) points out of the branch's region, *precision (may be NULL) is the
    last h tried. Returns PSB_SUCCESS or a failure (PSB_ERR_CALLBACK...). */
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision);
