@@ -1,4 +1,4 @@
-/* pscbranch.h - v0.1.0 - piecewise-smooth continuation and numerical branching - MIT license
+/* pscbranch.h - v0.2.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
    folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
@@ -125,7 +125,8 @@
                                     corrector iterations; shrink after a rejected trial
    max_iter [10]                    corrector iterations per trial
    tol_residual [1e-10]             ||H(y)||_2 at convergence
-   tol_correction [1e-10]           ||last correction||_w at convergence
+   tol_correction [1e-10]           distance to the solution at convergence, ||.||_w: the last
+                                    correction or its contraction estimate (section 6)
    c_min [0.9]                      least cosine between the tangents before and after a step
    switch_delta_min [h_min], switch_delta_max [h_init]   probe distances of the tangent switch
    switch_no_sweep [0]              1: no sweep around a kink when nothing lies straight ahead
@@ -146,6 +147,10 @@
                                     factorisations instead of 8966, same spans and n_pc)
    branch_patience [0], branch_max_pc [0]   adaptive end of the sweep: stop after that many
                                     spans in a row without a new branch / at that n_pc
+   branch_no_memo [0]               0: a direction whose tangent is within c_diff of one
+                                    tried earlier in the call is not tried again (its trials
+                                    from y0 are the same steps; report.n_memo counts them;
+                                    block M200: n_pc 404 -> 220, same branches); 1: as printed
    restart [PSB_RESTART_MIXED]      random spans: _PAPER, _GLOBAL or alternately (_MIXED)
    seed [0]                         the generator of the random spans (xoshiro256**)
    The paper's values for its contact examples: c_diff = 0.99999, branch_h = 5e-7,
@@ -180,8 +185,12 @@
    Predictor-corrector. Prediction (y + h t, t). Each corrector iteration factors
    B = [dH(y); (W t)^T] once and solves B [dy, v] = [[H(y); 0], [0; 1]] (one dgetrs, two
    right-hand sides): y -= dy, t = v / ||v||_w (Moore-Penrose / Gauss-Newton on the curve,
-   point and tangent together). Converged when ||H(y)||_2 <= tol_residual and ||dy||_w <=
-   tol_correction. A trial is accepted when it converged within max_iter, the corrected point
+   point and tangent together). Converged when ||H(y)||_2 <= tol_residual and the distance
+   to the solution is below tol_correction: ||dy||_w <= tol_correction, or, from the second
+   iteration on, the contraction theta = ||dy_k|| / ||dy_k-1|| <= 1/2 bounds what is left,
+   theta ||dy_k|| / (1 - theta) <= tol_correction (Newton's usual a-posteriori estimate; it
+   spares the iteration that only confirms a correction of 1e-8 shrank to 1e-15, about one
+   factorisation in six in Algorithm 2.2 on the block). A trial is accepted when it converged within max_iter, the corrected point
    lies within h of the prediction (a longer jump landed on another part of the curve), and
    cos_w(t_new, t) >= c_min; otherwise h *= h_dec until h < h_min.
    Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
@@ -230,6 +239,12 @@
    appeared after 5, 5, 13, 6, 5, 5, 9 spans (PAPER first: 15, 5, 11, 6, 7, 4, 10). Branch sets
    of random problems in higher dimensions are not the paper's planar scenario: regions that
    are thin cones can still be missed; raise n_span or n_dir for them.
+   Memo of tried tangents (branch_no_memo = 0): the trials of a direction are steps from y0
+   along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
+   of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
+   min(256, max(32, 2^20 / (N+1))) tangents are kept (the oldest give way). Branch sets are
+   those of the full run (same order, bit for bit, on the tests' problems); spans later than the
+   first mostly revisit regions, so n_pc falls (block M200: 404 -> 220).
    Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
    at every psb_find_branches call, so equal inputs give bit-identical results.
 
@@ -330,6 +345,9 @@
    0.1.0 (2026-11-22)  first release: dense, banded and user-supplied linear algebra,
                        continuation with tangent switch and kink location, Algorithms 2.1/2.2
                        with restarts and an adaptive end, contact helpers.
+   0.2.0 (2026-11-22)  Algorithm 2.2 remembers the tangents it tried (branch_no_memo,
+                       report.n_memo); the corrector also stops on Newton's contraction
+                       estimate of the remaining error.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -349,7 +367,7 @@
 #endif
 
 #define PSCBRANCH_VERSION_MAJOR 0
-#define PSCBRANCH_VERSION_MINOR 1
+#define PSCBRANCH_VERSION_MINOR 2
 #define PSCBRANCH_VERSION_PATCH 0
 
 #ifdef __cplusplus
@@ -462,7 +480,7 @@ typedef struct psb_options {
     int max_iter;          /* corrector iterations per trial step [10] */
     int iter_threshold;    /* the step grows only when the corrector took fewer iterations [4] */
     double tol_residual;   /* ||H(y)||_2 at convergence [1e-10] */
-    double tol_correction; /* ||last correction||_w at convergence [1e-10] */
+    double tol_correction; /* distance to the solution at convergence, ||.||_w [1e-10] */
     double c_min;          /* smallest cosine between successive tangents in a step [0.9] */
 
     /* simple tangent switch: trial points y + delta t, delta doubling from min to max */
@@ -488,6 +506,8 @@ typedef struct psb_options {
     int branch_patience;  /* stop after this many spans in a row found no new branch
                              [0: never, run all n_span] */
     long branch_max_pc;   /* stop the sweep when n_pc reaches this budget [0: no budget] */
+    int branch_no_memo;   /* 1: try every direction whose region is new to its sweep, as
+                             printed; 0: skip one whose tangent was tried already [0] */
     int paper_sweep;      /* 1: directions v = sin(a) t~1 + cos(a) t~2 exactly as printed;
                              0: t~2 is first made w-orthogonal to t~1, so that the directions
                              spread evenly over the plane [0] */
@@ -519,10 +539,10 @@ typedef struct psb_solver {
     psb_stats stats;  /* cumulative; zero it whenever you like */
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
-    int n_, np1_, ldlu_, shifted_;
+    int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_;
     double *w_;
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
-    double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_;
+    double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_;
     double delta_, shift_, mnorm_;
     void *ipiv_, *iwork_; /* LAPACK integers */
     void *owned_;
@@ -654,6 +674,7 @@ typedef struct psb_branch_report {
     int n_rand;       /* spans chosen at random (Remark 2.3(ii)), as n_rand of the paper */
     int n_span;       /* spans used */
     long n_tangents;  /* tangents computed at y0 + h v */
+    long n_memo;      /* directions not tried because their tangent was tried before */
     int span_last_new;    /* the span (1-based) in which the last new branch was found: the
                              smallest n_span that finds them all, all else equal */
     long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
@@ -906,6 +927,13 @@ enum {
     PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P, PSB__V_BR_Q, /* branching */
     PSB__NVEC
 };
+/* Tangents psb_find_branches remembers as tried: the block meshes show 110-120 distinct ones;
+   the store is held to 8 MB (more only at the floor of 32 tangents, for N > 32000) */
+static int psb__memo_capacity(int n)
+{
+    int cap = (int)((1L << 20) / ((long)n + 1));
+    return cap < 32 ? 32 : cap > 256 ? 256 : cap;
+}
 #define PSB__VEC(s, k) ((s)->vec_ + (size_t)(k) * (size_t)(s)->np1_)
 
 /* Why the last recoverable failure happened, to report the right code when steps run out. */
@@ -1077,6 +1105,7 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
     PSB__TAKE(yfac_, np1);
     PSB__TAKE(fdh_, n);
     PSB__TAKE(vec_, (size_t)PSB__NVEC * np1);
+    PSB__TAKE(memo_, (size_t)psb__memo_capacity(p->n) * np1);
     if (p->linear == PSB_LINEAR_DENSE) {
         PSB__TAKE(jac_, n * np1);
         PSB__TAKE(mat_, np1 * np1);
@@ -1129,6 +1158,7 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     s->n_ = p->n;
     s->np1_ = p->n + 1;
     s->ldlu_ = 2 * p->kl + p->ku + 1;
+    s->memo_cap_ = psb__memo_capacity(p->n);
     psb__layout(p, s, memory);
     for (i = 0; i < s->np1_; i++)
         s->w_[i] = s->opt.weights ? s->opt.weights[i]
@@ -1700,7 +1730,7 @@ static int psb__is_fatal(psb_result r)
 static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterations)
 {
     int n = s->n_, np1 = s->np1_, it, i;
-    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_;
+    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_, corr_prev = 0;
     psb_result r;
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
@@ -1732,12 +1762,15 @@ static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterati
         r = psb__residual(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
         res = psb__norm2(s->res_, n);
-        if (res <= s->opt.tol_residual && corr <= s->opt.tol_correction) {
+        if (res <= s->opt.tol_residual &&
+            (corr <= s->opt.tol_correction ||
+             (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) {
             psb__copy(y, yc, np1);
             psb__copy(t, tc, np1);
             if (iterations) *iterations = it;
             return PSB_SUCCESS;
         }
+        corr_prev = corr;
     }
     s->last_fail_ = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector did not converge in max_iter iterations");
@@ -2348,6 +2381,20 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         /* Step 4: a tangent seen at the previous direction belongs to the same region */
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         psb__copy(tprev, tt, np1);
+        /* the trials from y0 along +-tt depend on y0 and tt alone: a tangent within c_diff of
+           one tried before in this call (any span) repeats its trials and their verdict */
+        if (!s->opt.branch_no_memo) {
+            int m, seen = 0, stored = s->memo_n_ < s->memo_cap_ ? s->memo_n_ : s->memo_cap_;
+            for (m = 0; m < stored && !seen; m++)
+                seen = fabs(psb__cos_w(s, tt, s->memo_ + (size_t)m * (size_t)np1)) >= s->opt.c_diff;
+            if (seen) {
+                rep->n_memo++;
+                continue;
+            }
+            /* when full, the oldest entry makes room */
+            psb__copy(s->memo_ + (size_t)(s->memo_n_ % s->memo_cap_) * (size_t)np1, tt, np1);
+            s->memo_n_++;
+        }
         for (sign = 1; sign >= -1; sign -= 2) {
             double hh = s->opt.branch_h_init, dotp;
             int j, is_new = 1;
@@ -2409,6 +2456,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
     seed = s->opt.seed;
     for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
+    s->memo_n_ = 0;
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];

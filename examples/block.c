@@ -111,7 +111,7 @@ static int branch_and_trace(fe_run *run, double *y, double *t, const args *a)
     }
     if (a->verbose) printf("  stats after the approach: factorisations %ld, PC trials %ld\n", run->s.stats.n_factor, run->s.stats.n_pc_steps);
     r = fe_run_branching(run, y, t);
-    if (a->verbose) printf("  stats after Algorithms 2.1-2.2: factorisations %ld, PC trials %ld\n", run->s.stats.n_factor, run->s.stats.n_pc_steps);
+    if (a->verbose) printf("  stats after Algorithms 2.1-2.2: factorisations %ld, PC trials %ld, Newton %ld, rejected %ld, tangents %ld, residuals %ld\n", run->s.stats.n_factor, run->s.stats.n_pc_steps, run->s.stats.n_newton, run->s.stats.n_rejected, run->s.stats.n_tangents, run->s.stats.n_residual);
     if (r < 0) {
         printf("block: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run->s));
         return -1;

@@ -314,22 +314,129 @@ typedef struct fe_model {
     double *load0, *load1; /* L(gamma) = load0 + gamma load1 over the state rows */
     int half_band;       /* max |row - col| of the state part */
     double *work;        /* 4 * nnode scratch: displacements, internal forces */
+    int nq;              /* quadrature points per element */
+    double *geo;         /* nelem * nq * (2 nvert + 1): shape gradients dN/dx and weight w det J
+                            at each quadrature point, fixed by the mesh and computed once */
 } fe_model;
 
 static inline void fe_model_free(fe_model *md)
 {
     free(md->udof); free(md->ddof); free(md->cdof); free(md->cnode); free(md->d_pair);
-    free(md->d_val); free(md->load0); free(md->load1); free(md->work);
+    free(md->d_val); free(md->load0); free(md->load1); free(md->work); free(md->geo);
     md->udof = md->ddof = md->cdof = md->cnode = md->d_pair = NULL;
-    md->d_val = md->load0 = md->load1 = md->work = NULL;
+    md->d_val = md->load0 = md->load1 = md->work = md->geo = NULL;
 }
+
+/* Half band of the state block under the current numbering: the element couplings (all
+   displacements of an element), each contact node's multipliers with its displacements, and each
+   Dirichlet multiplier with the displacements of the edges through its node (mass matrix). */
+static inline int fe_model_half_band(const fe_model *md)
+{
+    const fe_mesh *m = md->mesh;
+    int e, v, k, hb = 0;
+    for (e = 0; e < m->nelem; e++) {
+        int lo = md->n, hi = -1;
+        for (v = 0; v < m->nvert; v++) {
+            int d = md->udof[m->conn[m->nvert * e + v]];
+            if (d >= 0) { if (d < lo) lo = d; if (d + 1 > hi) hi = d + 1; }
+        }
+        if (hi - lo > hb) hb = hi - lo;
+    }
+    for (k = 0; k < md->ncontact; k++) {
+        int a = md->cnode[k], d = abs(md->cdof[a] - md->udof[a]) + 1;
+        if (md->cdof[a] >= 0 && d > hb) hb = d;
+    }
+    for (k = 0; k < md->nd_pair; k++) {
+        int i = md->d_pair[2 * k], j = md->d_pair[2 * k + 1], p, q;
+        for (p = 0; p < 2; p++)
+            for (q = 0; q < 2; q++) {
+                int l = p ? j : i, u = q ? j : i, d;
+                if (md->ddof[l] < 0 || md->udof[u] < 0) continue;
+                d = abs(md->ddof[l] - md->udof[u]) + 1;
+                if (d > hb) hb = d;
+            }
+    }
+    return hb;
+}
+
+/* Unknowns in node order, each multiplier pair placed beside the displacements of the node
+   `shift` places away: sort keys 4a + 2 (displacements of node a), 4(a + cshift) + 1 (contact
+   multipliers), 4(a + dshift) (Dirichlet multipliers). A kind whose shift is `span + 1` is left
+   out (index -1), so each kind's shift can be chosen on its own. */
+static inline void fe_number_with_shifts(fe_model *md, const int *isd, const int *isc, int cshift, int dshift,
+                                         int span, int *slot)
+{
+    int nn = md->mesh->nnode, nslot = 4 * (nn + 2 * span), a, s, k = 0;
+    for (s = 0; s < nslot; s++) slot[s] = -1;
+    for (a = 0; a < nn; a++) {
+        md->udof[a] = md->ddof[a] = md->cdof[a] = -1;
+        if (!(isd[a] && !md->multipliers)) slot[4 * (a + span) + 2] = 3 * a;
+        if (isd[a] && md->multipliers && dshift <= span) slot[4 * (a + dshift + span)] = 3 * a + 1;
+        if (isc[a] && cshift <= span) slot[4 * (a + cshift + span) + 1] = 3 * a + 2;
+    }
+    for (s = 0; s < nslot; s++) {
+        int item = slot[s];
+        if (item < 0) continue;
+        a = item / 3;
+        if (item % 3 == 0) md->udof[a] = k;
+        else if (item % 3 == 1) md->ddof[a] = k;
+        else md->cdof[a] = k;
+        k += 2;
+    }
+    md->n = k;
+}
+
+/* The numbering that keeps the band narrowest. The mesh's node order is assumed banded already
+   (both mesh generators number across the short side); appending each node's multipliers to its
+   displacements would double the band along a contact or Dirichlet edge lying across that order
+   (the block's bottom row holds four unknowns per node), so the multipliers of each kind are
+   shifted as a whole to where they widen it least, each kind searched on its own over the
+   shifts within the node band (the two kinds sit on different edges), cheap beside one
+   factorisation. */
+static inline int fe_number_unknowns(fe_model *md, const int *isd, const int *isc)
+{
+    const fe_mesh *m = md->mesh;
+    int e, v, span = 1, kind, s, best_c = 0, best_d = 0, *slot;
+    for (e = 0; e < m->nelem; e++) {
+        int lo = m->nnode, hi = 0;
+        for (v = 0; v < m->nvert; v++) {
+            int nd = m->conn[m->nvert * e + v];
+            if (nd < lo) lo = nd;
+            if (nd > hi) hi = nd;
+        }
+        if (hi - lo + 1 > span) span = hi - lo + 1;
+    }
+    slot = malloc(sizeof(int) * 4 * (size_t)(m->nnode + 2 * span));
+    if (!slot) return -1;
+    for (kind = 0; kind < 2; kind++) {
+        int best = -1;
+        for (s = 0; s <= 2 * span; s++) {
+            int shift = (s % 2) ? -(s + 1) / 2 : s / 2, hb; /* 0, -1, 1, -2, ...: ties go to the smallest shift */
+            fe_number_with_shifts(md, isd, isc, kind == 0 ? shift : span + 1, kind == 1 ? shift : span + 1, span, slot);
+            hb = fe_model_half_band(md);
+            if (best < 0 || hb < best) { best = hb; if (kind == 0) best_c = shift; else best_d = shift; }
+        }
+    }
+    fe_number_with_shifts(md, isd, isc, best_c, best_d, span, slot);
+    md->half_band = fe_model_half_band(md);
+    if (best_c != 0 || best_d != 0) { /* keep the plain order if the shifts collide */
+        int hb = md->half_band;
+        fe_number_with_shifts(md, isd, isc, 0, 0, span, slot);
+        md->half_band = fe_model_half_band(md);
+        if (md->half_band > hb) { fe_number_with_shifts(md, isd, isc, best_c, best_d, span, slot); md->half_band = hb; }
+    }
+    free(slot);
+    return 0;
+}
+
+static inline int fe_model_geometry(fe_model *md);
 
 /* Number the unknowns, collect the Dirichlet mass matrix and the contact nodes, integrate the load.
    Fill mesh, mat, ngauss, dirichlet_tag, multipliers, contact_tag, r, friction first. */
 static inline int fe_model_setup(fe_model *md, fe_load_fn load, int load_tag_mask, void *ctx)
 {
     const fe_mesh *m = md->mesh;
-    int nn = m->nnode, e, k, a, *isd, *isc;
+    int nn = m->nnode, e, a, *isd, *isc;
     md->udof = malloc(sizeof(int) * (size_t)nn);
     md->ddof = malloc(sizeof(int) * (size_t)nn);
     md->cdof = malloc(sizeof(int) * (size_t)nn);
@@ -337,6 +444,7 @@ static inline int fe_model_setup(fe_model *md, fe_load_fn load, int load_tag_mas
     md->d_pair = malloc(sizeof(int) * 2 * (size_t)m->nedge);
     md->d_val = malloc(sizeof(double) * 2 * (size_t)m->nedge);
     md->work = malloc(sizeof(double) * 4 * (size_t)nn);
+    md->geo = NULL;
     isd = calloc((size_t)nn, sizeof(int));
     isc = calloc((size_t)nn, sizeof(int));
     if (!md->udof || !md->ddof || !md->cdof || !md->cnode || !md->d_pair || !md->d_val || !md->work || !isd || !isc) {
@@ -360,15 +468,10 @@ static inline int fe_model_setup(fe_model *md, fe_load_fn load, int load_tag_mas
             if (!isd[m->edge[2 * e]]) isc[m->edge[2 * e]] = 1;
             if (!isd[m->edge[2 * e + 1]]) isc[m->edge[2 * e + 1]] = 1;
         }
-    k = 0;
     md->ncontact = 0;
-    for (a = 0; a < nn; a++) {
-        md->udof[a] = md->ddof[a] = md->cdof[a] = -1;
-        if (!(isd[a] && !md->multipliers)) { md->udof[a] = k; k += 2; }
-        if (isd[a] && md->multipliers) { md->ddof[a] = k; k += 2; }
-        if (isc[a]) { md->cdof[a] = k; k += 2; md->cnode[md->ncontact++] = a; }
-    }
-    md->n = k;
+    for (a = 0; a < nn; a++)
+        if (isc[a]) md->cnode[md->ncontact++] = a;
+    if (fe_number_unknowns(md, isd, isc)) { free(isd); free(isc); fe_model_free(md); return -1; }
     free(isd); free(isc);
     /* contact nodes by increasing x1 (insertion sort; few nodes) */
     for (a = 1; a < md->ncontact; a++) {
@@ -397,17 +500,7 @@ static inline int fe_model_setup(fe_model *md, fe_load_fn load, int load_tag_mas
             }
         }
     }
-    /* half band of the state block: every element couples all its nodes' unknowns */
-    md->half_band = 0;
-    for (e = 0; e < m->nelem; e++) {
-        int lo = md->n, hi = 0, v;
-        for (v = 0; v < m->nvert; v++) {
-            int nd = m->conn[m->nvert * e + v], idx[3] = {md->udof[nd], md->ddof[nd], md->cdof[nd]}, t;
-            for (t = 0; t < 3; t++)
-                if (idx[t] >= 0) { if (idx[t] < lo) lo = idx[t]; if (idx[t] + 1 > hi) hi = idx[t] + 1; }
-        }
-        if (hi - lo > md->half_band) md->half_band = hi - lo;
-    }
+    if (fe_model_geometry(md)) { fe_model_free(md); return -1; }
     return 0;
 }
 
@@ -478,22 +571,42 @@ static inline int fe_quad(const fe_model *md, double *qx, double *qy, double *qw
     }
 }
 
+/* The geometry cache md->geo (see fe_model). Returns 0, or -1 out of memory or on a degenerate or
+   inverted element (det J <= 0). */
+static inline int fe_model_geometry(fe_model *md)
+{
+    const fe_mesh *m = md->mesh;
+    double qx[9], qy[9], qw[9];
+    int e, g, nv = m->nvert, stride = 2 * nv + 1;
+    md->nq = fe_quad(md, qx, qy, qw);
+    md->geo = malloc(sizeof(double) * (size_t)m->nelem * (size_t)md->nq * (size_t)stride);
+    if (!md->geo) return -1;
+    for (e = 0; e < m->nelem; e++)
+        for (g = 0; g < md->nq; g++) {
+            double *gp = md->geo + (size_t)(e * md->nq + g) * stride, detj;
+            fe_shape_grad(m, e, qx[g], qy[g], gp, &detj);
+            if (!(detj > 0)) return -1;
+            gp[2 * nv] = qw[g] * detj;
+        }
+    return 0;
+}
+
 /* Total strain energy for nodal displacements u (2 * nnode); HUGE_VAL if inverted. */
 static inline double fe_strain_energy(const fe_model *md, const double *u)
 {
     const fe_mesh *m = md->mesh;
-    double qx[9], qy[9], qw[9], total = 0;
-    int nq = fe_quad(md, qx, qy, qw), e, g, a;
+    double total = 0;
+    int e, g, a, nv = m->nvert;
     for (e = 0; e < m->nelem; e++)
-        for (g = 0; g < nq; g++) {
-            double dN[8], detj, F[4] = {1, 0, 0, 1};
-            fe_shape_grad(m, e, qx[g], qy[g], dN, &detj);
+        for (g = 0; g < md->nq; g++) {
+            const double *dN = md->geo + (size_t)(e * md->nq + g) * (2 * nv + 1);
+            double F[4] = {1, 0, 0, 1};
             for (a = 0; a < m->nvert; a++) {
                 int nd = m->conn[m->nvert * e + a];
                 F[0] += u[2 * nd] * dN[2 * a]; F[1] += u[2 * nd] * dN[2 * a + 1];
                 F[2] += u[2 * nd + 1] * dN[2 * a]; F[3] += u[2 * nd + 1] * dN[2 * a + 1];
             }
-            total += qw[g] * detj * fe_energy_density(&md->mat, F);
+            total += dN[2 * nv] * fe_energy_density(&md->mat, F);
         }
     return total;
 }
@@ -503,17 +616,15 @@ static inline double fe_strain_energy(const fe_model *md, const double *u)
 static inline int fe_internal(const fe_model *md, const double *u, double *f, fe_mat *K)
 {
     const fe_mesh *m = md->mesh;
-    double qx[9], qy[9], qw[9];
-    int nq = fe_quad(md, qx, qy, qw), e, g, a, b, i, k, J, L, nv = m->nvert;
+    int e, g, a, b, i, k, nv = m->nvert;
     if (f) memset(f, 0, sizeof(double) * 2 * (size_t)m->nnode);
     for (e = 0; e < m->nelem; e++) {
         const int *c = m->conn + nv * e;
         double ke[64];
         if (K) memset(ke, 0, sizeof ke);
-        for (g = 0; g < nq; g++) {
-            double dN[8], detj, F[4] = {1, 0, 0, 1}, P[4], A[16], w;
-            fe_shape_grad(m, e, qx[g], qy[g], dN, &detj);
-            w = qw[g] * detj;
+        for (g = 0; g < md->nq; g++) {
+            const double *dN = md->geo + (size_t)(e * md->nq + g) * (2 * nv + 1);
+            double F[4] = {1, 0, 0, 1}, P[4], A[16], w = dN[2 * nv];
             for (a = 0; a < nv; a++) {
                 F[0] += u[2 * c[a]] * dN[2 * a]; F[1] += u[2 * c[a]] * dN[2 * a + 1];
                 F[2] += u[2 * c[a] + 1] * dN[2 * a]; F[3] += u[2 * c[a] + 1] * dN[2 * a + 1];
@@ -524,17 +635,25 @@ static inline int fe_internal(const fe_model *md, const double *u, double *f, fe
                 for (a = 0; a < nv; a++)
                     for (i = 0; i < 2; i++)
                         f[2 * c[a] + i] += w * (P[2 * i] * dN[2 * a] + P[2 * i + 1] * dN[2 * a + 1]);
-            if (K)
-                for (a = 0; a < nv; a++)
-                    for (i = 0; i < 2; i++)
-                        for (b = 0; b < nv; b++)
-                            for (k = 0; k < 2; k++) {
-                                double s = 0;
-                                for (J = 0; J < 2; J++)
-                                    for (L = 0; L < 2; L++)
-                                        s += dN[2 * a + J] * A[(2 * i + J) + 4 * (2 * k + L)] * dN[2 * b + L];
-                                ke[(2 * a + i) + 2 * nv * (2 * b + k)] += w * s;
-                            }
+            if (K) {
+                /* ke_(ai)(bk) += w dN_aJ A_iJkL dN_bL in two contractions: G = w A dN_b first
+                   (16 nv products), then dN_a G (8 nv^2), not the 32 nv^2 of the plain sum;
+                   A is symmetric (A_iJkL = A_kLiJ, a hyperelastic law), so is ke: node blocks a <= b */
+                double G[4 * 8];
+                for (b = 0; b < nv; b++)
+                    for (k = 0; k < 2; k++)
+                        for (i = 0; i < 4; i++)
+                            G[i + 4 * (2 * b + k)] = w * (A[i + 4 * (2 * k)] * dN[2 * b] + A[i + 4 * (2 * k + 1)] * dN[2 * b + 1]);
+                for (b = 0; b < nv; b++) /* node blocks a <= b */
+                    for (k = 2 * b; k < 2 * b + 2; k++) {
+                        const double *gk = G + 4 * k;
+                        double *kk = ke + 2 * nv * k;
+                        for (a = 0; a <= b; a++) {
+                            kk[2 * a] += dN[2 * a] * gk[0] + dN[2 * a + 1] * gk[1];
+                            kk[2 * a + 1] += dN[2 * a] * gk[2] + dN[2 * a + 1] * gk[3];
+                        }
+                    }
+            }
         }
         if (K)
             for (a = 0; a < nv; a++)
@@ -542,8 +661,8 @@ static inline int fe_internal(const fe_model *md, const double *u, double *f, fe
                     int ra = md->udof[c[a]], cb = md->udof[c[b]];
                     if (ra < 0 || cb < 0) continue;
                     for (i = 0; i < 2; i++)
-                        for (k = 0; k < 2; k++)
-                            fe_mat_add(K, ra + i, cb + k, ke[(2 * a + i) + 2 * nv * (2 * b + k)]);
+                        for (k = 0; k < 2; k++) /* the lower node blocks by symmetry */
+                            fe_mat_add(K, ra + i, cb + k, a <= b ? ke[(2 * a + i) + 2 * nv * (2 * b + k)] : ke[(2 * b + k) + 2 * nv * (2 * a + i)]);
                 }
     }
     return 0;

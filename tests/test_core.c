@@ -582,6 +582,7 @@ static void test_branch_budgets(void)
     CHECK(star_rays(&sp, rays) == 8);
     psb_problem_init(&prob, 1, star_res, star_jac, &sp);
     paper_options(&o);
+    o.branch_no_memo = 1; /* every direction tried, as printed: n_pc as the paper counts it */
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     y[0] = 0.5 * rays[0];
     y[1] = 0.5 * rays[1];
@@ -624,6 +625,26 @@ static void test_branch_budgets(void)
     CHECK(psb_find_branches(&s, y0, t0, 0, ys, ts, &cap) == PSB_ERR_SIZE);
     CHECK(psb_find_branches(&s, y0, t0, 3, NULL, ts, &cap) == PSB_ERR_NULL);
     psb_solver_free(&s);
+
+    /* the memo of tried tangents: the same eight branches in the same order, fewer trials, and
+       every direction it spared had been tried */
+    {
+        psb_branch_report memo;
+        double ys2[16 * 2], ts2[16 * 2];
+        int k;
+        o.branch_no_memo = 0;
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(psb_find_branches(&s, y0, t0, 16, ys2, ts2, &memo) == PSB_SUCCESS);
+        CHECK(memo.n_branches == 8 && memo.n_memo > 0 && memo.n_pc < full.n_pc);
+        CHECK(memo.n_pc + 2 * memo.n_memo <= full.n_pc && memo.n_tangents == full.n_tangents);
+        psb_solver_free(&s);
+        o.branch_no_memo = 1;
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &full) == PSB_SUCCESS);
+        for (k = 0; k < 2 * 8; k++) CHECK(ys[k] == ys2[k] && ts[k] == ts2[k]);
+        CHECK(memo.n_pc + 2 * memo.n_memo == full.n_pc);
+        psb_solver_free(&s);
+    }
 }
 
 static void test_pl_branching(void)
