@@ -338,6 +338,9 @@
    PSCBRANCH_LAPACK_INT       the Fortran INTEGER of your LAPACK [int]; long for ILP64
    PSCBRANCH_FORTRAN(name)    the symbol of a LAPACK routine [name##_]
    PSCBRANCH_NO_FORTRAN_STRLEN  for a LAPACK whose character arguments carry no hidden length
+   PSCBRANCH_STRLEN_ONE       (defined by the header) the hidden length of a one-character
+                              argument, to end your own calls with: dgetrs_("N", ...,
+                              &info PSCBRANCH_STRLEN_ONE) works with either kind of LAPACK
    LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r, dgbtrf, dgbtrs.
 
    9. REVISION HISTORY
@@ -864,7 +867,7 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
    PSCBRANCH_LAPACK_INT: the Fortran INTEGER (int; long for ILP64 builds).
    PSCBRANCH_FORTRAN(name): the symbol of a routine (name##_ for gfortran and most builds).
    Character arguments carry a hidden length (gfortran ABI); define PSCBRANCH_NO_FORTRAN_STRLEN
-   for a LAPACK built without it. */
+   for a LAPACK built without it. PSCBRANCH_STRLEN_ONE passes it for the caller's own calls. */
 #ifndef PSCBRANCH_LAPACK_INT
 #define PSCBRANCH_LAPACK_INT int
 #endif
@@ -873,11 +876,12 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
 #endif
 #ifdef PSCBRANCH_NO_FORTRAN_STRLEN
 #define PSB__STRLEN_ARG
-#define PSB__STRLEN_ONE
+#define PSCBRANCH_STRLEN_ONE
 #else
 #define PSB__STRLEN_ARG , size_t
-#define PSB__STRLEN_ONE , (size_t)1
+#define PSCBRANCH_STRLEN_ONE , (size_t)1
 #endif
+#define PSB__STRLEN_ONE PSCBRANCH_STRLEN_ONE
 
 typedef PSCBRANCH_LAPACK_INT psb__lint;
 

@@ -1,8 +1,10 @@
 /* Tests of examples/fc_solve.c's solver on generated frictional-contact instances (tests/fc_gen.h):
    2D and 3D, rank-deficient (rigid scenes) and full-rank (flexible-like) W, mu = 0 and mu > 0,
-   some with 100+ contacts. Checks the reported error against an independent recomputation from
-   the dense W, and the solution facts per contact: r in K, uhat = u + mu|u_T| e_N in K*, r.uhat = 0.
-   Also: malformed input files give a clean error, degenerate contacts (W_cc = 0) are handled. */
+   some with 100+ contacts, four that need the interior-point restarts. Checks the reported error
+   against an independent recomputation from the dense W, and the solution facts per contact:
+   r in K, uhat = u + mu|u_T| e_N in K*, r.uhat = 0. Also: the cone algebra and the frozen-s
+   interior-point solver on their own, malformed input files give a clean error, degenerate
+   contacts (W_cc = 0) are handled. */
 #define FC_SOLVE_NO_MAIN
 #include "examples/fc_solve.c"
 
@@ -52,7 +54,19 @@ static double check_solution(const fc_problem *p, const double *r, double tol, c
     return err;
 }
 
+/* Solves a generated instance to 1e-10 and checks the solution; maxit_total > 0 bounds the
+   Newton + interior-point iterations, need_ipm = 1 requires the interior-point restarts to have
+   been used (the instances the plain NSGS/Newton schedule misses). */
+static void run_instance_ex(int kind, int size, double mu, double vs, unsigned long long seed,
+                            int maxit_total, int need_ipm);
+
 static void run_instance(int kind, int size, double mu, double vs, unsigned long long seed)
+{
+    run_instance_ex(kind, size, mu, vs, seed, 0, 0);
+}
+
+static void run_instance_ex(int kind, int size, double mu, double vs, unsigned long long seed,
+                            int maxit_total, int need_ipm)
 {
     static const char *names[] = {"boxes3d", "spheres3d", "boxes2d", "disks2d", "flex3d", "flex2d"};
     fcg_instance in;
@@ -82,9 +96,13 @@ static void run_instance(int kind, int size, double mu, double vs, unsigned long
         return;
     }
     res = fc_solve(&p, &o, r, &st);
-    printf("  %s: nc %d newton %d sweeps %d err %.3e\n", name, p.nc, st.newton, st.sweeps,
-           st.err);
+    printf("  %s: nc %d newton %d sweeps %d ipm %d err %.3e\n", name, p.nc, st.newton,
+           st.sweeps, st.ipm, st.err);
     CHECK(res == 0);
+    if (maxit_total > 0)
+        CHECK(st.newton + st.ipm <= maxit_total);
+    if (need_ipm)
+        CHECK(st.ipm > 0);
     CHECK(st.err <= 1e-10);
     CHECK(!st.absres);
     err = check_solution(&p, r, o.tol, name);
@@ -124,6 +142,139 @@ static void test_degenerate(void)
     CHECK(r[0] == 0.0 && r[1] == 0.0 && r[4] == 0.0 && r[5] == 0.0); /* separated: no force */
     CHECK(r[2] > 0.0 && r[3] == 0.0); /* mu = 0: pure normal reaction */
     check_solution(&p, r, o.tol, "degenerate");
+}
+
+/* Second-order-cone algebra of the interior-point restarts, on random interior points: the
+   Nesterov-Todd scaling maps y and x to the same lam (Wm y = Wm^-1 x) and Wi = Wm^-1; Jordan
+   division inverts the Jordan product; the step to the boundary lands on it. */
+static void test_soc_algebra(void)
+{
+    fcg_rng g;
+    int d, k, a, b, j, bad_nt = 0, bad_div = 0, bad_step = 0;
+    g.s = 77;
+    for (d = 2; d <= 3; d++)
+        for (k = 0; k < 200; k++) {
+            double x[3] = {0, 0, 0}, y[3] = {0, 0, 0}, dx[3] = {0, 0, 0}, Wm[9], Wi[9], lam[3];
+            double z[3], v[3], t, nx = 0.0, ny = 0.0;
+            for (a = 1; a < d; a++) {
+                x[a] = fcg_u(&g, -1.0, 1.0);
+                y[a] = fcg_u(&g, -1e3, 1e3); /* badly scaled pairs too */
+                dx[a] = fcg_u(&g, -5.0, 5.0);
+                nx += x[a] * x[a];
+                ny += y[a] * y[a];
+            }
+            x[0] = sqrt(nx) + fcg_u(&g, 1e-6, 1.0);
+            y[0] = sqrt(ny) + fcg_u(&g, 1e-3, 1e3);
+            dx[0] = fcg_u(&g, -5.0, 5.0);
+            CHECK(nt_scaling(d, x, y, Wm, Wi, lam) == 0);
+            for (a = 0; a < d; a++) {
+                double wix = 0.0, sc = sqrt(x[0] * y[0]);
+                for (b = 0; b < d; b++) {
+                    double id = 0.0;
+                    wix += Wi[a + d * b] * x[b];
+                    for (j = 0; j < d; j++)
+                        id += Wm[a + d * j] * Wi[j + d * b];
+                    if (fabs(id - (a == b ? 1.0 : 0.0)) > 1e-9)
+                        bad_nt++;
+                }
+                if (fabs(wix - lam[a]) > 1e-10 * sc)
+                    bad_nt++;
+            }
+            soc_div(d, lam, x, z); /* lam o z = x */
+            soc_prod(d, lam, z, v);
+            for (a = 0; a < d; a++)
+                if (fabs(v[a] - x[a]) > 1e-9 * (fabs(x[0]) + 1.0))
+                    bad_div++;
+            t = soc_step_max(d, x, dx, 1.0);
+            if (t < 1.0) { /* on the boundary: x0 + t dx0 = |x1 + t dx1| */
+                double n1 = 0.0;
+                for (a = 1; a < d; a++)
+                    n1 += (x[a] + t * dx[a]) * (x[a] + t * dx[a]);
+                if (fabs(x[0] + t * dx[0] - sqrt(n1)) > 1e-12 * (x[0] + 5.0))
+                    bad_step++;
+            } else if (x[0] + dx[0] < 0.0 || soc_det(d, x) < 0.0) {
+                bad_step++;
+            }
+        }
+    CHECK(bad_nt == 0);
+    CHECK(bad_div == 0);
+    CHECK(bad_step == 0);
+}
+
+/* The interior-point solver of the frozen-s problem on a full-rank instance (unique solution)
+   with random s >= 0: r in K, w = W r + q + s e_N in K*, r.w = 0 per contact, in a few dozen
+   iterations; also mu = 0 (floored at 1e-6 as in fc_solve) on a rank-deficient box stack. */
+static void test_ipm_frozen(int kind, int size, double mu, unsigned long long seed)
+{
+    fcg_instance in;
+    fc_problem p;
+    fc_bsr S;
+    fc_work w;
+    fcg_rng g;
+    int m, d, nc, c, a, it, bad = 0;
+    double *x, *y, *r, *u, *s, *tm, qn = 0.0, tol;
+    CHECK(fcg_make(kind, size, mu, 1.0, seed, &in));
+    if (!in.W)
+        return;
+    p.dim = d = in.dim;
+    p.nc = nc = in.nc;
+    p.m = m = in.m;
+    p.W = in.W;
+    p.q = in.q;
+    p.mu = in.mu;
+    x = malloc((size_t)m * sizeof(double));
+    y = malloc((size_t)m * sizeof(double));
+    r = malloc((size_t)m * sizeof(double));
+    u = malloc((size_t)m * sizeof(double));
+    s = calloc((size_t)nc, sizeof(double));
+    tm = calloc((size_t)nc, sizeof(double));
+    memset(&S, 0, sizeof S);
+    memset(&w, 0, sizeof w);
+    if (!(x && y && r && u && s && tm && bsr_build(&p, &S) && work_alloc(&w, m, nc, d))) {
+        CHECK(0);
+        nc = 0; /* frees below */
+    }
+    g.s = seed;
+    for (a = 0; a < m; a++)
+        qn += p.q[a] * p.q[a];
+    qn = sqrt(qn);
+    for (c = 0; c < nc; c++) {
+        s[c] = fcg_u(&g, 0.0, 0.2 * qn / sqrt((double)nc));
+        tm[c] = p.mu[c] > 1e-6 ? p.mu[c] : 1e-6;
+        for (a = 0; a < d; a++) {
+            x[c * d + a] = a ? 0.0 : qn / sqrt((double)nc) / S.bv[(size_t)S.dg[c] * S.dd];
+            y[c * d + a] = a ? 0.0 : qn / sqrt((double)nc);
+        }
+    }
+    it = nc ? ipm_frozen(&p, &S, &w, s, tm, x, y, r, 1e-15 * qn * qn, 1e-14 * qn, 60, 0) : -1;
+    printf("  frozen-s interior point (kind %d, %d contacts, mu %g): %d iterations\n", kind, nc,
+           mu, it);
+    CHECK(it > 0 && it < 45);
+    if (nc)
+        bsr_matvec(&S, p.q, r, u);
+    tol = 1e-8 * qn;
+    for (c = 0; c < nc; c++) {
+        const double *rc = r + c * d;
+        double *wc = u + c * d, rt, wt, dot = 0.0, mc = tm[c];
+        wc[0] += s[c];
+        rt = d == 3 ? hypot(rc[1], rc[2]) : fabs(rc[1]);
+        wt = d == 3 ? hypot(wc[1], wc[2]) : fabs(wc[1]);
+        for (a = 0; a < d; a++)
+            dot += rc[a] * wc[a];
+        if (rc[0] < -tol || rt > mc * rc[0] + tol || mc * wt > wc[0] + tol ||
+            fabs(dot) > 1e-8 * qn * qn)
+            bad++;
+    }
+    CHECK(bad == 0);
+    free(x);
+    free(y);
+    free(r);
+    free(u);
+    free(s);
+    free(tm);
+    work_free(&w);
+    bsr_free(&S);
+    fcg_free(&in);
 }
 
 static int write_file(const char *path, const char *text)
@@ -194,6 +345,10 @@ int main(void)
 {
     test_malformed();
     test_degenerate();
+    test_soc_algebra();
+    test_ipm_frozen(FCG_FLEX3D, 40, 1.0, 41);
+    test_ipm_frozen(FCG_FLEX2D, 40, 0.5, 42);
+    test_ipm_frozen(FCG_BOXES3D, 24, 0.0, 43);
     /* rigid, rank-deficient: 3D */
     run_instance(FCG_BOXES3D, 12, 0.0, 1.0, 11);
     run_instance(FCG_BOXES3D, 12, 0.3, 5.0, 12);
@@ -206,6 +361,12 @@ int main(void)
     run_instance(FCG_BOXES2D, 30, 1.0, 5.0, 22);
     run_instance(FCG_DISKS2D, 50, 0.3, 1.0, 23);
     run_instance(FCG_DISKS2D, 40, 2.0, 1.0, 24);
+    /* piles the NSGS/Newton schedule alone misses (4e-4 .. 1e-4): solved by the second run with
+       interior-point restarts; bounds on Newton + interior-point iterations ~2x the measured */
+    run_instance_ex(FCG_SPHERES3D, 80, 2.0, 5.0, 2011, 900, 1);  /* 205 contacts, mu 2 */
+    run_instance_ex(FCG_DISKS2D, 100, 2.0, 5.0, 2031, 1500, 1);  /* 266 contacts, mu 2 */
+    run_instance_ex(FCG_DISKS2D, 50, 0.3, 5.0, 2030, 750, 1);    /* 126 contacts */
+    run_instance_ex(FCG_BOXES2D, 30, 0.3, 1.0, 1020, 600, 1);    /* 84 contacts */
     /* flexible-like, full rank */
     run_instance(FCG_FLEX3D, 40, 0.0, 1.0, 31);
     run_instance(FCG_FLEX3D, 40, 1.0, 1.0, 32);
