@@ -146,7 +146,12 @@
                                     branches at a fraction of the cost (block M200: 2982
                                     factorisations instead of 8966, same spans and n_pc)
    branch_patience [0], branch_max_pc [0]   adaptive end of the sweep: stop after that many
-                                    spans in a row without a new branch / at that n_pc
+                                    spans in a row without a new branch / at that n_pc.
+                                    Spans of pairs come in a fixed order, and a thin branch
+                                    can wait for a late pair: block M800 from input branch 3
+                                    found its sixth branch 6 spans after the fifth at n_dir 20,
+                                    30 and 60, so patience 3 ended with five there (all six in
+                                    the other 15 of 18 Table 1 settings), patience 6 with six
    branch_no_memo [0]               0: a direction whose tangent is within c_diff of one
                                     tried earlier in the call is not tried again (its trials
                                     from y0 are the same steps; report.n_memo counts them;
@@ -168,10 +173,13 @@
      solved by block elimination on the LU of the band (dgbtrf): w = A^{-1} dH/dparameter once
      per factorisation, then one banded solve per right-hand side (none for the tangent's, so
      a corrector iteration costs one dgbtrf and two dgbtrs). At a fold A alone is singular
-     while B is not: every solution is checked by its residual in B and refined (a matrix-
-     vector product when it is already exact, the usual case); if A is exactly singular or
-     refinement stalls, A + sigma I (sigma = sqrt(eps) ||B||) is factored instead and the
-     refinement against the true B converges geometrically. Memory ~ (3 kl + 2 ku + 50) N.
+     while B is not. Block elimination amplifies the banded solves' errors by at most
+     g = (|d| + sum |c_j w_j|) / |d - c.w| (the cancellation in the Schur complement); where
+     g <= 16 the solution is used as it comes (dgbtrs is backward stable), elsewhere it is
+     checked by its residual in B and refined; if A is exactly singular or refinement stalls,
+     A + sigma I (sigma = sqrt(eps) ||B||) is factored instead and the refinement against the
+     true B converges geometrically. Memory ~ (3 kl + 2 ku + 50) N, plus the memo of
+     Algorithm 2.2 (at most 8 MB, section 6).
    PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
      in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
      solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
@@ -350,7 +358,8 @@
                        with restarts and an adaptive end, contact helpers.
    0.2.0 (2026-11-22)  Algorithm 2.2 remembers the tangents it tried (branch_no_memo,
                        report.n_memo); the corrector also stops on Newton's contraction
-                       estimate of the remaining error.
+                       estimate of the remaining error; the banded backend refines only where
+                       block elimination can lose accuracy; PSCBRANCH_STRLEN_ONE.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H

@@ -2,11 +2,14 @@
 # bench_block.sh - the block example of Section 3.2 as a benchmark (run by `make bench`).
 #   1. dense against banded on M200 (and banded on M800; M3200 with --full): seconds,
 #      factorisations, n_pc, speed-up.
-#   2. the study of Tables 1-2: for input branches 1, 2, 3 and n_dir in {20, 30, 40, 50, 60, 100},
-#      the smallest n_span that finds all six branches (one run with n_span = 40: the span of the
-#      last new branch) with its n_pc and n_rand, and the same with the adaptive end
-#      (branch_patience = 3).
+#   2. the study of Tables 1-2 on the paper's M800: for input branches 1, 2, 3 and n_dir in
+#      {20, 30, 40, 50, 60, 100}, the smallest n_span that finds all six branches (one run with
+#      n_span = 40: the span of the last new branch) with its n_pc and n_rand, and the same with
+#      the adaptive end (branch_patience = 3), beside the paper's figures.
+#   3. the mesh study of Table 3: six branches on M200, M800, M3200; M12800 by Newton from the
+#      M3200 end points; relative H1 errors against M12800.
 # Tables on stdout, CSV in bench/out/. Usage: bench/bench_block.sh [--full] [--quick]
+# (--quick: M200 and one n_dir only, and M3200 as the finest mesh; a few minutes less than 20.)
 set -u
 cd "$(dirname "$0")/.."
 full=0
@@ -55,31 +58,90 @@ for mesh in $meshes; do
 done
 
 echo
-echo "  Tables 1-2 study (M200): smallest n_span finding all six branches, from one run with n_span = 40"
-echo "  input  n_dir | n_span   n_pc  n_rand | adaptive (patience 3): branches  n_pc  n_rand  spans"
+# The paper's figures (GetFEM runs on M800): Table 1 = smallest n_span and its n_pc (a range over
+# the paper's three runs), Table 2 = n_pc with n_span fixed a priori (15-16 for n_dir 20, 10 for
+# 50 and 60, 8 for 100).
+paper_t1() { # input ndir
+    case "$1:$2" in
+    1:20) echo "8-13 168-266" ;; 1:40) echo "7-14 292-478" ;; 1:50) echo "3 162" ;; 1:60) echo "5 232" ;; 1:100) echo "3 206" ;;
+    2:20) echo "4-8 136-240" ;; 2:40) echo "4-5 260-316" ;; 2:50) echo "4-7 274-490" ;; 2:60) echo "5-9 374-654" ;; 2:100) echo "4-7 372-662" ;;
+    3:20) echo "5 128" ;; 3:40) echo "3 134" ;; 3:50) echo "1 72" ;; 3:60) echo "4 202" ;; 3:100) echo "1 102" ;;
+    *) echo "- -" ;;
+    esac
+}
+paper_t2() { # input ndir
+    case "$1:$2" in
+    1:20) echo "310-346" ;; 1:50) echo "400" ;; 1:60) echo "416" ;; 1:100) echo "474" ;;
+    2:20) echo "350-434" ;; 2:50) echo "518-562" ;; 2:60) echo "618-734" ;; 2:100) echo "642-720" ;;
+    3:20) echo "318-334" ;; 3:50) echo "396" ;; 3:60) echo "414" ;; 3:100) echo "456" ;;
+    *) echo "-" ;;
+    esac
+}
+
+study_mesh=20x40
+[ $quick -eq 1 ] && study_mesh=10x20
+echo
+echo "  Tables 1-2 study (M${study_mesh/x/x}, the paper's mesh is 20x40 = M800): smallest n_span finding all six"
+echo "  branches, from one run with n_span = 40 (the span of the last new branch), and the adaptive end"
+echo "  (branch_patience = 3), beside the paper's Table 1 (n_span, n_pc) and Table 2 (n_pc, n_span a priori)"
+echo "  input  n_dir | n_span   n_pc  n_rand | paper T1 n_span  n_pc | adaptive: branches  n_pc  n_rand  spans | paper T2 n_pc"
 csv=bench/out/block_tables.csv
-echo "input,n_dir,n_span_needed,n_pc,n_rand,branches,adaptive_branches,adaptive_n_pc,adaptive_n_rand,adaptive_spans" >"$csv"
+echo "mesh,input,n_dir,n_span_needed,n_pc,n_rand,branches,paper_t1_n_span,paper_t1_n_pc,adaptive_branches,adaptive_n_pc,adaptive_n_rand,adaptive_spans,paper_t2_n_pc" >"$csv"
 ndirs="20 30 40 50 60 100"
 inputs="1 2 3"
 [ $quick -eq 1 ] && ndirs="20" && inputs="1"
 for input in $inputs; do
     for ndir in $ndirs; do
-        out=$($block --input "$input" --ndir "$ndir" --nspan 40 2>&1)
+        out=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 2>&1)
         nbr=$(printf '%s\n' "$out" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
         need=$(printf '%s\n' "$out" | sed -n 's/.*last new branch in span \([0-9]*\).*/\1/p')
         npc=$(printf '%s\n' "$out" | sed -n 's/.*with n_span = [0-9]*: n_pc = \([0-9]*\).*/\1/p')
         nrand=$(printf '%s\n' "$out" | sed -n 's/.*with n_span = [0-9]*: n_pc = [0-9]*, n_rand = \([0-9]*\).*/\1/p')
-        ad=$($block --input "$input" --ndir "$ndir" --nspan 40 --patience 3 2>&1)
+        ad=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 --patience 3 2>&1)
         anbr=$(printf '%s\n' "$ad" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
         anpc=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
         anrand=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = [0-9]*, n_rand = \([0-9]*\).*/\1/p' | head -n 1)
         aspans=$(printf '%s\n' "$ad" | sed -n 's/.*, spans = \([0-9]*\),.*/\1/p' | head -n 1)
         [ "$nbr" = 6 ] || need="(only $nbr)"
-        printf '  %5s  %5s | %6s %6s %7s | %27s %5s %7s %6s\n' "$input" "$ndir" "$need" "$npc" "$nrand" "$anbr" "$anpc" "$anrand" "$aspans"
-        echo "$input,$ndir,$need,$npc,$nrand,$nbr,$anbr,$anpc,$anrand,$aspans" >>"$csv"
+        set -- $(paper_t1 "$input" "$ndir")
+        p1span=$1 p1pc=$2
+        p2=$(paper_t2 "$input" "$ndir")
+        printf '  %5s  %5s | %6s %6s %7s | %15s %5s | %18s %5s %7s %6s | %13s\n' "$input" "$ndir" "$need" "$npc" "$nrand" \
+            "$p1span" "$p1pc" "$anbr" "$anpc" "$anrand" "$aspans" "$p2"
+        echo "$study_mesh,$input,$ndir,$need,$npc,$nrand,$nbr,$p1span,$p1pc,$anbr,$anpc,$anrand,$aspans,$p2" >>"$csv"
     done
 done
+
+# The mesh study (Table 3): six branches on M200, M800, M3200 (full runs; M3200 skipped with
+# --quick), then M12800 from the M3200 end points by Newton (--refine; a full banded branching
+# run there costs about an hour) and the relative H1 errors at |gamma| = 1 against M12800.
 echo
-echo "  paper (Table 1, GetFEM): input 1: n_dir 20 -> n_span 8-13 (n_pc 168-266), 50 -> 3 (162), 100 -> 3 (206);"
-echo "  input 2: n_dir 20 -> 4-8 (136-240), 50 -> 4-7 (274-490); input 3: n_dir 20 -> 5 (128), 50 -> 1 (72)"
-echo "  CSV: bench/out/block_backends.csv, bench/out/block_tables.csv"
+echo "  mesh study (Table 3): full runs, then M12800 by Newton from the interpolated M3200 end points"
+csv=bench/out/block_meshes.csv
+echo "mesh,n,half_band,seconds,factorisations,n_pc,branches" >"$csv"
+study="10x20 20x40 40x80"
+[ $quick -eq 1 ] && study="10x20 20x40"
+last=""
+compare=""
+for mesh in $study; do
+    out=$($block --mesh "$mesh" --save "bench/out/ends_$mesh.txt" 2>&1)
+    n=$(printf '%s\n' "$out" | sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' | head -n 1)
+    hb=$(printf '%s\n' "$out" | sed -n 's/.*half band \([0-9]*\).*/\1/p' | head -n 1)
+    line=$(printf '%s\n' "$out" | grep 'distinct branches')
+    secs=$(printf '%s\n' "$line" | sed -n 's/.*time \([0-9.]*\) s.*/\1/p')
+    fact=$(printf '%s\n' "$line" | sed -n 's/.*factorisations \([0-9]*\).*/\1/p')
+    nbr=$(printf '%s\n' "$line" | sed -n 's/^ *\([0-9]*\) distinct.*/\1/p')
+    npc=$(printf '%s\n' "$out" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
+    printf '  %-7s N %6s  half band %4s  %8s s  factorisations %5s  n_pc %4s  branches %s\n' "$mesh" "$n" "$hb" "$secs" "$fact" "$npc" "$nbr"
+    echo "$mesh,$n,$hb,$secs,$fact,$npc,$nbr" >>"$csv"
+    last=$mesh
+    compare="$compare --compare bench/out/ends_$mesh.txt"
+done
+fine=80x160
+[ $quick -eq 1 ] && fine=40x80
+out=$($block --mesh "$fine" --refine "bench/out/ends_$last.txt" --save "bench/out/ends_$fine.txt" $compare 2>&1)
+printf '%s\n' "$out" | grep -E 'refined|distinct|block:' | sed 's/^ */  /'
+echo "  relative H1 errors at |gamma| = 1 against $fine (branches 1-6; 4-6 mirror 1-3):"
+printf '%s\n' "$out" | grep -E '^  M[0-9]+ ' | tee bench/out/block_table3.txt
+echo "  paper (Table 3, vs M12800): M200 6.1e-2 1.7e-1 4.3e-2; M800 2.3e-2 1.1e-1 1.1e-2"
+echo "  CSV: bench/out/block_backends.csv, bench/out/block_tables.csv, bench/out/block_meshes.csv, bench/out/block_table3.txt"

@@ -21,7 +21,8 @@
    solved, after eliminating separated contacts, by whichever is cheapest by a flop estimate: a
    block-sparse LU in minimum-degree order (checked against the unfactored blocks), a banded LU
    in reverse Cuthill-McKee order, or a dense LU. The best iterate by the eq. (15) error is
-   returned; the schedule gives up when five NSGS/Newton cycles fail to halve the error.
+   returned; the schedule gives up when five NSGS/Newton cycles fail to halve the error, or at
+   once when a cycle would start from the same state as the previous one (an exact repeat).
    If it misses, a second run from the same start replaces the hand-backs to NSGS by
    interior-point restarts: De Saxce's term frozen at the best point, the resulting convex cone
    problem solved by a primal-dual interior-point method, Newton resumed from its solution. That
@@ -1480,7 +1481,9 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
      W is rank-deficient and tends to plain Newton as eta ~ error; non-monotone Armijo search on
      0.5 |F|^2; on failure eta grows (towards a damped fixed-point step).
    Newton hands back to NSGS when it stops making progress; after five such cycles without
-   halving the error it gives up (bounded time on the hard piles, whose later cycles only creep).
+   halving the error it gives up (bounded time on the hard piles, whose later cycles only creep),
+   and at once when the next cycle would repeat the last one exactly (same best point and phase
+   length, no restart): same result, ~20 % fewer NSGS sweeps on the generated failures.
    A run that misses the tolerance is followed by a second one from the same start in which a
    hand-back first restarts Newton from an interior-point solution of the frozen-s problem
    (ipm_restart) as long as these restarts improve the best error by 10 %; on the generated
@@ -1495,7 +1498,8 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     double ipm_ref = HUGE_VAL, keep_err = HUGE_VAL, *keep = NULL;
     int ipm_on = 0, run, newton0 = 0, sweeps0 = 0;
     double qn = 0.0, err, best_err, theta, eta_fac = 1.0, hist[8], phase_ref = 0.0, cyc[8];
-    int ncyc = 0;
+    int ncyc = 0, rep_len = 0;
+    double rep_err = -1.0;
     fc_work w;
     fc_bsr S;
     int rc = 1;
@@ -1559,6 +1563,7 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
                 memcpy(r, w.rn, (size_t)m * sizeof(double));
                 ipm_on = 1;
                 mode = phase_it = nh = ncyc = 0;
+                rep_err = -1.0;
                 nsgs_len = 30;
                 eta_fac = 1.0;
                 ipm_ref = HUGE_VAL;
@@ -1668,8 +1673,20 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
                         phase_it = 0;
                         nsgs_len = nsgs_len < 500 ? 2 * nsgs_len : 1000;
                         memcpy(r, w.best, (size_t)m * sizeof(double));
+                        /* the next cycle starts from the same state as the last one (same best
+                           point, NSGS phase length and sweep parity, no restart): it would
+                           repeat it exactly, as the stalled cycles on the hard piles do */
+                        if (best_err == rep_err && nsgs_len == rep_len &&
+                            !(ipm_on && best_err < 0.9 * ipm_ref)) {
+                            if (o->verbose)
+                                fprintf(stderr, "  cycle repeats itself: stalled\n");
+                            break;
+                        }
+                        rep_err = best_err;
+                        rep_len = nsgs_len;
                         /* an interior-point restart while they keep improving the best error */
                         if (ipm_on && best_err < 0.9 * ipm_ref) {
+                            rep_err = -1.0;
                             int k = ipm_restart(p, &S, &w, rho, qn, r, o->verbose > 1);
                             if (k < 0) {
                                 rc = -1;

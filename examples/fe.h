@@ -14,7 +14,9 @@
    the same numbering (equilibrium row for u, B_D u row for lD, contact row for l_nu / l_tau), so
    the state part of the Jacobian is banded with a half band of about 2-4 times the nodes per mesh
    row; only the gamma column is dense. Assembly goes through fe_mat_add, which also knows the LAPACK
-   general band layout, so a banded core can reuse it.
+   general band layout, so a banded core can reuse it, and triplet / compressed-column modes for
+   sparse direct solvers (fe_sparse_pattern gives the pattern; examples/fe_umfpack.h uses it).
+   fe_h1_rel_error compares displacements on nested P1 or Q1 meshes in the H1(Omega) norm.
 
    When pscbranch.h is included before this file, a small driver shared by the examples is
    compiled too (fe_run_*): callbacks for pscbranch's dense and banded backends, the weights of its
@@ -51,17 +53,63 @@ static inline int fe_gauss1d(int n, double *pts, double *wts)
 
 /* A matrix sink: dense column-major (kl < 0), or a band of kl sub- and ku super-diagonals with
    entry (i, j) at row off + i - j of column j (off = ku for pscbranch's PSB_BAND_INDEX layout,
-   kl + ku for LAPACK dgbsv's). An entry outside the band sets `overflow`, never writes. */
+   kl + ku for LAPACK dgbsv's). An entry outside the band sets `overflow`, never writes.
+   Two sparse modes (kl = FE_MAT_TRIPLET or FE_MAT_CSC, set with fe_mat_triplet / fe_mat_csc):
+   triplets record the position (i, j) of every call, whatever v is, in ti/tj while nt < cap and
+   count them all in nt (a pass with cap = 0 sizes the arrays); CSC adds v to a[k] where
+   rowi[colp[j] .. colp[j+1]-1] (sorted) holds i (rowperm[i] when rowperm != NULL: a row
+   permutation applied while assembling), and an entry outside the pattern sets `overflow`. Assembly calls fe_mat_add for every structural entry, zero or not, so one triplet
+   pass gives a pattern valid for every y. */
 typedef struct fe_mat {
     double *a;
     int ld, kl, ku, off;
     int overflow;
+    int *ti, *tj;             /* triplet mode */
+    long nt, cap;
+    const int *colp, *rowi;   /* CSC mode */
+    const int *rowperm;       /* CSC mode, may be NULL */
 } fe_mat;
+
+enum { FE_MAT_TRIPLET = -3, FE_MAT_CSC = -2 };
+
+static inline void fe_mat_triplet(fe_mat *m, int *ti, int *tj, long cap)
+{
+    memset(m, 0, sizeof *m);
+    m->kl = m->ku = FE_MAT_TRIPLET;
+    m->ti = ti; m->tj = tj; m->cap = cap;
+}
+
+static inline void fe_mat_csc(fe_mat *m, double *a, const int *colp, const int *rowi, const int *rowperm)
+{
+    memset(m, 0, sizeof *m);
+    m->kl = m->ku = FE_MAT_CSC;
+    m->a = a; m->colp = colp; m->rowi = rowi; m->rowperm = rowperm;
+}
+
+/* The sparse modes, out of line of the dense and band paths. */
+static inline void fe_mat_add_sparse(fe_mat *m, int i, int j, double v)
+{
+    if (m->kl == FE_MAT_TRIPLET) {
+        if (m->nt < m->cap) { m->ti[m->nt] = i; m->tj[m->nt] = j; }
+        m->nt++;
+    } else {
+        int lo = m->colp[j], hi = m->colp[j + 1] - 1; /* binary search: columns hold ~20 rows */
+        if (m->rowperm) i = m->rowperm[i];
+        while (lo <= hi) {
+            int mid = lo + (hi - lo) / 2;
+            if (m->rowi[mid] < i) lo = mid + 1;
+            else if (m->rowi[mid] > i) hi = mid - 1;
+            else { m->a[mid] += v; return; }
+        }
+        m->overflow = 1;
+    }
+}
 
 static inline void fe_mat_add(fe_mat *m, int i, int j, double v)
 {
     if (m->kl < 0) {
-        m->a[i + (size_t)j * m->ld] += v;
+        if (m->kl == FE_MAT_TRIPLET || m->kl == FE_MAT_CSC) fe_mat_add_sparse(m, i, j, v);
+        else m->a[i + (size_t)j * m->ld] += v;
     } else if (i - j <= m->kl && j - i <= m->ku) {
         m->a[(m->off + i - j) + (size_t)j * m->ld] += v;
     } else if (v != 0.0) {
@@ -908,6 +956,264 @@ static inline int fe_triangle_model(fe_model *md, fe_mesh *mesh, int n, int mult
     return fe_model_setup(md, fe_tri_load, 1 << FE_LEFT, &c);
 }
 
+/* ---- sparse pattern of the Jacobian (for sparse direct solvers) ------------------------------ */
+
+static inline int fe_int_cmp(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Compressed-column pattern of the state block of the Jacobian (n x n), from one triplet pass of
+   fe_jacobian_parts at y = 0 (every structural entry is added whatever its value, so it holds for
+   all y). border = 1: the bordered (n+1) x (n+1) pattern of pscbranch's B = [dH; row^T] instead,
+   with the gamma column and the border row dense (the row is a weighted tangent). Rows sorted
+   within each column. *colp (ncol + 1) and *rowi (nnz) are malloc'ed; returns nnz, or -1 out of
+   memory (or if assembly failed at y = 0). */
+static inline long fe_sparse_pattern(const fe_model *md, int border, int **colp_out, int **rowi_out)
+{
+    int n = md->n, nc = n + (border ? 1 : 0), j, *cnt = NULL, *colp = NULL, *rowi = NULL, *ti = NULL, *tj = NULL, *tmp = NULL;
+    double *y = calloc((size_t)n + 1, sizeof(double));
+    fe_mat K;
+    long nt, k, nnz;
+    *colp_out = *rowi_out = NULL;
+    if (!y) return -1;
+    fe_mat_triplet(&K, NULL, NULL, 0);
+    if (fe_jacobian_parts(md, y, &K, NULL)) { free(y); return -1; }
+    nt = K.nt;
+    ti = malloc(sizeof(int) * (size_t)(nt ? nt : 1));
+    tj = malloc(sizeof(int) * (size_t)(nt ? nt : 1));
+    cnt = calloc((size_t)nc + 1, sizeof(int));
+    if (!ti || !tj || !cnt) goto fail;
+    fe_mat_triplet(&K, ti, tj, nt);
+    if (fe_jacobian_parts(md, y, &K, NULL) || K.nt != nt) goto fail;
+    /* bucket by column (cnt: starts), then sort and deduplicate each column */
+    for (k = 0; k < nt; k++) cnt[tj[k] + 1]++;
+    for (j = 0; j < n; j++) cnt[j + 1] += cnt[j];
+    tmp = malloc(sizeof(int) * (size_t)(nt ? nt : 1));
+    rowi = malloc(sizeof(int) * (size_t)(nt + (border ? 2 * (long)n + 1 : 0) + 1));
+    colp = malloc(sizeof(int) * ((size_t)nc + 1));
+    if (!tmp || !rowi || !colp) goto fail;
+    for (k = 0; k < nt; k++) tmp[cnt[tj[k]]++] = ti[k]; /* cnt[j] ends at column j's end */
+    nnz = 0;
+    for (j = 0; j < n; j++) {
+        int start = j ? cnt[j - 1] : 0, end = cnt[j], q;
+        qsort(tmp + start, (size_t)(end - start), sizeof(int), fe_int_cmp);
+        colp[j] = (int)nnz;
+        for (q = start; q < end; q++)
+            if (q == start || tmp[q] != tmp[q - 1]) rowi[nnz++] = tmp[q];
+        if (border) rowi[nnz++] = n; /* the border row, last in every column */
+    }
+    if (border) {
+        colp[n] = (int)nnz;
+        for (j = 0; j <= n; j++) rowi[nnz++] = j; /* the gamma column, dense */
+    }
+    colp[nc] = (int)nnz;
+    free(tmp);
+    free(ti); free(tj); free(cnt); free(y);
+    *colp_out = colp; *rowi_out = rowi;
+    return nnz;
+fail:
+    free(ti); free(tj); free(cnt); free(y); free(colp); free(rowi); free(tmp);
+    return -1;
+}
+
+/* ---- relative H1 error between nested meshes ------------------------------------------------- */
+
+/* Shape function values at reference point (xi, eta): Q1 on [-1, 1]^2 with vertices
+   (-1,-1), (1,-1), (1,1), (-1,1); P1 on the unit triangle (0,0), (1,0), (0,1), as fe_shape_grad. */
+static inline void fe_shape_val(int nvert, double xi, double eta, double N[4])
+{
+    if (nvert == 4) {
+        N[0] = 0.25 * (1 - xi) * (1 - eta); N[1] = 0.25 * (1 + xi) * (1 - eta);
+        N[2] = 0.25 * (1 + xi) * (1 + eta); N[3] = 0.25 * (1 - xi) * (1 + eta);
+    } else {
+        N[0] = 1 - xi - eta; N[1] = xi; N[2] = eta; N[3] = 0;
+    }
+}
+
+/* Reference coordinates of point p in element e, and whether p lies in it (tolerance tol in
+   reference units). P1: the affine map inverted; Q1: Newton on the bilinear map (exact in one
+   step for parallelograms, a few for general convex quadrilaterals). */
+static inline int fe_locate_in(const fe_mesh *m, int e, const double p[2], double tol, double ref[2])
+{
+    const int *c = m->conn + m->nvert * e;
+    double xi = 0, eta = 0;
+    int it;
+    if (m->nvert == 3) {
+        double x0 = m->x[2 * c[0]], y0 = m->x[2 * c[0] + 1];
+        double a = m->x[2 * c[1]] - x0, b = m->x[2 * c[2]] - x0, cc = m->x[2 * c[1] + 1] - y0, d = m->x[2 * c[2] + 1] - y0;
+        double det = a * d - b * cc, px = p[0] - x0, py = p[1] - y0;
+        xi = (d * px - b * py) / det;
+        eta = (a * py - cc * px) / det;
+        ref[0] = xi; ref[1] = eta;
+        return xi >= -tol && eta >= -tol && xi + eta <= 1 + tol;
+    }
+    for (it = 0; it < 20; it++) {
+        double N[4], dN[8], x = 0, y = 0, jm[4] = {0, 0, 0, 0}, dx, dy, det;
+        static const double sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
+        int a;
+        fe_shape_val(4, xi, eta, N);
+        for (a = 0; a < 4; a++) {
+            double X = m->x[2 * c[a]], Y = m->x[2 * c[a] + 1];
+            dN[2 * a] = 0.25 * sx[a] * (1 + sy[a] * eta);
+            dN[2 * a + 1] = 0.25 * sy[a] * (1 + sx[a] * xi);
+            x += N[a] * X; y += N[a] * Y;
+            jm[0] += X * dN[2 * a]; jm[1] += X * dN[2 * a + 1]; jm[2] += Y * dN[2 * a]; jm[3] += Y * dN[2 * a + 1];
+        }
+        dx = p[0] - x; dy = p[1] - y;
+        det = jm[0] * jm[3] - jm[1] * jm[2];
+        xi += (jm[3] * dx - jm[1] * dy) / det;
+        eta += (jm[0] * dy - jm[2] * dx) / det;
+        if (!(fabs(xi) < 10 && fabs(eta) < 10)) break; /* far outside: no need to converge */
+    }
+    ref[0] = xi; ref[1] = eta;
+    return fabs(xi) <= 1 + tol && fabs(eta) <= 1 + tol;
+}
+
+/* Squared norms for ||u_c - u_f||_{1,Omega} between a coarse mesh and a fine mesh that refines it
+   (same element kind, every fine element inside one coarse element): u_c (2 * coarse nnode nodal
+   displacements) is evaluated exactly at the fine nodes, which represents it exactly on the fine
+   mesh (nested P1 or Q1 spaces), and e = I u_c - u_f is integrated on the fine mesh: P1 with the
+   edge-midpoint rule (exact for the quadratic |e|^2), Q1 with 2 x 2 Gauss (exact on parallelograms).
+   out = {||e||_0^2, |e|_1^2, ||u_f||_0^2, |u_f|_1^2}. Coarse elements are found through a bucket
+   grid of their bounding boxes. Returns 0; -1 out of memory; -2 not nested (element kinds differ, a
+   fine node outside the coarse mesh, or a fine element across coarse elements). */
+static inline int fe_h1_error_parts(const fe_mesh *coarse, const double *uc, const fe_mesh *fine, const double *uf,
+                                    double out[4])
+{
+    int nv = coarse->nvert, G, e, a, i, rc = 0, *cnt = NULL, *lst = NULL, *owner = NULL;
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, cell[2], *ui = NULL, diam = 0;
+    const double tol = 1e-9;
+    out[0] = out[1] = out[2] = out[3] = 0;
+    if (fine->nvert != nv || (nv != 3 && nv != 4)) return -2;
+    for (a = 0; a < coarse->nnode; a++)
+        for (i = 0; i < 2; i++) { lo[i] = fmin(lo[i], coarse->x[2 * a + i]); hi[i] = fmax(hi[i], coarse->x[2 * a + i]); }
+    diam = fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    G = (int)ceil(sqrt((double)coarse->nelem));
+    if (G < 1) G = 1;
+    for (i = 0; i < 2; i++) cell[i] = (hi[i] - lo[i]) / G + 1e-12 * diam;
+    cnt = calloc((size_t)G * G + 1, sizeof(int));
+    ui = malloc(sizeof(double) * 2 * (size_t)fine->nnode);
+    owner = malloc(sizeof(int) * (size_t)fine->nnode);
+    if (!cnt || !ui || !owner) { rc = -1; goto done; }
+    /* two passes over the coarse elements' bucket ranges: count, then fill (CSR lists) */
+    {
+        int pass;
+        for (pass = 0; pass < 2; pass++) {
+            for (e = 0; e < coarse->nelem; e++) {
+                double elo[2] = {HUGE_VAL, HUGE_VAL}, ehi[2] = {-HUGE_VAL, -HUGE_VAL};
+                int v, b[2][2], bx, by;
+                for (v = 0; v < nv; v++)
+                    for (i = 0; i < 2; i++) {
+                        double xv = coarse->x[2 * coarse->conn[nv * e + v] + i];
+                        elo[i] = fmin(elo[i], xv); ehi[i] = fmax(ehi[i], xv);
+                    }
+                for (i = 0; i < 2; i++) {
+                    b[i][0] = (int)floor((elo[i] - lo[i]) / cell[i] - tol); b[i][1] = (int)floor((ehi[i] - lo[i]) / cell[i] + tol);
+                    if (b[i][0] < 0) b[i][0] = 0;
+                    if (b[i][1] > G - 1) b[i][1] = G - 1;
+                }
+                for (by = b[1][0]; by <= b[1][1]; by++)
+                    for (bx = b[0][0]; bx <= b[0][1]; bx++) {
+                        if (pass == 0) cnt[by * G + bx + 1]++;
+                        else lst[cnt[by * G + bx]++] = e;
+                    }
+            }
+            if (pass == 0) {
+                for (i = 0; i < G * G; i++) cnt[i + 1] += cnt[i];
+                lst = malloc(sizeof(int) * (size_t)(cnt[G * G] ? cnt[G * G] : 1));
+                if (!lst) { rc = -1; goto done; }
+            } else {
+                for (i = G * G; i > 0; i--) cnt[i] = cnt[i - 1]; /* fill moved each start to the next */
+                cnt[0] = 0;
+            }
+        }
+    }
+    /* the coarse function at every fine node */
+    for (a = 0; a < fine->nnode; a++) {
+        const double *p = fine->x + 2 * a;
+        int bx = (int)floor((p[0] - lo[0]) / cell[0]), by = (int)floor((p[1] - lo[1]) / cell[1]), q, found = -1;
+        double ref[2], N[4];
+        if (bx < 0) bx = 0;
+        if (bx > G - 1) bx = G - 1;
+        if (by < 0) by = 0;
+        if (by > G - 1) by = G - 1;
+        for (q = cnt[by * G + bx]; q < cnt[by * G + bx + 1] && found < 0; q++)
+            if (fe_locate_in(coarse, lst[q], p, tol, ref)) found = lst[q];
+        if (found < 0) { rc = -2; goto done; }
+        owner[a] = found;
+        fe_shape_val(nv, ref[0], ref[1], N);
+        ui[2 * a] = ui[2 * a + 1] = 0;
+        for (i = 0; i < nv; i++) {
+            int cn = coarse->conn[nv * found + i];
+            ui[2 * a] += N[i] * uc[2 * cn];
+            ui[2 * a + 1] += N[i] * uc[2 * cn + 1];
+        }
+    }
+    /* nested: every vertex of a fine element lies in the coarse element holding its centroid */
+    for (e = 0; e < fine->nelem; e++) {
+        const int *c = fine->conn + nv * e;
+        double cen[2] = {0, 0}, ref[2], qx[4], qy[4], qw[4];
+        int v, q, nq, ce = -1;
+        for (v = 0; v < nv; v++) { cen[0] += fine->x[2 * c[v]] / nv; cen[1] += fine->x[2 * c[v] + 1] / nv; }
+        for (v = 0; v < nv && ce < 0; v++) /* the candidates: the elements holding its vertices */
+            if (fe_locate_in(coarse, owner[c[v]], cen, tol, ref)) ce = owner[c[v]];
+        if (ce < 0) {
+            int bx = (int)floor((cen[0] - lo[0]) / cell[0]), by = (int)floor((cen[1] - lo[1]) / cell[1]);
+            bx = bx < 0 ? 0 : (bx > G - 1 ? G - 1 : bx);
+            by = by < 0 ? 0 : (by > G - 1 ? G - 1 : by);
+            for (q = cnt[by * G + bx]; q < cnt[by * G + bx + 1] && ce < 0; q++)
+                if (fe_locate_in(coarse, lst[q], cen, tol, ref)) ce = lst[q];
+        }
+        if (ce < 0) { rc = -2; goto done; }
+        for (v = 0; v < nv; v++)
+            if (!fe_locate_in(coarse, ce, fine->x + 2 * c[v], tol, ref)) { rc = -2; goto done; }
+        /* quadrature on the fine element */
+        if (nv == 3) {
+            qx[0] = 0.5; qy[0] = 0; qx[1] = 0.5; qy[1] = 0.5; qx[2] = 0; qy[2] = 0.5;
+            qw[0] = qw[1] = qw[2] = 1.0 / 6; nq = 3;
+        } else {
+            double g = 1 / sqrt(3.0);
+            qx[0] = -g; qy[0] = -g; qx[1] = g; qy[1] = -g; qx[2] = g; qy[2] = g; qx[3] = -g; qy[3] = g;
+            qw[0] = qw[1] = qw[2] = qw[3] = 1; nq = 4;
+        }
+        for (q = 0; q < nq; q++) {
+            double N[4], dN[8], detj, ev[2] = {0, 0}, fv[2] = {0, 0}, eg[4] = {0, 0, 0, 0}, fg[4] = {0, 0, 0, 0}, w;
+            fe_shape_val(nv, qx[q], qy[q], N);
+            fe_shape_grad(fine, e, qx[q], qy[q], dN, &detj);
+            if (!(detj > 0)) { rc = -2; goto done; }
+            w = qw[q] * detj;
+            for (v = 0; v < nv; v++)
+                for (i = 0; i < 2; i++) {
+                    double f = uf[2 * c[v] + i], d = ui[2 * c[v] + i] - f;
+                    ev[i] += N[v] * d; fv[i] += N[v] * f;
+                    eg[2 * i] += d * dN[2 * v]; eg[2 * i + 1] += d * dN[2 * v + 1];
+                    fg[2 * i] += f * dN[2 * v]; fg[2 * i + 1] += f * dN[2 * v + 1];
+                }
+            out[0] += w * (ev[0] * ev[0] + ev[1] * ev[1]);
+            out[2] += w * (fv[0] * fv[0] + fv[1] * fv[1]);
+            for (i = 0; i < 4; i++) { out[1] += w * eg[i] * eg[i]; out[3] += w * fg[i] * fg[i]; }
+        }
+    }
+done:
+    free(cnt); free(lst); free(ui); free(owner);
+    return rc;
+}
+
+/* ||u_c - u_f||_{1,Omega} / ||u_f||_{1,Omega} (full H1 norm, L2 and gradient parts) on nested
+   meshes; see fe_h1_error_parts. Returns 0 and *rel; -1 out of memory; -2 not nested; -3 u_f = 0. */
+static inline int fe_h1_rel_error(const fe_mesh *coarse, const double *uc, const fe_mesh *fine, const double *uf,
+                                  double *rel)
+{
+    double p[4];
+    int rc = fe_h1_error_parts(coarse, uc, fine, uf, p);
+    if (rc) return rc;
+    if (!(p[2] + p[3] > 0)) return -3;
+    *rel = sqrt((p[0] + p[1]) / (p[2] + p[3]));
+    return 0;
+}
+
 /* ---- branching driver shared by the examples (needs pscbranch.h included before this file) --- */
 #ifdef PSCBRANCH_H
 
@@ -1003,7 +1309,11 @@ static inline int fe_run_point(const psb_point *pt, void *user)
     return 0;
 }
 
-static inline int fe_run_init(fe_run *run, fe_model *md, const psb_options *opt, int banded)
+/* The driver's solver and buffers for md: the banded backend (banded = 1) or the dense one, or,
+   when user != NULL, PSB_LINEAR_USER with that solver (e.g. fe_umfpack.h's), which evaluates dH
+   itself. */
+static inline int fe_run_init_solver(fe_run *run, fe_model *md, const psb_options *opt, int banded,
+                                     const psb_linear_solver *user)
 {
     int k;
     memset(run, 0, sizeof *run);
@@ -1012,7 +1322,10 @@ static inline int fe_run_init(fe_run *run, fe_model *md, const psb_options *opt,
     run->cur = -1;
     run->kink_tol = 1e-4;
     psb_problem_init(&run->prob, md->n, fe_psb_residual, fe_psb_jacobian, md);
-    if (banded) {
+    if (user) {
+        run->prob.linear = PSB_LINEAR_USER;
+        run->prob.solver = *user;
+    } else if (banded) {
         run->prob.linear = PSB_LINEAR_BANDED;
         run->prob.kl = run->prob.ku = md->half_band;
         run->prob.band_jacobian = fe_psb_band_jacobian;
@@ -1030,6 +1343,11 @@ static inline int fe_run_init(fe_run *run, fe_model *md, const psb_options *opt,
         if (!run->br[k].y) return -1;
     }
     return 0;
+}
+
+static inline int fe_run_init(fe_run *run, fe_model *md, const psb_options *opt, int banded)
+{
+    return fe_run_init_solver(run, md, opt, banded, NULL);
 }
 
 static inline void fe_run_free(fe_run *run)

@@ -17,19 +17,32 @@
      0.56541 and 0.66665). H is piecewise linear, so the limit points are kinks: each is located
      to h_min and reported at the couple just before it.
 
+   --sparse (built with -DFE_UMFPACK): UMFPACK through pscbranch's user-solver callbacks
+     (examples/fe_umfpack.h) instead of the banded backend; the fine meshes need it.
+   --out DIR also writes u_K.txt, the nodal displacements (u1 u2 per node, mesh order) of
+   branch K at its end (branching) or at gamma = 1 (fold).
+   triangle --h1 NC UC NF UF: the relative H1(Omega) error ||u_c - u_f||_1 / ||u_f||_1 of the
+     displacements in file UC on mesh n = NC against those in UF on mesh NF (NF a multiple of NC).
+
    Usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
-                   [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR] [--dense] [--verbose]
+                   [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
+                   [--dense | --sparse] [--verbose]
    Build (from the repository root):
-     cc -std=c99 -O2 -I. examples/triangle.c -o examples/triangle -llapack -lblas -lm */
+     cc -std=c99 -O2 -I. examples/triangle.c -o examples/triangle -llapack -lblas -lm
+     cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_UMFPACK examples/triangle.c \
+        -o examples/triangle_sparse -lumfpack -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
 #include <sys/stat.h>
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
 #include "fe.h"
+#ifdef FE_UMFPACK
+#include "fe_umfpack.h"
+#endif
 
 typedef struct args {
-    int n, fold, ndir, nspan, multipliers, verbose, dense;
+    int n, fold, ndir, nspan, multipliers, verbose, dense, sparse;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
@@ -40,12 +53,21 @@ typedef struct args {
 static int parse(int argc, char **argv, args *a)
 {
     int i;
-    a->n = 32; a->fold = 0; a->ndir = 30; a->nspan = 10; a->multipliers = 1; a->verbose = 0; a->dense = 0;
+    a->n = 32; a->fold = 0; a->ndir = 30; a->nspan = 10; a->multipliers = 1; a->verbose = 0; a->dense = 0; a->sparse = 0;
     a->kappa = -1; a->hmin = 5e-4; a->load = 0; a->mult_weight = -1; a->seed = 0; a->out = NULL;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
         if (!strcmp(o, "--dense")) { a->dense = 1; continue; }
+        if (!strcmp(o, "--sparse")) {
+#ifdef FE_UMFPACK
+            a->sparse = 1;
+            continue;
+#else
+            fprintf(stderr, "triangle: --sparse needs a build with -DFE_UMFPACK (see the top of triangle.c)\n");
+            return -1;
+#endif
+        }
         if (!v) { fprintf(stderr, "triangle: %s needs a value\n", o); return -1; }
         i++;
         if (!strcmp(o, "--mesh")) a->n = atoi(v);
@@ -69,6 +91,94 @@ static int parse(int argc, char **argv, args *a)
 }
 
 static double seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
+
+/* The driver on the banded backend (default), the dense one (--dense) or UMFPACK (--sparse);
+   *umf keeps the sparse solver's state for free_run. */
+static int init_run(fe_run *run, fe_model *md, const psb_options *opt, const args *a, void **umf)
+{
+    *umf = NULL;
+#ifdef FE_UMFPACK
+    if (a->sparse) {
+        fe_umf *u = malloc(sizeof *u);
+        psb_linear_solver ls;
+        if (!u || fe_umf_init(u, md)) { free(u); return -1; }
+        *umf = u;
+        ls = fe_umf_solver(u);
+        return fe_run_init_solver(run, md, opt, 1, &ls);
+    }
+#endif
+    return fe_run_init(run, md, opt, !a->dense);
+}
+
+static void report_umf(const void *umf)
+{
+#ifdef FE_UMFPACK
+    const fe_umf *u = (const fe_umf *)umf;
+    if (u && u->n_numeric)
+        printf("  UMFPACK: %ld symbolic, %ld numeric factorisations, %.3g flops each on average\n", u->n_symbolic,
+               u->n_numeric, u->flops / (double)u->n_numeric);
+#else
+    (void)umf;
+#endif
+}
+
+static void free_run(fe_run *run, void *umf)
+{
+    fe_run_free(run);
+#ifdef FE_UMFPACK
+    if (umf) fe_umf_free((fe_umf *)umf);
+#endif
+    free(umf);
+}
+
+/* u_K.txt in dir: the nodal displacements of y, one node per line. */
+static int write_displacements(const fe_model *md, const double *y, const char *dir, int k)
+{
+    char path[1024];
+    FILE *fp;
+    int a, nn = md->mesh->nnode;
+    double *u = malloc(sizeof(double) * 2 * (size_t)nn);
+    snprintf(path, sizeof path, "%s/u_%d.txt", dir, k);
+    if (!u || !(fp = fopen(path, "w"))) { free(u); return -1; }
+    fe_displacements(md, y, u);
+    for (a = 0; a < nn; a++) fprintf(fp, "%.17g %.17g\n", u[2 * a], u[2 * a + 1]);
+    free(u);
+    return fclose(fp) ? -1 : 0;
+}
+
+static double *read_displacements(const char *path, int nn)
+{
+    FILE *fp = fopen(path, "r");
+    double *u = malloc(sizeof(double) * 2 * (size_t)nn);
+    int a, ok = fp && u;
+    double extra;
+    for (a = 0; ok && a < 2 * nn; a++) ok = fscanf(fp, "%lf", u + a) == 1;
+    if (ok) ok = fscanf(fp, "%lf", &extra) == EOF; /* a file of another mesh */
+    if (fp) fclose(fp);
+    if (!ok) { free(u); return NULL; }
+    return u;
+}
+
+/* triangle --h1 NC UC NF UF */
+static int h1_mode(int argc, char **argv)
+{
+    fe_mesh mc, mf;
+    double *uc, *uf, rel = 0;
+    int nc, nf, rc;
+    if (argc != 6 || (nc = atoi(argv[2])) < 1 || (nf = atoi(argv[4])) < 1) {
+        fprintf(stderr, "usage: triangle --h1 NC UC NF UF\n");
+        return 2;
+    }
+    if (fe_mesh_triangle(&mc, 1.0, nc) || fe_mesh_triangle(&mf, 1.0, nf)) { fprintf(stderr, "triangle: out of memory\n"); return 1; }
+    uc = read_displacements(argv[3], mc.nnode);
+    uf = read_displacements(argv[5], mf.nnode);
+    if (!uc || !uf) { fprintf(stderr, "triangle: cannot read %s or %s\n", argv[3], argv[5]); return 1; }
+    rc = fe_h1_rel_error(&mc, uc, &mf, uf, &rel);
+    if (rc) { fprintf(stderr, "triangle: H1 error failed (%d: %s)\n", rc, rc == -2 ? "meshes not nested" : "memory or zero"); return 1; }
+    printf("%.6e\n", rel);
+    free(uc); free(uf); fe_mesh_free(&mc); fe_mesh_free(&mf);
+    return 0;
+}
 
 /* Paper numbering: gamma < 0 is branch 2; gamma > 0 by the lower left vertex: 1 separated,
    3 stick, 4 slip. */
@@ -167,8 +277,8 @@ static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
     b->number = 1;
     fe_contact_states(run->md, y, b->states, NULL);
     snprintf(b->label, sizeof b->label, "h = (-20 - 10 gamma, -7.5)");
-    printf("\n  trace from gamma = -3: %s after %ld steps, %d kinks located, %d tangent switches, time %.2f s (CPU)\n",
-           psb_result_string(r), rep.steps, rep.n_kinks, rep.n_switches, seconds() - t0);
+    printf("\n  trace from gamma = -3: %s after %ld steps, %d kinks located, %d tangent switches, time %.2f s (CPU), factorisations %ld\n",
+           psb_result_string(r), rep.steps, rep.n_kinks, rep.n_switches, seconds() - t0, run->s.stats.n_factor);
     printf("  end: gamma = %g, |H| = %.1e, contact nodes: %d separated, %d stick, %d slip+, %d slip-\n", y[n], b->resnorm,
            b->states[0], b->states[1], b->states[2], b->states[3]);
     printf("  limit points (gamma): ");
@@ -193,6 +303,7 @@ static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
             for (k = 0; k < fs.nfold; k++) fprintf(fp, "%d,%.10f\n", k + 1, fs.folds[k]);
             fclose(fp);
         }
+        if (fp && write_displacements(run->md, y, a->out, 1)) fp = NULL;
         if (!fp || fe_run_write(run, a->out, "triangle (fold)", 0) || fe_run_write_gnuplot(run, a->out, "triangle (fold)", "m", 1))
             printf("triangle: could not write to %s\n", a->out);
         else
@@ -235,12 +346,13 @@ static int choose_load(args *a)
     fold_state fs;
     double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y, *t, *w;
     int n, ok, k;
+    void *umf;
     if (fe_triangle_model(&md, &mesh, a->n, a->multipliers, h0, h1)) return -1;
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) return -1;
     set_options(&opt, a, &md, w, 1);
-    k = fe_run_init(&run, &md, &opt, !a->dense); /* the weights are copied at init */
+    k = init_run(&run, &md, &opt, a, &umf); /* the weights are copied at init */
     free(w);
     if (k) return -1;
     y = calloc((size_t)n + 1, sizeof(double));
@@ -265,7 +377,7 @@ static int choose_load(args *a)
         printf("triangle: --load auto: the fold problem did not give two limit points\n");
     }
     free(y); free(t);
-    fe_run_free(&run); fe_model_free(&md); fe_mesh_free(&mesh);
+    free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh);
     return ok ? 0 : -1;
 }
 
@@ -279,10 +391,13 @@ int main(int argc, char **argv)
     double *y, *t, *rv, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
     int n, k, ndist, ok, rc;
     psb_result r;
+    void *umf;
 
+    if (argc > 1 && !strcmp(argv[1], "--h1")) return h1_mode(argc, argv);
     if (parse(argc, argv, &a)) {
         fprintf(stderr, "usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]\n"
-                        "                [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR] [--dense] [--verbose]\n");
+                        "                [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR] [--dense | --sparse] [--verbose]\n"
+                        "       triangle --h1 NC UC NF UF\n");
         return 2;
     }
     if (!a.fold && a.load <= 0 && choose_load(&a)) return 1;
@@ -293,16 +408,16 @@ int main(int argc, char **argv)
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) return 1;
     set_options(&opt, &a, &md, w, a.fold);
-    k = fe_run_init(&run, &md, &opt, !a.dense); /* the weights are copied at init */
+    k = init_run(&run, &md, &opt, &a, &umf); /* the weights are copied at init */
     free(w);
     if (k) { fprintf(stderr, "triangle: solver set-up failed\n"); return 1; }
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
     rv = calloc((size_t)n + 1, sizeof(double));
     if (!y || !t || !rv) return 1;
-    printf("triangle: M%d (%d subdivisions per leg, P1), N = %d unknowns (%s), %d contact nodes, half band %d, kappa = %s\n",
+    printf("triangle: M%d (%d subdivisions per leg, P1), N = %d unknowns (%s), %d contact nodes, half band %d, kappa = %s, %s\n",
            mesh.nelem, a.n, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated", md.ncontact,
-           md.half_band, a.kappa > 0 ? "given" : "1/N");
+           md.half_band, a.kappa > 0 ? "given" : "1/N", a.sparse ? "UMFPACK (user solver)" : (a.dense ? "dense LAPACK" : "banded LAPACK"));
 
     t0 = seconds();
     y[n] = a.fold ? -3 : -1; /* the pushing side: Newton from zero converges there */
@@ -313,7 +428,8 @@ int main(int argc, char **argv)
     if (r != PSB_SUCCESS) { printf("triangle: tangent failed: %s\n", psb_result_string(r)); return 1; }
     if (a.fold) {
         rc = run_fold(&run, y, t, &a, t0);
-        fe_run_free(&run); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
+        report_umf(umf);
+        free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
         return rc;
     }
 
@@ -332,7 +448,22 @@ int main(int argc, char **argv)
     fe_run_trace_all(&run, 1.0);
     for (k = 0; k < run.nbr; k++) classify(&md, &run.br[k]);
     t1 = seconds();
-
+    /* H is positively homogeneous (Hooke, loads linear in gamma): every branch from the point
+       y0 = 0 is a ray, so the traced end at |gamma| = 1 is a couple psb_find_branches returned
+       (at |gamma| ~ 1e-4) scaled; the deviation checks that, and the trace, on this mesh. The
+       incoming couple (found 0) lies ~1e-12 from y0, too close to scale. */
+    printf("  ray check, max |y(end) - y_found / |gamma_found|| / max |y(end)|:");
+    for (k = 1; k < run.nbr; k++) {
+        const double *yk = run.ys + (size_t)k * (n + 1);
+        double d = 0, m = 0;
+        int i;
+        for (i = 0; i <= n; i++) {
+            d = fmax(d, fabs(run.br[k].y[i] - yk[i] / fabs(yk[n])));
+            m = fmax(m, fabs(run.br[k].y[i]));
+        }
+        printf(" branch %d %.1e%s", run.br[k].number, d / m, k + 1 < run.nbr ? "," : "");
+    }
+    printf("\n");
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d, tangents = %ld\n",
            run.br[0].number, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_tangents);
     printf("\n  branch  gamma   state                           contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
@@ -340,7 +471,12 @@ int main(int argc, char **argv)
     ndist = fe_run_branch_table(&run, 4, n, tol, check_branch, print_row, &ok);
     if (a.out) mkdir(a.out, 0777);
     ok = fe_run_summary(&run, ndist, 4, t1 - t0, "triangle", "m", 1, a.out) && ok;
+    if (a.out)
+        for (k = 0; k < run.nbr; k++)
+            if (run.br[k].duplicate_of < 0 && write_displacements(&md, run.br[k].y, a.out, run.br[k].number))
+                printf("triangle: could not write to %s\n", a.out);
+    report_umf(umf);
     printf("triangle: %s\n", ok ? "OK (four branches as in the paper)" : "FAILED (branches differ from the paper)");
-    fe_run_free(&run); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
+    free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
     return ok ? 0 : 1;
 }

@@ -341,6 +341,54 @@ static void test_malformed(void)
     CHECK(fc_read("/nonexistent/dir/file.dat", &p) != NULL);
 }
 
+/* A pile the solver still misses (boxes2d, 264 contacts, mu 2: stalls at ~7e-5 with contacts at
+   the stick/slip transition). Checks the failure is honest and bounded: return 1, the reported
+   error is the one recomputed from the dense W at the returned r, and the give-up rules stop it
+   (a cycle that would repeat the previous one exactly ends the run: 4920 sweeps instead of 8920). */
+static void test_known_miss(void)
+{
+    fcg_instance in;
+    fc_problem p;
+    fc_options o;
+    fc_stats st;
+    double *r, *u, qn = 0.0, err = HUGE_VAL;
+    int i, j, res;
+    CHECK(fcg_make(FCG_BOXES2D, 90, 2.0, 5.0, 2022, &in));
+    if (!in.W)
+        return;
+    p.dim = in.dim;
+    p.nc = in.nc;
+    p.m = in.m;
+    p.W = in.W;
+    p.q = in.q;
+    p.mu = in.mu;
+    o.tol = 1e-10;
+    o.maxit = 1000;
+    o.verbose = 0;
+    r = calloc((size_t)p.m, sizeof(double));
+    u = malloc((size_t)p.m * sizeof(double));
+    CHECK(r != NULL && u != NULL);
+    if (r && u) {
+        res = fc_solve(&p, &o, r, &st);
+        printf("  known miss boxes2d(90, mu 2, seed 2022): nc %d newton %d sweeps %d ipm %d "
+               "err %.3e\n", p.nc, st.newton, st.sweeps, st.ipm, st.err);
+        CHECK(res == 1);
+        CHECK(st.err > 1e-10 && st.err < 1e-4);
+        CHECK(st.sweeps <= 6000 && st.newton <= 600);
+        for (i = 0; i < p.m; i++) {
+            u[i] = p.q[i];
+            qn += p.q[i] * p.q[i];
+            for (j = 0; j < p.m; j++)
+                u[i] += p.W[i + (size_t)j * p.m] * r[j];
+        }
+        CHECK(psb_fc_nat_error(p.dim, (size_t)p.nc, r, u, p.mu, sqrt(qn), &err) == PSB_SUCCESS);
+        CHECK_NEAR(err, st.err, 1e-12);
+    }
+    free(r);
+    free(u);
+    fcg_free(&in);
+}
+
 int main(void)
 {
     test_malformed();
@@ -367,6 +415,7 @@ int main(void)
     run_instance_ex(FCG_DISKS2D, 100, 2.0, 5.0, 2031, 1500, 1);  /* 266 contacts, mu 2 */
     run_instance_ex(FCG_DISKS2D, 50, 0.3, 5.0, 2030, 750, 1);    /* 126 contacts */
     run_instance_ex(FCG_BOXES2D, 30, 0.3, 1.0, 1020, 600, 1);    /* 84 contacts */
+    test_known_miss();
     /* flexible-like, full rank */
     run_instance(FCG_FLEX3D, 40, 0.0, 1.0, 31);
     run_instance(FCG_FLEX3D, 40, 1.0, 1.0, 32);

@@ -6,6 +6,9 @@
 #include "pscbranch.h"
 #include "examples/fe.h"
 #include "tests/harness.h"
+#ifdef FE_UMFPACK /* optional: cc ... -DFE_UMFPACK -I/usr/include/suitesparse ... -lumfpack */
+#include "examples/fe_umfpack.h"
+#endif
 
 /* Deterministic pseudo-random numbers in [-1, 1] (xorshift; state passed explicitly). */
 static double rnd(unsigned long long *s)
@@ -313,6 +316,212 @@ static void test_band_layout(void)
     }
 }
 
+/* The CSC sink in the pattern of fe_sparse_pattern holds the dense Jacobian exactly (also with a
+   row permutation), and the bordered pattern adds a dense last row and column. */
+static void test_sparse_pattern(void)
+{
+    fe_mesh m;
+    fe_model md;
+    double h0[2] = {0, 0}, h1[2] = {-26.4, -7.5};
+    int pass;
+    for (pass = 0; pass < 3; pass++) {
+        int n, i, j, q, bad = 0, sorted = 1, *colp, *rowi, *cb, *rb, *perm;
+        long nnz, nnzb;
+        double *y, *jac, *ax, *dg;
+        fe_mat K;
+        unsigned long long s = 77 + pass;
+        if (pass == 0) fe_block_model(&md, &m, 4, 6, 1);
+        else if (pass == 1) fe_triangle_model(&md, &m, 6, 1, h0, h1);
+        else fe_triangle_model(&md, &m, 5, 0, h0, h1);
+        n = md.n;
+        nnz = fe_sparse_pattern(&md, 0, &colp, &rowi);
+        nnzb = fe_sparse_pattern(&md, 1, &cb, &rb);
+        CHECK(nnz > 0 && nnzb == nnz + 2 * n + 1);
+        y = malloc(sizeof(double) * (n + 1)); jac = malloc(sizeof(double) * n * (n + 1));
+        ax = calloc((size_t)nnz, sizeof(double)); dg = malloc(sizeof(double) * n); perm = malloc(sizeof(int) * n);
+        for (i = 0; i <= n; i++) y[i] = 0.01 * rnd(&s);
+        fe_jacobian_dense(&md, y, jac, n);
+        fe_mat_csc(&K, ax, colp, rowi, NULL);
+        CHECK(fe_jacobian_parts(&md, y, &K, dg) == 0 && K.overflow == 0);
+        for (j = 0; j < n; j++) {
+            double colsum = 0, colmax = 0;
+            for (q = colp[j]; q < colp[j + 1]; q++) {
+                if (q > colp[j] && rowi[q] <= rowi[q - 1]) sorted = 0;
+                if (ax[q] != jac[rowi[q] + j * n]) bad++;
+                colsum += fabs(ax[q]);
+            }
+            for (i = 0; i < n; i++) { /* nothing outside the pattern */
+                colsum -= fabs(jac[i + j * n]);
+                colmax = fmax(colmax, fabs(jac[i + j * n]));
+            }
+            if (fabs(colsum) > 1e-12 * n * colmax) bad++;
+            if (dg[j] != jac[j + n * n]) bad++;
+            if (cb[j + 1] - cb[j] != colp[j + 1] - colp[j] + 1 || rb[cb[j + 1] - 1] != n) bad++;
+        }
+        CHECK(bad == 0 && sorted);
+        CHECK(cb[n + 1] - cb[n] == n + 1 && rb[cb[n]] == 0 && rb[cb[n + 1] - 1] == n);
+        /* a row permutation (reversal) moves each entry to the permuted row; the pattern of the
+           permuted matrix is the renamed one, sorted again */
+        for (i = 0; i < n; i++) perm[i] = n - 1 - i;
+        for (j = 0; j < n; j++) {
+            for (q = colp[j]; q < colp[j + 1]; q++) rowi[q] = perm[rowi[q]];
+            for (q = colp[j]; q < colp[j + 1]; q++) { /* reverse: sorted again */
+                int r = colp[j + 1] - 1 - (q - colp[j]);
+                if (r <= q) break;
+                { int tmp = rowi[q]; rowi[q] = rowi[r]; rowi[r] = tmp; }
+            }
+        }
+        memset(ax, 0, sizeof(double) * (size_t)nnz);
+        fe_mat_csc(&K, ax, colp, rowi, perm);
+        CHECK(fe_jacobian_parts(&md, y, &K, NULL) == 0 && K.overflow == 0);
+        for (bad = 0, j = 0; j < n; j++)
+            for (q = colp[j]; q < colp[j + 1]; q++)
+                if (ax[q] != jac[perm[rowi[q]] + j * n]) bad++; /* perm is its own inverse */
+        CHECK(bad == 0);
+        /* an entry outside the pattern is flagged, not written */
+        {
+            fe_mat K2;
+            int jj = 0, ii = -1;
+            for (i = 0; i < n && ii < 0; i++) {
+                int found = 0;
+                for (q = colp[jj]; q < colp[jj + 1]; q++) found |= rowi[q] == perm[i];
+                if (!found) ii = i;
+            }
+            fe_mat_csc(&K2, ax, colp, rowi, perm);
+            if (ii >= 0) fe_mat_add(&K2, ii, jj, 1.0);
+            CHECK(ii >= 0 && K2.overflow == 1);
+        }
+        free(y); free(jac); free(ax); free(dg); free(perm); free(colp); free(rowi); free(cb); free(rb);
+        fe_model_free(&md); fe_mesh_free(&m);
+    }
+}
+
+/* Nodal values of u = (f1(x), f2(x)) on mesh m. */
+static void nodal(const fe_mesh *m, int kind, double *u)
+{
+    int a;
+    for (a = 0; a < m->nnode; a++) {
+        double x = m->x[2 * a], y = m->x[2 * a + 1];
+        if (kind == 0) { u[2 * a] = 0.3 + 2 * x - y; u[2 * a + 1] = -1 + 0.5 * x + 4 * y; }          /* linear */
+        else if (kind == 1) { u[2 * a] = x * y - 2 * x + 1; u[2 * a + 1] = 3 * x * y + y; }          /* bilinear */
+        else if (kind == 2) { u[2 * a] = x * x; u[2 * a + 1] = 0; }                                  /* quadratic */
+        else { u[2 * a] = sin(3 * x) * cos(2 * y); u[2 * a + 1] = exp(x - y); }                     /* smooth */
+    }
+}
+
+/* Relative H1 error on nested meshes (fe_h1_rel_error): exact interpolation of the coarse space,
+   the closed form for u = (x^2, 0), the O(h) convergence of interpolants, and non-nested input. */
+static void test_h1_error(void)
+{
+    int kind, tri, k;
+    for (tri = 0; tri < 2; tri++) {
+        fe_mesh c, f, f4;
+        double *uc, *uf, p[4], rel = -1, area = tri ? 0.5 : 2.0;
+        int nc = tri ? 6 : 3;
+        if (tri) { fe_mesh_triangle(&c, 1.0, nc); fe_mesh_triangle(&f, 1.0, 2 * nc); fe_mesh_triangle(&f4, 1.0, 8 * nc); }
+        else { fe_mesh_rectangle(&c, 1.0, 2.0, nc, 2 * nc); fe_mesh_rectangle(&f, 1.0, 2.0, 2 * nc, 4 * nc); fe_mesh_rectangle(&f4, 1.0, 2.0, 8 * nc, 16 * nc); }
+        uc = malloc(sizeof(double) * 2 * c.nnode); uf = malloc(sizeof(double) * 2 * f4.nnode);
+        /* the coarse space's functions (linear; bilinear for Q1) are represented exactly */
+        for (kind = 0; kind < 2; kind++) {
+            if (tri && kind == 1) continue;
+            nodal(&c, kind, uc); nodal(&f4, kind, uf);
+            CHECK(fe_h1_rel_error(&c, uc, &f4, uf, &rel) == 0);
+            CHECK(rel >= 0 && rel < 1e-13);
+        }
+        /* u = (x^2, 0), coarse h, fine h/2: I_h u - I_{h/2} u is, on every coarse element, the
+           same function of slope h/2 in x and height h^2/4 at the x-midpoints:
+           ||e||_0^2 = |Omega| h^4/48, |e|_1^2 = |Omega| h^2/4 for both P1 and Q1 */
+        {
+            double h = 1.0 / nc;
+            nodal(&c, 2, uc); nodal(&f, 2, uf);
+            CHECK(fe_h1_error_parts(&c, uc, &f, uf, p) == 0);
+            CHECK_NEAR(p[0], area * pow(h, 4) / 48, 1e-14);
+            CHECK_NEAR(p[1], area * h * h / 4, 1e-13);
+            /* ||I_{h/2} x^2||: |.|_1^2 = int (2x)^2 up to the interpolation term, L2 exact-ish */
+            CHECK(fe_h1_rel_error(&c, uc, &f, uf, &rel) == 0);
+            CHECK_NEAR(rel, sqrt((p[0] + p[1]) / (p[2] + p[3])), 1e-15);
+        }
+        /* a smooth field: the H1 error of I_h u against I_{h/8} u halves with h (O(h); ratio -> 2) */
+        {
+            fe_mesh c2;
+            double *uc2, e1 = 0, e2 = 0;
+            if (tri) fe_mesh_triangle(&c2, 1.0, 2 * nc); else fe_mesh_rectangle(&c2, 1.0, 2.0, 2 * nc, 4 * nc);
+            uc2 = malloc(sizeof(double) * 2 * c2.nnode);
+            nodal(&c, 3, uc); nodal(&c2, 3, uc2); nodal(&f4, 3, uf);
+            CHECK(fe_h1_rel_error(&c, uc, &f4, uf, &e1) == 0 && fe_h1_rel_error(&c2, uc2, &f4, uf, &e2) == 0);
+            CHECK(e1 / e2 > 1.7 && e1 / e2 < 2.3);
+            free(uc2); fe_mesh_free(&c2);
+        }
+        /* not nested: n = 3 in n = 4 (or a 3 x 6 grid in a 4 x 8 one); another domain; P1 in Q1 */
+        {
+            fe_mesh g;
+            double *ug;
+            if (tri) fe_mesh_triangle(&g, 1.0, 4 * nc / 3 + 1); else fe_mesh_rectangle(&g, 1.0, 2.0, 4, 8);
+            ug = calloc(2 * (size_t)g.nnode, sizeof(double));
+            for (k = 0; k < 2 * g.nnode; k++) ug[k] = 1;
+            nodal(&c, 0, uc);
+            CHECK(fe_h1_rel_error(&c, uc, &g, ug, &rel) == -2);
+            free(ug); fe_mesh_free(&g);
+            if (tri) fe_mesh_triangle(&g, 2.0, 2 * nc); else fe_mesh_rectangle(&g, 1.0, 3.0, 2 * nc, 6 * nc);
+            ug = calloc(2 * (size_t)g.nnode, sizeof(double));
+            for (k = 0; k < 2 * g.nnode; k++) ug[k] = 1;
+            CHECK(fe_h1_rel_error(&c, uc, &g, ug, &rel) == -2);
+            free(ug); fe_mesh_free(&g);
+            if (tri) fe_mesh_rectangle(&g, 1.0, 1.0, 2 * nc, 2 * nc); else fe_mesh_triangle(&g, 1.0, 2 * nc);
+            ug = calloc(2 * (size_t)g.nnode, sizeof(double));
+            CHECK(fe_h1_rel_error(&c, uc, &g, ug, &rel) == -2);
+            free(ug); fe_mesh_free(&g);
+            memset(uf, 0, sizeof(double) * 2 * f.nnode); /* u_f = 0: no relative error */
+            CHECK(fe_h1_rel_error(&c, uc, &f, uf, &rel) == -3);
+        }
+        free(uc); free(uf);
+        fe_mesh_free(&c); fe_mesh_free(&f); fe_mesh_free(&f4);
+    }
+}
+
+#ifdef FE_UMFPACK
+/* fe_umfpack.h's callbacks solve the bordered system as LAPACK does, keep one symbolic analysis
+   across factorisations, and report a singular B as > 0. */
+static void test_umfpack(void)
+{
+    fe_mesh m;
+    fe_model md;
+    double h0[2] = {0, 0}, h1[2] = {-26.4, -7.5};
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        fe_umf u;
+        int n, np1, i, j, rep, one = 2, info, *ipiv;
+        double *y, *row, *B, *b, *z, err = 0, scale = 0;
+        unsigned long long s = 901 + pass;
+        if (pass == 0) fe_block_model(&md, &m, 4, 6, 1);
+        else fe_triangle_model(&md, &m, 6, 1, h0, h1);
+        n = md.n; np1 = n + 1;
+        CHECK(fe_umf_init(&u, &md) == 0);
+        y = malloc(sizeof(double) * np1); row = malloc(sizeof(double) * np1);
+        B = malloc(sizeof(double) * np1 * np1); b = malloc(sizeof(double) * 2 * np1); z = malloc(sizeof(double) * 2 * np1);
+        ipiv = malloc(sizeof(int) * np1);
+        for (rep = 0; rep < 3; rep++) {
+            for (i = 0; i < np1; i++) { y[i] = 0.01 * rnd(&s); row[i] = rnd(&s); }
+            for (i = 0; i < 2 * np1; i++) b[i] = z[i] = rnd(&s);
+            CHECK(fe_umf_factor(y, row, &u) == 0);
+            CHECK(fe_umf_solve(z, 2, &u) == 0);
+            fe_jacobian_dense(&md, y, B, np1); /* rows 0..n-1 of B, leading dimension n + 1 */
+            for (j = 0; j < np1; j++) B[n + (size_t)j * np1] = row[j];
+            dgesv_(&np1, &one, B, &np1, ipiv, b, &np1, &info);
+            CHECK(info == 0);
+            for (i = 0; i < 2 * np1; i++) { err = fmax(err, fabs(z[i] - b[i])); scale = fmax(scale, fabs(b[i])); }
+        }
+        CHECK(err <= 1e-9 * scale);
+        CHECK(u.n_symbolic == 1 && u.n_numeric == 3);
+        for (i = 0; i < np1; i++) row[i] = 0; /* a zero last row: B singular */
+        CHECK(fe_umf_factor(y, row, &u) > 0);
+        CHECK(fe_umf_solve(z, 1, &u) < 0); /* no factorisation to solve with */
+        free(y); free(row); free(B); free(b); free(z); free(ipiv);
+        fe_umf_free(&u); fe_model_free(&md); fe_mesh_free(&m);
+    }
+}
+#endif
+
 int main(void)
 {
     test_materials();
@@ -322,5 +531,10 @@ int main(void)
     test_newton();
     test_contact_vs_library();
     test_band_layout();
+    test_sparse_pattern();
+    test_h1_error();
+#ifdef FE_UMFPACK
+    test_umfpack();
+#endif
     return HARNESS_END();
 }
