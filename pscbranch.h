@@ -229,7 +229,14 @@
    Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
    deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc. A trial
    that converges closer to y0 than h is discarded: there pieces that merely touch the end point
-   are active, and their tangents would pass for new branches. Also, the directions
+   are active, and their tangents would pass for new branches. A trial whose corrector
+   converges but fails the jump or cosine test of continuation is still taken when the point
+   lies, within 8 trial steps of y0, on the line through y0 along its own tangent (|cosine| >=
+   c_diff): it is a point of a branch leaving y0, only not the one the tangent pointed at (near
+   a nonsmooth point the corrector often crosses into a neighbouring piece). On random
+   complementarity problems with N = 6 this took complete sets from 77% to 87% (60 problems);
+   on the block, input branches 1 and 2 found all six branches in spans 1 and 4 instead of 2
+   and 7 (input 2 no longer needs random spans). Also, the directions
    v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1 (and of its norm): the same
    plane, swept evenly. As printed (paper_sweep = 1), two nearly parallel
    spanning tangents bunch the n_dir directions around them and leave most of the plane
@@ -359,7 +366,8 @@
    0.2.0 (2026-11-22)  Algorithm 2.2 remembers the tangents it tried (branch_no_memo,
                        report.n_memo); the corrector also stops on Newton's contraction
                        estimate of the remaining error; the banded backend refines only where
-                       block elimination can lose accuracy; PSCBRANCH_STRLEN_ONE.
+                       block elimination can lose accuracy; PSCBRANCH_STRLEN_ONE. Algorithm
+                       2.2 keeps trial points that lie on a ray from the end point.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -1510,22 +1518,36 @@ static psb_result psb__band_prepare(psb_solver *s, double shift)
     return PSB_SUCCESS;
 }
 
-static psb_result psb__factor_banded(psb_solver *s, const double *row)
+/* ||B||_1 (largest column sum), the scale of the refinement test and of the shift; computed
+   only where one of them is needed (near folds), not in every corrector iteration. */
+static double psb__band_mnorm(psb_solver *s)
 {
     int n = s->n_, ld = s->prob.kl + s->prob.ku + 1, i, j;
     double bnorm = 0, sum;
-    psb_result r;
-    psb__copy(s->row_, row, s->np1_);
-    /* ||B||_1 (largest column sum), the scale of the refinement test */
+    if (s->mnorm_ >= 0) return s->mnorm_;
     for (j = 0; j < n; j++) {
         const double *col = s->band_ + (size_t)j * (size_t)ld;
-        for (sum = fabs(row[psb__ycol(s, j)]), i = 0; i < ld; i++) sum += fabs(col[i]);
+        for (sum = fabs(s->row_[psb__ycol(s, j)]), i = 0; i < ld; i++) sum += fabs(col[i]);
         if (sum > bnorm) bnorm = sum;
     }
-    for (sum = fabs(row[s->prob.param_index]), i = 0; i < n; i++) sum += fabs(s->dparam_[i]);
+    for (sum = fabs(s->row_[s->prob.param_index]), i = 0; i < n; i++) sum += fabs(s->dparam_[i]);
     s->mnorm_ = sum > bnorm ? sum : bnorm;
+    return s->mnorm_;
+}
+
+static double psb__band_shift(psb_solver *s)
+{
+    double m = psb__band_mnorm(s);
+    return 1.4901161193847656e-08 * (m > 0 ? m : 1); /* sqrt(eps) ||B|| */
+}
+
+static psb_result psb__factor_banded(psb_solver *s, const double *row)
+{
+    psb_result r;
+    psb__copy(s->row_, row, s->np1_);
+    s->mnorm_ = -1;
     r = psb__band_prepare(s, 0.0);
-    if (r == PSB_ERR_SINGULAR) r = psb__band_prepare(s, 1.4901161193847656e-08 * (s->mnorm_ > 0 ? s->mnorm_ : 1));
+    if (r == PSB_ERR_SINGULAR) r = psb__band_prepare(s, psb__band_shift(s));
     s->shifted_ = s->shift_ != 0;
     return r;
 }
@@ -1590,7 +1612,7 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
             znorm = 0;
             for (i = 0; i < np1; i++) znorm = fabs(z[i]) > znorm ? fabs(z[i]) : znorm;
             resn = psb__band_residual(s, s->work_, z, rhs);
-            if (resn <= 32 * DBL_EPSILON * (s->mnorm_ * znorm + bnorm)) { done = 1; break; }
+            if (resn <= 32 * DBL_EPSILON * (psb__band_mnorm(s) * znorm + bnorm)) { done = 1; break; }
             if (!(resn < 0.5 * prev) && it >= 2) break; /* stalled */
             prev = resn;
             r = psb__band_apply(s, rhs, dz);
@@ -1600,7 +1622,7 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
         if (!done) {
             if (!s->shifted_) {
                 /* nearly singular A: refactor shifted, restart this column */
-                r = psb__band_prepare(s, 1.4901161193847656e-08 * (s->mnorm_ > 0 ? s->mnorm_ : 1));
+                r = psb__band_prepare(s, psb__band_shift(s));
                 if (r != PSB_SUCCESS) return r;
                 s->shifted_ = 1;
                 memcpy(z, s->work_, (size_t)np1 * sizeof(double));
@@ -1799,10 +1821,25 @@ static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterati
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector did not converge in max_iter iterations");
 }
 
+/* Whether y1 lies on the line through y0 along t (|cosine| >= c_diff), at most dmax away. */
+static int psb__on_ray(psb_solver *s, const double *y0, const double *y1, const double *t,
+                       double dmax)
+{
+    double *d = PSB__VEC(s, PSB__V_FD), dn;
+    int i;
+    for (i = 0; i < s->np1_; i++) d[i] = y1[i] - y0[i];
+    dn = psb_norm_w(s, d);
+    return dn > 0 && dn <= dmax && fabs(psb_dot_w(s, d, t)) >= s->opt.c_diff * dn * psb_norm_w(s, t);
+}
+
 /* Trial steps from (y, t) starting at *h and shrinking by h_dec down to h_floor; on success
-   (y, t) is the new couple, *h the accepted step and *iters the corrector's iterations. */
-static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, double h_floor,
-                                int *iters)
+   (y, t) is the new couple, *h the accepted step and *iters the corrector's iterations.
+   ray_from (Algorithm 2.2's trials, else NULL): a converged point that fails the jump or the
+   cosine test is accepted all the same when it lies, within 8 steps of ray_from, on the line
+   through ray_from along its own tangent (|cosine| >= c_diff): a point of a branch leaving
+   ray_from, wherever the corrector found it. */
+static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double *h,
+                                    double h_floor, int *iters, const double *ray_from)
 {
     int np1 = s->np1_;
     double *yt = PSB__VEC(s, PSB__V_STEP_Y), *tt = PSB__VEC(s, PSB__V_STEP_T), hh = *h;
@@ -1823,7 +1860,8 @@ static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, 
                 double d = yt[i] - y[i] - hh * t[i];
                 jump += s->w_[i] * d * d;
             }
-            if (sqrt(jump) <= hh && psb__cos_w(s, tt, t) >= s->opt.c_min) {
+            if ((sqrt(jump) <= hh && psb__cos_w(s, tt, t) >= s->opt.c_min) ||
+                (ray_from && psb__on_ray(s, ray_from, yt, tt, 8 * hh))) {
                 psb__copy(y, yt, np1);
                 psb__copy(t, tt, np1);
                 *h = hh;
@@ -1839,6 +1877,12 @@ static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, 
     case PSB__FAIL_CALLBACK: return psb__fail(s, PSB_ERR_CALLBACK_FAILED, "callback failed at every trial step down to h_min");
     default: return psb__fail(s, PSB_ERR_STEP_TOO_SMALL, "no trial step converged down to h_min");
     }
+}
+
+static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, double h_floor,
+                                int *iters)
+{
+    return psb__try_step_from(s, y, t, h, h_floor, iters, NULL);
 }
 
 static psb_result psb__check_couple(psb_solver *s, const void *y, const void *t)
@@ -2425,7 +2469,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
             for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
             if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
             rep->n_pc++;
-            r = psb__try_step(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters);
+            r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) continue;
             /* a point closer to y0 than the sampling distance h tells nothing reliable about
