@@ -382,6 +382,55 @@ static void test_user_failures(void)
     CHECK(psb_solver_init(&s, &p, NULL) == PSB_ERR_OPTIONS);
 }
 
+/* A band_jacobian that puts one NaN or Inf into the band (at entry `bad_row`, `bad_col` of the
+   state block) or into the parameter column: every operation that factors must report
+   PSB_ERR_NONFINITE and leave the caller's y as it was, wherever the bad entry sits. */
+typedef struct {
+    bratu b;
+    int bad_row, bad_col; /* bad_col < 0: the parameter column */
+    double bad;
+} bad_band;
+
+static int bad_band_res(const double *y, double *h, void *user) { return bratu_res(y, h, &((bad_band *)user)->b); }
+
+static int bad_band_jac(const double *y, double *band, int ld, double *dparam, void *user)
+{
+    const bad_band *bb = (const bad_band *)user;
+    bratu_band(y, band, ld, dparam, (void *)&bb->b);
+    if (bb->bad_col < 0) dparam[bb->bad_row] = bb->bad;
+    else band[PSB_BAND_INDEX(1, ld, bb->bad_row, bb->bad_col)] = bb->bad;
+    return 0;
+}
+
+static void test_band_nonfinite(void)
+{
+    static const int where[][2] = {{0, 0}, {5, 5}, {11, 11}, {3, 4}, {4, 3}, {10, 11}, {7, -1}};
+    bad_band bb;
+    psb_problem p;
+    psb_solver s;
+    double y[13], y0[13], t[13];
+    int k, v, i;
+    bb.b.n = 12;
+    for (v = 0; v < 2; v++)
+        for (k = 0; k < (int)(sizeof where / sizeof where[0]); k++) {
+            bb.bad_row = where[k][0];
+            bb.bad_col = where[k][1];
+            bb.bad = v ? HUGE_VAL : NAN;
+            psb_problem_init(&p, 12, bad_band_res, NULL, &bb);
+            p.linear = PSB_LINEAR_BANDED;
+            p.kl = p.ku = 1;
+            p.band_jacobian = bad_band_jac;
+            CHECK(psb_solver_init(&s, &p, NULL) == PSB_SUCCESS);
+            for (i = 0; i < 12; i++) y[i] = 0.1 * i;
+            y[12] = 1;
+            memcpy(y0, y, sizeof y);
+            CHECK(psb_solve_at_param(&s, y, 5) == PSB_ERR_NONFINITE);
+            CHECK(psb_tangent(&s, y, NULL, t) == PSB_ERR_NONFINITE);
+            CHECK(memcmp(y, y0, sizeof y) == 0);
+            psb_solver_free(&s);
+        }
+}
+
 /* Banded memory stays linear in n: no (n+1)^2 block (the 32 is the floor of the memo of
    tangents tried by psb_find_branches, which holds at this n). */
 static void test_memory(void)
@@ -404,6 +453,7 @@ int main(void)
     test_singular_block();
     test_backends_agree();
     test_user_failures();
+    test_band_nonfinite();
     test_memory();
     return HARNESS_END();
 }
