@@ -61,6 +61,7 @@ examples: $(EXAMPLES)
 SMOKE = "smoke:examples/01_branching" \
 	"smoke:examples/fc_solve $(SHARED)/fc-problems/*.dat" \
 	"smoke:examples/block" \
+	"smoke:examples/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && examples/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
 	"smoke:examples/triangle --mesh 16" \
 	"smoke:examples/triangle --mesh 16 --problem fold"
 

@@ -8,8 +8,9 @@
 #       (branches 1, 3, 4) of each mesh against the finest one computed      -> bench/out/triangle_table4.csv
 # Not part of `make test`. Needs libsuitesparse-dev. Usage (from the repository root):
 #   bash bench/triangle_study.sh                 # meshes n = 64 128 256 (M4096, M16384, M65536)
-#   MESHES="64 128 256 512" bash bench/triangle_study.sh     # adds M262144: ~2 s per factorisation
-#       with OpenBLAS (1400 for the fold study, 2500 for branching), 3x that with reference BLAS
+#   MESHES="64 128 256 512" bash bench/triangle_study.sh     # branching on M262144 too: ~2 s per
+#       factorisation with OpenBLAS (1400 for the fold study, 2500 for branching), 3x that with
+#       reference BLAS; REFINE="" skips (c), REFINE="256" stops at M65536
 #   STUDIES="fold" / "branch" restricts to (a) / (b)+(c); BANDED=1 also times the banded backend on n = 64;
 #   BLAS_DIR=DIR takes libblas.so.3 from DIR (e.g. /usr/lib/x86_64-linux-gnu/openblas-serial).
 #   NOBUILD=1 reuses bench/out/triangle_sparse (two studies started side by side); REUSE=1 keeps
@@ -93,7 +94,7 @@ if [[ " $STUDIES " == *" branch "* ]]; then
     printf "  %-8s %7s %9s %-10s %6s %7s %8s %8s %8s  %s\n" mesh N branches numbers n_pc n_rand factor. "CPU s" "wall s" status
     for n in $MESHES; do
         d=$RUNS/branch_$n; mkdir -p "$d"
-        run "$d/log.txt" --mesh "$n" --load 26.4 --sparse --out "$d"
+        run "$d/log.txt" --mesh "$n" --load 26.4 --sparse --out "$d" --save "$d/ends.txt"
         log=$d/log.txt
         N=$(sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' "$log")
         nb=$(sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p' "$log")
@@ -111,27 +112,41 @@ if [[ " $STUDIES " == *" branch "* ]]; then
     done
     echo "  -> $CSV"
 
-    # (c) Table 4 against the finest mesh computed; the branch solutions at |gamma| = 1 are the
-    # ends of the traces of (b) (u_K.txt)
-    fine=""; for n in $MESHES; do [[ -f $RUNS/branch_$n/u_1.txt ]] && fine=$n; done
-    if [[ -n "$fine" ]]; then
-        CSV=$OUT/triangle_table4.csv
-        echo "mesh,n,fine_mesh,branch,rel_h1_error,paper_vs_M262144" > "$CSV"
-        printf "\n(c) Table 4: ||u_h - u_fine||_1 / ||u_fine||_1, fine = M%d (paper: against M262144)\n" $((fine*fine))
-        printf "  %-8s  %-22s %-22s %-22s %-22s\n" mesh "branch 1 (ours/paper)" "branch 2" "branch 3" "branch 4"
-        for n in $MESHES; do
-            [[ $n == "$fine" ]] && continue
-            [[ -f $RUNS/branch_$n/u_1.txt ]] || continue
-            read -r -a pap <<< "${T4[$n]:-- - - -}"
-            line=$(printf "  %-8s" "M$((n*n))")
-            for k in 1 2 3 4; do
-                e=$("$BIN" --h1 "$n" "$RUNS/branch_$n/u_$k.txt" "$fine" "$RUNS/branch_$fine/u_$k.txt" 2>/dev/null || echo nan)
-                echo "M$((n*n)),$n,M$((fine*fine)),$k,$e,${pap[$((k-1))]}" >> "$CSV"
-                line+=$(printf "  %-22s" "$(printf "%.1e / %s" "$e" "${pap[$((k-1))]}")")
-            done
-            echo "$line"
+    # (c) Table 4: the finest branching run's end points re-solved on each REFINE mesh in turn
+    # (H is piecewise linear: Newton from the interpolated solution lands on the same branch,
+    # which the example checks by its contact states), compared at the last one
+    fine=""; for n in $MESHES; do [[ -f $RUNS/branch_$n/ends.txt ]] && fine=$n; done
+    REFINE=${REFINE-"256 512"}
+    if [[ -n "$fine" && -n "$REFINE" ]]; then
+        prev=$RUNS/branch_$fine/ends.txt; last=""
+        for n in $REFINE; do
+            (( n > fine && n % fine == 0 )) || continue
+            d=$RUNS/refine_$n; mkdir -p "$d"
+            cmp=(); for m in $MESHES; do [[ -f $RUNS/branch_$m/ends.txt ]] && cmp+=(--compare "$RUNS/branch_$m/ends.txt"); done
+            for m in $REFINE; do (( m < n )) && [[ -f $RUNS/refine_$m/ends.txt ]] && cmp+=(--compare "$RUNS/refine_$m/ends.txt"); done
+            run "$d/log.txt" --mesh "$n" --load 26.4 --sparse --refine "$prev" --save "$d/ends.txt" "${cmp[@]}"
+            printf "  refined onto M%d: %s (%s s wall)\n" $((n*n)) "$(grep -o 'OK (every.*\|FAILED.*' "$d/log.txt" | head -1)" \
+                "$(sed -n 's/^wall //p' "$d/log.txt")"
+            prev=$d/ends.txt; last=$n
         done
-        echo "  -> $CSV"
+        if [[ -n "$last" ]]; then
+            CSV=$OUT/triangle_table4.csv
+            echo "mesh,reference,branch,rel_h1_error,paper" > "$CSV"
+            printf "\n(c) Table 4: ||u_h - u_ref||_1 / ||u_ref||_1, ref = M%d (paper: M262144)\n" $((last*last))
+            printf "  %-8s  %-20s %-20s %-20s %-20s\n" mesh "branch 1 (ours/paper)" "branch 2" "branch 3" "branch 4"
+            grep -E '^  M[0-9]+ ' "$RUNS/refine_$last/log.txt" | while read -r mesh rest; do
+                nn=$(python3 -c "import math; print(int(round(math.sqrt(${mesh#M}))))")
+                read -r -a pap <<< "${T4[$nn]:-- - - -}"
+                line=$(printf "  %-8s" "$mesh")
+                for k in 1 2 3 4; do
+                    e=$(printf '%s\n' "$rest" | sed -n "s/.*$k: \([0-9.e+-]*\).*/\1/p")
+                    echo "$mesh,M$((last*last)),$k,${e:-nan},${pap[$((k-1))]}" >> "$CSV"
+                    line+=$(printf "  %-20s" "${e:-nan} / ${pap[$((k-1))]}")
+                done
+                echo "$line"
+            done
+            echo "  -> $CSV"
+        fi
     fi
 fi
 

@@ -114,156 +114,6 @@ static int check_branch(const fe_branch *b, int n, double tol)
 }
 
 
-/* ---- end points on file, and their refinement (the mesh study of Table 3) --------------------
-   Text: "block-ends NX NY COUNT", then per branch "branch K gamma G" and one line per mesh node
-   (node order) with u1 u2 lD1 lD2 l_nu l_tau (zero where the node has no such unknown). */
-static void node_fields(const fe_model *md, const double *y, int a, double f[6])
-{
-    int k;
-    for (k = 0; k < 6; k++) f[k] = 0;
-    if (md->udof[a] >= 0) { f[0] = y[md->udof[a]]; f[1] = y[md->udof[a] + 1]; }
-    if (md->ddof[a] >= 0) { f[2] = y[md->ddof[a]]; f[3] = y[md->ddof[a] + 1]; }
-    if (md->cdof[a] >= 0) { f[4] = y[md->cdof[a]]; f[5] = y[md->cdof[a] + 1]; }
-}
-
-static int save_ends(const char *path, const fe_run *run, int nx, int ny)
-{
-    const fe_model *md = run->md;
-    FILE *f = fopen(path, "w");
-    int k, a, j, count = 0;
-    if (!f) return -1;
-    for (k = 0; k < run->nbr; k++) count += run->br[k].number > 0 && run->br[k].duplicate_of < 0;
-    fprintf(f, "block-ends %d %d %d\n", nx, ny, count);
-    for (k = 0; k < run->nbr; k++) {
-        const fe_branch *b = &run->br[k];
-        if (b->number <= 0 || b->duplicate_of >= 0) continue;
-        fprintf(f, "branch %d gamma %.17g\n", b->number, b->y[md->n]);
-        for (a = 0; a < md->mesh->nnode; a++) {
-            double v[6];
-            node_fields(md, b->y, a, v);
-            for (j = 0; j < 6; j++) fprintf(f, "%.17g%c", v[j], j == 5 ? '\n' : ' ');
-        }
-    }
-    return fclose(f) ? -1 : 0;
-}
-
-/* Reads an end-point file: its mesh size, and per branch its number, gamma and the six nodal
-   fields (6 (cx + 1)(cy + 1) values, in *fields, malloc'ed). Returns the branch count, -1 on error. */
-static int read_ends(const char *path, int *cx, int *cy, int number[], double gamma[], double **fields)
-{
-    FILE *f = fopen(path, "r");
-    int count, k, a, nn;
-    *fields = NULL;
-    if (!f) return -1;
-    if (fscanf(f, "block-ends %d %d %d", cx, cy, &count) != 3 || *cx < 1 || *cy < 1 || count < 1 ||
-        count > FE_MAX_BRANCHES) {
-        fclose(f);
-        return -1;
-    }
-    nn = (*cx + 1) * (*cy + 1);
-    *fields = malloc(sizeof(double) * 6 * (size_t)nn * (size_t)count);
-    if (!*fields) { fclose(f); return -1; }
-    for (k = 0; k < count; k++) {
-        if (fscanf(f, " branch %d gamma %lf", &number[k], &gamma[k]) != 2) break;
-        for (a = 0; a < 6 * nn; a++)
-            if (fscanf(f, "%lf", &(*fields)[(size_t)k * 6 * nn + a]) != 1) break;
-        if (a < 6 * nn) break;
-    }
-    fclose(f);
-    if (k < count) { free(*fields); *fields = NULL; return -1; }
-    return count;
-}
-
-/* Table 3: ||u_c - u||_1 / ||u||_1 of each coarse file's branches against this run's (same paper
-   number), the coarse displacements represented exactly on this nested mesh. */
-static int compare_ends(const char *path, const fe_run *run)
-{
-    const fe_model *md = run->md;
-    const fe_mesh *m = md->mesh;
-    int cx, cy, number[FE_MAX_BRANCHES], count, k, j, a, nn, p, rc = 0;
-    double gamma[FE_MAX_BRANCHES], *cf, *uc = NULL, *uf = NULL;
-    fe_mesh coarse;
-    count = read_ends(path, &cx, &cy, number, gamma, &cf);
-    if (count < 0) return -1;
-    nn = (cx + 1) * (cy + 1);
-    memset(&coarse, 0, sizeof coarse);
-    if (fe_mesh_rectangle(&coarse, 40.0, 80.0, cx, cy)) { free(cf); return -1; }
-    uc = malloc(sizeof(double) * 2 * (size_t)nn);
-    uf = malloc(sizeof(double) * 2 * (size_t)m->nnode);
-    if (!uc || !uf) rc = -1;
-    printf("  M%-6d", cx * cy);
-    for (p = 1; p <= 6 && !rc; p++) {
-        const fe_branch *b = NULL;
-        double parts[4];
-        for (k = 0; k < count && number[k] != p; k++) {}
-        for (j = 0; j < run->nbr; j++)
-            if (run->br[j].number == p && run->br[j].duplicate_of < 0) b = &run->br[j];
-        if (k == count || !b) continue;
-        for (a = 0; a < nn; a++) {
-            uc[2 * a] = cf[(size_t)k * 6 * nn + 6 * a];
-            uc[2 * a + 1] = cf[(size_t)k * 6 * nn + 6 * a + 1];
-        }
-        fe_displacements(md, b->y, uf);
-        if (fe_h1_error_parts(&coarse, uc, m, uf, parts)) { rc = -1; break; }
-        printf("  %d: %.2e", number[k], sqrt((parts[0] + parts[1]) / (parts[2] + parts[3])));
-    }
-    printf("\n");
-    free(uc); free(uf); free(cf);
-    fe_mesh_free(&coarse);
-    return rc;
-}
-
-/* The coarse file's branches re-solved on this (nested, finer) mesh: each node's six fields are
-   interpolated bilinearly from the coarse cell holding it (exact for nested Q1 meshes; along the
-   bottom and top edges this is the linear interpolation of the multipliers), then Newton at the
-   coarse gamma. Fills run->br[] as a branching run would, so the table and --save work on it. */
-static int refine_ends(const char *path, fe_run *run, int nx, int ny)
-{
-    fe_model *md = run->md;
-    const fe_mesh *m = md->mesh;
-    int cx, cy, count, k, a, j, np1 = md->n + 1, number[FE_MAX_BRANCHES], nn;
-    double gamma[FE_MAX_BRANCHES], *cf;
-    count = read_ends(path, &cx, &cy, number, gamma, &cf);
-    if (count < 0) return -1;
-    if (nx % cx || ny % cy) { free(cf); return -1; }
-    nn = (cx + 1) * (cy + 1);
-    run->nbr = 0;
-    for (k = 0; k < count; k++) {
-        fe_branch *b = &run->br[run->nbr];
-        const double *ck = cf + (size_t)k * 6 * nn;
-        memset(b->y, 0, sizeof(double) * (size_t)np1);
-        for (a = 0; a < m->nnode; a++) {
-            double X = m->x[2 * a] * cx / 40.0, Y = m->x[2 * a + 1] * cy / 80.0, v[6] = {0, 0, 0, 0, 0, 0};
-            int i0 = (int)floor(X), j0 = (int)floor(Y), c;
-            double xi, eta;
-            if (i0 > cx - 1) i0 = cx - 1;
-            if (j0 > cy - 1) j0 = cy - 1;
-            xi = X - i0; eta = Y - j0;
-            for (c = 0; c < 4; c++) {
-                int ii = i0 + (c & 1), jj = j0 + (c >> 1);
-                double wgt = ((c & 1) ? xi : 1 - xi) * ((c >> 1) ? eta : 1 - eta);
-                for (j = 0; j < 6; j++) v[j] += wgt * ck[6 * (jj * (cx + 1) + ii) + j];
-            }
-            if (md->udof[a] >= 0) { b->y[md->udof[a]] = v[0]; b->y[md->udof[a] + 1] = v[1]; }
-            if (md->ddof[a] >= 0) { b->y[md->ddof[a]] = v[2]; b->y[md->ddof[a] + 1] = v[3]; }
-            if (md->cdof[a] >= 0) { b->y[md->cdof[a]] = v[4]; b->y[md->cdof[a] + 1] = v[5]; }
-        }
-        b->y[md->n] = gamma[k];
-        b->end = psb_solve_at_param(&run->s, b->y, 50) == PSB_SUCCESS ? PSB_PARAM_BOUND : PSB_ERR_NO_CONVERGENCE;
-        b->found = k;
-        b->steps = 0;
-        b->switches = 0;
-        b->duplicate_of = -1;
-        b->resnorm = fe_resnorm(md, b->y);
-        classify(md, b);
-        if (b->number != number[k])
-            printf("  refined branch %d classifies as %d on this mesh\n", number[k], b->number);
-        run->nbr++;
-    }
-    free(cf);
-    return 0;
-}
-
 static double seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
 
 /* One branching run from the couple (y, t) arriving at gamma = 0; returns the input branch number. */
@@ -315,6 +165,7 @@ int main(int argc, char **argv)
     fe_run run;
     psb_options opt;
     double *y, *t, *w, t0, t1, tol = 1e-8;
+    char spec[64];
     int n, k, ndist, input, ok;
     psb_result r;
 
@@ -352,7 +203,7 @@ int main(int argc, char **argv)
            opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
     t0 = seconds();
     if (a.refine) {
-        if (refine_ends(a.refine, &run, a.nx, a.ny)) { printf("block: cannot refine %s onto this mesh\n", a.refine); return 1; }
+        if (fe_run_refine_ends(&run, a.refine, classify)) { printf("block: cannot refine %s onto this mesh\n", a.refine); return 1; }
         printf("\n  end points of %s interpolated onto this mesh and re-solved by Newton at their gamma\n", a.refine);
         input = 0;
         goto table;
@@ -410,11 +261,12 @@ table:
     printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
     ok = 1;
     ndist = fe_run_branch_table(&run, a.refine ? run.nbr : 6, n, tol, check_branch, print_row, &ok);
-    if (a.save && save_ends(a.save, &run, a.nx, a.ny)) { printf("block: cannot write %s\n", a.save); ok = 0; }
+    snprintf(spec, sizeof spec, "rect 40 80 %d %d", a.nx, a.ny);
+    if (a.save && fe_run_save_ends(&run, a.save, spec)) { printf("block: cannot write %s\n", a.save); ok = 0; }
     if (a.ncompare) {
         printf("\n  relative H1 errors of the displacements against this mesh (Table 3), by branch:\n");
         for (k = 0; k < a.ncompare; k++)
-            if (compare_ends(a.compare[k], &run)) { printf("block: cannot compare with %s (not a coarser nested mesh?)\n", a.compare[k]); ok = 0; }
+            if (fe_run_compare_ends(&run, a.compare[k])) { printf("block: cannot compare with %s (not a coarser nested mesh?)\n", a.compare[k]); ok = 0; }
     }
     if (a.out) mkdir(a.out, 0777);
     ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 6, t1 - t0, "block", "mm", 5, a.out) && ok;

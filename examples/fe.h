@@ -1071,101 +1071,160 @@ static inline int fe_locate_in(const fe_mesh *m, int e, const double p[2], doubl
     return fabs(xi) <= 1 + tol && fabs(eta) <= 1 + tol;
 }
 
+/* Point location in a mesh through a bucket grid of its elements' bounding boxes (G x G
+   buckets, G ~ sqrt(nelem)); each bucket lists the elements whose box meets it (CSR). */
+typedef struct fe_locator {
+    const fe_mesh *m;
+    int G, *start, *list;
+    double lo[2], cell[2], tol;
+} fe_locator;
+
+static inline void fe_locator_free(fe_locator *L)
+{
+    free(L->start); free(L->list);
+    L->start = L->list = NULL;
+}
+
+static inline int fe_locator_bucket(const fe_locator *L, const double p[2])
+{
+    int b[2], i;
+    for (i = 0; i < 2; i++) {
+        b[i] = (int)floor((p[i] - L->lo[i]) / L->cell[i]);
+        b[i] = b[i] < 0 ? 0 : (b[i] > L->G - 1 ? L->G - 1 : b[i]);
+    }
+    return b[1] * L->G + b[0];
+}
+
+/* Returns 0, or -1 out of memory. */
+static inline int fe_locator_init(fe_locator *L, const fe_mesh *m)
+{
+    double hi[2] = {-HUGE_VAL, -HUGE_VAL}, diam;
+    int nv = m->nvert, e, a, i, pass, G;
+    memset(L, 0, sizeof *L);
+    L->m = m;
+    L->tol = 1e-9;
+    L->lo[0] = L->lo[1] = HUGE_VAL;
+    for (a = 0; a < m->nnode; a++)
+        for (i = 0; i < 2; i++) { L->lo[i] = fmin(L->lo[i], m->x[2 * a + i]); hi[i] = fmax(hi[i], m->x[2 * a + i]); }
+    diam = fmax(hi[0] - L->lo[0], hi[1] - L->lo[1]);
+    G = L->G = m->nelem > 1 ? (int)ceil(sqrt((double)m->nelem)) : 1;
+    for (i = 0; i < 2; i++) L->cell[i] = (hi[i] - L->lo[i]) / G + 1e-12 * diam;
+    L->start = calloc((size_t)G * G + 1, sizeof(int));
+    if (!L->start) return -1;
+    /* two passes over the elements' bucket ranges: count, then fill */
+    for (pass = 0; pass < 2; pass++) {
+        for (e = 0; e < m->nelem; e++) {
+            double elo[2] = {HUGE_VAL, HUGE_VAL}, ehi[2] = {-HUGE_VAL, -HUGE_VAL};
+            int v, b[2][2], bx, by;
+            for (v = 0; v < nv; v++)
+                for (i = 0; i < 2; i++) {
+                    double xv = m->x[2 * m->conn[nv * e + v] + i];
+                    elo[i] = fmin(elo[i], xv); ehi[i] = fmax(ehi[i], xv);
+                }
+            for (i = 0; i < 2; i++) {
+                b[i][0] = (int)floor((elo[i] - L->lo[i]) / L->cell[i] - L->tol);
+                b[i][1] = (int)floor((ehi[i] - L->lo[i]) / L->cell[i] + L->tol);
+                if (b[i][0] < 0) b[i][0] = 0;
+                if (b[i][1] > G - 1) b[i][1] = G - 1;
+            }
+            for (by = b[1][0]; by <= b[1][1]; by++)
+                for (bx = b[0][0]; bx <= b[0][1]; bx++) {
+                    if (pass == 0) L->start[by * G + bx + 1]++;
+                    else L->list[L->start[by * G + bx]++] = e;
+                }
+        }
+        if (pass == 0) {
+            for (i = 0; i < G * G; i++) L->start[i + 1] += L->start[i];
+            L->list = malloc(sizeof(int) * (size_t)(L->start[G * G] ? L->start[G * G] : 1));
+            if (!L->list) { fe_locator_free(L); return -1; }
+        } else {
+            for (i = G * G; i > 0; i--) L->start[i] = L->start[i - 1]; /* filling moved each start to the next */
+            L->start[0] = 0;
+        }
+    }
+    return 0;
+}
+
+/* The element holding p (and p's reference coordinates in it), or -1. */
+static inline int fe_locator_find(const fe_locator *L, const double p[2], double ref[2])
+{
+    int b = fe_locator_bucket(L, p), q;
+    for (q = L->start[b]; q < L->start[b + 1]; q++)
+        if (fe_locate_in(L->m, L->list[q], p, L->tol, ref)) return L->list[q];
+    return -1;
+}
+
+/* Nodal field vc (ncomp values per node of L's mesh) evaluated at every node of fine, into vf
+   (ncomp per fine node): exact interpolation when fine refines that mesh (nested P1 or Q1
+   spaces). A field living on boundary nodes only (zero elsewhere) is interpolated linearly along
+   the boundary edges, since a point on an edge has no weight on the other vertices. owner (may
+   be NULL) receives the coarse element of each fine node. Returns 0, or -2 when a fine node lies
+   outside the coarse mesh. */
+static inline int fe_interpolate_at_nodes(const fe_locator *L, int ncomp, const double *vc, const fe_mesh *fine,
+                                          double *vf, int *owner)
+{
+    const fe_mesh *coarse = L->m;
+    int a, i, c, nv = coarse->nvert;
+    for (a = 0; a < fine->nnode; a++) {
+        double ref[2], N[4];
+        int e = fe_locator_find(L, fine->x + 2 * a, ref);
+        if (e < 0) return -2;
+        if (owner) owner[a] = e;
+        fe_shape_val(nv, ref[0], ref[1], N);
+        for (c = 0; c < ncomp; c++) {
+            double v = 0;
+            for (i = 0; i < nv; i++) v += N[i] * vc[(size_t)ncomp * coarse->conn[nv * e + i] + c];
+            vf[(size_t)ncomp * a + c] = v;
+        }
+    }
+    return 0;
+}
+
+/* The same with a locator of its own: 0, -1 out of memory, -2 not nested. */
+static inline int fe_interpolate_nested(const fe_mesh *coarse, int ncomp, const double *vc, const fe_mesh *fine,
+                                        double *vf)
+{
+    fe_locator L;
+    int rc;
+    if (fe_locator_init(&L, coarse)) return -1;
+    rc = fe_interpolate_at_nodes(&L, ncomp, vc, fine, vf, NULL);
+    fe_locator_free(&L);
+    return rc;
+}
+
 /* Squared norms for ||u_c - u_f||_{1,Omega} between a coarse mesh and a fine mesh that refines it
    (same element kind, every fine element inside one coarse element): u_c (2 * coarse nnode nodal
-   displacements) is evaluated exactly at the fine nodes, which represents it exactly on the fine
-   mesh (nested P1 or Q1 spaces), and e = I u_c - u_f is integrated on the fine mesh: P1 with the
-   edge-midpoint rule (exact for the quadratic |e|^2), Q1 with 2 x 2 Gauss (exact on parallelograms).
-   out = {||e||_0^2, |e|_1^2, ||u_f||_0^2, |u_f|_1^2}. Coarse elements are found through a bucket
-   grid of their bounding boxes. Returns 0; -1 out of memory; -2 not nested (element kinds differ, a
-   fine node outside the coarse mesh, or a fine element across coarse elements). */
+   displacements) is evaluated exactly at the fine nodes (fe_interpolate_nested), which
+   represents it exactly on the fine mesh, and e = I u_c - u_f is integrated on the fine mesh: P1
+   with the edge-midpoint rule (exact for the quadratic |e|^2), Q1 with 2 x 2 Gauss (exact on
+   parallelograms). out = {||e||_0^2, |e|_1^2, ||u_f||_0^2, |u_f|_1^2}. Returns 0; -1 out of
+   memory; -2 not nested (element kinds differ, a fine node outside the coarse mesh, or a fine
+   element across coarse elements). */
 static inline int fe_h1_error_parts(const fe_mesh *coarse, const double *uc, const fe_mesh *fine, const double *uf,
                                     double out[4])
 {
-    int nv = coarse->nvert, G, e, a, i, rc = 0, *cnt = NULL, *lst = NULL, *owner = NULL;
-    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, cell[2], *ui = NULL, diam = 0;
+    int nv = coarse->nvert, e, i, rc = 0, *owner = NULL;
+    double *ui = NULL;
     const double tol = 1e-9;
+    fe_locator L;
     out[0] = out[1] = out[2] = out[3] = 0;
     if (fine->nvert != nv || (nv != 3 && nv != 4)) return -2;
-    for (a = 0; a < coarse->nnode; a++)
-        for (i = 0; i < 2; i++) { lo[i] = fmin(lo[i], coarse->x[2 * a + i]); hi[i] = fmax(hi[i], coarse->x[2 * a + i]); }
-    diam = fmax(hi[0] - lo[0], hi[1] - lo[1]);
-    G = (int)ceil(sqrt((double)coarse->nelem));
-    if (G < 1) G = 1;
-    for (i = 0; i < 2; i++) cell[i] = (hi[i] - lo[i]) / G + 1e-12 * diam;
-    cnt = calloc((size_t)G * G + 1, sizeof(int));
+    if (fe_locator_init(&L, coarse)) return -1;
     ui = malloc(sizeof(double) * 2 * (size_t)fine->nnode);
     owner = malloc(sizeof(int) * (size_t)fine->nnode);
-    if (!cnt || !ui || !owner) { rc = -1; goto done; }
-    /* two passes over the coarse elements' bucket ranges: count, then fill (CSR lists) */
-    {
-        int pass;
-        for (pass = 0; pass < 2; pass++) {
-            for (e = 0; e < coarse->nelem; e++) {
-                double elo[2] = {HUGE_VAL, HUGE_VAL}, ehi[2] = {-HUGE_VAL, -HUGE_VAL};
-                int v, b[2][2], bx, by;
-                for (v = 0; v < nv; v++)
-                    for (i = 0; i < 2; i++) {
-                        double xv = coarse->x[2 * coarse->conn[nv * e + v] + i];
-                        elo[i] = fmin(elo[i], xv); ehi[i] = fmax(ehi[i], xv);
-                    }
-                for (i = 0; i < 2; i++) {
-                    b[i][0] = (int)floor((elo[i] - lo[i]) / cell[i] - tol); b[i][1] = (int)floor((ehi[i] - lo[i]) / cell[i] + tol);
-                    if (b[i][0] < 0) b[i][0] = 0;
-                    if (b[i][1] > G - 1) b[i][1] = G - 1;
-                }
-                for (by = b[1][0]; by <= b[1][1]; by++)
-                    for (bx = b[0][0]; bx <= b[0][1]; bx++) {
-                        if (pass == 0) cnt[by * G + bx + 1]++;
-                        else lst[cnt[by * G + bx]++] = e;
-                    }
-            }
-            if (pass == 0) {
-                for (i = 0; i < G * G; i++) cnt[i + 1] += cnt[i];
-                lst = malloc(sizeof(int) * (size_t)(cnt[G * G] ? cnt[G * G] : 1));
-                if (!lst) { rc = -1; goto done; }
-            } else {
-                for (i = G * G; i > 0; i--) cnt[i] = cnt[i - 1]; /* fill moved each start to the next */
-                cnt[0] = 0;
-            }
-        }
-    }
-    /* the coarse function at every fine node */
-    for (a = 0; a < fine->nnode; a++) {
-        const double *p = fine->x + 2 * a;
-        int bx = (int)floor((p[0] - lo[0]) / cell[0]), by = (int)floor((p[1] - lo[1]) / cell[1]), q, found = -1;
-        double ref[2], N[4];
-        if (bx < 0) bx = 0;
-        if (bx > G - 1) bx = G - 1;
-        if (by < 0) by = 0;
-        if (by > G - 1) by = G - 1;
-        for (q = cnt[by * G + bx]; q < cnt[by * G + bx + 1] && found < 0; q++)
-            if (fe_locate_in(coarse, lst[q], p, tol, ref)) found = lst[q];
-        if (found < 0) { rc = -2; goto done; }
-        owner[a] = found;
-        fe_shape_val(nv, ref[0], ref[1], N);
-        ui[2 * a] = ui[2 * a + 1] = 0;
-        for (i = 0; i < nv; i++) {
-            int cn = coarse->conn[nv * found + i];
-            ui[2 * a] += N[i] * uc[2 * cn];
-            ui[2 * a + 1] += N[i] * uc[2 * cn + 1];
-        }
-    }
-    /* nested: every vertex of a fine element lies in the coarse element holding its centroid */
+    if (!ui || !owner) { rc = -1; goto done; }
+    rc = fe_interpolate_at_nodes(&L, 2, uc, fine, ui, owner);
+    if (rc) goto done;
+    /* nested: every vertex of a fine element lies in the coarse element holding its centroid
+       (tried first among its vertices' elements, which a vertex on a coarse edge may miss) */
     for (e = 0; e < fine->nelem; e++) {
         const int *c = fine->conn + nv * e;
         double cen[2] = {0, 0}, ref[2], qx[4], qy[4], qw[4];
         int v, q, nq, ce = -1;
         for (v = 0; v < nv; v++) { cen[0] += fine->x[2 * c[v]] / nv; cen[1] += fine->x[2 * c[v] + 1] / nv; }
-        for (v = 0; v < nv && ce < 0; v++) /* the candidates: the elements holding its vertices */
+        for (v = 0; v < nv && ce < 0; v++)
             if (fe_locate_in(coarse, owner[c[v]], cen, tol, ref)) ce = owner[c[v]];
-        if (ce < 0) {
-            int bx = (int)floor((cen[0] - lo[0]) / cell[0]), by = (int)floor((cen[1] - lo[1]) / cell[1]);
-            bx = bx < 0 ? 0 : (bx > G - 1 ? G - 1 : bx);
-            by = by < 0 ? 0 : (by > G - 1 ? G - 1 : by);
-            for (q = cnt[by * G + bx]; q < cnt[by * G + bx + 1] && ce < 0; q++)
-                if (fe_locate_in(coarse, lst[q], cen, tol, ref)) ce = lst[q];
-        }
+        if (ce < 0) ce = fe_locator_find(&L, cen, ref);
         if (ce < 0) { rc = -2; goto done; }
         for (v = 0; v < nv; v++)
             if (!fe_locate_in(coarse, ce, fine->x + 2 * c[v], tol, ref)) { rc = -2; goto done; }
@@ -1197,7 +1256,8 @@ static inline int fe_h1_error_parts(const fe_mesh *coarse, const double *uc, con
         }
     }
 done:
-    free(cnt); free(lst); free(ui); free(owner);
+    fe_locator_free(&L);
+    free(ui); free(owner);
     return rc;
 }
 
@@ -1357,6 +1417,196 @@ static inline void fe_run_free(fe_run *run)
     free(run->yprev); free(run->ys); free(run->ts); free(run->diag);
     for (k = 0; k < FE_MAX_BRANCHES; k++) free(run->br[k].y);
     memset(run, 0, sizeof *run);
+}
+
+/* ---- branch end points on file: the nested-mesh studies of Tables 3 and 4 -------------------
+   Text: "fe-ends SPEC" with the mesh as fe_mesh_from_spec reads it, "COUNT NNODE", then per
+   branch "branch K gamma G" and one line per mesh node (mesh order) with u1 u2 lD1 lD2 l_nu
+   l_tau (zero where the node has no such unknown). The contact multipliers are nodal forces,
+   so the file holds them as densities, divided by the node's share of the contact boundary
+   (fe_contact_lengths): they interpolate onto a finer mesh as the displacements do (the
+   Dirichlet multipliers already are densities, through the boundary mass matrix). */
+
+/* Each node's share of the contact boundary: half of every contact edge at each of its ends. */
+static inline double *fe_contact_lengths(const fe_model *md)
+{
+    const fe_mesh *m = md->mesh;
+    double *len = calloc((size_t)m->nnode, sizeof(double));
+    int e, k;
+    if (!len) return NULL;
+    for (e = 0; e < m->nedge; e++)
+        if (m->edge_tag[e] == md->contact_tag) {
+            const int *c = m->edge + 2 * e;
+            double l = hypot(m->x[2 * c[1]] - m->x[2 * c[0]], m->x[2 * c[1] + 1] - m->x[2 * c[0] + 1]);
+            for (k = 0; k < 2; k++) len[c[k]] += 0.5 * l;
+        }
+    return len;
+}
+
+/* "rect LX LY NX NY" (fe_mesh_rectangle) or "tri LEN N" (fe_mesh_triangle); 0 or -1. */
+static inline int fe_mesh_from_spec(const char *spec, fe_mesh *m)
+{
+    double lx, ly;
+    int nx, ny;
+    memset(m, 0, sizeof *m);
+    if (sscanf(spec, " rect %lf %lf %d %d", &lx, &ly, &nx, &ny) == 4) return fe_mesh_rectangle(m, lx, ly, nx, ny);
+    if (sscanf(spec, " tri %lf %d", &lx, &nx) == 2) return fe_mesh_triangle(m, lx, nx);
+    return -1;
+}
+
+/* Node a's six fields, contact multipliers per unit length (clen: fe_contact_lengths). */
+static inline void fe_node_fields(const fe_model *md, const double *clen, const double *y, int a, double f[6])
+{
+    int k;
+    for (k = 0; k < 6; k++) f[k] = 0;
+    if (md->udof[a] >= 0) { f[0] = y[md->udof[a]]; f[1] = y[md->udof[a] + 1]; }
+    if (md->ddof[a] >= 0) { f[2] = y[md->ddof[a]]; f[3] = y[md->ddof[a] + 1]; }
+    if (md->cdof[a] >= 0 && clen[a] > 0) { f[4] = y[md->cdof[a]] / clen[a]; f[5] = y[md->cdof[a] + 1] / clen[a]; }
+}
+
+static inline void fe_set_node_fields(const fe_model *md, const double *clen, int a, const double f[6], double *y)
+{
+    if (md->udof[a] >= 0) { y[md->udof[a]] = f[0]; y[md->udof[a] + 1] = f[1]; }
+    if (md->ddof[a] >= 0) { y[md->ddof[a]] = f[2]; y[md->ddof[a] + 1] = f[3]; }
+    if (md->cdof[a] >= 0) { y[md->cdof[a]] = f[4] * clen[a]; y[md->cdof[a] + 1] = f[5] * clen[a]; }
+}
+
+/* The distinct numbered branches' end points of run, on the mesh described by spec. */
+static inline int fe_run_save_ends(const fe_run *run, const char *path, const char *spec)
+{
+    const fe_model *md = run->md;
+    double *clen = fe_contact_lengths(md);
+    FILE *f = clen ? fopen(path, "w") : NULL;
+    int k, a, j, count = 0;
+    if (!f) { free(clen); return -1; }
+    for (k = 0; k < run->nbr; k++) count += run->br[k].number > 0 && run->br[k].duplicate_of < 0;
+    fprintf(f, "fe-ends %s\n%d %d\n", spec, count, md->mesh->nnode);
+    for (k = 0; k < run->nbr; k++) {
+        const fe_branch *b = &run->br[k];
+        if (b->number <= 0 || b->duplicate_of >= 0) continue;
+        fprintf(f, "branch %d gamma %.17g\n", b->number, b->y[md->n]);
+        for (a = 0; a < md->mesh->nnode; a++) {
+            double v[6];
+            fe_node_fields(md, clen, b->y, a, v);
+            for (j = 0; j < 6; j++) fprintf(f, "%.17g%c", v[j], j == 5 ? '\n' : ' ');
+        }
+    }
+    free(clen);
+    return fclose(f) ? -1 : 0;
+}
+
+typedef struct fe_ends {
+    fe_mesh mesh;                  /* the mesh they were computed on */
+    int count, number[FE_MAX_BRANCHES];
+    double gamma[FE_MAX_BRANCHES];
+    double *fields;                /* count x nnode x 6 */
+} fe_ends;
+
+static inline void fe_ends_free(fe_ends *e)
+{
+    fe_mesh_free(&e->mesh);
+    free(e->fields);
+    memset(e, 0, sizeof *e);
+}
+
+/* Reads a file of fe_run_save_ends; 0, or -1 (unreadable, malformed, out of memory). */
+static inline int fe_ends_read(const char *path, fe_ends *e)
+{
+    FILE *f = fopen(path, "r");
+    char line[256];
+    int k, a, nn;
+    memset(e, 0, sizeof *e);
+    if (!f) return -1;
+    if (!fgets(line, sizeof line, f) || strncmp(line, "fe-ends ", 8) || fe_mesh_from_spec(line + 8, &e->mesh) ||
+        fscanf(f, "%d %d", &e->count, &nn) != 2 || e->count < 1 || e->count > FE_MAX_BRANCHES || nn != e->mesh.nnode) {
+        fclose(f);
+        fe_ends_free(e);
+        return -1;
+    }
+    e->fields = malloc(sizeof(double) * 6 * (size_t)nn * (size_t)e->count);
+    for (k = 0; e->fields && k < e->count; k++) {
+        if (fscanf(f, " branch %d gamma %lf", &e->number[k], &e->gamma[k]) != 2) break;
+        for (a = 0; a < 6 * nn; a++)
+            if (fscanf(f, "%lf", &e->fields[(size_t)k * 6 * nn + a]) != 1) break;
+        if (a < 6 * nn) break;
+    }
+    fclose(f);
+    if (!e->fields || k < e->count) { fe_ends_free(e); return -1; }
+    return 0;
+}
+
+/* The end points of a coarser nested mesh re-solved on run's mesh: each branch's six nodal
+   fields interpolated (fe_interpolate_nested: exact for the displacements; the multipliers,
+   which live on boundary nodes, linearly along the boundary edges), then Newton at its gamma.
+   Fills run->br[] as a branching run would, classified by the example's classify. Returns 0
+   or -1 (file, nesting or memory); a branch whose Newton fails ends PSB_ERR_NO_CONVERGENCE. */
+static inline int fe_run_refine_ends(fe_run *run, const char *path, void (*classify)(const fe_model *, fe_branch *))
+{
+    fe_model *md = run->md;
+    const fe_mesh *m = md->mesh;
+    fe_ends e;
+    double *fine = NULL, *clen = NULL;
+    int k, a, rc = 0;
+    if (fe_ends_read(path, &e)) return -1;
+    fine = malloc(sizeof(double) * 6 * (size_t)m->nnode);
+    clen = fe_contact_lengths(md);
+    run->nbr = 0;
+    for (k = 0; k < e.count && !rc; k++) {
+        fe_branch *b = &run->br[run->nbr];
+        if (!fine || !clen || fe_interpolate_nested(&e.mesh, 6, e.fields + (size_t)k * 6 * e.mesh.nnode, m, fine)) { rc = -1; break; }
+        memset(b->y, 0, sizeof(double) * (size_t)run->np1);
+        for (a = 0; a < m->nnode; a++) fe_set_node_fields(md, clen, a, fine + 6 * (size_t)a, b->y);
+        b->y[md->n] = e.gamma[k];
+        b->end = psb_solve_at_param(&run->s, b->y, 50) == PSB_SUCCESS ? PSB_PARAM_BOUND : PSB_ERR_NO_CONVERGENCE;
+        b->found = k;
+        b->steps = 0;
+        b->switches = 0;
+        b->duplicate_of = -1;
+        b->resnorm = fe_resnorm(md, b->y);
+        classify(md, b);
+        if (b->number != e.number[k])
+            printf("  refined branch %d classifies as %d on this mesh\n", e.number[k], b->number);
+        run->nbr++;
+    }
+    free(fine);
+    free(clen);
+    fe_ends_free(&e);
+    return rc;
+}
+
+/* Prints "  M<elements>  K: err ..." with err = ||u_c - u||_1 / ||u||_1, u_c the displacements of
+   the file's branch K (a coarser nested mesh) and u those of run's branch K (Tables 3 and 4). */
+static inline int fe_run_compare_ends(const fe_run *run, const char *path)
+{
+    const fe_model *md = run->md;
+    fe_ends e;
+    double *uc = NULL, *uf = NULL, parts[4];
+    int k, j, a, p, rc = 0, nn;
+    if (fe_ends_read(path, &e)) return -1;
+    nn = e.mesh.nnode;
+    uc = malloc(sizeof(double) * 2 * (size_t)nn);
+    uf = malloc(sizeof(double) * 2 * (size_t)md->mesh->nnode);
+    if (!uc || !uf) rc = -1;
+    printf("  M%-6d", e.mesh.nelem);
+    for (p = 1; p <= FE_MAX_BRANCHES && !rc; p++) { /* by branch number */
+        const fe_branch *b = NULL;
+        for (k = 0; k < e.count && e.number[k] != p; k++) {}
+        if (k == e.count) continue;
+        for (j = 0; j < run->nbr; j++)
+            if (run->br[j].number == e.number[k] && run->br[j].duplicate_of < 0) b = &run->br[j];
+        if (!b) continue;
+        for (a = 0; a < nn; a++) {
+            uc[2 * a] = e.fields[(size_t)k * 6 * nn + 6 * a];
+            uc[2 * a + 1] = e.fields[(size_t)k * 6 * nn + 6 * a + 1];
+        }
+        fe_displacements(md, b->y, uf);
+        if (fe_h1_error_parts(&e.mesh, uc, md->mesh, uf, parts)) { rc = -1; break; }
+        printf("  %d: %.2e", e.number[k], sqrt((parts[0] + parts[1]) / (parts[2] + parts[3])));
+    }
+    printf("\n");
+    free(uc); free(uf);
+    fe_ends_free(&e);
+    return rc;
 }
 
 /* Point callback of the approach: stop on the kink located at the branching point. */

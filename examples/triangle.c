@@ -19,14 +19,15 @@
 
    --sparse (built with -DFE_UMFPACK): UMFPACK through pscbranch's user-solver callbacks
      (examples/fe_umfpack.h) instead of the banded backend; the fine meshes need it.
-   --out DIR also writes u_K.txt, the nodal displacements (u1 u2 per node, mesh order) of
-   branch K at its end (branching) or at gamma = 1 (fold).
-   triangle --h1 NC UC NF UF: the relative H1(Omega) error ||u_c - u_f||_1 / ||u_f||_1 of the
-     displacements in file UC on mesh n = NC against those in UF on mesh NF (NF a multiple of NC).
+   Table 4 (branching): --save FILE writes the branches' end points at |gamma| = 1; --refine FILE
+   reads such a file of a coarser nested mesh (N a multiple of its own) and re-solves each end
+   point on this mesh by Newton from the interpolated coarse solution, skipping the branching;
+   --compare FILE (up to 4) prints the relative H1(Omega) errors of a coarser file's
+   displacements against this run's, branch by branch.
 
    Usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
                    [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
-                   [--dense | --sparse] [--verbose]
+                   [--dense | --sparse] [--verbose] [--save FILE] [--refine FILE] [--compare FILE]...
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/triangle.c -o examples/triangle -llapack -lblas -lm
      cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_UMFPACK examples/triangle.c \
@@ -47,7 +48,8 @@ typedef struct args {
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
     unsigned long long seed;
-    const char *out;
+    const char *out, *save, *refine, *compare[4];
+    int ncompare;
 } args;
 
 static int parse(int argc, char **argv, args *a)
@@ -55,6 +57,7 @@ static int parse(int argc, char **argv, args *a)
     int i;
     a->n = 32; a->fold = 0; a->ndir = 30; a->nspan = 10; a->multipliers = 1; a->verbose = 0; a->dense = 0; a->sparse = 0;
     a->kappa = -1; a->hmin = 5e-4; a->load = 0; a->mult_weight = -1; a->seed = 0; a->out = NULL;
+    a->save = a->refine = NULL; a->ncompare = 0;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
@@ -83,6 +86,9 @@ static int parse(int argc, char **argv, args *a)
         else if (!strcmp(o, "--load")) a->load = !strcmp(v, "auto") ? -1 : atof(v);
         else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
         else if (!strcmp(o, "--out")) a->out = v;
+        else if (!strcmp(o, "--save")) a->save = v;
+        else if (!strcmp(o, "--refine")) a->refine = v;
+        else if (!strcmp(o, "--compare")) { if (a->ncompare == 4) return -1; a->compare[a->ncompare++] = v; }
         else if (!strcmp(o, "--dirichlet")) a->multipliers = strcmp(v, "elim") != 0;
         else if (!strcmp(o, "--kappa")) a->kappa = !strcmp(v, "1/N") ? -1 : atof(v);
         else { fprintf(stderr, "triangle: unknown option %s\n", o); return -1; }
@@ -129,55 +135,6 @@ static void free_run(fe_run *run, void *umf)
     if (umf) fe_umf_free((fe_umf *)umf);
 #endif
     free(umf);
-}
-
-/* u_K.txt in dir: the nodal displacements of y, one node per line. */
-static int write_displacements(const fe_model *md, const double *y, const char *dir, int k)
-{
-    char path[1024];
-    FILE *fp;
-    int a, nn = md->mesh->nnode;
-    double *u = malloc(sizeof(double) * 2 * (size_t)nn);
-    snprintf(path, sizeof path, "%s/u_%d.txt", dir, k);
-    if (!u || !(fp = fopen(path, "w"))) { free(u); return -1; }
-    fe_displacements(md, y, u);
-    for (a = 0; a < nn; a++) fprintf(fp, "%.17g %.17g\n", u[2 * a], u[2 * a + 1]);
-    free(u);
-    return fclose(fp) ? -1 : 0;
-}
-
-static double *read_displacements(const char *path, int nn)
-{
-    FILE *fp = fopen(path, "r");
-    double *u = malloc(sizeof(double) * 2 * (size_t)nn);
-    int a, ok = fp && u;
-    double extra;
-    for (a = 0; ok && a < 2 * nn; a++) ok = fscanf(fp, "%lf", u + a) == 1;
-    if (ok) ok = fscanf(fp, "%lf", &extra) == EOF; /* a file of another mesh */
-    if (fp) fclose(fp);
-    if (!ok) { free(u); return NULL; }
-    return u;
-}
-
-/* triangle --h1 NC UC NF UF */
-static int h1_mode(int argc, char **argv)
-{
-    fe_mesh mc, mf;
-    double *uc, *uf, rel = 0;
-    int nc, nf, rc;
-    if (argc != 6 || (nc = atoi(argv[2])) < 1 || (nf = atoi(argv[4])) < 1) {
-        fprintf(stderr, "usage: triangle --h1 NC UC NF UF\n");
-        return 2;
-    }
-    if (fe_mesh_triangle(&mc, 1.0, nc) || fe_mesh_triangle(&mf, 1.0, nf)) { fprintf(stderr, "triangle: out of memory\n"); return 1; }
-    uc = read_displacements(argv[3], mc.nnode);
-    uf = read_displacements(argv[5], mf.nnode);
-    if (!uc || !uf) { fprintf(stderr, "triangle: cannot read %s or %s\n", argv[3], argv[5]); return 1; }
-    rc = fe_h1_rel_error(&mc, uc, &mf, uf, &rel);
-    if (rc) { fprintf(stderr, "triangle: H1 error failed (%d: %s)\n", rc, rc == -2 ? "meshes not nested" : "memory or zero"); return 1; }
-    printf("%.6e\n", rel);
-    free(uc); free(uf); fe_mesh_free(&mc); fe_mesh_free(&mf);
-    return 0;
 }
 
 /* Paper numbering: gamma < 0 is branch 2; gamma > 0 by the lower left vertex: 1 separated,
@@ -303,7 +260,6 @@ static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
             for (k = 0; k < fs.nfold; k++) fprintf(fp, "%d,%.10f\n", k + 1, fs.folds[k]);
             fclose(fp);
         }
-        if (fp && write_displacements(run->md, y, a->out, 1)) fp = NULL;
         if (!fp || fe_run_write(run, a->out, "triangle (fold)", 0) || fe_run_write_gnuplot(run, a->out, "triangle (fold)", "m", 1))
             printf("triangle: could not write to %s\n", a->out);
         else
@@ -389,15 +345,15 @@ int main(int argc, char **argv)
     fe_run run;
     psb_options opt;
     double *y, *t, *rv, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
+    char spec[64];
     int n, k, ndist, ok, rc;
     psb_result r;
     void *umf;
 
-    if (argc > 1 && !strcmp(argv[1], "--h1")) return h1_mode(argc, argv);
     if (parse(argc, argv, &a)) {
         fprintf(stderr, "usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]\n"
                         "                [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR] [--dense | --sparse] [--verbose]\n"
-                        "       triangle --h1 NC UC NF UF\n");
+                        "                [--save FILE] [--refine FILE] [--compare FILE]...\n");
         return 2;
     }
     if (!a.fold && a.load <= 0 && choose_load(&a)) return 1;
@@ -420,6 +376,13 @@ int main(int argc, char **argv)
            md.half_band, a.kappa > 0 ? "given" : "1/N", a.sparse ? "UMFPACK (user solver)" : (a.dense ? "dense LAPACK" : "banded LAPACK"));
 
     t0 = seconds();
+    if (a.refine && !a.fold) {
+        if (fe_run_refine_ends(&run, a.refine, classify)) { printf("triangle: cannot refine %s onto this mesh\n", a.refine); return 1; }
+        printf("\n  end points of %s interpolated onto this mesh and re-solved by Newton at their gamma (load -%g)\n",
+               a.refine, a.load);
+        t1 = seconds();
+        goto table;
+    }
     y[n] = a.fold ? -3 : -1; /* the pushing side: Newton from zero converges there */
     r = psb_solve_at_param(&run.s, y, 50);
     if (r != PSB_SUCCESS) { printf("triangle: Newton at gamma = %g failed: %s\n", y[n], psb_result_string(r)); return 1; }
@@ -466,17 +429,22 @@ int main(int argc, char **argv)
     printf("\n");
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d, tangents = %ld\n",
            run.br[0].number, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_tangents);
+table:
     printf("\n  branch  gamma   state                           contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
     ok = 1;
-    ndist = fe_run_branch_table(&run, 4, n, tol, check_branch, print_row, &ok);
+    ndist = fe_run_branch_table(&run, a.refine ? run.nbr : 4, n, tol, check_branch, print_row, &ok);
     if (a.out) mkdir(a.out, 0777);
-    ok = fe_run_summary(&run, ndist, 4, t1 - t0, "triangle", "m", 1, a.out) && ok;
-    if (a.out)
-        for (k = 0; k < run.nbr; k++)
-            if (run.br[k].duplicate_of < 0 && write_displacements(&md, run.br[k].y, a.out, run.br[k].number))
-                printf("triangle: could not write to %s\n", a.out);
+    ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 4, t1 - t0, "triangle", "m", 1, a.out) && ok;
+    snprintf(spec, sizeof spec, "tri 1 %d", a.n);
+    if (a.save && fe_run_save_ends(&run, a.save, spec)) { printf("triangle: cannot write %s\n", a.save); ok = 0; }
+    if (a.ncompare) printf("\n  relative H1 errors of the displacements against this mesh (Table 4), by branch:\n");
+    for (k = 0; k < a.ncompare; k++)
+        if (fe_run_compare_ends(&run, a.compare[k])) { printf("triangle: cannot compare with %s (not a coarser nested mesh?)\n", a.compare[k]); ok = 0; }
     report_umf(umf);
-    printf("triangle: %s\n", ok ? "OK (four branches as in the paper)" : "FAILED (branches differ from the paper)");
+    if (a.refine)
+        printf("triangle: %s\n", ok ? "OK (every end point re-solved on its branch)" : "FAILED (an end point did not re-solve on its branch)");
+    else
+        printf("triangle: %s\n", ok ? "OK (four branches as in the paper)" : "FAILED (branches differ from the paper)");
     free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
     return ok ? 0 : 1;
 }

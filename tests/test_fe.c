@@ -411,6 +411,51 @@ static void nodal(const fe_mesh *m, int kind, double *u)
 
 /* Relative H1 error on nested meshes (fe_h1_rel_error): exact interpolation of the coarse space,
    the closed form for u = (x^2, 0), the O(h) convergence of interpolants, and non-nested input. */
+/* fe_interpolate_nested: a field linear in x and y is reproduced at every fine node; a field
+   living on the bottom boundary nodes (x there, 0 elsewhere) comes out as x on every fine bottom
+   node, midpoints included (no weight from the interior vertices). fe_contact_lengths: the
+   nodes' shares add up to the contact edge's length, and interior contact nodes get h. */
+static void test_nested_interpolation(void)
+{
+    int tri, a;
+    for (tri = 0; tri < 2; tri++) {
+        fe_mesh c, f;
+        double *vc, *vf, err_lin = 0, err_bnd = 0;
+        int nc = 4;
+        if (tri) { fe_mesh_triangle(&c, 1.0, nc); fe_mesh_triangle(&f, 1.0, 3 * nc); }
+        else { fe_mesh_rectangle(&c, 40.0, 80.0, nc, 2 * nc); fe_mesh_rectangle(&f, 40.0, 80.0, 3 * nc, 6 * nc); }
+        vc = malloc(sizeof(double) * 2 * c.nnode);
+        vf = malloc(sizeof(double) * 2 * f.nnode);
+        for (a = 0; a < c.nnode; a++) {
+            double x = c.x[2 * a], y = c.x[2 * a + 1];
+            vc[2 * a] = 0.5 + 2 * x - 3 * y;
+            vc[2 * a + 1] = y == 0 ? x : 0;
+        }
+        CHECK(fe_interpolate_nested(&c, 2, vc, &f, vf) == 0);
+        for (a = 0; a < f.nnode; a++) {
+            double x = f.x[2 * a], y = f.x[2 * a + 1];
+            err_lin = fmax(err_lin, fabs(vf[2 * a] - (0.5 + 2 * x - 3 * y)));
+            if (y == 0) err_bnd = fmax(err_bnd, fabs(vf[2 * a + 1] - x));
+        }
+        CHECK(err_lin < 1e-12 && err_bnd < 1e-12);
+        CHECK(fe_interpolate_nested(&f, 2, vf, &c, vc) == 0); /* fine onto coarse: its nodes are fine nodes */
+        free(vc); free(vf); fe_mesh_free(&c); fe_mesh_free(&f);
+    }
+    {
+        fe_mesh mesh;
+        fe_model md;
+        double *len, sum = 0;
+        CHECK(fe_block_model(&md, &mesh, 4, 8, 1) == 0);
+        len = fe_contact_lengths(&md);
+        CHECK(len != NULL);
+        for (a = 0; a < mesh.nnode; a++) sum += len[a];
+        CHECK_NEAR(sum, 40.0, 1e-12);
+        CHECK_NEAR(len[md.cnode[1]], 10.0, 1e-12);
+        CHECK_NEAR(len[md.cnode[0]], 5.0, 1e-12);
+        free(len); fe_model_free(&md); fe_mesh_free(&mesh);
+    }
+}
+
 static void test_h1_error(void)
 {
     int kind, tri, k;
@@ -533,6 +578,7 @@ int main(void)
     test_band_layout();
     test_sparse_pattern();
     test_h1_error();
+    test_nested_interpolation();
 #ifdef FE_UMFPACK
     test_umfpack();
 #endif
