@@ -53,6 +53,17 @@ $(BUILD)/test_linkage: tests/test_linkage.c $(BUILD)/linkage_impl.o tests/harnes
 examples/%: examples/%.c $(HEADER)
 	$(CC) $(ALL_CFLAGS) $< -o $@ $(LIBS)
 
+# fc_solve reads FCLib's HDF5 files too when HDF5 is installed (libhdf5-dev; HDF5= to build
+# without); the library itself never depends on it
+HDF5 ?= $(shell pkg-config --exists hdf5 2>/dev/null && echo yes)
+ifeq ($(HDF5),yes)
+FC_HDF5_CFLAGS = -DFC_SOLVE_HDF5 $(shell pkg-config --cflags hdf5)
+FC_HDF5_LIBS = $(shell pkg-config --libs hdf5)
+SMOKE_HDF5 = "smoke:examples/fc_solve $(SHARED)/fc-problems/harder/*.hdf5"
+endif
+examples/fc_solve: examples/fc_solve.c $(HEADER)
+	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) $< -o $@ $(FC_HDF5_LIBS) $(LIBS)
+
 examples/block examples/triangle: examples/fe.h
 
 examples: $(EXAMPLES)
@@ -60,6 +71,7 @@ examples: $(EXAMPLES)
 # each example exits non-zero when its result differs from the analytic or the papers' one
 SMOKE = "smoke:examples/01_branching" \
 	"smoke:examples/fc_solve $(SHARED)/fc-problems/*.dat" \
+	"smoke:examples/fc_solve $(SHARED)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
 	"smoke:examples/block" \
 	"smoke:examples/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && examples/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
 	"smoke:examples/triangle --mesh 16" \

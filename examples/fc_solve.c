@@ -264,8 +264,13 @@ static const char *fc_read(const char *path, fc_problem *p)
         err = "bad header";
         goto done;
     }
-    if ((dim != 2 && dim != 3) || nc < 1 || nc > 20000 || s0 != dim * nc || s1 != s0) {
-        err = "unsupported sizes";
+    if ((dim != 2 && dim != 3) || nc < 1 || nc > 20000) {
+        err = "unsupported sizes (dimension 2 or 3, 1 to 20000 contacts)";
+        goto done;
+    }
+    if (s0 != dim * nc || s1 != s0) {
+        /* the global problems (M v = H r + f) of the same test suites start the same way */
+        err = "W is not (dim*nc) x (dim*nc): not a reduced problem u = W r + q (a global one?)";
         goto done;
     }
     p->dim = (int)dim;
