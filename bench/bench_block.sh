@@ -28,33 +28,38 @@ field() { # field NAME TEXT: the number after "NAME = " or "NAME "
 echo "bench_block: the block of Section 3.2 (n_dir 20, n_span 15, input branch 1 unless stated)"
 ldd "$block" | grep -E 'blas|lapack' | sed 's/^[[:space:]]*/  linked: /'
 echo
-echo "  mesh    backend      N   time [s]   factorisations   n_pc  branches   speed-up"
+echo "  mesh    run    backend      N   time [s]   factorisations   n_pc  branches   speed-up"
 csv=bench/out/block_backends.csv
-echo "mesh,backend,n,seconds,factorisations,n_pc,branches" >"$csv"
+echo "mesh,run,backend,n,seconds,factorisations,n_pc,branches" >"$csv"
+# row MESH RUN BACKEND FLAGS...: one run of the example, printed and appended to the CSV;
+# sets $secs (the speed-up column compares a dense row with the banded row before it)
+row() {
+    local mesh=$1 run=$2 backend=$3 out n line fact nbr npc speed="-"
+    shift 3
+    out=$($block --mesh "$mesh" "$@" 2>&1)
+    n=$(printf '%s\n' "$out" | sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' | head -n 1)
+    line=$(printf '%s\n' "$out" | grep 'distinct branches')
+    secs=$(printf '%s\n' "$line" | sed -n 's/.*time \([0-9.]*\) s.*/\1/p')
+    fact=$(printf '%s\n' "$line" | sed -n 's/.*factorisations \([0-9]*\).*/\1/p')
+    nbr=$(printf '%s\n' "$line" | sed -n 's/^ *\([0-9]*\) distinct.*/\1/p')
+    npc=$(printf '%s\n' "$out" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
+    if [ "$backend" = dense ]; then speed=$(awk -v d="$secs" -v b="$banded_time" 'BEGIN { if (b > 0) printf "%.1fx", d / b; else print "-" }'); fi
+    printf '  %-7s %-6s %-8s %6s %10s %16s %6s %9s %10s\n' "$mesh" "$run" "$backend" "$n" "$secs" "$fact" "$npc" "$nbr" "$speed"
+    echo "$mesh,$run,$backend,$n,$secs,$fact,$npc,$nbr" >>"$csv"
+}
 meshes="10x20 20x40"
 [ $full -eq 1 ] && meshes="$meshes 40x80"
 [ $quick -eq 1 ] && meshes="10x20"
 for mesh in $meshes; do
-    banded_time=""
-    for backend in banded dense; do
-        if [ "$backend" = dense ] && [ "$mesh" != 10x20 ]; then
-            echo "  $mesh  dense     (not run: a dense factorisation of this size costs minutes per branching run)"
-            continue
-        fi
-        flag=""
-        [ "$backend" = dense ] && flag="--dense"
-        out=$($block --mesh "$mesh" $flag 2>&1)
-        n=$(printf '%s\n' "$out" | sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' | head -n 1)
-        line=$(printf '%s\n' "$out" | grep 'distinct branches')
-        secs=$(printf '%s\n' "$line" | sed -n 's/.*time \([0-9.]*\) s.*/\1/p')
-        fact=$(printf '%s\n' "$line" | sed -n 's/.*factorisations \([0-9]*\).*/\1/p')
-        nbr=$(printf '%s\n' "$line" | sed -n 's/^ *\([0-9]*\) distinct.*/\1/p')
-        npc=$(printf '%s\n' "$out" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
-        speed="-"
-        if [ "$backend" = banded ]; then banded_time=$secs; else speed=$(awk -v d="$secs" -v b="$banded_time" 'BEGIN { if (b > 0) printf "%.1fx", d / b; else print "-" }'); fi
-        printf '  %-7s %-8s %6s %10s %16s %6s %9s %10s\n' "$mesh" "$backend" "$n" "$secs" "$fact" "$npc" "$nbr" "$speed"
-        echo "$mesh,$backend,$n,$secs,$fact,$npc,$nbr" >>"$csv"
-    done
+    row "$mesh" whole banded; banded_time=$secs
+    if [ "$mesh" = 10x20 ]; then
+        row "$mesh" whole dense --dense
+    elif [ "$mesh" = 20x40 ]; then
+        # a whole dense run costs ~1 h here (~0.7 s per factorisation): both backends on the
+        # same short run instead (Algorithm 2.2 with 2 directions in 1 span, found branches traced)
+        row "$mesh" short banded --ndir 2 --nspan 1; banded_time=$secs
+        row "$mesh" short dense --ndir 2 --nspan 1 --dense
+    fi
 done
 
 echo
