@@ -178,8 +178,11 @@
      g <= 16 the solution is used as it comes (dgbtrs is backward stable), elsewhere it is
      checked by its residual in B and refined; if A is exactly singular or refinement stalls,
      A + sigma I (sigma = sqrt(eps) ||B||) is factored instead and the refinement against the
-     true B converges geometrically. Memory ~ (3 kl + 2 ku + 50) N, plus the memo of
-     Algorithm 2.2 (at most 8 MB, section 6).
+     true B converges geometrically. band_jacobian writes straight into the LU storage
+     (ldband = 2 kl + ku + 1), so a factorisation copies nothing; where A itself is needed
+     again (the residual check, a shift, another border row) it is called once more at the
+     same y. Memory ~ (3 kl + 2 ku + 50) N, plus the memo of Algorithm 2.2 (at most 8 MB,
+     section 6).
    PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
      in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
      solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
@@ -434,7 +437,8 @@ typedef int (*psb_jacobian_fn)(const double *y, double *jac, int ldjac, void *us
    the state x (y without its parameter component: state column j is y component j when
    j < param_index, j+1 otherwise), has kl sub- and ku super-diagonals. Fill A(i, j) for
    max(0, j-ku) <= i <= min(n-1, j+kl) at band[PSB_BAND_INDEX(ku, ldband, i, j)] (LAPACK's
-   band layout, ldband >= kl+ku+1; the block arrives zeroed) and dparam[i] = dH_i/dparameter. */
+   band layout, ldband >= kl+ku+1: use the ldband given; the block arrives zeroed) and
+   dparam[i] = dH_i/dparameter. It may be called twice at the same y (manual, section 6). */
 typedef int (*psb_band_jacobian_fn)(const double *y, double *band, int ldband, double *dparam,
                                     void *user);
 #define PSB_BAND_INDEX(ku, ldband, i, j) ((size_t)((ku) + (i) - (j)) + (size_t)(j) * (size_t)(ldband))
@@ -560,6 +564,7 @@ typedef struct psb_solver {
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_;
+    int lu_fresh_, band_fresh_; /* banded: lu_ holds dH/dx unfactored / band_ holds it */
     double *w_;
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
     double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_;
@@ -1404,23 +1409,44 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 /* state column j <-> y component */
 static int psb__ycol(const psb_solver *s, int j) { return j < s->prob.param_index ? j : j + 1; }
 
+/* band_jacobian at y into `storage` (n columns of leading dimension ld, zeroed first; the band
+   starts `skip` rows down) and dparam_; every entry is checked, since an Inf on the diagonal
+   factors into finite, wrong solutions. */
+static psb_result psb__band_callback(psb_solver *s, const double *y, double *storage, int ld,
+                                     int skip)
+{
+    size_t size = (size_t)ld * (size_t)s->n_;
+    psb_result r;
+    memset(storage, 0, size * sizeof(double));
+    memset(s->dparam_, 0, (size_t)s->n_ * sizeof(double));
+    r = psb__callback_code(s, s->prob.band_jacobian(y, storage + skip, ld, s->dparam_, s->prob.user),
+                           "band_jacobian callback returned nonzero");
+    if (r != PSB_SUCCESS) return r;
+    if (!psb__all_finite(storage, (int)size) || !psb__all_finite(s->dparam_, s->n_)) {
+        s->last_fail_ = PSB__FAIL_NONFINITE;
+        return psb__fail(s, PSB_ERR_NONFINITE, "band_jacobian callback returned NaN or Inf");
+    }
+    return PSB_SUCCESS;
+}
+
+/* The user's band goes straight into the LU storage (below dgbtrf's kl rows of fill, with
+   ldband = 2 kl + ku + 1), so the usual factorisation copies nothing; band_ gets A only when a
+   residual check, a shift or a second bordering needs it again (psb__band_restore). */
 static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const double *h_at_y)
 {
     int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
-    int i, j, g, rc;
+    int i, j, g;
     psb_result r;
+    s->lu_fresh_ = s->band_fresh_ = 0;
+    if (s->prob.band_jacobian) {
+        psb__copy(s->yfac_, y, s->np1_);
+        r = psb__band_callback(s, y, s->lu_, s->ldlu_, kl);
+        s->lu_fresh_ = r == PSB_SUCCESS;
+        return r;
+    }
     memset(s->band_, 0, (size_t)ld * (size_t)n * sizeof(double));
     memset(s->dparam_, 0, (size_t)n * sizeof(double));
-    if (s->prob.band_jacobian) {
-        rc = s->prob.band_jacobian(y, s->band_, ld, s->dparam_, s->prob.user);
-        r = psb__callback_code(s, rc, "band_jacobian callback returned nonzero");
-        if (r != PSB_SUCCESS) return r;
-        if (!psb__all_finite(s->band_, ld * n) || !psb__all_finite(s->dparam_, n)) {
-            s->last_fail_ = PSB__FAIL_NONFINITE;
-            return psb__fail(s, PSB_ERR_NONFINITE, "band_jacobian callback returned NaN or Inf");
-        }
-        return PSB_SUCCESS;
-    }
+    s->band_fresh_ = 1;
     /* finite differences, Curtis-Powell-Reid: state columns j = g, g + ld, g + 2 ld, ... touch
        disjoint rows, so one residual serves the whole group */
     {
@@ -1460,17 +1486,33 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
     return PSB_SUCCESS;
 }
 
+/* A into band_ again after its factorisation overwrote it: the callback at the same y. */
+static psb_result psb__band_restore(psb_solver *s)
+{
+    psb_result r;
+    if (s->band_fresh_) return PSB_SUCCESS;
+    s->stats.n_jacobian++;
+    r = psb__band_callback(s, s->yfac_, s->band_, s->prob.kl + s->prob.ku + 1, 0);
+    s->band_fresh_ = r == PSB_SUCCESS;
+    return r;
+}
+
 /* LU of A + shift I into lu_ (dgbtrf layout: kl extra rows on top). */
 static psb_result psb__band_lu(psb_solver *s, double shift)
 {
     int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
     psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->ldlu_, info = 0;
-    for (j = 0; j < n; j++) {
-        double *dst = s->lu_ + (size_t)j * (size_t)s->ldlu_;
-        memset(dst, 0, (size_t)kl * sizeof(double));
-        memcpy(dst + kl, s->band_ + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
-        dst[kl + ku] += shift;
+    if (!(s->lu_fresh_ && shift == 0)) {
+        psb_result r = psb__band_restore(s);
+        if (r != PSB_SUCCESS) return r;
+        for (j = 0; j < n; j++) {
+            double *dst = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+            memset(dst, 0, (size_t)kl * sizeof(double));
+            memcpy(dst + kl, s->band_ + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
+            dst[kl + ku] += shift;
+        }
     }
+    s->lu_fresh_ = 0;
     s->stats.n_factor++;
     PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->lu_, &ldlu, (psb__lint *)s->ipiv_, &info);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
@@ -1519,7 +1561,8 @@ static psb_result psb__band_prepare(psb_solver *s, double shift)
 }
 
 /* ||B||_1 (largest column sum), the scale of the refinement test and of the shift; computed
-   only where one of them is needed (near folds), not in every corrector iteration. */
+   only where one of them is needed (near folds), not in every corrector iteration, and from
+   band_, which the caller has restored (psb__band_restore). */
 static double psb__band_mnorm(psb_solver *s)
 {
     int n = s->n_, ld = s->prob.kl + s->prob.ku + 1, i, j;
@@ -1547,7 +1590,10 @@ static psb_result psb__factor_banded(psb_solver *s, const double *row)
     psb__copy(s->row_, row, s->np1_);
     s->mnorm_ = -1;
     r = psb__band_prepare(s, 0.0);
-    if (r == PSB_ERR_SINGULAR) r = psb__band_prepare(s, psb__band_shift(s));
+    if (r == PSB_ERR_SINGULAR) {
+        r = psb__band_restore(s);
+        if (r == PSB_SUCCESS) r = psb__band_prepare(s, psb__band_shift(s));
+    }
     s->shifted_ = s->shift_ != 0;
     return r;
 }
@@ -1608,6 +1654,8 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
         /* far from folds block elimination is as accurate as dgbtrs itself (backward stable):
            the residual check and refinement are for a nearly singular A only */
         if (!s->shifted_ && s->bamp_ <= 16) continue;
+        r = psb__band_restore(s); /* the residual needs A itself */
+        if (r != PSB_SUCCESS) return r;
         for (it = 0; it <= max_it && !done; it++) {
             znorm = 0;
             for (i = 0; i < np1; i++) znorm = fabs(z[i]) > znorm ? fabs(z[i]) : znorm;
