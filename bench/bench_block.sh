@@ -21,9 +21,6 @@ mkdir -p bench/out
 block=examples/block
 [ -x "$block" ] || { echo "build examples/block first (make examples)"; exit 1; }
 
-field() { # field NAME TEXT: the number after "NAME = " or "NAME "
-    printf '%s\n' "$2" | sed -n "s/.*$1 = \{0,1\}\([0-9.e+-]*\).*/\1/p" | head -n 1
-}
 
 echo "bench_block: the block of Section 3.2 (n_dir 20, n_span 15, input branch 1 unless stated)"
 ldd "$block" | grep -E 'blas|lapack' | sed 's/^[[:space:]]*/  linked: /'
@@ -33,16 +30,21 @@ csv=bench/out/block_backends.csv
 echo "mesh,run,backend,n,seconds,factorisations,n_pc,branches" >"$csv"
 # row MESH RUN BACKEND FLAGS...: one run of the example, printed and appended to the CSV;
 # sets $secs (the speed-up column compares a dense row with the banded row before it)
-row() {
-    local mesh=$1 run=$2 backend=$3 out n line fact nbr npc speed="-"
-    shift 3
-    out=$($block --mesh "$mesh" "$@" 2>&1)
-    n=$(printf '%s\n' "$out" | sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' | head -n 1)
-    line=$(printf '%s\n' "$out" | grep 'distinct branches')
+# parse_run OUTPUT: sets n, hb, secs, fact, nbr, npc from one run's output
+parse_run() {
+    local line
+    n=$(printf '%s\n' "$1" | sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' | head -n 1)
+    hb=$(printf '%s\n' "$1" | sed -n 's/.*half band \([0-9]*\).*/\1/p' | head -n 1)
+    line=$(printf '%s\n' "$1" | grep 'distinct branches')
     secs=$(printf '%s\n' "$line" | sed -n 's/.*time \([0-9.]*\) s.*/\1/p')
     fact=$(printf '%s\n' "$line" | sed -n 's/.*factorisations \([0-9]*\).*/\1/p')
     nbr=$(printf '%s\n' "$line" | sed -n 's/^ *\([0-9]*\) distinct.*/\1/p')
-    npc=$(printf '%s\n' "$out" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
+    npc=$(printf '%s\n' "$1" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
+}
+row() {
+    local mesh=$1 run=$2 backend=$3 speed="-"
+    shift 3
+    parse_run "$($block --mesh "$mesh" "$@" 2>&1)"
     if [ "$backend" = dense ]; then speed=$(awk -v d="$secs" -v b="$banded_time" 'BEGIN { if (b > 0) printf "%.1fx", d / b; else print "-" }'); fi
     printf '  %-7s %-6s %-8s %6s %10s %16s %6s %9s %10s\n' "$mesh" "$run" "$backend" "$n" "$secs" "$fact" "$npc" "$nbr" "$speed"
     echo "$mesh,$run,$backend,$n,$secs,$fact,$npc,$nbr" >>"$csv"
@@ -88,10 +90,10 @@ study_mesh=20x40
 echo
 echo "  Tables 1-2 study (M${study_mesh/x/x}, the paper's mesh is 20x40 = M800): smallest n_span finding all six"
 echo "  branches, from one run with n_span = 40 (the span of the last new branch), and the adaptive end"
-echo "  (branch_patience = 3), beside the paper's Table 1 (n_span, n_pc) and Table 2 (n_pc, n_span a priori)"
-echo "  input  n_dir | n_span   n_pc  n_rand | paper T1 n_span  n_pc | adaptive: branches  n_pc  n_rand  spans | paper T2 n_pc"
+echo "  (branch_patience = 3, and 6), beside the paper's Table 1 (n_span, n_pc) and Table 2 (n_pc, n_span a priori)"
+echo "  input  n_dir | n_span   n_pc  n_rand | paper T1 n_span  n_pc | patience 3: branches  n_pc  n_rand  spans | patience 6: branches  n_pc | paper T2 n_pc"
 csv=bench/out/block_tables.csv
-echo "mesh,input,n_dir,n_span_needed,n_pc,n_rand,branches,paper_t1_n_span,paper_t1_n_pc,adaptive_branches,adaptive_n_pc,adaptive_n_rand,adaptive_spans,paper_t2_n_pc" >"$csv"
+echo "mesh,input,n_dir,n_span_needed,n_pc,n_rand,branches,paper_t1_n_span,paper_t1_n_pc,adaptive_branches,adaptive_n_pc,adaptive_n_rand,adaptive_spans,patience6_branches,patience6_n_pc,paper_t2_n_pc" >"$csv"
 ndirs="20 30 40 50 60 100"
 inputs="1 2 3"
 [ $quick -eq 1 ] && ndirs="20" && inputs="1"
@@ -107,13 +109,16 @@ for input in $inputs; do
         anpc=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
         anrand=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = [0-9]*, n_rand = \([0-9]*\).*/\1/p' | head -n 1)
         aspans=$(printf '%s\n' "$ad" | sed -n 's/.*, spans = \([0-9]*\),.*/\1/p' | head -n 1)
+        ad6=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 --patience 6 2>&1)
+        a6nbr=$(printf '%s\n' "$ad6" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
+        a6npc=$(printf '%s\n' "$ad6" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
         [ "$nbr" = 6 ] || need="(only $nbr)"
         set -- $(paper_t1 "$input" "$ndir")
         p1span=$1 p1pc=$2
         p2=$(paper_t2 "$input" "$ndir")
-        printf '  %5s  %5s | %6s %6s %7s | %15s %5s | %18s %5s %7s %6s | %13s\n' "$input" "$ndir" "$need" "$npc" "$nrand" \
-            "$p1span" "$p1pc" "$anbr" "$anpc" "$anrand" "$aspans" "$p2"
-        echo "$study_mesh,$input,$ndir,$need,$npc,$nrand,$nbr,$p1span,$p1pc,$anbr,$anpc,$anrand,$aspans,$p2" >>"$csv"
+        printf '  %5s  %5s | %6s %6s %7s | %15s %5s | %20s %5s %7s %6s | %20s %5s | %13s\n' "$input" "$ndir" "$need" "$npc" "$nrand" \
+            "$p1span" "$p1pc" "$anbr" "$anpc" "$anrand" "$aspans" "$a6nbr" "$a6npc" "$p2"
+        echo "$study_mesh,$input,$ndir,$need,$npc,$nrand,$nbr,$p1span,$p1pc,$anbr,$anpc,$anrand,$aspans,$a6nbr,$a6npc,$p2" >>"$csv"
     done
 done
 
@@ -129,14 +134,7 @@ study="10x20 20x40 40x80"
 last=""
 compare=""
 for mesh in $study; do
-    out=$($block --mesh "$mesh" --save "bench/out/ends_$mesh.txt" 2>&1)
-    n=$(printf '%s\n' "$out" | sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' | head -n 1)
-    hb=$(printf '%s\n' "$out" | sed -n 's/.*half band \([0-9]*\).*/\1/p' | head -n 1)
-    line=$(printf '%s\n' "$out" | grep 'distinct branches')
-    secs=$(printf '%s\n' "$line" | sed -n 's/.*time \([0-9.]*\) s.*/\1/p')
-    fact=$(printf '%s\n' "$line" | sed -n 's/.*factorisations \([0-9]*\).*/\1/p')
-    nbr=$(printf '%s\n' "$line" | sed -n 's/^ *\([0-9]*\) distinct.*/\1/p')
-    npc=$(printf '%s\n' "$out" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
+    parse_run "$($block --mesh "$mesh" --save "bench/out/ends_$mesh.txt" 2>&1)"
     printf '  %-7s N %6s  half band %4s  %8s s  factorisations %5s  n_pc %4s  branches %s\n' "$mesh" "$n" "$hb" "$secs" "$fact" "$npc" "$nbr"
     echo "$mesh,$n,$hb,$secs,$fact,$npc,$nbr" >>"$csv"
     last=$mesh

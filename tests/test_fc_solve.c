@@ -57,6 +57,20 @@ static double check_solution(const fc_problem *p, const double *r, double tol, c
 /* Solves a generated instance to 1e-10 and checks the solution; maxit_total > 0 bounds the
    Newton + interior-point iterations, need_ipm = 1 requires the interior-point restarts to have
    been used (the instances the plain NSGS/Newton schedule misses). */
+/* The problem view of a generated instance and the options every instance is solved with. */
+static void solver_setup(const fcg_instance *in, fc_problem *p, fc_options *o)
+{
+    p->dim = in->dim;
+    p->nc = in->nc;
+    p->m = in->m;
+    p->W = in->W;
+    p->q = in->q;
+    p->mu = in->mu;
+    o->tol = 1e-10;
+    o->maxit = 1000;
+    o->verbose = 0;
+}
+
 static void run_instance_ex(int kind, int size, double mu, double vs, unsigned long long seed,
                             int maxit_total, int need_ipm);
 
@@ -80,15 +94,7 @@ static void run_instance_ex(int kind, int size, double mu, double vs, unsigned l
     CHECK(fcg_make(kind, size, mu, vs, seed, &in));
     if (!in.W)
         return;
-    p.dim = in.dim;
-    p.nc = in.nc;
-    p.m = in.m;
-    p.W = in.W;
-    p.q = in.q;
-    p.mu = in.mu;
-    o.tol = 1e-10;
-    o.maxit = 1000;
-    o.verbose = 0;
+    solver_setup(&in, &p, &o);
     r = calloc((size_t)p.m, sizeof(double));
     CHECK(r != NULL);
     if (!r) {
@@ -356,15 +362,7 @@ static void test_known_miss(void)
     CHECK(fcg_make(FCG_BOXES2D, 90, 2.0, 5.0, 2022, &in));
     if (!in.W)
         return;
-    p.dim = in.dim;
-    p.nc = in.nc;
-    p.m = in.m;
-    p.W = in.W;
-    p.q = in.q;
-    p.mu = in.mu;
-    o.tol = 1e-10;
-    o.maxit = 1000;
-    o.verbose = 0;
+    solver_setup(&in, &p, &o);
     r = calloc((size_t)p.m, sizeof(double));
     u = malloc((size_t)p.m * sizeof(double));
     CHECK(r != NULL && u != NULL);
