@@ -347,10 +347,10 @@ static void test_malformed(void)
     CHECK(fc_read("/nonexistent/dir/file.dat", &p) != NULL);
 }
 
-/* A pile the solver still misses (boxes2d, 264 contacts, mu 2: stalls at ~7e-5 with contacts at
-   the stick/slip transition). Checks the failure is honest and bounded: return 1, the reported
-   error is the one recomputed from the dense W at the returned r, and the give-up rules stop it
-   (a cycle that would repeat the previous one exactly ends the run: 4920 sweeps instead of 8920). */
+/* A pile the solver still misses (spheres3d, 97 contacts, mu 2: every run stalls between 3e-4
+   and 1e-2). Checks the failure is honest and bounded: return 1, the reported error is the one
+   recomputed from the dense W at the returned r, and the give-up rules end all six runs
+   (measured: 1340 Newton iterations, 21120 sweeps). */
 static void test_known_miss(void)
 {
     fcg_instance in;
@@ -359,7 +359,7 @@ static void test_known_miss(void)
     fc_stats st;
     double *r, *u, qn = 0.0, err = HUGE_VAL;
     int i, j, res;
-    CHECK(fcg_make(FCG_BOXES2D, 90, 2.0, 5.0, 2022, &in));
+    CHECK(fcg_make(FCG_SPHERES3D, 40, 2.0, 5.0, 5020, &in));
     if (!in.W)
         return;
     solver_setup(&in, &p, &o);
@@ -368,11 +368,11 @@ static void test_known_miss(void)
     CHECK(r != NULL && u != NULL);
     if (r && u) {
         res = fc_solve(&p, &o, r, &st);
-        printf("  known miss boxes2d(90, mu 2, seed 2022): nc %d newton %d sweeps %d ipm %d "
+        printf("  known miss spheres3d(40, mu 2, seed 5020): nc %d newton %d sweeps %d ipm %d "
                "err %.3e\n", p.nc, st.newton, st.sweeps, st.ipm, st.err);
         CHECK(res == 1);
-        CHECK(st.err > 1e-10 && st.err < 1e-4);
-        CHECK(st.sweeps <= 6000 && st.newton <= 600);
+        CHECK(st.err > 1e-10 && st.err < 1e-2);
+        CHECK(st.sweeps <= 25000 && st.newton <= 2000);
         for (i = 0; i < p.m; i++) {
             u[i] = p.q[i];
             qn += p.q[i] * p.q[i];
@@ -413,6 +413,8 @@ int main(void)
     run_instance_ex(FCG_DISKS2D, 100, 2.0, 5.0, 2031, 1500, 1);  /* 266 contacts, mu 2 */
     run_instance_ex(FCG_DISKS2D, 50, 0.3, 5.0, 2030, 750, 1);    /* 126 contacts */
     run_instance_ex(FCG_BOXES2D, 30, 0.3, 1.0, 1020, 600, 1);    /* 84 contacts */
+    /* missed by the first pair of runs (stalls at ~7e-5), solved with rho rescaled */
+    run_instance_ex(FCG_BOXES2D, 90, 2.0, 5.0, 2022, 1300, 1);   /* 264 contacts, mu 2 */
     test_known_miss();
     /* flexible-like, full rank */
     run_instance(FCG_FLEX3D, 40, 0.0, 1.0, 31);
