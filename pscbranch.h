@@ -1409,20 +1409,25 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 /* state column j <-> y component */
 static int psb__ycol(const psb_solver *s, int j) { return j < s->prob.param_index ? j : j + 1; }
 
-/* band_jacobian at y into `storage` (n columns of leading dimension ld, zeroed first; the band
-   starts `skip` rows down) and dparam_; every entry is checked, since an Inf on the diagonal
-   factors into finite, wrong solutions. */
+/* band_jacobian at y into `storage` (n columns of leading dimension ld, the band's kl+ku+1
+   rows starting `skip` rows down: only they are zeroed first and checked, the rows above are
+   dgbtrf's fill, which it sets itself) and dparam_. Every entry of the band is checked, since
+   an Inf on the diagonal factors into finite, wrong solutions. */
 static psb_result psb__band_callback(psb_solver *s, const double *y, double *storage, int ld,
                                      int skip)
 {
-    size_t size = (size_t)ld * (size_t)s->n_;
+    int rows = s->prob.kl + s->prob.ku + 1, j, finite = 1;
+    size_t col;
     psb_result r;
-    memset(storage, 0, size * sizeof(double));
+    for (j = 0, col = (size_t)skip; j < s->n_; j++, col += (size_t)ld)
+        memset(storage + col, 0, (size_t)rows * sizeof(double));
     memset(s->dparam_, 0, (size_t)s->n_ * sizeof(double));
     r = psb__callback_code(s, s->prob.band_jacobian(y, storage + skip, ld, s->dparam_, s->prob.user),
                            "band_jacobian callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
-    if (!psb__all_finite(storage, (int)size) || !psb__all_finite(s->dparam_, s->n_)) {
+    for (j = 0, col = (size_t)skip; j < s->n_ && finite; j++, col += (size_t)ld)
+        finite = psb__all_finite(storage + col, rows);
+    if (!finite || !psb__all_finite(s->dparam_, s->n_)) {
         s->last_fail_ = PSB__FAIL_NONFINITE;
         return psb__fail(s, PSB_ERR_NONFINITE, "band_jacobian callback returned NaN or Inf");
     }
