@@ -709,8 +709,15 @@ static inline int fe_internal(const fe_model *md, const double *u, double *f, fe
                     int ra = md->udof[c[a]], cb = md->udof[c[b]];
                     if (ra < 0 || cb < 0) continue;
                     for (i = 0; i < 2; i++)
-                        for (k = 0; k < 2; k++) /* the lower node blocks by symmetry */
-                            fe_mat_add(K, ra + i, cb + k, a <= b ? ke[(2 * a + i) + 2 * nv * (2 * b + k)] : ke[(2 * b + k) + 2 * nv * (2 * a + i)]);
+                        for (k = 0; k < 2; k++) { /* the lower node blocks by symmetry */
+                            double v = a <= b ? ke[(2 * a + i) + 2 * nv * (2 * b + k)] : ke[(2 * b + k) + 2 * nv * (2 * a + i)];
+                            int row = ra + i, col = cb + k;
+                            /* the band, inline (the assembly's hot path); other sinks through fe_mat_add */
+                            if (K->kl >= 0 && row - col <= K->kl && col - row <= K->ku)
+                                K->a[(K->off + row - col) + (size_t)col * K->ld] += v;
+                            else
+                                fe_mat_add(K, row, col, v);
+                        }
                 }
     }
     return 0;
