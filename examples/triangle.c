@@ -356,6 +356,10 @@ int main(int argc, char **argv)
                         "                [--save FILE] [--refine FILE] [--compare FILE]...\n");
         return 2;
     }
+    if (a.refine && !a.fold && a.load <= 0) {
+        fprintf(stderr, "triangle: --refine needs --load, the load of the run that saved the end points\n");
+        return 2;
+    }
     if (!a.fold && a.load <= 0 && choose_load(&a)) return 1;
     if (a.fold) { h0[0] = -20; h0[1] = -7.5; h1[0] = -10; h1[1] = 0; }
     else { h0[0] = 0; h0[1] = 0; h1[0] = -a.load; h1[1] = -7.5; }
