@@ -26,7 +26,7 @@ BIN=$OUT/triangle_sparse
 CC=${CC:-cc}
 mkdir -p "$OUT" "$RUNS"
 
-# the sparse build of the example (the proposed `make sparse` rule builds the same)
+# the sparse build of the example (UMFPACK through the user-solver callbacks; see the top of triangle.c)
 SS_INC=${SS_INC:-/usr/include/suitesparse}
 if [[ "${NOBUILD:-0}" != 1 ]]; then
     $CC -std=c99 -Wall -Wextra -Wpedantic -Werror -O2 -I. -I"$SS_INC" -DFE_UMFPACK examples/triangle.c \
