@@ -262,12 +262,7 @@ table:
     ok = 1;
     ndist = fe_run_branch_table(&run, a.refine ? run.nbr : 6, n, tol, check_branch, print_row, &ok);
     snprintf(spec, sizeof spec, "rect 40 80 %d %d", a.nx, a.ny);
-    if (a.save && fe_run_save_ends(&run, a.save, spec)) { printf("block: cannot write %s\n", a.save); ok = 0; }
-    if (a.ncompare) {
-        printf("\n  relative H1 errors of the displacements against this mesh (Table 3), by branch:\n");
-        for (k = 0; k < a.ncompare; k++)
-            if (fe_run_compare_ends(&run, a.compare[k])) { printf("block: cannot compare with %s (not a coarser nested mesh?)\n", a.compare[k]); ok = 0; }
-    }
+    ok = fe_run_save_compare(&run, "block", spec, a.save, a.compare, a.ncompare, "Table 3") && ok;
     if (a.out) mkdir(a.out, 0777);
     ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 6, t1 - t0, "block", "mm", 5, a.out) && ok;
     if (a.refine)

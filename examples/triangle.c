@@ -440,10 +440,7 @@ table:
     if (a.out) mkdir(a.out, 0777);
     ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 4, t1 - t0, "triangle", "m", 1, a.out) && ok;
     snprintf(spec, sizeof spec, "tri 1 %d", a.n);
-    if (a.save && fe_run_save_ends(&run, a.save, spec)) { printf("triangle: cannot write %s\n", a.save); ok = 0; }
-    if (a.ncompare) printf("\n  relative H1 errors of the displacements against this mesh (Table 4), by branch:\n");
-    for (k = 0; k < a.ncompare; k++)
-        if (fe_run_compare_ends(&run, a.compare[k])) { printf("triangle: cannot compare with %s (not a coarser nested mesh?)\n", a.compare[k]); ok = 0; }
+    ok = fe_run_save_compare(&run, "triangle", spec, a.save, a.compare, a.ncompare, "Table 4") && ok;
     report_umf(umf);
     if (a.refine)
         printf("triangle: %s\n", ok ? "OK (every end point re-solved on its branch)" : "FAILED (an end point did not re-solve on its branch)");
