@@ -171,18 +171,20 @@
      ones are close: node by node in finite elements). problem.band_jacobian fills the band
      and dH/dparameter (or finite differences by column groups: kl+ku+2 residuals). B is
      solved by block elimination on the LU of the band (dgbtrf): w = A^{-1} dH/dparameter once
-     per factorisation, then one banded solve per right-hand side (none for the tangent's, so
-     a corrector iteration costs one dgbtrf and two dgbtrs). At a fold A alone is singular
+     per factorisation, then one banded solve per right-hand side (none for the tangent's). A
+     corrector iteration costs one dgbtrf and one pass of forward and back substitution over
+     its factors, which solves for w and the Newton right-hand side together (dgbtrs'
+     operations, in its order, at about half the cost of two dgbtrs). At a fold A alone is singular
      while B is not. Block elimination amplifies the banded solves' errors by at most
      g = (|d| + sum |c_j w_j|) / |d - c.w| (the cancellation in the Schur complement); where
-     g <= 16 the solution is used as it comes (dgbtrs is backward stable), elsewhere it is
+     g <= 16 the solution is used as it comes (the LU solve is backward stable), elsewhere it is
      checked by its residual in B and refined; if A is exactly singular or refinement stalls,
      A + sigma I (sigma = sqrt(eps) ||B||) is factored instead and the refinement against the
-     true B converges geometrically. band_jacobian writes straight into the LU storage
-     (ldband = 2 kl + ku + 1), so a factorisation copies nothing; where A itself is needed
-     again (the residual check, a shift, another border row) it is called once more at the
-     same y. Memory ~ (3 kl + 2 ku + 50) N, plus the memo of Algorithm 2.2 (at most 8 MB,
-     section 6).
+     true B converges geometrically. A is kept beside its factors, and an A bit-identical to
+     the factored one (H piecewise linear: both points in one piece; or the same point again)
+     reuses them, w included when dH/dparameter is unchanged too: stats.n_factor_reused
+     counts these, and the results are exactly those of factoring again. Memory
+     ~ (4 kl + 3 ku + 50) N, plus the memo of Algorithm 2.2 (at most 8 MB, section 6).
    PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
      in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
      solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
@@ -359,7 +361,7 @@
    PSCBRANCH_STRLEN_ONE       (defined by the header) the hidden length of a one-character
                               argument, to end your own calls with: dgetrs_("N", ...,
                               &info PSCBRANCH_STRLEN_ONE) works with either kind of LAPACK
-   LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r, dgbtrf, dgbtrs.
+   LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r, dgbtrf.
 
    9. REVISION HISTORY
    -------------------
@@ -549,6 +551,9 @@ typedef struct psb_stats {
     long n_residual;    /* evaluations of H, finite differences included */
     long n_jacobian;    /* Jacobians formed (analytic or finite differences) */
     long n_factor;      /* LU or QR factorisations */
+    long n_factor_reused; /* banded: factorisations skipped because dH/dx was bit-identical to
+                             the one already factored (piecewise-linear problems, repeated
+                             points); the results are those of factoring again */
     long n_pc_steps;    /* predictor-corrector trials (accepted or rejected) */
     long n_newton;      /* corrector / Newton iterations */
     long n_rejected;    /* rejected trials */
@@ -564,10 +569,12 @@ typedef struct psb_solver {
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_;
-    int lu_fresh_, band_fresh_; /* banded: lu_ holds dH/dx unfactored / band_ holds it */
+    int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
+                                         A^{-1} dpfac_ / delta_ is current */
     double *w_;
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
     double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_;
+    double *bandpair_[2], *afac_, *dpfac_; /* band_ is one of the pair; afac_ the one lu_ holds */
     double delta_, shift_, mnorm_, bamp_;
     void *ipiv_, *iwork_; /* LAPACK integers */
     void *owned_;
@@ -576,7 +583,7 @@ typedef struct psb_solver {
 } psb_solver;
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
-   invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (3 kl + 2 ku + 2) n; user ~ 40 (n+1). */
+   invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n; user ~ 40 (n+1). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
@@ -923,6 +930,7 @@ extern void PSCBRANCH_FORTRAN(dgecon)(const char *norm, const psb__lint *n, cons
 extern void PSCBRANCH_FORTRAN(dgbtrf)(const psb__lint *m, const psb__lint *n, const psb__lint *kl,
                                       const psb__lint *ku, double *ab, const psb__lint *ldab,
                                       psb__lint *ipiv, psb__lint *info);
+/* not called by the library; declared for callers' own banded solves (PSCBRANCH_STRLEN_ONE) */
 extern void PSCBRANCH_FORTRAN(dgbtrs)(const char *trans, const psb__lint *n, const psb__lint *kl,
                                       const psb__lint *ku, const psb__lint *nrhs, const double *ab,
                                       const psb__lint *ldab, const psb__lint *ipiv, double *b,
@@ -1035,12 +1043,20 @@ PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
 
 static int psb__finite(double x) { return x - x == 0; }
 
-static int psb__all_finite(const double *a, int n)
+/* x * 0 is NaN exactly when x is NaN or Inf, so one sum tells; no branch in the loop, which
+   matters for the band checked in every corrector iteration. */
+static int psb__all_finite(const double *a, size_t n)
 {
-    int i;
-    for (i = 0; i < n; i++)
-        if (!psb__finite(a[i])) return 0;
-    return 1;
+    double acc0 = 0, acc1 = 0, acc2 = 0, acc3 = 0;
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        acc0 += a[i] * 0.0;
+        acc1 += a[i + 1] * 0.0;
+        acc2 += a[i + 2] * 0.0;
+        acc3 += a[i + 3] * 0.0;
+    }
+    for (; i < n; i++) acc0 += a[i] * 0.0;
+    return (acc0 + acc1) + (acc2 + acc3) == 0;
 }
 
 static psb_result psb__fail(psb_solver *s, psb_result code, const char *what)
@@ -1138,7 +1154,9 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
         PSB__TAKE(tau_, np1);
         ints = 2 * np1;
     } else if (p->linear == PSB_LINEAR_BANDED) {
-        PSB__TAKE(band_, (kl + ku + 1) * n);
+        PSB__TAKE(bandpair_[0], (kl + ku + 1) * n);
+        PSB__TAKE(bandpair_[1], (kl + ku + 1) * n);
+        PSB__TAKE(dpfac_, n);
         PSB__TAKE(lu_, (2 * kl + ku + 1) * n);
         PSB__TAKE(dparam_, n);
         PSB__TAKE(row_, np1);
@@ -1186,6 +1204,7 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     s->ldlu_ = 2 * p->kl + p->ku + 1;
     s->memo_cap_ = psb__memo_capacity(p->n);
     psb__layout(p, s, memory);
+    s->band_ = s->bandpair_[0];
     for (i = 0; i < s->np1_; i++)
         s->w_[i] = s->opt.weights ? s->opt.weights[i]
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
@@ -1404,54 +1423,50 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
    singular (B is not) and this cancels, so every result is checked by its residual in B and
    refined; if A is exactly singular, or refinement stalls, A + sigma I (sigma ~ sqrt(eps) ||B||)
    is factored instead and refinement against the true B converges at a rate ~ sigma ||B^{-1}||.
-   Measured: 2 banded solves per corrector iteration where mixed elimination needs 3. */
+   Measured: 2 banded solves per corrector iteration where mixed elimination needs 3.
+   A is kept beside its factors (two band buffers take turns), and a new A bit-identical to the
+   factored one reuses them: on a piecewise-linear H, A only changes with the piece, so the
+   corrector's second iteration and the tangent at an accepted point usually cost no
+   factorisation. dgbtrf being deterministic, the results are those of factoring again. */
 
 /* state column j <-> y component */
 static int psb__ycol(const psb_solver *s, int j) { return j < s->prob.param_index ? j : j + 1; }
 
-/* band_jacobian at y into `storage` (n columns of leading dimension ld, the band's kl+ku+1
-   rows starting `skip` rows down: only they are zeroed first and checked, the rows above are
-   dgbtrf's fill, which it sets itself) and dparam_. Every entry of the band is checked, since
-   an Inf on the diagonal factors into finite, wrong solutions. */
-static psb_result psb__band_callback(psb_solver *s, const double *y, double *storage, int ld,
-                                     int skip)
+/* band_jacobian at y into band_ and dparam_. Every entry is checked, since an Inf on the
+   diagonal factors into finite, wrong solutions. */
+static psb_result psb__band_callback(psb_solver *s, const double *y)
 {
-    int rows = s->prob.kl + s->prob.ku + 1, j, finite = 1;
-    size_t col;
+    size_t size = (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->n_;
     psb_result r;
-    for (j = 0, col = (size_t)skip; j < s->n_; j++, col += (size_t)ld)
-        memset(storage + col, 0, (size_t)rows * sizeof(double));
+    memset(s->band_, 0, size * sizeof(double));
     memset(s->dparam_, 0, (size_t)s->n_ * sizeof(double));
-    r = psb__callback_code(s, s->prob.band_jacobian(y, storage + skip, ld, s->dparam_, s->prob.user),
+    r = psb__callback_code(s, s->prob.band_jacobian(y, s->band_, s->prob.kl + s->prob.ku + 1,
+                                                    s->dparam_, s->prob.user),
                            "band_jacobian callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
-    for (j = 0, col = (size_t)skip; j < s->n_ && finite; j++, col += (size_t)ld)
-        finite = psb__all_finite(storage + col, rows);
-    if (!finite || !psb__all_finite(s->dparam_, s->n_)) {
+    if (!psb__all_finite(s->band_, size) || !psb__all_finite(s->dparam_, (size_t)s->n_)) {
         s->last_fail_ = PSB__FAIL_NONFINITE;
         return psb__fail(s, PSB_ERR_NONFINITE, "band_jacobian callback returned NaN or Inf");
     }
     return PSB_SUCCESS;
 }
 
-/* The user's band goes straight into the LU storage (below dgbtrf's kl rows of fill, with
-   ldband = 2 kl + ku + 1), so the usual factorisation copies nothing; band_ gets A only when a
-   residual check, a shift or a second bordering needs it again (psb__band_restore). */
+/* A = dH/dx at y into band_, the buffer of the pair that lu_'s factors did not come from. */
 static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const double *h_at_y)
 {
     int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
     int i, j, g;
     psb_result r;
-    s->lu_fresh_ = s->band_fresh_ = 0;
+    s->band_ = s->afac_ == s->bandpair_[0] ? s->bandpair_[1] : s->bandpair_[0];
+    s->band_ok_ = 0;
+    psb__copy(s->yfac_, y, s->np1_);
     if (s->prob.band_jacobian) {
-        psb__copy(s->yfac_, y, s->np1_);
-        r = psb__band_callback(s, y, s->lu_, s->ldlu_, kl);
-        s->lu_fresh_ = r == PSB_SUCCESS;
+        r = psb__band_callback(s, y);
+        s->band_ok_ = r == PSB_SUCCESS;
         return r;
     }
     memset(s->band_, 0, (size_t)ld * (size_t)n * sizeof(double));
     memset(s->dparam_, 0, (size_t)n * sizeof(double));
-    s->band_fresh_ = 1;
     /* finite differences, Curtis-Powell-Reid: state columns j = g, g + ld, g + 2 ld, ... touch
        disjoint rows, so one residual serves the whole group */
     {
@@ -1488,36 +1503,30 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
             }
         }
     }
+    s->band_ok_ = 1;
     return PSB_SUCCESS;
 }
 
-/* A into band_ again after its factorisation overwrote it: the callback at the same y. */
-static psb_result psb__band_restore(psb_solver *s)
-{
-    psb_result r;
-    if (s->band_fresh_) return PSB_SUCCESS;
-    s->stats.n_jacobian++;
-    r = psb__band_callback(s, s->yfac_, s->band_, s->prob.kl + s->prob.ku + 1, 0);
-    s->band_fresh_ = r == PSB_SUCCESS;
-    return r;
-}
-
-/* LU of A + shift I into lu_ (dgbtrf layout: kl extra rows on top). */
+/* LU of A + shift I into lu_ (dgbtrf layout: kl extra rows on top), unless lu_ holds the
+   unshifted factors of a bit-identical A already. */
 static psb_result psb__band_lu(psb_solver *s, double shift)
 {
     int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
+    size_t size = (size_t)ld * (size_t)n;
     psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->ldlu_, info = 0;
-    if (!(s->lu_fresh_ && shift == 0)) {
-        psb_result r = psb__band_restore(s);
-        if (r != PSB_SUCCESS) return r;
-        for (j = 0; j < n; j++) {
-            double *dst = s->lu_ + (size_t)j * (size_t)s->ldlu_;
-            memset(dst, 0, (size_t)kl * sizeof(double));
-            memcpy(dst + kl, s->band_ + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
-            dst[kl + ku] += shift;
-        }
+    if (!s->band_ok_) return psb__fail(s, PSB_ERR_INPUT, "no Jacobian to factor");
+    if (shift == 0 && s->afac_ &&
+        (s->afac_ == s->band_ || !memcmp(s->afac_, s->band_, size * sizeof(double)))) {
+        s->stats.n_factor_reused++;
+        return PSB_SUCCESS;
     }
-    s->lu_fresh_ = 0;
+    s->afac_ = NULL;
+    s->bv_ok_ = 0;
+    for (j = 0; j < n; j++) {
+        double *dst = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+        memcpy(dst + kl, s->band_ + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
+        dst[kl + ku] += shift;
+    }
     s->stats.n_factor++;
     PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->lu_, &ldlu, (psb__lint *)s->ipiv_, &info);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
@@ -1525,35 +1534,99 @@ static psb_result psb__band_lu(psb_solver *s, double shift)
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "banded block is exactly singular");
     }
+    if (shift == 0) s->afac_ = s->band_;
     return PSB_SUCCESS;
 }
 
-static psb_result psb__band_solve_a(psb_solver *s, const char *trans, double *x)
+#if defined(__cplusplus)
+#define PSB__RESTRICT __restrict
+#else
+#define PSB__RESTRICT restrict
+#endif
+
+/* x += a c and, when y is not NULL, y += b c (m entries). Unrolled by four with each c[i]
+   loaded once: this runs well at -O2, where compilers do not vectorise loops of unknown length. */
+static void psb__band_axpy(int m, const double *PSB__RESTRICT c, double a, double *PSB__RESTRICT x,
+                           double b, double *PSB__RESTRICT y)
 {
-    psb__lint nn = s->n_, kkl = s->prob.kl, kku = s->prob.ku, ldlu = s->ldlu_, one = 1, info = 0;
-    PSCBRANCH_FORTRAN(dgbtrs)(trans, &nn, &kkl, &kku, &one, s->lu_, &ldlu, (psb__lint *)s->ipiv_, x,
-                              &nn, &info PSB__STRLEN_ONE);
-    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrs rejected an argument");
+    int i = 0;
+    if (y) {
+        for (; i + 4 <= m; i += 4) {
+            double c0 = c[i], c1 = c[i + 1], c2 = c[i + 2], c3 = c[i + 3];
+            x[i] += c0 * a; x[i + 1] += c1 * a; x[i + 2] += c2 * a; x[i + 3] += c3 * a;
+            y[i] += c0 * b; y[i + 1] += c1 * b; y[i + 2] += c2 * b; y[i + 3] += c3 * b;
+        }
+        for (; i < m; i++) { x[i] += c[i] * a; y[i] += c[i] * b; }
+    } else {
+        for (; i + 4 <= m; i += 4) {
+            x[i] += c[i] * a; x[i + 1] += c[i + 1] * a; x[i + 2] += c[i + 2] * a; x[i + 3] += c[i + 3] * a;
+        }
+        for (; i < m; i++) x[i] += c[i] * a;
+    }
+}
+
+/* x <- A^{-1} x and, when y is not NULL, y <- A^{-1} y in the same pass over dgbtrf's factors:
+   dgbtrs' substitutions ("N", column by column) with the same operations in the same order,
+   two right-hand sides sharing every load of the factors. Measured against two dgbtrs calls
+   (reference BLAS, -O2): 0.52x at n = 462, kl = ku = 22; 0.48x at n = 1806, kl = ku = 45. */
+static void psb__band_subst(const psb_solver *s, double *x, double *y)
+{
+    int n = s->n_, kl = s->prob.kl, kv = kl + s->prob.ku, j;
+    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
+    for (j = 0; kl > 0 && j < n - 1; j++) {
+        const double *col = s->lu_ + (size_t)j * (size_t)s->ldlu_ + kv + 1;
+        int l = (int)ipiv[j] - 1;
+        if (l != j) {
+            double tmp = x[l];
+            x[l] = x[j]; x[j] = tmp;
+            if (y) { tmp = y[l]; y[l] = y[j]; y[j] = tmp; }
+        }
+        psb__band_axpy(kl < n - 1 - j ? kl : n - 1 - j, col, -x[j], x + j + 1, y ? -y[j] : 0,
+                       y ? y + j + 1 : NULL);
+    }
+    for (j = n - 1; j >= 0; j--) {
+        const double *col = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+        int above = j < kv ? j : kv; /* U's entries above the diagonal in column j */
+        x[j] /= col[kv];
+        if (y) y[j] /= col[kv];
+        psb__band_axpy(above, col + kv - above, -x[j], x + j - above, y ? -y[j] : 0,
+                       y ? y + j - above : NULL);
+    }
+}
+
+/* Factors A (shifted if asked) for the border row in row_; w = A^{-1} b and delta = d - c.w
+   follow with the first solve (psb__band_border), in the same pass as its right-hand side. */
+static psb_result psb__band_prepare(psb_solver *s, double shift)
+{
+    psb_result r = psb__band_lu(s, shift);
+    if (r != PSB_SUCCESS) return r;
+    if (s->bv_ok_ && memcmp(s->dpfac_, s->dparam_, (size_t)s->n_ * sizeof(double))) s->bv_ok_ = 0;
+    s->shift_ = shift;
+    s->border_ok_ = 0;
     return PSB_SUCCESS;
 }
 
-/* Factors A (shifted if asked) and forms w = A^{-1} b and delta = d - c.w. */
-static psb_result psb__band_prepare(psb_solver *s, double shift)
+/* w = A^{-1} b (unless current) and delta = d - c.w; x, when not NULL, is replaced by A^{-1} x
+   in the same pass over the factors. */
+static psb_result psb__band_border(psb_solver *s, double *x)
 {
     int n = s->n_, j;
     double delta;
-    psb_result r = psb__band_lu(s, shift);
-    if (r != PSB_SUCCESS) return r;
-    memcpy(s->bv_, s->dparam_, (size_t)n * sizeof(double));
-    r = psb__band_solve_a(s, "N", s->bv_);
-    if (r != PSB_SUCCESS) return r;
+    if (s->bv_ok_) {
+        if (x) psb__band_subst(s, x, NULL);
+    } else {
+        memcpy(s->dpfac_, s->dparam_, (size_t)n * sizeof(double));
+        memcpy(s->bv_, s->dparam_, (size_t)n * sizeof(double));
+        psb__band_subst(s, s->bv_, x);
+        s->bv_ok_ = 1;
+    }
     delta = s->row_[s->prob.param_index];
     s->bamp_ = fabs(delta);
     for (j = 0; j < n; j++) {
         delta -= s->row_[psb__ycol(s, j)] * s->bv_[j];
         s->bamp_ += fabs(s->row_[psb__ycol(s, j)] * s->bv_[j]);
     }
-    if (!psb__finite(delta) || delta == 0 || !psb__all_finite(s->bv_, n)) {
+    if (!psb__finite(delta) || delta == 0 || !psb__all_finite(s->bv_, (size_t)n)) {
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered banded system is singular");
     }
@@ -1561,13 +1634,12 @@ static psb_result psb__band_prepare(psb_solver *s, double shift)
        banded solves' errors (large only near a fold, where A is nearly singular) */
     s->bamp_ /= fabs(delta);
     s->delta_ = delta;
-    s->shift_ = shift;
+    s->border_ok_ = 1;
     return PSB_SUCCESS;
 }
 
 /* ||B||_1 (largest column sum), the scale of the refinement test and of the shift; computed
-   only where one of them is needed (near folds), not in every corrector iteration, and from
-   band_, which the caller has restored (psb__band_restore). */
+   only where one of them is needed (near folds), not in every corrector iteration. */
 static double psb__band_mnorm(psb_solver *s)
 {
     int n = s->n_, ld = s->prob.kl + s->prob.ku + 1, i, j;
@@ -1595,28 +1667,33 @@ static psb_result psb__factor_banded(psb_solver *s, const double *row)
     psb__copy(s->row_, row, s->np1_);
     s->mnorm_ = -1;
     r = psb__band_prepare(s, 0.0);
-    if (r == PSB_ERR_SINGULAR) {
-        r = psb__band_restore(s);
-        if (r == PSB_SUCCESS) r = psb__band_prepare(s, psb__band_shift(s));
-    }
-    s->shifted_ = s->shift_ != 0;
+    if (r == PSB_ERR_SINGULAR) r = psb__band_prepare(s, psb__band_shift(s));
+    s->shifted_ = r == PSB_SUCCESS && s->shift_ != 0;
     return r;
 }
 
 /* One block elimination solve with the current factors: z = B_shift^{-1} rhs. A right-hand
-   side (0, 1), the tangent's, needs no banded solve: z = (-w, 1) / delta. */
+   side (0, 1), the tangent's, needs no banded solve: z = (-w, 1) / delta. Where delta vanishes
+   on the unshifted factors, A is refactored shifted. */
 static psb_result psb__band_apply(psb_solver *s, const double *rhs, double *z)
 {
     int n = s->n_, j, p = s->prob.param_index, zero_f = 1;
     double xi = rhs[n], *x = s->work_ + s->np1_; /* work_[0, np1) holds the caller's rhs */
     psb_result r;
     for (j = 0; j < n && zero_f; j++) zero_f = rhs[j] == 0;
-    if (zero_f) {
-        memset(x, 0, (size_t)n * sizeof(double));
-    } else {
-        memcpy(x, rhs, (size_t)n * sizeof(double));
-        r = psb__band_solve_a(s, "N", x);
+    for (;;) {
+        if (zero_f) memset(x, 0, (size_t)n * sizeof(double));
+        else memcpy(x, rhs, (size_t)n * sizeof(double));
+        if (s->border_ok_) {
+            if (!zero_f) psb__band_subst(s, x, NULL);
+            break;
+        }
+        r = psb__band_border(s, zero_f ? NULL : x);
+        if (r == PSB_SUCCESS) break;
+        if (r != PSB_ERR_SINGULAR || s->shifted_) return r;
+        r = psb__band_prepare(s, psb__band_shift(s));
         if (r != PSB_SUCCESS) return r;
+        s->shifted_ = 1;
     }
     for (j = 0; j < n; j++) xi -= s->row_[psb__ycol(s, j)] * x[j];
     xi /= s->delta_;
@@ -1656,11 +1733,9 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
         for (i = 0; i < np1; i++) bnorm = fabs(z[i]) > bnorm ? fabs(z[i]) : bnorm;
         r = psb__band_apply(s, s->work_, z);
         if (r != PSB_SUCCESS) return r;
-        /* far from folds block elimination is as accurate as dgbtrs itself (backward stable):
+        /* far from folds block elimination is as accurate as the LU solve itself (backward stable):
            the residual check and refinement are for a nearly singular A only */
         if (!s->shifted_ && s->bamp_ <= 16) continue;
-        r = psb__band_restore(s); /* the residual needs A itself */
-        if (r != PSB_SUCCESS) return r;
         for (it = 0; it <= max_it && !done; it++) {
             znorm = 0;
             for (i = 0; i < np1; i++) znorm = fabs(z[i]) > znorm ? fabs(z[i]) : znorm;
