@@ -150,6 +150,70 @@ static void test_bratu(void)
     }
 }
 
+/* ---- a constant state block: A x = sin(g) b, A = tridiag(-1, 3, -1) -------------------------
+   dH/dx never changes, dH/dg = -cos(g) b does: one factorisation must serve the whole trace,
+   with w = A^{-1} dH/dg recomputed whenever dH/dg changes. */
+static int sine_res(const double *y, double *h, void *user)
+{
+    int n = *(const int *)user, i;
+    for (i = 0; i < n; i++)
+        h[i] = 3 * y[i] - (i > 0 ? y[i - 1] : 0) - (i < n - 1 ? y[i + 1] : 0) - sin(y[n]) * (1 + i % 3);
+    return 0;
+}
+
+static int sine_band(const double *y, double *band, int ld, double *dparam, void *user)
+{
+    int n = *(const int *)user, i;
+    for (i = 0; i < n; i++) {
+        band[PSB_BAND_INDEX(1, ld, i, i)] = 3;
+        if (i > 0) band[PSB_BAND_INDEX(1, ld, i, i - 1)] = -1;
+        if (i < n - 1) band[PSB_BAND_INDEX(1, ld, i, i + 1)] = -1;
+        dparam[i] = -cos(y[n]) * (1 + i % 3);
+    }
+    return 0;
+}
+
+static void test_factor_reuse(void)
+{
+    int n = 40, i;
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    double y[41], t[41], x1[41], err = 0;
+    psb_problem_init(&p, n, sine_res, NULL, &n);
+    p.linear = PSB_LINEAR_BANDED;
+    p.kl = p.ku = 1;
+    p.band_jacobian = sine_band;
+    memset(&o, 0, sizeof o);
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    memset(y, 0, sizeof y);
+    memset(t, 0, sizeof t);
+    t[n] = 1;
+    CHECK(psb_tangent(&s, y, t, t) == PSB_SUCCESS);
+    memset(&to, 0, sizeof to);
+    to.param_min = -1;
+    to.param_max = 1.5;
+    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_PARAM_BOUND);
+    CHECK(y[n] == 1.5 && rep.steps > 10);
+    /* x(g) = sin(g) A^{-1} b: A^{-1} b from the same tridiagonal by the Thomas algorithm */
+    {
+        double c[40], d[40];
+        for (i = 0; i < n; i++) {
+            double m = 3 + (i > 0 ? c[i - 1] : 0);
+            c[i] = -1 / m;
+            d[i] = ((1 + i % 3) + (i > 0 ? d[i - 1] : 0)) / m;
+        }
+        for (i = n - 1; i >= 0; i--) x1[i] = d[i] - (i < n - 1 ? c[i] * x1[i + 1] : 0);
+    }
+    for (i = 0; i < n; i++) err = fmax(err, fabs(y[i] - sin(1.5) * x1[i]));
+    CHECK(err < 1e-12);
+    CHECK(s.stats.n_factor == 1);
+    CHECK(s.stats.n_factor_reused >= rep.steps);
+    psb_solver_free(&s);
+}
+
 /* ---- a chain whose state block is exactly singular at the folds ---------------------------
    x0^2 + g^2 = 1, x_i = x_{i-1} (i >= 1): at g = +-1 the first row of dH/dx vanishes. */
 static int chain_res(const double *y, double *h, void *user)
@@ -456,6 +520,7 @@ static void test_memory(void)
 int main(void)
 {
     test_bratu();
+    test_factor_reuse();
     test_singular_block();
     test_backends_agree();
     test_user_failures();
