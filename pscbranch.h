@@ -1,4 +1,4 @@
-/* pscbranch.h - v0.2.0 - piecewise-smooth continuation and numerical branching - MIT license
+/* pscbranch.h - v0.3.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
    folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
@@ -184,7 +184,8 @@
      the factored one (H piecewise linear: both points in one piece; or the same point again)
      reuses them, w included when dH/dparameter is unchanged too: stats.n_factor_reused
      counts these, and the results are exactly those of factoring again. Memory
-     ~ (4 kl + 3 ku + 50) N, plus the memo of Algorithm 2.2 (at most 8 MB, section 6).
+     ~ (4 kl + 3 ku + 50) N, or (3 kl + 2 ku + 50) N with problem.band_lean (one copy of A,
+     reused only at the same y), plus the memo of Algorithm 2.2 (at most 8 MB, section 6).
    PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
      in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
      solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
@@ -373,6 +374,10 @@
                        estimate of the remaining error; the banded backend refines only where
                        block elimination can lose accuracy; PSCBRANCH_STRLEN_ONE. Algorithm
                        2.2 keeps trial points that lie on a ray from the end point.
+   0.3.0 (2026-11-23)  banded backend: the factors of a bit-identical dH/dx are reused
+                       (stats.n_factor_reused), its own substitutions replace dgbtrs and
+                       solve w with the right-hand side in one pass; psb_solver_memory_size
+                       grows by (kl + ku + 2) N doubles (problem.band_lean: by N).
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -392,7 +397,7 @@
 #endif
 
 #define PSCBRANCH_VERSION_MAJOR 0
-#define PSCBRANCH_VERSION_MINOR 2
+#define PSCBRANCH_VERSION_MINOR 3
 #define PSCBRANCH_VERSION_PATCH 0
 
 #ifdef __cplusplus
@@ -476,6 +481,9 @@ typedef struct psb_problem {
     int kl, ku;               /* banded: bandwidths of dH/dx, 0 <= kl, ku < N */
     psb_band_jacobian_fn band_jacobian; /* banded: optional, NULL means finite differences
                                            (kl + ku + 2 residuals per Jacobian) */
+    int band_lean;            /* banded: 1 keeps one copy of dH/dx instead of two, (kl + ku + 1) N
+                                 doubles less; its factors are then reused only at the same y,
+                                 not whenever dH/dx repeats (piecewise-linear H) [0] */
     psb_linear_solver solver; /* user: factor and solve, both required */
 } psb_problem;
 
@@ -583,7 +591,8 @@ typedef struct psb_solver {
 } psb_solver;
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
-   invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n; user ~ 40 (n+1). */
+   invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n (band_lean: (3 kl + 2 ku + 3) n);
+   user ~ 40 (n+1). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
@@ -1155,7 +1164,7 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
         ints = 2 * np1;
     } else if (p->linear == PSB_LINEAR_BANDED) {
         PSB__TAKE(bandpair_[0], (kl + ku + 1) * n);
-        PSB__TAKE(bandpair_[1], (kl + ku + 1) * n);
+        PSB__TAKE(bandpair_[1], p->band_lean ? 0 : (kl + ku + 1) * n);
         PSB__TAKE(dpfac_, n);
         PSB__TAKE(lu_, (2 * kl + ku + 1) * n);
         PSB__TAKE(dparam_, n);
@@ -1205,6 +1214,7 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     s->memo_cap_ = psb__memo_capacity(p->n);
     psb__layout(p, s, memory);
     s->band_ = s->bandpair_[0];
+    if (p->band_lean) s->bandpair_[1] = NULL;
     for (i = 0; i < s->np1_; i++)
         s->w_[i] = s->opt.weights ? s->opt.weights[i]
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
@@ -1457,6 +1467,7 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
     int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
     int i, j, g;
     psb_result r;
+    if (!s->bandpair_[1]) s->afac_ = NULL; /* one buffer: the factors' A is overwritten */
     s->band_ = s->afac_ == s->bandpair_[0] ? s->bandpair_[1] : s->bandpair_[0];
     s->band_ok_ = 0;
     psb__copy(s->yfac_, y, s->np1_);

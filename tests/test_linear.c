@@ -212,6 +212,24 @@ static void test_factor_reuse(void)
     CHECK(s.stats.n_factor == 1);
     CHECK(s.stats.n_factor_reused >= rep.steps);
     psb_solver_free(&s);
+    /* one copy of the band: less memory, factors reused only at the same y, same curve bit for bit */
+    {
+        double y2[41], t2[41];
+        size_t full = psb_solver_memory_size(&p);
+        int same = 1;
+        p.band_lean = 1;
+        CHECK(psb_solver_memory_size(&p) + (size_t)(3 * n) * sizeof(double) <= full);
+        CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+        memset(y2, 0, sizeof y2);
+        memset(t2, 0, sizeof t2);
+        t2[n] = 1;
+        CHECK(psb_tangent(&s, y2, t2, t2) == PSB_SUCCESS);
+        CHECK(psb_trace(&s, y2, t2, &to, &rep) == PSB_PARAM_BOUND);
+        for (i = 0; i <= n; i++) same &= y2[i] == y[i] && t2[i] == t[i];
+        CHECK(same);
+        CHECK(s.stats.n_factor > rep.steps);
+        psb_solver_free(&s);
+    }
 }
 
 /* ---- a chain whose state block is exactly singular at the folds ---------------------------
