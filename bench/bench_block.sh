@@ -4,8 +4,9 @@
 #      factorisations, n_pc, speed-up.
 #   2. the study of Tables 1-2 on the paper's M800: for input branches 1, 2, 3 and n_dir in
 #      {20, 30, 40, 50, 60, 100}, the smallest n_span that finds all six branches (one run with
-#      n_span = 40: the span of the last new branch) with its n_pc and n_rand, and the same with
-#      the adaptive end (branch_patience = 3), beside the paper's figures.
+#      n_span = 40: the span of the last new branch) with its n_pc and n_rand, the same with the
+#      adaptive end (branch_patience = 3 and 6) and with Table 2's fixed n_span, beside the
+#      paper's figures; for the example's defaults and for the paper's sweep and inner product.
 #   3. the mesh study of Table 3: six branches on M200, M800, M3200; M12800 by Newton from the
 #      M3200 end points; relative H1 errors against M12800.
 # Tables on stdout, CSV in bench/out/. Usage: bench/bench_block.sh [--full] [--quick]
@@ -84,41 +85,57 @@ paper_t2() { # input ndir
     *) echo "-" ;;
     esac
 }
+paper_t2_nspan() { # ndir: Table 2's n_span fixed a priori
+    case "$1" in 20) echo 15 ;; 50|60) echo 10 ;; 100) echo 8 ;; *) echo "" ;; esac
+}
 
 study_mesh=20x40
 [ $quick -eq 1 ] && study_mesh=10x20
-echo
-echo "  Tables 1-2 study (M${study_mesh/x/x}, the paper's mesh is 20x40 = M800): smallest n_span finding all six"
-echo "  branches, from one run with n_span = 40 (the span of the last new branch), and the adaptive end"
-echo "  (branch_patience = 3, and 6), beside the paper's Table 1 (n_span, n_pc) and Table 2 (n_pc, n_span a priori)"
-echo "  input  n_dir | n_span   n_pc  n_rand | paper T1 n_span  n_pc | patience 3: branches  n_pc  n_rand  spans | patience 6: branches  n_pc | paper T2 n_pc"
-csv=bench/out/block_tables.csv
-echo "mesh,input,n_dir,n_span_needed,n_pc,n_rand,branches,paper_t1_n_span,paper_t1_n_pc,adaptive_branches,adaptive_n_pc,adaptive_n_rand,adaptive_spans,patience6_branches,patience6_n_pc,paper_t2_n_pc" >"$csv"
 ndirs="20 30 40 50 60 100"
 inputs="1 2 3"
 [ $quick -eq 1 ] && ndirs="20" && inputs="1"
-for input in $inputs; do
-    for ndir in $ndirs; do
-        out=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 2>&1)
-        nbr=$(printf '%s\n' "$out" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
-        need=$(printf '%s\n' "$out" | sed -n 's/.*last new branch in span \([0-9]*\).*/\1/p')
-        npc=$(printf '%s\n' "$out" | sed -n 's/.*with n_span = [0-9]*: n_pc = \([0-9]*\).*/\1/p')
-        nrand=$(printf '%s\n' "$out" | sed -n 's/.*with n_span = [0-9]*: n_pc = [0-9]*, n_rand = \([0-9]*\).*/\1/p')
-        ad=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 --patience 3 2>&1)
-        anbr=$(printf '%s\n' "$ad" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
-        anpc=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
-        anrand=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = [0-9]*, n_rand = \([0-9]*\).*/\1/p' | head -n 1)
-        aspans=$(printf '%s\n' "$ad" | sed -n 's/.*, spans = \([0-9]*\),.*/\1/p' | head -n 1)
-        ad6=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 --patience 6 2>&1)
-        a6nbr=$(printf '%s\n' "$ad6" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
-        a6npc=$(printf '%s\n' "$ad6" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
-        [ "$nbr" = 6 ] || need="(only $nbr)"
-        set -- $(paper_t1 "$input" "$ndir")
-        p1span=$1 p1pc=$2
-        p2=$(paper_t2 "$input" "$ndir")
-        printf '  %5s  %5s | %6s %6s %7s | %15s %5s | %20s %5s %7s %6s | %20s %5s | %13s\n' "$input" "$ndir" "$need" "$npc" "$nrand" \
-            "$p1span" "$p1pc" "$anbr" "$anpc" "$anrand" "$aspans" "$a6nbr" "$a6npc" "$p2"
-        echo "$study_mesh,$input,$ndir,$need,$npc,$nrand,$nbr,$p1span,$p1pc,$anbr,$anpc,$anrand,$aspans,$a6nbr,$a6npc,$p2" >>"$csv"
+# Two configurations: the example's defaults (t~2 made orthogonal to t~1, multipliers weighted
+# 1/r^2 = 0.01), and the paper's (the printed sweep, every unknown weighted alike in Algorithms
+# 2.1-2.2, as in GetFEM's continuation), which reproduces Table 1's spans.
+echo "mesh,config,input,n_dir,n_span_needed,n_pc,n_rand,branches,paper_t1_n_span,paper_t1_n_pc,adaptive_branches,adaptive_n_pc,adaptive_n_rand,adaptive_spans,patience6_branches,patience6_n_pc,t2_n_span,t2_branches,t2_n_pc,paper_t2_n_pc" >bench/out/block_tables.csv
+for config in defaults paper; do
+    flags=""
+    [ "$config" = paper ] && flags="--paper-sweep --branch-mult-weight 1"
+    echo
+    echo "  Tables 1-2 study, $config configuration${flags:+ ($flags)}, M${study_mesh} (the paper's mesh is 20x40 = M800):"
+    echo "  smallest n_span finding all six branches, from one run with n_span = 40 (the span of the last new"
+    echo "  branch); the adaptive end (branch_patience = 3, and 6); n_span fixed as in Table 2; beside the paper"
+    echo "  input  n_dir | n_span   n_pc  n_rand | paper T1 n_span  n_pc | patience 3: branches  n_pc  n_rand  spans | patience 6: branches  n_pc | T2 n_span: branches  n_pc | paper T2 n_pc"
+    csv=bench/out/block_tables.csv
+    for input in $inputs; do
+        for ndir in $ndirs; do
+            out=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 $flags 2>&1)
+            nbr=$(printf '%s\n' "$out" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
+            need=$(printf '%s\n' "$out" | sed -n 's/.*last new branch in span \([0-9]*\).*/\1/p')
+            npc=$(printf '%s\n' "$out" | sed -n 's/.*with n_span = [0-9]*: n_pc = \([0-9]*\).*/\1/p')
+            nrand=$(printf '%s\n' "$out" | sed -n 's/.*with n_span = [0-9]*: n_pc = [0-9]*, n_rand = \([0-9]*\).*/\1/p')
+            ad=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 --patience 3 $flags 2>&1)
+            anbr=$(printf '%s\n' "$ad" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
+            anpc=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
+            anrand=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = [0-9]*, n_rand = \([0-9]*\).*/\1/p' | head -n 1)
+            aspans=$(printf '%s\n' "$ad" | sed -n 's/.*, spans = \([0-9]*\),.*/\1/p' | head -n 1)
+            ad6=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 --patience 6 $flags 2>&1)
+            a6nbr=$(printf '%s\n' "$ad6" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
+            a6npc=$(printf '%s\n' "$ad6" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
+            t2span=$(paper_t2_nspan "$ndir") t2nbr="-" t2npc="-"
+            if [ -n "$t2span" ]; then
+                fx=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan "$t2span" $flags 2>&1)
+                t2nbr=$(printf '%s\n' "$fx" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
+                t2npc=$(printf '%s\n' "$fx" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
+            fi
+            [ "$nbr" = 6 ] || need="(only $nbr)"
+            set -- $(paper_t1 "$input" "$ndir")
+            p1span=$1 p1pc=$2
+            p2=$(paper_t2 "$input" "$ndir")
+            printf '  %5s  %5s | %6s %6s %7s | %15s %5s | %20s %5s %7s %6s | %20s %5s | %9s: %8s %5s | %13s\n' "$input" "$ndir" "$need" "$npc" "$nrand" \
+                "$p1span" "$p1pc" "$anbr" "$anpc" "$anrand" "$aspans" "$a6nbr" "$a6npc" "${t2span:--}" "$t2nbr" "$t2npc" "$p2"
+            echo "$study_mesh,$config,$input,$ndir,$need,$npc,$nrand,$nbr,$p1span,$p1pc,$anbr,$anpc,$anrand,$aspans,$a6nbr,$a6npc,$t2span,$t2nbr,$t2npc,$p2" >>"$csv"
+        done
     done
 done
 

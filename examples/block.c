@@ -8,11 +8,15 @@
    continuation to the nonsmooth point gamma = 0, Algorithms 2.1-2.2 (c_diff = 0.99999, h = 5e-7,
    h_min = h / 2^14, h_init = 5e-4, n_dir, n_span), then every branch is traced to |gamma| = 1.
    Inner product: kappa = 1/N for displacements, kappa / r^2 for multipliers (--mult-weight), 1 for
-   gamma. Exit status 0 only when the six branches of the paper are found, each ends on
+   gamma. --branch-mult-weight sets the multipliers' weight of Algorithms 2.1-2.2 alone; with 1 (all
+   unknowns weighted alike, as GetFEM's continuation does) and --paper-sweep, the sweep is the
+   paper's: Table 1's spans and n_pc come out close to the printed ones (input 3 finds all six
+   branches in its first span, n_pc 72 at n_dir 50 as printed; the defaults take 3 spans, 154). Exit status 0 only when the six branches of the paper are found, each ends on
    |gamma| = 1 with a small residual, and a slipping vertex slides the way the block is forced.
 
    Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]
-                [--kappa 1|1/N|V] [--mult-weight W] [--dirichlet mult|elim] [--start -1|1]
+                [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim]
+                [--start -1|1]
                 [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--seed S]
                 [--dense] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
    --save writes the branches' end points at |gamma| = 1; --refine reads such a file of a coarser
@@ -36,6 +40,7 @@ typedef struct args {
     double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min); h_init: one trial
                      per direction, enough near a conical point (see the manual) */
     double mult_weight; /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
+    double branch_mult_weight; /* the same in Algorithms 2.1-2.2 (< 0: mult_weight) */
     unsigned long long seed;
     const char *out;
     const char *save;   /* --save FILE: the branches' end points at |gamma| = 1 */
@@ -49,7 +54,7 @@ static int parse(int argc, char **argv, args *a)
 {
     int i;
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
-    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->seed = 0; a->out = NULL; a->patience = 0; a->save = NULL; a->refine = NULL; a->ncompare = 0;
+    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->branch_mult_weight = -1; a->seed = 0; a->out = NULL; a->patience = 0; a->save = NULL; a->refine = NULL; a->ncompare = 0;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
@@ -65,6 +70,7 @@ static int parse(int argc, char **argv, args *a)
         else if (!strcmp(o, "--start")) a->start = atoi(v) < 0 ? -1 : 1;
         else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
         else if (!strcmp(o, "--mult-weight")) a->mult_weight = atof(v);
+        else if (!strcmp(o, "--branch-mult-weight")) a->branch_mult_weight = atof(v);
         else if (!strcmp(o, "--maxiter")) a->maxiter = atoi(v);
         else if (!strcmp(o, "--restart")) a->restart = !strcmp(v, "paper") ? PSB_RESTART_PAPER : (!strcmp(v, "global") ? PSB_RESTART_GLOBAL : PSB_RESTART_MIXED);
         else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
@@ -164,14 +170,14 @@ int main(int argc, char **argv)
     fe_model md;
     fe_run run;
     psb_options opt;
-    double *y, *t, *w, t0, t1, tol = 1e-8;
+    double *y, *t, *w, *bw = NULL, t0, t1, tol = 1e-8;
     char spec[64];
     int n, k, ndist, input, ok;
     psb_result r;
 
     if (parse(argc, argv, &a)) {
         fprintf(stderr, "usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]\n"
-                        "             [--kappa 1|1/N|V] [--mult-weight W] [--dirichlet mult|elim] [--start -1|1]\n"
+                        "             [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim] [--start -1|1]\n"
                         "             [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--seed S] [--dense]\n");
         return 2;
     }
@@ -190,6 +196,12 @@ int main(int argc, char **argv)
     fe_weights(&md, opt.kappa, a.mult_weight, w);
     opt.weights = w;
     if (fe_run_init(&run, &md, &opt, !a.dense)) { fprintf(stderr, "block: solver set-up failed\n"); return 1; }
+    if (a.branch_mult_weight >= 0 && a.branch_mult_weight != a.mult_weight) {
+        bw = malloc(sizeof(double) * ((size_t)n + 1));
+        if (!bw) return 1;
+        fe_weights(&md, opt.kappa, a.branch_mult_weight, bw);
+        run.branch_weights = bw;
+    }
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
     if (!y || !t) return 1;
@@ -199,6 +211,7 @@ int main(int argc, char **argv)
            md.ncontact, md.half_band);
     printf("  weights: kappa = %s for displacements, %g kappa for multipliers, 1 for gamma\n", a.kappa > 0 ? "given" : "1/N",
            a.mult_weight);
+    if (bw) printf("  weights of Algorithms 2.1-2.2: %g kappa for multipliers\n", a.branch_mult_weight);
     printf("  Algorithms 2.1-2.2: c_diff = %g, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
     t0 = seconds();
@@ -269,7 +282,7 @@ table:
         printf("block: %s\n", ok ? "OK (every end point re-solved on its branch)" : "FAILED (an end point did not re-solve on its branch)");
     else
         printf("block: %s\n", ok ? "OK (six branches as in the paper)" : "FAILED (branches differ from the paper)");
-    free(y); free(t); free(w);
+    free(y); free(t); free(w); free(bw);
     fe_run_free(&run);
     fe_model_free(&md);
     fe_mesh_free(&mesh);

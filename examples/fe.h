@@ -1308,6 +1308,7 @@ typedef struct fe_run {
     int nbr;
     fe_branch br[FE_MAX_BRANCHES];
     double *ys, *ts;      /* psb_find_branches output */
+    const double *branch_weights; /* inner product of Algorithms 2.1-2.2 (NULL: the run's) */
     psb_branch_report brep;
     double precision;     /* Algorithm 2.1's last h */
 } fe_run;
@@ -1672,12 +1673,40 @@ static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int 
     return PSB_SUCCESS;
 }
 
-/* Algorithms 2.1 and 2.2 from the last couple (y, t) of the incoming branch. */
+static inline void fe_stats_add(psb_stats *to, const psb_stats *from)
+{
+    to->n_residual += from->n_residual;
+    to->n_jacobian += from->n_jacobian;
+    to->n_factor += from->n_factor;
+    to->n_factor_reused += from->n_factor_reused;
+    to->n_pc_steps += from->n_pc_steps;
+    to->n_newton += from->n_newton;
+    to->n_rejected += from->n_rejected;
+    to->n_switches += from->n_switches;
+    to->n_tangents += from->n_tangents;
+}
+
+/* Algorithms 2.1 and 2.2 from the last couple (y, t) of the incoming branch. With
+   run->branch_weights (N + 1 values) they run in an inner product of their own, the one that
+   shapes the sweep's directions and the cosines telling branches apart, while continuation
+   and tracing keep the run's. */
 static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
 {
-    psb_result r = psb_locate_end(&run->s, y, t, &run->precision);
-    if (r < 0) return r;
-    r = psb_find_branches(&run->s, y, t, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
+    psb_solver alt, *s = &run->s;
+    psb_result r;
+    if (run->branch_weights) {
+        psb_options o = run->s.opt;
+        o.weights = run->branch_weights;
+        r = psb_solver_init(&alt, &run->prob, &o);
+        if (r != PSB_SUCCESS) return r;
+        s = &alt;
+    }
+    r = psb_locate_end(s, y, t, &run->precision);
+    if (r >= 0) r = psb_find_branches(s, y, t, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
+    if (s == &alt) {
+        fe_stats_add(&run->s.stats, &alt.stats);
+        psb_solver_free(&alt);
+    }
     if (r < 0) return r;
     run->nbr = run->brep.n_branches;
     return r;
