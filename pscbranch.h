@@ -583,7 +583,7 @@ typedef struct psb_solver {
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
     double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_;
     double *bandpair_[2], *afac_, *dpfac_; /* band_ is one of the pair; afac_ the one lu_ holds */
-    double delta_, shift_, mnorm_, bamp_;
+    double delta_, mnorm_, bamp_;
     void *ipiv_, *iwork_; /* LAPACK integers */
     void *owned_;
     unsigned long long rng_[4];
@@ -1612,7 +1612,6 @@ static psb_result psb__band_prepare(psb_solver *s, double shift)
     psb_result r = psb__band_lu(s, shift);
     if (r != PSB_SUCCESS) return r;
     if (s->bv_ok_ && memcmp(s->dpfac_, s->dparam_, (size_t)s->n_ * sizeof(double))) s->bv_ok_ = 0;
-    s->shift_ = shift;
     s->border_ok_ = 0;
     return PSB_SUCCESS;
 }
@@ -1672,15 +1671,22 @@ static double psb__band_shift(psb_solver *s)
     return 1.4901161193847656e-08 * (m > 0 ? m : 1); /* sqrt(eps) ||B|| */
 }
 
+/* A nearly or exactly singular: A + sigma I instead (refinement then solves with the true B) */
+static psb_result psb__band_prepare_shifted(psb_solver *s)
+{
+    psb_result r = psb__band_prepare(s, psb__band_shift(s));
+    s->shifted_ = r == PSB_SUCCESS;
+    return r;
+}
+
 static psb_result psb__factor_banded(psb_solver *s, const double *row)
 {
     psb_result r;
     psb__copy(s->row_, row, s->np1_);
     s->mnorm_ = -1;
+    s->shifted_ = 0;
     r = psb__band_prepare(s, 0.0);
-    if (r == PSB_ERR_SINGULAR) r = psb__band_prepare(s, psb__band_shift(s));
-    s->shifted_ = r == PSB_SUCCESS && s->shift_ != 0;
-    return r;
+    return r == PSB_ERR_SINGULAR ? psb__band_prepare_shifted(s) : r;
 }
 
 /* One block elimination solve with the current factors: z = B_shift^{-1} rhs. A right-hand
@@ -1702,9 +1708,8 @@ static psb_result psb__band_apply(psb_solver *s, const double *rhs, double *z)
         r = psb__band_border(s, zero_f ? NULL : x);
         if (r == PSB_SUCCESS) break;
         if (r != PSB_ERR_SINGULAR || s->shifted_) return r;
-        r = psb__band_prepare(s, psb__band_shift(s));
+        r = psb__band_prepare_shifted(s);
         if (r != PSB_SUCCESS) return r;
-        s->shifted_ = 1;
     }
     for (j = 0; j < n; j++) xi -= s->row_[psb__ycol(s, j)] * x[j];
     xi /= s->delta_;
@@ -1761,9 +1766,8 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
         if (!done) {
             if (!s->shifted_) {
                 /* nearly singular A: refactor shifted, restart this column */
-                r = psb__band_prepare(s, psb__band_shift(s));
+                r = psb__band_prepare_shifted(s);
                 if (r != PSB_SUCCESS) return r;
-                s->shifted_ = 1;
                 memcpy(z, s->work_, (size_t)np1 * sizeof(double));
                 k--;
                 continue;
