@@ -11,8 +11,9 @@
    gamma. --branch-mult-weight sets the multipliers' weight of Algorithms 2.1-2.2 alone; with 1 (all
    unknowns weighted alike, as GetFEM's continuation does) and --paper-sweep, the sweep is the
    paper's: Table 1's spans and n_pc come out close to the printed ones (input 3 finds all six
-   branches in its first span, n_pc 72 at n_dir 50 as printed; the defaults take 3 spans, 154). Exit status 0 only when the six branches of the paper are found, each ends on
-   |gamma| = 1 with a small residual, and a slipping vertex slides the way the block is forced.
+   branches in its first span, n_pc 72 at n_dir 50 as printed; the defaults take 3 spans, 154).
+   Exit status 0 only when the six branches of the paper are found, each ends on |gamma| = 1 with a
+   small residual, and a slipping vertex slides the way the block is forced.
 
    Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]
                 [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim]
