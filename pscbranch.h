@@ -1442,17 +1442,14 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 /* state column j <-> y component */
 static int psb__ycol(const psb_solver *s, int j) { return j < s->prob.param_index ? j : j + 1; }
 
-/* band_jacobian at y into band_ and dparam_. Every entry is checked, since an Inf on the
-   diagonal factors into finite, wrong solutions. */
+/* band_jacobian at y into band_ and dparam_ (zeroed by the caller). Every entry is checked,
+   since an Inf on the diagonal factors into finite, wrong solutions. */
 static psb_result psb__band_callback(psb_solver *s, const double *y)
 {
-    size_t size = (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->n_;
-    psb_result r;
-    memset(s->band_, 0, size * sizeof(double));
-    memset(s->dparam_, 0, (size_t)s->n_ * sizeof(double));
-    r = psb__callback_code(s, s->prob.band_jacobian(y, s->band_, s->prob.kl + s->prob.ku + 1,
-                                                    s->dparam_, s->prob.user),
-                           "band_jacobian callback returned nonzero");
+    int ld = s->prob.kl + s->prob.ku + 1;
+    size_t size = (size_t)ld * (size_t)s->n_;
+    psb_result r = psb__callback_code(s, s->prob.band_jacobian(y, s->band_, ld, s->dparam_, s->prob.user),
+                                      "band_jacobian callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
     if (!psb__all_finite(s->band_, size) || !psb__all_finite(s->dparam_, (size_t)s->n_)) {
         s->last_fail_ = PSB__FAIL_NONFINITE;
@@ -1471,13 +1468,13 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
     s->band_ = s->afac_ == s->bandpair_[0] ? s->bandpair_[1] : s->bandpair_[0];
     s->band_ok_ = 0;
     psb__copy(s->yfac_, y, s->np1_);
+    memset(s->band_, 0, (size_t)ld * (size_t)n * sizeof(double));
+    memset(s->dparam_, 0, (size_t)n * sizeof(double));
     if (s->prob.band_jacobian) {
         r = psb__band_callback(s, y);
         s->band_ok_ = r == PSB_SUCCESS;
         return r;
     }
-    memset(s->band_, 0, (size_t)ld * (size_t)n * sizeof(double));
-    memset(s->dparam_, 0, (size_t)n * sizeof(double));
     /* finite differences, Curtis-Powell-Reid: state columns j = g, g + ld, g + 2 ld, ... touch
        disjoint rows, so one residual serves the whole group */
     {
