@@ -534,7 +534,10 @@ typedef struct psb_options {
     double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
     double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
     int n_dir;            /* directions per span of two tangents [20] */
-    int n_span;           /* selections of the two spanning tangents [15] */
+    int n_span;           /* selections of the two spanning tangents [15]; with the memo on,
+                             a span whose every tangent was tried before does not count,
+                             and after such a span of known branches a random one comes next
+                             (2 n_span such spans in a row, or 4 n_span in all, end it) */
     double branch_trial_h_min; /* trial steps of Algorithm 2.2 give up below this step [h_min];
                                   e.g. branch_h_init / 16 bounds each trial to 5 correctors */
     int branch_patience;  /* stop after this many spans in a row found no new branch
@@ -713,11 +716,13 @@ typedef struct psb_branch_report {
     int n_branches;   /* found, input branch included */
     long n_pc;        /* trial predictor-corrector steps (Step 5 and 6), as n_pc of the paper */
     int n_rand;       /* spans chosen at random (Remark 2.3(ii)), as n_rand of the paper */
-    int n_span;       /* spans used */
+    int n_span;       /* spans that tried a direction (these count against n_span) */
+    int n_span_idle;  /* spans whose every tangent had been tried before: they cost n_dir
+                         tangents, try nothing and do not count (memo on, see n_span) */
     long n_tangents;  /* tangents computed at y0 + h v */
     long n_memo;      /* directions not tried because their tangent was tried before */
-    int span_last_new;    /* the span (1-based) in which the last new branch was found: the
-                             smallest n_span that finds them all, all else equal */
+    int span_last_new;    /* the counted span (1-based) in which the last new branch was
+                             found: the smallest n_span that finds them all, all else equal */
     long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
     int n_rand_last_new;  /* n_span = span_last_new would report */
 } psb_branch_report;
@@ -1367,11 +1372,12 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
             r = psb__residual(s, yp, col);
             if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
             if (s->opt.fd_central) {
+                /* res2_, not res_: callers hold H(y) in res_ across this call */
                 yp[j] = y[j] - hp;
                 hm = hp;
-                r = psb__residual(s, yp, s->res_);
+                r = psb__residual(s, yp, s->res2_);
                 if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
-                for (i = 0; i < n; i++) col[i] = (col[i] - s->res_[i]) / (hp + hm);
+                for (i = 0; i < n; i++) col[i] = (col[i] - s->res2_[i]) / (hp + hm);
             } else {
                 for (i = 0; i < n; i++) col[i] = (col[i] - h_at_y[i]) / hp;
             }
@@ -1780,6 +1786,16 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
 
 /* dH(y) for the next factorisation. h_at_y: H(y) if the caller has it (finite differences
    reuse it), else NULL. */
+/* Whether the library forms dH by finite differences (no analytic Jacobian callback). */
+static int psb__fd_jacobian(const psb_solver *s)
+{
+    switch (s->prob.linear) {
+    case PSB_LINEAR_BANDED: return s->prob.band_jacobian == NULL;
+    case PSB_LINEAR_USER: return 0;
+    default: return s->prob.jacobian == NULL;
+    }
+}
+
 static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_at_y)
 {
     switch (s->prob.linear) {
@@ -2509,10 +2525,16 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
             s->stats.n_pc_steps++;
             r = psb__correct(s, yt, tt, NULL);
             if (psb__is_fatal(r)) return r;
-            moved = r == PSB_SUCCESS && psb__cos_w(s, tt, tc) >= s->opt.c_diff;
+            /* Step 4, also against the entering tangent t, so that small turns passing c_diff
+               one by one cannot add up to another direction */
+            moved = r == PSB_SUCCESS && psb__cos_w(s, tt, tc) >= s->opt.c_diff &&
+                    psb__cos_w(s, tt, t) >= s->opt.c_diff;
             if (moved) {
                 psb__copy(yc, yt, np1);
-                psb__copy(tc, tt, np1);
+                /* a finite-difference Jacobian within fd_step of the end point mixes the
+                   pieces meeting there: keep the entering tangent, which over these few
+                   branch_h is the branch's own to far better than c_diff */
+                if (!psb__fd_jacobian(s)) psb__copy(tc, tt, np1);
                 if (++advances > 1000) return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "no end point within 1000 steps of branch_h");
             }
         } while (moved);
@@ -2641,8 +2663,9 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                                            psb_branch_report *rep)
 {
     psb_branch_report local;
-    int np1, k, span, overflow = 0, global, found_before, idle = 0;
-    long next_pair = 0;
+    int np1, k, span, overflow = 0, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
+    int idle_spans_in_a_row = 0;
+    long next_pair = 0, pc_before;
     unsigned long long seed;
     double *yc, *tc, *t1, *t2, *pt;
     psb_result r;
@@ -2675,10 +2698,18 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     psb__copy(ts, t1, np1);
     rep->n_branches = 1;
 
-    for (span = 0; span < s->opt.n_span; span++) {
+    /* A span whose tangents were all tried before (the memo skips every direction) tries
+       nothing: it does not count against n_span. When the pairs of known branches give only
+       such spans, as on H = min(x, g - x) in R^k, whose 2^k rays pairwise span planes meeting
+       no other ray's region, they would use up every span and starve the random ones: after
+       one, a random span comes next. 2 n_span idle spans in a row (in R^2, where every span
+       sweeps the one plane there is, they follow the first) or 4 n_span spans in all end the
+       sweep: they bound the tangents spent. */
+    for (span = 0; rep->n_span < s->opt.n_span && span < 4 * s->opt.n_span; span++) {
         if (span > 0) {
             long avail = (long)rep->n_branches * (rep->n_branches - 1) / 2;
-            if (next_pair < avail) {
+            pair_span = next_pair < avail && !pair_stale;
+            if (pair_span) {
                 /* Section 3, strategy (1): the pairs of branches found so far, in the order
                    (0,1), (0,2), (1,2), (0,3), ... so that newly found branches join in */
                 int j = 1, i;
@@ -2708,10 +2739,18 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 if (r != PSB_SUCCESS) { psb__copy(t2, prev, np1); continue; }
             }
         }
-        rep->n_span++;
         found_before = rep->n_branches;
+        pc_before = rep->n_pc;
         r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
         if (r != PSB_SUCCESS) return r;
+        pair_stale = pair_span && rep->n_pc == pc_before;
+        if (rep->n_pc == pc_before && !s->opt.branch_no_memo) {
+            rep->n_span_idle++;
+            if (++idle_spans_in_a_row >= 2 * s->opt.n_span) break;
+            continue;
+        }
+        idle_spans_in_a_row = 0;
+        rep->n_span++;
         if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) break;
         if (rep->n_branches > found_before) {
             rep->span_last_new = rep->n_span;

@@ -104,37 +104,44 @@ static void test_circle(void)
     psb_solver_free(&s);
 }
 
+/* Finite differences, forward and central: the central ones evaluate H at y - h e_j too, into
+   a buffer of their own (in 0.3.0 they overwrote the corrector's H(y), and no step converged). */
 static void test_circle_fd(void)
 {
-    psb_problem p;
-    psb_options o;
-    psb_solver s;
-    psb_trace_options to;
-    psb_trace_report rep;
-    track tr;
-    double y[4] = {0.6, 0.216, 0, 0.8}, t[4];
-    y[2] = sin(0.6) - 0.216;
-    memset(&o, 0, sizeof o);
-    o.kappa = 0.5;
-    o.tol_residual = 1e-9;
-    o.tol_correction = 1e-8;
-    psb_problem_init(&p, 3, circle3_res, NULL, NULL);
-    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
-    CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
-    CHECK(t[3] > 0);
-    memset(&to, 0, sizeof to);
-    memset(&tr, 0, sizeof tr);
-    tr.s = &s;
-    to.detect_loop = 1;
-    to.on_point = track_point;
-    to.point_user = &tr;
-    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
-    CHECK(rep.n_folds == 2);
-    CHECK_NEAR(rep.fold_params[0], 1, 1e-4);
-    CHECK_NEAR(rep.fold_params[1], -1, 1e-4);
-    CHECK(tr.max_residual <= 1e-9);
-    CHECK(s.stats.n_residual > 4 * s.stats.n_jacobian); /* finite differences did the work */
-    psb_solver_free(&s);
+    int central;
+    for (central = 0; central <= 1; central++) {
+        psb_problem p;
+        psb_options o;
+        psb_solver s;
+        psb_trace_options to;
+        psb_trace_report rep;
+        track tr;
+        double y[4] = {0.6, 0.216, 0, 0.8}, t[4];
+        y[2] = sin(0.6) - 0.216;
+        memset(&o, 0, sizeof o);
+        o.kappa = 0.5;
+        o.tol_residual = 1e-9;
+        o.tol_correction = 1e-8;
+        o.fd_central = central;
+        psb_problem_init(&p, 3, circle3_res, NULL, NULL);
+        CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+        CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+        CHECK(t[3] > 0);
+        memset(&to, 0, sizeof to);
+        memset(&tr, 0, sizeof tr);
+        tr.s = &s;
+        to.detect_loop = 1;
+        to.on_point = track_point;
+        to.point_user = &tr;
+        CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
+        CHECK(rep.n_folds == 2);
+        CHECK_NEAR(rep.fold_params[0], 1, 1e-4);
+        CHECK_NEAR(rep.fold_params[1], -1, 1e-4);
+        CHECK(tr.max_residual <= 1e-9);
+        /* finite differences did the work: 4 (forward) or 8 (central) residuals per Jacobian */
+        CHECK(s.stats.n_residual > (central ? 8 : 4) * s.stats.n_jacobian);
+        psb_solver_free(&s);
+    }
 }
 
 /* ---- kinks ------------------------------------------------------------------------------ */
@@ -638,8 +645,10 @@ static void test_branch_budgets(void)
     CHECK(psb_find_branches(&s, y0, t0, 3, NULL, ts, &cap) == PSB_ERR_NULL);
     psb_solver_free(&s);
 
-    /* the memo of tried tangents: the same eight branches in the same order, fewer trials, and
-       every direction it spared had been tried */
+    /* the memo of tried tangents: the same eight branches in the same order, found in the
+       first span with the same trials. In R^2 every span sweeps the one plane there is, so
+       every later span tries nothing: idle, they do not count, and 2 n_span of them in a row
+       end the sweep */
     {
         psb_branch_report memo;
         double ys2[16 * 2], ts2[16 * 2];
@@ -647,14 +656,17 @@ static void test_branch_budgets(void)
         o.branch_no_memo = 0;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
         CHECK(psb_find_branches(&s, y0, t0, 16, ys2, ts2, &memo) == PSB_SUCCESS);
-        CHECK(memo.n_branches == 8 && memo.n_memo > 0 && memo.n_pc < full.n_pc);
-        CHECK(memo.n_pc + 2 * memo.n_memo <= full.n_pc && memo.n_tangents == full.n_tangents);
+        CHECK(memo.n_branches == 8 && memo.n_memo > 0 && 4 * memo.n_pc < full.n_pc);
+        CHECK(memo.n_span == 1 && memo.n_span_idle == 2 * o.n_span && memo.span_last_new == 1);
+        /* at most 2 n_span + 1 sweeps, and the random draws' own tangents */
+        CHECK(memo.n_tangents <= 1 + (2 * o.n_span + 1) * o.n_dir + memo.n_rand);
         psb_solver_free(&s);
         o.branch_no_memo = 1;
+        o.n_span = 1;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
         CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &full) == PSB_SUCCESS);
         for (k = 0; k < 2 * 8; k++) CHECK(ys[k] == ys2[k] && ts[k] == ts2[k]);
-        CHECK(memo.n_pc + 2 * memo.n_memo == full.n_pc);
+        CHECK(memo.n_pc == full.n_pc && full.n_memo == 0);
         psb_solver_free(&s);
     }
 }
@@ -705,8 +717,8 @@ static void test_pl_branching(void)
    3 or more strictly complementary rays. Regions are thin cones here, and a trial's corrector
    often converges on a branch other than the one its tangent pointed at; accepting such a point
    when it lies on a ray from y0 (psb__try_step_from) took the complete sets of these 40 problems
-   from 32 to 36 (paper's values, n_span = 15; the misses are regions no span sampled). Every
-   branch found must be one of the analytic rays. */
+   from 32 to 36 (paper's values, n_span = 15), and not counting idle spans (psb_find_branches)
+   to 39; the miss is a region no span sampled. Every branch found must be one of the rays. */
 static void test_random_lcp_batch(void)
 {
     unsigned long long st = 1006;
@@ -734,8 +746,117 @@ static void test_random_lcp_batch(void)
     }
     printf("  random LCPs, N = 6: %d of %d complete, %d with a spurious branch\n", complete, done, spurious);
     CHECK(done == 40);
-    CHECK(complete >= 36);
+    CHECK(complete >= 39);
     CHECK(spurious == 0);
+}
+
+/* One branching run with the default options, entering along ray `incoming`; whether every
+   ray, and nothing else, was found (tangents matching to 1e-6). fd: finite-difference Jacobian. */
+static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, int incoming, int fd)
+{
+    int n = pp->n, np1 = n + 1, i, j, k, matched = 0, hit[PL_MAX_RAYS] = {0};
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_branch_report br;
+    psb_result r;
+    memset(&o, 0, sizeof o);
+    psb_problem_init(&prob, n, pl_residual, fd ? NULL : pl_jacobian, pp);
+    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return 0;
+    for (i = 0; i < np1; i++) {
+        y[i] = 0.5 * rays[incoming * np1 + i];
+        t[i] = -rays[incoming * np1 + i];
+    }
+    memset(&to, 0, sizeof to);
+    to.locate_kinks = 1;
+    to.on_point = stop_at_kink;
+    r = psb_trace(&s, y, t, &to, NULL);
+    CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+    CHECK(psb_norm_w(&s, y) < (fd ? 1e-6 : 1e-9));
+    CHECK(psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, &br) == PSB_SUCCESS);
+    for (k = 0; k < br.n_branches; k++)
+        for (j = 0; j < n_rays; j++) {
+            double nd = psb_norm_w(&s, rays + j * np1), err = 0;
+            for (i = 0; i < np1; i++) err += (ts[k * np1 + i] - rays[j * np1 + i] / nd) * (ts[k * np1 + i] - rays[j * np1 + i] / nd);
+            if (sqrt(err) < 1e-6 && !hit[j]) {
+                hit[j] = 1;
+                matched++;
+            }
+        }
+    psb_solver_free(&s);
+    return matched == n_rays && br.n_branches == n_rays;
+}
+
+/* H_i = min(x_i, g - x_i), i = 1..k: k kinks crossing at the origin, 2^k rays (x in {0, 1}^k,
+   g > 0). The plane of two rays meets no third ray's region, so the spans of pairs of known
+   branches find nothing: every one of their tangents was tried before. Counting such spans
+   against n_span let them use up all 15 and starve the random spans (8 of 8 rays found from
+   2 of the 8 entries for k = 3, 6 of 16 on average for k = 4); with them idle and a random span
+   after each, every ray is found from every entry, at n_pc = 2 per ray. */
+static void test_crossing_kinks(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    pl_problem p;
+    int k, i, a, inc;
+    for (k = 3; k <= 4; k++) {
+        memset(&p, 0, sizeof p);
+        p.n = k;
+        for (i = 0; i < k; i++) {
+            p.m[i + i * k] = -1;
+            p.q[i] = 1;
+        }
+        a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+        CHECK(a == 1 << k);
+        for (inc = 0; inc < a; inc++) CHECK(default_branch_run(&p, rays, a, inc, 0));
+    }
+}
+
+/* Branching with the Jacobian left to finite differences (forward, the defaults otherwise).
+   Within fd_step of the end point the difference quotients mix the pieces meeting there, so
+   Algorithm 2.1 stops ~fd_step short, and tangents computed there are off by up to
+   acos(c_diff): it keeps the entering tangent (else branch 0 misses its ray, the sweep finds
+   the incoming branch a second time, and 9 of these 46 runs come out right). */
+static void test_fd_branching(void)
+{
+    unsigned long long st = 2024;
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    pl_problem p;
+    int a, b, inc, runs = 0, complete = 0, done = 0, tries = 0;
+    /* random LCPs in R^5 whose rays are told apart by c_diff, every ray entered in turn */
+    while (done < 10 && tries < 10000) {
+        int i, j1, j2, close = 0;
+        tries++;
+        memset(&p, 0, sizeof p);
+        p.n = 4;
+        for (i = 0; i < 16; i++) p.m[i] = lcg_normal(&st);
+        for (i = 0; i < 4; i++) p.q[i] = lcg_normal(&st);
+        a = pl_enumerate_rays(&p, 1.0, 1e-3, rays, PL_MAX_RAYS);
+        if (a < 0) continue;
+        b = pl_enumerate_rays(&p, -1.0, 1e-3, rays + a * 5, PL_MAX_RAYS - a);
+        if (b < 0 || a + b < 3) continue;
+        for (j1 = 0; j1 < a + b; j1++)
+            for (j2 = j1 + 1; j2 < a + b; j2++) {
+                double c = 0, n1 = 0, n2 = 0;
+                for (i = 0; i < 5; i++) {
+                    c += rays[j1 * 5 + i] * rays[j2 * 5 + i];
+                    n1 += rays[j1 * 5 + i] * rays[j1 * 5 + i];
+                    n2 += rays[j2 * 5 + i] * rays[j2 * 5 + i];
+                }
+                close |= c > 0.9999 * sqrt(n1 * n2);
+            }
+        if (close) continue;
+        done++;
+        for (inc = 0; inc < a + b; inc++) {
+            runs++;
+            complete += default_branch_run(&p, rays, a + b, inc, 1);
+        }
+    }
+    printf("  finite differences, random LCPs, N = 4: %d of %d runs complete\n", complete, runs);
+    CHECK(done == 10);
+    CHECK(complete >= runs - 2);
 }
 
 /* Same seed, same branches and counters, bit for bit, also through random restarts. */
@@ -943,6 +1064,8 @@ int main(void)
     test_sharp_turn(0);
     test_pl_branching();
     test_random_lcp_batch();
+    test_crossing_kinks();
+    test_fd_branching();
     test_branch_budgets();
     test_determinism();
     test_solve_at_param();
