@@ -89,14 +89,15 @@ demo: examples/01_branching examples/block
 	  (cd out/block && gnuplot plot.gp) && echo "plots: out/block/*.png"; \
 	else echo "gnuplot not installed (apt-get install gnuplot-nox): plot data and script are in out/block"; fi
 
-BENCH = bench/bench_linear
+BENCH = bench/bench_linear bench/bench_branching
 
-bench/%: bench/%.c $(HEADER)
+bench/%: bench/%.c $(HEADER) tests/pl_problems.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
 
 bench: $(BENCH) examples/block
 	@mkdir -p bench/out
 	./bench/bench_linear --csv bench/out/linear.csv
+	./bench/bench_branching --csv bench/out/branching.csv
 	bash bench/bench_block.sh
 
 asan:

@@ -857,6 +857,43 @@ static void test_fd_branching(void)
     printf("  finite differences, random LCPs, N = 4: %d of %d runs complete\n", complete, runs);
     CHECK(done == 10);
     CHECK(complete >= runs - 2);
+
+    /* crossing kinks, k = 4: the sample points y0 + branch_h v must lie far from fd_step of the
+       piece boundaries, or the mixed quotients give tangents the memo takes for new ones, the
+       pair spans stop being idle and starve the random ones: branch_h defaults to 1000 fd_step
+       (with h_min, 1 of the 16 entries found all 16 rays) */
+    {
+        psb_problem prob;
+        psb_options o;
+        psb_solver s;
+        int i;
+        memset(&p, 0, sizeof p);
+        p.n = 4;
+        for (i = 0; i < 4; i++) {
+            p.m[i + i * 4] = -1;
+            p.q[i] = 1;
+        }
+        a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+        CHECK(a == 16);
+        complete = 0;
+        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1);
+        printf("  finite differences, crossing kinks, k = 4: %d of 16 entries complete\n", complete);
+        CHECK(complete >= 14);
+        memset(&o, 0, sizeof o);
+        psb_problem_init(&prob, 4, pl_residual, NULL, &p);
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(s.opt.branch_h == 1000 * s.opt.fd_step && s.opt.branch_h_min == s.opt.branch_h / 16384);
+        psb_solver_free(&s);
+        o.branch_h = 3e-6; /* the caller's value stands */
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(s.opt.branch_h == 3e-6 && s.opt.branch_h_min == 3e-6 / 16384);
+        psb_solver_free(&s);
+        o.branch_h = 0;
+        psb_problem_init(&prob, 4, pl_residual, pl_jacobian, &p);
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(s.opt.branch_h == s.opt.h_min);
+        psb_solver_free(&s);
+    }
 }
 
 /* Same seed, same branches and counters, bit for bit, also through random restarts. */
