@@ -51,9 +51,11 @@
    Jacobian callback returns the gradient of a selection that is active at y (the B-Jacobian
    element of the piece y lies on); with finite differences (jacobian = NULL) a step that crosses
    a kink mixes pieces, so give an analytic selection gradient when branching at kinks. Without
-   one, branch_h defaults to 1000 fd_step (1.5e-5 with forward differences), so that the sample
-   points of Algorithm 2.2 seldom lie within fd_step of a piece boundary; Algorithm 2.1 ends
-   ~fd_step from the point and keeps the tangent it entered with. bench_branching: crossing
+   one, branch_h defaults, at each call of Algorithm 2.1 or 2.2, to 1000 difference steps at
+   the point, max(h_min, 1000 max_j fd_step max(1, |y_j|) sqrt(w_j)) (1.5e-5 near the origin
+   with forward differences; s->opt.branch_h shows the last value), so that the sample points
+   of Algorithm 2.2 seldom lie within a step of a piece boundary; Algorithm 2.1 ends about a
+   step from the point and keeps the tangent it entered with. bench_branching: crossing
    kinks (k = 4) complete from 15 of 16 entries (1 of 16 with branch_h = h_min), random
    complementarity problems as with the analytic Jacobian.
    A kink is a point where a curve passes from one piece to another with a different tangent; a
@@ -138,7 +140,7 @@
    fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
                                     finite differences: column j steps fd_step * max(1, |y_j|)
    c_diff [0.99999]                 cosine above which two tangents are one branch
-   branch_h [h_min; 1000 fd_step if the library differentiates H]
+   branch_h [h_min; with finite differences 1000 steps, see section 1]
                                     h of Algorithms 2.1 and 2.2 (the paper: the continuation's
                                     smallest step)
    branch_h_min [branch_h / 2^14]   precision of Algorithm 2.1
@@ -556,7 +558,7 @@ typedef struct psb_options {
     /* branching: Algorithm 2.1 (end point) and 2.2 (branches) of Ligursky-Renard */
     double c_diff;        /* cosine above which two tangents are the same branch [0.99999] */
     double branch_h;      /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
-                             max(h_min, 1000 fd_step)] */
+                             1000 difference steps at the point, see section 1] */
     double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
     double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
     int n_dir;            /* directions per span of two tangents [20] */
@@ -608,6 +610,7 @@ typedef struct psb_solver {
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_;
     int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
                                          A^{-1} dpfac_ / delta_ is current */
+    int branch_h_auto_, branch_h_min_auto_; /* left to their defaults (see psb__branch_h) */
     double *w_;
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
     double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_;
@@ -1246,13 +1249,9 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     if (bytes < psb__layout(p, NULL, NULL))
         return psb__fail(s, PSB_ERR_NOMEM, "memory block smaller than psb_solver_memory_size(p)");
     s->opt = psb_options_resolve(opt);
-    if ((!opt || opt->branch_h == 0) && psb__fd_jacobian(p)) {
-        /* Algorithm 2.2 samples tangents at y0 + branch_h v: a difference quotient there mixes
-           pieces when a piece boundary lies within fd_step, with odds ~ fd_step / branch_h */
-        double h = 1000 * s->opt.fd_step;
-        s->opt.branch_h = h > s->opt.h_min ? h : s->opt.h_min;
-        if (!opt || opt->branch_h_min == 0) s->opt.branch_h_min = s->opt.branch_h / 16384.0;
-    }
+    /* finite differences: branch_h follows the difference steps at each point (psb__branch_h) */
+    s->branch_h_auto_ = (!opt || opt->branch_h == 0) && psb__fd_jacobian(p);
+    s->branch_h_min_auto_ = !opt || opt->branch_h_min == 0;
     bad = psb__check_options(&s->opt, p->n + 1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->prob = *p;
@@ -2530,6 +2529,25 @@ done:
     return rep->end;
 }
 
+/* Sets opt.branch_h (and branch_h_min) for Algorithms 2.1-2.2 at y. With finite differences
+   and branch_h left to its default: 1000 times the largest difference step at y measured in
+   the weighted norm, max_j fd_step max(1, |y_j|) sqrt(w_j), and at least h_min. Tangents are
+   sampled at y + branch_h v; a quotient there mixes pieces when a piece boundary lies within
+   a difference step, with odds ~ step / branch_h. */
+static void psb__branch_h(psb_solver *s, const double *y)
+{
+    int j;
+    double step = 0, h;
+    if (!s->branch_h_auto_) return;
+    for (j = 0; j < s->np1_; j++) {
+        double sj = s->opt.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
+        if (sj > step) step = sj;
+    }
+    h = 1000 * step;
+    s->opt.branch_h = h > s->opt.h_min ? h : s->opt.h_min;
+    if (s->branch_h_min_auto_) s->opt.branch_h_min = s->opt.branch_h / 16384.0;
+}
+
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision)
 {
     int np1;
@@ -2545,6 +2563,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    psb__branch_h(s, yc);
     /* Steps 1-5, except that after a successful move the same h is tried again before it is
        halved: the paper's version moves at most h in all, so it cannot reach an end point
        farther than h (the last step of a continuation can stop up to h_min / h_dec away). */
@@ -2559,9 +2578,18 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
             r = psb__correct(s, yt, tt, NULL);
             if (psb__is_fatal(r)) return r;
             /* Step 4, also against the entering tangent t, so that small turns passing c_diff
-               one by one cannot add up to another direction */
+               one by one cannot add up to another direction, and only for a point ahead: the
+               corrector may fall back from beyond the end point onto the branch behind it
+               (with finite differences, whose tangents there mix the pieces, that passed the
+               cosine test over and over without moving) */
             moved = r == PSB_SUCCESS && psb__cos_w(s, tt, tc) >= s->opt.c_diff &&
                     psb__cos_w(s, tt, t) >= s->opt.c_diff;
+            if (moved) {
+                double ahead = 0;
+                int i;
+                for (i = 0; i < np1; i++) ahead += s->w_[i] * (yt[i] - yc[i]) * tc[i];
+                moved = ahead >= 0.5 * h;
+            }
             if (moved) {
                 psb__copy(yc, yt, np1);
                 /* a finite-difference Jacobian within fd_step of the end point mixes the
@@ -2717,6 +2745,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     psb__copy(yc, y0, np1);
     psb__copy(tc, t0, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
+    psb__branch_h(s, yc);
     seed = s->opt.seed;
     for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
     s->memo_n_ = 0;

@@ -118,7 +118,7 @@ for config in defaults paper; do
             anbr=$(printf '%s\n' "$ad" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
             anpc=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)
             anrand=$(printf '%s\n' "$ad" | sed -n 's/.*; n_pc = [0-9]*, n_rand = \([0-9]*\).*/\1/p' | head -n 1)
-            aspans=$(printf '%s\n' "$ad" | sed -n 's/.*, spans = \([0-9]*\),.*/\1/p' | head -n 1)
+            aspans=$(printf '%s\n' "$ad" | sed -n 's/.*, spans = \([0-9]*\)[ ,].*/\1/p' | head -n 1)
             ad6=$($block --mesh "$study_mesh" --input "$input" --ndir "$ndir" --nspan 40 --patience 6 $flags 2>&1)
             a6nbr=$(printf '%s\n' "$ad6" | sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p')
             a6npc=$(printf '%s\n' "$ad6" | sed -n 's/.*; n_pc = \([0-9]*\), n_rand.*/\1/p' | head -n 1)

@@ -819,6 +819,21 @@ static void test_crossing_kinks(void)
    Algorithm 2.1 stops ~fd_step short, and tangents computed there are off by up to
    acos(c_diff): it keeps the entering tangent (else branch 0 misses its ray, the sweep finds
    the incoming branch a second time, and 9 of these 46 runs come out right). */
+/* The crossing kinks (k = 3) moved to a point c far from the origin: y - c enters H. */
+typedef struct {
+    pl_problem p;
+    double c[4];
+} shifted_pl;
+
+static int shifted_res(const double *y, double *h, void *user)
+{
+    const shifted_pl *sp = (const shifted_pl *)user;
+    double z[4];
+    int i;
+    for (i = 0; i < 4; i++) z[i] = y[i] - sp->c[i];
+    return pl_residual(z, h, (void *)&sp->p);
+}
+
 static void test_fd_branching(void)
 {
     unsigned long long st = 2024;
@@ -860,8 +875,8 @@ static void test_fd_branching(void)
 
     /* crossing kinks, k = 4: the sample points y0 + branch_h v must lie far from fd_step of the
        piece boundaries, or the mixed quotients give tangents the memo takes for new ones, the
-       pair spans stop being idle and starve the random ones: branch_h defaults to 1000 fd_step
-       (with h_min, 1 of the 16 entries found all 16 rays) */
+       pair spans stop being idle and starve the random ones: branch_h defaults to 1000
+       difference steps (with h_min, 1 of the 16 entries found all 16 rays) */
     {
         psb_problem prob;
         psb_options o;
@@ -879,20 +894,86 @@ static void test_fd_branching(void)
         for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1);
         printf("  finite differences, crossing kinks, k = 4: %d of 16 entries complete\n", complete);
         CHECK(complete >= 14);
-        memset(&o, 0, sizeof o);
-        psb_problem_init(&prob, 4, pl_residual, NULL, &p);
-        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-        CHECK(s.opt.branch_h == 1000 * s.opt.fd_step && s.opt.branch_h_min == s.opt.branch_h / 16384);
-        psb_solver_free(&s);
-        o.branch_h = 3e-6; /* the caller's value stands */
-        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-        CHECK(s.opt.branch_h == 3e-6 && s.opt.branch_h_min == 3e-6 / 16384);
-        psb_solver_free(&s);
+        /* the default follows the difference steps at the point: 1000 of them, the largest
+           in the weighted norm */
+        {
+            double y[5] = {1e-4, 1e-4, 0, 0, 1e-4}, t[5] = {-1, -1, 0, 0, -1};
+            memset(&o, 0, sizeof o);
+            psb_problem_init(&prob, 4, pl_residual, NULL, &p);
+            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+            CHECK(psb_norm_w(&s, y) < 1e-6);
+            CHECK(s.opt.branch_h == 1000 * s.opt.fd_step && s.opt.branch_h_min == s.opt.branch_h / 16384);
+            y[1] = 50; /* not a solution: only the scale matters here */
+            psb_locate_end(&s, y, t, NULL);
+            CHECK(s.opt.branch_h == 1000 * s.opt.fd_step * 50);
+            psb_solver_free(&s);
+            o.branch_h = 3e-6; /* the caller's value stands */
+            y[0] = y[1] = y[4] = 1e-4;
+            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+            CHECK(s.opt.branch_h == 3e-6 && s.opt.branch_h_min == 3e-6 / 16384);
+            psb_solver_free(&s);
+        }
         o.branch_h = 0;
         psb_problem_init(&prob, 4, pl_residual, pl_jacobian, &p);
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
         CHECK(s.opt.branch_h == s.opt.h_min);
         psb_solver_free(&s);
+    }
+
+    /* the crossing kinks at c = (5, -6.85, 8.7, -10.55): difference steps of ~1e-7, and
+       branch_h = 1.49e-5, a hundred of them. Entering along the g axis, Algorithm 2.1's
+       corrector fell back from beyond the point onto the same spot of the incoming branch,
+       whose tangent passed the cosine test, 1000 times (PSB_ERR_NO_CONVERGENCE): a move must
+       now be ahead */
+    {
+        shifted_pl sp;
+        psb_problem prob;
+        psb_options o;
+        int i, j, k, n_ok = 0;
+        memset(&sp, 0, sizeof sp);
+        sp.p.n = 3;
+        for (i = 0; i < 3; i++) {
+            sp.p.m[i + i * 3] = -1;
+            sp.p.q[i] = 1;
+        }
+        for (i = 0; i < 4; i++) sp.c[i] = 5 * (1 + 0.37 * i) * (i % 2 ? -1 : 1);
+        a = pl_enumerate_rays(&sp.p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+        CHECK(a == 8);
+        memset(&o, 0, sizeof o);
+        o.branch_h = 1000 * 1.4901161193847656e-08; /* as at the origin; the failure needs it exact */
+        psb_problem_init(&prob, 3, shifted_res, NULL, &sp);
+        for (inc = 0; inc < a; inc++) {
+            psb_solver s;
+            psb_trace_options to;
+            psb_branch_report br;
+            double y[4], t[4], ys[8 * 4], ts[8 * 4];
+            int hit[8] = {0}, matched = 0;
+            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            for (i = 0; i < 4; i++) {
+                y[i] = sp.c[i] + 0.5 * rays[inc * 4 + i];
+                t[i] = -rays[inc * 4 + i];
+            }
+            memset(&to, 0, sizeof to);
+            to.locate_kinks = 1;
+            to.on_point = stop_at_kink;
+            CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_STOPPED);
+            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y, t, 8, ys, ts, &br) == PSB_SUCCESS);
+            for (k = 0; k < br.n_branches; k++)
+                for (j = 0; j < a; j++) {
+                    double nd = psb_norm_w(&s, rays + j * 4), err = 0;
+                    for (i = 0; i < 4; i++) err += (ts[k * 4 + i] - rays[j * 4 + i] / nd) * (ts[k * 4 + i] - rays[j * 4 + i] / nd);
+                    if (sqrt(err) < 1e-6 && !hit[j]) {
+                        hit[j] = 1;
+                        matched++;
+                    }
+                }
+            n_ok += matched == 8 && br.n_branches == 8;
+            psb_solver_free(&s);
+        }
+        CHECK(n_ok == 8);
     }
 }
 
