@@ -55,7 +55,8 @@
    the point, max(h_min, 1000 max_j fd_step max(1, |y_j|) sqrt(w_j)) (1.5e-5 near the origin
    with forward differences; s->opt.branch_h shows the last value), so that the sample points
    of Algorithm 2.2 seldom lie within a step of a piece boundary; Algorithm 2.1 ends about a
-   step from the point and keeps the tangent it entered with. bench_branching: crossing
+   step from the point (more when the branch runs close to a piece boundary), keeps the tangent
+   it entered with while it moves, and returns the branch's tangent 16 branch_h back. bench_branching: crossing
    kinks (k = 4) complete from 15 of 16 entries (1 of 16 with branch_h = h_min), random
    complementarity problems as with the analytic Jacobian.
    A kink is a point where a curve passes from one piece to another with a different tangent; a
@@ -240,10 +241,13 @@
    Algorithm 2.1 as in the paper, except that after a successful move the same h is tried again
    before it is halved: the paper's version moves at most branch_h in all and so cannot reach an
    end point that the continuation left farther away. Step 4 also compares the new tangent with
-   the one the call entered with, so turns below c_diff cannot add up; with finite differences
-   the tangent returned is the entering one (quotients within fd_step of the point mix its
-   pieces: the incoming branch came out up to acos(c_diff) off and was found a second time by
-   the sweep; on random complementarity problems, N = 4, 2 of 46 runs were right, now 46).
+   the one the call entered with, so turns below c_diff cannot add up, and a move must land at
+   least h/2 ahead (a corrector falling back from beyond the end point onto the branch behind
+   it passed the cosine test over and over). With finite differences the tangent is not
+   updated while moving and the one returned is computed 16 branch_h back (quotients within a
+   step of the point mix its pieces: the incoming branch came out up to acos(c_diff) off and
+   was found a second time by the sweep; on random complementarity problems, N = 4, 2 of 46
+   runs were right, now 46).
    Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
    deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc. A trial
    that converges closer to y0 than h is discarded: there pieces that merely touch the end point
@@ -402,9 +406,11 @@
                        grows by (kl + ku + 2) N doubles (problem.band_lean: by N).
    0.4.0 (2026-11-23)  Algorithm 2.2: idle spans (every tangent tried before) do not count
                        against n_span, and a random span follows an idle span of a pair
-                       (report.n_span_idle). Fixes with finite differences: central quotients
-                       overwrote the corrector's H(y) (no step converged); Algorithm 2.1 keeps
-                       the entering tangent and compares with it.
+                       (report.n_span_idle). Algorithm 2.1: moves must land ahead, tangents
+                       are compared with the entering one too. Finite differences: central
+                       quotients overwrote the corrector's H(y) (no step converged); branch_h
+                       defaults to 1000 difference steps at the point; Algorithm 2.1 returns a
+                       tangent computed 16 branch_h back. bench_branching.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -2600,6 +2606,18 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
             }
         } while (moved);
     } while (h >= s->opt.branch_h_min);
+    if (psb__fd_jacobian(&s->prob)) {
+        /* the entering tangent too may come from quotients mixing the pieces (the last couple
+           of a trace lies within h_min of the end point): take the branch's tangent 16
+           branch_h back, where a difference step meets a piece boundary only if the branch
+           runs within ~fd_step / (16 branch_h) radians of it */
+        psb__axpy_to(yt, yc, -16 * s->opt.branch_h, tc, np1);
+        psb__copy(tt, tc, np1);
+        s->stats.n_pc_steps++;
+        r = psb__correct(s, yt, tt, NULL);
+        if (psb__is_fatal(r)) return r;
+        if (r == PSB_SUCCESS && psb__cos_w(s, tt, tc) >= s->opt.c_diff) psb__copy(tc, tt, np1);
+    }
     psb__copy(y, yc, np1);
     psb__copy(t, tc, np1);
     if (precision) *precision = h;
