@@ -2656,15 +2656,72 @@ static double psb__gauss(unsigned long long *st)
     return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
 }
 
+/* Steps 5-7 of Algorithm 2.2 for the tangent tt: trial steps from y0 along +tt and -tt, and
+   a new branch for each that converges away from y0 in a direction no known branch has.
+   Skipped when tt was tried before in this call (memo). Stops before a trial when the n_pc
+   budget is spent. */
+static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double *tt,
+                                   int max_branches, double *ys, double *ts,
+                                   psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->np1_, k, sign, iters;
+    double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
+    psb_result r;
+    /* the trials from y0 along +-tt depend on y0 and tt alone: a tangent within c_diff of one
+       tried before in this call (any span) repeats its trials and their verdict */
+    if (!s->opt.branch_no_memo) {
+        int m, seen = 0, stored = s->memo_n_ < s->memo_cap_ ? s->memo_n_ : s->memo_cap_;
+        for (m = 0; m < stored && !seen; m++)
+            seen = fabs(psb__cos_w(s, tt, s->memo_ + (size_t)m * (size_t)np1)) >= s->opt.c_diff;
+        if (seen) {
+            rep->n_memo++;
+            return PSB_SUCCESS;
+        }
+        /* when full, the oldest entry makes room */
+        psb__copy(s->memo_ + (size_t)(s->memo_n_ % s->memo_cap_) * (size_t)np1, tt, np1);
+        s->memo_n_++;
+    }
+    for (sign = 1; sign >= -1; sign -= 2) {
+        double hh = s->opt.branch_h_init, dotp;
+        int j, is_new = 1;
+        psb__copy(yb, y0, np1);
+        for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
+        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
+        rep->n_pc++;
+        r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
+        if (psb__is_fatal(r)) return r;
+        if (r != PSB_SUCCESS) continue;
+        /* a point closer to y0 than the sampling distance h tells nothing reliable about the
+           branches: pieces that touch the end point are active there */
+        if (psb__dist_w(s, yb, y0) < s->opt.branch_h) continue;
+        /* Step 5(i): orient away from the point */
+        dotp = 0;
+        for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
+        if (dotp < 0)
+            for (k = 0; k < np1; k++) tb[k] = -tb[k];
+        /* Step 5(ii): a new branch unless it is within c_diff of a known one */
+        for (j = 0; j < rep->n_branches; j++)
+            if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
+        if (!is_new) continue;
+        if (rep->n_branches >= max_branches) {
+            *overflow = 1;
+            continue;
+        }
+        psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
+        psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
+        rep->n_branches++;
+    }
+    return PSB_SUCCESS;
+}
+
 /* One span of Algorithm 2.2 (Steps 2-7) with the spanning tangents t1, t2. */
 static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, const double *t2,
                              int max_branches, double *ys, double *ts, psb_branch_report *rep,
                              int *overflow)
 {
-    int np1 = s->np1_, i, k, sign, iters;
+    int np1 = s->np1_, i, k;
     double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
-    double *tprev = PSB__VEC(s, PSB__V_BR_TP), *yb = PSB__VEC(s, PSB__V_BR_Y);
-    double *tb = PSB__VEC(s, PSB__V_BR_T), *pt = PSB__VEC(s, PSB__V_BR_P);
+    double *tprev = PSB__VEC(s, PSB__V_BR_TP), *pt = PSB__VEC(s, PSB__V_BR_P);
     double h = s->opt.branch_h, *q = PSB__VEC(s, PSB__V_BR_Q);
     psb_result r;
     psb__copy(q, t2, np1);
@@ -2689,50 +2746,9 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         /* Step 4: a tangent seen at the previous direction belongs to the same region */
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         psb__copy(tprev, tt, np1);
-        /* the trials from y0 along +-tt depend on y0 and tt alone: a tangent within c_diff of
-           one tried before in this call (any span) repeats its trials and their verdict */
-        if (!s->opt.branch_no_memo) {
-            int m, seen = 0, stored = s->memo_n_ < s->memo_cap_ ? s->memo_n_ : s->memo_cap_;
-            for (m = 0; m < stored && !seen; m++)
-                seen = fabs(psb__cos_w(s, tt, s->memo_ + (size_t)m * (size_t)np1)) >= s->opt.c_diff;
-            if (seen) {
-                rep->n_memo++;
-                continue;
-            }
-            /* when full, the oldest entry makes room */
-            psb__copy(s->memo_ + (size_t)(s->memo_n_ % s->memo_cap_) * (size_t)np1, tt, np1);
-            s->memo_n_++;
-        }
-        for (sign = 1; sign >= -1; sign -= 2) {
-            double hh = s->opt.branch_h_init, dotp;
-            int j, is_new = 1;
-            psb__copy(yb, y0, np1);
-            for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
-            if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
-            rep->n_pc++;
-            r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
-            if (psb__is_fatal(r)) return r;
-            if (r != PSB_SUCCESS) continue;
-            /* a point closer to y0 than the sampling distance h tells nothing reliable about
-               the branches: pieces that touch the end point are active there */
-            if (psb__dist_w(s, yb, y0) < h) continue;
-            /* Step 5(i): orient away from the point */
-            dotp = 0;
-            for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
-            if (dotp < 0)
-                for (k = 0; k < np1; k++) tb[k] = -tb[k];
-            /* Step 5(ii): a new branch unless it is within c_diff of a known one */
-            for (j = 0; j < rep->n_branches; j++)
-                if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
-            if (!is_new) continue;
-            if (rep->n_branches >= max_branches) {
-                *overflow = 1;
-                continue;
-            }
-            psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
-            psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
-            rep->n_branches++;
-        }
+        r = psb__try_tangent(s, y0, tt, max_branches, ys, ts, rep, overflow);
+        if (r != PSB_SUCCESS) return r;
+        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
     }
     return PSB_SUCCESS;
 }
@@ -2786,6 +2802,8 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
        sweeps the one plane there is, they follow the first) or 4 n_span spans in all end the
        sweep: they bound the tangents spent. */
     for (span = 0; rep->n_span < s->opt.n_span && span < 4 * s->opt.n_span; span++) {
+        found_before = rep->n_branches;
+        pc_before = rep->n_pc;
         if (span > 0) {
             long avail = (long)rep->n_branches * (rep->n_branches - 1) / 2;
             pair_span = next_pair < avail && !pair_stale;
@@ -2819,8 +2837,6 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 if (r != PSB_SUCCESS) { psb__copy(t2, prev, np1); continue; }
             }
         }
-        found_before = rep->n_branches;
-        pc_before = rep->n_pc;
         r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
         if (r != PSB_SUCCESS) return r;
         pair_stale = pair_span && rep->n_pc == pc_before;
