@@ -51,14 +51,15 @@
    Jacobian callback returns the gradient of a selection that is active at y (the B-Jacobian
    element of the piece y lies on); with finite differences (jacobian = NULL) a step that crosses
    a kink mixes pieces, so give an analytic selection gradient when branching at kinks. Without
-   one, branch_h defaults, at each call of Algorithm 2.1 or 2.2, to 1000 difference steps at
-   the point, max(h_min, 1000 max_j fd_step max(1, |y_j|) sqrt(w_j)) (1.5e-5 near the origin
-   with forward differences; s->opt.branch_h shows the last value), so that the sample points
-   of Algorithm 2.2 seldom lie within a step of a piece boundary; Algorithm 2.1 ends about a
-   step from the point (more when the branch runs close to a piece boundary), keeps the tangent
-   it entered with while it moves, and returns the branch's tangent 16 branch_h back. bench_branching: crossing
-   kinks (k = 4) complete from 15 of 16 entries (1 of 16 with branch_h = h_min), random
-   complementarity problems as with the analytic Jacobian.
+   one, branch_h defaults, at each call of Algorithm 2.1 or 2.2, to 10^4 difference steps at
+   the point, 10^4 max_j fd_step max(1, |y_j|) sqrt(w_j) within [h_min, branch_h_init / 8]
+   (1.5e-4 near the origin with forward differences; s->opt.branch_h shows the last value;
+   central differences reach the cap), so that the sample points of Algorithm 2.2 seldom lie
+   within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more when
+   the branch runs close to a piece boundary), keeps the tangent it entered with while it
+   moves, and returns the branch's tangent 16 branch_h back. bench_branching: the branch sets
+   come out about as with the analytic Jacobian (with branch_h = h_min: 1 of 16 entries of the
+   crossing kinks, k = 4, complete).
    A kink is a point where a curve passes from one piece to another with a different tangent; a
    nonsmooth point (bifurcation) is one where more than two smooth branches meet. Algorithms 2.1
    and 2.2 assume the paper's (I)-(III): near the point the solutions form one-sided smooth
@@ -141,7 +142,7 @@
    fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
                                     finite differences: column j steps fd_step * max(1, |y_j|)
    c_diff [0.99999]                 cosine above which two tangents are one branch
-   branch_h [h_min; with finite differences 1000 steps, see section 1]
+   branch_h [h_min; with finite differences 10^4 steps, see section 1]
                                     h of Algorithms 2.1 and 2.2 (the paper: the continuation's
                                     smallest step)
    branch_h_min [branch_h / 2^14]   precision of Algorithm 2.1
@@ -409,7 +410,7 @@
                        (report.n_span_idle). Algorithm 2.1: moves must land ahead, tangents
                        are compared with the entering one too. Finite differences: central
                        quotients overwrote the corrector's H(y) (no step converged); branch_h
-                       defaults to 1000 difference steps at the point; Algorithm 2.1 returns a
+                       defaults to 10^4 difference steps at the point; Algorithm 2.1 returns a
                        tangent computed 16 branch_h back. bench_branching.
 */
 #ifndef PSCBRANCH_H
@@ -564,7 +565,7 @@ typedef struct psb_options {
     /* branching: Algorithm 2.1 (end point) and 2.2 (branches) of Ligursky-Renard */
     double c_diff;        /* cosine above which two tangents are the same branch [0.99999] */
     double branch_h;      /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
-                             1000 difference steps at the point, see section 1] */
+                             10^4 difference steps at the point, see section 1] */
     double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
     double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
     int n_dir;            /* directions per span of two tangents [20] */
@@ -2536,10 +2537,13 @@ done:
 }
 
 /* Sets opt.branch_h (and branch_h_min) for Algorithms 2.1-2.2 at y. With finite differences
-   and branch_h left to its default: 1000 times the largest difference step at y measured in
-   the weighted norm, max_j fd_step max(1, |y_j|) sqrt(w_j), and at least h_min. Tangents are
-   sampled at y + branch_h v; a quotient there mixes pieces when a piece boundary lies within
-   a difference step, with odds ~ step / branch_h. */
+   and branch_h left to its default: 10^4 times the largest difference step at y measured in
+   the weighted norm, max_j fd_step max(1, |y_j|) sqrt(w_j), within [h_min, branch_h_init / 8]
+   (trial points must lie farther than branch_h). Tangents are sampled at y + branch_h v; a
+   quotient there mixes pieces when a piece boundary lies within a difference step, with odds
+   ~ step / branch_h per boundary and sample, and a mixed tangent the memo takes for new makes
+   an idle span count. bench_branching and a curved variant of the crossing kinks (k = 4, every
+   entry): 10^3 steps left 15 of 16 and 9 of 16 entries complete, 10^4 none. */
 static void psb__branch_h(psb_solver *s, const double *y)
 {
     int j;
@@ -2549,7 +2553,8 @@ static void psb__branch_h(psb_solver *s, const double *y)
         double sj = s->opt.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
         if (sj > step) step = sj;
     }
-    h = 1000 * step;
+    h = 1e4 * step;
+    if (h > s->opt.branch_h_init / 8) h = s->opt.branch_h_init / 8;
     s->opt.branch_h = h > s->opt.h_min ? h : s->opt.h_min;
     if (s->branch_h_min_auto_) s->opt.branch_h_min = s->opt.branch_h / 16384.0;
 }

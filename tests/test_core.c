@@ -815,6 +815,102 @@ static void test_crossing_kinks(void)
     }
 }
 
+/* Curved crossing kinks, k = 4: H_i = min(x_i + a_i x_i^2 + s_i x_(i+1)^2, g - x_i + b_i x_i^2
+   + c_i g^2). Near the origin the same 16 branches (one per subset of the kinks) as the
+   straight ones, now curves. Each is entered in turn (Newton at g = 0.3, traced down to the
+   point), with the analytic Jacobian and with differences (branch_h of 10^3 steps left 9 of
+   the 16 entries complete). Every branch found must be a solution and none found twice. */
+typedef struct {
+    int k;
+    double a[4], b[4], c[4], s[4];
+} curved_kinks;
+
+static int curved_res(const double *y, double *h, void *user)
+{
+    const curved_kinks *ck = (const curved_kinks *)user;
+    int i, k = ck->k;
+    double g = y[k];
+    for (i = 0; i < k; i++) {
+        double x = y[i], xn = y[(i + 1) % k];
+        double l = x + ck->a[i] * x * x + ck->s[i] * xn * xn, r = g - x + ck->b[i] * x * x + ck->c[i] * g * g;
+        h[i] = l <= r ? l : r;
+    }
+    return 0;
+}
+
+static int curved_jac(const double *y, double *jac, int ld, void *user)
+{
+    const curved_kinks *ck = (const curved_kinks *)user;
+    int i, j, k = ck->k;
+    double g = y[k];
+    for (j = 0; j <= k; j++)
+        for (i = 0; i < k; i++) jac[i + j * ld] = 0;
+    for (i = 0; i < k; i++) {
+        double x = y[i], xn = y[(i + 1) % k];
+        double l = x + ck->a[i] * x * x + ck->s[i] * xn * xn, r = g - x + ck->b[i] * x * x + ck->c[i] * g * g;
+        if (l <= r) {
+            jac[i + i * ld] += 1 + 2 * ck->a[i] * x;
+            jac[i + ((i + 1) % k) * ld] += 2 * ck->s[i] * xn;
+        } else {
+            jac[i + i * ld] += -1 + 2 * ck->b[i] * x;
+            jac[i + k * ld] += 1 + 2 * ck->c[i] * g;
+        }
+    }
+    return 0;
+}
+
+static void test_curved_kinks(void)
+{
+    curved_kinks ck;
+    int i, fd;
+    unsigned mask;
+    ck.k = 4;
+    for (i = 0; i < 4; i++) {
+        ck.a[i] = 0.3 * (i + 1);
+        ck.b[i] = -0.4 + 0.1 * i;
+        ck.c[i] = 0.2;
+        ck.s[i] = 0.1 * (i % 2);
+    }
+    for (fd = 0; fd <= 1; fd++) {
+        int complete = 0;
+        for (mask = 0; mask < 16; mask++) {
+            psb_problem prob;
+            psb_options o;
+            psb_solver s;
+            psb_trace_options to;
+            psb_branch_report br;
+            double y[5], t[5], ys[32 * 5], ts[32 * 5], h[4];
+            int j, k, distinct = 1, solved = 1;
+            memset(&o, 0, sizeof o);
+            psb_problem_init(&prob, 4, curved_res, fd ? NULL : curved_jac, &ck);
+            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            for (i = 0; i < 4; i++) y[i] = (mask >> i & 1) ? 0.3 : 0;
+            y[4] = 0.3;
+            CHECK(psb_solve_at_param(&s, y, 50) == PSB_SUCCESS);
+            CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+            if (t[4] > 0)
+                for (i = 0; i < 5; i++) t[i] = -t[i];
+            memset(&to, 0, sizeof to);
+            to.locate_kinks = 1;
+            to.on_point = stop_at_kink;
+            CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_STOPPED);
+            CHECK(psb_norm_w(&s, y) < 1e-5);
+            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y, t, 32, ys, ts, &br) == PSB_SUCCESS);
+            for (k = 0; k < br.n_branches; k++) {
+                curved_res(ys + k * 5, h, &ck);
+                for (i = 0; i < 4; i++) solved &= fabs(h[i]) < 1e-9;
+                for (j = 0; j < k; j++) distinct &= psb_dot_w(&s, ts + k * 5, ts + j * 5) < 0.999;
+            }
+            CHECK(solved && distinct);
+            complete += br.n_branches == 16;
+            psb_solver_free(&s);
+        }
+        printf("  curved crossing kinks, k = 4%s: %d of 16 entries complete\n", fd ? ", differences" : "", complete);
+        CHECK(complete == 16);
+    }
+}
+
 /* Branching with the Jacobian left to finite differences (forward, the defaults otherwise).
    Within fd_step of the end point the difference quotients mix the pieces meeting there, so
    Algorithm 2.1 stops ~fd_step short, and tangents computed there are off by up to
@@ -876,7 +972,7 @@ static void test_fd_branching(void)
 
     /* crossing kinks, k = 4: the sample points y0 + branch_h v must lie far from fd_step of the
        piece boundaries, or the mixed quotients give tangents the memo takes for new ones, the
-       pair spans stop being idle and starve the random ones: branch_h defaults to 1000
+       pair spans stop being idle and starve the random ones: branch_h defaults to 10^4
        difference steps (with h_min, 1 of the 16 entries found all 16 rays) */
     {
         psb_problem prob;
@@ -894,8 +990,8 @@ static void test_fd_branching(void)
         complete = 0;
         for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1);
         printf("  finite differences, crossing kinks, k = 4: %d of 16 entries complete\n", complete);
-        CHECK(complete >= 14);
-        /* the default follows the difference steps at the point: 1000 of them, the largest
+        CHECK(complete == 16);
+        /* the default follows the difference steps at the point: 10^4 of them, the largest
            in the weighted norm */
         {
             double y[5] = {1e-4, 1e-4, 0, 0, 1e-4}, t[5] = {-1, -1, 0, 0, -1};
@@ -904,10 +1000,10 @@ static void test_fd_branching(void)
             CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
             CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
             CHECK(psb_norm_w(&s, y) < 1e-6);
-            CHECK(s.opt.branch_h == 1000 * s.opt.fd_step && s.opt.branch_h_min == s.opt.branch_h / 16384);
+            CHECK(s.opt.branch_h == 1e4 * s.opt.fd_step && s.opt.branch_h_min == s.opt.branch_h / 16384);
             y[1] = 50; /* not a solution: only the scale matters here */
             psb_locate_end(&s, y, t, NULL);
-            CHECK(s.opt.branch_h == 1000 * s.opt.fd_step * 50);
+            CHECK(s.opt.branch_h == s.opt.branch_h_init / 8); /* 10^4 steps of 50 fd_step: capped */
             psb_solver_free(&s);
             o.branch_h = 3e-6; /* the caller's value stands */
             y[0] = y[1] = y[4] = 1e-4;
@@ -1222,6 +1318,7 @@ int main(void)
     test_pl_branching();
     test_random_lcp_batch();
     test_crossing_kinks();
+    test_curved_kinks();
     test_fd_branching();
     test_branch_budgets();
     test_determinism();
