@@ -764,7 +764,8 @@ typedef struct psb_branch_report {
 } psb_branch_report;
 
 /* Algorithm 2.2 with the restarts of Section 3: n_span spans of two tangents, each swept in
-   n_dir directions. (y0, t0) is Algorithm 2.1's output. Branch k (k < max_branches) is the
+   n_dir directions (with the memo, spans that try nothing new do not count: section 6).
+   (y0, t0) is Algorithm 2.1's output. Branch k (k < max_branches) is the
    couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented away from the point; branch 0 is
    the incoming branch (y0, -t0). rep may be NULL. Same seed, same result, bit for bit.
    Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */

@@ -26,16 +26,6 @@ typedef struct {
     long runs, complete, spurious, failed, n_pc, n_factor;
 } tally;
 
-static double normal(unsigned long long *st)
-{
-    double u, v;
-    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
-    u = (double)(*st >> 11) / 9007199254740992.0 + 1e-300;
-    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
-    v = (double)(*st >> 11) / 9007199254740992.0;
-    return sqrt(-2 * log(u)) * cos(6.283185307179586 * v);
-}
-
 static int stop_at_kink(const psb_point *pt, void *user)
 {
     (void)user;
@@ -46,7 +36,7 @@ static int stop_at_kink(const psb_point *pt, void *user)
 static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int cfg, tally *t)
 {
     static double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
-    int n = p->n, np1 = n + 1, i, j, k, matched = 0, hit[PL_MAX_RAYS] = {0};
+    int n = p->n, np1 = n + 1, i, matched;
     double y[PL_MAX_N + 1], tan[PL_MAX_N + 1];
     psb_problem prob;
     psb_options o;
@@ -77,15 +67,7 @@ static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int
         psb_solver_free(&s);
         return;
     }
-    for (k = 0; k < br.n_branches; k++)
-        for (j = 0; j < n_rays; j++) {
-            double nd = psb_norm_w(&s, rays + j * np1), err = 0;
-            for (i = 0; i < np1; i++) err += (ts[k * np1 + i] - rays[j * np1 + i] / nd) * (ts[k * np1 + i] - rays[j * np1 + i] / nd);
-            if (sqrt(err) < 1e-6 && !hit[j]) {
-                hit[j] = 1;
-                matched++;
-            }
-        }
+    matched = pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-6);
     t->complete += matched == n_rays && br.n_branches == n_rays;
     t->spurious += br.n_branches > matched;
     t->n_pc += br.n_pc;
@@ -148,36 +130,16 @@ int main(int argc, char **argv)
     for (k = 4; k <= (quick ? 6 : 10); k += 2)
         for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
             unsigned long long st = 777 + (unsigned long long)k;
-            int done = 0, tries = 0;
+            int done;
             long ray_total = 0;
             tally t;
             memset(&t, 0, sizeof t);
-            while (done < n_problems && tries < 100000) {
+            for (done = 0; done < n_problems; done++) {
                 pl_problem p;
-                int pos, neg, j1, j2, close = 0, np1 = k + 1;
-                tries++;
-                memset(&p, 0, sizeof p);
-                p.n = k;
-                for (i = 0; i < k * k; i++) p.m[i] = normal(&st);
-                for (i = 0; i < k; i++) p.q[i] = normal(&st);
-                pos = pl_enumerate_rays(&p, 1.0, 1e-3, rays, PL_MAX_RAYS);
-                if (pos < 0) continue;
-                neg = pl_enumerate_rays(&p, -1.0, 1e-3, rays + pos * np1, PL_MAX_RAYS - pos);
-                if (neg < 0 || pos + neg < 3 || pos + neg > PL_MAX_RAYS) continue;
-                for (j1 = 0; j1 < pos + neg; j1++)
-                    for (j2 = j1 + 1; j2 < pos + neg; j2++) {
-                        double c = 0, n1 = 0, n2 = 0;
-                        for (i = 0; i < np1; i++) {
-                            c += rays[j1 * np1 + i] * rays[j2 * np1 + i];
-                            n1 += rays[j1 * np1 + i] * rays[j1 * np1 + i];
-                            n2 += rays[j2 * np1 + i] * rays[j2 * np1 + i];
-                        }
-                        close |= c > 0.9999 * sqrt(n1 * n2);
-                    }
-                if (close) continue;
-                done++;
-                ray_total += pos + neg;
-                for (i = 0; i < pos + neg; i++) run(&p, rays, pos + neg, i, cfg, &t);
+                int n_rays = pl_random_lcp(&p, k, &st, 1, rays);
+                if (!n_rays) break;
+                ray_total += n_rays;
+                for (i = 0; i < n_rays; i++) run(&p, rays, n_rays, i, cfg, &t);
             }
             report(csv, "random LCPs", k, (double)ray_total / done, cfg, &t);
         }

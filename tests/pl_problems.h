@@ -11,6 +11,12 @@
 #include <math.h>
 #include <string.h>
 
+#if defined(__GNUC__) || defined(__clang__)
+#define PL_MAYBE_UNUSED __attribute__((unused)) /* not every includer draws or matches */
+#else
+#define PL_MAYBE_UNUSED
+#endif
+
 #define PL_MAX_N 12
 #define PL_MAX_RAYS 64
 
@@ -118,5 +124,68 @@ static int pl_enumerate_rays(const pl_problem *p, double sign, double margin, do
         count++;
     }
     return count;
+}
+/* Standard normal deviate from a local LCG (Box-Muller), so that each user of these problems
+   draws its own reproducible sequence. */
+PL_MAYBE_UNUSED static double pl_normal(unsigned long long *st)
+{
+    double u, v;
+    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
+    u = (double)(*st >> 11) / 9007199254740992.0 + 1e-300;
+    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
+    v = (double)(*st >> 11) / 9007199254740992.0;
+    return sqrt(-2 * log(u)) * cos(6.283185307179586 * v);
+}
+
+/* Draws LCPs of size n (M and q standard normal, from *st) until one has 3 or more strictly
+   complementary rays (margin 1e-3, both signs of g) and, if apart, no two of them within
+   cosine 0.9999 (so that c_diff = 0.99999 tells them apart). Its rays go to rays (n + 1 each,
+   those of g > 0 first). Returns their number, 0 if 100000 draws found none. */
+PL_MAYBE_UNUSED static int pl_random_lcp(pl_problem *p, int n, unsigned long long *st, int apart, double *rays)
+{
+    int tries, i, np1 = n + 1;
+    for (tries = 0; tries < 100000; tries++) {
+        int a, b, j1, j2, close = 0;
+        memset(p, 0, sizeof *p);
+        p->n = n;
+        for (i = 0; i < n * n; i++) p->m[i] = pl_normal(st);
+        for (i = 0; i < n; i++) p->q[i] = pl_normal(st);
+        a = pl_enumerate_rays(p, 1.0, 1e-3, rays, PL_MAX_RAYS);
+        if (a < 0) continue;
+        b = pl_enumerate_rays(p, -1.0, 1e-3, rays + a * np1, PL_MAX_RAYS - a);
+        if (b < 0 || a + b < 3 || a + b > PL_MAX_RAYS) continue;
+        for (j1 = 0; apart && j1 < a + b; j1++)
+            for (j2 = j1 + 1; j2 < a + b; j2++) {
+                double c = 0, n1 = 0, n2 = 0;
+                for (i = 0; i < np1; i++) {
+                    c += rays[j1 * np1 + i] * rays[j2 * np1 + i];
+                    n1 += rays[j1 * np1 + i] * rays[j1 * np1 + i];
+                    n2 += rays[j2 * np1 + i] * rays[j2 * np1 + i];
+                }
+                close |= c > 0.9999 * sqrt(n1 * n2);
+            }
+        if (!close) return a + b;
+    }
+    return 0;
+}
+
+/* How many of the rays (n_rays, np1 each) a unit tangent among ts (n_found) matches to within
+   tol (Euclidean distance between unit vectors); each tangent and each ray matched once. */
+PL_MAYBE_UNUSED static int pl_match_rays(const double *ts, int n_found, const double *rays, int n_rays, int np1, double tol)
+{
+    int k, j, i, matched = 0, hit[PL_MAX_RAYS] = {0};
+    for (k = 0; k < n_found; k++)
+        for (j = 0; j < n_rays; j++) {
+            double nd = 0, err = 0;
+            for (i = 0; i < np1; i++) nd += rays[j * np1 + i] * rays[j * np1 + i];
+            nd = sqrt(nd);
+            for (i = 0; i < np1; i++) err += (ts[k * np1 + i] - rays[j * np1 + i] / nd) * (ts[k * np1 + i] - rays[j * np1 + i] / nd);
+            if (sqrt(err) < tol && !hit[j]) {
+                hit[j] = 1;
+                matched++;
+                break;
+            }
+        }
+    return matched;
 }
 #endif

@@ -395,7 +395,7 @@ static int branch_pl(pl_problem *pp, const double *rays, int n_rays, int incomin
                      const psb_options *o, int *found, psb_branch_report *br, double *ys,
                      double *ts)
 {
-    int n = pp->n, np1 = n + 1, i, j, k, matched = 0, hit[PL_MAX_RAYS] = {0};
+    int n = pp->n, np1 = n + 1, i;
     psb_problem prob;
     psb_solver s;
     psb_trace_options to;
@@ -420,21 +420,8 @@ static int branch_pl(pl_problem *pp, const double *rays, int n_rays, int incomin
     r = psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, br);
     CHECK(r == PSB_SUCCESS);
     *found = br->n_branches;
-    for (k = 0; k < br->n_branches; k++) {
-        for (j = 0; j < n_rays; j++) {
-            double d[PL_MAX_N + 1], nd, err = 0;
-            memcpy(d, rays + j * np1, sizeof(double) * (size_t)np1);
-            nd = psb_norm_w(&s, d);
-            for (i = 0; i < np1; i++) err += (ts[k * np1 + i] - d[i] / nd) * (ts[k * np1 + i] - d[i] / nd);
-            if (sqrt(err) < 1e-8 && !hit[j]) {
-                hit[j] = 1;
-                matched++;
-                break;
-            }
-        }
-    }
     psb_solver_free(&s);
-    return matched;
+    return pl_match_rays(ts, br->n_branches, rays, n_rays, np1, 1e-8);
 }
 
 static void check_pl(pl_problem *pp, int expect_rays, int incoming, const char *name)
@@ -462,18 +449,6 @@ static double urand(void)
 {
     test_rng = test_rng * 6364136223846793005ULL + 1442695040888963407ULL;
     return (double)(test_rng >> 11) / 9007199254740992.0;
-}
-
-/* Standard normals from a local LCG (Box-Muller), so a test's problems do not depend on what
-   other tests drew. */
-static double lcg_normal(unsigned long long *st)
-{
-    double u, v;
-    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
-    u = (double)(*st >> 11) / 9007199254740992.0 + 1e-300;
-    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
-    v = (double)(*st >> 11) / 9007199254740992.0;
-    return sqrt(-2 * log(u)) * cos(6.283185307179586 * v);
 }
 
 /* Star problems: f(u, g) = ||u| - |g|| - 0.5 (|u| + |g|) + 0.1 u + 0.05 g is linear on each of
@@ -548,7 +523,7 @@ static void check_star(int nz, int incoming, int paper_sweep)
     psb_trace_report tr;
     psb_branch_report br;
     double rays[8 * 18], ys[16 * 18], ts[16 * 18], y[18], t[18], prec;
-    int n_rays, np1 = nz + 2, i, j, k, matched = 0, hit[8] = {0};
+    int n_rays, np1 = nz + 2, i, k;
     memset(&sp, 0, sizeof sp);
     sp.nz = nz;
     for (k = 0; k < nz; k++) {
@@ -574,16 +549,7 @@ static void check_star(int nz, int incoming, int paper_sweep)
     CHECK(psb_norm_w(&s, y) < 1e-9);
     CHECK(psb_find_branches(&s, y, t, 16, ys, ts, &br) == PSB_SUCCESS);
     CHECK(br.n_branches == 8);
-    for (k = 0; k < br.n_branches; k++)
-        for (j = 0; j < n_rays; j++) {
-            double nd = psb_norm_w(&s, rays + j * np1), err = 0;
-            for (i = 0; i < np1; i++) err += (ts[k * np1 + i] - rays[j * np1 + i] / nd) * (ts[k * np1 + i] - rays[j * np1 + i] / nd);
-            if (sqrt(err) < 1e-8 && !hit[j]) {
-                hit[j] = 1;
-                matched++;
-            }
-        }
-    CHECK(matched == 8);
+    CHECK(pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-8) == 8);
     psb_solver_free(&s);
 }
 
@@ -723,25 +689,17 @@ static void test_random_lcp_batch(void)
 {
     unsigned long long st = 1006;
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
-    int done = 0, complete = 0, spurious = 0, tries = 0;
-    while (done < 40 && tries < 10000) {
+    int done = 0, complete = 0, spurious = 0;
+    while (done < 40) {
         pl_problem p;
         psb_options o;
         psb_branch_report br;
-        int a, b, i, found = 0, matched;
-        tries++;
-        memset(&p, 0, sizeof p);
-        p.n = 6;
-        for (i = 0; i < 36; i++) p.m[i] = lcg_normal(&st);
-        for (i = 0; i < 6; i++) p.q[i] = lcg_normal(&st);
-        a = pl_enumerate_rays(&p, 1.0, 1e-3, rays, PL_MAX_RAYS);
-        if (a < 0) continue;
-        b = pl_enumerate_rays(&p, -1.0, 1e-3, rays + a * 7, PL_MAX_RAYS - a);
-        if (b < 0 || a + b < 3) continue;
+        int n_rays = pl_random_lcp(&p, 6, &st, 0, rays), found = 0, matched;
+        if (!n_rays) break;
         done++;
         paper_options(&o);
-        matched = branch_pl(&p, rays, a + b, 0, &o, &found, &br, ys, ts);
-        complete += matched == a + b && found == a + b;
+        matched = branch_pl(&p, rays, n_rays, 0, &o, &found, &br, ys, ts);
+        complete += matched == n_rays && found == n_rays;
         spurious += found > matched;
     }
     printf("  random LCPs, N = 6: %d of %d complete, %d with a spurious branch\n", complete, done, spurious);
@@ -754,7 +712,7 @@ static void test_random_lcp_batch(void)
    ray, and nothing else, was found (tangents matching to 1e-6). fd: finite-difference Jacobian. */
 static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, int incoming, int fd)
 {
-    int n = pp->n, np1 = n + 1, i, j, k, matched = 0, hit[PL_MAX_RAYS] = {0};
+    int n = pp->n, np1 = n + 1, i;
     double y[PL_MAX_N + 1], t[PL_MAX_N + 1], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
     psb_problem prob;
     psb_options o;
@@ -778,17 +736,8 @@ static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, in
     /* with differences, the end ~(difference step) / (angle to the nearest piece boundary) */
     CHECK(psb_norm_w(&s, y) < (fd ? 1e-5 : 1e-9));
     CHECK(psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, &br) == PSB_SUCCESS);
-    for (k = 0; k < br.n_branches; k++)
-        for (j = 0; j < n_rays; j++) {
-            double nd = psb_norm_w(&s, rays + j * np1), err = 0;
-            for (i = 0; i < np1; i++) err += (ts[k * np1 + i] - rays[j * np1 + i] / nd) * (ts[k * np1 + i] - rays[j * np1 + i] / nd);
-            if (sqrt(err) < 1e-6 && !hit[j]) {
-                hit[j] = 1;
-                matched++;
-            }
-        }
     psb_solver_free(&s);
-    return matched == n_rays && br.n_branches == n_rays;
+    return pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-6) == n_rays && br.n_branches == n_rays;
 }
 
 /* H_i = min(x_i, g - x_i), i = 1..k: k kinks crossing at the origin, 2^k rays (x in {0, 1}^k,
@@ -936,34 +885,14 @@ static void test_fd_branching(void)
     unsigned long long st = 2024;
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
     pl_problem p;
-    int a, b, inc, runs = 0, complete = 0, done = 0, tries = 0;
+    int a, inc, runs = 0, complete = 0, done = 0;
     /* random LCPs in R^5 whose rays are told apart by c_diff, every ray entered in turn */
-    while (done < 10 && tries < 10000) {
-        int i, j1, j2, close = 0;
-        tries++;
-        memset(&p, 0, sizeof p);
-        p.n = 4;
-        for (i = 0; i < 16; i++) p.m[i] = lcg_normal(&st);
-        for (i = 0; i < 4; i++) p.q[i] = lcg_normal(&st);
-        a = pl_enumerate_rays(&p, 1.0, 1e-3, rays, PL_MAX_RAYS);
-        if (a < 0) continue;
-        b = pl_enumerate_rays(&p, -1.0, 1e-3, rays + a * 5, PL_MAX_RAYS - a);
-        if (b < 0 || a + b < 3) continue;
-        for (j1 = 0; j1 < a + b; j1++)
-            for (j2 = j1 + 1; j2 < a + b; j2++) {
-                double c = 0, n1 = 0, n2 = 0;
-                for (i = 0; i < 5; i++) {
-                    c += rays[j1 * 5 + i] * rays[j2 * 5 + i];
-                    n1 += rays[j1 * 5 + i] * rays[j1 * 5 + i];
-                    n2 += rays[j2 * 5 + i] * rays[j2 * 5 + i];
-                }
-                close |= c > 0.9999 * sqrt(n1 * n2);
-            }
-        if (close) continue;
-        done++;
-        for (inc = 0; inc < a + b; inc++) {
+    for (done = 0; done < 10; done++) {
+        a = pl_random_lcp(&p, 4, &st, 1, rays);
+        if (!a) break;
+        for (inc = 0; inc < a; inc++) {
             runs++;
-            complete += default_branch_run(&p, rays, a + b, inc, 1);
+            complete += default_branch_run(&p, rays, a, inc, 1);
         }
     }
     printf("  finite differences, random LCPs, N = 4: %d of %d runs complete\n", complete, runs);
@@ -1028,7 +957,7 @@ static void test_fd_branching(void)
         shifted_pl sp;
         psb_problem prob;
         psb_options o;
-        int i, j, k, n_ok = 0;
+        int i, n_ok = 0;
         memset(&sp, 0, sizeof sp);
         sp.p.n = 3;
         for (i = 0; i < 3; i++) {
@@ -1046,7 +975,6 @@ static void test_fd_branching(void)
             psb_trace_options to;
             psb_branch_report br;
             double y[4], t[4], ys[8 * 4], ts[8 * 4];
-            int hit[8] = {0}, matched = 0;
             CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
             for (i = 0; i < 4; i++) {
                 y[i] = sp.c[i] + 0.5 * rays[inc * 4 + i];
@@ -1058,16 +986,7 @@ static void test_fd_branching(void)
             CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_STOPPED);
             CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
             CHECK(psb_find_branches(&s, y, t, 8, ys, ts, &br) == PSB_SUCCESS);
-            for (k = 0; k < br.n_branches; k++)
-                for (j = 0; j < a; j++) {
-                    double nd = psb_norm_w(&s, rays + j * 4), err = 0;
-                    for (i = 0; i < 4; i++) err += (ts[k * 4 + i] - rays[j * 4 + i] / nd) * (ts[k * 4 + i] - rays[j * 4 + i] / nd);
-                    if (sqrt(err) < 1e-6 && !hit[j]) {
-                        hit[j] = 1;
-                        matched++;
-                    }
-                }
-            n_ok += matched == 8 && br.n_branches == 8;
+            n_ok += pl_match_rays(ts, br.n_branches, rays, a, 4, 1e-6) == 8 && br.n_branches == 8;
             psb_solver_free(&s);
         }
         CHECK(n_ok == 8);
@@ -1079,37 +998,16 @@ static void test_fd_branching(void)
        by ~5e-4 and the incoming branch came out twice. Algorithm 2.1 now takes the branch's
        tangent 16 branch_h back. */
     st = 783;
-    done = tries = 0;
-    while (done < 21 && tries < 100000) {
-        int i, j1, j2, close = 0;
-        tries++;
-        memset(&p, 0, sizeof p);
-        p.n = 6;
-        for (i = 0; i < 36; i++) p.m[i] = lcg_normal(&st);
-        for (i = 0; i < 6; i++) p.q[i] = lcg_normal(&st);
-        a = pl_enumerate_rays(&p, 1.0, 1e-3, rays, PL_MAX_RAYS);
-        if (a < 0) continue;
-        b = pl_enumerate_rays(&p, -1.0, 1e-3, rays + a * 7, PL_MAX_RAYS - a);
-        if (b < 0 || a + b < 3) continue;
-        for (j1 = 0; j1 < a + b; j1++)
-            for (j2 = j1 + 1; j2 < a + b; j2++) {
-                double c = 0, n1 = 0, n2 = 0;
-                for (i = 0; i < 7; i++) {
-                    c += rays[j1 * 7 + i] * rays[j2 * 7 + i];
-                    n1 += rays[j1 * 7 + i] * rays[j1 * 7 + i];
-                    n2 += rays[j2 * 7 + i] * rays[j2 * 7 + i];
-                }
-                close |= c > 0.9999 * sqrt(n1 * n2);
-            }
-        if (close) continue;
-        done++;
+    for (done = 1; done <= 21; done++) {
+        a = pl_random_lcp(&p, 6, &st, 1, rays);
+        if (!a) break;
         if (done == 11) {
-            CHECK(default_branch_run(&p, rays, a + b, 2, 1));
-            CHECK(default_branch_run(&p, rays, a + b, 3, 1));
+            CHECK(default_branch_run(&p, rays, a, 2, 1));
+            CHECK(default_branch_run(&p, rays, a, 3, 1));
         }
-        if (done == 21) CHECK(default_branch_run(&p, rays, a + b, 2, 1));
+        if (done == 21) CHECK(default_branch_run(&p, rays, a, 2, 1));
     }
-    CHECK(done == 21);
+    CHECK(done == 22);
 }
 
 /* Same seed, same branches and counters, bit for bit, also through random restarts. */
