@@ -26,48 +26,31 @@ typedef struct {
     long runs, complete, spurious, failed, n_pc, n_factor;
 } tally;
 
-static int stop_at_kink(const psb_point *pt, void *user)
-{
-    (void)user;
-    return (pt->flags & PSB_POINT_KINK) != 0;
-}
-
 /* One run entering along ray `incoming`, added to *t. */
 static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int cfg, tally *t)
 {
     static double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
-    int n = p->n, np1 = n + 1, i, matched;
-    double y[PL_MAX_N + 1], tan[PL_MAX_N + 1];
+    int matched;
+    double y[PL_MAX_N + 1];
     psb_problem prob;
     psb_options o;
     psb_solver s;
-    psb_trace_options to;
     psb_branch_report br;
-    psb_result r;
     memset(&o, 0, sizeof o);
     if (cfg == CFG_PRINTED) {
         o.restart = PSB_RESTART_PAPER;
         o.paper_sweep = 1;
         o.branch_no_memo = 1;
     }
-    psb_problem_init(&prob, n, pl_residual, cfg == CFG_FD ? NULL : pl_jacobian, p);
+    psb_problem_init(&prob, p->n, pl_residual, cfg == CFG_FD ? NULL : pl_jacobian, p);
     t->runs++;
     if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) { t->failed++; return; }
-    for (i = 0; i < np1; i++) {
-        y[i] = 0.5 * rays[incoming * np1 + i];
-        tan[i] = -rays[incoming * np1 + i];
-    }
-    memset(&to, 0, sizeof to);
-    to.locate_kinks = 1;
-    to.on_point = stop_at_kink;
-    r = psb_trace(&s, y, tan, &to, NULL);
-    if ((r != PSB_STOPPED && r != PSB_NONSMOOTH_END) || psb_locate_end(&s, y, tan, NULL) != PSB_SUCCESS ||
-        psb_find_branches(&s, y, tan, PL_MAX_RAYS, ys, ts, &br) != PSB_SUCCESS) {
+    if (pl_branch_from_ray(&s, rays, incoming, y, ys, ts, &br)) {
         t->failed++;
         psb_solver_free(&s);
         return;
     }
-    matched = pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-6);
+    matched = pl_match_rays(ts, br.n_branches, rays, n_rays, p->n + 1, 1e-6);
     t->complete += matched == n_rays && br.n_branches == n_rays;
     t->spurious += br.n_branches > matched;
     t->n_pc += br.n_pc;

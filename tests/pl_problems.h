@@ -188,4 +188,35 @@ PL_MAYBE_UNUSED static int pl_match_rays(const double *ts, int n_found, const do
         }
     return matched;
 }
+#ifdef PSCBRANCH_H
+static int pl_stop_at_kink(const psb_point *pt, void *user)
+{
+    (void)user;
+    return (pt->flags & PSB_POINT_KINK) != 0;
+}
+
+/* Branching entered along ray `incoming` (rays: n + 1 each) on a solver s set up for the
+   problem: from half its length a trace towards the origin, stopped at the kink, Algorithm 2.1
+   (y: the end point found), Algorithm 2.2 (up to PL_MAX_RAYS branches into ys, ts, report br).
+   Returns 0, or the stage that failed: 1 trace, 2 Algorithm 2.1, 3 Algorithm 2.2. */
+PL_MAYBE_UNUSED static int pl_branch_from_ray(psb_solver *s, const double *rays, int incoming, double *y,
+                                              double *ys, double *ts, psb_branch_report *br)
+{
+    int np1 = s->prob.n + 1, i;
+    double t[PL_MAX_N + 1];
+    psb_trace_options to;
+    psb_result r;
+    for (i = 0; i < np1; i++) {
+        y[i] = 0.5 * rays[incoming * np1 + i];
+        t[i] = -rays[incoming * np1 + i];
+    }
+    memset(&to, 0, sizeof to);
+    to.locate_kinks = 1;
+    to.on_point = pl_stop_at_kink;
+    r = psb_trace(s, y, t, &to, NULL);
+    if (r != PSB_STOPPED && r != PSB_NONSMOOTH_END) return 1;
+    if (psb_locate_end(s, y, t, NULL) != PSB_SUCCESS) return 2;
+    return psb_find_branches(s, y, t, PL_MAX_RAYS, ys, ts, br) == PSB_SUCCESS ? 0 : 3;
+}
+#endif
 #endif

@@ -712,30 +712,18 @@ static void test_random_lcp_batch(void)
    ray, and nothing else, was found (tangents matching to 1e-6). fd: finite-difference Jacobian. */
 static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, int incoming, int fd)
 {
-    int n = pp->n, np1 = n + 1, i;
-    double y[PL_MAX_N + 1], t[PL_MAX_N + 1], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int np1 = pp->n + 1;
+    double y[PL_MAX_N + 1], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
     psb_problem prob;
     psb_options o;
     psb_solver s;
-    psb_trace_options to;
     psb_branch_report br;
-    psb_result r;
     memset(&o, 0, sizeof o);
-    psb_problem_init(&prob, n, pl_residual, fd ? NULL : pl_jacobian, pp);
+    psb_problem_init(&prob, pp->n, pl_residual, fd ? NULL : pl_jacobian, pp);
     if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return 0;
-    for (i = 0; i < np1; i++) {
-        y[i] = 0.5 * rays[incoming * np1 + i];
-        t[i] = -rays[incoming * np1 + i];
-    }
-    memset(&to, 0, sizeof to);
-    to.locate_kinks = 1;
-    to.on_point = stop_at_kink;
-    r = psb_trace(&s, y, t, &to, NULL);
-    CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+    CHECK(pl_branch_from_ray(&s, rays, incoming, y, ys, ts, &br) == 0);
     /* with differences, the end ~(difference step) / (angle to the nearest piece boundary) */
     CHECK(psb_norm_w(&s, y) < (fd ? 1e-5 : 1e-9));
-    CHECK(psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, &br) == PSB_SUCCESS);
     psb_solver_free(&s);
     return pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-6) == n_rays && br.n_branches == n_rays;
 }
