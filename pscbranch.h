@@ -565,7 +565,10 @@ typedef struct psb_options {
     /* branching: Algorithm 2.1 (end point) and 2.2 (branches) of Ligursky-Renard */
     double c_diff;        /* cosine above which two tangents are the same branch [0.99999] */
     double branch_h;      /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
-                             10^4 difference steps at the point, see section 1] */
+                             10^4 difference steps at the point, see section 1: a value set
+                             here stands, so with differences keep it that large (the
+                             paper's 5e-7 finds 1 of the 16 branch sets of the k = 4
+                             crossing kinks from its 16 entries)] */
     double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
     double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
     int n_dir;            /* directions per span of two tangents [20] */
