@@ -708,9 +708,11 @@ static void test_random_lcp_batch(void)
     CHECK(spurious == 0);
 }
 
-/* One branching run with the default options, entering along ray `incoming`; whether every
-   ray, and nothing else, was found (tangents matching to 1e-6). fd: finite-difference Jacobian. */
-static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, int incoming, int fd)
+/* One branching run with the default options (and branch_h, if not 0), entering along ray
+   `incoming`; whether every ray, and nothing else, was found (tangents matching to 1e-6).
+   fd: finite-difference Jacobian. */
+static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, int incoming, int fd,
+                              double branch_h)
 {
     int np1 = pp->n + 1;
     double y[PL_MAX_N + 1], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
@@ -719,6 +721,7 @@ static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, in
     psb_solver s;
     psb_branch_report br;
     memset(&o, 0, sizeof o);
+    o.branch_h = branch_h;
     psb_problem_init(&prob, pp->n, pl_residual, fd ? NULL : pl_jacobian, pp);
     if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return 0;
     CHECK(pl_branch_from_ray(&s, rays, incoming, y, ys, ts, &br) == 0);
@@ -748,7 +751,7 @@ static void test_crossing_kinks(void)
         }
         a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
         CHECK(a == 1 << k);
-        for (inc = 0; inc < a; inc++) CHECK(default_branch_run(&p, rays, a, inc, 0));
+        for (inc = 0; inc < a; inc++) CHECK(default_branch_run(&p, rays, a, inc, 0, 0));
     }
 }
 
@@ -880,7 +883,7 @@ static void test_fd_branching(void)
         if (!a) break;
         for (inc = 0; inc < a; inc++) {
             runs++;
-            complete += default_branch_run(&p, rays, a, inc, 1);
+            complete += default_branch_run(&p, rays, a, inc, 1, 0);
         }
     }
     printf("  finite differences, random LCPs, N = 4: %d of %d runs complete\n", complete, runs);
@@ -905,8 +908,14 @@ static void test_fd_branching(void)
         a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
         CHECK(a == 16);
         complete = 0;
-        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1);
+        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1, 0);
         printf("  finite differences, crossing kinks, k = 4: %d of 16 entries complete\n", complete);
+        CHECK(complete == 16);
+        /* the paper's branch_h = 5e-7, set by the caller: the sample tangents of Algorithm 2.2
+           take difference steps below branch_h / 1000 (with 1.5e-8, 1 of the 16 entries came
+           out complete) */
+        complete = 0;
+        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1, 5e-7);
         CHECK(complete == 16);
         /* the default follows the difference steps at the point: 10^4 of them, the largest
            in the weighted norm */
@@ -990,10 +999,10 @@ static void test_fd_branching(void)
         a = pl_random_lcp(&p, 6, &st, 1, rays);
         if (!a) break;
         if (done == 11) {
-            CHECK(default_branch_run(&p, rays, a, 2, 1));
-            CHECK(default_branch_run(&p, rays, a, 3, 1));
+            CHECK(default_branch_run(&p, rays, a, 2, 1, 0));
+            CHECK(default_branch_run(&p, rays, a, 3, 1, 0));
         }
-        if (done == 21) CHECK(default_branch_run(&p, rays, a, 2, 1));
+        if (done == 21) CHECK(default_branch_run(&p, rays, a, 2, 1, 0));
     }
     CHECK(done == 22);
 }
