@@ -413,7 +413,9 @@
                        quotients overwrote the corrector's H(y) (no step converged); branch_h
                        defaults to 10^4 difference steps at the point, Algorithm 2.2's sample
                        tangents use steps below branch_h / 1000; Algorithm 2.1 returns a
-                       tangent computed 16 branch_h back. bench_branching.
+                       tangent computed 16 branch_h back (central differences: the crossing
+                       kinks, k = 4, right from 16 of 16 entries, random complementarity
+                       problems, N = 4, 89 of 90 runs). bench_branching.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -2632,13 +2634,19 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
         /* the entering tangent too may come from quotients mixing the pieces (the last couple
            of a trace lies within h_min of the end point): take the branch's tangent 16
            branch_h back, where a difference step meets a piece boundary only if the branch
-           runs within ~fd_step / (16 branch_h) radians of it */
-        psb__axpy_to(yt, yc, -16 * s->opt.branch_h, tc, np1);
+           runs within ~fd_step / (16 branch_h) radians of it. The point must lie behind and
+           the tangent pass the continuation's own test, c_min, against one that may be off
+           by more than c_diff allows (central differences: 0.05 rad) */
+        double behind = 0, back = 16 * s->opt.branch_h;
+        int i;
+        psb__axpy_to(yt, yc, -back, tc, np1);
         psb__copy(tt, tc, np1);
         s->stats.n_pc_steps++;
         r = psb__correct(s, yt, tt, NULL);
         if (psb__is_fatal(r)) return r;
-        if (r == PSB_SUCCESS && psb__cos_w(s, tt, tc) >= s->opt.c_diff) psb__copy(tc, tt, np1);
+        for (i = 0; i < np1; i++) behind += s->w_[i] * (yc[i] - yt[i]) * tc[i];
+        if (r == PSB_SUCCESS && behind >= 0.5 * back && psb__cos_w(s, tt, tc) >= s->opt.c_min)
+            psb__copy(tc, tt, np1);
     }
     psb__copy(y, yc, np1);
     psb__copy(t, tc, np1);

@@ -710,7 +710,7 @@ static void test_random_lcp_batch(void)
 
 /* One branching run with the default options (and branch_h, if not 0), entering along ray
    `incoming`; whether every ray, and nothing else, was found (tangents matching to 1e-6).
-   fd: finite-difference Jacobian. */
+   fd: 0 analytic Jacobian, 1 forward differences, 2 central ones. */
 static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, int incoming, int fd,
                               double branch_h)
 {
@@ -722,11 +722,13 @@ static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, in
     psb_branch_report br;
     memset(&o, 0, sizeof o);
     o.branch_h = branch_h;
+    o.fd_central = fd == 2;
     psb_problem_init(&prob, pp->n, pl_residual, fd ? NULL : pl_jacobian, pp);
     if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return 0;
     CHECK(pl_branch_from_ray(&s, rays, incoming, y, ys, ts, &br) == 0);
-    /* with differences, the end ~(difference step) / (angle to the nearest piece boundary) */
-    CHECK(psb_norm_w(&s, y) < (fd ? 1e-5 : 1e-9));
+    /* with differences, the end ~(difference step) / (angle to the nearest piece boundary);
+       central steps are 6.06e-6 */
+    CHECK(psb_norm_w(&s, y) < (fd == 2 ? 1e-4 : fd ? 1e-5 : 1e-9));
     psb_solver_free(&s);
     return pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-6) == n_rays && br.n_branches == n_rays;
 }
@@ -916,6 +918,12 @@ static void test_fd_branching(void)
            out complete) */
         complete = 0;
         for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1, 5e-7);
+        CHECK(complete == 16);
+        /* central differences, steps of 6e-6: the trace's last tangent is ~0.05 rad off, so
+           the tangent 16 branch_h back is taken when it passes c_min (with c_diff, 1 of the
+           16 entries came out complete) */
+        complete = 0;
+        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 2, 0);
         CHECK(complete == 16);
         /* the default follows the difference steps at the point: 10^4 of them, the largest
            in the weighted norm */
