@@ -15,7 +15,8 @@ SHARED ?= ../shared
 BUILD ?= build
 
 HEADER = pscbranch.h
-TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_contact $(BUILD)/test_fc_solve \
+TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
+	$(BUILD)/test_contact $(BUILD)/test_fc_solve \
 	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static
 EXAMPLES = examples/01_branching examples/fc_solve examples/block examples/triangle
 
@@ -31,6 +32,13 @@ $(BUILD)/test_core: tests/test_core.c tests/harness.h tests/pl_problems.h $(HEAD
 
 $(BUILD)/test_linear: tests/test_linear.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_linear.c -o $@ $(LIBS)
+
+# the banded backend again with LAPACK's dgbtrf, and with the banded LU's scalar loops
+$(BUILD)/test_linear_dgbtrf: tests/test_linear.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -DPSCBRANCH_USE_DGBTRF -Itests tests/test_linear.c -o $@ $(LIBS)
+
+$(BUILD)/test_linear_nosimd: tests/test_linear.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -DPSCBRANCH_NO_SIMD -Itests tests/test_linear.c -o $@ $(LIBS)
 
 $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)

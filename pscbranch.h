@@ -1,4 +1,4 @@
-/* pscbranch.h - v0.4.0 - piecewise-smooth continuation and numerical branching - MIT license
+/* pscbranch.h - v0.5.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
    folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
@@ -181,11 +181,15 @@
    PSB_LINEAR_BANDED: for dH/dx with bandwidths kl, ku (number the unknowns so that coupled
      ones are close: node by node in finite elements). problem.band_jacobian fills the band
      and dH/dparameter (or finite differences by column groups: kl+ku+2 residuals). B is
-     solved by block elimination on the LU of the band (dgbtrf): w = A^{-1} dH/dparameter once
-     per factorisation, then one banded solve per right-hand side (none for the tangent's). A
-     corrector iteration costs one dgbtrf and one pass of forward and back substitution over
-     its factors, which solves for w and the Newton right-hand side together (dgbtrs'
-     operations, in its order, at about half the cost of two dgbtrs). At a fold A alone is singular
+     solved by block elimination on the LU of the band: w = A^{-1} dH/dparameter once per
+     factorisation, then one banded solve per right-hand side (none for the tangent's). The LU
+     is the header's own, dgbtrf's algorithm in panels of four columns: the same pivots and,
+     against reference LAPACK, the same factors bit for bit, 1.6x (kl = 22) to 3x (kl = 82)
+     faster at -O2 (SSE2 where the compiler targets it; PSCBRANCH_NO_SIMD: plain loops,
+     PSCBRANCH_USE_DGBTRF: LAPACK's dgbtrf, say for a tuned LAPACK). A corrector iteration
+     costs one LU and one pass of forward and back substitution over its factors, which solves
+     for w and the Newton right-hand side together (dgbtrs' operations, in its order, at about
+     half the cost of two dgbtrs). At a fold A alone is singular
      while B is not. Block elimination amplifies the banded solves' errors by at most
      g = (|d| + sum |c_j w_j|) / |d - c.w| (the cancellation in the Schur complement); where
      g <= 16 the solution is used as it comes (the LU solve is backward stable), elsewhere it is
@@ -390,7 +394,11 @@
    PSCBRANCH_STRLEN_ONE       (defined by the header) the hidden length of a one-character
                               argument, to end your own calls with: dgetrs_("N", ...,
                               &info PSCBRANCH_STRLEN_ONE) works with either kind of LAPACK
-   LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r, dgbtrf.
+   PSCBRANCH_USE_DGBTRF       the banded backend factors with LAPACK's dgbtrf instead of the
+                              header's own LU (same factors with reference LAPACK)
+   PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (results are the same)
+   LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r (dgbtrf with
+   PSCBRANCH_USE_DGBTRF).
 
    9. REVISION HISTORY
    -------------------
@@ -416,6 +424,10 @@
                        tangent computed 16 branch_h back (central differences: the crossing
                        kinks, k = 4, right from 16 of 16 entries, random complementarity
                        problems, N = 4, 89 of 90 runs). bench_branching.
+   0.5.0 (2026-11-23)  banded backend: the header's own LU (dgbtrf's algorithm and factors,
+                       panels of four columns) replaces dgbtrf, 1.6x to 3x faster with
+                       reference LAPACK (block M800: 4.1 s, was 5.6 s); PSCBRANCH_USE_DGBTRF,
+                       PSCBRANCH_NO_SIMD. psb_solver_memory_size grows by 4 (kl + 4) doubles.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -435,7 +447,7 @@
 #endif
 
 #define PSCBRANCH_VERSION_MAJOR 0
-#define PSCBRANCH_VERSION_MINOR 4
+#define PSCBRANCH_VERSION_MINOR 5
 #define PSCBRANCH_VERSION_PATCH 0
 
 #ifdef __cplusplus
@@ -504,7 +516,7 @@ typedef struct psb_linear_solver {
 /* How the bordered systems are solved (see section 6 of the manual). */
 typedef enum psb_linear {
     PSB_LINEAR_DENSE = 0,  /* LAPACK dgetrf on the (n+1) x (n+1) matrix (the default) */
-    PSB_LINEAR_BANDED = 1, /* LAPACK dgbtrf on the banded state block + bordering */
+    PSB_LINEAR_BANDED = 1, /* LU of the banded state block (dgbtrf's) + bordering */
     PSB_LINEAR_USER = 2    /* problem.solver */
 } psb_linear;
 
@@ -629,6 +641,7 @@ typedef struct psb_solver {
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
     double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_;
     double *bandpair_[2], *afac_, *dpfac_; /* band_ is one of the pair; afac_ the one lu_ holds */
+    double *gbw_;                           /* banded: the LU's panel multipliers */
     double delta_, mnorm_, bamp_;
     void *ipiv_, *iwork_; /* LAPACK integers */
     void *owned_;
@@ -940,6 +953,11 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#if defined(__SSE2__) && !defined(PSCBRANCH_NO_SIMD) && !defined(PSCBRANCH_USE_DGBTRF)
+#include <emmintrin.h>
+#define PSB__SSE2 1
+#endif
+#define PSB__GB_NB 4 /* panel width of the banded LU (psb__gbtrf) */
 
 #if defined(PSCBRANCH_MALLOC) && defined(PSCBRANCH_FREE)
 #elif !defined(PSCBRANCH_MALLOC) && !defined(PSCBRANCH_FREE)
@@ -1221,6 +1239,7 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
         PSB__TAKE(bv_, n);
         PSB__TAKE(bx_, np1);
         PSB__TAKE(bres_, np1);
+        PSB__TAKE(gbw_, (kl + PSB__GB_NB) * PSB__GB_NB);
         ints = n;
     }
 #undef PSB__TAKE
@@ -1497,7 +1516,7 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 }
 
 
-/* ---- banded backend: LU of the state block A = dH/dx (dgbtrf) and bordering ----------------
+/* ---- banded backend: LU of the state block A = dH/dx (as dgbtrf) and bordering ----------------
    The bordered matrix is B = [A b; c^T d] up to the position of the parameter (b = dH/dparam,
    (c, d) the border row). Block elimination: w = A^{-1} b once per factorisation,
    delta = d - c.w; for each right-hand side (f, g): z = A^{-1} f, xi = (g - c.z) / delta,
@@ -1509,7 +1528,7 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
    A is kept beside its factors (two band buffers take turns), and a new A bit-identical to the
    factored one reuses them: on a piecewise-linear H, A only changes with the piece, so the
    corrector's second iteration and the tangent at an accepted point usually cost no
-   factorisation. dgbtrf being deterministic, the results are those of factoring again. */
+   factorisation. The LU being deterministic, the results are those of factoring again. */
 
 /* state column j <-> y component */
 static int psb__ycol(const psb_solver *s, int j) { return j < s->prob.param_index ? j : j + 1; }
@@ -1587,13 +1606,127 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
     return PSB_SUCCESS;
 }
 
+#ifndef PSCBRANCH_USE_DGBTRF
+/* Banded LU with partial pivoting, dgbtrf's algorithm, storage and pivots: ab holds A in rows
+   kl .. 2 kl + ku of ldab (A(i,j) at ab[kl + ku + i - j + j ldab]), rows 0 .. kl - 1 zero (room
+   for fill-in). Returns 0, or j + 1 at the first exactly zero pivot j (the factorisation stops
+   there). Panels of PSB__GB_NB columns: each is factored as dgbtf2 does, then every column to
+   its right takes the panel's interchanges and its PSB__GB_NB eliminations in one pass, the
+   multipliers first permuted by the panel's later interchanges (w: (kl + PSB__GB_NB)
+   PSB__GB_NB doubles). Every entry undergoes the same operations in the same order as in
+   dgbtf2, so the factors are dgbtrf's bit for bit (reference LAPACK); what changes is that a
+   column entry is loaded and stored once per panel instead of once per column. Measured
+   against reference dgbtrf at -O2 (bench_linear): 1.6x faster at kl = ku = 22, 1.9x at 42,
+   3x at 82. */
+static int psb__gbtrf(int n, int kl, int ku, double *ab, int ldab, psb__lint *ipiv, double *w)
+{
+    int kv = kl + ku, ju = 0, j0, juk[PSB__GB_NB];
+#define PSB__AB(i, j) ab[(size_t)(kv + (i) - (j)) + (size_t)(j) * (size_t)ldab]
+    for (j0 = 0; j0 < n; j0 += PSB__GB_NB) {
+        int jb = n - j0 < PSB__GB_NB ? n - j0 : PSB__GB_NB, jend = j0 + jb - 1, hgt = jb + kl;
+        int hi = jend + kl < n - 1 ? jend + kl : n - 1; /* last row the panel's multipliers reach */
+        int j, k, c, i;
+        for (j = j0; j <= jend; j++) { /* the panel, as dgbtf2 */
+            int km = kl < n - 1 - j ? kl : n - 1 - j, p = j, cend;
+            double amax = fabs(PSB__AB(j, j));
+            for (i = j + 1; i <= j + km; i++)
+                if (fabs(PSB__AB(i, j)) > amax) { amax = fabs(PSB__AB(i, j)); p = i; }
+            ipiv[j] = p + 1;
+            if (PSB__AB(p, j) == 0) return j + 1;
+            if ((p + ku < n - 1 ? p + ku : n - 1) > ju) ju = p + ku < n - 1 ? p + ku : n - 1;
+            juk[j - j0] = ju;
+            cend = ju < jend ? ju : jend;
+            if (p != j)
+                for (c = j; c <= cend; c++) {
+                    double t = PSB__AB(j, c);
+                    PSB__AB(j, c) = PSB__AB(p, c);
+                    PSB__AB(p, c) = t;
+                }
+            if (km > 0) {
+                double r = 1 / PSB__AB(j, j), *l = &PSB__AB(j + 1, j);
+                for (i = 0; i < km; i++) l[i] *= r;
+                for (c = j + 1; c <= cend; c++) {
+                    double u = PSB__AB(j, c), *a = &PSB__AB(j + 1, c);
+                    if (u != 0)
+                        for (i = 0; i < km; i++) a[i] -= l[i] * u;
+                }
+            }
+        }
+        if (ju <= jend) continue;
+        /* w column k (rows j0 .. hi): the multipliers of step j0 + k, later interchanges applied */
+        memset(w, 0, (size_t)hgt * (size_t)jb * sizeof(double));
+        for (k = 0; k < jb; k++) {
+            int jj = j0 + k, km = kl < n - 1 - jj ? kl : n - 1 - jj, kk;
+            double *wk = w + (size_t)k * (size_t)hgt;
+            for (i = 1; i <= km; i++) wk[k + i] = PSB__AB(jj + i, jj);
+            for (kk = k + 1; kk < jb; kk++) {
+                int q = (int)ipiv[j0 + kk] - 1 - j0;
+                if (q != kk) {
+                    double t = wk[kk];
+                    wk[kk] = wk[q];
+                    wk[q] = t;
+                }
+            }
+        }
+        for (c = jend + 1; c <= ju; c++) {
+            /* col[r] = A(j0 + r, c), rows j0 .. hi; w column k at w + k hgt, same rows */
+            double *col = ab + ((ptrdiff_t)c * ldab + kv + j0 - c); /* c ldab + kv + j0 - c >= 0 */
+            int k0 = 0, rhi = hi - j0;
+            while (c > juk[k0]) k0++; /* steps before k0 left column c untouched (all zero) */
+            for (k = k0; k < jb; k++) {
+                int q = (int)ipiv[j0 + k] - 1 - j0;
+                if (q != k) {
+                    double t = col[k];
+                    col[k] = col[q];
+                    col[q] = t;
+                }
+            }
+            if (k0 == 0 && jb == PSB__GB_NB) {
+                const double *w0 = w, *w1 = w0 + hgt, *w2 = w1 + hgt, *w3 = w2 + hgt;
+                double u0 = col[0], u1, u2, u3;
+                u1 = col[1] - w0[1] * u0;
+                u2 = (col[2] - w0[2] * u0) - w1[2] * u1;
+                u3 = ((col[3] - w0[3] * u0) - w1[3] * u1) - w2[3] * u2;
+                col[1] = u1;
+                col[2] = u2;
+                col[3] = u3;
+                i = PSB__GB_NB;
+#ifdef PSB__SSE2
+                {
+                    __m128d v0 = _mm_set1_pd(u0), v1 = _mm_set1_pd(u1), v2 = _mm_set1_pd(u2), v3 = _mm_set1_pd(u3);
+                    for (; i + 1 <= rhi; i += 2) {
+                        __m128d t = _mm_loadu_pd(col + i);
+                        t = _mm_sub_pd(t, _mm_mul_pd(_mm_loadu_pd(w0 + i), v0));
+                        t = _mm_sub_pd(t, _mm_mul_pd(_mm_loadu_pd(w1 + i), v1));
+                        t = _mm_sub_pd(t, _mm_mul_pd(_mm_loadu_pd(w2 + i), v2));
+                        t = _mm_sub_pd(t, _mm_mul_pd(_mm_loadu_pd(w3 + i), v3));
+                        _mm_storeu_pd(col + i, t);
+                    }
+                }
+#endif
+                for (; i <= rhi; i++) col[i] = (((col[i] - w0[i] * u0) - w1[i] * u1) - w2[i] * u2) - w3[i] * u3;
+            } else {
+                for (k = k0; k < jb; k++) {
+                    const double *wk = w + (size_t)k * (size_t)hgt;
+                    double u = col[k];
+                    if (u != 0)
+                        for (i = k + 1; i <= rhi; i++) col[i] -= wk[i] * u;
+                }
+            }
+        }
+    }
+#undef PSB__AB
+    return 0;
+}
+#endif
+
 /* LU of A + shift I into lu_ (dgbtrf layout: kl extra rows on top), unless lu_ holds the
    unshifted factors of a bit-identical A already. */
 static psb_result psb__band_lu(psb_solver *s, double shift)
 {
     int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
     size_t size = (size_t)ld * (size_t)n;
-    psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->ldlu_, info = 0;
+    long info;
     if (!s->band_ok_) return psb__fail(s, PSB_ERR_INPUT, "no Jacobian to factor");
     if (shift == 0 && s->afac_ &&
         (s->afac_ == s->band_ || !memcmp(s->afac_, s->band_, size * sizeof(double)))) {
@@ -1604,12 +1737,21 @@ static psb_result psb__band_lu(psb_solver *s, double shift)
     s->bv_ok_ = 0;
     for (j = 0; j < n; j++) {
         double *dst = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+        memset(dst, 0, (size_t)kl * sizeof(double));
         memcpy(dst + kl, s->band_ + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
         dst[kl + ku] += shift;
     }
     s->stats.n_factor++;
-    PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->lu_, &ldlu, (psb__lint *)s->ipiv_, &info);
-    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
+#ifdef PSCBRANCH_USE_DGBTRF
+    {
+        psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->ldlu_, linfo = 0;
+        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->lu_, &ldlu, (psb__lint *)s->ipiv_, &linfo);
+        if (linfo < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
+        info = (long)linfo;
+    }
+#else
+    info = psb__gbtrf(n, kl, ku, s->lu_, s->ldlu_, (psb__lint *)s->ipiv_, s->gbw_);
+#endif
     if (info > 0) {
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "banded block is exactly singular");

@@ -3,11 +3,14 @@
    For each size, on the same problem, measured side by side in one run:
      factor  the bare LAPACK factorisation of the matrix the corrector factors (dgetrf of the
              (N+1) x (N+1) bordered matrix, or dgbtrf of the N x N band);
+     own LU  banded only: the library's own LU of the same band (psb__gbtrf, dgbtrf's
+             algorithm and factors, the one the banded backend uses);
      iter    one Moore-Penrose corrector iteration of pscbranch (residual, Jacobian, bordered
              factorisation, both right-hand sides, checks), averaged over many iterations.
      callbacks  the problem's own share of an iteration: one residual and one Jacobian.
-   The ratio iter/factor is the overhead of everything that is not the factorisation;
-   (iter - callbacks)/factor that of the library alone.
+   The ratio iter/factor is the cost of an iteration in LAPACK factorisations; (iter -
+   callbacks)/factor the same without the problem's own share; iter/own LU the overhead of
+   everything in an iteration that is not its factorisation.
 
    The problem is a 2D reaction-diffusion system on an nx x ny grid with two unknowns per node
    (numbered node by node, as the FE examples do): bandwidth 2 nx + 2, like block M200-M3200.
@@ -134,8 +137,8 @@ static double time_iteration(psb_linear linear, grid *gr, double min_seconds, lo
     return elapsed / (double)*iters;
 }
 
-/* Seconds per bare LAPACK factorisation of the same matrix. */
-static double time_factor(psb_linear linear, grid *gr, double min_seconds)
+/* Seconds per bare factorisation of the same matrix: LAPACK's, or (own) the library's banded LU. */
+static double time_factor(psb_linear linear, grid *gr, double min_seconds, int own)
 {
     int n = gr->n, np1 = n + 1, kl = 2 * gr->nx, ku = kl, ld = 2 * kl + ku + 1, info, count = 0, i;
     double *y = (double *)calloc((size_t)np1, sizeof(double)), t0, elapsed;
@@ -160,6 +163,7 @@ static double time_factor(psb_linear linear, grid *gr, double min_seconds)
         double *band = (double *)calloc((size_t)(kl + ku + 1) * (size_t)n, sizeof(double));
         double *lu = (double *)malloc((size_t)ld * (size_t)n * sizeof(double));
         double *dp = (double *)malloc((size_t)n * sizeof(double));
+        double *w = (double *)malloc((size_t)(kl + PSB__GB_NB) * PSB__GB_NB * sizeof(double));
         grid_band(y, band, kl + ku + 1, dp, gr);
         t0 = now();
         do {
@@ -168,13 +172,15 @@ static double time_factor(psb_linear linear, grid *gr, double min_seconds)
                 memset(lu + (size_t)j * (size_t)ld, 0, (size_t)kl * sizeof(double));
                 memcpy(lu + (size_t)j * (size_t)ld + kl, band + (size_t)j * (size_t)(kl + ku + 1), (size_t)(kl + ku + 1) * sizeof(double));
             }
-            dgbtrf_(&n, &n, &kl, &ku, lu, &ld, ipiv, &info);
+            if (own) info = psb__gbtrf(n, kl, ku, lu, ld, (psb__lint *)ipiv, w);
+            else dgbtrf_(&n, &n, &kl, &ku, lu, &ld, ipiv, &info);
             count++;
             elapsed = now() - t0;
         } while (elapsed < min_seconds);
         free(band);
         free(lu);
         free(dp);
+        free(w);
     }
     free(y);
     free(ipiv);
@@ -229,21 +235,24 @@ static void bench_row(psb_linear linear, const int nodes[2], double min_s, FILE 
 {
     grid gr;
     long iters;
-    double tf, ti, tc;
+    double tf, ti, tc, to = 0;
     const char *name = linear == PSB_LINEAR_DENSE ? "dense" : "banded";
     char band[16] = "-";
     gr.nx = nodes[0];
     gr.ny = nodes[1];
     gr.n = 2 * gr.nx * gr.ny;
-    tf = time_factor(linear, &gr, min_s);
+    tf = time_factor(linear, &gr, min_s, 0);
+    if (linear == PSB_LINEAR_BANDED) to = time_factor(linear, &gr, min_s, 1);
     ti = time_iteration(linear, &gr, min_s, &iters);
     tc = time_callbacks(linear, &gr, min_s);
     if (linear == PSB_LINEAR_BANDED) snprintf(band, sizeof band, "%d", 2 * gr.nx);
-    printf("  %-6s  %6d  %6s   %12.3f   %14.3f   %5.2f   %14.3f   %5.2f\n", name, gr.n, band, 1e3 * tf, 1e3 * ti, ti / tf,
+    printf("  %-6s  %6d  %6s   %12.3f   %14.3f   %5.2f   %14.3f   %5.2f", name, gr.n, band, 1e3 * tf, 1e3 * ti, ti / tf,
            1e3 * tc, (ti - tc) / tf);
+    if (to > 0) printf("   %11.3f   %5.2f\n", 1e3 * to, ti / to);
+    else printf("             -       -\n");
     if (csv)
-        fprintf(csv, "%s,%d,%s,%.6e,%.6e,%.3f,%.6e,%.3f\n", name, gr.n, linear == PSB_LINEAR_BANDED ? band : "", tf, ti, ti / tf,
-                tc, (ti - tc) / tf);
+        fprintf(csv, "%s,%d,%s,%.6e,%.6e,%.3f,%.6e,%.3f,%.6e,%.3f\n", name, gr.n, linear == PSB_LINEAR_BANDED ? band : "", tf, ti,
+                ti / tf, tc, (ti - tc) / tf, to, to > 0 ? ti / to : 0.0);
 }
 
 int main(int argc, char **argv)
@@ -261,8 +270,8 @@ int main(int argc, char **argv)
     min_s = quick ? 0.2 : 1.0;
     printf("bench_linear: one corrector iteration against the factorisation alone\n");
     print_blas(stdout);
-    if (csv) fprintf(csv, "backend,n,bandwidth,factor_s,iteration_s,ratio,callbacks_s,ratio_without_callbacks\n");
-    printf("\n  backend      N   kl=ku    factor [ms]   iteration [ms]   ratio   callbacks [ms]   ratio without them\n");
+    if (csv) fprintf(csv, "backend,n,bandwidth,factor_s,iteration_s,ratio,callbacks_s,ratio_without_callbacks,own_lu_s,ratio_to_own_lu\n");
+    printf("\n  backend      N   kl=ku    factor [ms]   iteration [ms]   ratio   callbacks [ms]   ratio without them   own LU [ms]   iter/own LU\n");
     for (i = 0; i < (only_banded ? 0 : quick ? 2 : 3); i++) bench_row(PSB_LINEAR_DENSE, dense_nodes[i], min_s, csv);
     for (i = 0; i < (quick ? 2 : 4); i++) bench_row(PSB_LINEAR_BANDED, band_nodes[i], min_s, csv);
     if (csv) fclose(csv);
