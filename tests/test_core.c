@@ -684,7 +684,10 @@ static void test_pl_branching(void)
    often converges on a branch other than the one its tangent pointed at; accepting such a point
    when it lies on a ray from y0 (psb__try_step_from) took the complete sets of these 40 problems
    from 32 to 36 (paper's values, n_span = 15), and not counting idle spans (psb_find_branches)
-   to 39; the miss is a region no span sampled. Every branch found must be one of the rays. */
+   to 39. A random span whose tangent was tried before takes the random direction instead
+   (0.5.0): 38 here, and alike on fresh problems (80 per N, complete runs before / after: N = 6
+   373 / 376 of 378, N = 8 381 / 375 of 458, N = 10 262 / 261 of 512). A miss is a region no
+   span sampled. Every branch found must be one of the rays. */
 static void test_random_lcp_batch(void)
 {
     unsigned long long st = 1006;
@@ -704,7 +707,7 @@ static void test_random_lcp_batch(void)
     }
     printf("  random LCPs, N = 6: %d of %d complete, %d with a spurious branch\n", complete, done, spurious);
     CHECK(done == 40);
-    CHECK(complete >= 39);
+    CHECK(complete >= 38);
     CHECK(spurious == 0);
 }
 
@@ -712,7 +715,7 @@ static void test_random_lcp_batch(void)
    `incoming`; whether every ray, and nothing else, was found (tangents matching to 1e-6).
    fd: 0 analytic Jacobian, 1 forward differences, 2 central ones. */
 static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, int incoming, int fd,
-                              double branch_h)
+                              double branch_h, int n_span)
 {
     int np1 = pp->n + 1;
     double y[PL_MAX_N + 1], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
@@ -722,6 +725,7 @@ static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, in
     psb_branch_report br;
     memset(&o, 0, sizeof o);
     o.branch_h = branch_h;
+    o.n_span = n_span;
     o.fd_central = fd == 2;
     psb_problem_init(&prob, pp->n, pl_residual, fd ? NULL : pl_jacobian, pp);
     if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return 0;
@@ -738,13 +742,16 @@ static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, in
    branches find nothing: every one of their tangents was tried before. Counting such spans
    against n_span let them use up all 15 and starve the random spans (8 of 8 rays found from
    2 of the 8 entries for k = 3, 6 of 16 on average for k = 4); with them idle and a random span
-   after each, every ray is found from every entry, at n_pc = 2 per ray. */
+   after each, every ray is found from every entry, at n_pc = 2 per ray. k = 5 (32 rays) needs
+   more spans than 15; with 45, random spans whose t~2 was the tangent at a random point found
+   28-30 of the 32 rays: that tangent is a ray direction, mostly one tried before, and the plane
+   of two rays meets no third ray's region. Such a t~2 is now replaced by the random direction. */
 static void test_crossing_kinks(void)
 {
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
     pl_problem p;
     int k, i, a, inc;
-    for (k = 3; k <= 4; k++) {
+    for (k = 3; k <= 5; k++) {
         memset(&p, 0, sizeof p);
         p.n = k;
         for (i = 0; i < k; i++) {
@@ -753,7 +760,7 @@ static void test_crossing_kinks(void)
         }
         a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
         CHECK(a == 1 << k);
-        for (inc = 0; inc < a; inc++) CHECK(default_branch_run(&p, rays, a, inc, 0, 0));
+        for (inc = 0; inc < a; inc++) CHECK(default_branch_run(&p, rays, a, inc, 0, 0, k == 5 ? 45 : 0));
     }
 }
 
@@ -885,7 +892,7 @@ static void test_fd_branching(void)
         if (!a) break;
         for (inc = 0; inc < a; inc++) {
             runs++;
-            complete += default_branch_run(&p, rays, a, inc, 1, 0);
+            complete += default_branch_run(&p, rays, a, inc, 1, 0, 0);
         }
     }
     printf("  finite differences, random LCPs, N = 4: %d of %d runs complete\n", complete, runs);
@@ -910,20 +917,20 @@ static void test_fd_branching(void)
         a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
         CHECK(a == 16);
         complete = 0;
-        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1, 0);
+        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1, 0, 0);
         printf("  finite differences, crossing kinks, k = 4: %d of 16 entries complete\n", complete);
         CHECK(complete == 16);
         /* the paper's branch_h = 5e-7, set by the caller: the sample tangents of Algorithm 2.2
            take difference steps below branch_h / 1000 (with 1.5e-8, 1 of the 16 entries came
            out complete) */
         complete = 0;
-        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1, 5e-7);
+        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1, 5e-7, 0);
         CHECK(complete == 16);
         /* central differences, steps of 6e-6: the trace's last tangent is ~0.05 rad off, so
            the tangent 16 branch_h back is taken when it passes c_min (with c_diff, 1 of the
            16 entries came out complete) */
         complete = 0;
-        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 2, 0);
+        for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 2, 0, 0);
         CHECK(complete == 16);
         /* the default follows the difference steps at the point: 10^4 of them, the largest
            in the weighted norm */
@@ -1007,10 +1014,10 @@ static void test_fd_branching(void)
         a = pl_random_lcp(&p, 6, &st, 1, rays);
         if (!a) break;
         if (done == 11) {
-            CHECK(default_branch_run(&p, rays, a, 2, 1, 0));
-            CHECK(default_branch_run(&p, rays, a, 3, 1, 0));
+            CHECK(default_branch_run(&p, rays, a, 2, 1, 0, 0));
+            CHECK(default_branch_run(&p, rays, a, 3, 1, 0, 0));
         }
-        if (done == 21) CHECK(default_branch_run(&p, rays, a, 2, 1, 0));
+        if (done == 21) CHECK(default_branch_run(&p, rays, a, 2, 1, 0, 0));
     }
     CHECK(done == 22);
 }
