@@ -95,14 +95,7 @@ int main(int argc, char **argv)
            "runs", "complete", "spurious", "failed", "n_pc", "factorised");
     for (k = 2; k <= (quick ? 4 : 5); k++) {
         pl_problem p;
-        int n_rays;
-        memset(&p, 0, sizeof p);
-        p.n = k;
-        for (i = 0; i < k; i++) {
-            p.m[i + i * k] = -1;
-            p.q[i] = 1;
-        }
-        n_rays = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+        int n_rays = pl_crossing_kinks(&p, k, rays);
         for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
             tally t;
             memset(&t, 0, sizeof t);

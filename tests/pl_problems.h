@@ -125,6 +125,20 @@ static int pl_enumerate_rays(const pl_problem *p, double sign, double margin, do
     }
     return count;
 }
+/* Crossing kinks H_i = min(x_i, g - x_i), i = 1..k: 2^k rays x in {0, g}^k, g > 0, one per
+   piece; returns the number of rays (into rays). */
+PL_MAYBE_UNUSED static int pl_crossing_kinks(pl_problem *p, int k, double *rays)
+{
+    int i;
+    memset(p, 0, sizeof *p);
+    p->n = k;
+    for (i = 0; i < k; i++) {
+        p->m[i + i * k] = -1;
+        p->q[i] = 1;
+    }
+    return pl_enumerate_rays(p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+}
+
 /* Standard normal deviate from a local LCG (Box-Muller), so that each user of these problems
    draws its own reproducible sequence. */
 PL_MAYBE_UNUSED static double pl_normal(unsigned long long *st)

@@ -750,15 +750,9 @@ static void test_crossing_kinks(void)
 {
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
     pl_problem p;
-    int k, i, a, inc;
+    int k, a, inc;
     for (k = 3; k <= 5; k++) {
-        memset(&p, 0, sizeof p);
-        p.n = k;
-        for (i = 0; i < k; i++) {
-            p.m[i + i * k] = -1;
-            p.q[i] = 1;
-        }
-        a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+        a = pl_crossing_kinks(&p, k, rays);
         CHECK(a == 1 << k);
         for (inc = 0; inc < a; inc++) CHECK(default_branch_run(&p, rays, a, inc, 0, 0, k == 5 ? 45 : 0));
     }
@@ -907,14 +901,7 @@ static void test_fd_branching(void)
         psb_problem prob;
         psb_options o;
         psb_solver s;
-        int i;
-        memset(&p, 0, sizeof p);
-        p.n = 4;
-        for (i = 0; i < 4; i++) {
-            p.m[i + i * 4] = -1;
-            p.q[i] = 1;
-        }
-        a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+        a = pl_crossing_kinks(&p, 4, rays);
         CHECK(a == 16);
         complete = 0;
         for (inc = 0; inc < a; inc++) complete += default_branch_run(&p, rays, a, inc, 1, 0, 0);
@@ -970,14 +957,8 @@ static void test_fd_branching(void)
         psb_problem prob;
         psb_options o;
         int i, n_ok = 0;
-        memset(&sp, 0, sizeof sp);
-        sp.p.n = 3;
-        for (i = 0; i < 3; i++) {
-            sp.p.m[i + i * 3] = -1;
-            sp.p.q[i] = 1;
-        }
+        a = pl_crossing_kinks(&sp.p, 3, rays);
         for (i = 0; i < 4; i++) sp.c[i] = 5 * (1 + 0.37 * i) * (i % 2 ? -1 : 1);
-        a = pl_enumerate_rays(&sp.p, 1.0, 1e-6, rays, PL_MAX_RAYS);
         CHECK(a == 8);
         memset(&o, 0, sizeof o);
         o.branch_h = 1000 * 1.4901161193847656e-08; /* as at the origin; the failure needs it exact */
