@@ -209,6 +209,26 @@ static int pl_stop_at_kink(const psb_point *pt, void *user)
     return (pt->flags & PSB_POINT_KINK) != 0;
 }
 
+/* y at half the length of ray `incoming` (rays: np1 each), t pointing back to the origin. */
+PL_MAYBE_UNUSED static void pl_start_on_ray(int np1, const double *rays, int incoming, double *y, double *t)
+{
+    int i;
+    for (i = 0; i < np1; i++) {
+        y[i] = 0.5 * rays[incoming * np1 + i];
+        t[i] = -rays[incoming * np1 + i];
+    }
+}
+
+/* Traces from (y, t), kinks located, and stops at the first one (rep may be NULL). */
+PL_MAYBE_UNUSED static psb_result pl_trace_to_kink(psb_solver *s, double *y, double *t, psb_trace_report *rep)
+{
+    psb_trace_options to;
+    memset(&to, 0, sizeof to);
+    to.locate_kinks = 1;
+    to.on_point = pl_stop_at_kink;
+    return psb_trace(s, y, t, &to, rep);
+}
+
 /* Branching entered along ray `incoming` (rays: n + 1 each) on a solver s set up for the
    problem: from half its length a trace towards the origin, stopped at the kink, Algorithm 2.1
    (y: the end point found), Algorithm 2.2 (up to PL_MAX_RAYS branches into ys, ts, report br).
@@ -216,18 +236,10 @@ static int pl_stop_at_kink(const psb_point *pt, void *user)
 PL_MAYBE_UNUSED static int pl_branch_from_ray(psb_solver *s, const double *rays, int incoming, double *y,
                                               double *ys, double *ts, psb_branch_report *br)
 {
-    int np1 = s->prob.n + 1, i;
     double t[PL_MAX_N + 1];
-    psb_trace_options to;
     psb_result r;
-    for (i = 0; i < np1; i++) {
-        y[i] = 0.5 * rays[incoming * np1 + i];
-        t[i] = -rays[incoming * np1 + i];
-    }
-    memset(&to, 0, sizeof to);
-    to.locate_kinks = 1;
-    to.on_point = pl_stop_at_kink;
-    r = psb_trace(s, y, t, &to, NULL);
+    pl_start_on_ray(s->prob.n + 1, rays, incoming, y, t);
+    r = pl_trace_to_kink(s, y, t, NULL);
     if (r != PSB_STOPPED && r != PSB_NONSMOOTH_END) return 1;
     if (psb_locate_end(s, y, t, NULL) != PSB_SUCCESS) return 2;
     return psb_find_branches(s, y, t, PL_MAX_RAYS, ys, ts, br) == PSB_SUCCESS ? 0 : 3;

@@ -65,6 +65,19 @@ static int track_point(const psb_point *pt, void *user)
     return 0;
 }
 
+/* psb_trace with every point checked by track_point; tr starts empty, stopping at a kink if
+   asked. The caller sets the rest of to. */
+static psb_result trace_tracked(psb_solver *s, double *y, double *t, psb_trace_options *to, track *tr,
+                                int stop_at_kink, psb_trace_report *rep)
+{
+    memset(tr, 0, sizeof *tr);
+    tr->s = s;
+    tr->stop_at_kink = stop_at_kink;
+    to->on_point = track_point;
+    to->point_user = tr;
+    return psb_trace(s, y, t, to, rep);
+}
+
 static void test_circle(void)
 {
     psb_problem p;
@@ -81,12 +94,8 @@ static void test_circle(void)
     CHECK_NEAR(t[0], 0.8, 1e-14);
     CHECK_NEAR(t[1], -0.6, 1e-14);
     memset(&to, 0, sizeof to);
-    memset(&tr, 0, sizeof tr);
-    tr.s = &s;
     to.detect_loop = 1;
-    to.on_point = track_point;
-    to.point_user = &tr;
-    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
+    CHECK(trace_tracked(&s, y, t, &to, &tr, 0, &rep) == PSB_LOOP_CLOSED);
     CHECK(rep.n_folds == 2);
     /* the limit points of g on the circle are g = -1 (reached first, going clockwise) and +1 */
     CHECK_NEAR(rep.fold_params[0], -1, 1e-5);
@@ -128,12 +137,8 @@ static void test_circle_fd(void)
         CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
         CHECK(t[3] > 0);
         memset(&to, 0, sizeof to);
-        memset(&tr, 0, sizeof tr);
-        tr.s = &s;
         to.detect_loop = 1;
-        to.on_point = track_point;
-        to.point_user = &tr;
-        CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
+        CHECK(trace_tracked(&s, y, t, &to, &tr, 0, &rep) == PSB_LOOP_CLOSED);
         CHECK(rep.n_folds == 2);
         CHECK_NEAR(rep.fold_params[0], 1, 1e-4);
         CHECK_NEAR(rep.fold_params[1], -1, 1e-4);
@@ -179,14 +184,10 @@ static void test_zigzag(int locate)
     y[1] = -1;
     CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
     memset(&to, 0, sizeof to);
-    memset(&tr, 0, sizeof tr);
-    tr.s = &s;
     to.param_min = -1;
     to.param_max = 1;
     to.locate_kinks = locate;
-    to.on_point = track_point;
-    to.point_user = &tr;
-    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_PARAM_BOUND);
+    CHECK(trace_tracked(&s, y, t, &to, &tr, 0, &rep) == PSB_PARAM_BOUND);
     CHECK(y[1] == 1.0); /* landed exactly on the bound */
     CHECK_NEAR(y[0], zigzag(1), 1e-12);
     CHECK(rep.n_switches == 3);
@@ -233,15 +234,10 @@ static void test_gentle_kink(void)
     CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
     CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
     memset(&to, 0, sizeof to);
-    memset(&tr, 0, sizeof tr);
-    tr.s = &s;
     to.param_min = -1;
     to.param_max = 1;
     to.locate_kinks = 1;
-    tr.stop_at_kink = 1;
-    to.on_point = track_point;
-    to.point_user = &tr;
-    CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_STOPPED);
+    CHECK(trace_tracked(&s, y, t, &to, &tr, 1, &rep) == PSB_STOPPED);
     CHECK(rep.n_switches == 0);
     CHECK(tr.n_kinks == 1);
     /* stopped on the couple just before the kink, within h_min */
@@ -369,11 +365,6 @@ static void test_nonsmooth_fold(void)
 
 /* ---- branching on piecewise-linear problems ---------------------------------------------- */
 
-static int stop_at_kink(const psb_point *pt, void *u)
-{
-    (void)u;
-    return (pt->flags & PSB_POINT_KINK) != 0;
-}
 
 static void paper_options(psb_options *o)
 {
@@ -395,23 +386,15 @@ static int branch_pl(pl_problem *pp, const double *rays, int n_rays, int incomin
                      const psb_options *o, int *found, psb_branch_report *br, double *ys,
                      double *ts)
 {
-    int n = pp->n, np1 = n + 1, i;
+    int n = pp->n, np1 = n + 1;
     psb_problem prob;
     psb_solver s;
-    psb_trace_options to;
-    psb_trace_report tr;
     double y[PL_MAX_N + 1], t[PL_MAX_N + 1], prec;
     psb_result r;
     psb_problem_init(&prob, n, pl_residual, pl_jacobian, pp);
     if (psb_solver_init(&s, &prob, o) != PSB_SUCCESS) return -1;
-    for (i = 0; i < np1; i++) {
-        y[i] = 0.5 * rays[incoming * np1 + i];
-        t[i] = -rays[incoming * np1 + i];
-    }
-    memset(&to, 0, sizeof to);
-    to.locate_kinks = 1;
-    to.on_point = stop_at_kink;
-    r = psb_trace(&s, y, t, &to, &tr);
+    pl_start_on_ray(np1, rays, incoming, y, t);
+    r = pl_trace_to_kink(&s, y, t, NULL);
     CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
     CHECK(psb_norm_w(&s, y) < 2e-6);
     CHECK(psb_locate_end(&s, y, t, &prec) == PSB_SUCCESS);
@@ -519,11 +502,9 @@ static void check_star(int nz, int incoming, int paper_sweep)
     psb_problem prob;
     psb_options o;
     psb_solver s;
-    psb_trace_options to;
-    psb_trace_report tr;
     psb_branch_report br;
     double rays[8 * 18], ys[16 * 18], ts[16 * 18], y[18], t[18], prec;
-    int n_rays, np1 = nz + 2, i, k;
+    int n_rays, np1 = nz + 2, k;
     memset(&sp, 0, sizeof sp);
     sp.nz = nz;
     for (k = 0; k < nz; k++) {
@@ -537,14 +518,8 @@ static void check_star(int nz, int incoming, int paper_sweep)
     paper_options(&o);
     o.paper_sweep = paper_sweep;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-    for (i = 0; i < np1; i++) {
-        y[i] = 0.5 * rays[incoming * np1 + i];
-        t[i] = -rays[incoming * np1 + i];
-    }
-    memset(&to, 0, sizeof to);
-    to.locate_kinks = 1;
-    to.on_point = stop_at_kink;
-    CHECK(psb_trace(&s, y, t, &to, &tr) == PSB_STOPPED);
+    pl_start_on_ray(np1, rays, incoming, y, t);
+    CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
     CHECK(psb_locate_end(&s, y, t, &prec) == PSB_SUCCESS);
     CHECK(psb_norm_w(&s, y) < 1e-9);
     CHECK(psb_find_branches(&s, y, t, 16, ys, ts, &br) == PSB_SUCCESS);
@@ -560,7 +535,6 @@ static void test_branch_budgets(void)
     psb_problem prob;
     psb_options o;
     psb_solver s;
-    psb_trace_options to;
     psb_branch_report full, adaptive, budget, cap;
     double rays[8 * 2], ys[16 * 2], ts[16 * 2], y[2], t[2], y0[2], t0[2];
     memset(&sp, 0, sizeof sp);
@@ -569,14 +543,8 @@ static void test_branch_budgets(void)
     paper_options(&o);
     o.branch_no_memo = 1; /* every direction tried, as printed: n_pc as the paper counts it */
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-    y[0] = 0.5 * rays[0];
-    y[1] = 0.5 * rays[1];
-    t[0] = -rays[0];
-    t[1] = -rays[1];
-    memset(&to, 0, sizeof to);
-    to.locate_kinks = 1;
-    to.on_point = stop_at_kink;
-    CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_STOPPED);
+    pl_start_on_ray(2, rays, 0, y, t);
+    CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
     CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
     memcpy(y0, y, sizeof y);
     memcpy(t0, t, sizeof t);
@@ -820,7 +788,6 @@ static void test_curved_kinks(void)
             psb_problem prob;
             psb_options o;
             psb_solver s;
-            psb_trace_options to;
             psb_branch_report br;
             double y[5], t[5], ys[32 * 5], ts[32 * 5], h[4];
             int j, k, distinct = 1, solved = 1;
@@ -833,10 +800,7 @@ static void test_curved_kinks(void)
             CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
             if (t[4] > 0)
                 for (i = 0; i < 5; i++) t[i] = -t[i];
-            memset(&to, 0, sizeof to);
-            to.locate_kinks = 1;
-            to.on_point = stop_at_kink;
-            CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_STOPPED);
+            CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
             CHECK(psb_norm_w(&s, y) < 1e-5);
             CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
             CHECK(psb_find_branches(&s, y, t, 32, ys, ts, &br) == PSB_SUCCESS);
@@ -965,7 +929,6 @@ static void test_fd_branching(void)
         psb_problem_init(&prob, 3, shifted_res, NULL, &sp);
         for (inc = 0; inc < a; inc++) {
             psb_solver s;
-            psb_trace_options to;
             psb_branch_report br;
             double y[4], t[4], ys[8 * 4], ts[8 * 4];
             CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
@@ -973,10 +936,7 @@ static void test_fd_branching(void)
                 y[i] = sp.c[i] + 0.5 * rays[inc * 4 + i];
                 t[i] = -rays[inc * 4 + i];
             }
-            memset(&to, 0, sizeof to);
-            to.locate_kinks = 1;
-            to.on_point = stop_at_kink;
-            CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_STOPPED);
+            CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
             CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
             CHECK(psb_find_branches(&s, y, t, 8, ys, ts, &br) == PSB_SUCCESS);
             n_ok += pl_match_rays(ts, br.n_branches, rays, a, 4, 1e-6) == 8 && br.n_branches == 8;

@@ -344,18 +344,11 @@ static int pl_band(const double *y, double *band, int ld, double *dparam, void *
     return 0;
 }
 
-static int stop_at_kink(const psb_point *pt, void *u)
-{
-    (void)u;
-    return (pt->flags & PSB_POINT_KINK) != 0;
-}
-
 static int branches_with(psb_linear linear, pl_problem *pl, user_lu *ul, double *ts, psb_stats *stats)
 {
     psb_problem p;
     psb_options o;
     psb_solver s;
-    psb_trace_options to;
     psb_branch_report br;
     double y[13], t[13], ys[16 * 13];
     int i, n = pl->n;
@@ -378,11 +371,8 @@ static int branches_with(psb_linear linear, pl_problem *pl, user_lu *ul, double 
     CHECK(psb_solve_at_param(&s, y, 0) == PSB_SUCCESS);
     CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
     for (i = 0; i <= n; i++) t[i] = -t[i];
-    memset(&to, 0, sizeof to);
-    to.locate_kinks = 1;
-    to.on_point = stop_at_kink;
     {
-        psb_result r = psb_trace(&s, y, t, &to, NULL);
+        psb_result r = pl_trace_to_kink(&s, y, t, NULL);
         CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
     }
     CHECK(psb_norm_w(&s, y) < 2e-6);
