@@ -81,6 +81,7 @@ SMOKE = "smoke:examples/01_branching" \
 	"smoke:examples/fc_solve $(SHARED)/fc-problems/*.dat" \
 	"smoke:examples/fc_solve $(SHARED)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
 	"smoke:examples/block" \
+	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1 --no-screen --expect-npc 72" \
 	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1" \
 	"smoke:examples/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && examples/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
 	"smoke:examples/triangle --mesh 16" \

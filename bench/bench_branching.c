@@ -41,6 +41,7 @@ static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int
         o.restart = PSB_RESTART_PAPER;
         o.paper_sweep = 1;
         o.branch_no_memo = 1;
+        o.branch_no_screen = 1;
     }
     psb_problem_init(&prob, p->n, pl_residual, cfg == CFG_FD ? NULL : pl_jacobian, p);
     t->runs++;

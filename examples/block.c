@@ -11,20 +11,24 @@
    gamma. --branch-mult-weight sets the multipliers' weight of Algorithms 2.1-2.2 alone; with 1 (all
    unknowns weighted alike, as GetFEM's continuation does) and --paper-sweep, the sweep is the
    paper's: Table 1's spans and n_pc come out close to the printed ones (input 3 finds all six
-   branches in its first span, n_pc 72 at n_dir 50 as printed; the defaults take 3 spans, 154).
+   branches in its first span, n_pc 72 at n_dir 50 as printed, with --no-screen; the defaults
+   take 3 spans, 154). --no-screen: each trial of Algorithm 2.2 along its sampled tangent, as
+   printed (the library's default screens trials by the tangent at their predictor point).
    Exit status 0 only when the six branches of the paper are found, each ends on |gamma| = 1 with a
    small residual, and a slipping vertex slides the way the block is forced.
 
    Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]
                 [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim]
                 [--start -1|1]
-                [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--seed S]
+                [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--no-screen] [--seed S]
                 [--dense] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
+                [--expect-npc N]
    --save writes the branches' end points at |gamma| = 1; --refine reads such a file of a coarser
    nested mesh (NX, NY multiples of its own) and re-solves each end point on this mesh by Newton
    from the interpolated coarse solution, skipping the branching (the finest mesh of Table 3);
    --compare (up to 4) prints the relative H1 errors of a coarser file's displacements against
-   this run's, branch by branch (Table 3).
+   this run's, branch by branch (Table 3). --expect-npc N: exit status 1 unless Algorithm 2.2's
+   n_pc is N (the tests check Table 1's n_pc = 72 this way).
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
@@ -36,7 +40,7 @@
 #include "fe.h"
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart, paper_sweep, patience;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart, paper_sweep, patience, no_screen;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min); h_init: one trial
                      per direction, enough near a conical point (see the manual) */
@@ -49,24 +53,27 @@ typedef struct args {
     const char *compare[4]; /* --compare FILE (up to 4): H1 errors of coarser end points against
                                this mesh's (Table 3) */
     int ncompare;
+    long expect_npc; /* --expect-npc N: fail unless Algorithm 2.2's n_pc is N (< 0: no check) */
 } args;
 
 static int parse(int argc, char **argv, args *a)
 {
     int i;
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
-    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->branch_mult_weight = -1; a->seed = 0; a->out = NULL; a->patience = 0; a->save = NULL; a->refine = NULL; a->ncompare = 0;
+    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->no_screen = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->branch_mult_weight = -1; a->seed = 0; a->out = NULL; a->patience = 0; a->save = NULL; a->refine = NULL; a->ncompare = 0; a->expect_npc = -1;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
         if (!strcmp(o, "--dense")) { a->dense = 1; continue; }
         if (!strcmp(o, "--paper-sweep")) { a->paper_sweep = 1; continue; }
+        if (!strcmp(o, "--no-screen")) { a->no_screen = 1; continue; }
         if (!v) { fprintf(stderr, "block: %s needs a value\n", o); return -1; }
         i++;
         if (!strcmp(o, "--mesh")) { if (sscanf(v, "%dx%d", &a->nx, &a->ny) != 2 || a->nx < 2 || a->ny < 2) return -1; }
         else if (!strcmp(o, "--ndir")) a->ndir = atoi(v);
         else if (!strcmp(o, "--nspan")) a->nspan = atoi(v);
         else if (!strcmp(o, "--patience")) a->patience = atoi(v);
+        else if (!strcmp(o, "--expect-npc")) a->expect_npc = atol(v);
         else if (!strcmp(o, "--input")) a->input = atoi(v);
         else if (!strcmp(o, "--start")) a->start = atoi(v) < 0 ? -1 : 1;
         else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
@@ -179,7 +186,8 @@ int main(int argc, char **argv)
     if (parse(argc, argv, &a)) {
         fprintf(stderr, "usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]\n"
                         "             [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim] [--start -1|1]\n"
-                        "             [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--seed S] [--dense]\n");
+                        "             [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--no-screen] [--seed S] [--dense]\n"
+                        "             [--patience K] [--save FILE] [--refine FILE] [--compare FILE]... [--expect-npc N]\n");
         return 2;
     }
     if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory\n"); return 1; }
@@ -189,7 +197,7 @@ int main(int argc, char **argv)
     opt.h_init = 1e-2; opt.h_max = 0.2; opt.h_min = 1e-9;
     opt.tol_residual = 1e-9; opt.tol_correction = 1e-9;
     opt.c_diff = 0.99999; opt.branch_h = 5e-7; opt.branch_h_min = 5e-7 / 16384; opt.branch_h_init = 5e-4;
-    opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.branch_trial_h_min = a.hmin; opt.paper_sweep = a.paper_sweep; opt.restart = a.restart;
+    opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.branch_trial_h_min = a.hmin; opt.paper_sweep = a.paper_sweep; opt.branch_no_screen = a.no_screen; opt.restart = a.restart;
     opt.branch_patience = a.patience;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) return 1;
@@ -266,8 +274,9 @@ int main(int argc, char **argv)
         if (input < 0) return 1;
     }
 
-    printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld\n",
-           input, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_span_idle, run.brep.n_tangents);
+    printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld\n",
+           input, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_span_idle, run.brep.n_tangents,
+           run.brep.n_screened);
     printf("  last new branch in span %d (a run with n_span = %d: n_pc = %ld, n_rand = %d)\n",
            run.brep.span_last_new, run.brep.span_last_new, run.brep.n_pc_last_new, run.brep.n_rand_last_new);
 table:
@@ -283,6 +292,10 @@ table:
         printf("block: %s\n", ok ? "OK (every end point re-solved on its branch)" : "FAILED (an end point did not re-solve on its branch)");
     else
         printf("block: %s\n", ok ? "OK (six branches as in the paper)" : "FAILED (branches differ from the paper)");
+    if (a.expect_npc >= 0 && !a.refine && run.brep.n_pc != a.expect_npc) {
+        printf("block: FAILED (n_pc = %ld, expected %ld)\n", run.brep.n_pc, a.expect_npc);
+        ok = 0;
+    }
     free(y); free(t); free(w); free(bw);
     fe_run_free(&run);
     fe_model_free(&md);

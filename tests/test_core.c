@@ -542,6 +542,7 @@ static void test_branch_budgets(void)
     psb_problem_init(&prob, 1, star_res, star_jac, &sp);
     paper_options(&o);
     o.branch_no_memo = 1; /* every direction tried, as printed: n_pc as the paper counts it */
+    o.branch_no_screen = 1;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     pl_start_on_ray(2, rays, 0, y, t);
     CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
@@ -602,6 +603,23 @@ static void test_branch_budgets(void)
         for (k = 0; k < 2 * 8; k++) CHECK(ys[k] == ys2[k] && ts[k] == ts2[k]);
         CHECK(memo.n_pc == full.n_pc && full.n_memo == 0);
         psb_solver_free(&s);
+
+        /* screening: the eight rays, each trial along the tangent at its predictor point,
+           a trial whose tangent there is a found ray's or was tried skipped */
+        {
+            psb_branch_report screened;
+            o.branch_no_memo = 0;
+            o.branch_no_screen = 0;
+            o.n_span = 15;
+            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &screened) == PSB_SUCCESS);
+            CHECK(screened.n_branches == 8 && pl_match_rays(ts, 8, rays, 8, 2, 1e-6) == 8);
+            CHECK(screened.n_screened > 0 && screened.n_pc < memo.n_pc);
+            /* one tangent per trial made or screened, beside the sweeps' */
+            CHECK(screened.n_tangents <= 1 + (2 * o.n_span + 1) * o.n_dir + screened.n_rand +
+                                            screened.n_pc + screened.n_screened);
+            psb_solver_free(&s);
+        }
     }
 }
 
@@ -654,8 +672,8 @@ static void test_pl_branching(void)
    from 32 to 36 (paper's values, n_span = 15), and not counting idle spans (psb_find_branches)
    to 39. A random span whose tangent was tried before takes the random direction instead
    (0.5.0): 38 here, and alike on fresh problems (80 per N, complete runs before / after: N = 6
-   373 / 376 of 378, N = 8 381 / 375 of 458, N = 10 262 / 261 of 512). A miss is a region no
-   span sampled. Every branch found must be one of the rays. */
+   373 / 376 of 378, N = 8 381 / 375 of 458, N = 10 262 / 261 of 512). Screened trials (0.6.0)
+   keep 38 here. A miss is a region no span sampled. Every branch found must be one of the rays. */
 static void test_random_lcp_batch(void)
 {
     unsigned long long st = 1006;
@@ -677,6 +695,70 @@ static void test_random_lcp_batch(void)
     CHECK(done == 40);
     CHECK(complete >= 38);
     CHECK(spurious == 0);
+}
+
+/* The ray of rays (np1 each) the unit direction of y lies on (1e-6), or -1. */
+static int ray_of(const double *y, const double *rays, int n_rays, int np1)
+{
+    double d[PL_MAX_N + 1], len = 0;
+    int i, j;
+    for (i = 0; i < np1; i++) len += y[i] * y[i];
+    if (len == 0) return -1;
+    for (i = 0; i < np1; i++) d[i] = y[i] / sqrt(len);
+    for (j = 0; j < n_rays; j++)
+        if (pl_match_rays(d, 1, rays + (size_t)j * np1, 1, np1, 1e-6)) return j;
+    return -1;
+}
+
+/* What the screening of Algorithm 2.2's trials rests on (psb__try_tangent): at the apex of a
+   cone-wise linear H, a trial step along x that lands on a ray lands on the same ray when it
+   starts along k, the tangent at its predictor point y0 + h_init x. Random LCPs, N = 6, whose
+   apex is the origin exactly; random directions x; every trial with the paper's step sizes. */
+static void test_screen_equivalence(void)
+{
+    unsigned long long st = 4242;
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int problem, landed_x = 0, same_ray = 0, landed_k_alone = 0;
+    for (problem = 0; problem < 10; problem++) {
+        pl_problem p;
+        psb_problem prob;
+        psb_options o;
+        psb_solver s;
+        int n_rays = pl_random_lcp(&p, 6, &st, 1, rays), dir, np1 = 7;
+        CHECK(n_rays >= 3);
+        psb_problem_init(&prob, p.n, pl_residual, pl_jacobian, &p);
+        paper_options(&o);
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        for (dir = 0; dir < 60; dir++) {
+            double y0[PL_MAX_N + 1] = {0}, x[PL_MAX_N + 1], k[PL_MAX_N + 1], pred[PL_MAX_N + 1];
+            double yx[PL_MAX_N + 1], tx[PL_MAX_N + 1], yk[PL_MAX_N + 1], tk[PL_MAX_N + 1], hx, hk;
+            int i, iters, ray_x, ray_k;
+            for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
+            CHECK(psb__normalize_w(&s, x));
+            psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
+            if (psb__sample_tangent(&s, pred, x, k) != PSB_SUCCESS) continue;
+            memcpy(yx, y0, sizeof yx);
+            memcpy(tx, x, sizeof tx);
+            memcpy(yk, y0, sizeof yk);
+            memcpy(tk, k, sizeof tk);
+            hx = hk = s.opt.branch_h_init;
+            ray_x = psb__try_step_from(&s, yx, tx, &hx, s.opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS
+                        ? ray_of(yx, rays, n_rays, np1) : -2;
+            ray_k = psb__try_step_from(&s, yk, tk, &hk, s.opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS
+                        ? ray_of(yk, rays, n_rays, np1) : -2;
+            if (ray_x != -2) {
+                landed_x++;
+                CHECK(ray_x >= 0); /* every solution near the apex lies on a ray */
+                same_ray += ray_k == ray_x;
+            } else
+                landed_k_alone += ray_k != -2;
+        }
+        psb_solver_free(&s);
+    }
+    printf("  screening: %d trials along x landed, the trial along k on the same ray in %d; k alone "
+           "landed %d more\n", landed_x, same_ray, landed_k_alone);
+    CHECK(landed_x >= 100);
+    CHECK(same_ray == landed_x);
 }
 
 /* One branching run with the default options (and branch_h, if not 0), entering along ray
@@ -1168,6 +1250,7 @@ int main(void)
     test_sharp_turn(0);
     test_pl_branching();
     test_random_lcp_batch();
+    test_screen_equivalence();
     test_crossing_kinks();
     test_curved_kinks();
     test_fd_branching();
