@@ -55,8 +55,11 @@ $(BUILD)/test_static: tests/test_static.c tests/harness.h $(HEADER) | $(BUILD)
 $(BUILD)/linkage_impl.o: tests/linkage_impl.cpp $(HEADER) | $(BUILD)
 	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -c tests/linkage_impl.cpp -o $@
 
+# a program with a C++ object links with the C++ driver: under AddressSanitizer g++ gives the
+# C++-compiled implementation exception cleanups that need the C++ runtime
 $(BUILD)/test_linkage: tests/test_linkage.c $(BUILD)/linkage_impl.o tests/harness.h $(HEADER) | $(BUILD)
-	$(CC) $(ALL_CFLAGS) tests/test_linkage.c $(BUILD)/linkage_impl.o -o $@ $(LIBS)
+	$(CC) $(ALL_CFLAGS) -c tests/test_linkage.c -o $(BUILD)/test_linkage.o
+	$(CXX) $(OPT) $(SAN) $(BUILD)/test_linkage.o $(BUILD)/linkage_impl.o -o $@ $(LIBS)
 
 examples/%: examples/%.c $(HEADER)
 	$(CC) $(ALL_CFLAGS) $< -o $@ $(LIBS)
