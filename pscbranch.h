@@ -303,14 +303,20 @@
    along k misses. Each trial therefore costs a tangent at p first: when k is within c_diff
    of a found branch's tangent, of a direction tried before (either sign) or of a k whose
    trial was made, the trial is skipped (report.n_screened); otherwise it goes along k, and
-   k is remembered (up to the memo's count of them). A skipped trial costs one factorisation
-   instead of a corrector run (~6 at h_init on the block). A span whose trials were all
-   skipped tries nothing and is idle (below). Measured with the same spans and branches:
-   block M800 (paper's sweep and weights, n_dir 20-100, inputs 1-3): n_pc down 15-40%,
-   factorisations 25-35%; the smallest n_span unchanged in all 36 Table 1-2 settings; random
-   complementarity problems (n_dir 20, n_span 15): N = 4 n_pc 30.6 -> 10.1, N = 6 102 ->
-   27.5 (198 of 198 runs complete both ways), N = 8 complete 183 -> 215 of 236, N = 10 130 ->
-   157 of 254 (more spans: idle ones do not count).
+   k is remembered (up to the memo's count of them). After iteration i a trial is, in the
+   same way, a trial along its corrector tangent k_i scaled up, which lands where it lands,
+   sooner and nearer: the k_i of the first 8 iterations of a trial that landed are remembered
+   too (analytic Jacobians: difference quotients at the iterates can mix pieces, and with
+   them random complementarity problems, N = 8, lost 18 of 214 complete sets; block M800:
+   n_pc a further 7-9% lower). A skipped trial costs one factorisation instead of a
+   corrector run (~6 at h_init on the block). A span whose trials were all skipped tries
+   nothing and is idle (below). Measured against branch_no_screen = 1, block M800, the 36
+   Table 1-2 settings (both sweeps and weightings, n_dir 20-100, inputs 1-3): the same
+   branches and the same smallest n_span everywhere; n_pc 14-47% lower at that n_span and
+   30-49% lower at Table 2's; factorisations of whole 40-span runs 19-29% lower. Random
+   complementarity problems (n_dir 20, n_span 15): N = 4 n_pc 30.6 -> 9.9, N = 6 102 ->
+   26.5 (198 of 198 runs complete both ways), N = 8 complete 183 -> 216 of 236, N = 10
+   130 -> 157 of 254 (more spans: idle ones do not count).
    Idle spans (memo on): a span all of whose tangents were tried before tries nothing; it costs
    n_dir tangents and does not count against n_span (report.n_span_idle). After an idle span of
    two known branches the next span is random, not the next pair. Why: on H_i = min(x_i, g - x_i),
@@ -455,9 +461,10 @@
                        plane of the random direction itself (crossing kinks, k = 5: 32 rays
                        found from every entry with n_span 45, was 28-30).
    0.6.0 (2026-11-23)  Algorithm 2.2 screens its trials by the tangent at their predictor
-                       point (branch_no_screen, report.n_screened): block M800 n_pc 15-40%
-                       lower, factorisations 25-35%, same branches and spans. psb_solver_
-                       memory_size: the memo's two stores share its former 8 MB.
+                       point (branch_no_screen, report.n_screened): block M800 n_pc 14-49%
+                       lower, factorisations 19-29%, same branches and spans. psb_solver_
+                       memory_size: the memo's two stores share its former 8 MB, and a
+                       trial's path takes 8 (N+1) doubles.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -666,13 +673,14 @@ typedef struct psb_solver {
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
+    int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
     int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
                                          A^{-1} dpfac_ / delta_ is current */
     int branch_h_auto_, branch_h_min_auto_; /* left to their defaults (see psb__branch_h) */
     double fd_cap_;   /* > 0: largest difference step (weighted), see psb__sample_tangent */
     double *w_;
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
-    double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_, *known_;
+    double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_, *known_, *path_;
     double *bandpair_[2], *afac_, *dpfac_; /* band_ is one of the pair; afac_ the one lu_ holds */
     double *gbw_;                           /* banded: the LU's panel multipliers */
     double delta_, mnorm_, bamp_;
@@ -1081,6 +1089,9 @@ static int psb__memo_capacity(int n)
     return cap < 32 ? 32 : cap > 256 ? 256 : cap;
 }
 #define PSB__VEC(s, k) ((s)->vec_ + (size_t)(k) * (size_t)(s)->np1_)
+/* Corrector tangents a trial of Algorithm 2.2 records (its first iterations'; see
+   psb__try_tangent) */
+#define PSB__PATH_MAX 8
 
 /* Why the last recoverable failure happened, to report the right code when steps run out. */
 enum { PSB__FAIL_NONE, PSB__FAIL_CONVERGE, PSB__FAIL_NONFINITE, PSB__FAIL_CALLBACK,
@@ -1261,6 +1272,7 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
     PSB__TAKE(vec_, (size_t)PSB__NVEC * np1);
     PSB__TAKE(memo_, (size_t)psb__memo_capacity(p->n) * np1);
     PSB__TAKE(known_, (size_t)psb__memo_capacity(p->n) * np1);
+    PSB__TAKE(path_, (size_t)PSB__PATH_MAX * np1);
     if (p->linear == PSB_LINEAR_DENSE) {
         PSB__TAKE(jac_, n * np1);
         PSB__TAKE(mat_, np1 * np1);
@@ -2194,6 +2206,8 @@ static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterati
             s->last_fail_ = PSB__FAIL_SINGULAR;
             return psb__fail(s, PSB_ERR_SINGULAR, "corrector tangent vanished");
         }
+        if (s->path_on_ && s->path_n_ < PSB__PATH_MAX)
+            psb__copy(s->path_ + (size_t)s->path_n_++ * (size_t)np1, tc, np1);
         corr = psb_norm_w(s, s->rhs_);
         r = psb__residual(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
@@ -2240,6 +2254,7 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
         psb__axpy_to(yt, y, hh, t, np1);
         psb__copy(tt, t, np1);
         s->stats.n_pc_steps++;
+        s->path_n_ = 0; /* the path of this step alone */
         r = psb__correct(s, yt, tt, iters);
         if (psb__is_fatal(r)) return r;
         if (r == PSB_SUCCESS) {
@@ -2904,6 +2919,13 @@ static int psb__trial_known(const psb_solver *s, const double *x, const double *
     return psb__memo_seen(s, x);
 }
 
+/* Adds x to the directions whose trial is known; when full, the oldest entry makes room. */
+static void psb__known_add(psb_solver *s, const double *x)
+{
+    psb__copy(s->known_ + (size_t)(s->known_n_ % s->memo_cap_) * (size_t)s->np1_, x, s->np1_);
+    s->known_n_++;
+}
+
 /* Steps 5-7 of Algorithm 2.2 for the tangent tt: trial steps from y0 along +tt and -tt, and
    a new branch for each that converges away from y0 in a direction no known branch has.
    Skipped when tt was tried before in this call (memo). Stops before a trial when the n_pc
@@ -2917,9 +2939,10 @@ static int psb__trial_known(const psb_solver *s, const double *x, const double *
    on a branch within the acceptance distance lands on the same ray as the other (the trial
    along x, with the longer path, accepts no more). So k, a tangent at p costing one
    factorisation, stands for the trial: when k's trial is known (psb__trial_known) the trial is
-   skipped (report.n_screened), otherwise the trial is made along k and k remembered. On
-   smooth pieces the argument holds to O(h). Block M800, Tables 1-2 settings: same spans and
-   branches, n_pc down 15-40%, factorisations 25-35%. */
+   skipped (report.n_screened), otherwise the trial is made along k and k remembered, and so
+   are the tangents of its corrector iterations when it lands (the same argument, iteration
+   by iteration). On smooth pieces the argument holds to O(h). Block M800, Tables 1-2
+   settings: same spans and branches, n_pc 14-49% lower, factorisations 19-29%. */
 static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double *tt,
                                    int max_branches, double *ys, double *ts,
                                    psb_branch_report *rep, int *overflow)
@@ -2950,17 +2973,28 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                     rep->n_screened++;
                     continue;
                 }
-                /* when full, the oldest entry makes room */
-                psb__copy(s->known_ + (size_t)(s->known_n_ % s->memo_cap_) * (size_t)np1, kx, np1);
-                s->known_n_++;
+                psb__known_add(s, kx);
                 psb__copy(tb, kx, np1);
             }
         }
         psb__copy(yb, y0, np1);
         rep->n_pc++;
+        /* not with finite differences: the corrector's quotients (steps not held below
+           branch_h / 1000 as at sample points) can mix the pieces at its iterates, and
+           recorded their paths cost complete sets (random LCPs, N = 8: 196 of 236, not 214) */
+        s->path_on_ = !s->opt.branch_no_screen && !psb__fd_jacobian(&s->prob);
         r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
+        s->path_on_ = 0;
         if (psb__is_fatal(r)) return r;
         if (r != PSB_SUCCESS) continue;
+        /* after iteration i the trial is in the state a trial along its tangent k_i starts
+           in, scaled up: that trial would land on the same ray, sooner and nearer, so the
+           k_i of a trial that landed are known too (a failed trial's are not: with i more
+           iterations to spare the trial along k_i might converge) */
+        for (j = 0; j < s->path_n_; j++) {
+            const double *ki = s->path_ + (size_t)j * (size_t)np1;
+            if (!psb__trial_known(s, ki, ts, rep->n_branches, NULL)) psb__known_add(s, ki);
+        }
         /* a point closer to y0 than the sampling distance h tells nothing reliable about the
            branches: pieces that touch the end point are active there */
         if (psb__dist_w(s, yb, y0) < s->opt.branch_h) continue;

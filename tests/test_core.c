@@ -712,13 +712,15 @@ static int ray_of(const double *y, const double *rays, int n_rays, int np1)
 
 /* What the screening of Algorithm 2.2's trials rests on (psb__try_tangent): at the apex of a
    cone-wise linear H, a trial step along x that lands on a ray lands on the same ray when it
-   starts along k, the tangent at its predictor point y0 + h_init x. Random LCPs, N = 6, whose
-   apex is the origin exactly; random directions x; every trial with the paper's step sizes. */
+   starts along k, the tangent at its predictor point y0 + h_init x, and when it starts along
+   the tangent k_i of any of its own corrector iterations (k_1 = k: the path it records).
+   Random LCPs, N = 6, whose apex is the origin exactly; random directions x; every trial with
+   the paper's step sizes. */
 static void test_screen_equivalence(void)
 {
     unsigned long long st = 4242;
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
-    int problem, landed_x = 0, same_ray = 0, landed_k_alone = 0;
+    int problem, landed_x = 0, same_ray = 0, landed_k_alone = 0, path_trials = 0, path_same = 0;
     for (problem = 0; problem < 10; problem++) {
         pl_problem p;
         psb_problem prob;
@@ -732,33 +734,48 @@ static void test_screen_equivalence(void)
         for (dir = 0; dir < 60; dir++) {
             double y0[PL_MAX_N + 1] = {0}, x[PL_MAX_N + 1], k[PL_MAX_N + 1], pred[PL_MAX_N + 1];
             double yx[PL_MAX_N + 1], tx[PL_MAX_N + 1], yk[PL_MAX_N + 1], tk[PL_MAX_N + 1], hx, hk;
-            int i, iters, ray_x, ray_k;
+            double path[PSB__PATH_MAX * (PL_MAX_N + 1)];
+            int i, j, iters, ray_x, ray_k, n_path;
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
             if (psb__sample_tangent(&s, pred, x, k) != PSB_SUCCESS) continue;
             memcpy(yx, y0, sizeof yx);
             memcpy(tx, x, sizeof tx);
-            memcpy(yk, y0, sizeof yk);
-            memcpy(tk, k, sizeof tk);
-            hx = hk = s.opt.branch_h_init;
+            hx = s.opt.branch_h_init;
+            s.path_on_ = 1;
             ray_x = psb__try_step_from(&s, yx, tx, &hx, s.opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS
                         ? ray_of(yx, rays, n_rays, np1) : -2;
-            ray_k = psb__try_step_from(&s, yk, tk, &hk, s.opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS
-                        ? ray_of(yk, rays, n_rays, np1) : -2;
-            if (ray_x != -2) {
-                landed_x++;
-                CHECK(ray_x >= 0); /* every solution near the apex lies on a ray */
-                same_ray += ray_k == ray_x;
-            } else
-                landed_k_alone += ray_k != -2;
+            s.path_on_ = 0;
+            n_path = s.path_n_;
+            memcpy(path, s.path_, (size_t)n_path * np1 * sizeof(double));
+            for (j = -1; j < n_path; j++) {
+                const double *start = j < 0 ? k : path + (size_t)j * np1;
+                memcpy(yk, y0, sizeof yk);
+                memcpy(tk, start, (size_t)np1 * sizeof(double));
+                hk = s.opt.branch_h_init;
+                ray_k = psb__try_step_from(&s, yk, tk, &hk, s.opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS
+                            ? ray_of(yk, rays, n_rays, np1) : -2;
+                if (j >= 0) {
+                    if (ray_x == -2) break; /* a failed trial's path proves nothing */
+                    path_trials++;
+                    path_same += ray_k == ray_x;
+                } else if (ray_x != -2) {
+                    landed_x++;
+                    CHECK(ray_x >= 0); /* every solution near the apex lies on a ray */
+                    same_ray += ray_k == ray_x;
+                } else
+                    landed_k_alone += ray_k != -2;
+            }
         }
         psb_solver_free(&s);
     }
-    printf("  screening: %d trials along x landed, the trial along k on the same ray in %d; k alone "
-           "landed %d more\n", landed_x, same_ray, landed_k_alone);
-    CHECK(landed_x >= 100);
+    printf("  screening: %d trials along x landed, the trial along k on the same ray in %d (k alone "
+           "landed %d more); trials along their path: %d, on the same ray %d\n", landed_x, same_ray,
+           landed_k_alone, path_trials, path_same);
+    CHECK(landed_x >= 100 && path_trials >= landed_x);
     CHECK(same_ray == landed_x);
+    CHECK(path_same == path_trials);
 }
 
 /* One branching run with the default options (and branch_h, if not 0), entering along ray
