@@ -2919,11 +2919,12 @@ static int psb__trial_known(const psb_solver *s, const double *x, const double *
     return psb__memo_seen(s, x);
 }
 
-/* Adds x to the directions whose trial is known; when full, the oldest entry makes room. */
-static void psb__known_add(psb_solver *s, const double *x)
+/* Adds x to one of psb_find_branches' stores (memo_ or known_, *count entries so far); when
+   full, the oldest entry makes room. */
+static void psb__store_add(const psb_solver *s, double *store, int *count, const double *x)
 {
-    psb__copy(s->known_ + (size_t)(s->known_n_ % s->memo_cap_) * (size_t)s->np1_, x, s->np1_);
-    s->known_n_++;
+    psb__copy(store + (size_t)(*count % s->memo_cap_) * (size_t)s->np1_, x, s->np1_);
+    (*count)++;
 }
 
 /* Steps 5-7 of Algorithm 2.2 for the tangent tt: trial steps from y0 along +tt and -tt, and
@@ -2973,7 +2974,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                     rep->n_screened++;
                     continue;
                 }
-                psb__known_add(s, kx);
+                psb__store_add(s, s->known_, &s->known_n_, kx);
                 psb__copy(tb, kx, np1);
             }
         }
@@ -2993,7 +2994,8 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
            iterations to spare the trial along k_i might converge) */
         for (j = 0; j < s->path_n_; j++) {
             const double *ki = s->path_ + (size_t)j * (size_t)np1;
-            if (!psb__trial_known(s, ki, ts, rep->n_branches, NULL)) psb__known_add(s, ki);
+            if (!psb__trial_known(s, ki, ts, rep->n_branches, NULL))
+                psb__store_add(s, s->known_, &s->known_n_, ki);
         }
         /* a point closer to y0 than the sampling distance h tells nothing reliable about the
            branches: pieces that touch the end point are active there */
@@ -3015,11 +3017,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
         rep->n_branches++;
     }
-    if (!s->opt.branch_no_memo) {
-        /* when full, the oldest entry makes room */
-        psb__copy(s->memo_ + (size_t)(s->memo_n_ % s->memo_cap_) * (size_t)np1, tt, np1);
-        s->memo_n_++;
-    }
+    if (!s->opt.branch_no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
     return PSB_SUCCESS;
 }
 
