@@ -710,6 +710,21 @@ static int ray_of(const double *y, const double *rays, int n_rays, int np1)
     return -1;
 }
 
+/* The ray on which a trial step of Algorithm 2.2 from y0 along dir lands, -1 if on none, -2 if
+   it fails; with record, the corrector's tangents go to s->path_ (s->path_n_ of them). */
+static int trial_ray(psb_solver *s, const double *y0, const double *dir, int record, const double *rays,
+                     int n_rays)
+{
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1], h = s->opt.branch_h_init;
+    int np1 = s->np1_, iters, landed;
+    memcpy(y, y0, (size_t)np1 * sizeof(double));
+    memcpy(t, dir, (size_t)np1 * sizeof(double));
+    s->path_on_ = record;
+    landed = psb__try_step_from(s, y, t, &h, s->opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS;
+    s->path_on_ = 0;
+    return landed ? ray_of(y, rays, n_rays, np1) : -2;
+}
+
 /* What the screening of Algorithm 2.2's trials rests on (psb__try_tangent): at the apex of a
    cone-wise linear H, a trial step along x that lands on a ray lands on the same ray when it
    starts along k, the tangent at its predictor point y0 + h_init x, and when it starts along
@@ -733,29 +748,17 @@ static void test_screen_equivalence(void)
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
         for (dir = 0; dir < 60; dir++) {
             double y0[PL_MAX_N + 1] = {0}, x[PL_MAX_N + 1], k[PL_MAX_N + 1], pred[PL_MAX_N + 1];
-            double yx[PL_MAX_N + 1], tx[PL_MAX_N + 1], yk[PL_MAX_N + 1], tk[PL_MAX_N + 1], hx, hk;
             double path[PSB__PATH_MAX * (PL_MAX_N + 1)];
-            int i, j, iters, ray_x, ray_k, n_path;
+            int i, j, ray_x, ray_k, n_path;
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
             if (psb__sample_tangent(&s, pred, x, k) != PSB_SUCCESS) continue;
-            memcpy(yx, y0, sizeof yx);
-            memcpy(tx, x, sizeof tx);
-            hx = s.opt.branch_h_init;
-            s.path_on_ = 1;
-            ray_x = psb__try_step_from(&s, yx, tx, &hx, s.opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS
-                        ? ray_of(yx, rays, n_rays, np1) : -2;
-            s.path_on_ = 0;
+            ray_x = trial_ray(&s, y0, x, 1, rays, n_rays);
             n_path = s.path_n_;
             memcpy(path, s.path_, (size_t)n_path * np1 * sizeof(double));
             for (j = -1; j < n_path; j++) {
-                const double *start = j < 0 ? k : path + (size_t)j * np1;
-                memcpy(yk, y0, sizeof yk);
-                memcpy(tk, start, (size_t)np1 * sizeof(double));
-                hk = s.opt.branch_h_init;
-                ray_k = psb__try_step_from(&s, yk, tk, &hk, s.opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS
-                            ? ray_of(yk, rays, n_rays, np1) : -2;
+                ray_k = trial_ray(&s, y0, j < 0 ? k : path + (size_t)j * np1, 0, rays, n_rays);
                 if (j >= 0) {
                     if (ray_x == -2) break; /* a failed trial's path proves nothing */
                     path_trials++;
