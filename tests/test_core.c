@@ -673,12 +673,13 @@ static void test_pl_branching(void)
    to 39. A random span whose tangent was tried before takes the random direction instead
    (0.5.0): 38 here, and alike on fresh problems (80 per N, complete runs before / after: N = 6
    373 / 376 of 378, N = 8 381 / 375 of 458, N = 10 262 / 261 of 512). Screened trials (0.6.0)
-   keep 38 here. A miss is a region no span sampled. Every branch found must be one of the rays. */
+   keep 38 here, and so do cut trials (0.7.0), which most runs make. A miss is a region no span
+   sampled. Every branch found must be one of the rays. */
 static void test_random_lcp_batch(void)
 {
     unsigned long long st = 1006;
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
-    int done = 0, complete = 0, spurious = 0;
+    int done = 0, complete = 0, spurious = 0, with_cut = 0;
     while (done < 40) {
         pl_problem p;
         psb_options o;
@@ -690,9 +691,12 @@ static void test_random_lcp_batch(void)
         matched = branch_pl(&p, rays, n_rays, 0, &o, &found, &br, ys, ts);
         complete += matched == n_rays && found == n_rays;
         spurious += found > matched;
+        with_cut += br.n_cut > 0;
     }
-    printf("  random LCPs, N = 6: %d of %d complete, %d with a spurious branch\n", complete, done, spurious);
+    printf("  random LCPs, N = 6: %d of %d complete, %d with a spurious branch, %d with cut trials\n",
+           complete, done, spurious, with_cut);
     CHECK(done == 40);
+    CHECK(with_cut >= 20);
     CHECK(complete >= 38);
     CHECK(spurious == 0);
 }
@@ -779,6 +783,64 @@ static void test_screen_equivalence(void)
     CHECK(landed_x >= 100 && path_trials >= landed_x);
     CHECK(same_ray == landed_x);
     CHECK(path_same == path_trials);
+}
+
+/* What the cut of a trial rests on (psb__try_tangent): once a corrector iteration's tangent
+   k_j is a found branch's, the trial lands on that branch or fails; once it is the direction k'
+   of another trial, a trial that lands does so on the ray the trial along k' lands on (that
+   trial is its tail, scaled down). Random LCPs, N = 6 and 8, at their apex; trials along the
+   tangents k at the predictor points of random directions, their paths recorded uncut. */
+static void test_cut_claim(void)
+{
+    enum { N_DIR = 40 };
+    unsigned long long st = 9090;
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int problem, on_branch = 0, on_trial = 0;
+    for (problem = 0; problem < 12; problem++) {
+        static double ks[N_DIR * (PL_MAX_N + 1)], paths[N_DIR * PSB__PATH_MAX * (PL_MAX_N + 1)];
+        int ray[N_DIR], n_path[N_DIR], n = problem < 6 ? 6 : 8, np1 = n + 1, a, b, i, j, r, made = 0;
+        pl_problem p;
+        psb_problem prob;
+        psb_options o;
+        psb_solver s;
+        int n_rays = pl_random_lcp(&p, n, &st, 1, rays);
+        CHECK(n_rays >= 3);
+        psb_problem_init(&prob, p.n, pl_residual, pl_jacobian, &p);
+        paper_options(&o);
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        for (a = 0; a < N_DIR; a++) {
+            double y0[PL_MAX_N + 1] = {0}, x[PL_MAX_N + 1], pred[PL_MAX_N + 1], *k = ks + (size_t)made * np1;
+            for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
+            CHECK(psb__normalize_w(&s, x));
+            psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
+            if (psb__sample_tangent(&s, pred, x, k) != PSB_SUCCESS) continue;
+            ray[made] = trial_ray(&s, y0, k, 1, rays, n_rays); /* nothing known: never cut */
+            n_path[made] = s.path_n_;
+            memcpy(paths + (size_t)made * PSB__PATH_MAX * np1, s.path_, (size_t)s.path_n_ * np1 * sizeof(double));
+            made++;
+        }
+        for (a = 0; a < made; a++)
+            for (j = 0; j < n_path[a]; j++) {
+                const double *kj = paths + ((size_t)a * PSB__PATH_MAX + (size_t)j) * np1;
+                for (r = 0; r < n_rays; r++) {
+                    double unit[PL_MAX_N + 1], len = 0;
+                    for (i = 0; i < np1; i++) len += rays[r * np1 + i] * rays[r * np1 + i];
+                    for (i = 0; i < np1; i++) unit[i] = rays[r * np1 + i] / sqrt(len);
+                    if (psb__cos_w(&s, kj, unit) < s.opt.c_diff) continue;
+                    on_branch++;
+                    CHECK(ray[a] == r || ray[a] == -2);
+                }
+                for (b = 0; b < made; b++) {
+                    if (b == a || ray[a] < 0 || psb__cos_w(&s, kj, ks + (size_t)b * np1) < s.opt.c_diff) continue;
+                    on_trial++;
+                    CHECK(ray[b] == ray[a]);
+                }
+            }
+        psb_solver_free(&s);
+    }
+    printf("  cut: %d path tangents were a ray's, %d another trial's direction (of a trial that landed)\n",
+           on_branch, on_trial);
+    CHECK(on_branch >= 100 && on_trial >= 100);
 }
 
 /* One branching run with the default options (and branch_h, if not 0), entering along ray
@@ -1271,6 +1333,7 @@ int main(void)
     test_pl_branching();
     test_random_lcp_batch();
     test_screen_equivalence();
+    test_cut_claim();
     test_crossing_kinks();
     test_curved_kinks();
     test_fd_branching();
