@@ -701,6 +701,45 @@ static void test_random_lcp_batch(void)
     CHECK(spurious == 0);
 }
 
+/* n_span left at 0: the sweep goes past 15 counted spans, up to 30, only while one of the last
+   8 found a new branch; n_span = 15 set by the caller is kept. Random LCPs, N = 10, every ray
+   entered in turn, both ways: the default runs are complete at least as often. */
+static void test_sweep_length(void)
+{
+    unsigned long long st = 31337;
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[PL_MAX_N + 1];
+    double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int problem, way, inc, complete[2] = {0, 0}, longer = 0;
+    for (problem = 0; problem < 8; problem++) {
+        pl_problem p;
+        int n_rays = pl_random_lcp(&p, 10, &st, 1, rays);
+        CHECK(n_rays >= 3);
+        for (way = 0; way < 2; way++)
+            for (inc = 0; inc < n_rays; inc++) {
+                psb_problem prob;
+                psb_options o;
+                psb_solver s;
+                psb_branch_report br;
+                memset(&o, 0, sizeof o);
+                o.n_span = way ? 15 : 0;
+                psb_problem_init(&prob, p.n, pl_residual, pl_jacobian, &p);
+                CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+                CHECK(pl_branch_from_ray(&s, rays, inc, y, ys, ts, &br) == 0);
+                complete[way] += pl_match_rays(ts, br.n_branches, rays, n_rays, 11, 1e-6) == n_rays &&
+                                 br.n_branches == n_rays;
+                CHECK(br.n_span <= (way ? 15 : 30));
+                /* the last span past 15 began with a find in the 8 before it */
+                if (br.n_span > 15) CHECK(br.n_span - 1 - br.span_last_new < 8);
+                longer += br.n_span > 15;
+                psb_solver_free(&s);
+            }
+    }
+    printf("  sweep length, random LCPs N = 10: complete %d (n_span left at 0, %d runs past 15 "
+           "spans) and %d (n_span = 15)\n", complete[0], longer, complete[1]);
+    CHECK(longer >= 3);
+    CHECK(complete[0] > complete[1]);
+}
+
 /* The ray of rays (np1 each) the unit direction of y lies on (1e-6), or -1. */
 static int ray_of(const double *y, const double *rays, int n_rays, int np1)
 {
@@ -1332,6 +1371,7 @@ int main(void)
     test_sharp_turn(0);
     test_pl_branching();
     test_random_lcp_batch();
+    test_sweep_length();
     test_screen_equivalence();
     test_cut_claim();
     test_crossing_kinks();
