@@ -152,7 +152,8 @@
                                     at 0: 15, and up to 30 while one of the last 8 counted
                                     spans found a new branch (section 6); a value set here
                                     is kept as given
-   paper_sweep [0]                  1: directions exactly as printed (see section 6)
+   paper_sweep [0]                  1: directions exactly as printed, pairs of found branches
+                                    closest first (see section 6)
    branch_trial_h_min [h_min]       trial steps of Algorithm 2.2 give up below this step. Near
                                     the point the solution set is, to first order, a cone:
                                     a trial rejected at h is rejected at h/2 as well, so
@@ -340,6 +341,21 @@
    complete sets 198 of 198 runs (was 187), N = 8: 184 of 236 (was 160), at 24-36% more n_pc.
    2 n_span idle spans in a row (in R^2 all spans after the first), or 4 n_span spans in all,
    end the sweep. The block of Section 3 has no idle spans: its results are unchanged.
+   Order of the pairs. The paper passes "successively through the combinations" of found
+   branches and leaves the order open. With the orthogonalised sweep the pairs come as
+   (0,1), (0,2), (1,2), (0,3), ..., so that newly found branches join in. The printed
+   combination sin(a) t1 + cos(a) t2 spreads its directions evenly only over orthogonal
+   tangents; for nearly parallel (or opposite) ones it bunches them around +-t1, +-t2 and
+   the directions of their difference, the narrow wedge between two close branches, where it
+   samples finest. So with paper_sweep the pair with the largest |cosine| comes first.
+   Block M800, the paper's configuration, inputs 1-3, n_dir 20-100: the smallest n_span the
+   same or lower in 16 of 18 settings (input 1, n_dir 20, 40 and 60: 4 instead of 5; n_dir
+   30, inputs 1 and 2: 7 instead of 5), n_pc with patience 3 at 0.23-0.50 of Table 2's (was
+   0.21-0.56); seeds 1-6 at n_dir 20 the same or lower. Random complementarity problems as
+   printed: complete sets N = 8 108 -> 111 of 236, N = 10 76 -> 86 of 254. With the
+   orthogonalised sweep this order did worse on the block (with the example's defaults
+   patience 3 ended with five branches in 13 of 18 settings, against 3) and no better on
+   the complementarity problems, so it keeps the order of discovery.
    Sweep length (n_span left at 0, memo on). Where regions are thin, new branches thin out
    slowly: random complementarity problems, N = 10, found 14% of their branches after span 1
    in spans 10-15, and half the runs incomplete after 15 spans were complete after 30. So
@@ -488,7 +504,10 @@
                        trial's path takes 8 (N+1) doubles.
    0.7.0 (2026-11-23)  Algorithm 2.2 cuts a trial once its corrector's tangent is one the
                        screen knows (report.n_cut): block M800 factorisations 35-39% fewer,
-                       same branches, spans and n_pc.
+                       same branches, spans and n_pc. n_span left at 0: up to 30 spans while
+                       branches still come (random LCPs N = 10: 183 of 254 complete, was
+                       158). paper_sweep: pairs of found branches by largest |cosine| first.
+                       psb_solver gains 256 bytes.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -702,6 +721,8 @@ typedef struct psb_solver {
     int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
     const double *path_ts_; /* with path_on_: the found branches' tangents (path_nts_) and the */
     int path_nts_, path_own_; /* trial's own known_ entry, for the cut (psb__try_tangent) */
+    unsigned long long pairs_done_[32]; /* Algorithm 2.2: pairs (i, j), i < j < 64, of found
+                                           branches swept, bit j (j - 1) / 2 + i */
     int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
                                          A^{-1} dpfac_ / delta_ is current */
     int branch_h_auto_, branch_h_min_auto_; /* left to their defaults (see psb__branch_h) */
@@ -3117,14 +3138,48 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
     return PSB_SUCCESS;
 }
 
+/* Section 3, strategy (1): the next pair (i, j), i < j, of the found branches ts (n_br) to
+   span a sweep, each once, among the first 64 (4 n_span spans never reach further); 0 when
+   all were swept. Orthogonalised sweep: (0,1), (0,2), (1,2), (0,3), ..., so that newly found
+   branches join in; printed sweep: the largest |cosine| first (section 6, "Order of the
+   pairs"). */
+static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, int *pj)
+{
+    int i, j, np1 = s->np1_, nb = n_br < 64 ? n_br : 64;
+    double best = -1;
+    *pi = -1;
+    for (j = 1; j < nb; j++)
+        for (i = 0; i < j; i++) {
+            int bit = j * (j - 1) / 2 + i;
+            double c;
+            if (s->pairs_done_[bit / 64] >> (bit % 64) & 1u) continue;
+            if (!s->opt.paper_sweep) {
+                *pi = i;
+                *pj = j;
+                goto found;
+            }
+            c = fabs(psb__cos_w(s, ts + (size_t)i * (size_t)np1, ts + (size_t)j * (size_t)np1));
+            if (c > best) {
+                best = c;
+                *pi = i;
+                *pj = j;
+            }
+        }
+    if (*pi < 0) return 0;
+found:
+    i = *pj * (*pj - 1) / 2 + *pi;
+    s->pairs_done_[i / 64] |= 1ull << (i % 64);
+    return 1;
+}
+
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            int max_branches, double *ys, double *ts,
                                            psb_branch_report *rep)
 {
     psb_branch_report local;
     int np1, k, span, overflow = 0, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
-    int idle_spans_in_a_row = 0, extend;
-    long next_pair = 0, pc_before;
+    int idle_spans_in_a_row = 0, extend, pi, pj;
+    long pc_before;
     unsigned long long seed;
     double *yc, *tc, *t1, *t2, *pt;
     psb_result r;
@@ -3148,6 +3203,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
     s->memo_n_ = 0;
     s->known_n_ = 0;
+    memset(s->pairs_done_, 0, sizeof s->pairs_done_);
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
@@ -3179,17 +3235,10 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
         if (span > 0) {
-            long avail = (long)rep->n_branches * (rep->n_branches - 1) / 2;
-            pair_span = next_pair < avail && !pair_stale;
+            pair_span = !pair_stale && psb__next_pair(s, ts, rep->n_branches, &pi, &pj);
             if (pair_span) {
-                /* Section 3, strategy (1): the pairs of branches found so far, in the order
-                   (0,1), (0,2), (1,2), (0,3), ... so that newly found branches join in */
-                int j = 1, i;
-                while ((long)j * (j + 1) / 2 <= next_pair) j++;
-                i = (int)(next_pair - (long)j * (j - 1) / 2);
-                psb__copy(t1, ts + (size_t)i * (size_t)np1, np1);
-                psb__copy(t2, ts + (size_t)j * (size_t)np1, np1);
-                next_pair++;
+                psb__copy(t1, ts + (size_t)pi * (size_t)np1, np1);
+                psb__copy(t2, ts + (size_t)pj * (size_t)np1, np1);
             } else {
                 /* strategy (2), Remark 2.3(ii): keep t~1, perturb the previous t~2 at random */
                 double *rnd = PSB__VEC(s, PSB__V_BR_V), *prev = PSB__VEC(s, PSB__V_BR_TT);

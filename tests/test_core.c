@@ -740,6 +740,48 @@ static void test_sweep_length(void)
     CHECK(complete[0] > complete[1]);
 }
 
+/* The order of the spans of pairs (psb__next_pair): orthogonalised sweep (0,1), (0,2), (1,2),
+   (0,3), ...; printed sweep the largest |cosine| first; each pair once, and none among
+   branches past the 64th. Tangents in R^5 with known cosines. */
+static void test_pair_order(void)
+{
+    static double ts[70 * 5];
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    int way, i, j, k, n_pairs, bad;
+    psb_problem_init(&prob, 4, pl_residual, pl_jacobian, NULL);
+    for (way = 0; way < 2; way++) {
+        memset(&o, 0, sizeof o);
+        o.paper_sweep = way;
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        /* t_0 = e_0, t_1 = e_1, t_2 = (e_0 - 0.9 e_2) / |.|, t_3 = -(e_1 + 0.5 e_3) / |.|:
+           |cos| (0,2) 0.74, (1,3) 0.89, (0,1) (1,2) (0,3) (2,3) 0 */
+        memset(ts, 0, sizeof ts);
+        ts[0] = 1;
+        ts[5 + 1] = 1;
+        ts[10 + 0] = 1 / sqrt(1.81);
+        ts[10 + 2] = -0.9 / sqrt(1.81);
+        ts[15 + 1] = -1 / sqrt(1.25);
+        ts[15 + 3] = -0.5 / sqrt(1.25);
+        memset(s.pairs_done_, 0, sizeof s.pairs_done_);
+        CHECK(psb__next_pair(&s, ts, 2, &i, &j) && i == 0 && j == 1);
+        CHECK(!psb__next_pair(&s, ts, 2, &i, &j));
+        CHECK(psb__next_pair(&s, ts, 4, &i, &j));
+        CHECK(way ? i == 1 && j == 3 : i == 0 && j == 2);
+        CHECK(psb__next_pair(&s, ts, 4, &i, &j));
+        CHECK(way ? i == 0 && j == 2 : i == 1 && j == 2);
+        for (k = 0; k < 3; k++) CHECK(psb__next_pair(&s, ts, 4, &i, &j));
+        CHECK(!psb__next_pair(&s, ts, 4, &i, &j)); /* all six pairs of four */
+        /* 70 branches: the pairs among the first 64 only, each once */
+        for (k = 0; k < 70; k++) ts[k * 5 + k % 5] = k % 2 ? -1 : 1;
+        memset(s.pairs_done_, 0, sizeof s.pairs_done_);
+        for (n_pairs = bad = 0; psb__next_pair(&s, ts, 70, &i, &j); n_pairs++) bad += !(i < j && j < 64);
+        CHECK(bad == 0 && n_pairs == 64 * 63 / 2);
+        psb_solver_free(&s);
+    }
+}
+
 /* The ray of rays (np1 each) the unit direction of y lies on (1e-6), or -1. */
 static int ray_of(const double *y, const double *rays, int n_rays, int np1)
 {
@@ -1372,6 +1414,7 @@ int main(void)
     test_pl_branching();
     test_random_lcp_batch();
     test_sweep_length();
+    test_pair_order();
     test_screen_equivalence();
     test_cut_claim();
     test_crossing_kinks();
