@@ -3222,11 +3222,9 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
        one, a random span comes next. 2 n_span idle spans in a row (in R^2, where every span
        sweeps the one plane there is, they follow the first) or 4 n_span spans in all end the
        sweep: they bound the tangents spent.
-       n_span left at its default (memo on): where regions are thin, finds thin out slowly
-       (random LCPs, N = 10: 14% of those after span 1 came in spans 10-15, and half the runs
-       incomplete after 15 spans are complete after 30), so while one of the last
-       (n_span + 1) / 2 counted spans found a new branch the sweep goes on, up to 2 n_span
-       counted spans. Runs whose branches all came early end as before. */
+       n_span left at its default (memo on): while one of the last (n_span + 1) / 2 counted
+       spans found a new branch the sweep goes on, up to 2 n_span counted spans (section 6,
+       "Sweep length": where regions are thin, branches keep trickling in). */
     extend = s->n_span_auto_ && !s->opt.branch_no_memo;
     for (span = 0; (rep->n_span < s->opt.n_span ||
                     (extend && rep->n_span < 2 * s->opt.n_span &&
