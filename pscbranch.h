@@ -1,4 +1,4 @@
-/* pscbranch.h - v0.5.0 - piecewise-smooth continuation and numerical branching - MIT license
+/* pscbranch.h - v0.8.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
    folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
@@ -149,9 +149,9 @@
    branch_h_min [branch_h / 2^14]   precision of Algorithm 2.1
    branch_h_init [h_init]           first step of each trial step of Algorithm 2.2
    n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
-                                    at 0: 15, and up to 30 while one of the last 8 counted
-                                    spans found a new branch (section 6); a value set here
-                                    is kept as given
+                                    at 0: at least 15, then on until twice as many counted
+                                    spans as the last new branch took have found nothing,
+                                    up to 60 (section 6); a value set here is kept as given
    paper_sweep [0]                  1: directions exactly as printed, pairs of found branches
                                     closest first (see section 6)
    branch_trial_h_min [h_min]       trial steps of Algorithm 2.2 give up below this step. Near
@@ -358,12 +358,17 @@
    the complementarity problems, so it keeps the order of discovery.
    Sweep length (n_span left at 0, memo on). Where regions are thin, new branches thin out
    slowly: random complementarity problems, N = 10, found 14% of their branches after span 1
-   in spans 10-15, and half the runs incomplete after 15 spans were complete after 30. So
-   while one of the last 8 counted spans found a new branch, the sweep goes on past 15, up to
-   30. Runs whose branches all came early end as before (N = 4 and 6, the block: the same
-   runs); complete sets N = 8 216 -> 231 of 236 at +3% n_pc, N = 10 158 -> 183 of 254 at +10%
-   (finite differences 214 -> 229, 158 -> 187). A value set by the caller is kept, so the
-   paper's n_span means what it says.
+   in spans 10-15, and most runs incomplete after 15 spans were complete after 60. The span
+   that brought the last new branch measures how thin the regions are, so the sweep goes on
+   past 15 counted spans until twice as many again have found nothing (fewer than 3 times the
+   span of the last new branch), up to 60 (8 n_span spans in all, idle ones included). Runs
+   whose branches all came by span 5 end at 15 (N = 4 and 6: the same sets and n_pc). Complete
+   sets, against 0.7.0's rule (on while one of the last 8 found a branch, up to 30): N = 8
+   231 -> 236 of 236 at +3% n_pc, N = 10 183 -> 208 of 254 at +27% n_pc, +6% factorisations
+   both; crossing kinks k = 5 1 -> 22 of 32 (the idle spans of pairs had used up the 60 spans
+   in all); finite differences 229 -> 234, 187 -> 211. n_span = 30 as a fixed value completes
+   212 at N = 10 for about the same n_pc, but spends 30 counted spans on every run. A value set
+   by the caller is kept, so the paper's n_span means what it says.
    Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
    at every psb_find_branches call, so equal inputs give bit-identical results.
 
@@ -508,6 +513,11 @@
                        branches still come (random LCPs N = 10: 183 of 254 complete, was
                        158). paper_sweep: pairs of found branches by largest |cosine| first.
                        psb_solver gains 256 bytes.
+   0.8.0 (2026-11-23)  n_span left at 0: the sweep ends once it has gone twice as many
+                       counted spans without a new branch as the last one took, up to 60
+                       (random LCPs complete N = 8 236 of 236, was 231; N = 10 208 of 254,
+                       was 183; crossing kinks k = 5 22 of 32, was 1). An explicit n_span
+                       and the examples' runs are unchanged.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -527,7 +537,7 @@
 #endif
 
 #define PSCBRANCH_VERSION_MAJOR 0
-#define PSCBRANCH_VERSION_MINOR 7
+#define PSCBRANCH_VERSION_MINOR 8
 #define PSCBRANCH_VERSION_PATCH 0
 
 #ifdef __cplusplus
@@ -671,8 +681,9 @@ typedef struct psb_options {
                              a span whose every tangent was tried before does not count,
                              and after such a span of known branches a random one comes next
                              (2 n_span such spans in a row, or 4 n_span in all, end it);
-                             left at 0 (memo on), the sweep goes on past 15 counted spans,
-                             up to 30, while one of the last 8 found a new branch */
+                             left at 0 (memo on), at least 15 counted spans, and on while
+                             fewer than 3 times the span of the last new branch, up to 60
+                             (8 n_span in all) */
     double branch_trial_h_min; /* trial steps of Algorithm 2.2 give up below this step [h_min];
                                   e.g. branch_h_init / 16 bounds each trial to 5 correctors */
     int branch_patience;  /* stop after this many spans in a row found no new branch
@@ -3139,8 +3150,8 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
 }
 
 /* Section 3, strategy (1): the next pair (i, j), i < j, of the found branches ts (n_br) to
-   span a sweep, each once, among the first 64 (4 n_span spans never reach further); 0 when
-   all were swept. Orthogonalised sweep: (0,1), (0,2), (1,2), (0,3), ..., so that newly found
+   span a sweep, each once, among the first 64 (their 2016 pairs outlast any sweep with
+   n_span < 250); 0 when all were swept. Orthogonalised sweep: (0,1), (0,2), (1,2), (0,3), ..., so that newly found
    branches join in; printed sweep: the largest |cosine| first (section 6, "Order of the
    pairs"). */
 static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, int *pj)
@@ -3220,16 +3231,16 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
        such spans, as on H = min(x, g - x) in R^k, whose 2^k rays pairwise span planes meeting
        no other ray's region, they would use up every span and starve the random ones: after
        one, a random span comes next. 2 n_span idle spans in a row (in R^2, where every span
-       sweeps the one plane there is, they follow the first) or 4 n_span spans in all end the
-       sweep: they bound the tangents spent.
-       n_span left at its default (memo on): while one of the last (n_span + 1) / 2 counted
-       spans found a new branch the sweep goes on, up to 2 n_span counted spans (section 6,
-       "Sweep length": where regions are thin, branches keep trickling in). */
+       sweeps the one plane there is, they follow the first) or 4 n_span spans in all (8 n_span
+       when the length adapts, below) end the sweep: they bound the tangents spent.
+       n_span left at its default (memo on): the sweep goes on past n_span until it has gone
+       twice as many counted spans without a new branch as it took to find the last one, up
+       to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
+       keep trickling in, and how long they took to come tells how long to wait). */
     extend = s->n_span_auto_ && !s->opt.branch_no_memo;
     for (span = 0; (rep->n_span < s->opt.n_span ||
-                    (extend && rep->n_span < 2 * s->opt.n_span &&
-                     rep->n_span - rep->span_last_new < (s->opt.n_span + 1) / 2)) &&
-                   span < 4 * s->opt.n_span; span++) {
+                    (extend && rep->n_span < 4 * s->opt.n_span && rep->n_span < 3 * rep->span_last_new)) &&
+                   span < (extend ? 8 : 4) * s->opt.n_span; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
         if (span > 0) {

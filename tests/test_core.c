@@ -701,15 +701,15 @@ static void test_random_lcp_batch(void)
     CHECK(spurious == 0);
 }
 
-/* n_span left at 0: the sweep goes past 15 counted spans, up to 30, only while one of the last
-   8 found a new branch; n_span = 15 set by the caller is kept. Random LCPs, N = 10, every ray
-   entered in turn, both ways: the default runs are complete at least as often. */
+/* n_span left at 0: at least 15 counted spans, then on while fewer than 3 times the span of the
+   last new branch, up to 60; n_span = 15 set by the caller is kept. Random LCPs, N = 10, every
+   ray entered in turn, both ways: the default runs are complete more often. */
 static void test_sweep_length(void)
 {
     unsigned long long st = 31337;
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[PL_MAX_N + 1];
     double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
-    int problem, way, inc, complete[2] = {0, 0}, longer = 0;
+    int problem, way, inc, complete[2] = {0, 0}, longer = 0, off_rule = 0;
     for (problem = 0; problem < 8; problem++) {
         pl_problem p;
         int n_rays = pl_random_lcp(&p, 10, &st, 1, rays);
@@ -720,6 +720,7 @@ static void test_sweep_length(void)
                 psb_options o;
                 psb_solver s;
                 psb_branch_report br;
+                int want;
                 memset(&o, 0, sizeof o);
                 o.n_span = way ? 15 : 0;
                 psb_problem_init(&prob, p.n, pl_residual, pl_jacobian, &p);
@@ -727,15 +728,23 @@ static void test_sweep_length(void)
                 CHECK(pl_branch_from_ray(&s, rays, inc, y, ys, ts, &br) == 0);
                 complete[way] += pl_match_rays(ts, br.n_branches, rays, n_rays, 11, 1e-6) == n_rays &&
                                  br.n_branches == n_rays;
-                CHECK(br.n_span <= (way ? 15 : 30));
-                /* the last span past 15 began with a find in the 8 before it */
-                if (br.n_span > 15) CHECK(br.n_span - 1 - br.span_last_new < 8);
-                longer += br.n_span > 15;
+                if (way) {
+                    CHECK(br.n_span <= 15);
+                } else {
+                    /* the length the rule asks for; idle spans (30 in a row, or 120 spans in
+                       all) may end a sweep sooner, never later */
+                    want = 3 * br.span_last_new > 15 ? 3 * br.span_last_new : 15;
+                    if (want > 60) want = 60;
+                    off_rule += br.n_span > want ||
+                                (br.n_span < want && br.n_span_idle < 30 && br.n_span + br.n_span_idle < 120);
+                    longer += br.n_span > 15;
+                }
                 psb_solver_free(&s);
             }
     }
     printf("  sweep length, random LCPs N = 10: complete %d (n_span left at 0, %d runs past 15 "
            "spans) and %d (n_span = 15)\n", complete[0], longer, complete[1]);
+    CHECK(off_rule == 0);
     CHECK(longer >= 3);
     CHECK(complete[0] > complete[1]);
 }
