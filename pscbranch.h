@@ -176,7 +176,8 @@
                                     is a found branch's or was tried (section 6; report.
                                     n_screened), and ends when a corrector iteration's tangent
                                     is (report.n_cut); 1: along +-t to the end, as printed
-   restart [PSB_RESTART_MIXED]      random spans: _PAPER, _GLOBAL or alternately (_MIXED)
+   restart [PSB_RESTART_MIXED]      random spans: _PAPER (as printed), _GLOBAL (uniform), or
+                                    _MIXED: uniform and near found branches, alternately
    seed [0]                         the generator of the random spans (xoshiro256**)
    The paper's values for its contact examples: c_diff = 0.99999, branch_h = 5e-7,
    branch_h_min = branch_h / 2^14, branch_h_init = 5e-4, n_dir = 20, n_span = 15.
@@ -282,8 +283,9 @@
    in Section 3: (1) the pairs (t_i, t_j) of branches found so far, in the order (0,1), (0,2),
    (1,2), (0,3), ...; (2) then random spans. The paper's Remark 2.3(ii) perturbs the previous t~2
    by 0.1 of a random vector: it only explores near spans already swept. PSB_RESTART_MIXED (the
-   default) alternates it with a t~2 taken at a uniformly random direction, which comes first;
-   when the tangent there was tried before, t~2 is that random direction itself. (The tangents
+   default) alternates a t~2 taken at a uniformly random direction, which comes first, with one
+   taken near a found branch (see "Random spans" below); when the tangent at the uniform
+   direction was tried before, t~2 is that random direction itself. (The tangents
    of a piecewise-linear H are its finitely many piece directions; on the crossing kinks,
    k = 5, n_span 45, planes through two of them found 28-30 of the 32 rays, now all 32 from
    every entry. The block never meets such a tangent: its runs are unchanged.)
@@ -294,7 +296,21 @@
    problems). On the block of the paper from input branch 2, seeds 0-6, all six branches
    appeared after 5, 5, 13, 6, 5, 5, 9 spans (PAPER first: 15, 5, 11, 6, 7, 4, 10). Branch sets
    of random problems in higher dimensions are not the paper's planar scenario: regions that
-   are thin cones can still be missed; raise n_span or n_dir for them.
+   are thin cones can still be missed; raise n_span or n_dir for them. (These figures predate
+   the spans near found branches.)
+   Random spans. Until 0.7.0 MIXED alternated the uniform draws with Remark 2.3(ii)'s. Where
+   a branch lies close to found ones, in a thin region beside them, neither comes near it
+   often: on the block M800 from input branch 2 (two branches known after the first spans,
+   the other four close to them, |cosine| 0.8-0.93), over seeds 0-31, a random span found the
+   third branch with a share of 0.36-0.44 (uniform) and 0.26 (Remark 2.3(ii)). A span through
+   a found branch t_j, t~2 the tangent at y0 + h (t_j + 0.1 r), r uniformly random, found it
+   with a share of 0.68. So MIXED's second kind now takes t~1 = t_j, j = 0, 1, ... in turn,
+   and that t~2. Block M800, input 2, seeds 0-31: with the paper's configuration all six
+   branches came by counted span 7 (was 15, at n_pc 312: Table 2's n_span 15 had no margin),
+   with the example's defaults by span 8 (two seeds had not found all six in 12 spans); the
+   adaptive end with patience 5 found six in 32 of 32 seeds (with the paper's configuration
+   was 25 of 32), at n_pc up to 0.63 and 0.62 of Table 2's. Random LCPs: complete N = 8 236 -> 234, N = 10 208 -> 217
+   of 254; crossing kinks unchanged. PSB_RESTART_PAPER keeps the printed restarts.
    Memo of tried tangents (branch_no_memo = 0): the trials of a direction are steps from y0
    along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
    of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
@@ -517,7 +533,9 @@
                        counted spans without a new branch as the last one took, up to 60
                        (random LCPs complete N = 8 236 of 236, was 231; N = 10 208 of 254,
                        was 183; crossing kinks k = 5 22 of 32, was 1). An explicit n_span
-                       and the examples' runs are unchanged.
+                       is unchanged. PSB_RESTART_MIXED: its second kind of random span goes
+                       through a found branch, near it (block M800 from input 2, seeds
+                       0-31: six branches by span 7, was 15; random LCPs N = 10 217).
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -631,11 +649,13 @@ typedef struct psb_problem {
 PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn residual,
                                     psb_jacobian_fn jacobian, void *user);
 
-/* Random spans of Algorithm 2.2 (after the pairs of known branches are used up): t~1 stays
-   and t~2 becomes the tangent at y0 + h d, where d is
-   PSB_RESTART_PAPER:  the previous t~2 plus 0.1 times a random unit vector (Remark 2.3(ii));
-   PSB_RESTART_GLOBAL: a random unit vector, uniform on the sphere of the weighted norm;
-   PSB_RESTART_MIXED:  the two alternately, GLOBAL first. */
+/* Random spans of Algorithm 2.2 (after the pairs of known branches are used up): t~2 becomes
+   the tangent at y0 + h d, where d is
+   PSB_RESTART_PAPER:  the previous t~2 plus 0.1 times a random unit vector, t~1 kept
+                       (Remark 2.3(ii));
+   PSB_RESTART_GLOBAL: a random unit vector, uniform on the sphere of the weighted norm, t~1 kept;
+   PSB_RESTART_MIXED:  alternately GLOBAL's and (0.8.0) t_j plus 0.1 times a random unit vector,
+                       with t~1 = t_j, the found branches' tangents in turn. */
 typedef enum psb_restart { PSB_RESTART_MIXED = 0, PSB_RESTART_PAPER = 1, PSB_RESTART_GLOBAL = 2 } psb_restart;
 
 /* ---- options: every field's zero value means "the default in brackets" ------------------ */
@@ -3183,6 +3203,22 @@ found:
     return 1;
 }
 
+/* Section 3, strategy (2): where the sample point of the n_rand-th random span lies. NULL: at
+   y0 + h r, r uniformly random; else at y0 + h (d + 0.1 r) for the d returned. Remark 2.3(ii)
+   perturbs the previous t~2 (prev) and keeps t~1: PSB_RESTART_PAPER. Uniform draws reach
+   regions no span found so far comes near, but rarely the thin ones beside found branches
+   (section 6, "Random spans"), so PSB_RESTART_MIXED alternates them, uniform first, with
+   perturbations of the found branches' tangents ts (n_br) in turn, each spanned with t~1 = it. */
+static const double *psb__restart_centre(const psb_solver *s, const double *ts, int n_br, int n_rand,
+                                         const double *prev, double *t1)
+{
+    if (s->opt.restart == PSB_RESTART_GLOBAL || (s->opt.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
+        return NULL;
+    if (s->opt.restart == PSB_RESTART_PAPER) return prev;
+    psb__copy(t1, ts + (size_t)(n_rand / 2 % n_br) * (size_t)s->np1_, s->np1_);
+    return t1;
+}
+
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            int max_branches, double *ys, double *ts,
                                            psb_branch_report *rep)
@@ -3249,22 +3285,20 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 psb__copy(t1, ts + (size_t)pi * (size_t)np1, np1);
                 psb__copy(t2, ts + (size_t)pj * (size_t)np1, np1);
             } else {
-                /* strategy (2), Remark 2.3(ii): keep t~1, perturb the previous t~2 at random */
+                /* strategy (2): a random span (psb__restart_centre) */
                 double *rnd = PSB__VEC(s, PSB__V_BR_V), *prev = PSB__VEC(s, PSB__V_BR_TT);
+                const double *centre;
                 /* z / sqrt(w) with z standard normal is isotropic for <.,.>_w */
                 for (k = 0; k < np1; k++) rnd[k] = psb__gauss(s->rng_) / sqrt(s->w_[k]);
                 if (!psb__normalize_w(s, rnd)) continue;
                 psb__copy(prev, t2, np1);
-                /* Remark 2.3(ii) perturbs the previous t~2 by 0.1 of a random direction, which
-                   explores only near it; PSB_RESTART_MIXED alternates it with a direction drawn
-                   uniformly, which reaches regions no span found so far comes near. */
-                global = s->opt.restart == PSB_RESTART_GLOBAL ||
-                         (s->opt.restart == PSB_RESTART_MIXED && rep->n_rand % 2 == 0);
+                centre = psb__restart_centre(s, ts, rep->n_branches, rep->n_rand, prev, t1);
+                global = !centre;
                 for (k = 0; k < np1; k++)
-                    pt[k] = yc[k] + s->opt.branch_h * (global ? rnd[k] : prev[k] + 0.1 * rnd[k]);
+                    pt[k] = yc[k] + s->opt.branch_h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
-                r = psb__sample_tangent(s, pt, prev, t2);
+                r = psb__sample_tangent(s, pt, global ? prev : centre, t2);
                 if (psb__is_fatal(r)) return r;
                 if (r != PSB_SUCCESS) { psb__copy(t2, prev, np1); continue; }
                 /* a tangent tried before: the plane through it and t~1 likely revisits swept

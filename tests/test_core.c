@@ -791,6 +791,38 @@ static void test_pair_order(void)
     }
 }
 
+/* Where random spans sample (psb__restart_centre): PSB_RESTART_MIXED alternates uniform draws
+   (first) with perturbations of the found branches' tangents in turn, each becoming t~1;
+   PSB_RESTART_PAPER perturbs the previous t~2 and keeps t~1; PSB_RESTART_GLOBAL is uniform. */
+static void test_restart_centre(void)
+{
+    double ts[3 * 5], prev[5] = {0, 0, 0, 0, 1}, t1[5], keep[5];
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    int mode, n_rand, k;
+    psb_problem_init(&prob, 4, pl_residual, pl_jacobian, NULL);
+    for (k = 0; k < 15; k++) ts[k] = k + 1;
+    for (mode = PSB_RESTART_MIXED; mode <= PSB_RESTART_GLOBAL; mode++) {
+        memset(&o, 0, sizeof o);
+        o.restart = mode;
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        for (n_rand = 0; n_rand < 8; n_rand++) {
+            const double *c;
+            for (k = 0; k < 5; k++) t1[k] = keep[k] = -1 - k;
+            c = psb__restart_centre(&s, ts, 3, n_rand, prev, t1);
+            if (mode == PSB_RESTART_GLOBAL || (mode == PSB_RESTART_MIXED && n_rand % 2 == 0)) {
+                CHECK(c == NULL && memcmp(t1, keep, sizeof t1) == 0);
+            } else if (mode == PSB_RESTART_PAPER) {
+                CHECK(c == prev && memcmp(t1, keep, sizeof t1) == 0);
+            } else { /* n_rand 1, 3, 5, 7: branches 0, 1, 2, 0 */
+                CHECK(c == t1 && memcmp(t1, ts + n_rand / 2 % 3 * 5, sizeof t1) == 0);
+            }
+        }
+        psb_solver_free(&s);
+    }
+}
+
 /* The ray of rays (np1 each) the unit direction of y lies on (1e-6), or -1. */
 static int ray_of(const double *y, const double *rays, int n_rays, int np1)
 {
@@ -1425,6 +1457,7 @@ int main(void)
     test_random_lcp_batch();
     test_sweep_length();
     test_pair_order();
+    test_restart_centre();
     test_screen_equivalence();
     test_cut_claim();
     test_crossing_kinks();
