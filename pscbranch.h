@@ -229,9 +229,10 @@
    iteration on, the contraction theta = ||dy_k|| / ||dy_k-1|| <= 1/2 bounds what is left,
    theta ||dy_k|| / (1 - theta) <= tol_correction (Newton's usual a-posteriori estimate; it
    spares the iteration that only confirms a correction of 1e-8 shrank to 1e-15, about one
-   factorisation in six in Algorithm 2.2 on the block). A trial is accepted when it converged within max_iter, the corrected point
-   lies within h of the prediction (a longer jump landed on another part of the curve), and
-   cos_w(t_new, t) >= c_min; otherwise h *= h_dec until h < h_min.
+   factorisation in six in Algorithm 2.2 on the block). A trial is accepted when it converged
+   within max_iter, the corrected point lies within h of the prediction (a longer jump landed
+   on another part of the curve), and cos_w(t_new, t) >= c_min; otherwise h *= h_dec until
+   h < h_min.
    Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
    switch_delta_max: t~ = tangent at y + delta t; once cos_w(t~, t) < c_diff, try steps from y
    along +t~ then -t~ (from h_init down to h_min) and accept the first couple that does not go
@@ -309,7 +310,8 @@
    branches came by counted span 7 (was 15, at n_pc 312: Table 2's n_span 15 had no margin),
    with the example's defaults by span 8 (two seeds had not found all six in 12 spans); the
    adaptive end with patience 5 found six in 32 of 32 seeds (with the paper's configuration
-   was 25 of 32), at n_pc up to 0.63 and 0.62 of Table 2's. Random LCPs: complete N = 8 236 -> 234, N = 10 208 -> 217
+   was 25 of 32), at n_pc up to 0.63 and 0.62 of Table 2's. Triangle M4096: the same four
+   branches at n_pc 145 (was 181). Random LCPs: complete N = 8 236 -> 234, N = 10 208 -> 217
    of 254; crossing kinks unchanged. PSB_RESTART_PAPER keeps the printed restarts.
    Memo of tried tangents (branch_no_memo = 0): the trials of a direction are steps from y0
    along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
@@ -530,12 +532,12 @@
                        158). paper_sweep: pairs of found branches by largest |cosine| first.
                        psb_solver gains 256 bytes.
    0.8.0 (2026-11-23)  n_span left at 0: the sweep ends once it has gone twice as many
-                       counted spans without a new branch as the last one took, up to 60
-                       (random LCPs complete N = 8 236 of 236, was 231; N = 10 208 of 254,
-                       was 183; crossing kinks k = 5 22 of 32, was 1). An explicit n_span
-                       is unchanged. PSB_RESTART_MIXED: its second kind of random span goes
-                       through a found branch, near it (block M800 from input 2, seeds
-                       0-31: six branches by span 7, was 15; random LCPs N = 10 217).
+                       counted spans without a new branch as the last one took, up to 60.
+                       PSB_RESTART_MIXED: its second kind of random span goes through a
+                       found branch, near it (block M800 from input 2, seeds 0-31: six
+                       branches by span 7, was 15). Random LCPs complete N = 8 234 of 236,
+                       was 231; N = 10 217 of 254, was 183; crossing kinks k = 5 22 of 32,
+                       was 1. An explicit n_span is unchanged.
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -3171,9 +3173,9 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
 
 /* Section 3, strategy (1): the next pair (i, j), i < j, of the found branches ts (n_br) to
    span a sweep, each once, among the first 64 (their 2016 pairs outlast any sweep with
-   n_span < 250); 0 when all were swept. Orthogonalised sweep: (0,1), (0,2), (1,2), (0,3), ..., so that newly found
-   branches join in; printed sweep: the largest |cosine| first (section 6, "Order of the
-   pairs"). */
+   n_span < 250); 0 when all were swept. Orthogonalised sweep: (0,1), (0,2), (1,2), (0,3),
+   ..., so that newly found branches join in; printed sweep: the largest |cosine| first
+   (section 6, "Order of the pairs"). */
 static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, int *pj)
 {
     int i, j, np1 = s->np1_, nb = n_br < 64 ? n_br : 64;
