@@ -1,4 +1,4 @@
-/* pscbranch.h - v0.8.0 - piecewise-smooth continuation and numerical branching - MIT license
+/* pscbranch.h - v0.9.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
    folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
@@ -162,11 +162,12 @@
                                     factorisations instead of 8966, same spans and n_pc)
    branch_patience [0], branch_max_pc [0]   adaptive end of the sweep: stop after that many
                                     spans in a row without a new branch / at that n_pc.
-                                    Spans of pairs come in a fixed order, and a thin branch
-                                    can wait for a late pair: block M800 from input branch 3
-                                    found its sixth branch 6 spans after the fifth at n_dir 20,
-                                    30 and 60, so patience 3 ended with five there (all six in
-                                    the other 15 of 18 Table 1 settings), patience 6 with six
+                                    A thin branch can wait for a late pair or a lucky
+                                    random span: block M800 from input branch 2, n_dir 20,
+                                    seeds 0-31, patience 3 ended with five branches at 1
+                                    seed (the example's defaults) and 7 (the paper's sweep
+                                    and weights), patience 5 at none (section 6, "Order of
+                                    the pairs")
    branch_no_memo [0]               0: a direction whose tangent is within c_diff of one
                                     tried earlier in the call is not tried again (its trials
                                     from y0 are the same steps; report.n_memo counts them;
@@ -281,8 +282,8 @@
    spanning tangents bunch the n_dir directions around them and leave most of the plane
    unvisited; on the planar 8-branch test problem (tests/test_core.c) the even sweep finds all
    branches in the first span from every incoming branch, the printed one in 3 to 6. Restarts as
-   in Section 3: (1) the pairs (t_i, t_j) of branches found so far, in the order (0,1), (0,2),
-   (1,2), (0,3), ...; (2) then random spans. The paper's Remark 2.3(ii) perturbs the previous t~2
+   in Section 3: (1) the pairs (t_i, t_j) of branches found so far, the farthest apart first
+   ("Order of the pairs" below); (2) then random spans. The paper's Remark 2.3(ii) perturbs the previous t~2
    by 0.1 of a random vector: it only explores near spans already swept. PSB_RESTART_MIXED (the
    default) alternates a t~2 taken at a uniformly random direction, which comes first, with one
    taken near a found branch (see "Random spans" below); when the tangent at the uniform
@@ -360,20 +361,28 @@
    2 n_span idle spans in a row (in R^2 all spans after the first), or 4 n_span spans in all,
    end the sweep. The block of Section 3 has no idle spans: its results are unchanged.
    Order of the pairs. The paper passes "successively through the combinations" of found
-   branches and leaves the order open. With the orthogonalised sweep the pairs come as
-   (0,1), (0,2), (1,2), (0,3), ..., so that newly found branches join in. The printed
-   combination sin(a) t1 + cos(a) t2 spreads its directions evenly only over orthogonal
-   tangents; for nearly parallel (or opposite) ones it bunches them around +-t1, +-t2 and
-   the directions of their difference, the narrow wedge between two close branches, where it
-   samples finest. So with paper_sweep the pair with the largest |cosine| comes first.
-   Block M800, the paper's configuration, inputs 1-3, n_dir 20-100: the smallest n_span the
-   same or lower in 16 of 18 settings (input 1, n_dir 20, 40 and 60: 4 instead of 5; n_dir
-   30, inputs 1 and 2: 7 instead of 5), n_pc with patience 3 at 0.23-0.50 of Table 2's (was
-   0.21-0.56); seeds 1-6 at n_dir 20 the same or lower. Random complementarity problems as
-   printed: complete sets N = 8 108 -> 111 of 236, N = 10 76 -> 86 of 254. With the
-   orthogonalised sweep this order did worse on the block (with the example's defaults
-   patience 3 ended with five branches in 13 of 18 settings, against 3) and no better on
-   the complementarity problems, so it keeps the order of discovery.
+   branches and leaves the order open. The printed combination sin(a) t1 + cos(a) t2 spreads
+   its directions evenly only over orthogonal tangents; for nearly parallel (or opposite)
+   ones it bunches them around +-t1, +-t2 and the directions of their difference, the narrow
+   wedge between two close branches, where it samples finest. So with paper_sweep the pair
+   with the largest |cosine| comes first. Block M800, the paper's configuration, inputs 1-3,
+   n_dir 20-100: the smallest n_span the same or lower in 16 of 18 settings (input 1, n_dir
+   20, 40 and 60: 4 instead of 5; n_dir 30, inputs 1 and 2: 7 instead of 5), n_pc with
+   patience 3 at 0.23-0.50 of Table 2's (was 0.21-0.56); seeds 1-6 at n_dir 20 the same or
+   lower. Random complementarity problems as printed: complete sets N = 8 108 -> 111 of
+   236, N = 10 76 -> 86 of 254. The orthogonalised sweep spreads its directions evenly
+   over any pair's plane, so what a pair brings is the plane: two close (or nearly
+   opposite) branches span little more than t_i and their difference, near the planes
+   through them already swept; two far apart span one across the regions between them. So
+   without paper_sweep the pair with the smallest |cosine| comes first (until 0.8.0: the
+   order of discovery, (0,1), (0,2), (1,2), (0,3), ...; the largest first was worse there).
+   Block M800, the example's defaults, inputs 1-3, n_dir 20-100, seed 0: patience 3 ends
+   with all six in 18 of 18 settings (was 15: from input 3 the sixth came 6 spans after the
+   fifth at n_dir 20, 30 and 60, now 2 after), at 0.31-0.46 of Table 2's n_pc; the smallest
+   n_span and its n_pc the same or lower in 16 of 18. Input 2, n_dir 20, seeds 0-31: all
+   six by counted span 8, patience 3 ends with six at 31 seeds (was 23), patience 5 at 32
+   at up to 0.59 of Table 2's n_pc (was 0.62). Random complementarity problems: complete
+   sets N = 10 217 -> 230 of 254, N = 8 234 -> 232 of 236, n_pc +2%.
    Sweep length (n_span left at 0, memo on). Where regions are thin, new branches thin out
    slowly: random complementarity problems, N = 10, found 14% of their branches after span 1
    in spans 10-15, and most runs incomplete after 15 spans were complete after 60. The span
@@ -538,6 +547,11 @@
                        branches by span 7, was 15). Random LCPs complete N = 8 234 of 236,
                        was 231; N = 10 217 of 254, was 183; crossing kinks k = 5 22 of 32,
                        was 1. An explicit n_span is unchanged.
+   0.9.0 (2026-11-23)  Algorithm 2.2, orthogonalised sweep: pairs of found branches by
+                       smallest |cosine| first (was the order of discovery). Block M800, the
+                       example's defaults: patience 3 finds all six branches in 18 of 18
+                       Table 1-2 settings (was 15); random LCPs N = 10 230 of 254 complete
+                       (was 217).
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -557,7 +571,7 @@
 #endif
 
 #define PSCBRANCH_VERSION_MAJOR 0
-#define PSCBRANCH_VERSION_MINOR 8
+#define PSCBRANCH_VERSION_MINOR 9
 #define PSCBRANCH_VERSION_PATCH 0
 
 #ifdef __cplusplus
@@ -3173,9 +3187,9 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
 
 /* Section 3, strategy (1): the next pair (i, j), i < j, of the found branches ts (n_br) to
    span a sweep, each once, among the first 64 (their 2016 pairs outlast any sweep with
-   n_span < 250); 0 when all were swept. Orthogonalised sweep: (0,1), (0,2), (1,2), (0,3),
-   ..., so that newly found branches join in; printed sweep: the largest |cosine| first
-   (section 6, "Order of the pairs"). */
+   n_span < 250); 0 when all were swept. Orthogonalised sweep: the smallest |cosine| first;
+   printed sweep: the largest first (section 6, "Order of the pairs"); ties in the order
+   (0,1), (0,2), (1,2), (0,3), ... */
 static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, int *pj)
 {
     int i, j, np1 = s->np1_, nb = n_br < 64 ? n_br : 64;
@@ -3186,12 +3200,8 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
             int bit = j * (j - 1) / 2 + i;
             double c;
             if (s->pairs_done_[bit / 64] >> (bit % 64) & 1u) continue;
-            if (!s->opt.paper_sweep) {
-                *pi = i;
-                *pj = j;
-                goto found;
-            }
             c = fabs(psb__cos_w(s, ts + (size_t)i * (size_t)np1, ts + (size_t)j * (size_t)np1));
+            if (!s->opt.paper_sweep) c = 1 - c;
             if (c > best) {
                 best = c;
                 *pi = i;
@@ -3199,7 +3209,6 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
             }
         }
     if (*pi < 0) return 0;
-found:
     i = *pj * (*pj - 1) / 2 + *pi;
     s->pairs_done_[i / 64] |= 1ull << (i % 64);
     return 1;
