@@ -283,14 +283,14 @@
    unvisited; on the planar 8-branch test problem (tests/test_core.c) the even sweep finds all
    branches in the first span from every incoming branch, the printed one in 3 to 6. Restarts as
    in Section 3: (1) the pairs (t_i, t_j) of branches found so far, the farthest apart first
-   ("Order of the pairs" below); (2) then random spans. The paper's Remark 2.3(ii) perturbs the previous t~2
-   by 0.1 of a random vector: it only explores near spans already swept. PSB_RESTART_MIXED (the
-   default) alternates a t~2 taken at a uniformly random direction, which comes first, with one
-   taken near a found branch (see "Random spans" below); when the tangent at the uniform
-   direction was tried before, t~2 is that random direction itself. (The tangents
-   of a piecewise-linear H are its finitely many piece directions; on the crossing kinks,
-   k = 5, n_span 45, planes through two of them found 28-30 of the 32 rays, now all 32 from
-   every entry. The block never meets such a tangent: its runs are unchanged.)
+   ("Order of the pairs" below); (2) then random spans. The paper's Remark 2.3(ii) perturbs
+   the previous t~2 by 0.1 of a random vector: it only explores near spans already swept.
+   PSB_RESTART_MIXED (the default) alternates a t~2 taken at a uniformly random direction,
+   which comes first, with one taken near a found branch (see "Random spans" below); when
+   the tangent at the uniform direction was tried before, t~2 is that random direction
+   itself. (The tangents of a piecewise-linear H are its finitely many piece directions; on
+   the crossing kinks, k = 5, n_span 45, planes through two of them found 28-30 of the 32
+   rays, now all 32 from every entry. The block never meets such a tangent: its runs are unchanged.)
    On random complementarity problems min(x, M x + q g) = 0 with 3 or more branches (n_dir = 20,
    n_span = 15), the share of complete branch sets found was, for N = 3 and N = 4:
    as printed (PAPER, paper_sweep) 67% and 56%; even sweep alone 75% and 64%; MIXED (PAPER
@@ -362,7 +362,7 @@
    in all (8 n_span when the length adapts), end the sweep; idle spans of pairs count in
    neither (since 0.9.0: each is followed by a random span, which bounds them). Counted, they
    ended the sweep on the crossing kinks, k = 5, with 29-31 of the 32 rays from 10 of the 32
-   entries, the spans in all used up by ~55 idle pairs and ~50 random spans; now 32 from
+   entries, the 120 spans in all used up, about half of them idle pairs; now 32 from
    every entry, at 17% more factorisations (random complementarity problems: the same
    complete sets, 0-3% more factorisations). The block of Section 3 has no idle spans: its
    results are unchanged.
