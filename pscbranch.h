@@ -58,9 +58,8 @@
    within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more when
    the branch runs close to a piece boundary), keeps the tangent it entered with while it
    moves, and returns the branch's tangent 16 branch_h back; the tangents Algorithm 2.2 samples
-   at y0 + branch_h v use difference steps below branch_h / 1000. bench_branching: the branch
-   sets come out about as with the analytic Jacobian (0.3.0 got 9 of 168 runs right on random
-   complementarity problems with N = 4).
+   at y0 + branch_h v use difference steps below branch_h / 1000. The branch sets then come out
+   about as with the analytic Jacobian (docs/branching-notes.md).
    A kink is a point where a curve passes from one piece to another with a different tangent; a
    nonsmooth point (bifurcation) is one where more than two smooth branches meet. Algorithms 2.1
    and 2.2 assume the paper's (I)-(III): near the point the solutions form one-sided smooth
@@ -158,20 +157,18 @@
                                     the point the solution set is, to first order, a cone:
                                     a trial rejected at h is rejected at h/2 as well, so
                                     branch_h_init (one trial per direction) finds the same
-                                    branches at a fraction of the cost (block M200: 2982
-                                    factorisations instead of 8966, same spans and n_pc)
+                                    branches at a fraction of the cost
    branch_patience [0], branch_max_pc [0]   adaptive end of the sweep: stop after that many
                                     spans in a row without a new branch / at that n_pc.
                                     A thin branch can wait for a late pair or a lucky
-                                    random span: block M800 from input branch 2, n_dir 20,
-                                    seeds 0-31, patience 3 ended with five branches at 1
-                                    seed (the example's defaults) and 7 (the paper's sweep
-                                    and weights), patience 5 at none (section 6, "Order of
-                                    the pairs")
+                                    random span: on the paper's block, patience 3 sometimes
+                                    stops one branch short, 5 did not in the runs of
+                                    docs/branching-notes.md; leave 0 where a missed branch
+                                    costs more than spans
    branch_no_memo [0]               0: a direction whose tangent is within c_diff of one
                                     tried earlier in the call is not tried again (its trials
                                     from y0 are the same steps; report.n_memo counts them;
-                                    block M200: n_pc 404 -> 220, same branches); 1: as printed
+                                    same branches, fewer trials); 1: as printed
    branch_no_screen [0]             0: each trial starts along the tangent at its predictor
                                     point y0 + h_init (+-t), and is skipped when that tangent
                                     is a found branch's or was tried (section 6; report.
@@ -185,6 +182,8 @@
 
    6. ALGORITHMS AND CHOICES
    -------------------------
+   What each part does and why, briefly; the measurements behind the choices are in
+   docs/branching-notes.md and docs/benchmarks.md.
    Linear algebra (problem.linear). Every factorisation is of a bordered matrix
    B = [dH(y); row^T], (N+1) x (N+1), and serves all right-hand sides of its iteration.
    PSB_LINEAR_DENSE: dgetrf/dgetrs on B, dgecon for the tangent's conditioning test, memory
@@ -194,28 +193,31 @@
      and dH/dparameter (or finite differences by column groups: kl+ku+2 residuals). B is
      solved by block elimination on the LU of the band: w = A^{-1} dH/dparameter once per
      factorisation, then one banded solve per right-hand side (none for the tangent's). The LU
-     is the header's own, dgbtrf's algorithm in panels of four columns: the same pivots and,
-     against reference LAPACK, the same factors bit for bit, 1.6x (kl = 22) to 3x (kl = 82)
-     faster at -O2 (SSE2 where the compiler targets it; PSCBRANCH_NO_SIMD: plain loops,
-     PSCBRANCH_USE_DGBTRF: LAPACK's dgbtrf, say for a tuned LAPACK). A corrector iteration
-     costs one LU and one pass of forward and back substitution over its factors, which solves
-     for w and the Newton right-hand side together (dgbtrs' operations, in its order, at about
-     half the cost of two dgbtrs). At a fold A alone is singular
-     while B is not. Block elimination amplifies the banded solves' errors by at most
-     g = (|d| + sum |c_j w_j|) / |d - c.w| (the cancellation in the Schur complement); where
-     g <= 16 the solution is used as it comes (the LU solve is backward stable), elsewhere it is
-     checked by its residual in B and refined; if A is exactly singular or refinement stalls,
-     A + sigma I (sigma = sqrt(eps) ||B||) is factored instead and the refinement against the
-     true B converges geometrically. A is kept beside its factors, and an A bit-identical to
-     the factored one (H piecewise linear: both points in one piece; or the same point again)
-     reuses them, w included when dH/dparameter is unchanged too: stats.n_factor_reused
-     counts these, and the results are exactly those of factoring again. Memory
-     ~ (4 kl + 3 ku + 50) N, or (3 kl + 2 ku + 50) N with problem.band_lean (one copy of A,
-     reused only at the same y), plus the memo of Algorithm 2.2 (at most 8 MB, section 6).
+     is the header's own, dgbtrf's algorithm in panels of four columns (each column to the
+     right of a panel takes its four eliminations in one pass): the same pivots and, against
+     reference LAPACK, the same factors bit for bit, faster (SSE2 where the compiler targets
+     it; PSCBRANCH_NO_SIMD: plain loops, PSCBRANCH_USE_DGBTRF: LAPACK's dgbtrf, say for a
+     tuned LAPACK). A corrector iteration costs one LU and one pass of forward and back
+     substitution over its factors, which solves for w and the Newton right-hand side
+     together (dgbtrs' operations, in its order, at about half the cost of two dgbtrs). At a
+     fold A alone is singular while B is not. Block elimination amplifies the banded solves'
+     errors by at most g = (|d| + sum |c_j w_j|) / |d - c.w| (the cancellation in the Schur
+     complement); where g <= 16 the solution is used as it comes (the LU solve is backward
+     stable), elsewhere it is checked by its residual in B and refined; if A is exactly
+     singular or refinement stalls, A + sigma I (sigma = sqrt(eps) ||B||) is factored instead
+     and the refinement against the true B converges geometrically. A is kept beside its
+     factors, and an A bit-identical to the factored one (H piecewise linear: both points in
+     one piece; or the same point again) reuses them, w included when dH/dparameter is
+     unchanged too: stats.n_factor_reused counts these, and the results are exactly those of
+     factoring again. Memory ~ (4 kl + 3 ku + 50) N, or (3 kl + 2 ku + 50) N with
+     problem.band_lean (one copy of A, reused only at the same y), plus the memo of
+     Algorithm 2.2 (at most 8 MB, below).
    PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
      in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
      solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
      other border rows.
+   PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
+   scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
    Tangent. The bordered system [dH(y); (W r)^T] t = e_{N+1} (r the reference direction) is
    solved; if it is singular (r orthogonal to the kernel) or, dense, its reciprocal condition
    number (dgecon) is below sqrt(eps), the dense backend takes the kernel from the QR
@@ -229,11 +231,10 @@
    to the solution is below tol_correction: ||dy||_w <= tol_correction, or, from the second
    iteration on, the contraction theta = ||dy_k|| / ||dy_k-1|| <= 1/2 bounds what is left,
    theta ||dy_k|| / (1 - theta) <= tol_correction (Newton's usual a-posteriori estimate; it
-   spares the iteration that only confirms a correction of 1e-8 shrank to 1e-15, about one
-   factorisation in six in Algorithm 2.2 on the block). A trial is accepted when it converged
-   within max_iter, the corrected point lies within h of the prediction (a longer jump landed
-   on another part of the curve), and cos_w(t_new, t) >= c_min; otherwise h *= h_dec until
-   h < h_min.
+   spares the iteration that only confirms a correction of 1e-8 shrank to 1e-15). A trial is
+   accepted when it converged within max_iter, the corrected point lies within h of the
+   prediction (a longer jump landed on another part of the curve), and cos_w(t_new, t) >=
+   c_min; otherwise h *= h_dec until h < h_min.
    Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
    switch_delta_max: t~ = tangent at y + delta t; once cos_w(t~, t) < c_diff, try steps from y
    along +t~ then -t~ (from h_init down to h_min) and accept the first couple that does not go
@@ -261,147 +262,79 @@
    end point that the continuation left farther away. Step 4 also compares the new tangent with
    the one the call entered with, so turns below c_diff cannot add up, and a move must land at
    least h/2 ahead (a corrector falling back from beyond the end point onto the branch behind
-   it passed the cosine test over and over). With finite differences the tangent is not
-   updated while moving and the one returned is computed 16 branch_h back (quotients within a
-   step of the point mix its pieces: the incoming branch came out up to acos(c_diff) off and
-   was found a second time by the sweep; on random complementarity problems, N = 4, 2 of 46
-   runs were right, now 46).
+   it passes the cosine test over and over). With finite differences the tangent is not
+   updated while moving and the one returned is computed 16 branch_h back: quotients within a
+   step of the point mix its pieces.
    Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
-   deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc. A trial
-   that converges closer to y0 than h is discarded: there pieces that merely touch the end point
-   are active, and their tangents would pass for new branches. A trial whose corrector
-   converges but fails the jump or cosine test of continuation is still taken when the point
-   lies, within 8 trial steps of y0, on the line through y0 along its own tangent (|cosine| >=
-   c_diff): it is a point of a branch leaving y0, only not the one the tangent pointed at (near
-   a nonsmooth point the corrector often crosses into a neighbouring piece). On random
-   complementarity problems with N = 6 this took complete sets from 77% to 87% (60 problems);
-   on the block, input branches 1 and 2 found all six branches in spans 1 and 4 instead of 2
-   and 7 (input 2 no longer needs random spans). Also, the directions
-   v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1 (and of its norm): the same
-   plane, swept evenly. As printed (paper_sweep = 1), two nearly parallel
-   spanning tangents bunch the n_dir directions around them and leave most of the plane
-   unvisited; on the planar 8-branch test problem (tests/test_core.c) the even sweep finds all
-   branches in the first span from every incoming branch, the printed one in 3 to 6. Restarts as
-   in Section 3: (1) the pairs (t_i, t_j) of branches found so far, the farthest apart first
-   ("Order of the pairs" below); (2) then random spans. The paper's Remark 2.3(ii) perturbs
-   the previous t~2 by 0.1 of a random vector: it only explores near spans already swept.
-   PSB_RESTART_MIXED (the default) alternates a t~2 taken at a uniformly random direction,
-   which comes first, with one taken near a found branch (see "Random spans" below); when
-   the tangent at the uniform direction was tried before, t~2 is that random direction
-   itself. (The tangents of a piecewise-linear H are its finitely many piece directions; on
-   the crossing kinks, k = 5, n_span 45, planes through two of them found 28-30 of the 32
-   rays, now all 32 from every entry. The block never meets such a tangent: its runs are unchanged.)
-   On random complementarity problems min(x, M x + q g) = 0 with 3 or more branches (n_dir = 20,
-   n_span = 15), the share of complete branch sets found was, for N = 3 and N = 4:
-   as printed (PAPER, paper_sweep) 67% and 56%; even sweep alone 75% and 64%; MIXED (PAPER
-   first) alone 94% and 92%; both (the defaults, GLOBAL first) 98% and 95% (89 and 78
-   problems). On the block of the paper from input branch 2, seeds 0-6, all six branches
-   appeared after 5, 5, 13, 6, 5, 5, 9 spans (PAPER first: 15, 5, 11, 6, 7, 4, 10). Branch sets
-   of random problems in higher dimensions are not the paper's planar scenario: regions that
-   are thin cones can still be missed; raise n_span or n_dir for them. (These figures predate
-   the spans near found branches.)
-   Random spans. Until 0.7.0 MIXED alternated the uniform draws with Remark 2.3(ii)'s. Where
-   a branch lies close to found ones, in a thin region beside them, neither comes near it
-   often: on the block M800 from input branch 2 (two branches known after the first spans,
-   the other four close to them, |cosine| 0.8-0.93), over seeds 0-31, a random span found the
-   third branch with a share of 0.36-0.44 (uniform) and 0.26 (Remark 2.3(ii)). A span through
-   a found branch t_j, t~2 the tangent at y0 + h (t_j + 0.1 r), r uniformly random, found it
-   with a share of 0.68. So MIXED's second kind now takes t~1 = t_j, j = 0, 1, ... in turn,
-   and that t~2. Block M800, input 2, seeds 0-31: with the paper's configuration all six
-   branches came by counted span 7 (was 15, at n_pc 312: Table 2's n_span 15 had no margin),
-   with the example's defaults by span 8 (two seeds had not found all six in 12 spans); the
-   adaptive end with patience 5 found six in 32 of 32 seeds (with the paper's configuration
-   was 25 of 32), at n_pc up to 0.63 and 0.62 of Table 2's. Triangle M4096: the same four
-   branches at n_pc 145 (was 181). Random LCPs: complete N = 8 236 -> 234, N = 10 208 -> 217
-   of 254; crossing kinks unchanged. PSB_RESTART_PAPER keeps the printed restarts.
-   Memo of tried tangents (branch_no_memo = 0): the trials of a direction are steps from y0
-   along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
-   of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
-   min(256, max(32, 2^19 / (N+1))) tangents are kept (the oldest give way). Branch sets are
-   those of the full run (same order, bit for bit, on the tests' problems); spans later than the
-   first mostly revisit regions, so n_pc falls (block M200: 404 -> 220).
-   Screened trials (branch_no_screen = 0). Near y0 the pieces are, to first order, cones with
-   apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x, lands on
-   the ray along k, the tangent at p, with k as its next bordering row: the start of a trial
-   along k, scaled, and cones scale. So the trial along x can land on no branch the trial
-   along k misses. Each trial therefore costs a tangent at p first: when k is within c_diff
-   of a found branch's tangent, of a direction tried before (either sign) or of a k whose
-   trial was made, the trial is skipped (report.n_screened); otherwise it goes along k, and
-   k is remembered (up to the memo's count of them). After iteration i a trial is, in the
-   same way, a trial along its corrector tangent k_i scaled up, which lands where it lands,
-   sooner and nearer: the k_i of the first 8 iterations of a trial that landed are remembered
-   too (analytic Jacobians: difference quotients at the iterates can mix pieces, and with
-   them random complementarity problems, N = 8, lost 18 of 214 complete sets; block M800:
-   n_pc a further 7-9% lower). A skipped trial costs one factorisation instead of a
-   corrector run (~6 at h_init on the block). A span whose trials were all skipped tries
-   nothing and is idle (below). Measured against branch_no_screen = 1, block M800, the 36
-   Table 1-2 settings (both sweeps and weightings, n_dir 20-100, inputs 1-3): the same
-   branches and the same smallest n_span everywhere; n_pc 14-47% lower at that n_span and
-   30-49% lower at Table 2's; factorisations of whole 40-span runs 19-29% lower. Random
-   complementarity problems (n_dir 20, n_span 15): N = 4 n_pc 30.6 -> 9.9, N = 6 102 ->
-   26.5 (198 of 198 runs complete both ways), N = 8 complete 183 -> 216 of 236, N = 10
-   130 -> 157 of 254 (more spans: idle ones do not count).
-   Cut trials (the same option, analytic Jacobians). Once a trial's corrector tangent k_i
-   would be screened (the trial's own k aside), the trial's outcome is known: it lands on
-   that found branch, or repeats a trial made before, which found no branch that is not
-   known by now; having spent i iterations, it can do no better. It stops there (counted in
-   n_pc and in report.n_cut), and its k_j, j <= i, are remembered. Block M800, the 36
-   settings above with 20 spans: the same branches in the same spans, n_pc within 3,
-   corrector iterations 51-64% fewer, factorisations of the whole run 35-39% fewer. Random
-   complementarity problems: the same complete sets (N = 10: 158 of 254, was 157),
-   factorisations 7% (N = 4) to 42% (N = 10) fewer.
-   Idle spans (memo on): a span all of whose tangents were tried before tries nothing; it costs
-   n_dir tangents and does not count against n_span (report.n_span_idle). After an idle span of
-   two known branches the next span is random, not the next pair. Why: on H_i = min(x_i, g - x_i),
-   i = 1..k, the 2^k rays pairwise span planes that meet no third ray's region, so pair spans
-   are all idle, and counted they used up n_span before the random spans came (k = 3: all 8
-   rays from 2 of the 8 entries; k = 4: 6 of 16 rays on average). Now every ray is found from
-   every entry for k = 3 and 4, at n_pc = 2 per ray; random complementarity problems, N = 6:
-   complete sets 198 of 198 runs (was 187), N = 8: 184 of 236 (was 160), at 24-36% more n_pc.
-   2 n_span idle random spans in a row (in R^2 all spans after the first), or 4 n_span spans
-   in all (8 n_span when the length adapts), end the sweep; idle spans of pairs count in
-   neither (since 0.9.0: each is followed by a random span, which bounds them). Counted, they
-   ended the sweep on the crossing kinks, k = 5, with 29-31 of the 32 rays from 10 of the 32
-   entries, the 120 spans in all used up, about half of them idle pairs; now 32 from
-   every entry, at 17% more factorisations (random complementarity problems: the same
-   complete sets, 0-3% more factorisations). The block of Section 3 has no idle spans: its
-   results are unchanged.
-   Order of the pairs. The paper passes "successively through the combinations" of found
-   branches and leaves the order open. The printed combination sin(a) t1 + cos(a) t2 spreads
-   its directions evenly only over orthogonal tangents; for nearly parallel (or opposite)
-   ones it bunches them around +-t1, +-t2 and the directions of their difference, the narrow
-   wedge between two close branches, where it samples finest. So with paper_sweep the pair
-   with the largest |cosine| comes first. Block M800, the paper's configuration, inputs 1-3,
-   n_dir 20-100: the smallest n_span the same or lower in 16 of 18 settings (input 1, n_dir
-   20, 40 and 60: 4 instead of 5; n_dir 30, inputs 1 and 2: 7 instead of 5), n_pc with
-   patience 3 at 0.23-0.50 of Table 2's (was 0.21-0.56); seeds 1-6 at n_dir 20 the same or
-   lower. Random complementarity problems as printed: complete sets N = 8 108 -> 111 of
-   236, N = 10 76 -> 86 of 254. The orthogonalised sweep spreads its directions evenly
-   over any pair's plane, so what a pair brings is the plane: two close (or nearly
-   opposite) branches span little more than t_i and their difference, near the planes
-   through them already swept; two far apart span one across the regions between them. So
-   without paper_sweep the pair with the smallest |cosine| comes first (until 0.8.0: the
-   order of discovery, (0,1), (0,2), (1,2), (0,3), ...; the largest first was worse there).
-   Block M800, the example's defaults, inputs 1-3, n_dir 20-100, seed 0: patience 3 ends
-   with all six in 18 of 18 settings (was 15: from input 3 the sixth came 6 spans after the
-   fifth at n_dir 20, 30 and 60, now 2 after), at 0.31-0.46 of Table 2's n_pc; the smallest
-   n_span and its n_pc the same or lower in 16 of 18. Input 2, n_dir 20, seeds 0-31: all
-   six by counted span 8, patience 3 ends with six at 31 seeds (was 23), patience 5 at 32
-   at up to 0.59 of Table 2's n_pc (was 0.62). Random complementarity problems: complete
-   sets N = 10 217 -> 230 of 254, N = 8 234 -> 232 of 236, n_pc +2%.
-   Sweep length (n_span left at 0, memo on). Where regions are thin, new branches thin out
-   slowly: random complementarity problems, N = 10, found 14% of their branches after span 1
-   in spans 10-15, and most runs incomplete after 15 spans were complete after 60. The span
-   that brought the last new branch measures how thin the regions are, so the sweep goes on
-   past 15 counted spans until twice as many again have found nothing (fewer than 3 times the
-   span of the last new branch), up to 60 (8 n_span spans in all, idle ones included). Runs
-   whose branches all came by span 5 end at 15 (N = 4 and 6: the same sets and n_pc). Complete
-   sets, against 0.7.0's rule (on while one of the last 8 found a branch, up to 30): N = 8
-   231 -> 236 of 236 at +3% n_pc, N = 10 183 -> 208 of 254 at +27% n_pc, +6% factorisations
-   both; crossing kinks k = 5 1 -> 22 of 32 (the idle spans of pairs had used up the 60 spans
-   in all); finite differences 229 -> 234, 187 -> 211. n_span = 30 as a fixed value completes
-   212 at N = 10 for about the same n_pc, but spends 30 counted spans on every run. A value set
-   by the caller is kept, so the paper's n_span means what it says.
+   deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc, with these
+   choices:
+   - Trials. A trial that converges closer to y0 than h is discarded: there pieces that merely
+     touch the end point are active, and their tangents would pass for new branches. A trial
+     whose corrector converges but fails the jump or cosine test of continuation is still taken
+     when the point lies, within 8 trial steps of y0, on the line through y0 along its own
+     tangent (|cosine| >= c_diff): it is a point of a branch leaving y0, only not the one the
+     trial pointed at (near a nonsmooth point the corrector often crosses into a neighbouring
+     piece). Trial steps give up below branch_trial_h_min: near y0 the solution set is, to
+     first order, a cone, so a trial rejected at h is rejected at h/2 as well.
+   - Sweep. The directions v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1
+     (and of its norm): the same plane, swept evenly. As printed (paper_sweep = 1), two nearly
+     parallel spanning tangents bunch the n_dir directions around them and leave most of the
+     plane unvisited.
+   - Restarts, as in Section 3: (1) the pairs (t_i, t_j) of branches found so far; (2) then
+     random spans. Order of the pairs: the orthogonalised sweep spreads its directions evenly
+     over a pair's plane, and two close branches span little more than planes already swept,
+     so the pair with the smallest |cosine| comes first; the printed sweep samples finest in
+     the narrow wedge between close tangents, so with paper_sweep the largest |cosine| comes
+     first. Random spans: Remark 2.3(ii) perturbs the previous t~2 by 0.1 of a random vector
+     and so only explores near spans already swept (PSB_RESTART_PAPER); uniform directions
+     (PSB_RESTART_GLOBAL) reach far regions but rarely a thin region beside a found branch.
+     PSB_RESTART_MIXED (the default) alternates both kinds: a uniform draw (first), then a
+     span through a found branch t_j (j = 0, 1, ... in turn) with t~2 the tangent at
+     y0 + h (t_j + 0.1 r), r uniformly random. When the tangent at a random direction was tried
+     before, t~2 is that random direction itself: on a piecewise-linear H the tangents are the
+     pieces' finitely many directions, and the plane of two of them revisits swept ground.
+   - Memo of tried tangents (branch_no_memo = 0). The trials of a direction are steps from y0
+     along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
+     of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
+     min(256, max(32, 2^19 / (N+1))) tangents are kept (the oldest give way). Branch sets are
+     those of the full run; spans later than the first mostly revisit regions, so n_pc falls.
+   - Screened trials (branch_no_screen = 0). Near y0 the pieces are, to first order, cones
+     with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
+     lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
+     a trial along k, scaled, and cones scale. So the trial along x can land on no branch the
+     trial along k misses. Each trial therefore costs a tangent at p first: when k is within
+     c_diff of a found branch's tangent, of a direction tried before (either sign) or of a k
+     whose trial was made, the trial is skipped (report.n_screened); otherwise it goes along
+     k, and k is remembered (up to the memo's count of them). After iteration i a trial is, in
+     the same way, a trial along its corrector tangent k_i scaled up: the k_i of the first 8
+     iterations of a trial that landed are remembered too (analytic Jacobians only: difference
+     quotients at the iterates can mix pieces). A skipped trial costs one factorisation
+     instead of a corrector run.
+   - Cut trials (the same option, analytic Jacobians). Once a trial's corrector tangent k_i
+     would be screened (the trial's own k aside), the trial's outcome is known: it lands on
+     that found branch, or repeats a trial made before, which found no branch that is not
+     known by now; having spent i iterations, it can do no better. It stops there (counted in
+     n_pc and in report.n_cut), and its k_j, j <= i, are remembered.
+   - Idle spans (memo on). A span all of whose tangents were tried before (or whose trials
+     were all screened) tries nothing; it costs n_dir tangents and does not count against
+     n_span (report.n_span_idle): on problems whose pairs of branches span planes that meet
+     no third branch's region, counted idle spans used up n_span before the random spans
+     came. After an idle span of two known branches the next span is random, not the next
+     pair. 2 n_span idle random spans in a row (in R^2 all spans after the first), or 4 n_span
+     spans in all (8 n_span when the length adapts), end the sweep; idle spans of pairs count
+     in neither (each is followed by a random span, which bounds them).
+   - Sweep length (n_span left at 0). Where regions are thin, new branches thin out slowly,
+     and the span that brought the last new branch measures how thin they are. So the sweep
+     goes on past 15 counted spans until twice as many again have found nothing (fewer than 3
+     times the span of the last new branch), up to 60 (8 n_span spans in all, idle ones
+     included). Runs whose branches all came by span 5 end at 15. A value set by the caller
+     is kept, so the paper's n_span means what it says.
+   - Adaptive end (branch_patience, branch_max_pc): stop after that many counted spans in a
+     row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
+     pair or a lucky random span.
+   Branch sets of problems in higher dimensions than the paper's planar scenario can have
+   regions that are thin cones, which a sweep can miss: raise n_span or n_dir for them
+   (docs/branching-notes.md measures how complete the search is).
    Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
    at every psb_find_branches call, so equal inputs give bit-identical results.
 
@@ -506,60 +439,7 @@
 
    9. REVISION HISTORY
    -------------------
-   0.1.0 (2026-11-22)  first release: dense, banded and user-supplied linear algebra,
-                       continuation with tangent switch and kink location, Algorithms 2.1/2.2
-                       with restarts and an adaptive end, contact helpers.
-   0.2.0 (2026-11-22)  Algorithm 2.2 remembers the tangents it tried (branch_no_memo,
-                       report.n_memo); the corrector also stops on Newton's contraction
-                       estimate of the remaining error; the banded backend refines only where
-                       block elimination can lose accuracy; PSCBRANCH_STRLEN_ONE. Algorithm
-                       2.2 keeps trial points that lie on a ray from the end point.
-   0.3.0 (2026-11-23)  banded backend: the factors of a bit-identical dH/dx are reused
-                       (stats.n_factor_reused), its own substitutions replace dgbtrs and
-                       solve w with the right-hand side in one pass; psb_solver_memory_size
-                       grows by (kl + ku + 2) N doubles (problem.band_lean: by N).
-   0.4.0 (2026-11-23)  Algorithm 2.2: idle spans (every tangent tried before) do not count
-                       against n_span, and a random span follows an idle span of a pair
-                       (report.n_span_idle). Algorithm 2.1: moves must land ahead, tangents
-                       are compared with the entering one too. Finite differences: central
-                       quotients overwrote the corrector's H(y) (no step converged); branch_h
-                       defaults to 10^4 difference steps at the point, Algorithm 2.2's sample
-                       tangents use steps below branch_h / 1000; Algorithm 2.1 returns a
-                       tangent computed 16 branch_h back (central differences: the crossing
-                       kinks, k = 4, right from 16 of 16 entries, random complementarity
-                       problems, N = 4, 89 of 90 runs). bench_branching.
-   0.5.0 (2026-11-23)  banded backend: the header's own LU (dgbtrf's algorithm and factors,
-                       panels of four columns) replaces dgbtrf, 1.6x to 3x faster with
-                       reference LAPACK (block M800: 4.1 s, was 5.6 s); PSCBRANCH_USE_DGBTRF,
-                       PSCBRANCH_NO_SIMD. psb_solver_memory_size grows by 4 (kl + 4) doubles.
-                       Algorithm 2.2: a random span whose tangent was tried before spans the
-                       plane of the random direction itself (crossing kinks, k = 5: 32 rays
-                       found from every entry with n_span 45, was 28-30).
-   0.6.0 (2026-11-23)  Algorithm 2.2 screens its trials by the tangent at their predictor
-                       point (branch_no_screen, report.n_screened): block M800 n_pc 14-49%
-                       lower, factorisations 19-29%, same branches and spans. psb_solver_
-                       memory_size: the memo's two stores share its former 8 MB, and a
-                       trial's path takes 8 (N+1) doubles.
-   0.7.0 (2026-11-23)  Algorithm 2.2 cuts a trial once its corrector's tangent is one the
-                       screen knows (report.n_cut): block M800 factorisations 35-39% fewer,
-                       same branches, spans and n_pc. n_span left at 0: up to 30 spans while
-                       branches still come (random LCPs N = 10: 183 of 254 complete, was
-                       158). paper_sweep: pairs of found branches by largest |cosine| first.
-                       psb_solver gains 256 bytes.
-   0.8.0 (2026-11-23)  n_span left at 0: the sweep ends once it has gone twice as many
-                       counted spans without a new branch as the last one took, up to 60.
-                       PSB_RESTART_MIXED: its second kind of random span goes through a
-                       found branch, near it (block M800 from input 2, seeds 0-31: six
-                       branches by span 7, was 15). Random LCPs complete N = 8 234 of 236,
-                       was 231; N = 10 217 of 254, was 183; crossing kinks k = 5 22 of 32,
-                       was 1. An explicit n_span is unchanged.
-   0.9.0 (2026-11-23)  Algorithm 2.2, orthogonalised sweep: pairs of found branches by
-                       smallest |cosine| first (was the order of discovery). Block M800, the
-                       example's defaults: patience 3 finds all six branches in 18 of 18
-                       Table 1-2 settings (was 15); random LCPs N = 10 230 of 254 complete
-                       (was 217). Idle spans of pairs no longer count against the limits on
-                       idle spans in a row and spans in all (crossing kinks k = 5: 32 of 32
-                       entries complete, was 22).
+   See CHANGELOG.md (one entry per release, with 0.x compatibility notes).
 */
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H

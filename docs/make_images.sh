@@ -1,0 +1,72 @@
+#!/bin/sh
+# docs/make_images.sh - regenerate the README's pictures in docs/img/ (640x400 PNG, < 100 KB):
+# builds the examples, runs each with --out into a scratch folder and renders its gnuplot script
+# at the README's size. Needs gnuplot (Debian: apt-get install gnuplot-nox).
+# Usage (from anywhere): sh docs/make_images.sh
+set -eu
+cd "$(dirname "$0")/.."
+command -v gnuplot >/dev/null 2>&1 || {
+    echo "make_images.sh: gnuplot not found; install it with: apt-get install gnuplot-nox" >&2
+    exit 1
+}
+make examples/01_branching examples/block examples/triangle >/dev/null
+img=docs/img
+mkdir -p "$img"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT INT TERM
+
+# Render a gnuplot script written by an example: its pngcairo terminals are set to WxH
+# (every "set terminal pngcairo size ..." line), in the script's folder.
+# The deformed bodies' panels are small at that size: they are drawn without tick labels, with
+# gnuplot's built-in tiny font and a palette PNG (libgd's png terminal), which keeps them small.
+render() { # dir width height
+    awk -v size="$2,$3" '
+        /^set terminal pngcairo size/ { pending = 1; next }
+        pending && /^set output .bodies\.png./ {
+            print "set terminal png size " size " tiny"; print; print "unset xtics"; print "unset ytics"
+            pending = 0; next }
+        pending { print "set terminal pngcairo size " size " font \",9\""; pending = 0 }
+        { print }' "$1/plot.gp" >"$1/plot_small.gp"
+    (cd "$1" && gnuplot plot_small.gp)
+}
+
+# 01_branching: the four rays it finds, drawn in the (x1, x2) plane at g = 1 (ray = t / t_g).
+mkdir -p "$scratch/01"
+./examples/01_branching --out "$scratch/01" >/dev/null
+cat >"$scratch/01/plot.gp" <<'GP'
+set datafile separator ','
+stats 'branches_01.csv' every ::1 using 1 nooutput  # before the ranges, which it obeys
+last = int(STATS_max)
+set terminal pngcairo size 640,400 font ',9'
+set output 'branches.png'
+set title 'examples/01\_branching: the four branches leaving the origin, at g = 1'
+set xlabel 'x_1'
+set ylabel 'x_2'
+set grid
+set key at 1.28,0.7 right
+set label 'branch 1: x = 0 for every g' at 0.04,0.06
+set size ratio -1
+set xrange [-0.1:1.3]
+set yrange [-0.1:1.3]
+plot for [k=0:last] 'branches_01.csv' every ::1 using ($1==k?0:1/0):(0):($2/$4):($3/$4) \
+       with vectors head filled lw 2 lc k+1 title sprintf(k == 0 ? 'branch %d (incoming)' : 'branch %d', k), \
+     for [k=0:last] 'branches_01.csv' every ::1 using ($1==k?$2/$4:1/0):($3/$4) \
+       with points pt 7 ps 1.5 lc k+1 notitle
+GP
+(cd "$scratch/01" && gnuplot plot.gp)
+cp "$scratch/01/branches.png" "$img/01_branching.png"
+
+# block (M200, the example's defaults): the six branches' diagram and the deformed bodies.
+mkdir -p "$scratch/block"
+./examples/block --out "$scratch/block" >/dev/null
+render "$scratch/block" 640 400
+cp "$scratch/block/diagram.png" "$img/block_diagram.png"
+cp "$scratch/block/bodies.png" "$img/block_bodies.png"
+
+# triangle (the example's default mesh, 32 x 32): the four branches' diagram.
+mkdir -p "$scratch/triangle"
+./examples/triangle --out "$scratch/triangle" >/dev/null
+render "$scratch/triangle" 640 400
+cp "$scratch/triangle/diagram.png" "$img/triangle_diagram.png"
+
+ls -l "$img"/*.png
