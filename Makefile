@@ -17,7 +17,7 @@ BUILD ?= build
 HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
 	$(BUILD)/test_contact $(BUILD)/test_fc_solve \
-	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static
+	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic
 EXAMPLES = examples/01_branching examples/fc_solve examples/block examples/triangle
 
 .PHONY: all test demo examples bench asan ubsan clean
@@ -51,6 +51,9 @@ $(BUILD)/test_fe: tests/test_fe.c tests/harness.h examples/fe.h $(HEADER) | $(BU
 
 $(BUILD)/test_static: tests/test_static.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_static.c -o $@ $(LIBS)
+
+$(BUILD)/test_quasistatic: tests/test_quasistatic.c tests/harness.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_quasistatic.c -o $@ $(LIBS)
 
 $(BUILD)/linkage_impl.o: tests/linkage_impl.cpp $(HEADER) | $(BUILD)
 	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -c tests/linkage_impl.cpp -o $@
