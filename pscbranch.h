@@ -80,6 +80,8 @@
    psb_trace            the driver: from (y, t) to a bound, budget, end point, loop or failure
    psb_locate_end       Algorithm 2.1: approach the end point of a branch
    psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
+   psb_evolve_step      one time step of a quasi-static evolution: Newton, else continuation
+                        in the load through folds (section 6, "Quasi-static evolution")
    psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
    Inputs are never modified on failure: y and t keep the last accepted couple.
    No function allocates except psb_solver_init. Single operations (solve, tangent, correct,
@@ -404,6 +406,37 @@
    by the caller is kept, so the paper's n_span means what it says.
    Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
    at every psb_find_branches call, so equal inputs give bit-identical results.
+   Quasi-static evolution (psb_evolve_step). Ligursky & Renard, "A continuation problem for
+   computing solutions of discretised evolution problems with application to plane quasi-static
+   contact problems with friction", CMAME 280 (2014). Time step k of a discretised
+   evolution solves H_k(u, lambda_k) = 0, where H_k holds the previous state (friction in
+   increments, u_t - u_t^{k-1}, the user's data through problem.user). Newton from u_{k-1}
+   fails where a small change of the load makes the solution jump (a snap-through): no
+   solution lies near u_{k-1}, or Newton lands on a far one. The paper's remedy: (u_{k-1},
+   lambda_{k-1}) solves H_k = 0 too (a zero increment sticks, and the previous forces satisfy
+   Coulomb's law), so the step becomes a PC^1 continuation problem in the load: trace the
+   curve H_k = 0 from there, through folds and kinks, to its first point at lambda_k.
+   psb_evolve_step: mode AUTO tries Newton at lambda_k from u_{k-1} (newton_max_iter) and
+   keeps its solution unless it lies farther than newton_max_jump; otherwise (or with mode
+   CONTINUATION) the tangent at y is turned towards lambda_k, the start polished by the
+   corrector (a move beyond h_init: PSB_ERR_INPUT, y was no solution), and psb_trace runs
+   with its bound at lambda_k, where it lands exactly. The other side is unbounded: at a
+   snap-through the path turns back at a fold and usually passes below lambda_{k-1} before
+   it rises to lambda_k (tests/test_quasistatic.c: from 1 back to 5/6, then to 1.05), so a
+   bound there would stop every snap; param_min/param_max bound it where the load has a
+   physical range. A path that ends elsewhere (max_steps, max_length, a closed loop, an
+   end point, the range's far bound) is a failure, PSB_ERR_NO_CONVERGENCE, with the
+   trace's end in report.trace_end; y keeps u_{k-1} (psb_trace alone leaves its last
+   couple). The report gives the folds passed (snap_through), kinks, path length, load
+   range covered, jump, how far Newton's solution lay from the path's end, and the step's
+   counters. A function rather than a pattern, because those four points (orientation,
+   one-sided bounds, telling the target bound from the far one, y untouched on failure) are
+   easy to get wrong; it takes three vectors of the solver's memory. Update the step's data
+   between calls, never during one (Newton and the trace evaluate the same H_k). Measured:
+   the slider of tests/test_quasistatic.c, plain Newton stepping halved to 1e-6 never passes
+   its fold, the fallback lands to 1e-12 and gives the folds to 1e-10; examples/quasistatic.c,
+   triangle M256, plain stepping stalls at lambda = 0.48862, the snap step 0.45 -> 0.50 passes
+   folds at 0.48863 and 0.44028 for 68 factorisations (a Newton step: 2).
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
    ------------------
