@@ -553,7 +553,7 @@ int main(int argc, char **argv)
     printf("\n1. plain time stepping (Newton from the previous state, step halved down to dt/4096):\n");
     if (run_path(&plain, dt, PSB_EVOLVE_NEWTON, NULL, &mesh, verbose)) return 1;
     if (plain.failed)
-        printf("  FAILED at lambda = %.6f after %d steps: no solution found for the next step even at %.2e (%s)\n",
+        printf("  stalled at lambda = %.6f after %d steps: no solution found for the next step, halved down to %.2e (%s)\n",
                plain.fail_lambda, plain.nrows, plain.fail_dt, psb_result_string(plain.fail_code));
     else
         printf("  reached the end of the load path (%d steps)\n", plain.nrows);

@@ -262,6 +262,34 @@ static void test_newton_jump(void)
     psb_solver_free(&s);
 }
 
+/* Unloading: the curve is followed towards smaller loads. From g = 0, u_prev = 0 the node sticks
+   down to g = -1, then slides towards -tau on g(u) = u - F P(u) / k = -1 + 3u - 3/2 u^2
+   (increasing for u < 1: no fold); at g = -3/2, u = 1 - 2 / sqrt(3). */
+static void test_unloading(void)
+{
+    slider sl;
+    psb_problem prob;
+    psb_solver s;
+    psb_evolve_options eo;
+    psb_evolve_report rep;
+    double y[5], u = 1 - 2 / sqrt(3.0);
+    slider_init(&sl);
+    CHECK(init_solver(&s, &prob, &sl) == PSB_SUCCESS);
+    exact_state(&sl, 0, 0, y);
+    memset(&eo, 0, sizeof eo);
+    eo.mode = PSB_EVOLVE_CONTINUATION;
+    CHECK(psb_evolve_step(&s, y, -1.5, &eo, &rep) == PSB_SUCCESS);
+    CHECK(rep.method == PSB_EVOLVE_CONTINUATION && !rep.snap_through && rep.n_switches >= 1);
+    CHECK(y[4] == -1.5 && rep.param_high == 0 && rep.param_low == -1.5);
+    CHECK_NEAR(y[1], u, 1e-10);
+    CHECK_NEAR(y[3], sl.F * press(&sl, u), 1e-10); /* slides towards -tau: l_t = -F l_n */
+    /* Newton alone gets there too (no fold in the way), with NULL options and report */
+    exact_state(&sl, 0, 0, y);
+    CHECK(psb_evolve_step(&s, y, -1.5, NULL, NULL) == PSB_SUCCESS);
+    CHECK_NEAR(y[1], u, 1e-10);
+    psb_solver_free(&s);
+}
+
 static void test_bad_input(void)
 {
     slider sl;
@@ -292,11 +320,17 @@ static void test_bad_input(void)
     eo.param_min = 0;
     eo.param_max = 1.01;
     CHECK(psb_evolve_step(&s, y, 1.05, &eo, &rep) == PSB_ERR_INPUT);
+    CHECK(memcmp(y, y0, sizeof y) == 0);
+    y[2] = NAN;
+    CHECK(psb_evolve_step(&s, y, 1.05, NULL, &rep) == PSB_ERR_NONFINITE);
+    CHECK(isnan(y[2]) && y[1] == y0[1] && y[3] == y0[3]);
+    memcpy(y, y0, sizeof y);
     /* the path turns back to 5/6 below the start: a range that forbids that stops it */
     eo.param_min = 0.9;
     eo.param_max = 2;
     CHECK(psb_evolve_step(&s, y, 1.05, &eo, &rep) == PSB_ERR_NO_CONVERGENCE);
     CHECK(rep.trace_end == PSB_PARAM_BOUND && rep.param_low == 0.9 && rep.n_folds == 1);
+    CHECK(memcmp(y, y0, sizeof y) == 0);
     eo.param_min = eo.param_max = 0;
     eo.max_steps = 3;
     CHECK(psb_evolve_step(&s, y, 1.05, &eo, &rep) == PSB_ERR_NO_CONVERGENCE);
@@ -305,6 +339,7 @@ static void test_bad_input(void)
     eo.max_length = 0.1;
     CHECK(psb_evolve_step(&s, y, 1.05, &eo, &rep) == PSB_ERR_NO_CONVERGENCE);
     CHECK(rep.trace_end == PSB_STOPPED && rep.path_length > 0.1);
+    CHECK(memcmp(y, y0, sizeof y) == 0);
     eo.max_length = 0;
     /* a start that does not solve the step's problem (Newton alone would not care: it lands on
        the solution at 1.05 from there) */
@@ -359,6 +394,7 @@ int main(void)
     test_derivation();
     test_snap_through();
     test_newton_jump();
+    test_unloading();
     test_bad_input();
     test_point_callback();
     return HARNESS_END();
