@@ -27,7 +27,7 @@
         (u_{k-1}, lambda_{k-1}) to lambda_k through the folds; the static diagram of that step's
         continuation problem (the curve H_k = 0 over the whole load range) is traced too;
      3. run 2 again with dt / 2, to compare the states at the common times.
-   Checks (exit status 0 only when all hold): every accepted step of runs 2 and 3 satisfies its
+   Checks (exit status 0 only when all hold): every accepted step of the three runs satisfies its
    discrete problem, ||H_k(y_k)||_2 <= 1e-8; the incremental Coulomb law holds at every contact
    node to 1e-7 (contact: l_n <= 0, u_n <= 0, l_n u_n = 0; |l_t| <= F |l_n|; a node that moved,
    |u_t - u_t^{k-1}| > 1e-9, slides against its increment, l_t = -F |l_n| sign(increment); a node
@@ -38,8 +38,8 @@
    between 0.05 and 0.025, 1.3e-5 below, of 0.084 m).
 
    Files (--out DIR): newton.csv, evolution.csv (one row per accepted step), snap_path.csv (the
-   snap step's continuation path), diagram.csv (its static diagram), step_NNNN.vtk per step of
-   run 2 and evolution.pvd (a ParaView time series of them), plot.gp (gnuplot: quasistatic.png,
+   snap step's continuation path), diagram.csv (its static diagram), step_NNNN.vtu per step of
+   run 2 and evolution.pvd (a ParaView time series of them, with each node's contact state), plot.gp (gnuplot: quasistatic.png,
    the load against the generalised displacement q = load1 . u, the work per unit lambda).
 
    Usage: quasistatic [--mesh N] [--dt DT] [--out DIR] [--verbose] [--help]
@@ -323,19 +323,53 @@ typedef struct outputs {
     psb_result diagram_end;
 } outputs;
 
-static int write_vtk_step(const run *R, const fe_mesh *mesh, outputs *o, int index)
+/* One time step as VTK XML (.vtu, ASCII), which ParaView's .pvd time series reads: the mesh
+   deformed by u, with the displacement and each node's contact state (-1: not a contact node,
+   else psb_contact_state of the incremental law) as point data. */
+static int write_vtu_step(const run *R, const fe_mesh *mesh, outputs *o, int index)
 {
+    const fe_model *md = R->q.md;
     char path[1024];
     double *u = malloc(sizeof(double) * 2 * (size_t)mesh->nnode);
-    int rc;
-    if (!u) return -1;
-    fe_displacements(R->q.md, R->y, u);
-    snprintf(path, sizeof path, "%s/step_%04d.vtk", o->dir, index);
-    rc = fe_write_vtk(mesh, u, path, "quasistatic");
+    int *state = malloc(sizeof(int) * (size_t)mesh->nnode), a, e, v, k;
+    FILE *fp;
+    if (!u || !state) { free(u); free(state); return -1; }
+    fe_displacements(md, R->y, u);
+    for (a = 0; a < mesh->nnode; a++) state[a] = -1;
+    for (k = 0; k < md->ncontact; k++) {
+        int b = md->cnode[k], ud = md->udof[b], cd = md->cdof[b];
+        psb_contact_state st;
+        if (psb_ac2d_state(-R->y[ud + 1], R->y[ud] - R->q.ut_prev[k], R->y[cd], R->y[cd + 1], md->r, md->friction, 0, &st) == PSB_SUCCESS)
+            state[b] = (int)st;
+    }
+    snprintf(path, sizeof path, "%s/step_%04d.vtu", o->dir, index);
+    fp = fopen(path, "w");
+    if (!fp) { free(u); free(state); return -1; }
+    fprintf(fp, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n<UnstructuredGrid>\n"
+                "<Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n<Points>\n"
+                "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n", mesh->nnode, mesh->nelem);
+    for (a = 0; a < mesh->nnode; a++)
+        fprintf(fp, "%.10g %.10g 0\n", mesh->x[2 * a] + u[2 * a], mesh->x[2 * a + 1] + u[2 * a + 1]);
+    fprintf(fp, "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
+    for (e = 0; e < mesh->nelem; e++) {
+        for (v = 0; v < mesh->nvert; v++) fprintf(fp, "%d ", mesh->conn[mesh->nvert * e + v]);
+        fprintf(fp, "\n");
+    }
+    fprintf(fp, "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
+    for (e = 0; e < mesh->nelem; e++) fprintf(fp, "%d\n", mesh->nvert * (e + 1));
+    fprintf(fp, "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+    for (e = 0; e < mesh->nelem; e++) fprintf(fp, "%d\n", mesh->nvert == 4 ? 9 : 5);
+    fprintf(fp, "</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\" Scalars=\"contact_state\">\n"
+                "<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    for (a = 0; a < mesh->nnode; a++) fprintf(fp, "%.10g %.10g 0\n", u[2 * a], u[2 * a + 1]);
+    fprintf(fp, "</DataArray>\n<DataArray type=\"Int32\" Name=\"contact_state\" format=\"ascii\">\n");
+    for (a = 0; a < mesh->nnode; a++) fprintf(fp, "%d\n", state[a]);
+    fprintf(fp, "</DataArray>\n</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     free(u);
-    if (!rc && o->pvd)
-        fprintf(o->pvd, "    <DataSet timestep=\"%d\" file=\"step_%04d.vtk\"/>\n", index, index);
-    return rc;
+    free(state);
+    if (fclose(fp)) return -1;
+    if (o->pvd) fprintf(o->pvd, "    <DataSet timestep=\"%d\" file=\"step_%04d.vtu\"/>\n", index, index);
+    return 0;
 }
 
 /* Runs the load path with time step dt. mode: PSB_EVOLVE_NEWTON (plain, halving) or _AUTO.
@@ -357,7 +391,7 @@ static int run_path(run *R, double dt, int mode, outputs *o, const fe_mesh *mesh
     r = psb_evolve_step(&R->s, R->y, LAMBDA_START, &eo, &rep);
     if (r < 0) { printf("  first step: %s\n", psb_solver_message(&R->s)); return -1; }
     if (run_record(R, &rep)) return -1;
-    if (o && o->dir && write_vtk_step(R, mesh, o, vtk++)) return -1;
+    if (o && o->dir && write_vtu_step(R, mesh, o, vtk++)) return -1;
     quasi_accept(&R->q, R->y);
     for (leg = 0; leg < 2; leg++) {
         double target = leg == 0 ? LAMBDA_TURN : LAMBDA_START, sign = leg == 0 ? 1 : -1;
@@ -415,7 +449,7 @@ static int run_path(run *R, double dt, int mode, outputs *o, const fe_mesh *mesh
                            rep.method == PSB_EVOLVE_NEWTON ? "newton" : "contin", rep.n_folds, R->rows[R->nrows - 1].q,
                            R->rows[R->nrows - 1].states[0], R->rows[R->nrows - 1].states[1], R->rows[R->nrows - 1].states[2],
                            R->rows[R->nrows - 1].states[3]);
-                if (o && o->dir && mode != PSB_EVOLVE_NEWTON && write_vtk_step(R, mesh, o, vtk++)) return -1;
+                if (o && o->dir && mode != PSB_EVOLVE_NEWTON && write_vtu_step(R, mesh, o, vtk++)) return -1;
                 quasi_accept(&R->q, R->y);
                 if (fabs(sub) < fabs(lam - R->y[n])) sub *= 2; /* grow back after a halving */
             }
@@ -506,7 +540,7 @@ static const char *usage =
     "usage: quasistatic [--mesh N] [--dt DT] [--out DIR] [--verbose] [--help]\n"
     "  --mesh N   subdivisions per leg of the triangle [16]\n"
     "  --dt DT    load increment per time step [0.05]; a second run uses DT/2\n"
-    "  --out DIR  CSV per run, VTK per step (evolution.pvd), the snap step's diagram, plot.gp\n";
+    "  --out DIR  CSV per run, VTK (.vtu) per step with evolution.pvd, the snap step's diagram, plot.gp\n";
 
 int main(int argc, char **argv)
 {
@@ -601,9 +635,9 @@ int main(int argc, char **argv)
     /* checks */
     {
         double worst_res = 0, worst_coulomb = 0;
-        const run *rs[2] = {&cont, &half};
+        const run *rs[3] = {&cont, &half, &plain};
         int j;
-        for (j = 0; j < 2; j++)
+        for (j = 0; j < 3; j++)
             for (k = 0; k < rs[j]->nrows; k++) {
                 worst_res = fmax(worst_res, rs[j]->rows[k].resnorm);
                 worst_coulomb = fmax(worst_coulomb, rs[j]->rows[k].coulomb);
@@ -632,7 +666,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "quasistatic: cannot write to %s\n", dir);
             ok = 0;
         } else {
-            printf("files in %s: newton.csv, evolution.csv, snap_path.csv, diagram.csv, step_*.vtk + evolution.pvd, plot.gp\n", dir);
+            printf("files in %s: newton.csv, evolution.csv, snap_path.csv, diagram.csv, step_*.vtu + evolution.pvd, plot.gp\n", dir);
         }
     }
     printf("quasistatic: %s\n", ok ? "OK" : "FAILED");
