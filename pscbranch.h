@@ -1029,14 +1029,19 @@ typedef struct psb_evolve_report {
    at param_next. AUTO: Newton at param_next from y; if it fails (or jumps farther than
    newton_max_jump), the curve H(y) = 0 is traced from y towards param_next, through folds and
    kinks, and the step ends where it first reaches param_next (psb_trace bounded on that side
-   only; behind the start the path is free up to param_min/param_max). On success y holds the
-   new state. Does not allocate; not callable from a point callback of psb_trace.
+   only; behind the start the path is free up to param_min/param_max). The direction of travel
+   is the tangent's at y with its parameter component towards param_next (at a fold of the
+   start itself it is arbitrary). On success y holds the new state, y[param_index] =
+   param_next exactly; param_next equal to y's parameter only corrects y by Newton. Does not
+   allocate; not callable from a point callback of psb_trace (it runs one).
    eo and rep may be NULL. Returns PSB_SUCCESS; PSB_ERR_NULL, PSB_ERR_NONFINITE (y or
    param_next), PSB_ERR_OPTIONS (eo), PSB_ERR_INPUT (y or param_next outside the range, or y
-   does not solve H = 0); Newton's failure in PSB_EVOLVE_NEWTON mode; PSB_ERR_NO_CONVERGENCE
-   when the path ended elsewhere (rep->trace_end says how: step budget, max_length, an end
-   point, a closed loop, the range's far bound); PSB_ERR_CALLBACK; or a failure of psb_trace.
-   y is untouched unless PSB_SUCCESS. */
+   does not solve H = 0: no solution within h_init of it); Newton's failure in
+   PSB_EVOLVE_NEWTON mode; PSB_ERR_NO_CONVERGENCE when the path ended elsewhere
+   (rep->trace_end says how: step budget, max_length, an end point, a closed loop, the range's
+   far bound); PSB_ERR_CALLBACK (a callback returned < 0, or on_point stopped the path); or a
+   failure of psb_tangent or psb_trace (PSB_ERR_SINGULAR at a start where dH has rank < N,
+   PSB_ERR_STEP_TOO_SMALL, ...). y is untouched unless PSB_SUCCESS. */
 PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
                                          const psb_evolve_options *eo, psb_evolve_report *rep);
 
