@@ -17,12 +17,17 @@
      g(u) = 1 - u + 3/2 u^2 on the slip branch, a smooth fold at u* = 1/3, g* = 5/6;
      at g > 1 the only solution is u = (1 + sqrt(6 g - 5)) / 3 (u = 0.71338 at g = 1.05): the
      loaded node snaps from 0 to there, over the two folds. */
+#include <stdlib.h>
+#include <string.h>
+
+/* counts the library's allocations: psb_evolve_step must make none */
+static long n_alloc = 0;
+static void *counted_malloc(size_t n) { n_alloc++; return malloc(n); }
+#define PSCBRANCH_MALLOC(size) counted_malloc(size)
+#define PSCBRANCH_FREE(ptr) free(ptr)
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
 #include "harness.h"
-
-#include <stdlib.h>
-#include <string.h>
 
 typedef struct slider {
     double k, kn, F, r, P0, c, d;
@@ -200,8 +205,10 @@ static void test_snap_through(void)
 
     /* the fallback: continuation from (u_{k-1}, 1) to 1.05 */
     eo.mode = PSB_EVOLVE_AUTO;
+    n_alloc = 0;
     r = psb_evolve_step(&s, y, 1.05, &eo, &rep);
     CHECK(r == PSB_SUCCESS);
+    CHECK(n_alloc == 0);
     CHECK(rep.method == PSB_EVOLVE_CONTINUATION && rep.newton_run && rep.newton < 0);
     CHECK(rep.snap_through && rep.n_folds == 2 && rep.n_switches >= 1);
     printf("continuation: folds %.12f %.12f, landing u_t = %.12f (exact %.12f), jump %.6f, "
@@ -369,6 +376,22 @@ static int stop_at_fold(const psb_point *pt, void *user)
     return (pt->flags & PSB_POINT_FOLD) != 0;
 }
 
+typedef struct path_sum {
+    double length, low, high;
+    long points, folds;
+} path_sum;
+
+static int sum_path(const psb_point *pt, void *user)
+{
+    path_sum *ps = (path_sum *)user;
+    ps->length += pt->h;
+    ps->points++;
+    ps->folds += (pt->flags & PSB_POINT_FOLD) != 0;
+    ps->low = fmin(ps->low, pt->y[4]);
+    ps->high = fmax(ps->high, pt->y[4]);
+    return 0;
+}
+
 static void test_point_callback(void)
 {
     slider sl;
@@ -386,6 +409,16 @@ static void test_point_callback(void)
     eo.on_point = stop_at_fold;
     CHECK(psb_evolve_step(&s, y, 1.05, &eo, &rep) == PSB_ERR_CALLBACK);
     CHECK(memcmp(y, y0, sizeof y) == 0 && rep.n_folds == 1);
+    /* the path the callback sees is the one the report measures */
+    {
+        path_sum ps = {0, 1e300, -1e300, 0, 0};
+        eo.on_point = sum_path;
+        eo.point_user = &ps;
+        CHECK(psb_evolve_step(&s, y, 1.05, &eo, &rep) == PSB_SUCCESS);
+        CHECK(ps.points == rep.steps + 1 && ps.folds == rep.n_folds);
+        CHECK_NEAR(ps.length, rep.path_length, 1e-12);
+        CHECK(ps.low == rep.param_low && ps.high == 1.05);
+    }
     psb_solver_free(&s);
 }
 
