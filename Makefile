@@ -17,10 +17,10 @@ BUILD ?= build
 HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
 	$(BUILD)/test_contact $(BUILD)/test_fc_solve \
-	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static
-EXAMPLES = examples/01_branching examples/fc_solve examples/block examples/triangle
+	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic
+EXAMPLES = examples/01_branching examples/fc_solve examples/block examples/triangle examples/quasistatic
 
-.PHONY: all test demo examples bench asan ubsan clean
+.PHONY: all test demo examples bench asan ubsan clean quasistatic-demo
 
 all: $(TESTS) $(EXAMPLES)
 
@@ -52,6 +52,9 @@ $(BUILD)/test_fe: tests/test_fe.c tests/harness.h examples/fe.h $(HEADER) | $(BU
 $(BUILD)/test_static: tests/test_static.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_static.c -o $@ $(LIBS)
 
+$(BUILD)/test_quasistatic: tests/test_quasistatic.c tests/harness.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_quasistatic.c -o $@ $(LIBS)
+
 $(BUILD)/linkage_impl.o: tests/linkage_impl.cpp $(HEADER) | $(BUILD)
 	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -c tests/linkage_impl.cpp -o $@
 
@@ -75,7 +78,7 @@ endif
 examples/fc_solve: examples/fc_solve.c $(HEADER)
 	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) $< -o $@ $(FC_HDF5_LIBS) $(LIBS)
 
-examples/block examples/triangle: examples/fe.h
+examples/block examples/triangle examples/quasistatic: examples/fe.h
 
 examples: $(EXAMPLES)
 
@@ -88,7 +91,8 @@ SMOKE = "smoke:examples/01_branching" \
 	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1" \
 	"smoke:examples/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && examples/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
 	"smoke:examples/triangle --mesh 16" \
-	"smoke:examples/triangle --mesh 16 --problem fold"
+	"smoke:examples/triangle --mesh 16 --problem fold" \
+	"smoke:examples/quasistatic --mesh 8 --dt 0.1"
 
 test: $(TESTS) $(EXAMPLES)
 	@bash tests/run.sh $(TESTS) $(SMOKE)
@@ -100,6 +104,13 @@ demo: examples/01_branching examples/block
 	@if command -v gnuplot >/dev/null 2>&1; then \
 	  (cd out/block && gnuplot plot.gp) && echo "plots: out/block/*.png"; \
 	else echo "gnuplot not installed (apt-get install gnuplot-nox): plot data and script are in out/block"; fi
+
+# the quasi-static snap-through: CSV, VTK time series (evolution.pvd) and quasistatic.png
+quasistatic-demo: examples/quasistatic
+	./examples/quasistatic --out out/quasistatic
+	@if command -v gnuplot >/dev/null 2>&1; then \
+	  (cd out/quasistatic && gnuplot plot.gp) && echo "plot: out/quasistatic/quasistatic.png"; \
+	else echo "gnuplot not installed (apt-get install gnuplot-nox): plot data and script are in out/quasistatic"; fi
 
 BENCH = bench/bench_linear bench/bench_branching
 

@@ -79,6 +79,8 @@
    psb_trace            the driver: from (y, t) to a bound, budget, end point, loop or failure
    psb_locate_end       Algorithm 2.1: approach the end point of a branch
    psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
+   psb_evolve_step      one time step of a quasi-static evolution: Newton, else continuation
+                        in the load through folds (section 6, "Quasi-static evolution")
    psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
    Inputs are never modified on failure: y and t keep the last accepted couple.
    No function allocates except psb_solver_init. Single operations (solve, tangent, correct,
@@ -337,6 +339,37 @@
    (docs/branching-notes.md measures how complete the search is).
    Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
    at every psb_find_branches call, so equal inputs give bit-identical results.
+   Quasi-static evolution (psb_evolve_step). Ligursky & Renard, "A continuation problem for
+   computing solutions of discretised evolution problems with application to plane quasi-static
+   contact problems with friction", CMAME 280 (2014). Time step k of a discretised
+   evolution solves H_k(u, lambda_k) = 0, where H_k holds the previous state (friction in
+   increments, u_t - u_t^{k-1}, the user's data through problem.user). Newton from u_{k-1}
+   fails where a small change of the load makes the solution jump (a snap-through): no
+   solution lies near u_{k-1}, or Newton lands on a far one. The paper's remedy: (u_{k-1},
+   lambda_{k-1}) solves H_k = 0 too (a zero increment sticks, and the previous forces satisfy
+   Coulomb's law), so the step becomes a PC^1 continuation problem in the load: trace the
+   curve H_k = 0 from there, through folds and kinks, to its first point at lambda_k.
+   psb_evolve_step: mode AUTO tries Newton at lambda_k from u_{k-1} (newton_max_iter) and
+   keeps its solution unless it lies farther than newton_max_jump; otherwise (or with mode
+   CONTINUATION) the tangent at y is turned towards lambda_k, the start polished by the
+   corrector (a move beyond h_init: PSB_ERR_INPUT, y was no solution), and psb_trace runs
+   with its bound at lambda_k, where it lands exactly. The other side is unbounded: at a
+   snap-through the path turns back at a fold and usually passes below lambda_{k-1} before
+   it rises to lambda_k (tests/test_quasistatic.c: from 1 back to 5/6, then to 1.05), so a
+   bound there would stop every snap; param_min/param_max bound it where the load has a
+   physical range. A path that ends elsewhere (max_steps, max_length, a closed loop, an
+   end point, the range's far bound) is a failure, PSB_ERR_NO_CONVERGENCE, with the
+   trace's end in report.trace_end; y keeps u_{k-1} (psb_trace alone leaves its last
+   couple). The report gives the folds passed (snap_through), kinks, path length, load
+   range covered, jump, how far Newton's solution lay from the path's end, and the step's
+   counters. A function rather than a pattern, because those four points (orientation,
+   one-sided bounds, telling the target bound from the far one, y untouched on failure) are
+   easy to get wrong; it takes three vectors of the solver's memory. Update the step's data
+   between calls, never during one (Newton and the trace evaluate the same H_k). Measured:
+   the slider of tests/test_quasistatic.c, plain Newton stepping halved to 1e-6 never passes
+   its fold, the fallback lands to 1e-12 and gives the folds to 1e-10; examples/quasistatic.c,
+   triangle M256, plain stepping stalls at lambda = 0.48862, the snap step 0.45 -> 0.50 passes
+   folds at 0.48863 and 0.44028 for 68 factorisations (a Newton step: 2).
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
    ------------------
@@ -823,6 +856,75 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                                            int max_branches, double *ys, double *ts,
                                            psb_branch_report *rep);
 
+/* ---- quasi-static evolution: one time step through folds (manual, section 6) ------------- */
+
+/* How psb_evolve_step solves its step. */
+typedef enum psb_evolve_mode {
+    PSB_EVOLVE_AUTO = 0,        /* Newton at param_next from y; continuation when Newton fails
+                                   or lands farther than newton_max_jump */
+    PSB_EVOLVE_NEWTON = 1,      /* Newton only (plain time stepping) */
+    PSB_EVOLVE_CONTINUATION = 2 /* continuation only */
+} psb_evolve_mode;
+
+typedef struct psb_evolve_options {
+    int mode;               /* psb_evolve_mode [PSB_EVOLVE_AUTO] */
+    int newton_max_iter;    /* Newton iterations at param_next [20] */
+    double newton_max_jump; /* AUTO: a Newton solution farther than this from y (||.||_w) is
+                               not accepted; continuation decides [0: any distance] */
+    double param_min, param_max; /* the path may not leave [param_min, param_max] (ignored when
+                                    param_min >= param_max); y's parameter and param_next must
+                                    lie in it [unbounded beyond the start] */
+    long max_steps;         /* accepted continuation steps [0 -> 10000] */
+    double max_length;      /* longest continuation path, ||.||_w [0: no limit] */
+    int no_switch;          /* 1: do not pass kinks (psb_trace_options.no_switch) [0] */
+    psb_point_fn on_point;  /* optional: every point of the continuation path (psb_trace's
+                               points); a nonzero return stops the step (PSB_ERR_CALLBACK) */
+    void *point_user;
+} psb_evolve_options;
+
+typedef struct psb_evolve_report {
+    int method;            /* PSB_EVOLVE_NEWTON or _CONTINUATION: what solved the step (0 on
+                              failure) */
+    psb_result newton;     /* Newton's outcome at param_next (PSB_SUCCESS also when its
+                              solution was rejected as a jump); PSB_SUCCESS when not run */
+    int newton_run;        /* 1: Newton was tried */
+    double newton_jump;    /* ||y_Newton - y||_w when Newton converged, else -1 */
+    double newton_gap;     /* ||y_Newton - y_continuation||_w when both exist, else -1: how far
+                              plain time stepping would have landed from the path's end */
+    int snap_through;      /* 1: the path passed a fold (n_folds > 0): the solution jumped */
+    int n_folds;           /* folds passed, and their parameter values (as psb_trace_report) */
+    double fold_params[PSB_MAX_FOLDS];
+    int n_switches;        /* kinks passed by the tangent switch */
+    long steps;            /* accepted continuation steps */
+    double path_length;    /* length of the continuation path, ||.||_w (chords) */
+    double param_low, param_high; /* parameter range the path covered */
+    double jump;           /* ||y_new - y||_w on success */
+    psb_result trace_end;  /* how psb_trace ended (PSB_PARAM_BOUND when it reached param_next) */
+    psb_stats cost;        /* the step's own counters (factorisations, residuals, trials) */
+} psb_evolve_report;
+
+/* One time step of a discretised quasi-static evolution problem (Ligursky-Renard, CMAME 280
+   (2014)): from the previous state y (in/out, n+1; y[param_index] = lambda_{k-1}, H(y) = 0 with
+   the step's data, e.g. previous tangential displacements held in problem.user) to a solution
+   at param_next. AUTO: Newton at param_next from y; if it fails (or jumps farther than
+   newton_max_jump), the curve H(y) = 0 is traced from y towards param_next, through folds and
+   kinks, and the step ends where it first reaches param_next (psb_trace bounded on that side
+   only; behind the start the path is free up to param_min/param_max). The direction of travel
+   is the tangent's at y with its parameter component towards param_next (at a fold of the
+   start itself it is arbitrary). On success y holds the new state, y[param_index] =
+   param_next exactly; param_next equal to y's parameter only corrects y by Newton. Does not
+   allocate; not callable from a point callback of psb_trace (it runs one).
+   eo and rep may be NULL. Returns PSB_SUCCESS; PSB_ERR_NULL, PSB_ERR_NONFINITE (y or
+   param_next), PSB_ERR_OPTIONS (eo), PSB_ERR_INPUT (y or param_next outside the range, or y
+   does not solve H = 0: no solution within h_init of it); Newton's failure in
+   PSB_EVOLVE_NEWTON mode; PSB_ERR_NO_CONVERGENCE when the path ended elsewhere
+   (rep->trace_end says how: step budget, max_length, an end point, a closed loop, the range's
+   far bound); PSB_ERR_CALLBACK (a callback returned < 0, or on_point stopped the path); or a
+   failure of psb_tangent or psb_trace (PSB_ERR_SINGULAR at a start where dH has rank < N,
+   PSB_ERR_STEP_TOO_SMALL, ...). y is untouched unless PSB_SUCCESS. */
+PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
+                                         const psb_evolve_options *eo, psb_evolve_report *rep);
+
 /* ---- contact helpers: see the manual section "Contact helpers" ----------------------------- */
 
 /* Pass as piece_request for automatic piece selection (documented default on kinks). */
@@ -1065,6 +1167,7 @@ enum {
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
     PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P, PSB__V_BR_Q, PSB__V_BR_K, PSB__V_BR_S, /* branching */
+    PSB__V_EV_Y, PSB__V_EV_T, PSB__V_EV_N, /* psb_evolve_step: path couple, Newton's solution */
     PSB__NVEC
 };
 /* Entries of each of psb_find_branches' two stores, the tangents tried (memo_) and the
@@ -3232,6 +3335,178 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     }
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+}
+
+/* ==== quasi-static evolution ============================================================== */
+
+/* Counters spent since `before`. */
+static psb_stats psb__stats_since(const psb_solver *s, const psb_stats *before)
+{
+    psb_stats d = s->stats;
+    d.n_residual -= before->n_residual;
+    d.n_jacobian -= before->n_jacobian;
+    d.n_factor -= before->n_factor;
+    d.n_factor_reused -= before->n_factor_reused;
+    d.n_pc_steps -= before->n_pc_steps;
+    d.n_newton -= before->n_newton;
+    d.n_rejected -= before->n_rejected;
+    d.n_switches -= before->n_switches;
+    d.n_tangents -= before->n_tangents;
+    return d;
+}
+
+/* psb_evolve_step's point callback: measures the path, enforces max_length, calls the user's. */
+typedef struct psb__evolve_ctx {
+    const psb_evolve_options *eo;
+    int p, user_stop, too_long;
+    double length, low, high;
+} psb__evolve_ctx;
+
+static int psb__evolve_point(const psb_point *pt, void *user)
+{
+    psb__evolve_ctx *c = (psb__evolve_ctx *)user;
+    double g = pt->y[c->p];
+    c->length += pt->h;
+    if (g < c->low) c->low = g;
+    if (g > c->high) c->high = g;
+    if (c->eo->on_point && c->eo->on_point(pt, c->eo->point_user)) return c->user_stop = 1;
+    if (c->eo->max_length > 0 && c->length > c->eo->max_length && !(pt->flags & PSB_POINT_BOUND))
+        return c->too_long = 1;
+    return 0;
+}
+
+static const char *psb__check_evolve_options(const psb_evolve_options *o)
+{
+    if (o->mode < PSB_EVOLVE_AUTO || o->mode > PSB_EVOLVE_CONTINUATION) return "mode is not a psb_evolve_mode";
+    if (o->newton_max_iter < 0) return "newton_max_iter < 0";
+    if (!(o->newton_max_jump >= 0)) return "newton_max_jump must be >= 0 (0: any)";
+    if (o->param_min != o->param_min || o->param_max != o->param_max) return "param_min or param_max is NaN";
+    if (o->max_steps < 0) return "max_steps < 0";
+    if (!(o->max_length >= 0)) return "max_length must be >= 0 (0: no limit)";
+    return NULL;
+}
+
+PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
+                                         const psb_evolve_options *eo, psb_evolve_report *rep)
+{
+    psb_evolve_options o;
+    psb_evolve_report local;
+    psb_trace_options to;
+    psb_trace_report tr;
+    psb__evolve_ctx ctx;
+    psb_stats before;
+    const char *bad;
+    int np1, p, ranged, up, i;
+    double g0, far, *yn, *yc, *tc;
+    psb_result r;
+    if (!rep) rep = &local;
+    memset(rep, 0, sizeof *rep);
+    rep->newton_jump = rep->newton_gap = -1;
+    if (!s || !s->vec_) return PSB_ERR_NULL;
+    s->message[0] = 0;
+    if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
+    if (eo) o = *eo;
+    else memset(&o, 0, sizeof o);
+    if ((bad = psb__check_evolve_options(&o)) != NULL) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    np1 = s->np1_;
+    p = s->prob.param_index;
+    if (!psb__all_finite(y, np1) || !psb__finite(param_next))
+        return psb__fail(s, PSB_ERR_NONFINITE, "y or param_next contains NaN or Inf");
+    g0 = y[p];
+    ranged = o.param_min < o.param_max;
+    if (ranged && (g0 < o.param_min || g0 > o.param_max || param_next < o.param_min || param_next > o.param_max))
+        return psb__fail(s, PSB_ERR_INPUT, "y's parameter or param_next lies outside [param_min, param_max]");
+    if (o.newton_max_iter == 0) o.newton_max_iter = 20;
+    if (o.max_steps == 0) o.max_steps = 10000;
+    before = s->stats;
+    rep->param_low = rep->param_high = g0;
+    yn = PSB__VEC(s, PSB__V_EV_N);
+    yc = PSB__VEC(s, PSB__V_EV_Y);
+    tc = PSB__VEC(s, PSB__V_EV_T);
+
+    /* plain time stepping: Newton at param_next from the previous state */
+    if (o.mode != PSB_EVOLVE_CONTINUATION || param_next == g0) {
+        rep->newton_run = 1;
+        psb__copy(yn, y, np1);
+        yn[p] = param_next;
+        r = rep->newton = psb_solve_at_param(s, yn, o.newton_max_iter);
+        if (r == PSB_SUCCESS) {
+            yn[p] = param_next;
+            rep->newton_jump = psb__dist_w(s, y, yn);
+            if (o.mode == PSB_EVOLVE_NEWTON || param_next == g0 || o.newton_max_jump == 0 ||
+                rep->newton_jump <= o.newton_max_jump) {
+                rep->method = PSB_EVOLVE_NEWTON;
+                rep->jump = rep->newton_jump;
+                rep->param_low = fmin(g0, param_next);
+                rep->param_high = fmax(g0, param_next);
+                rep->cost = psb__stats_since(s, &before);
+                psb__copy(y, yn, np1);
+                return PSB_SUCCESS;
+            }
+        } else if (psb__is_fatal(r) || o.mode == PSB_EVOLVE_NEWTON || param_next == g0) {
+            rep->cost = psb__stats_since(s, &before);
+            return r;
+        }
+    }
+
+    /* the step's continuation problem: from (y, lambda_{k-1}) along the curve to param_next */
+    up = param_next > g0;
+    psb__copy(yc, y, np1);
+    r = psb_tangent(s, yc, NULL, tc);
+    if (r == PSB_SUCCESS && !up)
+        for (i = 0; i < np1; i++) tc[i] = -tc[i];
+    if (r == PSB_SUCCESS) r = psb__residual(s, yc, s->res_);
+    if (r == PSB_SUCCESS && psb__norm2(s->res_, s->n_) > s->opt.tol_residual) {
+        /* a polish of the previous solution; a move longer than a step means it was none */
+        r = psb_correct(s, yc, tc, NULL);
+        if ((r != PSB_SUCCESS && !psb__is_fatal(r)) || (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
+            r = psb__fail(s, PSB_ERR_INPUT, "y does not solve H(y) = 0 (no solution within h_init of it)");
+    }
+    if (r != PSB_SUCCESS) {
+        rep->cost = psb__stats_since(s, &before);
+        return r;
+    }
+    memset(&to, 0, sizeof to);
+    far = up ? (ranged ? o.param_min : -DBL_MAX) : (ranged ? o.param_max : DBL_MAX);
+    to.param_min = up ? far : param_next;
+    to.param_max = up ? param_next : far;
+    to.max_steps = o.max_steps;
+    to.no_switch = o.no_switch;
+    to.detect_loop = 1;
+    to.on_point = psb__evolve_point;
+    to.point_user = &ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.eo = &o;
+    ctx.p = p;
+    ctx.low = ctx.high = yc[p];
+    r = psb_trace(s, yc, tc, &to, &tr);
+    rep->trace_end = r;
+    rep->steps = tr.steps;
+    rep->n_folds = tr.n_folds;
+    for (i = 0; i < tr.n_folds && i < PSB_MAX_FOLDS; i++) rep->fold_params[i] = tr.fold_params[i];
+    rep->snap_through = tr.n_folds > 0;
+    rep->n_switches = tr.n_switches;
+    rep->path_length = ctx.length;
+    rep->param_low = fmin(ctx.low, g0);
+    rep->param_high = fmax(ctx.high, g0);
+    rep->cost = psb__stats_since(s, &before);
+    if (r == PSB_PARAM_BOUND && fabs(yc[p] - param_next) < fabs(yc[p] - far)) {
+        yc[p] = param_next;
+        rep->method = PSB_EVOLVE_CONTINUATION;
+        rep->jump = psb__dist_w(s, y, yc);
+        if (rep->newton_run && rep->newton == PSB_SUCCESS) rep->newton_gap = psb__dist_w(s, yn, yc);
+        psb__copy(y, yc, np1);
+        s->message[0] = 0;
+        return PSB_SUCCESS;
+    }
+    if (ctx.user_stop) return psb__fail(s, PSB_ERR_CALLBACK, "on_point stopped the step");
+    if (r < 0) return r;
+    return psb__fail(s, PSB_ERR_NO_CONVERGENCE,
+                     r == PSB_PARAM_BOUND ? "the path left [param_min, param_max] before param_next"
+                     : r == PSB_STEP_BUDGET ? "the path used max_steps before param_next"
+                     : ctx.too_long ? "the path grew longer than max_length before param_next"
+                     : r == PSB_LOOP_CLOSED ? "the path closed a loop without reaching param_next"
+                     : "the path ended at a point the tangent switch could not pass");
 }
 
 /* ==== contact helpers ==================================================================== */
