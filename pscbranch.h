@@ -798,7 +798,7 @@ typedef struct psb_solver {
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
    invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n (band_lean: (3 kl + 2 ku + 3) n);
-   user ~ 40 (n+1). */
+   user ~ 53 (n+1). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.

@@ -12,7 +12,7 @@
 
 /* ---- smooth problems with closed-form diagrams ------------------------------------------- */
 
-enum { P_PITCHFORK, P_TRANSCRITICAL, P_TWO_PITCHFORKS, P_CIRCLE, P_TENT };
+enum { P_PITCHFORK, P_TRANSCRITICAL, P_TWO_PITCHFORKS, P_CIRCLE, P_TENT, P_FOUR_LINES };
 
 typedef struct {
     int kind;
@@ -22,7 +22,8 @@ typedef struct {
 } problem;
 
 /* pitchfork x^3 - l x; transcritical x^2 - l x; two coupled pitchforks on x = 0 at l = 0
-   (x1^2 = l) and l = 1 (x2^2 = l - 1); circle x^2 + l^2 = 1; tent l = 1 - |x| */
+   (x1^2 = l) and l = 1 (x2^2 = l - 1); circle x^2 + l^2 = 1; tent l = 1 - |x|; four lines
+   x (x - l)(x + l)(x - 2 l) crossing at the origin */
 static int smooth_res(const double *y, double *h, void *u)
 {
     const problem *p = (const problem *)u;
@@ -34,6 +35,7 @@ static int smooth_res(const double *y, double *h, void *u)
         h[1] = y[1] * y[1] * y[1] - (y[2] - 1) * y[1] + y[0] * y[0] * y[1];
         break;
     case P_CIRCLE: h[0] = y[0] * y[0] + y[1] * y[1] - 1; break;
+    case P_FOUR_LINES: h[0] = y[0] * (y[0] - y[1]) * (y[0] + y[1]) * (y[0] - 2 * y[1]); break;
     default: h[0] = y[1] - 1 + fabs(y[0]); break;
     }
     return 0;
@@ -54,6 +56,12 @@ static int smooth_jac(const double *y, double *j, int ld, void *u)
         j[1 + 2 * ld] = -y[1];
         break;
     case P_CIRCLE: j[0] = 2 * y[0]; j[ld] = 2 * y[1]; break;
+    case P_FOUR_LINES: {
+        double x = y[0], l = y[1], a = x * x * x - x * l * l; /* x (x - l)(x + l) */
+        j[0] = (3 * x * x - l * l) * (x - 2 * l) + a;
+        j[ld] = -2 * x * l * (x - 2 * l) - 2 * a;
+        break;
+    }
     default: j[0] = y[0] < 0 ? -1 : 1; j[ld] = 1; break;
     }
     return 0;
@@ -305,6 +313,50 @@ static void test_two_pitchforks(psb_linear linear)
             CHECK(unit_err(tb, ta, 3) < 1e-8);
         }
     }
+    psb_solver_free(&s);
+}
+
+/* Four lines through the origin, x = 0, l, -l, 2 l: det [dH; t^T] ~ l^3 on x = 0 changes sign
+   there, and the switch finds all eight half-lines, each with its exact direction. */
+static void test_four_lines(psb_linear linear)
+{
+    psb_solver s;
+    problem pr;
+    psb_options opt;
+    psb_trace_options to;
+    record rc;
+    psb_branch_report br;
+    double y[2] = {0, -0.7}, t[2] = {0, 1}, ys[40], ts[40];
+    int k, seen[4] = {0, 0, 0, 0};
+    memset(&opt, 0, sizeof opt);
+    opt.h_max = 0.2;
+    setup(&s, &pr, P_FOUR_LINES, linear, &opt);
+    trace_options(&to, &rc, 2, PSB_DETECT_BRANCH);
+    to.param_min = -0.7;
+    to.param_max = 0.8;
+    CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_PARAM_BOUND);
+    CHECK(rc.n == 1 && rc.sp[0].kind == PSB_SPECIAL_BRANCH);
+    if (rc.n != 1) return;
+    CHECK(fabs(rc.y[0][1]) <= 1e-10); /* a triple zero of det, located by its sign */
+    CHECK(psb_branch_point_switch(&s, rc.y[0], rc.t[0], rc.k[0], 20, ys, ts, &br) == PSB_SUCCESS);
+    CHECK(br.n_branches == 8);
+    for (k = 0; k < br.n_branches && k < 20; k++) {
+        /* on one of the lines, along it, away from the point */
+        const double *yk = ys + 2 * k, *tk = ts + 2 * k;
+        double slope[4] = {0, 1, -1, 2}; /* x = slope l */
+        int m, line = -1;
+        for (m = 0; m < 4; m++) {
+            double d[2] = {slope[m], 1}, nd = sqrt(slope[m] * slope[m] + 1), c;
+            c = (tk[0] * d[0] + tk[1] * d[1]) / nd;
+            if (fabs(fabs(c) - 1) < 1e-9) {
+                line = m;
+                seen[m] += c > 0 ? 1 : 2;
+                CHECK(c * (yk[0] * d[0] + yk[1] * d[1]) > 0); /* oriented away from the point */
+            }
+        }
+        CHECK(line >= 0);
+    }
+    CHECK(seen[0] == 3 && seen[1] == 3 && seen[2] == 3 && seen[3] == 3);
     psb_solver_free(&s);
 }
 
@@ -656,6 +708,7 @@ int main(void)
         test_branch_point_1d(P_PITCHFORK, backends[b]);
         test_branch_point_1d(P_TRANSCRITICAL, backends[b]);
         test_two_pitchforks(backends[b]);
+        test_four_lines(backends[b]);
         test_circle(backends[b]);
     }
     test_fold_kink();
