@@ -471,9 +471,9 @@
    0), so at an ordinary kink (two branches) the test is never positive, and it is positive
    exactly when the incoming and outgoing branches have the same outward sign: a sufficient
    test of more than two branches, not a necessary one. Generated piecewise-linear families
-   (min(x, M x + q g), N = 2-4, traced through the origin): at 241 points with 4 or more
-   branches the test was positive 135 times and detected all 135; at 216 ordinary kinks no
-   false alarm; every nonsmooth fold found (204 of 204). Not with the user backend
+   (min(x, M x + q g), N = 2-4, kappa 0.3-4, traced through the origin): at 241 points with
+   4 or more branches the test was positive 139 times and detected all 139; at 215 ordinary
+   kinks no false alarm; every nonsmooth fold found (206 of 206). Not with the user backend
    (PSB_ERR_OPTIONS): its factor callback forms dH itself, so neither the determinant nor
    the authors' path of convex combinations of the two bordered matrices is available, and
    tau's sign jumps with the matrix. With finite differences the last couple before a kink
@@ -971,7 +971,10 @@ typedef struct psb_special {
                              the last couple on the incoming smooth piece, within `precision`
                              of the kink (ready for psb_locate_end + psb_find_branches) */
     const double *kernel; /* BRANCH: unit (||.||_w) second kernel direction of dH at the point,
-                             w-orthogonal to t (for psb_branch_point_switch); NULL otherwise */
+                             w-orthogonal to t (for psb_branch_point_switch); NULL otherwise.
+                             y, t, kernel point into the solver's memory: valid during the
+                             on_point call and until the next library call on the solver
+                             (psb_branch_point_switch and psb_locate_end take them as input) */
     double param;         /* y[param_index] of the reported point */
     double precision;     /* bound on the location error, ||.||_w along the curve */
     int event;            /* EVENT: index of the event component; -1 otherwise */
@@ -2909,6 +2912,7 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
             r = psb__band_prepare(s, 0.0);
             s->shifted_ = 0;
             if (r == PSB_ERR_SINGULAR) {
+                s->border_ok_ = s->bv_ok_ = 0; /* no usable factors: the next solve refactors */
                 m->sign[0] = m->sign[1] = 1;
                 m->logabs[0] = m->logabs[1] = -700;
                 return PSB_SUCCESS;
