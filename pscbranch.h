@@ -497,7 +497,7 @@
    part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8
    for the others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are
    tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28
-   half-branches, the 26 parabolas with their analytic tangents).
+   half-branches, the 26 half-parabolas with their analytic tangents).
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
    ------------------

@@ -375,8 +375,8 @@ static void test_four_lines(psb_linear linear)
 }
 
 /* Three pitchforks at once: det ~ -l^3 on x = 0, a kernel of dimension 4 at the origin; the
-   switch finds the two halves of x = 0 and the 26 parabolas x = s sigma, l = s^2, sigma in
-   {0, 1, -1}^3 \ {0}, each with its analytic tangent (sigma, 2 s) outwards. */
+   switch finds the two halves of x = 0 and the 26 half-parabolas x = s sigma, l = s^2, s > 0,
+   sigma in {0, 1, -1}^3 \ {0}, each with its analytic tangent (sigma, 2 s) outwards. */
 static void test_three_pitchforks(psb_linear linear)
 {
     psb_solver s;
