@@ -459,7 +459,8 @@
    w-orthogonal to t. Measured (tests/test_detect.c): pitchfork and transcritical points on
    all three backends to 1e-11 in the parameter, folds of the unit circle at l = +-1 with x
    within 1e-10, events within 1e-10; a fold costs ~23 factorisations, an event ~18, a
-   branch point ~17 (dense).
+   branch point ~17 (dense; user backend ~75, a pole of a tau located and dropped on the
+   way: a location is abandoned once |tau| exceeds 1e3 times its values at the ends).
    Kinks: a fold or a det change in a step that took the tangent switch, that locate_kinks
    found a kink in, or whose tangents differ by more than c_diff and where the kink test of
    locate_kinks finds one, is at a kink: FOLD_KINK / PC1, with the couple before it within
@@ -3122,6 +3123,10 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         r = psb__newton_on(s, ye, te, y0, t0, sm);
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
         if (psb__is_fatal(r)) return r;
+        /* the user backend's tau growing far beyond its values at the ends: a pole */
+        if (r == PSB_SUCCESS && fn->kind == PSB_SPECIAL_BRANCH && s->prob.linear == PSB_LINEAR_USER &&
+            fabs(fm) > 1e3 * fmax(f01_abs[0], f01_abs[1]))
+            return PSB_NONSMOOTH_END;
         evals++;
         if (r != PSB_SUCCESS) {
             if (bisect) break; /* even the midpoint failed: keep the bracket reached */
