@@ -474,7 +474,11 @@
    test of more than two branches, not a necessary one. Generated piecewise-linear families
    (min(x, M x + q g), N = 2-4, kappa 0.3-4, traced through the origin): at 241 points with
    4 or more branches the test was positive 139 times and detected all 139; at 215 ordinary
-   kinks no false alarm; every nonsmooth fold found (206 of 206). Not with the user backend
+   kinks no false alarm; every nonsmooth fold found (206 of 206). The block of Section 3
+   (M20x40), traced from each input branch through its nonsmooth point (six branches) to
+   gamma = 1: PC1 reported from input 3 (gamma = -1.6e-10, within 2e-9 of the kink), not from
+   inputs 1 and 2, where the switch continued on a branch of the other outward sign. A trace
+   that must not miss such points stops at its kinks (locate_kinks) and runs Algorithm 2.2. Not with the user backend
    (PSB_ERR_OPTIONS): its factor callback forms dH itself, so neither the determinant nor
    the authors' path of convex combinations of the two bordered matrices is available, and
    tau's sign jumps with the matrix. With finite differences the last couple before a kink
