@@ -79,6 +79,7 @@
    psb_trace            the driver: from (y, t) to a bound, budget, end point, loop or failure
    psb_locate_end       Algorithm 2.1: approach the end point of a branch
    psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
+   psb_branch_point_switch  every branch through a smooth branch point psb_trace located
    psb_evolve_step      one time step of a quasi-static evolution: Newton, else continuation
                         in the load through folds (section 6, "Quasi-static evolution")
    psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
@@ -101,7 +102,14 @@
    accepted point, and (locate_kinks) every kink; a nonzero return stops the trace there.
    p->flags: PSB_POINT_START, _FOLD (the parameter component of t changed sign; p->fold_param
    estimates the limit point), _SWITCH (reached through the tangent switch), _BOUND (exactly on a
-   parameter bound), _KINK (the last couple before a kink, located to h_min).
+   parameter bound), _KINK (the last couple before a kink, located to h_min), _SPECIAL (a
+   located special point, p->special; its own call, before the accepted point that follows it,
+   p->index = that point's index; only with psb_trace_options.detect, section 6 "Special
+   points on the path").
+   int event(const double *y, double *g, void *user)   g = the n_events event values at y
+   (PSB_DETECT_EVENTS); 0 ok, < 0 stops (PSB_ERR_CALLBACK), > 0 or NaN/Inf at an accepted
+   point ends the trace with PSB_ERR_CALLBACK_FAILED / PSB_ERR_NONFINITE (inside a location
+   it only ends the location, with the bracket reached).
 
    4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`)
    ---------------
@@ -178,7 +186,14 @@
                                     is (report.n_cut); 1: along +-t to the end, as printed
    restart [PSB_RESTART_MIXED]      random spans: _PAPER (as printed), _GLOBAL (uniform), or
                                     _MIXED: uniform and near found branches, alternately
-   seed [0]                         the generator of the random spans (xoshiro256**)
+   seed [0]                         the generator of the random spans (xoshiro256**), and
+                                    of psb_trace's random borders (section 6)
+   psb_trace_options (per call; zero fields as in brackets): param_min, param_max (bounds,
+   none when min >= max), max_steps [10000], no_switch, detect_loop, locate_kinks,
+   on_point; detect [0: no detector; a PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4,
+   EVENTS 8, ALL 15], stop_at [0; bit 1u << PSB_SPECIAL_*: stop on that special point's
+   couple, PSB_STOPPED], locate_tol [1e-10, ||.||_w along the curve], n_events, event,
+   event_user, event_work (3 n_events doubles of the caller's) (section 6).
    The paper's values for its contact examples: c_diff = 0.99999, branch_h = 5e-7,
    branch_h_min = branch_h / 2^14, branch_h_init = 5e-4, n_dir = 20, n_span = 15.
 
@@ -370,6 +385,90 @@
    its fold, the fallback lands to 1e-12 and gives the folds to 1e-10; examples/quasistatic.c,
    triangle M256, plain stepping stalls at lambda = 0.48862, the snap step 0.45 -> 0.50 passes
    folds at 0.48863 and 0.44028 for 68 factorisations (a Newton step: 2).
+
+   Special points on the path (psb_trace_options.detect; off by default, and then the trace is
+   what it was, bit for bit; with detectors on, its accepted points are the same too). Between
+   two accepted couples (y0, t0), (y1, t1) the trace looks for
+     PSB_SPECIAL_FOLD       t[param] changed sign on a smooth piece: located;
+     PSB_SPECIAL_FOLD_KINK  t[param] changed sign across a kink: the couple before the kink;
+     PSB_SPECIAL_BRANCH     the sign of det [dH; (W t)^T] changed on a smooth piece: located,
+                            with the second kernel direction, for psb_branch_point_switch;
+     PSB_SPECIAL_PC1        that sign changed across a kink: the couple before the kink, for
+                            psb_locate_end + psb_find_branches;
+     PSB_SPECIAL_EVENT      an event value g_k changed sign: located, with its direction;
+   and reports each by its own on_point call (PSB_POINT_SPECIAL, p->special: kind, y, t,
+   kernel, param = y[param_index], precision, event, direction), in that order within one
+   step, before the accepted point. stop_at ends the trace on the special point's couple.
+   PSB_POINT_FOLD and fold_param (the Hermite estimate) are kept as they were.
+   Why det [dH; (W t)^T]: it is continuous along a smooth curve oriented by its direction of
+   travel (t does not flip at a fold, W > 0 keeps the sign of <W t, t>), and vanishes exactly
+   where dH loses rank, so a simple branch point crossed flips it. Dense: the sign and log|.|
+   come from the corrector's last LU (product of sign U_ii and of the row swaps, O(N));
+   banded: det A of the band LU times the Schur complement d - c.w (factors of A + sigma I
+   would move the zero by ~sigma, so there A is factored as it is). No factorisation is
+   added per step, except one at the start and one at the accepted point after a kink (the
+   corrector's last factorisation may belong to the other piece there). The user backend
+   (factor/solve only) gets tau_k = 1 / (d_k - c_k^T B^{-1} b_k) = det B / det [B b_k;
+   c_k^T d_k] for two borders drawn from the generator (reseeded from options.seed at each
+   psb_trace call; one solve with two right-hand sides per step). A tau also changes sign at
+   its own poles, and a pole next to a zero hides both: a sign change of either tau is
+   located, and kept when |tau| shrank there (a zero), not grew (a pole).
+   Location: the curve between the couples is parameterised by s = <t0, y - y0>_w, each point
+   by Newton on H(y) = 0, <t0, y - y0>_w = s, converged on a last correction <= tol_correction
+   (the tangent and the test function come from the factors before it), predicted from the
+   nearer end of the bracket along its tangent (an error of the order of the bracket squared:
+   inside Newton's basin even next to a branch point). The bracket shrinks by the Illinois
+   variant of regula falsi, bisecting when two evaluations did not halve it, to locate_tol;
+   precision is its width, the point the end with the smaller |test function|. A branch point's
+   tangent is the mean of the tangents at s* -+ delta (delta = 1e-5 of the step; the one at s*
+   is off by eps cond B), its kernel two steps of inverse iteration with B at s* + delta, made
+   w-orthogonal to t. Measured (tests/test_detect.c): pitchfork and transcritical points on
+   all three backends to 1e-11 in the parameter, folds of the unit circle at l = +-1 with x
+   within 1e-10, events within 1e-10; a fold costs ~23 factorisations, an event ~18, a
+   branch point ~17 (dense; user backend ~75, a pole of a tau located and dropped on the
+   way: a location is abandoned once |tau| exceeds 1e3 times its values at the ends).
+   Kinks: a fold or a det change in a step that took the tangent switch, that locate_kinks
+   found a kink in, or whose tangents differ by more than c_diff and where the kink test of
+   locate_kinks finds one, is at a kink: FOLD_KINK / PC1, with the couple before it within
+   h_min / h_dec (the triangle's fold problem: both limit points, M64 gamma = 0.6666458 and
+   0.5654145 at h_min 1e-9).
+   PC1 (Ligursky and Renard's test of det [dH_j; t_j^T] det [dH_j+1; t_j+1^T] < 0 across a
+   kink): orient every branch leaving the point outwards; their signs add up to 0 (H maps
+   a small sphere around the point to R^N, and the signed count of zeros of such a map is
+   0), so at an ordinary kink (two branches) the test is never positive, and it is positive
+   exactly when the incoming and outgoing branches have the same outward sign: a sufficient
+   test of more than two branches, not a necessary one. Generated piecewise-linear families
+   (min(x, M x + q g), N = 2-4, kappa 0.3-4, traced through the origin): at 241 points with
+   4 or more branches the test was positive 139 times and detected all 139; at 215 ordinary
+   kinks no false alarm; every nonsmooth fold found (206 of 206). The block of Section 3
+   (M20x40), traced from each input branch through its nonsmooth point (six branches) to
+   gamma = 1: PC1 reported from input 3 (gamma = -1.6e-10, within 2e-9 of the kink), not from
+   inputs 1 and 2, where the switch continued on a branch of the other outward sign. A trace
+   that must not miss such points stops at its kinks (locate_kinks) and runs Algorithm 2.2. Not with the user backend
+   (PSB_ERR_OPTIONS): its factor callback forms dH itself, so neither the determinant nor
+   the authors' path of convex combinations of the two bordered matrices is available, and
+   tau's sign jumps with the matrix. With finite differences the last couple before a kink
+   lies within h_min of it, where quotients can mix the pieces: give an analytic selection
+   gradient (as for branching).
+   Cost of monitoring (all detectors, whole runs): block M20x40 (approach and six branches to
+   |gamma| = 1) 1258 -> 1286 factorisations (1.02x), no special point on the way; triangle
+   fold problem M16 177 -> 184 (1.04x), M64 1175 -> 1185 (1.01x), its two limit points.
+   psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
+   through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t +
+   sin a k), r = branch_h_init, 2 n_dir angles (-t first, then +t: branches 0 and 1 are the
+   traced curve), is corrected by Newton on the sphere ||y - y*||_w = r: each trial lands
+   where a branch crosses the sphere, and two landings within r sqrt(2 (1 - c_diff)) of each
+   other are one branch. A crossing does not depend on where the trial started, so curved
+   branches are told apart as straight ones are (landing points of trial steps, anywhere from
+   h_min to h away, were not: the tangents of one parabola differed by more than c_diff). With
+   fewer than four branches the circle is tried again at r/8 and r/64. All crossings in the
+   plane are found (four lines through a point: eight half-lines). The kernel may be larger
+   (symmetric problems: several pitchforks at one point): two steps of inverse iteration with
+   B at y* + 1e-4 r t from random vectors give up to 3 more directions, each kept while its
+   part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8
+   for the others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are
+   tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28
+   half-branches, the 26 half-parabolas with their analytic tangents).
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
    ------------------
@@ -706,11 +805,12 @@ typedef struct psb_solver {
     void *owned_;
     unsigned long long rng_[4];
     int last_fail_;
+    double sp_d_[2]; /* psb_trace's detectors: the corners d of the random borders (user backend) */
 } psb_solver;
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
    invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n (band_lean: (3 kl + 2 ku + 3) n);
-   user ~ 40 (n+1). */
+   user ~ 56 (n+1). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
@@ -773,7 +873,48 @@ PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t)
 #define PSB_POINT_SWITCH 4 /* reached through a tangent switch (a kink was passed) */
 #define PSB_POINT_BOUND 8  /* the point lies exactly on a parameter bound */
 #define PSB_POINT_KINK 16  /* the last couple before a kink, located to h_min (locate_kinks) */
+#define PSB_POINT_SPECIAL 32 /* p->special describes a located special point (its own on_point
+                                call, before the accepted point that follows it; detect) */
 #define PSB_MAX_FOLDS 16
+
+/* Kinds of special points on a traced curve (psb_trace_options.detect; manual section 6,
+   "Special points on the path"). */
+typedef enum psb_special_kind {
+    PSB_SPECIAL_FOLD = 1,      /* limit point: the parameter component of t vanishes (smooth) */
+    PSB_SPECIAL_FOLD_KINK = 2, /* nonsmooth fold: the parameter has an extremum at a kink */
+    PSB_SPECIAL_BRANCH = 3,    /* smooth branch point: the sign of det [dH; t^T] changes */
+    PSB_SPECIAL_PC1 = 4,       /* PC1 bifurcation passed through: det sign changes across a kink */
+    PSB_SPECIAL_EVENT = 5      /* a user event function changed sign */
+} psb_special_kind;
+
+typedef struct psb_special {
+    psb_special_kind kind;
+    const double *y, *t;  /* FOLD, BRANCH, EVENT: the located point on the curve and the unit
+                             tangent there (direction of travel), n+1 each. PC1, FOLD_KINK:
+                             the last couple on the incoming smooth piece, within `precision`
+                             of the kink (ready for psb_locate_end + psb_find_branches) */
+    const double *kernel; /* BRANCH: unit (||.||_w) second kernel direction of dH at the point,
+                             w-orthogonal to t (for psb_branch_point_switch); NULL otherwise.
+                             y, t, kernel point into the solver's memory: valid during the
+                             on_point call and until the next library call on the solver
+                             (psb_branch_point_switch and psb_locate_end take them as input) */
+    double param;         /* y[param_index] of the reported point */
+    double precision;     /* bound on the location error, ||.||_w along the curve */
+    int event;            /* EVENT: index of the event component; -1 otherwise */
+    int direction;        /* EVENT: +1 rising, -1 falling; 0 otherwise */
+} psb_special;
+
+/* psb_trace_options.detect: a bit mask */
+#define PSB_DETECT_FOLDS 1  /* smooth folds located, nonsmooth folds reported at their kink */
+#define PSB_DETECT_BRANCH 2 /* smooth branch points (dense, banded and user backends) */
+#define PSB_DETECT_PC1 4    /* PC1 bifurcation points passed through (dense and banded) */
+#define PSB_DETECT_EVENTS 8 /* sign changes of the event functions */
+#define PSB_DETECT_ALL 15
+
+/* Event functions g(y) = (g_0 .. g_{n_events-1}) (y: n+1 values in, g: n_events out); same
+   return convention as the residual (0 ok; > 0 or NaN/Inf: the trace fails with
+   PSB_ERR_CALLBACK_FAILED / PSB_ERR_NONFINITE; < 0 stops with PSB_ERR_CALLBACK). */
+typedef int (*psb_event_fn)(const double *y, double *g, void *user);
 
 typedef struct psb_point {
     const double *y, *t; /* the accepted couple (n+1 each) */
@@ -781,6 +922,7 @@ typedef struct psb_point {
     long index;          /* 0 for the start, then 1, 2, ... */
     int flags;           /* PSB_POINT_* */
     double fold_param;   /* with PSB_POINT_FOLD: estimated parameter value of the limit point */
+    const psb_special *special; /* non-NULL only with PSB_POINT_SPECIAL */
 } psb_point;
 
 /* Called for every accepted point; return nonzero to stop the trace (PSB_STOPPED). */
@@ -797,6 +939,16 @@ typedef struct psb_trace_options {
                                     a nonzero return from on_point there stops the trace on it */
     psb_point_fn on_point;       /* optional */
     void *point_user;
+    /* special points on the path (manual section 6, "Special points on the path") */
+    int detect;                  /* PSB_DETECT_* bit mask [0: none; results as without] */
+    unsigned stop_at;            /* bit (1u << kind): stop (PSB_STOPPED) with (y, t) the special
+                                    point's couple [0] */
+    double locate_tol;           /* precision of location, ||.||_w along the curve [1e-10] */
+    int n_events;                /* event components (PSB_DETECT_EVENTS) [0] */
+    psb_event_fn event;          /* required when n_events > 0 */
+    void *event_user;
+    double *event_work;          /* 3 n_events doubles of the caller's for the event values
+                                    (no allocation in the library) */
 } psb_trace_options;
 
 typedef struct psb_trace_report {
@@ -807,6 +959,7 @@ typedef struct psb_trace_report {
     int n_kinks;      /* kinks located (locate_kinks) */
     double fold_params[PSB_MAX_FOLDS]; /* their parameter values (the first PSB_MAX_FOLDS) */
     double h;         /* the step size at the end */
+    int n_special[6]; /* special points reported, by kind (index PSB_SPECIAL_*; 0 unused) */
 } psb_trace_report;
 
 /* Traces the curve through (y, t) (in/out; t is the direction of travel, ||t||_w = 1 is
@@ -856,6 +1009,17 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                                            int max_branches, double *ys, double *ts,
                                            psb_branch_report *rep);
 
+/* Branches through a smooth branch point located by psb_trace (y, t, kernel of a
+   PSB_SPECIAL_BRANCH point): every branch's couple (ys[k*(n+1) ...], ts[k*(n+1) ...],
+   k < max_branches) on the sphere of radius branch_h_init around y, ts oriented away from
+   the point; k = 0 is the traced curve backwards (-t), k = 1 forwards (+t), k >= 2 the new
+   ones (where more than two curves cross, all of them: in the plane of t and kernel, and in
+   a kernel of up to 5 dimensions). rep as psb_find_branches' (n_branches; n_pc counts the
+   sphere corrections, n_tangents the kernel's dimension besides t, n_span the radii tried).
+   Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
+PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
+                                                 const double *kernel, int max_branches,
+                                                 double *ys, double *ts, psb_branch_report *rep);
 /* ---- quasi-static evolution: one time step through folds (manual, section 6) ------------- */
 
 /* How psb_evolve_step solves its step. */
@@ -1167,6 +1331,9 @@ enum {
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
     PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P, PSB__V_BR_Q, PSB__V_BR_K, PSB__V_BR_S, /* branching */
+    PSB__V_BP_K0, PSB__V_BP_K1, PSB__V_BP_K2, PSB__V_BP_K3, /* kernel at a smooth branch point */
+    PSB__V_SP_Y, PSB__V_SP_T, PSB__V_SP_K, PSB__V_SP_YA, PSB__V_SP_TA, PSB__V_SP_YB, PSB__V_SP_TB,
+    PSB__V_SP_YE, PSB__V_SP_TE, PSB__V_SP_B1, PSB__V_SP_B2, PSB__V_SP_C1, PSB__V_SP_C2, /* special points */
     PSB__V_EV_Y, PSB__V_EV_T, PSB__V_EV_N, /* psb_evolve_step: path couple, Newton's solution */
     PSB__NVEC
 };
@@ -2702,14 +2869,514 @@ static psb_result psb__land_on_bound(psb_solver *s, const double *y0, double *y1
     return r;
 }
 
+/* ---- special points on the path (psb_trace_options.detect; manual section 6) ------------- */
+
+static unsigned long long psb__splitmix(unsigned long long *x);
+static double psb__gauss(unsigned long long *st);
+
+/* The branch-point test function at the current factors of B = [dH(y); row^T]. Dense and
+   banded: sign and log|.| of det B from the LU factors, O(N) and exact in sign. User backend
+   (factor/solve only): tau_k = 1 / (d_k - c_k^T B^{-1} b_k) = det B / det [B b_k; c_k^T d_k]
+   for two random borders, one solve with two right-hand sides. A tau changes sign at the
+   zeros of det B and at its own poles (where its bordered matrix is singular), and where a
+   pole lies next to a zero it shows neither: a sign change of either tau is located and kept
+   when |tau| shrank there (a zero), not grew (a pole). */
+typedef struct psb__mon {
+    double sign[2], logabs[2];
+} psb__mon;
+
+static psb_result psb__monitor(psb_solver *s, psb__mon *m)
+{
+    int np1 = s->np1_, n = s->n_, i, k;
+    double sign = 1, logabs = 0;
+    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
+    psb_result r;
+    if (s->prob.linear == PSB_LINEAR_DENSE) {
+        for (i = 0; i < np1; i++) {
+            double u = s->mat_[i + (size_t)i * (size_t)np1];
+            if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
+            logabs += log(fabs(u));
+        }
+    } else if (s->prob.linear == PSB_LINEAR_BANDED) {
+        /* det B = (-1)^(n - p) det A (d - c.w): the parameter column moved last. Factors of
+           A + sigma I (A nearly singular) would move a zero of det B by ~sigma: A is factored
+           as it is (exactly singular: det B = 0) */
+        int kv = s->prob.kl + s->prob.ku;
+        if (s->shifted_) {
+            r = psb__band_prepare(s, 0.0);
+            s->shifted_ = 0;
+            if (r == PSB_ERR_SINGULAR) {
+                s->border_ok_ = s->bv_ok_ = 0; /* no usable factors: the next solve refactors */
+                m->sign[0] = m->sign[1] = 1;
+                m->logabs[0] = m->logabs[1] = -700;
+                return PSB_SUCCESS;
+            }
+            if (r != PSB_SUCCESS) return r;
+        }
+        if (!s->border_ok_) {
+            r = psb__band_border(s, NULL);
+            if (r != PSB_SUCCESS) return r;
+        }
+        for (i = 0; i < n; i++) {
+            double u = s->lu_[(size_t)kv + (size_t)i * (size_t)s->ldlu_];
+            if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
+            logabs += log(fabs(u));
+        }
+        if (s->delta_ < 0) sign = -sign;
+        if ((n - s->prob.param_index) % 2) sign = -sign;
+        logabs += log(fabs(s->delta_));
+    } else {
+        double *x = s->rhs_, q[2];
+        psb__copy(x, PSB__VEC(s, PSB__V_SP_B1), np1);
+        psb__copy(x + np1, PSB__VEC(s, PSB__V_SP_B2), np1);
+        r = psb__solve_factored(s, x, 2);
+        if (r != PSB_SUCCESS) return r;
+        for (k = 0; k < 2; k++) {
+            const double *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
+            q[k] = s->sp_d_[k];
+            for (i = 0; i < np1; i++) q[k] -= c[i] * x[(size_t)k * (size_t)np1 + (size_t)i];
+        }
+        for (k = 0; k < 2; k++) {
+            m->sign[k] = q[k] < 0 ? -1 : 1;
+            m->logabs[k] = -log(fabs(q[k]));
+            if (!psb__finite(m->logabs[k])) m->logabs[k] = m->logabs[k] > 0 ? 700 : -700;
+        }
+        return PSB_SUCCESS;
+    }
+    if (!psb__finite(logabs)) logabs = -700;
+    m->sign[0] = m->sign[1] = sign;
+    m->logabs[0] = m->logabs[1] = logabs;
+    return PSB_SUCCESS;
+}
+
+/* Newton's method on H(y) = 0 plus one scalar equation, from the prediction in y (in/out,
+   replaced only on convergence): dir != NULL, the plane <dir, y - base>_w = value (points of
+   the curve by their pseudo-arclength from base); dir == NULL, the sphere ||y - base||_w =
+   value. t (out, may be NULL): the unit tangent there, oriented along dir (or outwards), from
+   the same factorisation as the last correction, whose factors stay for psb__monitor.
+   Converged as the corrector, but on the last correction alone (<= tol_correction). */
+static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const double *base,
+                                 const double *dir, double value)
+{
+    int n = s->n_, np1 = s->np1_, it, i;
+    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->work_;
+    psb_result r;
+    psb__copy(yc, y, np1);
+    r = psb__residual(s, yc, s->res_);
+    if (r != PSB_SUCCESS) return r;
+    for (it = 1; it <= s->opt.max_iter; it++) {
+        double corr, res, g = 0;
+        s->stats.n_newton++;
+        r = psb__jacobian(s, yc, s->res_);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < np1; i++) {
+            double d = yc[i] - base[i];
+            row[i] = s->w_[i] * (dir ? dir[i] : d);
+            g += row[i] * (dir ? d : 0.5 * d);
+        }
+        g -= dir ? value : 0.5 * value * value;
+        r = psb__factor_bordered(s, row, NULL);
+        if (r != PSB_SUCCESS) return r;
+        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
+        s->rhs_[n] = g;
+        memset(s->rhs_ + np1, 0, (size_t)np1 * sizeof(double));
+        s->rhs_[np1 + n] = 1;
+        r = psb__solve_factored(s, s->rhs_, 2);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
+        corr = psb_norm_w(s, s->rhs_);
+        r = psb__residual(s, yc, s->res_);
+        if (r != PSB_SUCCESS) return r;
+        res = psb__norm2(s->res_, n);
+        /* not on the contraction estimate: the tangent and the test function come from the
+           factors at the iterate before the last correction, which must be as small as the
+           location's precision */
+        if (res <= s->opt.tol_residual && corr <= s->opt.tol_correction) {
+            if (t) {
+                psb__copy(t, s->rhs_ + np1, np1);
+                if (!psb__normalize_w(s, t)) {
+                    s->last_fail_ = PSB__FAIL_SINGULAR;
+                    return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
+                }
+            }
+            psb__copy(y, yc, np1);
+            return PSB_SUCCESS;
+        }
+    }
+    s->last_fail_ = PSB__FAIL_CONVERGE;
+    return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Newton on the constrained system did not converge");
+}
+
+/* The scalar whose sign change marks a special point, at a point (y, t) just computed by
+   psb__newton_on: t[param] (folds), det B scaled by exp(-ref) (branch points), g_k(y)
+   (events). */
+typedef struct psb__sp_fn {
+    psb_special_kind kind;
+    int index;
+    const psb_trace_options *to;
+    double ref;
+} psb__sp_fn;
+
+static psb_result psb__event_values(psb_solver *s, const psb_trace_options *to, const double *y,
+                                    double *g)
+{
+    psb_result r = psb__callback_code(s, to->event(y, g, to->event_user), "event callback returned nonzero");
+    if (r != PSB_SUCCESS) return r;
+    if (!psb__all_finite(g, (size_t)to->n_events))
+        return psb__fail(s, PSB_ERR_NONFINITE, "event callback returned NaN or Inf");
+    return PSB_SUCCESS;
+}
+
+static psb_result psb__sp_value(psb_solver *s, const psb__sp_fn *fn, const double *y,
+                                const double *t, double *f)
+{
+    psb__mon m;
+    psb_result r;
+    switch (fn->kind) {
+    case PSB_SPECIAL_FOLD: *f = t[s->prob.param_index]; return PSB_SUCCESS;
+    case PSB_SPECIAL_EVENT: {
+        double *g = fn->to->event_work + 2 * fn->to->n_events;
+        r = psb__event_values(s, fn->to, y, g);
+        *f = g[fn->index];
+        return r;
+    }
+    default:
+        r = psb__monitor(s, &m);
+        if (r != PSB_SUCCESS) return r;
+        *f = m.sign[fn->index] * exp(fmin(fmax(m.logabs[fn->index] - fn->ref, -700.0), 700.0));
+        return PSB_SUCCESS;
+    }
+}
+
+/* Locates the sign change of fn between the accepted couples (y0, t0) and y1, on the curve
+   parameterised by s = <t0, y - y0>_w (psb__newton_on on the plane): both ends are evaluated
+   again on that parameterisation, then the bracket shrinks by the Illinois variant of regula
+   falsi, bisecting whenever two evaluations did not halve it, until it is below tol. Each
+   point is predicted from the nearer end along its tangent, so the prediction error is of
+   the order of the bracket squared, well inside Newton's basin even next to a branch point.
+   Leaves in SP_Y/SP_T the end with the smaller |f| (fabs_end) and sets *precision to the
+   bracket's width; *f0_abs, *f1_abs: |f| at the first two ends. Returns PSB_SUCCESS,
+   PSB_NONSMOOTH_END (no sign change on re-evaluation: nothing to locate), or a failure; a
+   Newton failure inside stops the shrinking with the bracket reached. */
+static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double *y0,
+                                     const double *t0, const double *y1, double tol,
+                                     double *precision, double *fend_abs, double *f01_abs)
+{
+    int np1 = s->np1_, iter, side = 0, bisect = 0, evals = 0, i;
+    double *ya = PSB__VEC(s, PSB__V_SP_YA), *ta = PSB__VEC(s, PSB__V_SP_TA);
+    double *yb = PSB__VEC(s, PSB__V_SP_YB), *tb = PSB__VEC(s, PSB__V_SP_TB);
+    double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
+    double sa = 0, sb = 0, fa, fb, ga, gb, width_before = 0;
+    psb_result r;
+    for (i = 0; i < np1; i++) sb += s->w_[i] * t0[i] * (y1[i] - y0[i]);
+    if (!(sb > 0)) return PSB_NONSMOOTH_END;
+    psb__copy(ya, y0, np1);
+    r = psb__newton_on(s, ya, ta, y0, t0, 0);
+    if (r == PSB_SUCCESS) {
+        psb__mon m;
+        if (fn->kind == PSB_SPECIAL_BRANCH) {
+            r = psb__monitor(s, &m);
+            fn->ref = m.logabs[fn->index];
+        }
+        if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ya, ta, &fa);
+    }
+    if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_NONSMOOTH_END;
+    psb__copy(yb, y1, np1);
+    r = psb__newton_on(s, yb, tb, y0, t0, sb);
+    if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, yb, tb, &fb);
+    if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_NONSMOOTH_END;
+    f01_abs[0] = fabs(fa);
+    f01_abs[1] = fabs(fb);
+    if ((fa < 0) == (fb < 0)) return PSB_NONSMOOTH_END;
+    ga = fa;
+    gb = fb;
+    for (iter = 0; sb - sa > tol && iter < 200 && fa != 0 && fb != 0; iter++) {
+        double sm, fm, se, c;
+        const double *yf, *tf;
+        int from_a;
+        if (evals % 2 == 0) {
+            bisect = evals > 0 && sb - sa > 0.5 * width_before;
+            width_before = sb - sa;
+        }
+        sm = bisect ? 0.5 * (sa + sb) : (sa * gb - sb * ga) / (gb - ga);
+        if (!(sm > sa && sm < sb)) sm = 0.5 * (sa + sb);
+        from_a = sm - sa <= sb - sm;
+        yf = from_a ? ya : yb;
+        tf = from_a ? ta : tb;
+        se = from_a ? sa : sb;
+        c = psb_dot_w(s, t0, tf);
+        for (i = 0; i < np1; i++) ye[i] = yf[i] + (sm - se) / c * tf[i];
+        r = psb__newton_on(s, ye, te, y0, t0, sm);
+        if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
+        if (psb__is_fatal(r)) return r;
+        /* the user backend's tau growing far beyond its values at the ends: a pole */
+        if (r == PSB_SUCCESS && fn->kind == PSB_SPECIAL_BRANCH && s->prob.linear == PSB_LINEAR_USER &&
+            fabs(fm) > 1e3 * fmax(f01_abs[0], f01_abs[1]))
+            return PSB_NONSMOOTH_END;
+        evals++;
+        if (r != PSB_SUCCESS) {
+            if (bisect) break; /* even the midpoint failed: keep the bracket reached */
+            bisect = 1;
+            continue;
+        }
+        if ((fm < 0) == (fa < 0)) {
+            sa = sm; fa = ga = fm;
+            psb__copy(ya, ye, np1); psb__copy(ta, te, np1);
+            if (side == -1) gb *= 0.5; /* Illinois: the end kept twice has its value halved */
+            side = -1;
+        } else {
+            sb = sm; fb = gb = fm;
+            psb__copy(yb, ye, np1); psb__copy(tb, te, np1);
+            if (side == 1) ga *= 0.5;
+            side = 1;
+        }
+    }
+    if (fabs(fa) <= fabs(fb)) {
+        psb__copy(PSB__VEC(s, PSB__V_SP_Y), ya, np1);
+        psb__copy(PSB__VEC(s, PSB__V_SP_T), ta, np1);
+        *fend_abs = fabs(fa);
+    } else {
+        psb__copy(PSB__VEC(s, PSB__V_SP_Y), yb, np1);
+        psb__copy(PSB__VEC(s, PSB__V_SP_T), tb, np1);
+        *fend_abs = fabs(fb);
+    }
+    *precision = fa == 0 || fb == 0 ? 0 : sb - sa;
+    s->message[0] = 0;
+    return PSB_SUCCESS;
+}
+
+/* Tangent and second kernel direction at a located branch point y* = SP_Y, s* from y0 along
+   t0. The tangent from B^{-1} e_{N+1} right at y* carries an error ~ eps cond(B), and B is
+   singular there; the mean of the tangents at s* -+ delta is O(delta^2 + eps / delta) off.
+   The kernel: two steps of inverse iteration with B at s* + delta (nearly singular, its
+   near-null vector is, to O(delta), dH's second kernel direction w-orthogonal to t0; each
+   step gains a factor ~ delta), from a random right-hand side, then made w-orthogonal to the
+   tangent. Results in SP_T, SP_K. */
+static psb_result psb__branch_directions(psb_solver *s, const double *y0, const double *t0,
+                                         double span)
+{
+    int np1 = s->np1_, i, k, it;
+    double *ys = PSB__VEC(s, PSB__V_SP_Y), *ts = PSB__VEC(s, PSB__V_SP_T), *ks = PSB__VEC(s, PSB__V_SP_K);
+    double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
+    double *tsum = PSB__VEC(s, PSB__V_SP_TA), sstar = 0, delta, c;
+    psb_result r = PSB_ERR_SINGULAR;
+    for (i = 0; i < np1; i++) sstar += s->w_[i] * t0[i] * (ys[i] - y0[i]);
+    delta = fmin(1e-5 * span, 0.25 * fmin(sstar, span - sstar));
+    memset(tsum, 0, (size_t)np1 * sizeof(double));
+    for (k = -1; k <= 1 && delta > 0; k += 2) {
+        psb__axpy_to(ye, ys, k * delta / psb_dot_w(s, t0, ts), ts, np1);
+        r = psb__newton_on(s, ye, te, y0, t0, sstar + k * delta);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < np1; i++) tsum[i] += te[i];
+    }
+    if (r != PSB_SUCCESS) return r;
+    psb__copy(ts, tsum, np1);
+    psb__normalize_w(s, ts);
+    for (i = 0; i < np1; i++) ks[i] = psb__gauss(s->rng_);
+    for (it = 0; it < 2; it++) {
+        r = psb__solve_factored(s, ks, 1);
+        if (r != PSB_SUCCESS) return r;
+        if (!psb__normalize_w(s, ks)) break;
+    }
+    c = psb_dot_w(s, ks, ts);
+    for (i = 0; i < np1; i++) ks[i] -= c * ts[i];
+    if (!psb__normalize_w(s, ks)) return psb__fail(s, PSB_ERR_SINGULAR, "kernel estimate vanished");
+    return PSB_SUCCESS;
+}
+
+/* What psb_trace's detectors carry from one accepted point to the next. */
+typedef struct psb__detector {
+    const psb_trace_options *to;
+    psb_trace_report *rep;
+    psb__mon mon_old, mon_new;
+    int mon_on, mon_old_ok, mon_new_ok;
+    double *g_old, *g_new;
+    psb_special sp;
+} psb__detector;
+
+/* The test function at (y, t) by a factorisation of its own (start point, bound landing). */
+static psb_result psb__monitor_at(psb_solver *s, const double *y, const double *t, psb__mon *m)
+{
+    int i;
+    psb_result r = psb__jacobian(s, y, NULL);
+    if (r != PSB_SUCCESS) return r;
+    for (i = 0; i < s->np1_; i++) s->work_[i] = s->w_[i] * t[i];
+    r = psb__factor_bordered(s, s->work_, NULL);
+    if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_BANDED) r = psb__band_border(s, NULL);
+    if (r != PSB_SUCCESS) return r;
+    return psb__monitor(s, m);
+}
+
+/* Sets up the detectors at the start couple: borders of the user backend's test function
+   from the generator, reseeded from options.seed; the test function and events there. */
+static psb_result psb__detect_start(psb_solver *s, psb__detector *d, const double *y, const double *t)
+{
+    const psb_trace_options *to = d->to;
+    unsigned long long seed = s->opt.seed;
+    int k, i;
+    psb_result r;
+    for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
+    for (k = 0; k < 2; k++) {
+        double *b = PSB__VEC(s, k ? PSB__V_SP_B2 : PSB__V_SP_B1), *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
+        for (i = 0; i < s->np1_; i++) b[i] = psb__gauss(s->rng_);
+        for (i = 0; i < s->np1_; i++) c[i] = psb__gauss(s->rng_);
+        s->sp_d_[k] = psb__gauss(s->rng_);
+    }
+    d->mon_on = (to->detect & (PSB_DETECT_BRANCH | PSB_DETECT_PC1)) != 0;
+    d->mon_old_ok = 0;
+    if (d->mon_on) {
+        r = psb__monitor_at(s, y, t, &d->mon_old);
+        if (psb__is_fatal(r)) return r;
+        d->mon_old_ok = r == PSB_SUCCESS;
+    }
+    if ((to->detect & PSB_DETECT_EVENTS) && to->n_events > 0) {
+        d->g_old = to->event_work;
+        d->g_new = to->event_work + to->n_events;
+        r = psb__event_values(s, to, y, d->g_old);
+        if (r != PSB_SUCCESS) return r;
+    }
+    s->message[0] = 0;
+    return PSB_SUCCESS;
+}
+
+/* Reports d->sp: counted, passed to on_point; returns 1 when the trace is to stop there. */
+static int psb__report_special(psb__detector *d, long index)
+{
+    psb_point p;
+    d->rep->n_special[d->sp.kind]++;
+    memset(&p, 0, sizeof p);
+    p.y = d->sp.y;
+    p.t = d->sp.t;
+    p.index = index;
+    p.flags = PSB_POINT_SPECIAL;
+    p.special = &d->sp;
+    if (d->to->on_point && d->to->on_point(&p, d->to->point_user)) return 1;
+    return (d->to->stop_at >> d->sp.kind & 1u) != 0;
+}
+
+static void psb__special_init(psb__detector *d, psb_special_kind kind, const double *y,
+                              const double *t, int param_index)
+{
+    memset(&d->sp, 0, sizeof d->sp);
+    d->sp.kind = kind;
+    d->sp.y = y;
+    d->sp.t = t;
+    d->sp.param = y[param_index];
+    d->sp.event = -1;
+}
+
+/* The detectors for the accepted step from (y0, t0) to (y1, t1) of length h_step: kink
+   (1: the couple before a kink is in K_YA/K_TA, 2: (y0, t0) is, the step was a tangent
+   switch, 0: none known). Returns 0 to go on, 1 to stop at d->sp (PSB_STOPPED), or a
+   failure code. */
+static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, const double *t0,
+                            const double *y1, const double *t1, int kink, double h_step, long index)
+{
+    const psb_trace_options *to = d->to;
+    int p = s->prob.param_index, detect = to->detect, k, fold, branch, changed[2];
+    double tol = to->locate_tol > 0 ? to->locate_tol : 1e-10, precision, fend, f01[2];
+    const double *yk = NULL, *tk = NULL;
+    psb__sp_fn fn;
+    psb_result r;
+    fold = (detect & PSB_DETECT_FOLDS) && t0[p] * t1[p] < 0;
+    for (k = 0; k < 2; k++)
+        changed[k] = d->mon_on && d->mon_old_ok && d->mon_new_ok && d->mon_old.sign[k] != d->mon_new.sign[k];
+    branch = changed[0] || changed[1];
+    if (!kink && (fold || branch) && psb__cos_w(s, t0, t1) < s->opt.c_diff) {
+        /* a fold or a det sign change in a step that turned: at a kink, or smooth? */
+        int found = psb__locate_kink(s, y0, t0, t1, h_step);
+        if (found < 0) return found;
+        kink = found;
+    }
+    if (kink == 1) {
+        yk = PSB__VEC(s, PSB__V_K_YA);
+        tk = PSB__VEC(s, PSB__V_K_TA);
+    } else if (kink == 2) {
+        yk = y0;
+        tk = t0;
+    }
+    memset(&fn, 0, sizeof fn);
+    fn.to = to;
+    if (fold) {
+        if (kink) {
+            psb__special_init(d, PSB_SPECIAL_FOLD_KINK, yk, tk, p);
+            d->sp.precision = s->opt.h_min / s->opt.h_dec;
+            if (psb__report_special(d, index)) return 1;
+        } else {
+            fn.kind = PSB_SPECIAL_FOLD;
+            r = psb__locate_change(s, &fn, y0, t0, y1, tol, &precision, &fend, f01);
+            if (r < 0) return r;
+            if (r == PSB_SUCCESS) {
+                psb__special_init(d, PSB_SPECIAL_FOLD, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
+                d->sp.precision = precision;
+                if (psb__report_special(d, index)) return 1;
+            }
+        }
+    }
+    if (branch && kink && (detect & PSB_DETECT_PC1)) {
+        psb__special_init(d, PSB_SPECIAL_PC1, yk, tk, p);
+        d->sp.precision = s->opt.h_min / s->opt.h_dec;
+        if (psb__report_special(d, index)) return 1;
+    } else if (branch && !kink && (detect & PSB_DETECT_BRANCH)) {
+        fn.kind = PSB_SPECIAL_BRANCH;
+        r = PSB_NONSMOOTH_END;
+        for (k = 0; k < 2 && r != PSB_SUCCESS; k++) {
+            if (!changed[k]) continue;
+            fn.index = k;
+            r = psb__locate_change(s, &fn, y0, t0, y1, tol, &precision, &fend, f01);
+            if (r < 0) return r;
+            /* the user backend's tau also changes sign at its poles: a zero shrinks |tau|
+               below its values at the ends, a pole grows it beyond */
+            if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_USER && fend > fmin(f01[0], f01[1]))
+                r = PSB_NONSMOOTH_END;
+        }
+        if (r == PSB_SUCCESS) {
+            double span = 0;
+            for (k = 0; k < s->np1_; k++) span += s->w_[k] * t0[k] * (y1[k] - y0[k]);
+            r = psb__branch_directions(s, y0, t0, span);
+            if (psb__is_fatal(r)) return r;
+            psb__special_init(d, PSB_SPECIAL_BRANCH, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
+            d->sp.kernel = r == PSB_SUCCESS ? PSB__VEC(s, PSB__V_SP_K) : NULL;
+            d->sp.precision = precision;
+            if (psb__report_special(d, index)) return 1;
+        }
+    }
+    if ((detect & PSB_DETECT_EVENTS) && to->n_events > 0) {
+        double *swap;
+        r = psb__event_values(s, to, y1, d->g_new);
+        if (r != PSB_SUCCESS) return r;
+        for (k = 0; k < to->n_events; k++) {
+            if ((d->g_old[k] < 0) == (d->g_new[k] < 0)) continue;
+            fn.kind = PSB_SPECIAL_EVENT;
+            fn.index = k;
+            r = psb__locate_change(s, &fn, y0, t0, y1, tol, &precision, &fend, f01);
+            if (r < 0) return r;
+            if (r != PSB_SUCCESS) continue;
+            psb__special_init(d, PSB_SPECIAL_EVENT, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
+            d->sp.precision = precision;
+            d->sp.event = k;
+            d->sp.direction = d->g_new[k] > d->g_old[k] ? 1 : -1;
+            if (psb__report_special(d, index)) return 1;
+        }
+        swap = d->g_old;
+        d->g_old = d->g_new;
+        d->g_new = swap;
+    }
+    d->mon_old = d->mon_new;
+    d->mon_old_ok = d->mon_new_ok;
+    s->message[0] = 0;
+    return 0;
+}
+
 PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                                    const psb_trace_options *to, psb_trace_report *rep)
 {
     psb_trace_options opts;
     psb_trace_report local;
     psb_point pt;
+    psb__detector det;
     int np1, p, bounded, iters, flags, kink, just_switched = 0;
-    double h, travelled = 0;
+    double h, h_step = 0, travelled = 0;
     double *yc, *tc, *yold, *told, *ystart, *tkink;
     psb_result r;
     if (!rep) rep = &local;
@@ -2724,6 +3391,14 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     bounded = opts.param_min < opts.param_max;
     if (bounded && (!(y[p] >= opts.param_min) || !(y[p] <= opts.param_max)))
         return rep->end = psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
+    if (opts.detect < 0 || opts.detect > PSB_DETECT_ALL || !(opts.locate_tol >= 0) ||
+        !psb__finite(opts.locate_tol))
+        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "detect must be a PSB_DETECT_* mask and locate_tol >= 0");
+    if ((opts.detect & PSB_DETECT_PC1) && s->prob.linear == PSB_LINEAR_USER)
+        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "PSB_DETECT_PC1 needs the dense or banded backend");
+    if (opts.n_events < 0) return rep->end = psb__fail(s, PSB_ERR_SIZE, "n_events must be >= 0");
+    if ((opts.detect & PSB_DETECT_EVENTS) && opts.n_events > 0 && (!opts.event || !opts.event_work))
+        return rep->end = psb__fail(s, PSB_ERR_NULL, "event or event_work is NULL");
     yc = PSB__VEC(s, PSB__V_TR_Y);
     tc = PSB__VEC(s, PSB__V_TR_T);
     yold = PSB__VEC(s, PSB__V_TR_Y0);
@@ -2735,6 +3410,13 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     psb__normalize_w(s, tc);
     psb__copy(ystart, yc, np1);
     h = s->opt.h_init;
+    memset(&det, 0, sizeof det);
+    det.to = &opts;
+    det.rep = rep;
+    if (opts.detect) {
+        r = psb__detect_start(s, &det, yc, tc);
+        if (r != PSB_SUCCESS) { rep->end = r; goto done; }
+    }
     memset(&pt, 0, sizeof pt);
     pt.y = yc;
     pt.t = tc;
@@ -2749,12 +3431,14 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         flags = 0;
         kink = 0;
         r = psb__try_step(s, yc, tc, &h, s->opt.h_min, &iters);
+        h_step = h;
         if (r == PSB_ERR_STEP_TOO_SMALL) {
             if (opts.no_switch) { rep->end = PSB_NONSMOOTH_END; goto done; }
             r = psb__switch(s, yc, tc, just_switched ? tkink : NULL);
             psb__copy(tkink, told, np1);
             if (r == PSB_NONSMOOTH_END) { rep->end = r; goto done; }
             if (r != PSB_SUCCESS) { rep->end = r; goto done; }
+            /* the test function from the factors of the switch step's last corrector iteration */
             flags |= PSB_POINT_SWITCH;
             rep->n_switches++;
             h = s->opt.h_init;
@@ -2767,6 +3451,12 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             rep->end = r;
             goto done;
         } else {
+            /* the test function from the factors of the step's last corrector iteration */
+            if (det.mon_on) {
+                r = psb__monitor(s, &det.mon_new);
+                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                det.mon_new_ok = r == PSB_SUCCESS;
+            }
             if (opts.locate_kinks) {
                 int found = psb__locate_kink(s, yold, told, tc, h);
                 if (found < 0) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = (psb_result)found; goto done; }
@@ -2789,6 +3479,13 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                 goto done;
             }
         }
+        /* across a kink the corrector's last factorisation may be at an iterate on the other
+           piece: the test function then costs a factorisation at the accepted point */
+        if (det.mon_on && ((flags & PSB_POINT_SWITCH) || psb__cos_w(s, told, tc) < s->opt.c_diff)) {
+            r = psb__monitor_at(s, yc, tc, &det.mon_new);
+            if (psb__is_fatal(r)) { rep->end = r; goto done; }
+            det.mon_new_ok = r == PSB_SUCCESS;
+        }
         if (bounded && (yc[p] > opts.param_max || yc[p] < opts.param_min)) {
             double bound = yc[p] > opts.param_max ? opts.param_max : opts.param_min;
             if (yold[p] == bound) { /* leaving through the bound we started on */
@@ -2810,6 +3507,11 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                 continue;
             }
             flags |= PSB_POINT_BOUND;
+            if (det.mon_on) {
+                r = psb__monitor_at(s, yc, tc, &det.mon_new);
+                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                det.mon_new_ok = r == PSB_SUCCESS;
+            }
         }
         just_switched = (flags & PSB_POINT_SWITCH) != 0;
         rep->steps++;
@@ -2821,6 +3523,17 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             pt.fold_param = (flags & PSB_POINT_SWITCH) ? yold[p] : psb__fold_param(s, yold, told, yc, tc);
             if (rep->n_folds < PSB_MAX_FOLDS) rep->fold_params[rep->n_folds] = pt.fold_param;
             rep->n_folds++;
+        }
+        if (opts.detect) {
+            int stop = psb__detect_step(s, &det, yold, told, yc, tc,
+                                        (flags & PSB_POINT_SWITCH) ? 2 : kink, h_step, rep->steps);
+            if (stop < 0) { rep->end = (psb_result)stop; goto done; }
+            if (stop) {
+                psb__copy(yc, det.sp.y, np1);
+                psb__copy(tc, det.sp.t, np1);
+                rep->end = PSB_STOPPED;
+                goto done;
+            }
         }
         pt.index = rep->steps;
         pt.flags = flags;
@@ -3332,6 +4045,173 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
         /* adaptive end: spans in a row that brought no new branch */
         idle = rep->n_branches > found_before ? 0 : idle + 1;
         if (s->opt.branch_patience && idle >= s->opt.branch_patience) break;
+    }
+    s->message[0] = 0;
+    return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+}
+
+/* ---- switching at a smooth branch point ----------------------------------------------------
+   Near a branch point y* the solutions lie, to first order, on lines through y* in the kernel
+   of dH(y*): the plane of t and the second kernel direction k at a simple branch point. Trial
+   points y* + r v, v in that kernel, are corrected by Newton on the sphere ||y - y*||_w = r,
+   which lands where a branch crosses the sphere: the crossings are isolated points, so two
+   trials landed on the same branch when they lie within r sqrt(2 (1 - c_diff)) of each other
+   (c_diff's angle seen from y*). Unlike a trial step's landing point, which lies anywhere from
+   h_min to h from y*, a crossing does not depend on where the trial started, so curved
+   branches are told apart by c_diff as straight ones are. */
+
+#define PSB__KERNEL_MAX 4 /* kernel directions besides t that psb_branch_point_switch sweeps */
+
+/* One trial from y* + r v (v unit); a new crossing is stored (*overflow when no room). keep
+   (the traced curve's trials, -t and +t): a failed trial stores the couple (y*, v), so that
+   branches 0 and 1 stay the traced curve. */
+static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double *v, double r,
+                                    int keep, int max_branches, double *ys, double *ts,
+                                    psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->np1_, j, m;
+    double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
+    psb_result res;
+    for (m = 0; m < np1; m++) yb[m] = y[m] + r * v[m];
+    rep->n_pc++;
+    s->stats.n_pc_steps++;
+    res = psb__newton_on(s, yb, tb, y, NULL, r);
+    if (psb__is_fatal(res)) return res;
+    if (res != PSB_SUCCESS) {
+        if (!keep) return PSB_SUCCESS;
+        psb__copy(yb, y, np1);
+        psb__copy(tb, v, np1);
+    } else {
+        double same = r * sqrt(2 * (1 - s->opt.c_diff));
+        for (j = 0; j < rep->n_branches; j++)
+            if (psb__dist_w(s, yb, ys + (size_t)j * (size_t)np1) <= same) return PSB_SUCCESS;
+    }
+    if (rep->n_branches >= max_branches) {
+        *overflow = 1;
+        return PSB_SUCCESS;
+    }
+    psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
+    psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
+    rep->n_branches++;
+    return PSB_SUCCESS;
+}
+
+/* Kernel directions of dH at y beyond t and ks[0] (given): inverse iteration, two steps from
+   random vectors, with B = [dH(y + delta t); (W t)^T], delta = 1e-4 r, whose near-null vectors
+   span the kernel w-orthogonal to t to O(delta). A direction is new when its part outside t
+   and the known ones is above 1e-3 (a near-null vector keeps O(1) of it, any other ~delta^2).
+   Returns the number of directions in ks (PSB__KERNEL_MAX at most), at least 1. */
+static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, double r, double *ks)
+{
+    int np1 = s->np1_, kdim = 1, i, j, it, attempt;
+    double *yq = PSB__VEC(s, PSB__V_BR_P), *row = s->work_, *v = ks + (size_t)kdim * (size_t)np1;
+    psb_result res = PSB_ERR_SINGULAR;
+    for (attempt = 0; attempt < 3 && res != PSB_SUCCESS; attempt++) {
+        psb__axpy_to(yq, y, 1e-4 * r * pow(4.0, attempt), t, np1);
+        res = psb__jacobian(s, yq, NULL);
+        if (res != PSB_SUCCESS) return kdim;
+        for (i = 0; i < np1; i++) row[i] = s->w_[i] * t[i];
+        res = psb__factor_bordered(s, row, NULL);
+    }
+    if (res != PSB_SUCCESS) return kdim;
+    while (kdim < PSB__KERNEL_MAX) {
+        double before, after;
+        v = ks + (size_t)kdim * (size_t)np1;
+        for (i = 0; i < np1; i++) v[i] = psb__gauss(s->rng_) / sqrt(s->w_[i]);
+        for (it = 0; it < 2; it++) {
+            if (psb__solve_factored(s, v, 1) != PSB_SUCCESS || !psb__normalize_w(s, v)) return kdim;
+        }
+        before = psb_norm_w(s, v);
+        for (it = 0; it < 2; it++) { /* twice: Gram-Schmidt that keeps orthogonality */
+            double c = psb_dot_w(s, v, t);
+            for (i = 0; i < np1; i++) v[i] -= c * t[i];
+            for (j = 0; j < kdim; j++) {
+                const double *kj = ks + (size_t)j * (size_t)np1;
+                c = psb_dot_w(s, v, kj);
+                for (i = 0; i < np1; i++) v[i] -= c * kj[i];
+            }
+        }
+        after = psb_norm_w(s, v);
+        if (!(after > 1e-3 * before) || !psb__normalize_w(s, v)) break;
+        kdim++;
+    }
+    s->message[0] = 0;
+    return kdim;
+}
+
+/* The trials at radius r: the circle of t and ks[0] (2 n_dir angles, -t first, then +t), and
+   with a larger kernel (kdim > 1) 2 n_dir kdim^2 random directions in it. */
+static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double *t, const double *ks,
+                                    int kdim, double r, int max_branches, double *ys, double *ts,
+                                    psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->np1_, n_trial = 2 * s->opt.n_dir, i, j, m;
+    double *v = PSB__VEC(s, PSB__V_BR_TT);
+    psb_result res;
+    for (i = 0; i < n_trial; i++) {
+        int step = i == 0 ? n_trial / 2 : i == n_trial / 2 ? 0 : i;
+        double a = 6.283185307179586 * step / n_trial;
+        for (m = 0; m < np1; m++) v[m] = cos(a) * t[m] + sin(a) * ks[m];
+        res = psb__sphere_trial(s, y, v, r, i < 2, max_branches, ys, ts, rep, overflow);
+        if (res != PSB_SUCCESS) return res;
+    }
+    for (i = 0; kdim > 1 && i < n_trial * kdim * kdim; i++) {
+        double g = psb__gauss(s->rng_);
+        for (m = 0; m < np1; m++) v[m] = g * t[m];
+        for (j = 0; j < kdim; j++) {
+            g = psb__gauss(s->rng_);
+            for (m = 0; m < np1; m++) v[m] += g * ks[(size_t)j * (size_t)np1 + (size_t)m];
+        }
+        if (!psb__normalize_w(s, v)) continue;
+        res = psb__sphere_trial(s, y, v, r, 0, max_branches, ys, ts, rep, overflow);
+        if (res != PSB_SUCCESS) return res;
+    }
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
+                                                 const double *kernel, int max_branches,
+                                                 double *ys, double *ts, psb_branch_report *rep)
+{
+    psb_branch_report local;
+    int np1, i, overflow = 0, kdim;
+    unsigned long long seed;
+    double *yc, *tc, *kc, c, r;
+    psb_result res;
+    if (!rep) rep = &local;
+    memset(rep, 0, sizeof *rep);
+    res = psb__check_couple(s, y, t);
+    if (res != PSB_SUCCESS) return res;
+    if (!kernel || !ys || !ts) return psb__fail(s, PSB_ERR_NULL, "kernel, ys or ts is NULL");
+    if (max_branches < 1) return psb__fail(s, PSB_ERR_SIZE, "max_branches must be >= 1");
+    np1 = s->np1_;
+    if (!psb__all_finite(kernel, (size_t)np1)) return psb__fail(s, PSB_ERR_NONFINITE, "kernel contains NaN or Inf");
+    yc = PSB__VEC(s, PSB__V_BR_Y0);
+    tc = PSB__VEC(s, PSB__V_BR_T0);
+    kc = PSB__VEC(s, PSB__V_BP_K0); /* PSB__KERNEL_MAX vectors from here: BP_K0 .. BP_K3 */
+    psb__copy(yc, y, np1);
+    psb__copy(tc, t, np1);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    c = psb_dot_w(s, kernel, tc);
+    for (i = 0; i < np1; i++) kc[i] = kernel[i] - c * tc[i];
+    if (!psb__normalize_w(s, kc)) return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
+    seed = s->opt.seed;
+    for (i = 0; i < 4; i++) s->rng_[i] = psb__splitmix(&seed);
+    kdim = psb__kernel_dirs(s, yc, tc, s->opt.branch_h_init, kc);
+    rep->n_tangents = kdim;
+    /* a simple branch point has four half-branches; fewer at branch_h_init (a radius beyond
+       the branches' curvature, or crossings too close for Newton's basins) -> a smaller one */
+    for (r = s->opt.branch_h_init, i = 0; i < 3; i++, r *= 0.125) {
+        psb_branch_report attempt;
+        memset(&attempt, 0, sizeof attempt);
+        overflow = 0;
+        res = psb__sphere_sweep(s, yc, tc, kc, kdim, r, max_branches, ys, ts, &attempt, &overflow);
+        attempt.n_pc += rep->n_pc;
+        attempt.n_tangents = kdim;
+        *rep = attempt;
+        rep->n_span = i + 1;
+        if (res != PSB_SUCCESS) return res;
+        if (rep->n_branches >= 4 || overflow) break;
     }
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
