@@ -34,7 +34,6 @@
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
-#include <sys/stat.h>
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
