@@ -117,7 +117,7 @@ static inline void cli_unknown(cli *c)
 {
     if (c->status != CLI_OK) return;
     if (c->name[0]) cli_fail(c, "unknown option '%s'", c->name);
-    else cli_fail(c, "unexpected argument '%s'", c->arg);
+    else cli_fail(c, "unexpected argument '%s'", c->arg ? c->arg : "");
 }
 
 /* A flag without a value: 1 when the current argument is `name` ("--flag=x" is an error). */
