@@ -1132,13 +1132,18 @@ static inline void fe_locator_free(fe_locator *L)
     L->start = L->list = NULL;
 }
 
+/* floor(f) as a bucket index in 0..G-1, clamped before the conversion: f may be far outside
+   the range (a point outside the mesh) or NaN. */
+static inline int fe_locator_index(double f, int G)
+{
+    f = floor(f);
+    return f >= 0 ? (f < G - 1 ? (int)f : G - 1) : 0;
+}
+
 static inline int fe_locator_bucket(const fe_locator *L, const double p[2])
 {
     int b[2], i;
-    for (i = 0; i < 2; i++) { /* clamped before the conversion: p may lie far outside (or be NaN) */
-        double f = floor((p[i] - L->lo[i]) / L->cell[i]);
-        b[i] = f >= 0 ? (f < L->G - 1 ? (int)f : L->G - 1) : 0;
-    }
+    for (i = 0; i < 2; i++) b[i] = fe_locator_index((p[i] - L->lo[i]) / L->cell[i], L->G);
     return b[1] * L->G + b[0];
 }
 
@@ -1169,10 +1174,8 @@ static inline int fe_locator_init(fe_locator *L, const fe_mesh *m)
                     elo[i] = fmin(elo[i], xv); ehi[i] = fmax(ehi[i], xv);
                 }
             for (i = 0; i < 2; i++) {
-                b[i][0] = (int)floor((elo[i] - L->lo[i]) / L->cell[i] - L->tol);
-                b[i][1] = (int)floor((ehi[i] - L->lo[i]) / L->cell[i] + L->tol);
-                if (b[i][0] < 0) b[i][0] = 0;
-                if (b[i][1] > G - 1) b[i][1] = G - 1;
+                b[i][0] = fe_locator_index((elo[i] - L->lo[i]) / L->cell[i] - L->tol, G);
+                b[i][1] = fe_locator_index((ehi[i] - L->lo[i]) / L->cell[i] + L->tol, G);
             }
             for (by = b[1][0]; by <= b[1][1]; by++)
                 for (bx = b[0][0]; bx <= b[0][1]; bx++) {
@@ -1373,7 +1376,11 @@ static inline int fe_parse_double(const char *s, const char **end, double *v)
 }
 
 /* A mesh description: "rect LX LY NX NY" (fe_mesh_rectangle) or "tri LEN N" (fe_mesh_triangle),
-   lengths positive and finite, sizes within FE_MAX_NODES, nothing after but white space. */
+   lengths in [FE_SPEC_MIN_LEN, FE_SPEC_MAX_LEN] (the examples' bodies measure 1 m and 40 mm:
+   a length far outside is no mesh of theirs, and its coordinates would underflow or overflow),
+   sizes within FE_MAX_NODES, nothing after but white space. */
+#define FE_SPEC_MIN_LEN 1e-9
+#define FE_SPEC_MAX_LEN 1e9
 typedef struct fe_spec {
     int tri;
     double len[2];
@@ -1404,7 +1411,9 @@ static inline int fe_spec_parse(const char *spec, fe_spec *sp)
         return -1;
     }
     while (isspace((unsigned char)*p)) p++;
-    if (*p || !(sp->len[0] > 0 && sp->len[1] > 0)) return -1;
+    if (*p || !(sp->len[0] >= FE_SPEC_MIN_LEN && sp->len[0] <= FE_SPEC_MAX_LEN && sp->len[1] >= FE_SPEC_MIN_LEN &&
+                sp->len[1] <= FE_SPEC_MAX_LEN))
+        return -1;
     sp->n[0] = (int)n0;
     sp->n[1] = (int)n1;
     return 0;

@@ -625,6 +625,9 @@ static void test_spec(void)
     check_spec("rect inf 80 1 1", 0, 0);
     check_spec("rect 1e999 80 1 1", 0, 0);
     check_spec("rect 0 80 1 1", 0, 0);
+    check_spec("rect 5e-324 80 1 1", 0, 0);
+    check_spec("rect 40 1e300 1 1", 0, 0);
+    check_spec("rect 1e-9 1e9 1 1", 1, 4);
     check_spec("rect -40 80 1 1", 0, 0);
     check_spec("tri 0 5", 0, 0);
     check_spec("tri 1 100000", 0, 0);
