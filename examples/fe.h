@@ -2042,43 +2042,107 @@ fail:
     return -1;
 }
 
-/* gnuplot script: diagram.png (gamma against u1, u2 of the left-most contact node) and
-   bodies.png (the deformed bodies at the branch ends, displacements magnified by mag). */
+/* A tick step for a range of width w: 1, 2, 2.5 or 5 times a power of ten, at most 5 steps, so
+   that the labels of a narrow panel do not run into each other. */
+static inline double fe_tick_step(double w)
+{
+    double raw = w / 5, p = pow(10, floor(log10(raw))), r = raw / p;
+    return (r <= 1 ? 1 : r <= 2 ? 2 : r <= 2.5 ? 2.5 : r <= 5 ? 5 : 10) * p;
+}
+
+/* gnuplot script: diagram.png (u1 and u2 of the left-most contact node against gamma, one
+   panel each, one legend below both) and bodies.png (the deformed bodies at the branch ends,
+   displacements magnified by mag, over the undeformed one, every panel on the same axes). The
+   colours are the Okabe-Ito palette without its yellow (distinguishable with the common colour
+   vision deficiencies, and on white), with a point type per branch as well. */
 static inline int fe_run_write_gnuplot(const fe_run *run, const char *dir, const char *title, const char *unit, double mag)
 {
+    static const char *const colour[7] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"};
+    static const int point[7] = {7, 5, 9, 13, 11, 15, 3};
+    const fe_mesh *m = run->md->mesh;
     char path[1024];
     FILE *fp;
-    int k, num, nd = 0, maxnum = 0, cols, rows;
-    for (k = 0; k < run->nbr; k++)
-        if (run->br[k].duplicate_of < 0) {
-            nd++;
-            if ((run->br[k].number ? run->br[k].number : k + 1) > maxnum) maxnum = run->br[k].number ? run->br[k].number : k + 1;
-        }
+    int k, j, num, nd = 0, cols, rows, a, first;
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, pad, step[2];
+    double *u = malloc(sizeof(double) * 2 * (size_t)m->nnode);
+    if (!u) { fprintf(stderr, "%s: out of memory writing to %s\n", fe_run_prog(run), dir); return -1; }
+    /* the common axes of bodies.png: every deformed and the undeformed body */
+    for (k = 0; k < run->nbr; k++) {
+        if (run->br[k].duplicate_of >= 0) continue;
+        nd++;
+        fe_displacements(run->md, run->br[k].y, u);
+        for (a = 0; a < m->nnode; a++)
+            for (j = 0; j < 2; j++) {
+                double x = m->x[2 * a + j], xd = x + mag * u[2 * a + j];
+                lo[j] = fmin(lo[j], fmin(x, xd));
+                hi[j] = fmax(hi[j], fmax(x, xd));
+            }
+    }
+    free(u);
+    if (!(lo[0] < hi[0] && lo[1] < hi[1])) { lo[0] = lo[1] = 0; hi[0] = hi[1] = 1; }
+    pad = 0.05 * fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    for (j = 0; j < 2; j++) { lo[j] -= pad; hi[j] += pad; step[j] = fe_tick_step(hi[j] - lo[j]); }
+    lo[1] = fmin(lo[1], -pad); /* the foundation x2 = 0 in view */
     cols = nd <= 4 ? (nd ? nd : 1) : 3;
     rows = (nd + cols - 1) / cols;
-    snprintf(path, sizeof path, "%s/plot.gp", dir);
-    if (!(fp = fopen(path, "w"))) return -1;
+    if (!(fp = fe_run_open(run, path, dir, "plot.gp"))) return -1;
     fprintf(fp, "# gnuplot script written by the pscbranch %s example: run `gnuplot plot.gp` in this folder\n", title);
     fprintf(fp, "mag = %g  # magnification of the displacements in bodies.png\n", mag);
-    fprintf(fp, "set datafile separator ','\nset terminal pngcairo size 1200,500\nset output 'diagram.png'\n");
-    fprintf(fp, "set multiplot layout 1,2 title '%s: left-most contact node'\nset grid\nset key outside\n", title);
-    fprintf(fp, "set xlabel 'gamma'\nset ylabel 'u1 (%s)'\n", unit);
-    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):3 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", maxnum);
-    fprintf(fp, "set ylabel 'u2 (%s)'\n", unit);
-    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):4 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", maxnum);
-    fprintf(fp, "unset multiplot\nset datafile separator whitespace\n");
-    fprintf(fp, "set terminal pngcairo size %d,%d\nset output 'bodies.png'\nunset grid\nunset key\nset size ratio -1\nunset xlabel\nunset ylabel\n",
-            400 * cols, 450 * rows);
-    fprintf(fp, "set multiplot layout %d,%d title sprintf('%s: deformed bodies at the branch ends (displacements x %%g)', mag)\n", rows, cols, title);
-    for (num = 1; num <= maxnum; num++)
-        for (k = 0; k < run->nbr; k++) {
-            const fe_branch *b = &run->br[k];
-            if (b->duplicate_of >= 0 || (b->number ? b->number : k + 1) != num) continue;
-            fprintf(fp, "set title 'branch %d: %s, gamma = %g'\n", num, b->label, b->y[run->md->n]);
-            fprintf(fp, "plot 'body_%d.dat' using ($1+mag*$3):($2+mag*$4) with lines lc rgb '#3060a0', 0 with lines lc rgb 'black' lw 2\n", num);
-        }
+    for (k = 0; k < 7; k++) fprintf(fp, "set linetype %d lc rgb '%s' lw 1.5 pt %d ps 0.6\n", k + 1, colour[k], point[k]);
+    fprintf(fp, "set linetype cycle 7\n");
+    /* diagram.png: the legend, once, below both panels */
+    fprintf(fp, "set datafile separator ','\nset terminal pngcairo size 1200,600 font ',11'\nset output 'diagram.png'\n");
+    fprintf(fp, "set multiplot layout 1,2 title '%s: bifurcation diagram, displacements of the left-most contact node' "
+                "margins 0.07,0.98,0.3,0.9 spacing 0.1,0\n", title);
+    fprintf(fp, "set grid\nset xlabel 'load parameter gamma'\nset xtics 0.5\nset mxtics 5\n");
+    fprintf(fp, "set key at screen 0.5,0.02 center bottom horizontal maxrows %d box opaque width 1 spacing 1.2\n", nd > 4 ? 2 : 1);
+    for (j = 0; j < 2; j++) {
+        fprintf(fp, "set title '%s displacement'\nset ylabel 'u%d (%s)'\n", j ? "vertical" : "horizontal", j + 1, unit);
+        if (j) fprintf(fp, "unset key\n");
+        fprintf(fp, "plot");
+        for (first = 1, num = 1; num <= FE_MAX_BRANCHES; num++)
+            for (k = 0; k < run->nbr; k++) {
+                const fe_branch *b = &run->br[k];
+                if (b->duplicate_of >= 0 || (b->number ? b->number : k + 1) != num) continue;
+                fprintf(fp, "%s \\\n  'diagram.csv' every ::1 using ($1==%d?$2:1/0):%d with linespoints lt %d title 'branch %d: %s'",
+                        first ? "" : ",", num, 3 + j, (num - 1) % 7 + 1, num, b->label);
+                first = 0;
+            }
+        fprintf(fp, "%s\n", first ? " 0 notitle" : "");
+    }
+    fprintf(fp, "unset multiplot\nset datafile separator whitespace\nunset title\n");
+    /* bodies.png: one panel per branch on common axes, ticks spaced for the panel width; the
+       legend, once, in a strip of its own below them */
+    {
+        int height = 440 * rows + 90, panel = 0;
+        double key_h = 50.0 / height, title_h = 40.0 / height, pw = 1.0 / cols, ph = (1 - key_h - title_h) / rows;
+        fprintf(fp, "set terminal pngcairo size %d,%d font ',11'\nset output 'bodies.png'\nunset grid\nset size ratio -1\n",
+                420 * cols, height);
+        fprintf(fp, "set xrange [%.6g:%.6g]\nset yrange [%.6g:%.6g]\nset xtics %.6g\nset ytics %.6g\nunset mxtics\nunset key\n",
+                lo[0], hi[0], lo[1], hi[1], step[0], step[1]);
+        fprintf(fp, "set xlabel 'x1 (%s)'\nset ylabel 'x2 (%s)'\n", unit, unit);
+        fprintf(fp, "set multiplot title sprintf('%s: deformed bodies at the branch ends (displacements x %%g, colours as in diagram.png)', mag)\n", title);
+        for (num = 1; num <= FE_MAX_BRANCHES; num++)
+            for (k = 0; k < run->nbr; k++) {
+                const fe_branch *b = &run->br[k];
+                if (b->duplicate_of >= 0 || (b->number ? b->number : k + 1) != num) continue;
+                fprintf(fp, "set origin %.4f,%.4f\nset size %.4f,%.4f\n", (panel % cols) * pw,
+                        key_h + (rows - 1 - panel / cols) * ph, pw, ph);
+                fprintf(fp, "set title 'branch %d: %s, gamma = %g'\n", num, b->label, b->y[run->md->n]);
+                fprintf(fp, "plot 'body_%d.dat' using 1:2 with lines lc rgb '#b0b0b0' lw 1.5, \\\n"
+                            "  '' using ($1+mag*$3):($2+mag*$4) with lines lt %d lw 1, 0 with lines lc rgb 'black' lw 3\n",
+                        num, (num - 1) % 7 + 1);
+                panel++;
+            }
+        fprintf(fp, "set origin 0,0\nset size 1,%.4f\nset size noratio\nunset title\nunset xlabel\nunset ylabel\n"
+                    "unset border\nunset tics\nset xrange [0:1]\nset yrange [0:1]\n", key_h);
+        fprintf(fp, "set lmargin 0\nset rmargin 0\nset tmargin 0\nset bmargin 0\nset key center center horizontal maxrows 1 samplen 3\n");
+        /* a curve off the range first: a plot of key entries alone trips an assertion of gnuplot 5.4 */
+        fprintf(fp, "plot 2 with lines notitle, keyentry with lines lc rgb '#b0b0b0' lw 1.5 title 'undeformed', "
+                    "keyentry with lines lt 1 lw 1 title 'deformed', keyentry with lines lc rgb 'black' lw 3 title 'rigid foundation'\n");
+    }
     fprintf(fp, "unset multiplot\n");
-    return fclose(fp) ? -1 : 0;
+    return fe_run_close(run, fp, path);
 }
 
 /* The branch table: visits the branches by the paper's number (1..expected, then any other),
