@@ -230,16 +230,20 @@ int main(int argc, char **argv)
     fe_model md;
     fe_run run;
     psb_options opt;
-    double *y, *t, *w, *bw = NULL, t0, t1, tol = 1e-8;
+    double *y = NULL, *t = NULL, *w = NULL, *bw = NULL, t0, t1, tol = 1e-8;
     char spec[64];
-    int n, k, ndist, input, ok, files_ok;
+    int n, k, ndist, input, ok, files_ok, rc = 1;
     psb_result r;
+
+    memset(&mesh, 0, sizeof mesh);
+    memset(&md, 0, sizeof md);
+    memset(&run, 0, sizeof run);
 
     k = parse(argc, argv, &a);
     if (k != CLI_OK) return k == CLI_HELP ? 0 : 2;
     if (a.out && cli_output_dir("block", a.out)) return 1;
     if (!a.quiet) fprintf(stderr, "block: building the %d x %d mesh and its model\n", a.nx, a.ny);
-    if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory building the %d x %d mesh\n", a.nx, a.ny); return 1; }
+    if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory building the %d x %d mesh\n", a.nx, a.ny); goto done; }
     n = md.n;
     memset(&opt, 0, sizeof opt);
     opt.kappa = a.kappa > 0 ? a.kappa : 1.0 / n;
@@ -249,26 +253,26 @@ int main(int argc, char **argv)
     opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.branch_trial_h_min = a.hmin; opt.paper_sweep = a.paper_sweep; opt.branch_no_screen = a.no_screen; opt.restart = a.restart;
     opt.branch_patience = a.patience;
     w = malloc(sizeof(double) * ((size_t)n + 1));
-    if (!w) { fprintf(stderr, "block: out of memory\n"); return 1; }
+    if (!w) { fprintf(stderr, "block: out of memory\n"); goto done; }
     if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);
     fe_weights(&md, opt.kappa, a.mult_weight, w);
     opt.weights = w;
     if (fe_run_init(&run, &md, &opt, !a.dense)) {
         fprintf(stderr, "block: solver set-up failed for N = %d unknowns (%s, half band %d): %s\n", n,
                 a.dense ? "dense" : "banded", md.half_band, psb_solver_message(&run.s));
-        return 1;
+        goto done;
     }
     run.prog = "block";
     run.quiet = a.quiet;
     if (a.branch_mult_weight >= 0 && a.branch_mult_weight != a.mult_weight) {
         bw = malloc(sizeof(double) * ((size_t)n + 1));
-        if (!bw) { fprintf(stderr, "block: out of memory\n"); return 1; }
+        if (!bw) { fprintf(stderr, "block: out of memory\n"); goto done; }
         fe_weights(&md, opt.kappa, a.branch_mult_weight, bw);
         run.branch_weights = bw;
     }
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
-    if (!y || !t) { fprintf(stderr, "block: out of memory\n"); return 1; }
+    if (!y || !t) { fprintf(stderr, "block: out of memory\n"); goto done; }
 
     printf("block: M%d (%d x %d Q1, 3x3 Gauss), N = %d unknowns (%s), %d contact nodes, half band %d\n",
            a.nx * a.ny, a.nx, a.ny, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated",
@@ -280,7 +284,7 @@ int main(int argc, char **argv)
            opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
     t0 = seconds();
     if (a.refine) {
-        if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("block", a.refine, k); return 1; }
+        if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("block", a.refine, k); goto done; }
         printf("\n  end points of %s interpolated onto this mesh and re-solved by Newton at their gamma\n", a.refine);
         input = 0;
         goto table;
@@ -301,35 +305,35 @@ int main(int argc, char **argv)
     }
     fe_run_progress(&run, "Newton at gamma = %d", a.start);
     r = psb_solve_at_param(&run.s, y, 50);
-    if (r != PSB_SUCCESS) { fprintf(stderr, "block: Newton at gamma = %d failed: %s\n", a.start, psb_result_string(r)); return 1; }
+    if (r != PSB_SUCCESS) { fprintf(stderr, "block: Newton at gamma = %d failed: %s\n", a.start, psb_result_string(r)); goto done; }
     {
         double *rv = calloc((size_t)n + 1, sizeof(double));
-        if (!rv) { fprintf(stderr, "block: out of memory\n"); return 1; }
+        if (!rv) { fprintf(stderr, "block: out of memory\n"); goto done; }
         rv[n] = -a.start; /* towards gamma = 0 */
         r = psb_tangent(&run.s, y, rv, t);
         free(rv);
-        if (r != PSB_SUCCESS) { fprintf(stderr, "block: tangent failed: %s\n", psb_result_string(r)); return 1; }
+        if (r != PSB_SUCCESS) { fprintf(stderr, "block: tangent failed: %s\n", psb_result_string(r)); goto done; }
     }
     input = branch_and_trace(&run, y, t, &a);
-    if (input < 0) return 1;
+    if (input < 0) goto done;
     if (a.input && a.input != input) {
         /* come back to gamma = 0 along branch K and branch again from there */
         for (k = 0; k < run.nbr && run.br[k].number != a.input; k++) {}
-        if (k == run.nbr) { fprintf(stderr, "block: branch %d was not found in the first run\n", a.input); return 1; }
+        if (k == run.nbr) { fprintf(stderr, "block: branch %d was not found in the first run\n", a.input); goto done; }
         printf("  first run from branch %d: %d branches, n_pc = %ld, n_rand = %d; branching again from branch %d\n",
                input, run.nbr, run.brep.n_pc, run.brep.n_rand, a.input);
         memcpy(y, run.br[k].y, sizeof(double) * ((size_t)n + 1));
         {
             double *rv = calloc((size_t)n + 1, sizeof(double));
-            if (!rv) { fprintf(stderr, "block: out of memory\n"); return 1; }
+            if (!rv) { fprintf(stderr, "block: out of memory\n"); goto done; }
             rv[n] = y[n] < 0 ? 1 : -1;
             r = psb_tangent(&run.s, y, rv, t);
             free(rv);
         }
-        if (r != PSB_SUCCESS) { fprintf(stderr, "block: tangent failed: %s\n", psb_result_string(r)); return 1; }
+        if (r != PSB_SUCCESS) { fprintf(stderr, "block: tangent failed: %s\n", psb_result_string(r)); goto done; }
         t0 = seconds();
         input = branch_and_trace(&run, y, t, &a);
-        if (input < 0) return 1;
+        if (input < 0) goto done;
     }
 
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld, cut = %ld\n",
@@ -355,9 +359,11 @@ table:
         ok = 0;
     }
     if (!files_ok) fprintf(stderr, "block: FAILED (a file could not be read or written, see above)\n");
+    rc = ok && files_ok ? 0 : 1;
+done: /* every exit after the model is built frees what it holds (clean under LeakSanitizer) */
     free(y); free(t); free(w); free(bw);
     fe_run_free(&run);
     fe_model_free(&md);
     fe_mesh_free(&mesh);
-    return ok && files_ok ? 0 : 1;
+    return rc;
 }

@@ -347,26 +347,27 @@ static int choose_load(args *a)
     psb_options opt;
     psb_trace_report rep;
     fold_state fs;
-    double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y, *t, *w;
-    int n, ok, k;
-    void *umf;
+    double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y = NULL, *t = NULL, *w;
+    int n, ok = 0, k;
+    void *umf = NULL;
+    memset(&run, 0, sizeof run);
     if (fe_triangle_model(&md, &mesh, a->n, a->multipliers, h0, h1)) {
         fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a->n);
-        return -1;
+        goto done;
     }
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
-    if (!w) { fprintf(stderr, "triangle: out of memory\n"); return -1; }
+    if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, a, &md, w, 1);
     k = init_run(&run, &md, &opt, a, &umf); /* the weights are copied at init */
     free(w);
-    if (k) { fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns: %s\n", n, psb_solver_message(&run.s)); return -1; }
+    if (k) { fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns: %s\n", n, psb_solver_message(&run.s)); goto done; }
     run.prog = "triangle";
     run.quiet = a->quiet;
     fe_run_progress(&run, "choosing the load: the fold problem on this mesh (n = %d)", a->n);
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
-    if (!y || !t) { fprintf(stderr, "triangle: out of memory\n"); return -1; }
+    if (!y || !t) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     y[n] = -3;
     t[n] = 1;
     ok = psb_solve_at_param(&run.s, y, 50) == PSB_SUCCESS && psb_tangent(&run.s, y, t, t) == PSB_SUCCESS &&
@@ -388,6 +389,7 @@ static int choose_load(args *a)
                 a->load_auto ? "--load auto" : "choosing the default load", a->n,
                 a->load_auto ? "give --load H1 or a finer mesh (n >= 8)" : "give a finer mesh (n >= 8) or a load with --load H1");
     }
+done:
     free(y); free(t);
     free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh);
     return ok ? 0 : -1;
@@ -400,11 +402,15 @@ int main(int argc, char **argv)
     fe_model md;
     fe_run run;
     psb_options opt;
-    double *y, *t, *rv, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
+    double *y = NULL, *t = NULL, *rv = NULL, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
     char spec[64];
-    int n, k, ndist, ok, rc, files_ok;
+    int n, k, ndist, ok, rc = 1, files_ok;
     psb_result r;
-    void *umf;
+    void *umf = NULL;
+
+    memset(&mesh, 0, sizeof mesh);
+    memset(&md, 0, sizeof md);
+    memset(&run, 0, sizeof run);
 
     k = parse(argc, argv, &a);
     if (k != CLI_OK) return k == CLI_HELP ? 0 : 2;
@@ -413,31 +419,31 @@ int main(int argc, char **argv)
     if (a.fold) { h0[0] = -20; h0[1] = -7.5; h1[0] = -10; h1[1] = 0; }
     else { h0[0] = 0; h0[1] = 0; h1[0] = -a.load; h1[1] = -7.5; }
     if (!a.quiet) fprintf(stderr, "triangle: building the mesh with n = %d and its model\n", a.n);
-    if (fe_triangle_model(&md, &mesh, a.n, a.multipliers, h0, h1)) { fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a.n); return 1; }
+    if (fe_triangle_model(&md, &mesh, a.n, a.multipliers, h0, h1)) { fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a.n); goto done; }
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
-    if (!w) { fprintf(stderr, "triangle: out of memory\n"); return 1; }
+    if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, &a, &md, w, a.fold);
     k = init_run(&run, &md, &opt, &a, &umf); /* the weights are copied at init */
     free(w);
     if (k) {
         fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns (half band %d): %s\n", n, md.half_band,
                 psb_solver_message(&run.s));
-        return 1;
+        goto done;
     }
     run.prog = "triangle";
     run.quiet = a.quiet;
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
     rv = calloc((size_t)n + 1, sizeof(double));
-    if (!y || !t || !rv) { fprintf(stderr, "triangle: out of memory\n"); return 1; }
+    if (!y || !t || !rv) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     printf("triangle: M%d (%d subdivisions per leg, P1), N = %d unknowns (%s), %d contact nodes, half band %d, kappa = %s, %s\n",
            mesh.nelem, a.n, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated", md.ncontact,
            md.half_band, a.kappa > 0 ? "given" : "1/N", a.sparse ? "UMFPACK (user solver)" : (a.dense ? "dense LAPACK" : "banded LAPACK"));
 
     t0 = seconds();
     if (a.refine && !a.fold) {
-        if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("triangle", a.refine, k); return 1; }
+        if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("triangle", a.refine, k); goto done; }
         printf("\n  end points of %s interpolated onto this mesh and re-solved by Newton at their gamma (load -%g)\n",
                a.refine, a.load);
         t1 = seconds();
@@ -446,15 +452,14 @@ int main(int argc, char **argv)
     y[n] = a.fold ? -3 : -1; /* the pushing side: Newton from zero converges there */
     fe_run_progress(&run, "Newton at gamma = %g", y[n]);
     r = psb_solve_at_param(&run.s, y, 50);
-    if (r != PSB_SUCCESS) { fprintf(stderr, "triangle: Newton at gamma = %g failed: %s\n", y[n], psb_result_string(r)); return 1; }
+    if (r != PSB_SUCCESS) { fprintf(stderr, "triangle: Newton at gamma = %g failed: %s\n", y[n], psb_result_string(r)); goto done; }
     rv[n] = 1; /* towards larger gamma */
     r = psb_tangent(&run.s, y, rv, t);
-    if (r != PSB_SUCCESS) { fprintf(stderr, "triangle: tangent failed: %s\n", psb_result_string(r)); return 1; }
+    if (r != PSB_SUCCESS) { fprintf(stderr, "triangle: tangent failed: %s\n", psb_result_string(r)); goto done; }
     if (a.fold) {
         rc = run_fold(&run, y, t, &a, t0);
         report_umf(umf);
-        free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
-        return rc;
+        goto done;
     }
 
     printf("  weights: kappa = %s for displacements, %g kappa for multipliers, 1 for gamma\n", a.kappa > 0 ? "given" : "1/N",
@@ -463,9 +468,9 @@ int main(int argc, char **argv)
     printf("  Algorithms 2.1-2.2: c_diff = 1 - %.0e, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            1 - opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
     r = fe_run_approach(&run, y, t, a.verbose);
-    if (r < 0) { fprintf(stderr, "triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); return 1; }
+    if (r < 0) { fprintf(stderr, "triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
     r = fe_run_branching(&run, y, t);
-    if (r < 0) { fprintf(stderr, "triangle: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); return 1; }
+    if (r < 0) { fprintf(stderr, "triangle: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
     if (a.verbose)
         for (k = 0; k < run.nbr; k++)
             printf("    found %d: gamma = %.3e, t_gamma = %+.4f\n", k, run.ys[(size_t)k * (n + 1) + n], run.ts[(size_t)k * (n + 1) + n]);
@@ -505,6 +510,8 @@ table:
     else
         printf("triangle: %s\n", ok ? "OK (four branches as in the paper)" : "FAILED (branches differ from the paper)");
     if (!files_ok) fprintf(stderr, "triangle: FAILED (a file could not be read or written, see above)\n");
+    rc = ok && files_ok ? 0 : 1;
+done: /* every exit after the model is built frees what it holds (clean under LeakSanitizer) */
     free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
-    return ok && files_ok ? 0 : 1;
+    return rc;
 }

@@ -3,8 +3,9 @@
 # on stdout and exit 0; malformed command lines exit 2 (usage errors) or 1 (a file that cannot be
 # read or written) with a message on stderr naming the offending option or value, and never
 # crash (exit status < 128). Ends with `N passed, M failed`; exit status 1 on any failure.
-# The programs come from examples/ (built by `make examples`), or from $CLI_BIN (e.g. builds
-# under a sanitizer).
+# The programs come from examples/ (built by `make examples`), or from $CLI_BIN, e.g. builds
+# under AddressSanitizer and UndefinedBehaviorSanitizer, whose reports (leaks too) count as
+# failures.
 set -u
 cd "$(dirname "$0")/.." || exit 1
 bin=${CLI_BIN:-examples}
@@ -52,6 +53,8 @@ expect() {
         fail "$prog $* (exit $rc, expected $want with '$text'): $(grep -v '^[a-z_0-9]*: \(building\|Newton\|continuation\|Algorithms\|tracing\|choosing\)' "$tmp/err" | head -n 2)"
     fi
     if [ $rc -ge 128 ]; then fail "$prog $*: killed by signal $((rc - 128))"; fi
+    # under a sanitizer build (CLI_BIN): no report, leaks included, on any of these paths
+    if grep -qE 'Sanitizer|runtime error:' "$tmp/err"; then fail "$prog $*: $(grep -m 1 -E 'Sanitizer|runtime error:' "$tmp/err")"; fi
 }
 usage() { expect 2 "$@"; }
 fails() { expect 1 "$@"; }
