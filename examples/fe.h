@@ -182,12 +182,13 @@ static inline int fe_triangle_size(long long n, long *nnode, long *nelem)
    sizes out of range (fe_rectangle_size; lx, ly positive and finite) or out of memory. */
 static inline int fe_mesh_rectangle(fe_mesh *m, double lx, double ly, int nx, int ny)
 {
-    int i, j, e = 0, k = 0, w = nx + 1;
+    int i, j, e = 0, k = 0, w;
     long nnode, nelem;
     memset(m, 0, sizeof *m);
     if (!(lx > 0 && lx < HUGE_VAL && ly > 0 && ly < HUGE_VAL) || fe_rectangle_size(nx, ny, &nnode, &nelem) ||
         fe_mesh_alloc(m, (int)nnode, (int)nelem, 4, 2 * (nx + ny)))
         return -1;
+    w = nx + 1; /* only now: nx may have been INT_MAX */
     for (j = 0; j <= ny; j++)
         for (i = 0; i <= nx; i++) {
             m->x[2 * (j * w + i)] = lx * i / nx;
