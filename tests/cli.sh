@@ -103,6 +103,10 @@ fails "cannot read $tmp/none.txt" block --quiet --refine "$tmp/none.txt"
 fails "/dev/full is not a directory" block --quiet --out /dev/full
 fails "cannot write /dev/full" block --quiet --mesh 5x10 --save /dev/full
 fails "cannot write /dev/full" block --quiet --mesh 5x10 --compare "$tmp/short.txt" --save /dev/full
+# an output file that cannot be opened inside a writable --out (a directory in its place)
+mkdir -p "$tmp/o1/plot.gp" "$tmp/o2/folds.csv" "$tmp/o3/branches_01.csv" "$tmp/o4/branch_3.vtk"
+fails "cannot write $tmp/o1/plot.gp: Is a directory" block --quiet --mesh 5x10 --out "$tmp/o1"
+fails "cannot write $tmp/o4/branch_3.vtk: Is a directory" block --quiet --mesh 5x10 --out "$tmp/o4"
 
 # triangle
 usage "unknown option '--bogus'" triangle --bogus
@@ -118,6 +122,7 @@ usage "--seed 12abc: expected a non-negative integer" triangle --seed 12abc
 usage "--dirichlet foo: expected one of mult, elim" triangle --dirichlet foo
 fails "/dev/full is not a directory" triangle --quiet --mesh 16 --problem fold --out /dev/full
 fails "cannot write /dev/full" triangle --quiet --mesh 8 --problem branching --save /dev/full
+fails "cannot write $tmp/o2/folds.csv: Is a directory" triangle --quiet --mesh 16 --problem fold --out "$tmp/o2"
 fails "not a valid end-point file" triangle --quiet --mesh 8 --load 26 --refine "$tmp/hostile.txt"
 # --mesh 2: the default load's fold problem fails; the message must not blame a --load not given
 fails "choosing the default load" triangle --quiet --mesh 2
@@ -139,6 +144,7 @@ usage "unknown option '--bogus'" 01_branching --bogus
 usage "--out needs a value" 01_branching --out
 usage "unexpected argument 'extra'" 01_branching extra
 fails "cannot create directory /dev/full/x" 01_branching --out /dev/full/x
+fails "cannot write $tmp/o3/branches_01.csv: Is a directory" 01_branching --out "$tmp/o3"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
