@@ -54,11 +54,11 @@ static inline void cli_init(cli *c, const char *prog, int argc, char **argv, con
     c->next = 1;
 }
 
+/* A usage error: "PROG: message (see 'PROG --help')" on stderr; sets c->status = CLI_ERROR.
+   Also for checks across options after the loop. Returns 0. */
 #if defined(__GNUC__) || defined(__clang__)
 __attribute__((format(printf, 2, 3)))
 #endif
-/* A usage error: "PROG: message; see 'PROG --help'" on stderr; sets c->status = CLI_ERROR.
-   Also for checks across options after the loop. Returns 0 (so a matcher can return it). */
 static inline int cli_fail(cli *c, const char *fmt, ...)
 {
     va_list ap;

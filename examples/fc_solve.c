@@ -1795,7 +1795,7 @@ int main(int argc, char **argv)
     if (c.status == CLI_OK && nfiles == 0) cli_fail(&c, "no problem FILE given");
     if (c.status != CLI_OK) return c.status == CLI_HELP ? 0 : 2;
     for (i = 0; i < nfiles; i++) {
-        if (!quiet && nfiles > 1) fprintf(stderr, "fc_solve: %d of %d: %s\n", i + 1, nfiles, argv[i]);
+        if (!quiet) fprintf(stderr, "fc_solve: solving %s (%d of %d)\n", argv[i], i + 1, nfiles);
         {
             fc_problem p;
             const char *msg = fc_read(argv[i], &p);
