@@ -95,7 +95,8 @@ SMOKE = "smoke:examples/01_branching" \
 	"smoke:examples/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && examples/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
 	"smoke:examples/triangle --mesh 16" \
 	"smoke:examples/triangle --mesh 16 --problem fold" \
-	"smoke:examples/quasistatic --mesh 8 --dt 0.1"
+	"smoke:examples/quasistatic --mesh 8 --dt 0.1" \
+	"smoke:bash tests/cli.sh"
 
 test: $(TESTS) $(EXAMPLES)
 	@bash tests/run.sh $(TESTS) $(SMOKE)

@@ -9,11 +9,22 @@
    discover the others without being told where the pieces of H are.
 
    Run:  ./examples/01_branching [--out DIR]   (prints a table, writes DIR/branches_01.csv) */
+#define _POSIX_C_SOURCE 200809L
 #define PSCBRANCH_IMPLEMENTATION
 #include "../pscbranch.h"
+#include "cli.h"
 
 #include <stdio.h>
 #include <string.h>
+
+static const char usage[] =
+    "usage: 01_branching [--out DIR]\n"
+    "Finds the four branches leaving the nonsmooth point of a 2 x 2 linear complementarity problem\n"
+    "(Algorithms 2.1-2.2) and prints their tangents. Exit status 0 when the four are found, 1 when\n"
+    "not or when the output cannot be written, 2 on a usage error.\n"
+    "\n"
+    "  --out DIR     also write DIR/branches_01.csv (DIR created if missing)\n"
+    "  -h, --help    this help\n";
 
 static const double M[2][2] = {{-1.0, 0.2}, {0.1, -1.0}};
 static const double Q[2] = {1.0, 1.0};
@@ -68,8 +79,14 @@ int main(int argc, char **argv)
     psb_result r;
     int k, i;
 
-    for (i = 1; i < argc; i++)
-        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) out_dir = argv[++i];
+    {
+        cli c;
+        cli_init(&c, "01_branching", argc, argv, usage);
+        while (cli_next(&c))
+            if (!cli_string(&c, "--out", &out_dir)) cli_unknown(&c);
+        if (c.status != CLI_OK) return c.status == CLI_HELP ? 0 : 2;
+    }
+    if (out_dir && cli_output_dir("01_branching", out_dir)) return 1;
 
     psb_problem_init(&problem, 2, residual, jacobian, NULL); /* the load g is y[2], the last */
     memset(&opt, 0, sizeof opt); /* zero means default; the paper's branching values: */
@@ -129,16 +146,23 @@ int main(int argc, char **argv)
     if (out_dir) {
         char path[1024];
         FILE *f;
-        snprintf(path, sizeof path, "%s/branches_01.csv", out_dir);
-        f = fopen(path, "w");
-        if (!f) {
-            fprintf(stderr, "cannot write %s\n", path);
+        int bad;
+        f = NULL;
+        if (snprintf(path, sizeof path, "%s/branches_01.csv", out_dir) >= (int)sizeof path) errno = ENAMETOOLONG;
+        else f = fopen(path, "w");
+        bad = !f;
+        if (f) {
+            fprintf(f, "branch,t_x1,t_x2,t_g\n");
+            for (k = 0; k < report.n_branches; k++)
+                fprintf(f, "%d,%.17g,%.17g,%.17g\n", k, ts[3 * k], ts[3 * k + 1], ts[3 * k + 2]);
+            bad = ferror(f);
+            bad = fclose(f) || bad;
+        }
+        if (bad) {
+            fprintf(stderr, "01_branching: cannot write %s: %s\n", path, strerror(errno));
+            psb_solver_free(&solver);
             return 1;
         }
-        fprintf(f, "branch,t_x1,t_x2,t_g\n");
-        for (k = 0; k < report.n_branches; k++)
-            fprintf(f, "%d,%.17g,%.17g,%.17g\n", k, ts[3 * k], ts[3 * k + 1], ts[3 * k + 2]);
-        fclose(f);
         printf("\nwrote %s\n", path);
     }
     psb_solver_free(&solver);

@@ -17,12 +17,14 @@
    Exit status 0 only when the six branches of the paper are found, each ends on |gamma| = 1 with a
    small residual, and a slipping vertex slides the way the block is forced.
 
-   Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]
+   Usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose] [--quiet]
                 [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim]
                 [--start -1|1]
                 [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--no-screen] [--seed S]
                 [--dense] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
                 [--expect-npc N]
+   (`block --help` lists them with their defaults and limits; progress goes to stderr unless
+   --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
    --save writes the branches' end points at |gamma| = 1; --refine reads such a file of a coarser
    nested mesh (NX, NY multiples of its own) and re-solves each end point on this mesh by Newton
    from the interpolated coarse solution, skipping the branching (the finest mesh of Table 3);
@@ -32,15 +34,55 @@
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
-#include <sys/stat.h>
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
 #define FE_USE_PSB_CONTACT
 #include "fe.h"
 
+#include "cli.h"
+
+/* Limits of the command line: meshes up to 2048 x 2048 elements (4.2 million nodes, well within
+   fe.h's FE_MAX_NODES; the paper's finest is 80 x 160, M12800); the counts of Algorithm 2.2 to
+   values that finish. */
+#define BLOCK_MAX_MESH 2048
+#define BLOCK_MAX_NDIR 10000
+#define BLOCK_MAX_NSPAN 1000
+
+static const char block_usage[] =
+    "usage: block [options]\n"
+    "Section 3.2 of Ligursky & Renard: the six branches of a sheared Ciarlet-Geymonat block on a\n"
+    "rigid foundation with Coulomb friction. Exit status 0 when the paper's six branches are found,\n"
+    "1 when the run fails or differs, 2 on a usage error.\n"
+    "\n"
+    "  --mesh NXxNY          NX Q1 elements across, NY up the height (default 10x20; 2 <= NX, NY <= 2048)\n"
+    "  --input K             start on branch K = 1..6 instead of Newton from zero (0: default)\n"
+    "  --start -1|1          side of the start for Newton from zero (default -1)\n"
+    "  --ndir N              directions per span of Algorithm 2.2 (default 20; 1..10000)\n"
+    "  --nspan N             spans of Algorithm 2.2 (default 15; 1..1000)\n"
+    "  --patience K          stop after K spans in a row without a new branch (default 0: run all; 0..1000)\n"
+    "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 0 < H <= 1)\n"
+    "  --maxiter N           Newton iterations per corrector (default 10; 1..1000)\n"
+    "  --restart mixed|paper|global   restarts of Algorithm 2.2 (default mixed)\n"
+    "  --paper-sweep         the paper's sweep (Table 1's spans and n_pc)\n"
+    "  --no-screen           each trial along its sampled tangent, as printed\n"
+    "  --seed S              random seed, 0..2^64-1 (default 0)\n"
+    "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
+    "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2; 0 < W <= 1e12)\n"
+    "  --branch-mult-weight W  the same for Algorithms 2.1-2.2 alone (default: --mult-weight)\n"
+    "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
+    "  --dense               dense LAPACK instead of the banded backend\n"
+    "  --save FILE           write the branches' end points at |gamma| = 1\n"
+    "  --refine FILE         re-solve a coarser nested mesh's end points on this mesh (Table 3)\n"
+    "  --compare FILE        relative H1 errors of a coarser file's end points (up to 4 times)\n"
+    "  --expect-npc N        fail unless Algorithm 2.2's n_pc is N\n"
+    "  --out DIR             write CSV, VTK and plot.gp into DIR (created if missing)\n"
+    "  --verbose             more detail on stdout\n"
+    "  --quiet               no progress on stderr\n"
+    "  -h, --help            this help\n";
+
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, dense, maxiter, restart, paper_sweep, patience, no_screen;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, dense, maxiter, restart, paper_sweep, patience, no_screen;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min); h_init: one trial
                      per direction, enough near a conical point (see the manual) */
@@ -56,53 +98,63 @@ typedef struct args {
     long expect_npc; /* --expect-npc N: fail unless Algorithm 2.2's n_pc is N (< 0: no check) */
 } args;
 
+/* CLI_OK, CLI_HELP or CLI_ERROR (reported). */
 static int parse(int argc, char **argv, args *a)
 {
-    int i;
-    a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->input = 0; a->start = -1;
-    a->multipliers = 1; a->verbose = 0; a->dense = 0; a->paper_sweep = 0; a->no_screen = 0; a->maxiter = 10; a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->branch_mult_weight = -1; a->seed = 0; a->out = NULL; a->patience = 0; a->save = NULL; a->refine = NULL; a->ncompare = 0; a->expect_npc = -1;
-    for (i = 1; i < argc; i++) {
-        const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
-        if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
-        if (!strcmp(o, "--dense")) { a->dense = 1; continue; }
-        if (!strcmp(o, "--paper-sweep")) { a->paper_sweep = 1; continue; }
-        if (!strcmp(o, "--no-screen")) { a->no_screen = 1; continue; }
-        if (!v) { fprintf(stderr, "block: %s needs a value\n", o); return -1; }
-        i++;
-        if (!strcmp(o, "--mesh")) { if (sscanf(v, "%dx%d", &a->nx, &a->ny) != 2 || a->nx < 2 || a->ny < 2) return -1; }
-        else if (!strcmp(o, "--ndir")) a->ndir = atoi(v);
-        else if (!strcmp(o, "--nspan")) a->nspan = atoi(v);
-        else if (!strcmp(o, "--patience")) a->patience = atoi(v);
-        else if (!strcmp(o, "--expect-npc")) a->expect_npc = atol(v);
-        else if (!strcmp(o, "--input")) a->input = atoi(v);
-        else if (!strcmp(o, "--start")) a->start = atoi(v) < 0 ? -1 : 1;
-        else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
-        else if (!strcmp(o, "--mult-weight")) a->mult_weight = atof(v);
-        else if (!strcmp(o, "--branch-mult-weight")) a->branch_mult_weight = atof(v);
-        else if (!strcmp(o, "--maxiter")) a->maxiter = atoi(v);
-        else if (!strcmp(o, "--restart")) a->restart = !strcmp(v, "paper") ? PSB_RESTART_PAPER : (!strcmp(v, "global") ? PSB_RESTART_GLOBAL : PSB_RESTART_MIXED);
-        else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
-        else if (!strcmp(o, "--out")) a->out = v;
-        else if (!strcmp(o, "--save")) a->save = v;
-        else if (!strcmp(o, "--refine")) a->refine = v;
-        else if (!strcmp(o, "--compare")) { if (a->ncompare == 4) return -1; a->compare[a->ncompare++] = v; }
-        else if (!strcmp(o, "--dirichlet")) a->multipliers = strcmp(v, "elim") != 0;
-        else if (!strcmp(o, "--kappa")) a->kappa = !strcmp(v, "1/N") ? -1 : atof(v);
-        else { fprintf(stderr, "block: unknown option %s\n", o); return -1; }
+    static const char *const restarts[] = {"mixed", "paper", "global", NULL};
+    static const char *const dirichlet[] = {"mult", "elim", NULL};
+    static const char *const sides[] = {"-1", "1", NULL};
+    int restart = 0, side = 0, elim = 0;
+    const char *kappa = NULL, *compare = NULL;
+    cli c;
+    memset(a, 0, sizeof *a);
+    a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->start = -1; a->multipliers = 1; a->maxiter = 10;
+    a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->branch_mult_weight = -1;
+    a->expect_npc = -1;
+    cli_init(&c, "block", argc, argv, block_usage);
+    while (cli_next(&c)) {
+        if (cli_flag(&c, "--verbose")) a->verbose = 1;
+        else if (cli_flag(&c, "--quiet")) a->quiet = 1;
+        else if (cli_flag(&c, "--dense")) a->dense = 1;
+        else if (cli_flag(&c, "--paper-sweep")) a->paper_sweep = 1;
+        else if (cli_flag(&c, "--no-screen")) a->no_screen = 1;
+        else if (cli_pair(&c, "--mesh", &a->nx, &a->ny, 2, BLOCK_MAX_MESH)) {}
+        else if (cli_int(&c, "--ndir", &a->ndir, 1, BLOCK_MAX_NDIR)) {}
+        else if (cli_int(&c, "--nspan", &a->nspan, 1, BLOCK_MAX_NSPAN)) {}
+        else if (cli_int(&c, "--patience", &a->patience, 0, 1000)) {}
+        else if (cli_long(&c, "--expect-npc", &a->expect_npc, 0, LONG_MAX)) {}
+        else if (cli_int(&c, "--input", &a->input, 0, 6)) {}
+        else if (cli_choice(&c, "--start", &side, sides)) a->start = side ? 1 : -1;
+        else if (cli_double(&c, "--hmin", &a->hmin, 0, 1, 1)) {}
+        else if (cli_double(&c, "--mult-weight", &a->mult_weight, 0, 1e12, 1)) {}
+        else if (cli_double(&c, "--branch-mult-weight", &a->branch_mult_weight, 0, 1e12, 1)) {}
+        else if (cli_int(&c, "--maxiter", &a->maxiter, 1, 1000)) {}
+        else if (cli_choice(&c, "--restart", &restart, restarts))
+            a->restart = restart == 1 ? PSB_RESTART_PAPER : (restart == 2 ? PSB_RESTART_GLOBAL : PSB_RESTART_MIXED);
+        else if (cli_u64(&c, "--seed", &a->seed)) {}
+        else if (cli_string(&c, "--out", &a->out)) {}
+        else if (cli_string(&c, "--save", &a->save)) {}
+        else if (cli_string(&c, "--refine", &a->refine)) {}
+        else if (cli_string(&c, "--compare", &compare)) {
+            if (a->ncompare == 4) cli_fail(&c, "--compare %s: at most 4 files", compare);
+            else a->compare[a->ncompare++] = compare;
+        }
+        else if (cli_choice(&c, "--dirichlet", &elim, dirichlet)) a->multipliers = !elim;
+        else if (cli_string(&c, "--kappa", &kappa)) {
+            if (strcmp(kappa, "1/N")) cli_parse_double(&c, kappa, &a->kappa, 0, 1e12, 1);
+            else a->kappa = -1;
+        }
+        else cli_unknown(&c);
     }
-    if (a->ndir < 1 || a->nspan < 1 || a->input < 0 || a->input > 6 || a->kappa == 0) return -1;
-    return 0;
+    return c.status;
 }
 
 /* The paper's numbering: 1-3 forcing to the right (gamma < 0), 4-6 to the left, and the state of
    the lower vertex on that side: no contact, stick, slip (other contact nodes may touch). */
 static void classify(const fe_model *md, fe_branch *b)
 {
-    int *st = malloc(sizeof(int) * (size_t)md->ncontact), right = b->y[md->n] < 0, kind, corner;
-    if (!st) { b->number = 0; snprintf(b->label, sizeof b->label, "?, out of memory"); return; }
-    fe_contact_states(md, b->y, b->states, st);
-    corner = st[right ? md->ncontact - 1 : 0];
-    free(st);
+    int right = b->y[md->n] < 0, kind, corner = fe_contact_state(md, b->y, right ? md->ncontact - 1 : 0);
+    fe_contact_states(md, b->y, b->states, NULL);
     kind = corner == FE_SEPARATED ? 1 : (corner == FE_STICK ? 2 : 3);
     b->number = (right ? 0 : 3) + kind;
     snprintf(b->label, sizeof b->label, "%s, %s", right ? "right" : "left",
@@ -178,19 +230,20 @@ int main(int argc, char **argv)
     fe_model md;
     fe_run run;
     psb_options opt;
-    double *y, *t, *w, *bw = NULL, t0, t1, tol = 1e-8;
+    double *y = NULL, *t = NULL, *w = NULL, *bw = NULL, t0, t1, tol = 1e-8;
     char spec[64];
-    int n, k, ndist, input, ok;
+    int n, k, ndist, input, ok, files_ok, rc = 1;
     psb_result r;
 
-    if (parse(argc, argv, &a)) {
-        fprintf(stderr, "usage: block [--mesh NXxNY] [--ndir N] [--nspan N] [--input K] [--out DIR] [--verbose]\n"
-                        "             [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim] [--start -1|1]\n"
-                        "             [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--no-screen] [--seed S] [--dense]\n"
-                        "             [--patience K] [--save FILE] [--refine FILE] [--compare FILE]... [--expect-npc N]\n");
-        return 2;
-    }
-    if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory\n"); return 1; }
+    memset(&mesh, 0, sizeof mesh);
+    memset(&md, 0, sizeof md);
+    memset(&run, 0, sizeof run);
+
+    k = parse(argc, argv, &a);
+    if (k != CLI_OK) return k == CLI_HELP ? 0 : 2;
+    if (a.out && cli_output_dir("block", a.out)) return 1;
+    if (!a.quiet) fprintf(stderr, "block: building the %d x %d mesh and its model\n", a.nx, a.ny);
+    if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory building the %d x %d mesh\n", a.nx, a.ny); goto done; }
     n = md.n;
     memset(&opt, 0, sizeof opt);
     opt.kappa = a.kappa > 0 ? a.kappa : 1.0 / n;
@@ -200,20 +253,26 @@ int main(int argc, char **argv)
     opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.branch_trial_h_min = a.hmin; opt.paper_sweep = a.paper_sweep; opt.branch_no_screen = a.no_screen; opt.restart = a.restart;
     opt.branch_patience = a.patience;
     w = malloc(sizeof(double) * ((size_t)n + 1));
-    if (!w) return 1;
+    if (!w) { fprintf(stderr, "block: out of memory\n"); goto done; }
     if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);
     fe_weights(&md, opt.kappa, a.mult_weight, w);
     opt.weights = w;
-    if (fe_run_init(&run, &md, &opt, !a.dense)) { fprintf(stderr, "block: solver set-up failed\n"); return 1; }
+    if (fe_run_init(&run, &md, &opt, !a.dense)) {
+        fprintf(stderr, "block: solver set-up failed for N = %d unknowns (%s, half band %d): %s\n", n,
+                a.dense ? "dense" : "banded", md.half_band, psb_solver_message(&run.s));
+        goto done;
+    }
+    run.prog = "block";
+    run.quiet = a.quiet;
     if (a.branch_mult_weight >= 0 && a.branch_mult_weight != a.mult_weight) {
         bw = malloc(sizeof(double) * ((size_t)n + 1));
-        if (!bw) return 1;
+        if (!bw) { fprintf(stderr, "block: out of memory\n"); goto done; }
         fe_weights(&md, opt.kappa, a.branch_mult_weight, bw);
         run.branch_weights = bw;
     }
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
-    if (!y || !t) return 1;
+    if (!y || !t) { fprintf(stderr, "block: out of memory\n"); goto done; }
 
     printf("block: M%d (%d x %d Q1, 3x3 Gauss), N = %d unknowns (%s), %d contact nodes, half band %d\n",
            a.nx * a.ny, a.nx, a.ny, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated",
@@ -225,7 +284,7 @@ int main(int argc, char **argv)
            opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
     t0 = seconds();
     if (a.refine) {
-        if (fe_run_refine_ends(&run, a.refine, classify)) { printf("block: cannot refine %s onto this mesh\n", a.refine); return 1; }
+        if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("block", a.refine, k); goto done; }
         printf("\n  end points of %s interpolated onto this mesh and re-solved by Newton at their gamma\n", a.refine);
         input = 0;
         goto table;
@@ -244,34 +303,37 @@ int main(int argc, char **argv)
                 y[md.udof[nd] + 1] = lift[(a.input - 1) % 3] * s;
             }
     }
+    fe_run_progress(&run, "Newton at gamma = %d", a.start);
     r = psb_solve_at_param(&run.s, y, 50);
-    if (r != PSB_SUCCESS) { printf("block: Newton at gamma = %d failed: %s\n", a.start, psb_result_string(r)); return 1; }
+    if (r != PSB_SUCCESS) { fprintf(stderr, "block: Newton at gamma = %d failed: %s\n", a.start, psb_result_string(r)); goto done; }
     {
         double *rv = calloc((size_t)n + 1, sizeof(double));
+        if (!rv) { fprintf(stderr, "block: out of memory\n"); goto done; }
         rv[n] = -a.start; /* towards gamma = 0 */
         r = psb_tangent(&run.s, y, rv, t);
         free(rv);
-        if (r != PSB_SUCCESS) { printf("block: tangent failed: %s\n", psb_result_string(r)); return 1; }
+        if (r != PSB_SUCCESS) { fprintf(stderr, "block: tangent failed: %s\n", psb_result_string(r)); goto done; }
     }
     input = branch_and_trace(&run, y, t, &a);
-    if (input < 0) return 1;
+    if (input < 0) goto done;
     if (a.input && a.input != input) {
         /* come back to gamma = 0 along branch K and branch again from there */
         for (k = 0; k < run.nbr && run.br[k].number != a.input; k++) {}
-        if (k == run.nbr) { printf("block: branch %d was not found in the first run\n", a.input); return 1; }
+        if (k == run.nbr) { fprintf(stderr, "block: branch %d was not found in the first run\n", a.input); goto done; }
         printf("  first run from branch %d: %d branches, n_pc = %ld, n_rand = %d; branching again from branch %d\n",
                input, run.nbr, run.brep.n_pc, run.brep.n_rand, a.input);
         memcpy(y, run.br[k].y, sizeof(double) * ((size_t)n + 1));
         {
             double *rv = calloc((size_t)n + 1, sizeof(double));
+            if (!rv) { fprintf(stderr, "block: out of memory\n"); goto done; }
             rv[n] = y[n] < 0 ? 1 : -1;
             r = psb_tangent(&run.s, y, rv, t);
             free(rv);
         }
-        if (r != PSB_SUCCESS) { printf("block: tangent failed: %s\n", psb_result_string(r)); return 1; }
+        if (r != PSB_SUCCESS) { fprintf(stderr, "block: tangent failed: %s\n", psb_result_string(r)); goto done; }
         t0 = seconds();
         input = branch_and_trace(&run, y, t, &a);
-        if (input < 0) return 1;
+        if (input < 0) goto done;
     }
 
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld, cut = %ld\n",
@@ -285,9 +347,9 @@ table:
     ok = 1;
     ndist = fe_run_branch_table(&run, a.refine ? run.nbr : 6, n, tol, check_branch, print_row, &ok);
     snprintf(spec, sizeof spec, "rect 40 80 %d %d", a.nx, a.ny);
-    ok = fe_run_save_compare(&run, "block", spec, a.save, a.compare, a.ncompare, "Table 3") && ok;
-    if (a.out) mkdir(a.out, 0777);
-    ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 6, t1 - t0, "block", "mm", 5, a.out) && ok;
+    files_ok = fe_run_save_compare(&run, "block", spec, a.save, a.compare, a.ncompare, "Table 3");
+    ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 6, t1 - t0) && ok;
+    if (a.out && fe_run_write_outputs(&run, a.out, "block", "mm", 5)) files_ok = 0;
     if (a.refine)
         printf("block: %s\n", ok ? "OK (every end point re-solved on its branch)" : "FAILED (an end point did not re-solve on its branch)");
     else
@@ -296,9 +358,12 @@ table:
         printf("block: FAILED (n_pc = %ld, expected %ld)\n", run.brep.n_pc, a.expect_npc);
         ok = 0;
     }
+    if (!files_ok) fprintf(stderr, "block: FAILED (a file could not be read or written, see above)\n");
+    rc = ok && files_ok ? 0 : 1;
+done: /* every exit after the model is built frees what it holds (clean under LeakSanitizer) */
     free(y); free(t); free(w); free(bw);
     fe_run_free(&run);
     fe_model_free(&md);
     fe_mesh_free(&mesh);
-    return ok ? 0 : 1;
+    return rc;
 }

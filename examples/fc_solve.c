@@ -2,7 +2,7 @@
    Acary et al.), solved by NSGS alternating with a globalised nonsmooth Newton method, both built
    on the pscbranch contact helpers.
 
-   usage: fc_solve [--tol T] [--maxit N] [--verbose] FILE...
+   usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...  (--help: the limits)
    Reads Siconos' plain-text FrictionContact files: dim, nc, storage flag, then W (0: dense, row by
    row; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's cs_print),
    q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib local problems
@@ -1760,26 +1760,42 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
 }
 
 #ifndef FC_SOLVE_NO_MAIN
+#include "cli.h"
+
+static const char fc_usage[] =
+    "usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...\n"
+    "Solves reduced frictional-contact problems (Siconos text files; FCLib HDF5 files when built\n"
+    "with -DFC_SOLVE_HDF5) and prints one line per file. Exit status 0 when every problem meets\n"
+    "the tolerance, 1 when one misses it, 2 on a usage or read error.\n"
+    "\n"
+    "  --tol T       tolerance on the eq. (15) error (default 1e-10; 0 < T <= 1)\n"
+    "  --maxit N     Newton iterations per run, 20 N NSGS sweeps (default 2000; 1..10000000)\n"
+    "  --verbose     the solver's iterations on stderr\n"
+    "  --quiet       no progress on stderr\n"
+    "  -h, --help    this help\n";
+
 int main(int argc, char **argv)
 {
     fc_options o;
-    int i, status = 0, nfiles = 0;
+    int i, status = 0, nfiles = 0, quiet = 0;
+    cli c;
     o.tol = 1e-10;
     o.maxit = 2000;
     o.verbose = 0;
-    for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--tol") == 0 && i + 1 < argc) {
-            o.tol = atof(argv[++i]);
-            continue;
-        }
-        if (strcmp(argv[i], "--maxit") == 0 && i + 1 < argc) {
-            o.maxit = atoi(argv[++i]);
-            continue;
-        }
-        if (strcmp(argv[i], "--verbose") == 0) {
-            o.verbose = 1;
-            continue;
-        }
+    /* options anywhere; the file names are gathered at the front of argv */
+    cli_init(&c, "fc_solve", argc, argv, fc_usage);
+    while (cli_next(&c)) {
+        if (cli_double(&c, "--tol", &o.tol, 0, 1, 1)) {}
+        else if (cli_int(&c, "--maxit", &o.maxit, 1, 10000000)) {}
+        else if (cli_flag(&c, "--verbose")) o.verbose = 1;
+        else if (cli_flag(&c, "--quiet")) quiet = 1;
+        else if (cli_positional(&c)) argv[nfiles++] = (char *)c.arg;
+        else cli_unknown(&c);
+    }
+    if (c.status == CLI_OK && nfiles == 0) cli_fail(&c, "no problem FILE given");
+    if (c.status != CLI_OK) return c.status == CLI_HELP ? 0 : 2;
+    for (i = 0; i < nfiles; i++) {
+        if (!quiet) fprintf(stderr, "fc_solve: solving %s (%d of %d)\n", argv[i], i + 1, nfiles);
         {
             fc_problem p;
             const char *msg = fc_read(argv[i], &p);
@@ -1787,7 +1803,6 @@ int main(int argc, char **argv)
             int res;
             fc_stats st;
             clock_t t0;
-            nfiles++;
             if (msg) {
                 printf("%s error: %s\n", argv[i], msg);
                 status = status ? status : 2;
@@ -1811,10 +1826,6 @@ int main(int argc, char **argv)
             free(r);
             fc_free(&p);
         }
-    }
-    if (nfiles == 0) {
-        fprintf(stderr, "usage: %s [--tol T] [--maxit N] [--verbose] FILE...\n", argv[0]);
-        return 2;
     }
     return status;
 }

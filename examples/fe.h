@@ -28,7 +28,10 @@
 #ifndef FE_H
 #define FE_H
 
+#include <ctype.h>
+#include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -152,12 +155,40 @@ static inline int fe_mesh_alloc(fe_mesh *m, int nnode, int nelem, int nvert, int
     return 0;
 }
 
-/* [0, lx] x [0, ly] cut into nx x ny Q1 squares; node (i, j) is j * (nx + 1) + i. */
+/* Largest mesh the generators build: every index computed in int (element-vertex, node-dof and
+   quadrature offsets, at most 81 per element) then stays far below INT_MAX. The examples state
+   their own, smaller, limits in their --help. */
+#define FE_MAX_NODES (1L << 23)
+
+/* Node and element counts of the two meshes, each size bounded before any product: 0, or -1
+   when nx, ny (n) are below 1 or the mesh would exceed FE_MAX_NODES nodes. */
+static inline int fe_rectangle_size(long long nx, long long ny, long *nnode, long *nelem)
+{
+    if (nx < 1 || ny < 1 || nx >= FE_MAX_NODES || ny >= FE_MAX_NODES || (nx + 1) * (ny + 1) > FE_MAX_NODES) return -1;
+    *nnode = (long)((nx + 1) * (ny + 1));
+    *nelem = (long)(nx * ny);
+    return 0;
+}
+
+static inline int fe_triangle_size(long long n, long *nnode, long *nelem)
+{
+    if (n < 1 || n >= FE_MAX_NODES || (n + 1) * (n + 2) / 2 > FE_MAX_NODES) return -1;
+    *nnode = (long)((n + 1) * (n + 2) / 2);
+    *nelem = (long)(n * n);
+    return 0;
+}
+
+/* [0, lx] x [0, ly] cut into nx x ny Q1 squares; node (i, j) is j * (nx + 1) + i. Returns -1 on
+   sizes out of range (fe_rectangle_size; lx, ly positive and finite) or out of memory. */
 static inline int fe_mesh_rectangle(fe_mesh *m, double lx, double ly, int nx, int ny)
 {
-    int i, j, e = 0, k = 0, w = nx + 1;
-    if (nx < 1 || ny < 1 || fe_mesh_alloc(m, (nx + 1) * (ny + 1), nx * ny, 4, 2 * (nx + ny)))
+    int i, j, e = 0, k = 0, w;
+    long nnode, nelem;
+    memset(m, 0, sizeof *m);
+    if (!(lx > 0 && lx < HUGE_VAL && ly > 0 && ly < HUGE_VAL) || fe_rectangle_size(nx, ny, &nnode, &nelem) ||
+        fe_mesh_alloc(m, (int)nnode, (int)nelem, 4, 2 * (nx + ny)))
         return -1;
+    w = nx + 1; /* only now: nx may have been INT_MAX */
     for (j = 0; j <= ny; j++)
         for (i = 0; i <= nx; i++) {
             m->x[2 * (j * w + i)] = lx * i / nx;
@@ -184,7 +215,9 @@ static inline int fe_tri_node(int n, int i, int j) { return i * (n + 1) - i * (i
 static inline int fe_mesh_triangle(fe_mesh *m, double len, int n)
 {
     int i, j, e = 0, k = 0;
-    if (n < 1 || fe_mesh_alloc(m, (n + 1) * (n + 2) / 2, n * n, 3, 3 * n))
+    long nnode, nelem;
+    memset(m, 0, sizeof *m);
+    if (!(len > 0 && len < HUGE_VAL) || fe_triangle_size(n, &nnode, &nelem) || fe_mesh_alloc(m, (int)nnode, (int)nelem, 3, 3 * n))
         return -1;
     for (i = 0; i <= n; i++)
         for (j = 0; j <= n - i; j++) {
@@ -819,20 +852,26 @@ static inline int fe_jacobian_dense(const fe_model *md, const double *y, double 
     return fe_jacobian_parts(md, y, &K, jac + (size_t)md->n * ld);
 }
 
-/* Contact state counts at y: out[FE_SEPARATED..FE_SLIP_NEG]; states (ncontact) may be NULL.
-   A node is separated when l_n - r u_n >= -tol, sticks when |l_t - r u_t| <= g + tol. The small
-   tolerance keeps grazing nodes of an exact solution on the separated / stick side. */
+/* State of contact node k (0 <= k < ncontact, by increasing x1) at y. A node is separated when
+   l_n - r u_n >= -tol, sticks when |l_t - r u_t| <= g + tol. The small tolerance keeps grazing
+   nodes of an exact solution on the separated / stick side. */
+static inline int fe_contact_state(const fe_model *md, const double *y, int k)
+{
+    int a = md->cnode[k], ud = md->udof[a], cd = md->cdof[a];
+    double un = -y[ud + 1], ut = y[ud], ln = y[cd], lt = y[cd + 1], r = md->r;
+    double zn = ln - r * un, zt = lt - r * ut, tol = 1e-9 * (1 + fabs(ln) + fabs(r * un));
+    if (zn >= -tol) return FE_SEPARATED;
+    if (fabs(zt) <= -md->friction * zn + tol * (1 + md->friction)) return FE_STICK;
+    return (ut > 0) ? FE_SLIP_POS : FE_SLIP_NEG;
+}
+
+/* Contact state counts at y: out[FE_SEPARATED..FE_SLIP_NEG]; states (ncontact) may be NULL. */
 static inline void fe_contact_states(const fe_model *md, const double *y, int out[4], int *states)
 {
     int k;
     out[0] = out[1] = out[2] = out[3] = 0;
     for (k = 0; k < md->ncontact; k++) {
-        int a = md->cnode[k], ud = md->udof[a], cd = md->cdof[a], st;
-        double un = -y[ud + 1], ut = y[ud], ln = y[cd], lt = y[cd + 1], r = md->r;
-        double zn = ln - r * un, zt = lt - r * ut, tol = 1e-9 * (1 + fabs(ln) + fabs(r * un));
-        if (zn >= -tol) st = FE_SEPARATED;
-        else if (fabs(zt) <= -md->friction * zn + tol * (1 + md->friction)) st = FE_STICK;
-        else st = (ut > 0) ? FE_SLIP_POS : FE_SLIP_NEG;
+        int st = fe_contact_state(md, y, k);
         out[st]++;
         if (states) states[k] = st;
     }
@@ -869,6 +908,15 @@ static inline int fe_newton(const fe_model *md, double *y, int max_iter, double 
 
 /* ---- output ---------------------------------------------------------------------------------- */
 
+/* Closes fp: 0, or -1 when a write to it or the close failed (errno tells why). */
+static inline int fe_close(FILE *fp)
+{
+    int bad = ferror(fp), err = errno;
+    if (fclose(fp)) return -1;
+    if (bad) errno = err ? err : EIO;
+    return bad ? -1 : 0;
+}
+
 /* Legacy VTK of the mesh deformed by u (2 * nnode), with the displacement as point data. */
 static inline int fe_write_vtk(const fe_mesh *m, const double *u, const char *path, const char *title)
 {
@@ -888,7 +936,7 @@ static inline int fe_write_vtk(const fe_mesh *m, const double *u, const char *pa
     for (e = 0; e < m->nelem; e++) fprintf(fp, "%d\n", m->nvert == 4 ? 9 : 5);
     fprintf(fp, "POINT_DATA %d\nVECTORS displacement double\n", m->nnode);
     for (a = 0; a < m->nnode; a++) fprintf(fp, "%.10g %.10g 0\n", u[2 * a], u[2 * a + 1]);
-    return fclose(fp) ? -1 : 0;
+    return fe_close(fp);
 }
 
 /* Element outlines for gnuplot: x1 x2 u1 u2 per vertex, a blank line between elements (plot
@@ -1085,13 +1133,18 @@ static inline void fe_locator_free(fe_locator *L)
     L->start = L->list = NULL;
 }
 
+/* floor(f) as a bucket index in 0..G-1, clamped before the conversion: f may be far outside
+   the range (a point outside the mesh) or NaN. */
+static inline int fe_locator_index(double f, int G)
+{
+    f = floor(f);
+    return f >= 0 ? (f < G - 1 ? (int)f : G - 1) : 0;
+}
+
 static inline int fe_locator_bucket(const fe_locator *L, const double p[2])
 {
     int b[2], i;
-    for (i = 0; i < 2; i++) {
-        b[i] = (int)floor((p[i] - L->lo[i]) / L->cell[i]);
-        b[i] = b[i] < 0 ? 0 : (b[i] > L->G - 1 ? L->G - 1 : b[i]);
-    }
+    for (i = 0; i < 2; i++) b[i] = fe_locator_index((p[i] - L->lo[i]) / L->cell[i], L->G);
     return b[1] * L->G + b[0];
 }
 
@@ -1122,10 +1175,8 @@ static inline int fe_locator_init(fe_locator *L, const fe_mesh *m)
                     elo[i] = fmin(elo[i], xv); ehi[i] = fmax(ehi[i], xv);
                 }
             for (i = 0; i < 2; i++) {
-                b[i][0] = (int)floor((elo[i] - L->lo[i]) / L->cell[i] - L->tol);
-                b[i][1] = (int)floor((ehi[i] - L->lo[i]) / L->cell[i] + L->tol);
-                if (b[i][0] < 0) b[i][0] = 0;
-                if (b[i][1] > G - 1) b[i][1] = G - 1;
+                b[i][0] = fe_locator_index((elo[i] - L->lo[i]) / L->cell[i] - L->tol, G);
+                b[i][1] = fe_locator_index((ehi[i] - L->lo[i]) / L->cell[i] + L->tol, G);
             }
             for (by = b[1][0]; by <= b[1][1]; by++)
                 for (bx = b[0][0]; bx <= b[0][1]; bx++) {
@@ -1274,10 +1325,227 @@ static inline int fe_h1_rel_error(const fe_mesh *coarse, const double *uc, const
     return 0;
 }
 
-/* ---- branching driver shared by the examples (needs pscbranch.h included before this file) --- */
-#ifdef PSCBRANCH_H
+/* ---- branch end points on file: the nested-mesh studies of Tables 3 and 4 -------------------
+   Text: "fe-ends SPEC" with the mesh as fe_mesh_from_spec reads it, "COUNT NNODE", then per
+   branch "branch K gamma G" and one line per mesh node (mesh order) with u1 u2 lD1 lD2 l_nu
+   l_tau (zero where the node has no such unknown). The contact multipliers are nodal forces,
+   so the file holds them as densities, divided by the node's share of the contact boundary
+   (fe_contact_lengths): they interpolate onto a finer mesh as the displacements do (the
+   Dirichlet multipliers already are densities, through the boundary mass matrix). */
+
+/* Each node's share of the contact boundary: half of every contact edge at each of its ends. */
+static inline double *fe_contact_lengths(const fe_model *md)
+{
+    const fe_mesh *m = md->mesh;
+    double *len = calloc((size_t)m->nnode, sizeof(double));
+    int e, k;
+    if (!len) return NULL;
+    for (e = 0; e < m->nedge; e++)
+        if (m->edge_tag[e] == md->contact_tag) {
+            const int *c = m->edge + 2 * e;
+            double l = hypot(m->x[2 * c[1]] - m->x[2 * c[0]], m->x[2 * c[1] + 1] - m->x[2 * c[0] + 1]);
+            for (k = 0; k < 2; k++) len[c[k]] += 0.5 * l;
+        }
+    return len;
+}
+
+/* A whole token of s as a long in [lo, hi] or a finite double; *end after it. 0 or -1. */
+static inline int fe_parse_long(const char *s, const char **end, long lo, long hi, long *v)
+{
+    char *e;
+    long x;
+    while (*s == ' ' || *s == '\t') s++;
+    if (!((*s >= '0' && *s <= '9') || *s == '-')) return -1;
+    errno = 0;
+    x = strtol(s, &e, 10);
+    if (e == s || errno == ERANGE || x < lo || x > hi || !(*e == '\0' || isspace((unsigned char)*e))) return -1;
+    *end = e;
+    *v = x;
+    return 0;
+}
+
+static inline int fe_parse_double(const char *s, const char **end, double *v)
+{
+    char *e;
+    double x;
+    while (*s == ' ' || *s == '\t') s++;
+    x = strtod(s, &e);
+    if (e == s || !isfinite(x) || !(*e == '\0' || isspace((unsigned char)*e))) return -1;
+    *end = e;
+    *v = x;
+    return 0;
+}
+
+/* A mesh description: "rect LX LY NX NY" (fe_mesh_rectangle) or "tri LEN N" (fe_mesh_triangle),
+   lengths in [FE_SPEC_MIN_LEN, FE_SPEC_MAX_LEN] (the examples' bodies measure 1 m and 40 mm:
+   a length far outside is no mesh of theirs, and its coordinates would underflow or overflow),
+   sizes within FE_MAX_NODES, nothing after but white space. */
+#define FE_SPEC_MIN_LEN 1e-9
+#define FE_SPEC_MAX_LEN 1e9
+typedef struct fe_spec {
+    int tri;
+    double len[2];
+    int n[2];
+    long nnode, nelem;
+} fe_spec;
+
+static inline int fe_spec_parse(const char *spec, fe_spec *sp)
+{
+    const char *p = spec;
+    long n0 = 0, n1 = 0;
+    memset(sp, 0, sizeof *sp);
+    while (*p == ' ' || *p == '\t') p++;
+    if (!strncmp(p, "rect ", 5)) {
+        p += 5;
+        if (fe_parse_double(p, &p, &sp->len[0]) || fe_parse_double(p, &p, &sp->len[1]) ||
+            fe_parse_long(p, &p, 1, FE_MAX_NODES, &n0) || fe_parse_long(p, &p, 1, FE_MAX_NODES, &n1) ||
+            fe_rectangle_size(n0, n1, &sp->nnode, &sp->nelem))
+            return -1;
+    } else if (!strncmp(p, "tri ", 4)) {
+        p += 4;
+        sp->tri = 1;
+        if (fe_parse_double(p, &p, &sp->len[0]) || fe_parse_long(p, &p, 1, FE_MAX_NODES, &n0) ||
+            fe_triangle_size(n0, &sp->nnode, &sp->nelem))
+            return -1;
+        sp->len[1] = sp->len[0];
+    } else {
+        return -1;
+    }
+    while (isspace((unsigned char)*p)) p++;
+    if (*p || !(sp->len[0] >= FE_SPEC_MIN_LEN && sp->len[0] <= FE_SPEC_MAX_LEN && sp->len[1] >= FE_SPEC_MIN_LEN &&
+                sp->len[1] <= FE_SPEC_MAX_LEN))
+        return -1;
+    sp->n[0] = (int)n0;
+    sp->n[1] = (int)n1;
+    return 0;
+}
+
+/* The mesh of a description (fe_spec_parse); 0 or -1. */
+static inline int fe_mesh_from_spec(const char *spec, fe_mesh *m)
+{
+    fe_spec sp;
+    memset(m, 0, sizeof *m);
+    if (fe_spec_parse(spec, &sp)) return -1;
+    return sp.tri ? fe_mesh_triangle(m, sp.len[0], sp.n[0]) : fe_mesh_rectangle(m, sp.len[0], sp.len[1], sp.n[0], sp.n[1]);
+}
+
+/* Node a's six fields, contact multipliers per unit length (clen: fe_contact_lengths). */
+static inline void fe_node_fields(const fe_model *md, const double *clen, const double *y, int a, double f[6])
+{
+    int k;
+    for (k = 0; k < 6; k++) f[k] = 0;
+    if (md->udof[a] >= 0) { f[0] = y[md->udof[a]]; f[1] = y[md->udof[a] + 1]; }
+    if (md->ddof[a] >= 0) { f[2] = y[md->ddof[a]]; f[3] = y[md->ddof[a] + 1]; }
+    if (md->cdof[a] >= 0 && clen[a] > 0) { f[4] = y[md->cdof[a]] / clen[a]; f[5] = y[md->cdof[a] + 1] / clen[a]; }
+}
+
+static inline void fe_set_node_fields(const fe_model *md, const double *clen, int a, const double f[6], double *y)
+{
+    if (md->udof[a] >= 0) { y[md->udof[a]] = f[0]; y[md->udof[a] + 1] = f[1]; }
+    if (md->ddof[a] >= 0) { y[md->ddof[a]] = f[2]; y[md->ddof[a] + 1] = f[3]; }
+    if (md->cdof[a] >= 0) { y[md->cdof[a]] = f[4] * clen[a]; y[md->cdof[a] + 1] = f[5] * clen[a]; }
+}
 
 #define FE_MAX_BRANCHES 16
+
+typedef struct fe_ends {
+    fe_mesh mesh;                  /* the mesh they were computed on */
+    int count, number[FE_MAX_BRANCHES];
+    double gamma[FE_MAX_BRANCHES];
+    double *fields;                /* count x nnode x 6 */
+} fe_ends;
+
+static inline void fe_ends_free(fe_ends *e)
+{
+    fe_mesh_free(&e->mesh);
+    free(e->fields);
+    memset(e, 0, sizeof *e);
+}
+
+/* The next white-space separated token of f, at most cap - 1 characters; 0, or -1 at the end
+   of the file or on a longer token. */
+static inline int fe_read_token(FILE *f, char *buf, size_t cap)
+{
+    size_t len = 0;
+    int ch;
+    while ((ch = getc(f)) != EOF && isspace(ch)) {}
+    while (ch != EOF && !isspace(ch)) {
+        if (len + 1 >= cap) return -1;
+        buf[len++] = (char)ch;
+        ch = getc(f);
+    }
+    buf[len] = '\0';
+    return len ? 0 : -1;
+}
+
+/* Reads end points written by fe_run_save_ends from f: 0, or -1 (malformed, out of memory).
+   Every header field and count is checked before use, and memory grows with the values actually
+   read, never with the counts a file claims (a short file claiming a huge mesh costs nothing);
+   the mesh is built once all its values are in. Branch numbers are 1..FE_MAX_BRANCHES, every
+   value finite, nothing but white space after the last branch. */
+static inline int fe_ends_read_stream(FILE *f, fe_ends *e)
+{
+    char line[256], tok[64];
+    const char *p;
+    long count, nn, k, num;
+    size_t want, have = 0, cap = 0;
+    fe_spec sp;
+    memset(e, 0, sizeof *e);
+    if (!fgets(line, sizeof line, f) || !strchr(line, '\n') || strncmp(line, "fe-ends ", 8) || fe_spec_parse(line + 8, &sp))
+        return -1;
+    if (fe_read_token(f, tok, sizeof tok) || fe_parse_long(tok, &p, 1, FE_MAX_BRANCHES, &count) ||
+        fe_read_token(f, tok, sizeof tok) || fe_parse_long(tok, &p, 1, FE_MAX_NODES, &nn) || nn != sp.nnode)
+        return -1;
+    want = (size_t)count * 6 * (size_t)nn; /* <= 16 * 6 * 2^23 */
+    for (k = 0; k < count; k++) {
+        size_t end = have + 6 * (size_t)nn;
+        if (fe_read_token(f, tok, sizeof tok) || strcmp(tok, "branch") || fe_read_token(f, tok, sizeof tok) ||
+            fe_parse_long(tok, &p, 1, FE_MAX_BRANCHES, &num) || fe_read_token(f, tok, sizeof tok) || strcmp(tok, "gamma") ||
+            fe_read_token(f, tok, sizeof tok) || fe_parse_double(tok, &p, &e->gamma[k]))
+            goto fail;
+        e->number[k] = (int)num;
+        for (; have < end; have++) {
+            if (have == cap) { /* doubling, capped at what the counts need */
+                size_t ncap = cap ? (2 * cap < want ? 2 * cap : want) : (want < 4096 ? want : 4096);
+                double *nf = realloc(e->fields, sizeof(double) * ncap);
+                if (!nf) goto fail;
+                e->fields = nf;
+                cap = ncap;
+            }
+            if (fe_read_token(f, tok, sizeof tok) || fe_parse_double(tok, &p, &e->fields[have])) goto fail;
+        }
+    }
+    if (!fe_read_token(f, tok, sizeof tok) || fe_mesh_from_spec(line + 8, &e->mesh) || e->mesh.nnode != nn) goto fail;
+    e->count = (int)count;
+    return 0;
+fail:
+    fe_ends_free(e);
+    return -1;
+}
+
+/* The same from a file: 0, -1 when it cannot be opened (errno says why), -2 malformed. */
+static inline int fe_ends_read(const char *path, fe_ends *e)
+{
+    FILE *f = fopen(path, "r");
+    int rc;
+    memset(e, 0, sizeof *e);
+    if (!f) return -1;
+    rc = fe_ends_read_stream(f, e) ? -2 : 0;
+    fclose(f);
+    return rc;
+}
+
+/* The message for a failure rc of fe_ends_read, fe_run_refine_ends or fe_run_compare_ends on
+   stderr (rc -1 right after the failed fopen, so errno still holds its cause). */
+static inline void fe_ends_error(const char *prog, const char *path, int rc)
+{
+    if (rc == -1) fprintf(stderr, "%s: cannot read %s: %s\n", prog, path, strerror(errno));
+    else if (rc == -2) fprintf(stderr, "%s: %s: not a valid end-point file (header 'fe-ends rect LX LY NX NY' or 'fe-ends tri LEN N', then COUNT NNODE, then per branch 'branch K gamma G' and 6 finite values per node)\n", prog, path);
+    else fprintf(stderr, "%s: %s: its mesh is not a coarser mesh nested in this one (or out of memory)\n", prog, path);
+}
+
+/* ---- branching driver shared by the examples (needs pscbranch.h included before this file) --- */
+#ifdef PSCBRANCH_H
 
 typedef struct fe_branch {
     int found;            /* index in psb_find_branches' output */
@@ -1311,7 +1579,32 @@ typedef struct fe_run {
     const double *branch_weights; /* inner product of Algorithms 2.1-2.2 (NULL: the run's) */
     psb_branch_report brep;
     double precision;     /* Algorithm 2.1's last h */
+    const char *prog;     /* the example's name in messages ("fe" when NULL) */
+    int quiet;            /* 0: progress of the long stages on stderr */
 } fe_run;
+
+static inline const char *fe_run_prog(const fe_run *run) { return run->prog ? run->prog : "fe"; }
+
+/* A progress line on stderr unless run->quiet: "PROG: message". */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 2, 3)))
+#endif
+static inline void fe_run_progress(const fe_run *run, const char *fmt, ...)
+{
+    va_list ap;
+    if (run->quiet) return;
+    fprintf(stderr, "%s: ", fe_run_prog(run));
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+}
+
+/* An output file that could not be written, on stderr: "PROG: cannot write PATH: reason". */
+static inline void fe_run_write_error(const fe_run *run, const char *path)
+{
+    fprintf(stderr, "%s: cannot write %s: %s\n", fe_run_prog(run), path, strerror(errno));
+}
 
 static inline int fe_psb_residual(const double *y, double *h, void *user)
 {
@@ -1420,58 +1713,6 @@ static inline void fe_run_free(fe_run *run)
     memset(run, 0, sizeof *run);
 }
 
-/* ---- branch end points on file: the nested-mesh studies of Tables 3 and 4 -------------------
-   Text: "fe-ends SPEC" with the mesh as fe_mesh_from_spec reads it, "COUNT NNODE", then per
-   branch "branch K gamma G" and one line per mesh node (mesh order) with u1 u2 lD1 lD2 l_nu
-   l_tau (zero where the node has no such unknown). The contact multipliers are nodal forces,
-   so the file holds them as densities, divided by the node's share of the contact boundary
-   (fe_contact_lengths): they interpolate onto a finer mesh as the displacements do (the
-   Dirichlet multipliers already are densities, through the boundary mass matrix). */
-
-/* Each node's share of the contact boundary: half of every contact edge at each of its ends. */
-static inline double *fe_contact_lengths(const fe_model *md)
-{
-    const fe_mesh *m = md->mesh;
-    double *len = calloc((size_t)m->nnode, sizeof(double));
-    int e, k;
-    if (!len) return NULL;
-    for (e = 0; e < m->nedge; e++)
-        if (m->edge_tag[e] == md->contact_tag) {
-            const int *c = m->edge + 2 * e;
-            double l = hypot(m->x[2 * c[1]] - m->x[2 * c[0]], m->x[2 * c[1] + 1] - m->x[2 * c[0] + 1]);
-            for (k = 0; k < 2; k++) len[c[k]] += 0.5 * l;
-        }
-    return len;
-}
-
-/* "rect LX LY NX NY" (fe_mesh_rectangle) or "tri LEN N" (fe_mesh_triangle); 0 or -1. */
-static inline int fe_mesh_from_spec(const char *spec, fe_mesh *m)
-{
-    double lx, ly;
-    int nx, ny;
-    memset(m, 0, sizeof *m);
-    if (sscanf(spec, " rect %lf %lf %d %d", &lx, &ly, &nx, &ny) == 4) return fe_mesh_rectangle(m, lx, ly, nx, ny);
-    if (sscanf(spec, " tri %lf %d", &lx, &nx) == 2) return fe_mesh_triangle(m, lx, nx);
-    return -1;
-}
-
-/* Node a's six fields, contact multipliers per unit length (clen: fe_contact_lengths). */
-static inline void fe_node_fields(const fe_model *md, const double *clen, const double *y, int a, double f[6])
-{
-    int k;
-    for (k = 0; k < 6; k++) f[k] = 0;
-    if (md->udof[a] >= 0) { f[0] = y[md->udof[a]]; f[1] = y[md->udof[a] + 1]; }
-    if (md->ddof[a] >= 0) { f[2] = y[md->ddof[a]]; f[3] = y[md->ddof[a] + 1]; }
-    if (md->cdof[a] >= 0 && clen[a] > 0) { f[4] = y[md->cdof[a]] / clen[a]; f[5] = y[md->cdof[a] + 1] / clen[a]; }
-}
-
-static inline void fe_set_node_fields(const fe_model *md, const double *clen, int a, const double f[6], double *y)
-{
-    if (md->udof[a] >= 0) { y[md->udof[a]] = f[0]; y[md->udof[a] + 1] = f[1]; }
-    if (md->ddof[a] >= 0) { y[md->ddof[a]] = f[2]; y[md->ddof[a] + 1] = f[3]; }
-    if (md->cdof[a] >= 0) { y[md->cdof[a]] = f[4] * clen[a]; y[md->cdof[a] + 1] = f[5] * clen[a]; }
-}
-
 /* The distinct numbered branches' end points of run, on the mesh described by spec. */
 static inline int fe_run_save_ends(const fe_run *run, const char *path, const char *spec)
 {
@@ -1493,68 +1734,30 @@ static inline int fe_run_save_ends(const fe_run *run, const char *path, const ch
         }
     }
     free(clen);
-    return fclose(f) ? -1 : 0;
-}
-
-typedef struct fe_ends {
-    fe_mesh mesh;                  /* the mesh they were computed on */
-    int count, number[FE_MAX_BRANCHES];
-    double gamma[FE_MAX_BRANCHES];
-    double *fields;                /* count x nnode x 6 */
-} fe_ends;
-
-static inline void fe_ends_free(fe_ends *e)
-{
-    fe_mesh_free(&e->mesh);
-    free(e->fields);
-    memset(e, 0, sizeof *e);
-}
-
-/* Reads a file of fe_run_save_ends; 0, or -1 (unreadable, malformed, out of memory). */
-static inline int fe_ends_read(const char *path, fe_ends *e)
-{
-    FILE *f = fopen(path, "r");
-    char line[256];
-    int k, a, nn;
-    memset(e, 0, sizeof *e);
-    if (!f) return -1;
-    if (!fgets(line, sizeof line, f) || strncmp(line, "fe-ends ", 8) || fe_mesh_from_spec(line + 8, &e->mesh) ||
-        fscanf(f, "%d %d", &e->count, &nn) != 2 || e->count < 1 || e->count > FE_MAX_BRANCHES || nn != e->mesh.nnode) {
-        fclose(f);
-        fe_ends_free(e);
-        return -1;
-    }
-    e->fields = malloc(sizeof(double) * 6 * (size_t)nn * (size_t)e->count);
-    for (k = 0; e->fields && k < e->count; k++) {
-        if (fscanf(f, " branch %d gamma %lf", &e->number[k], &e->gamma[k]) != 2) break;
-        for (a = 0; a < 6 * nn; a++)
-            if (fscanf(f, "%lf", &e->fields[(size_t)k * 6 * nn + a]) != 1) break;
-        if (a < 6 * nn) break;
-    }
-    fclose(f);
-    if (!e->fields || k < e->count) { fe_ends_free(e); return -1; }
-    return 0;
+    return fe_close(f);
 }
 
 /* The end points of a coarser nested mesh re-solved on run's mesh: each branch's six nodal
    fields interpolated (fe_interpolate_nested: exact for the displacements; the multipliers,
    which live on boundary nodes, linearly along the boundary edges), then Newton at its gamma.
-   Fills run->br[] as a branching run would, classified by the example's classify. Returns 0
-   or -1 (file, nesting or memory); a branch whose Newton fails ends PSB_ERR_NO_CONVERGENCE. */
+   Fills run->br[] as a branching run would, classified by the example's classify. Returns 0,
+   -1 or -2 (the file: fe_ends_read), -3 (not nested, or out of memory); a branch whose Newton
+   fails ends PSB_ERR_NO_CONVERGENCE. */
 static inline int fe_run_refine_ends(fe_run *run, const char *path, void (*classify)(const fe_model *, fe_branch *))
 {
     fe_model *md = run->md;
     const fe_mesh *m = md->mesh;
     fe_ends e;
     double *fine = NULL, *clen = NULL;
-    int k, a, rc = 0;
-    if (fe_ends_read(path, &e)) return -1;
+    int k, a, rc;
+    if ((rc = fe_ends_read(path, &e))) return rc;
     fine = malloc(sizeof(double) * 6 * (size_t)m->nnode);
     clen = fe_contact_lengths(md);
     run->nbr = 0;
     for (k = 0; k < e.count && !rc; k++) {
         fe_branch *b = &run->br[run->nbr];
-        if (!fine || !clen || fe_interpolate_nested(&e.mesh, 6, e.fields + (size_t)k * 6 * e.mesh.nnode, m, fine)) { rc = -1; break; }
+        if (!fine || !clen || fe_interpolate_nested(&e.mesh, 6, e.fields + (size_t)k * 6 * e.mesh.nnode, m, fine)) { rc = -3; break; }
+        fe_run_progress(run, "re-solving end point %d of %d (branch %d) by Newton", k + 1, e.count, e.number[k]);
         memset(b->y, 0, sizeof(double) * (size_t)run->np1);
         for (a = 0; a < m->nnode; a++) fe_set_node_fields(md, clen, a, fine + 6 * (size_t)a, b->y);
         b->y[md->n] = e.gamma[k];
@@ -1582,12 +1785,12 @@ static inline int fe_run_compare_ends(const fe_run *run, const char *path)
     const fe_model *md = run->md;
     fe_ends e;
     double *uc = NULL, *uf = NULL, rel;
-    int k, j, a, p, rc = 0, nn;
-    if (fe_ends_read(path, &e)) return -1;
+    int k, j, a, p, rc, nn;
+    if ((rc = fe_ends_read(path, &e))) return rc;
     nn = e.mesh.nnode;
     uc = malloc(sizeof(double) * 2 * (size_t)nn);
     uf = malloc(sizeof(double) * 2 * (size_t)md->mesh->nnode);
-    if (!uc || !uf) rc = -1;
+    if (!uc || !uf) rc = -3;
     printf("  M%-6d", e.mesh.nelem);
     for (p = 1; p <= FE_MAX_BRANCHES && !rc; p++) { /* by branch number */
         const fe_branch *b = NULL;
@@ -1601,7 +1804,7 @@ static inline int fe_run_compare_ends(const fe_run *run, const char *path)
             uc[2 * a + 1] = e.fields[(size_t)k * 6 * nn + 6 * a + 1];
         }
         fe_displacements(md, b->y, uf);
-        if (fe_h1_rel_error(&e.mesh, uc, md->mesh, uf, &rel)) { rc = -1; break; }
+        if (fe_h1_rel_error(&e.mesh, uc, md->mesh, uf, &rel)) { rc = -3; break; }
         printf("  %d: %.2e", e.number[k], rel);
     }
     printf("\n");
@@ -1615,12 +1818,12 @@ static inline int fe_run_compare_ends(const fe_run *run, const char *path)
 static inline int fe_run_save_compare(const fe_run *run, const char *prog, const char *spec, const char *save,
                                       const char *const *compare, int ncompare, const char *table)
 {
-    int k, ok = 1;
-    if (save && fe_run_save_ends(run, save, spec)) { printf("%s: cannot write %s\n", prog, save); ok = 0; }
+    int k, ok = 1, rc;
+    if (save && fe_run_save_ends(run, save, spec)) { fe_run_write_error(run, save); ok = 0; }
     if (ncompare) printf("\n  relative H1 errors of the displacements against this mesh (%s), by branch:\n", table);
     for (k = 0; k < ncompare; k++)
-        if (fe_run_compare_ends(run, compare[k])) {
-            printf("%s: cannot compare with %s (not a coarser nested mesh?)\n", prog, compare[k]);
+        if ((rc = fe_run_compare_ends(run, compare[k]))) {
+            fe_ends_error(prog, compare[k], rc);
             ok = 0;
         }
     return ok;
@@ -1653,6 +1856,7 @@ static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int 
     to.on_point = fe_run_approach_point;
     to.point_user = run;
     run->cur = -1;
+    fe_run_progress(run, "continuation from gamma = %g to the branching point at gamma = 0", g0);
     r = psb_trace(&run->s, y, t, &to, &rep);
     if (verbose)
         printf("  approach: trace %s after %ld steps, %d kinks located, at gamma = %.3e\n", psb_result_string(r),
@@ -1701,6 +1905,7 @@ static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
         if (r != PSB_SUCCESS) return r;
         s = &alt;
     }
+    fe_run_progress(run, "Algorithms 2.1-2.2: locating the end point and sweeping for branches");
     r = psb_locate_end(s, y, t, &run->precision);
     if (r >= 0) r = psb_find_branches(s, y, t, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
     if (s == &alt) {
@@ -1726,6 +1931,7 @@ static inline void fe_run_trace_all(fe_run *run, double gmax)
     for (k = 0; k < run->nbr && t; k++) {
         fe_branch *b = &run->br[k];
         psb_trace_report rep;
+        fe_run_progress(run, "tracing branch %d of %d to |gamma| = %g", k + 1, run->nbr, gmax);
         memcpy(b->y, run->ys + (size_t)k * np1, sizeof(double) * (size_t)np1);
         memcpy(t, run->ts + (size_t)k * np1, sizeof(double) * (size_t)np1);
         b->found = k;
@@ -1756,17 +1962,36 @@ static inline void fe_run_trace_all(fe_run *run, double gmax)
     free(t);
 }
 
+/* "dir/name" into path (1024 bytes) and the file opened for writing; NULL with the failure
+   reported (fe_run_write_error) when the path is too long or fopen fails. */
+static inline FILE *fe_run_open(const fe_run *run, char *path, const char *dir, const char *name)
+{
+    FILE *fp = NULL;
+    if (snprintf(path, 1024, "%s/%s", dir, name) >= 1024) errno = ENAMETOOLONG;
+    else fp = fopen(path, "w");
+    if (!fp) fe_run_write_error(run, path);
+    return fp;
+}
+
+/* Closes fp opened by fe_run_open; 0, or -1 with the failure reported. */
+static inline int fe_run_close(const fe_run *run, FILE *fp, const char *path)
+{
+    if (!fe_close(fp)) return 0;
+    fe_run_write_error(run, path);
+    return -1;
+}
+
 /* Output files: branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp (K = paper number
-   when known, else found index + 1). */
+   when known, else found index + 1). Returns 0, or -1 after reporting the file that could not
+   be written. */
 static inline int fe_run_write(const fe_run *run, const char *dir, const char *title, int diag_by_number)
 {
-    char path[1024];
+    char path[1024], name[64];
     FILE *fp;
-    int k, order, nn = run->md->mesh->nnode, nc = run->md->ncontact;
-    double *u = malloc(sizeof(double) * 2 * (size_t)nn);
-    if (!u) return -1;
-    snprintf(path, sizeof path, "%s/branches.csv", dir);
-    if (!(fp = fopen(path, "w"))) { free(u); return -1; }
+    int k, order, nc = run->md->ncontact;
+    double *u = malloc(sizeof(double) * 2 * (size_t)run->md->mesh->nnode);
+    if (!u) { fprintf(stderr, "%s: out of memory writing to %s\n", fe_run_prog(run), dir); return -1; }
+    if (!(fp = fe_run_open(run, path, dir, "branches.csv"))) goto fail;
     fprintf(fp, "branch,gamma,u1_left,u2_left,u1_right,u2_right,n_separated,n_stick,n_slip\n");
     for (order = 0; order < run->nbr; order++) {
         /* rows by branch number: the order-th smallest (number, found index) */
@@ -1781,9 +2006,8 @@ static inline int fe_run_write(const fe_run *run, const char *dir, const char *t
         fprintf(fp, "%d,%.17g,%.10e,%.10e,%.10e,%.10e,%d,%d,%d\n", b->number ? b->number : b->found + 1, b->y[run->md->n],
                 b->y[ul], b->y[ul + 1], b->y[ur], b->y[ur + 1], b->states[0], b->states[1], b->states[2] + b->states[3]);
     }
-    fclose(fp);
-    snprintf(path, sizeof path, "%s/diagram.csv", dir);
-    if (!(fp = fopen(path, "w"))) { free(u); return -1; }
+    if (fe_run_close(run, fp, path)) goto fail;
+    if (!(fp = fe_run_open(run, path, dir, "diagram.csv"))) goto fail;
     fprintf(fp, "branch,gamma,u1_left,u2_left\n");
     {
         long i;
@@ -1793,62 +2017,133 @@ static inline int fe_run_write(const fe_run *run, const char *dir, const char *t
             fprintf(fp, "%d,%.10e,%.10e,%.10e\n", num, run->diag[4 * i + 1], run->diag[4 * i + 2], run->diag[4 * i + 3]);
         }
     }
-    fclose(fp);
+    if (fe_run_close(run, fp, path)) goto fail;
     for (k = 0; k < run->nbr; k++) {
         const fe_branch *b = &run->br[k];
         int num = b->number ? b->number : k + 1;
         char ttl[128];
+        int bad;
         if (b->duplicate_of >= 0) continue;
         fe_displacements(run->md, b->y, u);
         snprintf(ttl, sizeof ttl, "%s branch %d (%s) gamma=%g", title, num, b->label, b->y[run->md->n]);
-        snprintf(path, sizeof path, "%s/branch_%d.vtk", dir, num);
-        if (fe_write_vtk(run->md->mesh, u, path, ttl)) { free(u); return -1; }
-        snprintf(path, sizeof path, "%s/body_%d.dat", dir, num);
-        if (!(fp = fopen(path, "w"))) { free(u); return -1; }
+        snprintf(name, sizeof name, "branch_%d.vtk", num);
+        bad = snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path;
+        if (bad) errno = ENAMETOOLONG;
+        else bad = fe_write_vtk(run->md->mesh, u, path, ttl) != 0;
+        if (bad) { fe_run_write_error(run, path); goto fail; }
+        snprintf(name, sizeof name, "body_%d.dat", num);
+        if (!(fp = fe_run_open(run, path, dir, name))) goto fail;
         fe_write_outline(run->md->mesh, u, fp);
-        fclose(fp);
+        if (fe_run_close(run, fp, path)) goto fail;
     }
     free(u);
     return 0;
+fail:
+    free(u);
+    return -1;
 }
 
-/* gnuplot script: diagram.png (gamma against u1, u2 of the left-most contact node) and
-   bodies.png (the deformed bodies at the branch ends, displacements magnified by mag). */
+/* A tick step for a range of width w: 1, 2, 2.5 or 5 times a power of ten, at most 5 steps, so
+   that the labels of a narrow panel do not run into each other. */
+static inline double fe_tick_step(double w)
+{
+    double raw = w / 5, p = pow(10, floor(log10(raw))), r = raw / p;
+    return (r <= 1 ? 1 : r <= 2 ? 2 : r <= 2.5 ? 2.5 : r <= 5 ? 5 : 10) * p;
+}
+
+/* gnuplot script: diagram.png (u1 and u2 of the left-most contact node against gamma, one
+   panel each, one legend below both) and bodies.png (the deformed bodies at the branch ends,
+   displacements magnified by mag, over the undeformed one, every panel on the same axes). The
+   colours are the Okabe-Ito palette without its yellow (distinguishable with the common colour
+   vision deficiencies, and on white), with a point type per branch as well. */
 static inline int fe_run_write_gnuplot(const fe_run *run, const char *dir, const char *title, const char *unit, double mag)
 {
+    static const char *const colour[7] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"};
+    static const int point[7] = {7, 5, 9, 13, 11, 15, 3};
+    const fe_mesh *m = run->md->mesh;
     char path[1024];
     FILE *fp;
-    int k, num, nd = 0, maxnum = 0, cols, rows;
-    for (k = 0; k < run->nbr; k++)
-        if (run->br[k].duplicate_of < 0) {
-            nd++;
-            if ((run->br[k].number ? run->br[k].number : k + 1) > maxnum) maxnum = run->br[k].number ? run->br[k].number : k + 1;
-        }
+    int k, j, num, nd = 0, cols, rows, a, first;
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL}, pad, step[2];
+    double *u = malloc(sizeof(double) * 2 * (size_t)m->nnode);
+    if (!u) { fprintf(stderr, "%s: out of memory writing to %s\n", fe_run_prog(run), dir); return -1; }
+    /* the common axes of bodies.png: every deformed and the undeformed body */
+    for (k = 0; k < run->nbr; k++) {
+        if (run->br[k].duplicate_of >= 0) continue;
+        nd++;
+        fe_displacements(run->md, run->br[k].y, u);
+        for (a = 0; a < m->nnode; a++)
+            for (j = 0; j < 2; j++) {
+                double x = m->x[2 * a + j], xd = x + mag * u[2 * a + j];
+                lo[j] = fmin(lo[j], fmin(x, xd));
+                hi[j] = fmax(hi[j], fmax(x, xd));
+            }
+    }
+    free(u);
+    if (!(lo[0] < hi[0] && lo[1] < hi[1])) { lo[0] = lo[1] = 0; hi[0] = hi[1] = 1; }
+    pad = 0.05 * fmax(hi[0] - lo[0], hi[1] - lo[1]);
+    for (j = 0; j < 2; j++) { lo[j] -= pad; hi[j] += pad; step[j] = fe_tick_step(hi[j] - lo[j]); }
+    lo[1] = fmin(lo[1], -pad); /* the foundation x2 = 0 in view */
     cols = nd <= 4 ? (nd ? nd : 1) : 3;
     rows = (nd + cols - 1) / cols;
-    snprintf(path, sizeof path, "%s/plot.gp", dir);
-    if (!(fp = fopen(path, "w"))) return -1;
+    if (!(fp = fe_run_open(run, path, dir, "plot.gp"))) return -1;
     fprintf(fp, "# gnuplot script written by the pscbranch %s example: run `gnuplot plot.gp` in this folder\n", title);
     fprintf(fp, "mag = %g  # magnification of the displacements in bodies.png\n", mag);
-    fprintf(fp, "set datafile separator ','\nset terminal pngcairo size 1200,500\nset output 'diagram.png'\n");
-    fprintf(fp, "set multiplot layout 1,2 title '%s: left-most contact node'\nset grid\nset key outside\n", title);
-    fprintf(fp, "set xlabel 'gamma'\nset ylabel 'u1 (%s)'\n", unit);
-    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):3 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", maxnum);
-    fprintf(fp, "set ylabel 'u2 (%s)'\n", unit);
-    fprintf(fp, "plot for [k=1:%d] 'diagram.csv' every ::1 using ($1==k?$2:1/0):4 with linespoints pt 7 ps 0.4 title sprintf('branch %%d', k)\n", maxnum);
-    fprintf(fp, "unset multiplot\nset datafile separator whitespace\n");
-    fprintf(fp, "set terminal pngcairo size %d,%d\nset output 'bodies.png'\nunset grid\nunset key\nset size ratio -1\nunset xlabel\nunset ylabel\n",
-            400 * cols, 450 * rows);
-    fprintf(fp, "set multiplot layout %d,%d title sprintf('%s: deformed bodies at the branch ends (displacements x %%g)', mag)\n", rows, cols, title);
-    for (num = 1; num <= maxnum; num++)
-        for (k = 0; k < run->nbr; k++) {
-            const fe_branch *b = &run->br[k];
-            if (b->duplicate_of >= 0 || (b->number ? b->number : k + 1) != num) continue;
-            fprintf(fp, "set title 'branch %d: %s, gamma = %g'\n", num, b->label, b->y[run->md->n]);
-            fprintf(fp, "plot 'body_%d.dat' using ($1+mag*$3):($2+mag*$4) with lines lc rgb '#3060a0', 0 with lines lc rgb 'black' lw 2\n", num);
-        }
+    for (k = 0; k < 7; k++) fprintf(fp, "set linetype %d lc rgb '%s' lw 1.5 pt %d ps 0.6\n", k + 1, colour[k], point[k]);
+    fprintf(fp, "set linetype cycle 7\n");
+    /* diagram.png: the legend, once, below both panels */
+    fprintf(fp, "set datafile separator ','\nset terminal pngcairo size 1200,600 font ',11'\nset output 'diagram.png'\n");
+    fprintf(fp, "set multiplot layout 1,2 title '%s: bifurcation diagram, displacements of the left-most contact node' "
+                "margins 0.07,0.98,0.3,0.9 spacing 0.1,0\n", title);
+    fprintf(fp, "set grid\nset xlabel 'load parameter gamma'\nset xtics 0.5\nset mxtics 5\n");
+    fprintf(fp, "set key at screen 0.5,0.02 center bottom horizontal maxrows %d box opaque width 1 spacing 1.2\n", nd > 4 ? 2 : 1);
+    for (j = 0; j < 2; j++) {
+        fprintf(fp, "set title '%s displacement'\nset ylabel 'u%d (%s)'\n", j ? "vertical" : "horizontal", j + 1, unit);
+        if (j) fprintf(fp, "unset key\n");
+        fprintf(fp, "plot");
+        for (first = 1, num = 1; num <= FE_MAX_BRANCHES; num++)
+            for (k = 0; k < run->nbr; k++) {
+                const fe_branch *b = &run->br[k];
+                if (b->duplicate_of >= 0 || (b->number ? b->number : k + 1) != num) continue;
+                fprintf(fp, "%s \\\n  'diagram.csv' every ::1 using ($1==%d?$2:1/0):%d with linespoints lt %d title 'branch %d: %s'",
+                        first ? "" : ",", num, 3 + j, (num - 1) % 7 + 1, num, b->label);
+                first = 0;
+            }
+        fprintf(fp, "%s\n", first ? " 0 notitle" : "");
+    }
+    fprintf(fp, "unset multiplot\nset datafile separator whitespace\nunset title\n");
+    /* bodies.png: one panel per branch on common axes, ticks spaced for the panel width; the
+       legend, once, in a strip of its own below them */
+    {
+        int height = 440 * rows + 90, panel = 0;
+        double key_h = 50.0 / height, title_h = 40.0 / height, pw = 1.0 / cols, ph = (1 - key_h - title_h) / rows;
+        fprintf(fp, "set terminal pngcairo size %d,%d font ',11'\nset output 'bodies.png'\nunset grid\nset size ratio -1\n",
+                420 * cols, height);
+        fprintf(fp, "set xrange [%.6g:%.6g]\nset yrange [%.6g:%.6g]\nset xtics %.6g\nset ytics %.6g\nunset mxtics\nunset key\n",
+                lo[0], hi[0], lo[1], hi[1], step[0], step[1]);
+        fprintf(fp, "set xlabel 'x1 (%s)'\nset ylabel 'x2 (%s)'\n", unit, unit);
+        fprintf(fp, "set multiplot title sprintf('%s: deformed bodies at the branch ends (displacements x %%g, colours as in diagram.png)', mag)\n", title);
+        for (num = 1; num <= FE_MAX_BRANCHES; num++)
+            for (k = 0; k < run->nbr; k++) {
+                const fe_branch *b = &run->br[k];
+                if (b->duplicate_of >= 0 || (b->number ? b->number : k + 1) != num) continue;
+                fprintf(fp, "set origin %.4f,%.4f\nset size %.4f,%.4f\n", (panel % cols) * pw,
+                        key_h + (rows - 1 - panel / cols) * ph, pw, ph);
+                fprintf(fp, "set title 'branch %d: %s, gamma = %g'\n", num, b->label, b->y[run->md->n]);
+                fprintf(fp, "plot 'body_%d.dat' using 1:2 with lines lc rgb '#b0b0b0' lw 1.5, \\\n"
+                            "  '' using ($1+mag*$3):($2+mag*$4) with lines lt %d lw 1, 0 with lines lc rgb 'black' lw 3\n",
+                        num, (num - 1) % 7 + 1);
+                panel++;
+            }
+        fprintf(fp, "set origin 0,0\nset size 1,%.4f\nset size noratio\nunset title\nunset xlabel\nunset ylabel\n"
+                    "unset border\nunset tics\nset xrange [0:1]\nset yrange [0:1]\n", key_h);
+        fprintf(fp, "set lmargin 0\nset rmargin 0\nset tmargin 0\nset bmargin 0\nset key center center horizontal maxrows 1 samplen 3\n");
+        /* a curve off the range first: a plot of key entries alone trips an assertion of gnuplot 5.4 */
+        fprintf(fp, "plot 2 with lines notitle, keyentry with lines lc rgb '#b0b0b0' lw 1.5 title 'undeformed', "
+                    "keyentry with lines lt 1 lw 1 title 'deformed', keyentry with lines lc rgb 'black' lw 3 title 'rigid foundation'\n");
+    }
     fprintf(fp, "unset multiplot\n");
-    return fclose(fp) ? -1 : 0;
+    return fe_run_close(run, fp, path);
 }
 
 /* The branch table: visits the branches by the paper's number (1..expected, then any other),
@@ -1882,10 +2177,9 @@ static inline int fe_run_branch_table(const fe_run *run, int expected, int n, do
     return ndist;
 }
 
-/* The summary line after the branch table, and the output files when out (an existing
-   directory) is not NULL. Returns whether the number of distinct branches is the expected one. */
-static inline int fe_run_summary(fe_run *run, int ndist, int expected, double seconds, const char *name,
-                                 const char *unit, double mag, const char *out)
+/* The summary line after the branch table. Returns whether the number of distinct branches is
+   the expected one. */
+static inline int fe_run_summary(fe_run *run, int ndist, int expected, double seconds)
 {
     printf("\n  %d distinct branches (paper: %d)", ndist, expected);
     if (ndist != run->nbr) printf(", %d couples returned by psb_find_branches", run->nbr);
@@ -1893,13 +2187,16 @@ static inline int fe_run_summary(fe_run *run, int ndist, int expected, double se
            run->s.stats.n_pc_steps);
     printf("  corrector iterations %ld, Jacobians %ld, factorisations reused %ld\n", run->s.stats.n_newton,
            run->s.stats.n_jacobian, run->s.stats.n_factor_reused);
-    if (out) {
-        if (fe_run_write(run, out, name, 1) || fe_run_write_gnuplot(run, out, name, unit, mag))
-            printf("%s: could not write to %s\n", name, out);
-        else
-            printf("  wrote %s/branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp\n", out);
-    }
     return ndist == expected;
+}
+
+/* The output files in the existing directory out (fe_run_write, fe_run_write_gnuplot): 0, or -1
+   after reporting the file that could not be written. */
+static inline int fe_run_write_outputs(const fe_run *run, const char *out, const char *name, const char *unit, double mag)
+{
+    if (fe_run_write(run, out, name, 1) || fe_run_write_gnuplot(run, out, name, unit, mag)) return -1;
+    printf("  wrote %s/branches.csv, diagram.csv, branch_K.vtk, body_K.dat, plot.gp\n", out);
+    return 0;
 }
 
 #endif /* PSCBRANCH_H */

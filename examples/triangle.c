@@ -27,13 +27,14 @@
 
    Usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
                    [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
-                   [--dense | --sparse] [--verbose] [--save FILE] [--refine FILE] [--compare FILE]...
+                   [--dense | --sparse] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
+   (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
+   --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/triangle.c -o examples/triangle -llapack -lblas -lm
      cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_UMFPACK examples/triangle.c \
         -o examples/triangle_sparse -lumfpack -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
-#include <sys/stat.h>
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
@@ -42,8 +43,44 @@
 #include "fe_umfpack.h"
 #endif
 
+#include "cli.h"
+
+/* Limits of the command line: n up to 2048 (2.1 million nodes, within fe.h's FE_MAX_NODES; the
+   paper's finest is n = 512, M262144); the counts of Algorithm 2.2 to values that finish. */
+#define TRI_MAX_MESH 2048
+#define TRI_MAX_NDIR 10000
+#define TRI_MAX_NSPAN 1000
+
+static const char triangle_usage[] =
+    "usage: triangle [options]\n"
+    "Section 3.3 of Ligursky & Renard: a Hooke triangle on a rigid foundation with Coulomb friction;\n"
+    "the four branches at gamma = 0 (--problem branching) or the two limit points of the fold\n"
+    "problem (--problem fold). Exit status 0 when the result is the paper's, 1 when the run fails\n"
+    "or differs, 2 on a usage error.\n"
+    "\n"
+    "  --mesh N              N subdivisions per leg, N^2 P1 triangles (default 32; 2 <= N <= 2048)\n"
+    "  --problem branching|fold   what to compute (default branching)\n"
+    "  --load H1|auto        branching load h = gamma (-H1, -7.5), 0 < H1 <= 1e6; auto: the middle of\n"
+    "                        the loads with four branches on this mesh (default: 26.4 when inside, else auto)\n"
+    "  --ndir N              directions per span of Algorithm 2.2 (default 30; 1..10000)\n"
+    "  --nspan N             spans of Algorithm 2.2 (default 10; 1..1000)\n"
+    "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 0 < H <= 1)\n"
+    "  --seed S              random seed, 0..2^64-1 (default 0)\n"
+    "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
+    "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2, 1 for fold; 0 < W <= 1e12)\n"
+    "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
+    "  --dense               dense LAPACK instead of the banded backend\n"
+    "  --sparse              UMFPACK (a build with -DFE_UMFPACK only)\n"
+    "  --save FILE           write the branches' end points at |gamma| = 1\n"
+    "  --refine FILE         re-solve a coarser nested mesh's end points on this mesh (needs --load; Table 4)\n"
+    "  --compare FILE        relative H1 errors of a coarser file's end points (up to 4 times)\n"
+    "  --out DIR             write CSV, VTK and plot.gp into DIR (created if missing)\n"
+    "  --verbose             more detail on stdout\n"
+    "  --quiet               no progress on stderr\n"
+    "  -h, --help            this help\n";
+
 typedef struct args {
-    int n, fold, ndir, nspan, multipliers, verbose, dense, sparse;
+    int n, fold, ndir, nspan, multipliers, verbose, quiet, dense, sparse, load_auto;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
@@ -52,48 +89,59 @@ typedef struct args {
     int ncompare;
 } args;
 
+/* CLI_OK, CLI_HELP or CLI_ERROR (reported). */
 static int parse(int argc, char **argv, args *a)
 {
-    int i;
-    a->n = 32; a->fold = 0; a->ndir = 30; a->nspan = 10; a->multipliers = 1; a->verbose = 0; a->dense = 0; a->sparse = 0;
-    a->kappa = -1; a->hmin = 5e-4; a->load = 0; a->mult_weight = -1; a->seed = 0; a->out = NULL;
-    a->save = a->refine = NULL; a->ncompare = 0;
-    for (i = 1; i < argc; i++) {
-        const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
-        if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
-        if (!strcmp(o, "--dense")) { a->dense = 1; continue; }
-        if (!strcmp(o, "--sparse")) {
+    static const char *const problems[] = {"branching", "fold", NULL};
+    static const char *const dirichlet[] = {"mult", "elim", NULL};
+    const char *kappa = NULL, *load = NULL, *compare = NULL;
+    int elim = 0;
+    cli c;
+    memset(a, 0, sizeof *a);
+    a->n = 32; a->ndir = 30; a->nspan = 10; a->multipliers = 1;
+    a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1;
+    cli_init(&c, "triangle", argc, argv, triangle_usage);
+    while (cli_next(&c)) {
+        if (cli_flag(&c, "--verbose")) a->verbose = 1;
+        else if (cli_flag(&c, "--quiet")) a->quiet = 1;
+        else if (cli_flag(&c, "--dense")) a->dense = 1;
+        else if (cli_flag(&c, "--sparse")) {
 #ifdef FE_UMFPACK
             a->sparse = 1;
-            continue;
 #else
-            fprintf(stderr, "triangle: --sparse needs a build with -DFE_UMFPACK (see the top of triangle.c)\n");
-            return -1;
+            cli_fail(&c, "--sparse needs a build with -DFE_UMFPACK (see the top of triangle.c)");
 #endif
         }
-        if (!v) { fprintf(stderr, "triangle: %s needs a value\n", o); return -1; }
-        i++;
-        if (!strcmp(o, "--mesh")) a->n = atoi(v);
-        else if (!strcmp(o, "--problem")) {
-            if (!strcmp(v, "fold")) a->fold = 1;
-            else if (!strcmp(v, "branching")) a->fold = 0;
-            else return -1;
+        else if (cli_int(&c, "--mesh", &a->n, 2, TRI_MAX_MESH)) {}
+        else if (cli_choice(&c, "--problem", &a->fold, problems)) {}
+        else if (cli_int(&c, "--ndir", &a->ndir, 1, TRI_MAX_NDIR)) {}
+        else if (cli_int(&c, "--nspan", &a->nspan, 1, TRI_MAX_NSPAN)) {}
+        else if (cli_double(&c, "--hmin", &a->hmin, 0, 1, 1)) {}
+        else if (cli_double(&c, "--mult-weight", &a->mult_weight, 0, 1e12, 1)) {}
+        else if (cli_string(&c, "--load", &load)) {
+            a->load_auto = !strcmp(load, "auto");
+            if (a->load_auto) a->load = -1;
+            else cli_parse_double(&c, load, &a->load, 0, 1e6, 1);
         }
-        else if (!strcmp(o, "--ndir")) a->ndir = atoi(v);
-        else if (!strcmp(o, "--nspan")) a->nspan = atoi(v);
-        else if (!strcmp(o, "--hmin")) a->hmin = atof(v);
-        else if (!strcmp(o, "--mult-weight")) a->mult_weight = atof(v);
-        else if (!strcmp(o, "--load")) a->load = !strcmp(v, "auto") ? -1 : atof(v);
-        else if (!strcmp(o, "--seed")) a->seed = strtoull(v, NULL, 10);
-        else if (!strcmp(o, "--out")) a->out = v;
-        else if (!strcmp(o, "--save")) a->save = v;
-        else if (!strcmp(o, "--refine")) a->refine = v;
-        else if (!strcmp(o, "--compare")) { if (a->ncompare == 4) return -1; a->compare[a->ncompare++] = v; }
-        else if (!strcmp(o, "--dirichlet")) a->multipliers = strcmp(v, "elim") != 0;
-        else if (!strcmp(o, "--kappa")) a->kappa = !strcmp(v, "1/N") ? -1 : atof(v);
-        else { fprintf(stderr, "triangle: unknown option %s\n", o); return -1; }
+        else if (cli_u64(&c, "--seed", &a->seed)) {}
+        else if (cli_string(&c, "--out", &a->out)) {}
+        else if (cli_string(&c, "--save", &a->save)) {}
+        else if (cli_string(&c, "--refine", &a->refine)) {}
+        else if (cli_string(&c, "--compare", &compare)) {
+            if (a->ncompare == 4) cli_fail(&c, "--compare %s: at most 4 files", compare);
+            else a->compare[a->ncompare++] = compare;
+        }
+        else if (cli_choice(&c, "--dirichlet", &elim, dirichlet)) a->multipliers = !elim;
+        else if (cli_string(&c, "--kappa", &kappa)) {
+            if (strcmp(kappa, "1/N")) cli_parse_double(&c, kappa, &a->kappa, 0, 1e12, 1);
+            else a->kappa = -1;
+        }
+        else cli_unknown(&c);
     }
-    return (a->n < 2 || a->ndir < 1 || a->nspan < 1 || a->kappa == 0) ? -1 : 0;
+    if (c.status == CLI_OK && a->dense && a->sparse) cli_fail(&c, "--dense and --sparse exclude each other");
+    if (c.status == CLI_OK && a->refine && !a->fold && !(a->load > 0))
+        cli_fail(&c, "--refine needs --load H1, the load of the run that saved the end points");
+    return c.status;
 }
 
 static double seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
@@ -141,16 +189,16 @@ static void free_run(fe_run *run, void *umf)
    3 stick, 4 slip. */
 static void classify(const fe_model *md, fe_branch *b)
 {
-    int st[4096], neg = b->y[md->n] < 0;
-    fe_contact_states(md, b->y, b->states, st);
-    b->corner = st[0];
+    int corner = fe_contact_state(md, b->y, 0), neg = b->y[md->n] < 0; /* the lower left vertex */
+    fe_contact_states(md, b->y, b->states, NULL);
+    b->corner = corner;
     if (neg) {
         b->number = 2;
         snprintf(b->label, sizeof b->label, "pushed right, partial contact");
     } else {
-        b->number = st[0] == FE_SEPARATED ? 1 : (st[0] == FE_STICK ? 3 : 4);
+        b->number = corner == FE_SEPARATED ? 1 : (corner == FE_STICK ? 3 : 4);
         snprintf(b->label, sizeof b->label, "pulled left, vertex %s",
-                 st[0] == FE_SEPARATED ? "separated" : (st[0] == FE_STICK ? "sticks" : "slips"));
+                 corner == FE_SEPARATED ? "separated" : (corner == FE_STICK ? "sticks" : "slips"));
     }
 }
 
@@ -251,19 +299,18 @@ static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
     for (k = 0; k < fs.nfold; k++) ok = ok && fs.folds[k] > 0.4 && fs.folds[k] < 0.9;
     if (a->out) {
         char path[1024];
-        FILE *fp;
-        mkdir(a->out, 0777);
-        snprintf(path, sizeof path, "%s/folds.csv", a->out);
-        fp = fopen(path, "w");
+        FILE *fp = fe_run_open(run, path, a->out, "folds.csv");
+        int bad = !fp;
         if (fp) {
             fprintf(fp, "fold,gamma\n");
             for (k = 0; k < fs.nfold; k++) fprintf(fp, "%d,%.10f\n", k + 1, fs.folds[k]);
-            fclose(fp);
+            bad = fe_run_close(run, fp, path);
         }
-        if (!fp || fe_run_write(run, a->out, "triangle (fold)", 0) || fe_run_write_gnuplot(run, a->out, "triangle (fold)", "m", 1))
-            printf("triangle: could not write to %s\n", a->out);
-        else
-            printf("  wrote %s/folds.csv, branches.csv, diagram.csv, branch_1.vtk, body_1.dat, plot.gp\n", a->out);
+        if (bad || fe_run_write(run, a->out, "triangle (fold)", 0) || fe_run_write_gnuplot(run, a->out, "triangle (fold)", "m", 1)) {
+            fprintf(stderr, "triangle: FAILED (a file could not be written, see above)\n");
+            return 1;
+        }
+        printf("  wrote %s/folds.csv, branches.csv, diagram.csv, branch_1.vtk, body_1.dat, plot.gp\n", a->out);
     }
     printf("triangle: %s\n", ok ? "OK (two limit points in (0.4, 0.9))" : "FAILED (limit points differ from the paper)");
     return ok ? 0 : 1;
@@ -300,20 +347,27 @@ static int choose_load(args *a)
     psb_options opt;
     psb_trace_report rep;
     fold_state fs;
-    double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y, *t, *w;
-    int n, ok, k;
-    void *umf;
-    if (fe_triangle_model(&md, &mesh, a->n, a->multipliers, h0, h1)) return -1;
+    double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y = NULL, *t = NULL, *w;
+    int n, ok = 0, k;
+    void *umf = NULL;
+    memset(&run, 0, sizeof run);
+    if (fe_triangle_model(&md, &mesh, a->n, a->multipliers, h0, h1)) {
+        fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a->n);
+        goto done;
+    }
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
-    if (!w) return -1;
+    if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, a, &md, w, 1);
     k = init_run(&run, &md, &opt, a, &umf); /* the weights are copied at init */
     free(w);
-    if (k) return -1;
+    if (k) { fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns: %s\n", n, psb_solver_message(&run.s)); goto done; }
+    run.prog = "triangle";
+    run.quiet = a->quiet;
+    fe_run_progress(&run, "choosing the load: the fold problem on this mesh (n = %d)", a->n);
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
-    if (!y || !t) return -1;
+    if (!y || !t) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     y[n] = -3;
     t[n] = 1;
     ok = psb_solve_at_param(&run.s, y, 50) == PSB_SUCCESS && psb_tangent(&run.s, y, t, t) == PSB_SUCCESS &&
@@ -330,8 +384,12 @@ static int choose_load(args *a)
             printf("  branching for h = gamma (-%.4f, -7.5), the middle of that interval\n", a->load);
         }
     } else {
-        printf("triangle: --load auto: the fold problem did not give two limit points\n");
+        /* the default and --load auto both rely on the fold problem: say which one failed */
+        fprintf(stderr, "triangle: %s: the fold problem on this mesh (n = %d) did not give two limit points, so no load with four branches is known; %s\n",
+                a->load_auto ? "--load auto" : "choosing the default load", a->n,
+                a->load_auto ? "give --load H1 or a finer mesh (n >= 8)" : "give a finer mesh (n >= 8) or a load with --load H1");
     }
+done:
     free(y); free(t);
     free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh);
     return ok ? 0 : -1;
@@ -344,60 +402,64 @@ int main(int argc, char **argv)
     fe_model md;
     fe_run run;
     psb_options opt;
-    double *y, *t, *rv, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
+    double *y = NULL, *t = NULL, *rv = NULL, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
     char spec[64];
-    int n, k, ndist, ok, rc;
+    int n, k, ndist, ok, rc = 1, files_ok;
     psb_result r;
-    void *umf;
+    void *umf = NULL;
 
-    if (parse(argc, argv, &a)) {
-        fprintf(stderr, "usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]\n"
-                        "                [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR] [--dense | --sparse] [--verbose]\n"
-                        "                [--save FILE] [--refine FILE] [--compare FILE]...\n");
-        return 2;
-    }
-    if (a.refine && !a.fold && a.load <= 0) {
-        fprintf(stderr, "triangle: --refine needs --load, the load of the run that saved the end points\n");
-        return 2;
-    }
+    memset(&mesh, 0, sizeof mesh);
+    memset(&md, 0, sizeof md);
+    memset(&run, 0, sizeof run);
+
+    k = parse(argc, argv, &a);
+    if (k != CLI_OK) return k == CLI_HELP ? 0 : 2;
+    if (a.out && cli_output_dir("triangle", a.out)) return 1;
     if (!a.fold && a.load <= 0 && choose_load(&a)) return 1;
     if (a.fold) { h0[0] = -20; h0[1] = -7.5; h1[0] = -10; h1[1] = 0; }
     else { h0[0] = 0; h0[1] = 0; h1[0] = -a.load; h1[1] = -7.5; }
-    if (fe_triangle_model(&md, &mesh, a.n, a.multipliers, h0, h1)) { fprintf(stderr, "triangle: out of memory\n"); return 1; }
+    if (!a.quiet) fprintf(stderr, "triangle: building the mesh with n = %d and its model\n", a.n);
+    if (fe_triangle_model(&md, &mesh, a.n, a.multipliers, h0, h1)) { fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a.n); goto done; }
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
-    if (!w) return 1;
+    if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, &a, &md, w, a.fold);
     k = init_run(&run, &md, &opt, &a, &umf); /* the weights are copied at init */
     free(w);
-    if (k) { fprintf(stderr, "triangle: solver set-up failed\n"); return 1; }
+    if (k) {
+        fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns (half band %d): %s\n", n, md.half_band,
+                psb_solver_message(&run.s));
+        goto done;
+    }
+    run.prog = "triangle";
+    run.quiet = a.quiet;
     y = calloc((size_t)n + 1, sizeof(double));
     t = calloc((size_t)n + 1, sizeof(double));
     rv = calloc((size_t)n + 1, sizeof(double));
-    if (!y || !t || !rv) return 1;
+    if (!y || !t || !rv) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     printf("triangle: M%d (%d subdivisions per leg, P1), N = %d unknowns (%s), %d contact nodes, half band %d, kappa = %s, %s\n",
            mesh.nelem, a.n, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated", md.ncontact,
            md.half_band, a.kappa > 0 ? "given" : "1/N", a.sparse ? "UMFPACK (user solver)" : (a.dense ? "dense LAPACK" : "banded LAPACK"));
 
     t0 = seconds();
     if (a.refine && !a.fold) {
-        if (fe_run_refine_ends(&run, a.refine, classify)) { printf("triangle: cannot refine %s onto this mesh\n", a.refine); return 1; }
+        if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("triangle", a.refine, k); goto done; }
         printf("\n  end points of %s interpolated onto this mesh and re-solved by Newton at their gamma (load -%g)\n",
                a.refine, a.load);
         t1 = seconds();
         goto table;
     }
     y[n] = a.fold ? -3 : -1; /* the pushing side: Newton from zero converges there */
+    fe_run_progress(&run, "Newton at gamma = %g", y[n]);
     r = psb_solve_at_param(&run.s, y, 50);
-    if (r != PSB_SUCCESS) { printf("triangle: Newton at gamma = %g failed: %s\n", y[n], psb_result_string(r)); return 1; }
+    if (r != PSB_SUCCESS) { fprintf(stderr, "triangle: Newton at gamma = %g failed: %s\n", y[n], psb_result_string(r)); goto done; }
     rv[n] = 1; /* towards larger gamma */
     r = psb_tangent(&run.s, y, rv, t);
-    if (r != PSB_SUCCESS) { printf("triangle: tangent failed: %s\n", psb_result_string(r)); return 1; }
+    if (r != PSB_SUCCESS) { fprintf(stderr, "triangle: tangent failed: %s\n", psb_result_string(r)); goto done; }
     if (a.fold) {
         rc = run_fold(&run, y, t, &a, t0);
         report_umf(umf);
-        free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
-        return rc;
+        goto done;
     }
 
     printf("  weights: kappa = %s for displacements, %g kappa for multipliers, 1 for gamma\n", a.kappa > 0 ? "given" : "1/N",
@@ -406,9 +468,9 @@ int main(int argc, char **argv)
     printf("  Algorithms 2.1-2.2: c_diff = 1 - %.0e, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            1 - opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
     r = fe_run_approach(&run, y, t, a.verbose);
-    if (r < 0) { printf("triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); return 1; }
+    if (r < 0) { fprintf(stderr, "triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
     r = fe_run_branching(&run, y, t);
-    if (r < 0) { printf("triangle: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); return 1; }
+    if (r < 0) { fprintf(stderr, "triangle: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
     if (a.verbose)
         for (k = 0; k < run.nbr; k++)
             printf("    found %d: gamma = %.3e, t_gamma = %+.4f\n", k, run.ys[(size_t)k * (n + 1) + n], run.ts[(size_t)k * (n + 1) + n]);
@@ -438,15 +500,18 @@ table:
     printf("\n  branch  gamma   state                           contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
     ok = 1;
     ndist = fe_run_branch_table(&run, a.refine ? run.nbr : 4, n, tol, check_branch, print_row, &ok);
-    if (a.out) mkdir(a.out, 0777);
-    ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 4, t1 - t0, "triangle", "m", 1, a.out) && ok;
+    ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 4, t1 - t0) && ok;
+    files_ok = !a.out || !fe_run_write_outputs(&run, a.out, "triangle", "m", 1);
     snprintf(spec, sizeof spec, "tri 1 %d", a.n);
-    ok = fe_run_save_compare(&run, "triangle", spec, a.save, a.compare, a.ncompare, "Table 4") && ok;
+    files_ok = fe_run_save_compare(&run, "triangle", spec, a.save, a.compare, a.ncompare, "Table 4") && files_ok;
     report_umf(umf);
     if (a.refine)
         printf("triangle: %s\n", ok ? "OK (every end point re-solved on its branch)" : "FAILED (an end point did not re-solve on its branch)");
     else
         printf("triangle: %s\n", ok ? "OK (four branches as in the paper)" : "FAILED (branches differ from the paper)");
+    if (!files_ok) fprintf(stderr, "triangle: FAILED (a file could not be read or written, see above)\n");
+    rc = ok && files_ok ? 0 : 1;
+done: /* every exit after the model is built frees what it holds (clean under LeakSanitizer) */
     free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
-    return ok ? 0 : 1;
+    return rc;
 }

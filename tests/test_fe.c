@@ -6,6 +6,7 @@
 #include "pscbranch.h"
 #include "examples/fe.h"
 #include "tests/harness.h"
+#include <limits.h>
 #ifdef FE_UMFPACK /* optional: cc ... -DFE_UMFPACK -I/usr/include/suitesparse ... -lumfpack */
 #include "examples/fe_umfpack.h"
 #endif
@@ -567,6 +568,178 @@ static void test_umfpack(void)
 }
 #endif
 
+/* Mesh sizes: bounded by FE_MAX_NODES and computed without overflow; a refused size allocates
+   nothing and leaves the mesh empty (block --mesh 65536x65536 and triangle --mesh 100000 were
+   int overflows, then a heap overflow or a 28 GB request). */
+static void test_mesh_limits(void)
+{
+    fe_mesh m;
+    fe_model md;
+    long nn, ne, n;
+    double h0[2] = {0, 0}, h1[2] = {-26.4, -7.5};
+    CHECK(fe_rectangle_size(10, 20, &nn, &ne) == 0 && nn == 231 && ne == 200);
+    CHECK(fe_rectangle_size(65536, 65536, &nn, &ne) == -1);
+    CHECK(fe_rectangle_size(2047, 2047, &nn, &ne) == 0 && nn == 2048L * 2048);
+    CHECK(fe_rectangle_size(FE_MAX_NODES / 2 - 1, 1, &nn, &ne) == 0 && nn == FE_MAX_NODES);
+    CHECK(fe_rectangle_size(FE_MAX_NODES / 2, 1, &nn, &ne) == -1);
+    CHECK(fe_rectangle_size(0, 5, &nn, &ne) == -1 && fe_rectangle_size(5, -1, &nn, &ne) == -1);
+    CHECK(fe_rectangle_size(INT_MAX, INT_MAX, &nn, &ne) == -1 && fe_rectangle_size(LLONG_MAX, 2, &nn, &ne) == -1);
+    CHECK(fe_triangle_size(64, &nn, &ne) == 0 && nn == 65 * 66 / 2 && ne == 4096);
+    CHECK(fe_triangle_size(100000, &nn, &ne) == -1 && fe_triangle_size(0, &nn, &ne) == -1);
+    for (n = 1; (n + 2) * (n + 3) / 2 <= FE_MAX_NODES; n++) {}
+    CHECK(fe_triangle_size(n, &nn, &ne) == 0 && nn <= FE_MAX_NODES); /* the largest one */
+    CHECK(fe_triangle_size(n + 1, &nn, &ne) == -1);
+    CHECK(fe_mesh_rectangle(&m, 40, 80, 65536, 65536) == -1 && !m.x && !m.conn && m.nnode == 0);
+    CHECK(fe_mesh_rectangle(&m, 40, 80, INT_MAX, 2) == -1 && !m.x);
+    CHECK(fe_mesh_rectangle(&m, 40, 80, -3, 2) == -1 && !m.x);
+    CHECK(fe_mesh_rectangle(&m, NAN, 80, 2, 2) == -1 && fe_mesh_rectangle(&m, 40, -1, 2, 2) == -1);
+    CHECK(fe_mesh_rectangle(&m, HUGE_VAL, 80, 2, 2) == -1 && fe_mesh_rectangle(&m, 0, 80, 2, 2) == -1);
+    CHECK(fe_mesh_triangle(&m, 1, 100000) == -1 && !m.x);
+    CHECK(fe_mesh_triangle(&m, 1, INT_MAX) == -1 && fe_mesh_triangle(&m, NAN, 4) == -1 && fe_mesh_triangle(&m, 1, 0) == -1);
+    CHECK(fe_block_model(&md, &m, 65536, 65536, 1) == -1 && !md.udof);
+    CHECK(fe_triangle_model(&md, &m, 100000, 1, h0, h1) == -1 && !md.udof);
+}
+
+static void check_spec(const char *spec, int ok, long nnode)
+{
+    fe_spec sp;
+    int rc = fe_spec_parse(spec, &sp);
+    CHECK(ok ? rc == 0 && sp.nnode == nnode : rc == -1);
+    if (ok ? !(rc == 0 && sp.nnode == nnode) : rc != -1) printf("  spec '%s'\n", spec);
+}
+
+/* Mesh descriptions of end-point files: whole fields, sizes and lengths in range. */
+static void test_spec(void)
+{
+    check_spec("rect 40 80 10 20", 1, 231);
+    check_spec("  rect 40 80 10 20 \n", 1, 231);
+    check_spec("tri 1 64", 1, 65 * 66 / 2);
+    check_spec("rect 40 80 10 20 junk", 0, 0);
+    check_spec("rect 40 80 10x 20", 0, 0);
+    check_spec("rect 40 80 10 20.5", 0, 0);
+    check_spec("rect 40 80 10", 0, 0);
+    check_spec("rect 40 80 65536 65536", 0, 0);
+    check_spec("rect 40 80 -1 5", 0, 0);
+    check_spec("rect 40 80 99999999999999999999 5", 0, 0);
+    check_spec("rect nan 80 1 1", 0, 0);
+    check_spec("rect inf 80 1 1", 0, 0);
+    check_spec("rect 1e999 80 1 1", 0, 0);
+    check_spec("rect 0 80 1 1", 0, 0);
+    check_spec("rect 5e-324 80 1 1", 0, 0);
+    check_spec("rect 40 1e300 1 1", 0, 0);
+    check_spec("rect 1e-9 1e9 1 1", 1, 4);
+    check_spec("rect -40 80 1 1", 0, 0);
+    check_spec("tri 0 5", 0, 0);
+    check_spec("tri 1 100000", 0, 0);
+    check_spec("tri 1 4 4", 0, 0);
+    check_spec("quad 1 4", 0, 0);
+    check_spec("", 0, 0);
+}
+
+/* fe_ends_read_stream on the bytes of text (a temporary file). */
+static int read_ends_text(const char *text, size_t len, fe_ends *e)
+{
+    FILE *f = tmpfile();
+    int rc;
+    memset(e, 0, sizeof *e);
+    if (!f) return -99;
+    if (len && fwrite(text, 1, len, f) != len) { fclose(f); return -99; }
+    rewind(f);
+    rc = fe_ends_read_stream(f, e);
+    fclose(f);
+    return rc;
+}
+
+static void check_ends_rejected(const char *text)
+{
+    fe_ends e;
+    int rc = read_ends_text(text, strlen(text), &e);
+    CHECK(rc == -1 && e.fields == NULL && e.mesh.x == NULL && e.count == 0);
+    if (rc != -1) printf("  accepted:\n%s\n", text);
+}
+
+/* The --refine / --compare end-point reader: a valid file, every truncation of it, hostile
+   headers and counts (the 40-byte 'fe-ends rect 40 80 65536 65536' was a heap-buffer-overflow
+   write), bad numbers and trailing garbage; all refused without a leak (ASan) or a crash. */
+static void test_ends_reader(void)
+{
+    /* one branch on the 1 x 1 rectangle: 4 nodes, 6 values each; the last value is one
+       character so that every proper prefix lacks a value */
+    static const char good[] = "fe-ends rect 2 2 1 1\n1 4\nbranch 3 gamma -1\n"
+                               "0.5 -0.25 0 0 1e-3 -2\n1 2 3 4 5 6\n-1 -2 -3 -4 -5 -6\n0 0 0 0 0 7\n";
+    char buf[512];
+    fe_ends e;
+    size_t len = strlen(good), cut;
+    int bad = 0;
+    CHECK(read_ends_text(good, len, &e) == 0);
+    CHECK(e.count == 1 && e.number[0] == 3 && e.gamma[0] == -1 && e.mesh.nnode == 4 && e.mesh.nelem == 1);
+    CHECK(e.fields && e.fields[0] == 0.5 && e.fields[4] == 1e-3 && e.fields[6] == 1 && e.fields[23] == 7);
+    fe_ends_free(&e);
+    for (cut = 0; cut + 1 < len; cut++) bad += read_ends_text(good, cut, &e) != -1;
+    CHECK(bad == 0);
+    CHECK(read_ends_text(good, len - 1, &e) == 0); /* without the final newline */
+    fe_ends_free(&e);
+    check_ends_rejected("fe-ends rect 40 80 65536 65536\n1 4295098369\n");
+    check_ends_rejected("fe-ends rect 40 80 65536 65536\n1 231\nbranch 1 gamma 1\n0 0 0 0 0 0\n");
+    check_ends_rejected("fe-ends tri 1 100000\n1 5000150001\n");
+    /* a huge valid mesh claimed by a short file: refused at the first missing value */
+    check_ends_rejected("fe-ends rect 40 80 2047 2047\n16 4194304\nbranch 1 gamma 1\n1 2 3\n");
+    check_ends_rejected("fe-ends rect 2 2 1 1\n0 4\n");
+    check_ends_rejected("fe-ends rect 2 2 1 1\n17 4\n");
+    check_ends_rejected("fe-ends rect 2 2 1 1\n-1 4\n");
+    check_ends_rejected("fe-ends rect 2 2 1 1\n1 5\n");
+    check_ends_rejected("fe-ends rect 2 2 1 1\n1 4x\n");
+    check_ends_rejected("fe-ends rect 2 2 1 1 x\n1 4\n");
+    check_ends_rejected("fe-ends rect 2 2 1\n1 4\n");
+    check_ends_rejected("fe-ends rect 2 nan 1 1\n1 4\n");
+    check_ends_rejected("fe-endsrect 2 2 1 1\n1 4\n");
+    check_ends_rejected("fe-ends\n");
+    check_ends_rejected("");
+    /* field by field in the branch records */
+    {
+        static const char *const subst[][2] = {
+            {"branch 3", "branch 0"}, {"branch 3", "branch 17"}, {"branch 3", "branch x"}, {"branch 3", "brunch 3"},
+            {"gamma -1", "gamma nan"}, {"gamma -1", "gamma inf"}, {"gamma -1", "gamma 1e999"}, {"gamma -1", "gama -1"},
+            {"1e-3", "nan"}, {"1e-3", "-inf"}, {"1e-3", "1e-3x"}, {"1e-3", "1e400"}, {"1 2 3", "1 2,3"},
+            {"0 0 0 0 0 7\n", "0 0 0 0 0 7\nbranch 1 gamma 1\n"}, {"0 0 0 0 0 7\n", "0 0 0 0 0 7 8\n"},
+            {"1 4\n", "2 4\n"}, {"1 4\n", "1 99999999999999999999\n"}};
+        size_t k;
+        for (k = 0; k < sizeof subst / sizeof subst[0]; k++) {
+            const char *at = strstr(good, subst[k][0]);
+            size_t pre = (size_t)(at - good);
+            snprintf(buf, sizeof buf, "%.*s%s%s", (int)pre, good, subst[k][1], at + strlen(subst[k][0]));
+            check_ends_rejected(buf);
+        }
+    }
+    /* a header line longer than the reader's line: refused, not split */
+    memset(buf, ' ', sizeof buf);
+    memcpy(buf, "fe-ends rect 2 2 1 1", 20);
+    buf[400] = '\n';
+    buf[401] = '\0';
+    check_ends_rejected(buf);
+}
+
+/* fe_contact_state of each node agrees with the counts of fe_contact_states (classify in the
+   examples reads one node's state through it, without a fixed-size array). */
+static void test_contact_state(void)
+{
+    fe_mesh m;
+    fe_model md;
+    unsigned long long seed = 7;
+    double *y;
+    int k, i, cnt[4], st[64], agree = 1;
+    CHECK(fe_block_model(&md, &m, 10, 20, 1) == 0);
+    y = malloc(sizeof(double) * ((size_t)md.n + 1));
+    for (k = 0; k < 20; k++) {
+        for (i = 0; i <= md.n; i++) y[i] = 0.5 * rnd(&seed);
+        fe_contact_states(&md, y, cnt, st);
+        for (i = 0; i < md.ncontact; i++) agree = agree && fe_contact_state(&md, y, i) == st[i];
+    }
+    CHECK(agree && md.ncontact == 11 && cnt[0] + cnt[1] + cnt[2] + cnt[3] == 11);
+    free(y);
+    fe_model_free(&md); fe_mesh_free(&m);
+}
+
 int main(void)
 {
     test_materials();
@@ -579,6 +752,10 @@ int main(void)
     test_sparse_pattern();
     test_h1_error();
     test_nested_interpolation();
+    test_mesh_limits();
+    test_spec();
+    test_ends_reader();
+    test_contact_state();
 #ifdef FE_UMFPACK
     test_umfpack();
 #endif

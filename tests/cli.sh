@@ -1,0 +1,150 @@
+#!/usr/bin/env bash
+# The examples' command lines (examples/cli.h): for every example, --help and -h print the usage
+# on stdout and exit 0; malformed command lines exit 2 (usage errors) or 1 (a file that cannot be
+# read or written) with a message on stderr naming the offending option or value, and never
+# crash (exit status < 128). Ends with `N passed, M failed`; exit status 1 on any failure.
+# The programs come from examples/ (built by `make examples`), or from $CLI_BIN, e.g. builds
+# under AddressSanitizer and UndefinedBehaviorSanitizer, whose reports (leaks too) count as
+# failures.
+set -u
+cd "$(dirname "$0")/.." || exit 1
+bin=${CLI_BIN:-examples}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0
+failed=0
+
+for prog in 01_branching block triangle fc_solve; do
+    if [ ! -x "$bin/$prog" ]; then
+        echo "tests/cli.sh: $bin/$prog is missing (make examples)"
+        exit 1
+    fi
+done
+
+pass() { passed=$((passed + 1)); }
+fail() {
+    failed=$((failed + 1))
+    echo "FAIL $*"
+}
+
+# help PROG: --help and -h exit 0 with the usage on stdout and nothing on stderr
+help() {
+    local prog=$1 opt rc
+    for opt in --help -h; do
+        "$bin/$prog" $opt >"$tmp/out" 2>"$tmp/err"
+        rc=$?
+        if [ $rc -eq 0 ] && grep -q "^usage: $prog" "$tmp/out" && grep -q -- '--' "$tmp/out" && [ ! -s "$tmp/err" ]; then
+            pass
+        else
+            fail "$prog $opt: exit $rc, stdout: $(head -n 1 "$tmp/out"), stderr: $(head -n 1 "$tmp/err")"
+        fi
+    done
+}
+
+# expect RC TEXT PROG ARGS...: PROG ARGS exits RC and its stderr contains TEXT (fixed string)
+expect() {
+    local want=$1 text=$2 prog=$3 rc
+    shift 3
+    "$bin/$prog" "$@" >"$tmp/out" 2>"$tmp/err"
+    rc=$?
+    if [ $rc -eq "$want" ] && grep -qF -- "$text" "$tmp/err"; then
+        pass
+    else
+        fail "$prog $* (exit $rc, expected $want with '$text'): $(grep -v '^[a-z_0-9]*: \(building\|Newton\|continuation\|Algorithms\|tracing\|choosing\)' "$tmp/err" | head -n 2)"
+    fi
+    if [ $rc -ge 128 ]; then fail "$prog $*: killed by signal $((rc - 128))"; fi
+    # under a sanitizer build (CLI_BIN): no report, leaks included, on any of these paths
+    if grep -qE 'Sanitizer|runtime error:' "$tmp/err"; then fail "$prog $*: $(grep -m 1 -E 'Sanitizer|runtime error:' "$tmp/err")"; fi
+}
+usage() { expect 2 "$@"; }
+fails() { expect 1 "$@"; }
+
+for prog in 01_branching block triangle fc_solve; do help "$prog"; done
+
+# end-point files for --refine: a hostile header (a heap overflow once), a missing file
+printf 'fe-ends rect 40 80 65536 65536\n1 4295098369\n' >"$tmp/hostile.txt"
+printf 'fe-ends rect 40 80 5 10\n1 66\nbranch 1 gamma 1\n0 0 0\n' >"$tmp/short.txt"
+
+# block
+usage "unknown option '--bogus'" block --bogus
+usage "see 'block --help'" block --bogus
+usage "--mesh abc: expected NXxNY" block --mesh abc
+usage "--mesh 10x20abc: expected NXxNY" block --mesh 10x20abc
+usage "--mesh 65536x65536: NX and NY must be between 2 and 2048" block --mesh 65536x65536
+usage "--mesh 1x5: NX and NY must be between 2" block --mesh 1x5
+usage "--mesh -4x5" block --mesh=-4x5
+usage "--mesh 99999999999999999999x2" block --mesh 99999999999999999999x2
+usage "--mesh needs a value" block --mesh
+usage "--mesh needs a value" block --mesh --verbose
+usage "--ndir 0: must be between 1 and 10000" block --ndir 0
+usage "--ndir 2147483648: must be between 1 and" block --ndir 2147483648
+usage "--nspan abc: expected an integer" block --nspan abc
+usage "--restart foo: expected one of mixed, paper, global" block --restart foo
+usage "--dirichlet foo: expected one of mult, elim" block --dirichlet foo
+usage "--seed abc: expected a non-negative integer" block --seed abc
+usage "--seed -1: expected a non-negative integer" block --seed -1
+usage "--seed 99999999999999999999: must be at most" block --seed 99999999999999999999
+usage "--kappa nan: must be a finite number" block --kappa nan
+usage "--kappa 0: must be > 0" block --kappa 0
+usage "--hmin inf: must be a finite number" block --hmin inf
+usage "--hmin 2: must be <= 1" block --hmin 2
+usage "--input 7: must be between 0 and 6" block --input 7
+usage "--start 0: expected one of -1, 1" block --start 0
+usage "--maxiter 10x: expected an integer" block --maxiter 10x
+usage "--expect-npc -5: must be between 0" block --expect-npc -5
+usage "--mult-weight -1: must be > 0" block --mult-weight -1
+usage "--verbose takes no value" block --verbose=yes
+usage "--compare e: at most 4 files" block --compare a --compare b --compare c --compare d --compare e
+usage "--out: empty value" block --out ''
+usage "unexpected argument 'foo'" block foo
+fails "hostile.txt: not a valid end-point file" block --quiet --refine "$tmp/hostile.txt"
+fails "short.txt: not a valid end-point file" block --quiet --mesh 10x20 --refine "$tmp/short.txt"
+fails "cannot read $tmp/none.txt" block --quiet --refine "$tmp/none.txt"
+fails "/dev/full is not a directory" block --quiet --out /dev/full
+fails "cannot write /dev/full" block --quiet --mesh 5x10 --save /dev/full
+fails "cannot write /dev/full" block --quiet --mesh 5x10 --compare "$tmp/short.txt" --save /dev/full
+# an output file that cannot be opened inside a writable --out (a directory in its place)
+mkdir -p "$tmp/o1/plot.gp" "$tmp/o2/folds.csv" "$tmp/o3/branches_01.csv" "$tmp/o4/branch_3.vtk"
+fails "cannot write $tmp/o1/plot.gp: Is a directory" block --quiet --mesh 5x10 --out "$tmp/o1"
+fails "cannot write $tmp/o4/branch_3.vtk: Is a directory" block --quiet --mesh 5x10 --out "$tmp/o4"
+
+# triangle
+usage "unknown option '--bogus'" triangle --bogus
+usage "--mesh 100000: must be between 2 and 2048" triangle --mesh 100000
+usage "--mesh 16x: expected an integer" triangle --mesh 16x
+usage "--mesh 1: must be between 2" triangle --mesh 1
+usage "--problem foo: expected one of branching, fold" triangle --problem foo
+usage "--load -3: must be > 0" triangle --load -3
+usage "--load abc: expected a number" triangle --load abc
+usage "--nspan 1001: must be between 1 and 1000" triangle --nspan 1001
+usage "--refine needs --load" triangle --refine "$tmp/short.txt"
+usage "--seed 12abc: expected a non-negative integer" triangle --seed 12abc
+usage "--dirichlet foo: expected one of mult, elim" triangle --dirichlet foo
+fails "/dev/full is not a directory" triangle --quiet --mesh 16 --problem fold --out /dev/full
+fails "cannot write /dev/full" triangle --quiet --mesh 8 --problem branching --save /dev/full
+fails "cannot write $tmp/o2/folds.csv: Is a directory" triangle --quiet --mesh 16 --problem fold --out "$tmp/o2"
+fails "not a valid end-point file" triangle --quiet --mesh 8 --load 26 --refine "$tmp/hostile.txt"
+# --mesh 2: the default load's fold problem fails; the message must not blame a --load not given
+fails "choosing the default load" triangle --quiet --mesh 2
+if grep -qF -- "--load auto" "$tmp/err"; then fail "triangle --mesh 2 blames --load auto"; else pass; fi
+fails "--load auto: the fold problem" triangle --quiet --mesh 2 --load auto
+
+# fc_solve
+usage "no problem FILE given" fc_solve
+usage "unknown option '--bogus'" fc_solve --bogus x.dat
+usage "--tol 0: must be > 0" fc_solve --tol 0 x.dat
+usage "--tol abc: expected a number" fc_solve --tol abc x.dat
+usage "--tol nan: must be a finite number" fc_solve --tol nan x.dat
+usage "--maxit 0: must be between 1 and 10000000" fc_solve --maxit 0 x.dat
+usage "--maxit 1e3: expected an integer" fc_solve --maxit 1e3 x.dat
+usage "--tol needs a value" fc_solve x.dat --tol
+
+# 01_branching
+usage "unknown option '--bogus'" 01_branching --bogus
+usage "--out needs a value" 01_branching --out
+usage "unexpected argument 'extra'" 01_branching extra
+fails "cannot create directory /dev/full/x" 01_branching --out /dev/full/x
+fails "cannot write $tmp/o3/branches_01.csv: Is a directory" 01_branching --out "$tmp/o3"
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
