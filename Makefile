@@ -11,7 +11,7 @@ CFLAGS ?=
 SAN ?=
 ALL_CFLAGS = $(WARN) $(OPT) $(SAN) -I. $(CFLAGS)
 LIBS = $(LAPACK_LIBS) -lm
-SHARED ?= ../shared
+DATA = data
 BUILD ?= build
 
 HEADER = pscbranch.h
@@ -70,7 +70,7 @@ HDF5 ?= $(shell pkg-config --exists hdf5 2>/dev/null && echo yes)
 ifeq ($(HDF5),yes)
 FC_HDF5_CFLAGS = -DFC_SOLVE_HDF5 $(shell pkg-config --cflags hdf5)
 FC_HDF5_LIBS = $(shell pkg-config --libs hdf5)
-SMOKE_HDF5 = "smoke:examples/fc_solve $(SHARED)/fc-problems/harder/*.hdf5"
+SMOKE_HDF5 = "smoke:examples/fc_solve $(DATA)/fc-problems/harder/*.hdf5"
 endif
 examples/fc_solve: examples/fc_solve.c $(HEADER)
 	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) $< -o $@ $(FC_HDF5_LIBS) $(LIBS)
@@ -81,8 +81,8 @@ examples: $(EXAMPLES)
 
 # each example exits non-zero when its result differs from the analytic or the papers' one
 SMOKE = "smoke:examples/01_branching" \
-	"smoke:examples/fc_solve $(SHARED)/fc-problems/*.dat" \
-	"smoke:examples/fc_solve $(SHARED)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
+	"smoke:examples/fc_solve $(DATA)/fc-problems/*.dat" \
+	"smoke:examples/fc_solve $(DATA)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
 	"smoke:examples/block" \
 	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1 --no-screen --expect-npc 72" \
 	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1" \
