@@ -61,14 +61,27 @@ package_of() {
     esac
 }
 
-check() { # fills missing (required) and optional (missing optional packages)
+# what a need is, for messages
+describe() {
+    case "$1" in
+    cc) echo "the C compiler $CC" ;;
+    cxx) echo "the C++ compiler $CXX" ;;
+    lapack) echo "LAPACK/BLAS (a program calling dgetrf_ linked with $LAPACK_LIBS)" ;;
+    gnuplot) echo "gnuplot" ;;
+    hdf5) echo "HDF5 through pkg-config" ;;
+    esac
+}
+
+check() { # fills missing and optional (the packages of the unmet needs) and what (their names)
     missing=""
     optional=""
+    what=""
     for need in "$@"; do
         name=${need%\?}
         if ! "has_$name"; then
             if [ "$name" = "$need" ]; then
                 missing="$missing $(package_of "$name")"
+                what="$what${what:+, }$(describe "$name")"
             else
                 optional="$optional $(package_of "$name")"
             fi
@@ -96,18 +109,18 @@ if [ -z "$missing" ] && [ $can_install = 0 ]; then # only optional ones, and no 
 fi
 if [ $can_install = 0 ]; then
     if command -v apt-get >/dev/null 2>&1; then
-        echo "error: missing:$missing. Install them with:" >&2
+        echo "error: missing $what. Install with:" >&2
         echo "    sudo apt-get install -y$missing$optional" >&2
     else
-        echo "error: missing Debian/Ubuntu packages$missing (no apt-get here: install the" >&2
-        echo "    equivalents: a C99 compiler, LAPACK and BLAS with their development files, gnuplot)" >&2
+        echo "error: missing $what (Debian/Ubuntu packages:$missing; no apt-get here:" >&2
+        echo "    install your system's equivalents)" >&2
     fi
     [ -n "$tmp" ] && [ -s "$tmp/log" ] && sed 's/^/    /' "$tmp/log" | head -n 5 >&2
     exit 1
 fi
 
 packages="$missing$optional"
-echo "installing:$packages"
+echo "installing with apt-get:$packages"
 export DEBIAN_FRONTEND=noninteractive
 # shellcheck disable=SC2086 # sudo and packages are word lists
 if ! $sudo apt-get install -y --no-install-recommends $packages; then
@@ -116,7 +129,7 @@ if ! $sudo apt-get install -y --no-install-recommends $packages; then
 fi
 check "$@"
 if [ -n "$missing" ]; then
-    echo "error: still missing after apt-get:$missing" >&2
+    echo "error: still missing after apt-get: $what" >&2
     [ -n "$tmp" ] && [ -s "$tmp/log" ] && sed 's/^/    /' "$tmp/log" | head -n 5 >&2
     exit 1
 fi
