@@ -71,6 +71,10 @@ $(BUILD)/test_linkage: tests/test_linkage.c $(BUILD)/linkage_impl.o tests/harnes
 	$(CC) $(ALL_CFLAGS) -c tests/test_linkage.c -o $(BUILD)/test_linkage.o
 	$(CXX) $(OPT) $(SAN) $(BUILD)/test_linkage.o $(BUILD)/linkage_impl.o -o $@ $(LIBS)
 
+# a user's program (tests/packaging.sh builds it against an installed copy): includes <pscbranch.h>
+$(BUILD)/consumer: tests/consumer/consumer.c $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) tests/consumer/consumer.c -o $@ $(LIBS)
+
 examples/%: examples/%.c $(HEADER)
 	$(CC) $(ALL_CFLAGS) $< -o $@ $(LIBS)
 
@@ -93,7 +97,8 @@ examples/block examples/triangle: examples/fe.h
 examples: $(EXAMPLES)
 
 # each example exits non-zero when its result differs from the analytic or the papers' one
-SMOKE = "smoke:examples/01_branching" \
+SMOKE = "smoke:$(BUILD)/consumer" \
+	"smoke:examples/01_branching" \
 	"smoke:examples/fc_solve $(DATA)/fc-problems/*.dat" \
 	"smoke:examples/fc_solve $(DATA)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
 	"smoke:examples/block" \
@@ -109,7 +114,7 @@ test:
 	@$(DEPS) cc cxx lapack 'hdf5?'
 	@$(MAKE) --no-print-directory check
 
-check: $(TESTS) $(EXAMPLES)
+check: $(TESTS) $(EXAMPLES) $(if $(SMOKE),$(BUILD)/consumer)
 	@bash tests/run.sh $(TESTS) $(SMOKE)
 
 demo:
