@@ -123,8 +123,9 @@ packages="$missing$optional"
 echo "installing with apt-get:$packages"
 export DEBIAN_FRONTEND=noninteractive
 # shellcheck disable=SC2086 # sudo and packages are word lists
-if ! $sudo apt-get install -y --no-install-recommends $packages; then
-    # a fresh machine has no package lists yet
+if ! $sudo apt-get install -y --no-install-recommends $packages && [ -n "$missing" ]; then
+    # a fresh machine has no package lists yet (not retried for optional packages alone: an
+    # offline machine would pay for it at every make)
     $sudo apt-get update && $sudo apt-get install -y --no-install-recommends $packages
 fi
 check "$@"
