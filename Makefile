@@ -8,6 +8,7 @@
 #   make install PREFIX=/usr/local [DESTDIR=...]   the header, pscbranch.pc, the CMake package
 #                  (find_package(pscbranch)), the docs and the examples' sources
 #   make uninstall PREFIX=... [DESTDIR=...]        removes what install put there
+#   (bash tests/packaging.sh checks install with pkg-config and CMake consumers; CI: .ci/run)
 # LAPACK_LIBS chooses the LAPACK/BLAS (default -llapack -lblas); HDF5= builds fc_solve without
 # HDF5 even when libhdf5-dev is installed.
 CC ?= cc
