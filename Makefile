@@ -1,7 +1,16 @@
-# pscbranch: build, test, demo, examples, benchmarks.
-#   make test    build everything with strict warnings and run the suite
-#   make demo    run the main demo
+# pscbranch: build, test, demo, examples, benchmarks, install.
+#   make test      check what the build needs (tools/deps.sh: installs it with apt-get when it can,
+#                  else says what to run), build everything with strict warnings, run the suite
+#   make check     the same without the dependency step
+#   make demo      run the main demo and draw its pictures (gnuplot, installed like the rest)
 #   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
+#   make bench     the benchmarks (bench/out/)
+#   make install PREFIX=/usr/local [DESTDIR=...]   the header, pscbranch.pc, the CMake package
+#                  (find_package(pscbranch)), the docs and the examples' sources
+#   make uninstall PREFIX=... [DESTDIR=...]        removes what install put there
+#   (bash tests/packaging.sh checks install with pkg-config and CMake consumers; CI: .ci/run)
+# LAPACK_LIBS chooses the LAPACK/BLAS (default -llapack -lblas); HDF5= builds fc_solve without
+# HDF5 even when libhdf5-dev is installed.
 CC ?= cc
 CXX ?= c++
 LAPACK_LIBS ?= -llapack -lblas
@@ -11,8 +20,10 @@ CFLAGS ?=
 SAN ?=
 ALL_CFLAGS = $(WARN) $(OPT) $(SAN) -I. $(CFLAGS)
 LIBS = $(LAPACK_LIBS) -lm
-SHARED ?= ../shared
+DATA = data
 BUILD ?= build
+# checks (and installs) what a target needs, silently when all is there: see tools/deps.sh
+DEPS = CC="$(CC)" CXX="$(CXX)" LAPACK_LIBS="$(LAPACK_LIBS)" sh tools/deps.sh
 
 HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
@@ -20,7 +31,8 @@ TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BU
 	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic
 EXAMPLES = examples/01_branching examples/fc_solve examples/block examples/triangle examples/quasistatic
 
-.PHONY: all test demo examples bench asan ubsan clean quasistatic-demo
+.PHONY: all test check demo demo-run examples bench asan ubsan install uninstall clean \
+	quasistatic-demo quasistatic-demo-run images images-run
 
 all: $(TESTS) $(EXAMPLES)
 
@@ -67,18 +79,25 @@ $(BUILD)/test_linkage: tests/test_linkage.c $(BUILD)/linkage_impl.o tests/harnes
 	$(CC) $(ALL_CFLAGS) -c tests/test_linkage.c -o $(BUILD)/test_linkage.o
 	$(CXX) $(OPT) $(SAN) $(BUILD)/test_linkage.o $(BUILD)/linkage_impl.o -o $@ $(LIBS)
 
+# a user's program (tests/packaging.sh builds it against an installed copy): includes <pscbranch.h>
+$(BUILD)/consumer: tests/consumer/consumer.c $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) tests/consumer/consumer.c -o $@ $(LIBS)
+
 examples/%: examples/%.c $(HEADER)
 	$(CC) $(ALL_CFLAGS) $< -o $@ $(LIBS)
 
 # fc_solve reads FCLib's HDF5 files too when HDF5 is installed (libhdf5-dev; HDF5= to build
-# without); the library itself never depends on it
+# without); the library itself never depends on it. The stamp rebuilds fc_solve when that changes.
 HDF5 ?= $(shell pkg-config --exists hdf5 2>/dev/null && echo yes)
 ifeq ($(HDF5),yes)
 FC_HDF5_CFLAGS = -DFC_SOLVE_HDF5 $(shell pkg-config --cflags hdf5)
 FC_HDF5_LIBS = $(shell pkg-config --libs hdf5)
-SMOKE_HDF5 = "smoke:examples/fc_solve $(SHARED)/fc-problems/harder/*.hdf5"
+SMOKE_HDF5 = "smoke:examples/fc_solve $(DATA)/fc-problems/harder/*.hdf5"
 endif
-examples/fc_solve: examples/fc_solve.c $(HEADER)
+$(BUILD)/fc_solve-hdf5-$(HDF5): | $(BUILD)
+	rm -f $(BUILD)/fc_solve-hdf5-*
+	touch $@
+examples/fc_solve: examples/fc_solve.c $(HEADER) $(BUILD)/fc_solve-hdf5-$(HDF5)
 	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) $< -o $@ $(FC_HDF5_LIBS) $(LIBS)
 
 examples/block examples/triangle examples/quasistatic: examples/fe.h
@@ -86,9 +105,10 @@ examples/block examples/triangle examples/quasistatic: examples/fe.h
 examples: $(EXAMPLES)
 
 # each example exits non-zero when its result differs from the analytic or the papers' one
-SMOKE = "smoke:examples/01_branching" \
-	"smoke:examples/fc_solve $(SHARED)/fc-problems/*.dat" \
-	"smoke:examples/fc_solve $(SHARED)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
+SMOKE = "smoke:$(BUILD)/consumer" \
+	"smoke:examples/01_branching" \
+	"smoke:examples/fc_solve $(DATA)/fc-problems/*.dat" \
+	"smoke:examples/fc_solve $(DATA)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
 	"smoke:examples/block" \
 	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1 --no-screen --expect-npc 72" \
 	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1" \
@@ -96,25 +116,46 @@ SMOKE = "smoke:examples/01_branching" \
 	"smoke:examples/triangle --mesh 16" \
 	"smoke:examples/triangle --mesh 16 --problem fold" \
 	"smoke:examples/quasistatic --mesh 8 --dt 0.1" \
-	"smoke:bash tests/cli.sh"
+	"smoke:bash tests/cli.sh" \
+	"smoke:bash tests/readme_program.sh"
 
-test: $(TESTS) $(EXAMPLES)
+# test and demo first see to their dependencies, then run make again: its variables (HDF5) then
+# see what was just installed
+test:
+	@$(DEPS) cc cxx lapack 'hdf5?'
+	@$(MAKE) --no-print-directory check
+
+check: $(TESTS) $(EXAMPLES) $(if $(SMOKE),$(BUILD)/consumer)
 	@bash tests/run.sh $(TESTS) $(SMOKE)
 
-demo: examples/01_branching examples/block
+demo:
+	@$(DEPS) cc lapack gnuplot
+	@$(MAKE) --no-print-directory demo-run
+
+demo-run: examples/01_branching examples/block
 	@mkdir -p out/block
 	./examples/01_branching --out out
 	./examples/block --out out/block
-	@if command -v gnuplot >/dev/null 2>&1; then \
-	  (cd out/block && gnuplot plot.gp) && echo "plots: out/block/*.png"; \
-	else echo "gnuplot not installed (apt-get install gnuplot-nox): plot data and script are in out/block"; fi
+	cd out/block && gnuplot plot.gp
+	@echo "plots: out/block/*.png"
 
 # the quasi-static snap-through: CSV, VTK time series (evolution.pvd) and quasistatic.png
-quasistatic-demo: examples/quasistatic
+quasistatic-demo:
+	@$(DEPS) cc lapack gnuplot
+	@$(MAKE) --no-print-directory quasistatic-demo-run
+
+quasistatic-demo-run: examples/quasistatic
 	./examples/quasistatic --out out/quasistatic
-	@if command -v gnuplot >/dev/null 2>&1; then \
-	  (cd out/quasistatic && gnuplot plot.gp) && echo "plot: out/quasistatic/quasistatic.png"; \
-	else echo "gnuplot not installed (apt-get install gnuplot-nox): plot data and script are in out/quasistatic"; fi
+	cd out/quasistatic && gnuplot plot.gp
+	@echo "plot: out/quasistatic/quasistatic.png"
+
+# the README's pictures (docs/img/*.png), remade from the examples
+images:
+	@$(DEPS) cc lapack gnuplot
+	@$(MAKE) --no-print-directory images-run
+
+images-run: $(EXAMPLES)
+	sh docs/make_images.sh
 
 BENCH = bench/bench_linear bench/bench_branching
 
@@ -128,10 +169,54 @@ bench: $(BENCH) examples/block
 	bash bench/bench_block.sh
 
 asan:
-	$(MAKE) BUILD=build-asan OPT="-O1 -g" SAN="-fsanitize=address -fno-omit-frame-pointer" EXAMPLES= SMOKE= test
+	@$(DEPS) cc cxx lapack
+	$(MAKE) BUILD=build-asan OPT="-O1 -g" SAN="-fsanitize=address -fno-omit-frame-pointer" EXAMPLES= SMOKE= check
 
 ubsan:
-	$(MAKE) BUILD=build-ubsan OPT="-O1 -g" SAN="-fsanitize=undefined -fno-sanitize-recover=all" EXAMPLES= SMOKE= test
+	@$(DEPS) cc cxx lapack
+	$(MAKE) BUILD=build-ubsan OPT="-O1 -g" SAN="-fsanitize=undefined -fno-sanitize-recover=all" EXAMPLES= SMOKE= check
+
+# ---- install: header-only, so nothing is compiled; the version comes from the header ----------
+PREFIX ?= /usr/local
+DESTDIR ?=
+INCLUDEDIR ?= $(PREFIX)/include
+LIBDIR ?= $(PREFIX)/lib
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+CMAKEDIR ?= $(LIBDIR)/cmake/pscbranch
+DOCDIR ?= $(PREFIX)/share/doc/pscbranch
+VERSION := $(shell awk '/^\#define PSCBRANCH_VERSION_(MAJOR|MINOR|PATCH) /{v = v (v == "" ? "" : ".") $$3} END{print v}' $(HEADER))
+INSTALL ?= install
+DOCS = README.md LICENSE CHANGELOG.md
+EXAMPLE_SOURCES = $(wildcard examples/*.c examples/*.h)
+# @VAR@ in the templates (the same ones CMakeLists.txt fills in for cmake --install)
+SUBST = sed -e 's|@PSCBRANCH_VERSION@|$(VERSION)|g' -e 's|@PSCBRANCH_PREFIX@|$(PREFIX)|g' \
+	-e 's|@PSCBRANCH_INCLUDEDIR@|$(INCLUDEDIR)|g' -e 's|@PSCBRANCH_LAPACK_LIBS@|$(LAPACK_LIBS)|g'
+
+install:
+	@case "$(PREFIX)" in /*) ;; *) echo "PREFIX must be an absolute path: $(PREFIX)" >&2; exit 1;; esac
+	@test -n "$(VERSION)" || { echo "no version in $(HEADER)" >&2; exit 1; }
+	$(INSTALL) -d "$(DESTDIR)$(INCLUDEDIR)" "$(DESTDIR)$(PKGCONFIGDIR)" "$(DESTDIR)$(CMAKEDIR)" \
+		"$(DESTDIR)$(DOCDIR)/examples"
+	$(INSTALL) -m 644 $(HEADER) "$(DESTDIR)$(INCLUDEDIR)/"
+	$(SUBST) pscbranch.pc.in > "$(DESTDIR)$(PKGCONFIGDIR)/pscbranch.pc"
+	$(SUBST) cmake/pscbranchConfig.cmake.in > "$(DESTDIR)$(CMAKEDIR)/pscbranchConfig.cmake"
+	$(SUBST) cmake/pscbranchConfigVersion.cmake.in > "$(DESTDIR)$(CMAKEDIR)/pscbranchConfigVersion.cmake"
+	$(INSTALL) -m 644 cmake/pscbranch-lapack.cmake "$(DESTDIR)$(CMAKEDIR)/"
+	$(INSTALL) -m 644 $(wildcard $(DOCS)) "$(DESTDIR)$(DOCDIR)/"
+	if [ -d docs ]; then cp -R docs "$(DESTDIR)$(DOCDIR)/" && chmod -R u+w,go+rX "$(DESTDIR)$(DOCDIR)/docs"; fi
+	$(INSTALL) -m 644 $(EXAMPLE_SOURCES) "$(DESTDIR)$(DOCDIR)/examples/"
+	@echo "installed pscbranch $(VERSION) in $(DESTDIR)$(PREFIX)"
+
+CMAKE_FILES = pscbranchConfig.cmake pscbranchConfigVersion.cmake pscbranch-lapack.cmake
+
+# removes the files install writes, then the directories that are ours and left empty
+uninstall:
+	rm -f "$(DESTDIR)$(INCLUDEDIR)/$(HEADER)" "$(DESTDIR)$(PKGCONFIGDIR)/pscbranch.pc"
+	rm -f $(addprefix "$(DESTDIR)$(CMAKEDIR)/,$(addsuffix ",$(CMAKE_FILES)))
+	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/,$(addsuffix ",$(DOCS)))
+	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/examples/,$(addsuffix ",$(notdir $(EXAMPLE_SOURCES))))
+	rm -rf "$(DESTDIR)$(DOCDIR)/docs"
+	rmdir "$(DESTDIR)$(CMAKEDIR)" "$(DESTDIR)$(DOCDIR)/examples" "$(DESTDIR)$(DOCDIR)" 2>/dev/null || true
 
 clean:
 	rm -rf build build-asan build-ubsan out bench/out $(EXAMPLES) $(BENCH)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* pscbranch.h - v0.9.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
@@ -593,6 +594,12 @@
 #define PSCBRANCH_VERSION_MAJOR 0
 #define PSCBRANCH_VERSION_MINOR 9
 #define PSCBRANCH_VERSION_PATCH 0
+/* "MAJOR.MINOR.PATCH", made from the three numbers above */
+#define PSB__VERSION_STR(x) #x
+#define PSB__VERSION_XSTR(x) PSB__VERSION_STR(x)
+#define PSCBRANCH_VERSION_STRING                                                                   \
+    PSB__VERSION_XSTR(PSCBRANCH_VERSION_MAJOR) "." PSB__VERSION_XSTR(PSCBRANCH_VERSION_MINOR) "."  \
+    PSB__VERSION_XSTR(PSCBRANCH_VERSION_PATCH)
 
 #ifdef __cplusplus
 extern "C" {

@@ -54,9 +54,6 @@ static double check_solution(const fc_problem *p, const double *r, double tol, c
     return err;
 }
 
-/* Solves a generated instance to 1e-10 and checks the solution; maxit_total > 0 bounds the
-   Newton + interior-point iterations, need_ipm = 1 requires the interior-point restarts to have
-   been used (the instances the plain NSGS/Newton schedule misses). */
 /* The problem view of a generated instance and the options every instance is solved with. */
 static void solver_setup(const fcg_instance *in, fc_problem *p, fc_options *o)
 {
@@ -71,16 +68,9 @@ static void solver_setup(const fcg_instance *in, fc_problem *p, fc_options *o)
     o->verbose = 0;
 }
 
-static void run_instance_ex(int kind, int size, double mu, double vs, unsigned long long seed,
-                            int maxit_total, int need_ipm);
-
-static void run_instance(int kind, int size, double mu, double vs, unsigned long long seed)
-{
-    run_instance_ex(kind, size, mu, vs, seed, 0, 0);
-}
-
-static void run_instance_ex(int kind, int size, double mu, double vs, unsigned long long seed,
-                            int maxit_total, int need_ipm)
+/* Solves a generated instance to 1e-10 and checks the solution; returns its statistics (zeros
+   when the instance could not be made). */
+static fc_stats run_instance(int kind, int size, double mu, double vs, unsigned long long seed)
 {
     static const char *names[] = {"boxes3d", "spheres3d", "boxes2d", "disks2d", "flex3d", "flex2d"};
     fcg_instance in;
@@ -90,25 +80,24 @@ static void run_instance_ex(int kind, int size, double mu, double vs, unsigned l
     double *r, err;
     int res;
     char name[96];
+    fc_stats first;
+    memset(&first, 0, sizeof first);
     sprintf(name, "%s(size %d, mu %g, vs %g, seed %llu)", names[kind], size, mu, vs, seed);
     CHECK(fcg_make(kind, size, mu, vs, seed, &in));
     if (!in.W)
-        return;
+        return first;
     solver_setup(&in, &p, &o);
     r = calloc((size_t)p.m, sizeof(double));
     CHECK(r != NULL);
     if (!r) {
         fcg_free(&in);
-        return;
+        return first;
     }
     res = fc_solve(&p, &o, r, &st);
+    first = st;
     printf("  %s: nc %d newton %d sweeps %d ipm %d err %.3e\n", name, p.nc, st.newton,
            st.sweeps, st.ipm, st.err);
     CHECK(res == 0);
-    if (maxit_total > 0)
-        CHECK(st.newton + st.ipm <= maxit_total);
-    if (need_ipm)
-        CHECK(st.ipm > 0);
     CHECK(st.err <= 1e-10);
     CHECK(!st.absres);
     err = check_solution(&p, r, o.tol, name);
@@ -119,6 +108,7 @@ static void run_instance_ex(int kind, int size, double mu, double vs, unsigned l
     CHECK(res == 0 && st.newton == 0 && st.sweeps == 0);
     free(r);
     fcg_free(&in);
+    return first;
 }
 
 /* Contacts whose W rows vanish (u_c = q_c whatever r) next to a normal one; mu = 0 on one. */
@@ -347,10 +337,81 @@ static void test_malformed(void)
     CHECK(fc_read("/nonexistent/dir/file.dat", &p) != NULL);
 }
 
-/* A pile the solver still misses (spheres3d, 97 contacts, mu 2: every run stalls between 3e-4
+/* Piles near the limit of static equilibrium, where the plain NSGS/Newton schedule stalls (at
+   1e-4 .. 4e-4, boxes2d 2022 at ~7e-5 even after the first pair of runs) and the interior-point
+   restarts and the rescaled rho get to 1e-10. Which run converges, and after how many
+   iterations, follows the rounding of the Newton systems' LU, so it differs between BLAS
+   libraries; each instance must be solved (checked by run_instance), the counts are only
+   bounded over the set. Measured (Newton + interior-point iterations of the five; instances on
+   which the interior-point restarts ran):
+     reference LAPACK/BLAS        424 + 672 + 370 + 294 + 1154 = 2914; 5 of 5
+     OpenBLAS 0.3.21, 2 threads   648 + 575 + 371 + 276 + 1656 = 3526; 5 of 5
+     OpenBLAS 0.3.21, 1 thread    161 + 806 + 371 + 276 + 2079 = 3693; 4 of 5 (spheres3d 2011
+                                  solved by the first run, without them)
+   The bounds keep a 2x margin over the largest sum and accept one more instance without the
+   restarts; the restarts' own correctness is tested on their own (test_ipm_frozen). */
+static void test_hard_piles(void)
+{
+    static const struct {
+        int kind, size;
+        double mu, vs;
+        unsigned long long seed;
+    } piles[] = {
+        {FCG_SPHERES3D, 80, 2.0, 5.0, 2011}, /* 205 contacts */
+        {FCG_DISKS2D, 100, 2.0, 5.0, 2031},  /* 266 contacts */
+        {FCG_DISKS2D, 50, 0.3, 5.0, 2030},   /* 126 contacts */
+        {FCG_BOXES2D, 30, 0.3, 1.0, 1020},   /* 84 contacts */
+        {FCG_BOXES2D, 90, 2.0, 5.0, 2022},   /* 264 contacts */
+    };
+    int k, iterations = 0, with_ipm = 0;
+    for (k = 0; k < (int)(sizeof piles / sizeof *piles); k++) {
+        fc_stats st = run_instance(piles[k].kind, piles[k].size, piles[k].mu, piles[k].vs, piles[k].seed);
+        iterations += st.newton + st.ipm;
+        with_ipm += st.ipm > 0;
+    }
+    printf("  hard piles: %d Newton + interior-point iterations, interior-point restarts on %d of %d\n",
+           iterations, with_ipm, k);
+    CHECK(iterations <= 7500);
+    CHECK(with_ipm >= 3);
+}
+
+/* Same input, same build and BLAS: the same reaction bit for bit and the same counts (a pile
+   solved by NSGS sweeps and Newton steps on LU factorisations). */
+static void test_rerun_identical(void)
+{
+    fcg_instance in;
+    fc_problem p;
+    fc_options o;
+    fc_stats st1, st2;
+    double *r1, *r2;
+    CHECK(fcg_make(FCG_DISKS2D, 40, 2.0, 1.0, 24, &in));
+    if (!in.W)
+        return;
+    solver_setup(&in, &p, &o);
+    r1 = calloc((size_t)p.m, sizeof(double));
+    r2 = calloc((size_t)p.m, sizeof(double));
+    CHECK(r1 != NULL && r2 != NULL);
+    if (r1 && r2) {
+        CHECK(fc_solve(&p, &o, r1, &st1) == 0);
+        CHECK(fc_solve(&p, &o, r2, &st2) == 0);
+        CHECK(memcmp(r1, r2, (size_t)p.m * sizeof(double)) == 0);
+        CHECK(st1.newton == st2.newton && st1.sweeps == st2.sweeps && st1.ipm == st2.ipm &&
+              st1.err == st2.err);
+        CHECK(st1.newton > 0 && st1.sweeps > 0);
+    }
+    free(r1);
+    free(r2);
+    fcg_free(&in);
+}
+
+/* A pile the solver still misses (spheres3d, 97 contacts, mu 2: every run stalls between 1e-5
    and 1e-2). Checks the failure is honest and bounded: return 1, the reported error is the one
-   recomputed from the dense W at the returned r, and the give-up rules end all six runs
-   (measured: 1340 Newton iterations, 21120 sweeps). */
+   recomputed from the dense W at the returned r, and the give-up rules, not the caps (maxit
+   Newton iterations and 20 maxit sweeps per run, FC_RUNS runs: 6000 and 120000 here), end all
+   six runs. Measured, Newton iterations / sweeps / best error: reference LAPACK 1340 / 21120 /
+   2.7e-4, OpenBLAS threaded 1302 / 21600 / 3.0e-4, OpenBLAS 1 thread 1201 / 15600 / 2.2e-5:
+   the miss is five orders of magnitude above the tolerance on every BLAS, and the bounds
+   below (half the caps) are over twice the largest counts. */
 static void test_known_miss(void)
 {
     fcg_instance in;
@@ -372,7 +433,7 @@ static void test_known_miss(void)
                "err %.3e\n", p.nc, st.newton, st.sweeps, st.ipm, st.err);
         CHECK(res == 1);
         CHECK(st.err > 1e-10 && st.err < 1e-2);
-        CHECK(st.sweeps <= 25000 && st.newton <= 2000);
+        CHECK(2 * st.sweeps <= FC_RUNS * 20 * o.maxit && 2 * st.newton <= FC_RUNS * o.maxit);
         for (i = 0; i < p.m; i++) {
             u[i] = p.q[i];
             qn += p.q[i] * p.q[i];
@@ -407,14 +468,8 @@ int main(void)
     run_instance(FCG_BOXES2D, 30, 1.0, 5.0, 22);
     run_instance(FCG_DISKS2D, 50, 0.3, 1.0, 23);
     run_instance(FCG_DISKS2D, 40, 2.0, 1.0, 24);
-    /* piles the NSGS/Newton schedule alone misses (4e-4 .. 1e-4): solved by the second run with
-       interior-point restarts; bounds on Newton + interior-point iterations ~2x the measured */
-    run_instance_ex(FCG_SPHERES3D, 80, 2.0, 5.0, 2011, 900, 1);  /* 205 contacts, mu 2 */
-    run_instance_ex(FCG_DISKS2D, 100, 2.0, 5.0, 2031, 1500, 1);  /* 266 contacts, mu 2 */
-    run_instance_ex(FCG_DISKS2D, 50, 0.3, 5.0, 2030, 750, 1);    /* 126 contacts */
-    run_instance_ex(FCG_BOXES2D, 30, 0.3, 1.0, 1020, 600, 1);    /* 84 contacts */
-    /* missed by the first pair of runs (stalls at ~7e-5), solved with rho rescaled */
-    run_instance_ex(FCG_BOXES2D, 90, 2.0, 5.0, 2022, 1300, 1);   /* 264 contacts, mu 2 */
+    test_hard_piles();
+    test_rerun_identical();
     test_known_miss();
     /* flexible-like, full rank */
     run_instance(FCG_FLEX3D, 40, 0.0, 1.0, 31);
