@@ -36,14 +36,16 @@
 #include <sys/stat.h>
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
+#define PSCBRANCH_STDIO
 #include "pscbranch.h"
 #include "fe.h"
+#include "explore_out.h"
 #ifdef FE_UMFPACK
 #include "fe_umfpack.h"
 #endif
 
 typedef struct args {
-    int n, fold, ndir, nspan, multipliers, verbose, dense, sparse;
+    int n, fold, ndir, nspan, multipliers, verbose, dense, sparse, explore;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
@@ -55,13 +57,14 @@ typedef struct args {
 static int parse(int argc, char **argv, args *a)
 {
     int i;
-    a->n = 32; a->fold = 0; a->ndir = 30; a->nspan = 10; a->multipliers = 1; a->verbose = 0; a->dense = 0; a->sparse = 0;
+    a->n = 32; a->fold = 0; a->explore = 0; a->ndir = 30; a->nspan = 10; a->multipliers = 1; a->verbose = 0; a->dense = 0; a->sparse = 0;
     a->kappa = -1; a->hmin = 5e-4; a->load = 0; a->mult_weight = -1; a->seed = 0; a->out = NULL;
     a->save = a->refine = NULL; a->ncompare = 0;
     for (i = 1; i < argc; i++) {
         const char *o = argv[i], *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (!strcmp(o, "--verbose")) { a->verbose = 1; continue; }
         if (!strcmp(o, "--dense")) { a->dense = 1; continue; }
+        if (!strcmp(o, "--explore")) { a->explore = 1; continue; }
         if (!strcmp(o, "--sparse")) {
 #ifdef FE_UMFPACK
             a->sparse = 1;
@@ -337,6 +340,77 @@ static int choose_load(args *a)
     return ok ? 0 : -1;
 }
 
+/* --explore: the whole diagram from the start point alone (psb_explore). fold: from gamma = -3
+   to 1, the limit points as fold nodes (two, in (0.4, 0.9)); branching: kinks located and
+   branched at, one nonsmooth point and the paper's four branches, each once, traced to
+   |gamma| = 1 and checked as the hand-driven run's are. */
+static int run_explore(fe_run *run, const double *y, const double *t, const args *a, double t0)
+{
+    const fe_model *md = run->md;
+    int n = md->n, i, ok = 1, count[5] = {0}, n_fold = 0, n_branching = 0, comp = md->udof[md->cnode[0]];
+    size_t bytes = sizeof(double) * ((size_t)n + 1);
+    double *ye = malloc(bytes), *te = malloc(bytes), folds[8];
+    psb_diagram d;
+    psb_explore_options eo;
+    psb_result r;
+    xo_out o;
+    if (!ye || !te || psb_diagram_init(&d, n, 64, 64, FE_MAX_BRANCHES) != PSB_SUCCESS) { free(ye); free(te); return 1; }
+    memcpy(ye, y, bytes);
+    memcpy(te, t, bytes);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = a->fold ? -3 : -1;
+    eo.trace.param_max = 1;
+    eo.one_direction = 1; /* the start lies on the lower bound */
+    eo.branch_at_kinks = !a->fold;
+    if (a->out) mkdir(a->out, 0777);
+    if (xo_open(&o, a->out, n, comp)) { printf("triangle: cannot write to %s\n", a->out); return 1; }
+    eo.on_point = xo_point;
+    eo.point_user = &o;
+    r = psb_explore(&run->s, ye, te, &eo, &d);
+    printf("\n  psb_explore: %s; %d nodes, %d edges, %d branchings, %d ordinary kinks, %ld points, time %.2f s (CPU), factorisations %ld\n",
+           psb_result_string(r), d.n_nodes, d.n_edges, d.n_branchings, d.n_kinks_plain, d.n_points, seconds() - t0,
+           run->s.stats.n_factor);
+    xo_print(&d, comp);
+    if (xo_finish(&o, &d, a->out, a->fold ? "triangle (fold)" : "triangle (branching)", "u1 of the lower left vertex (m)"))
+        printf("triangle: could not write to %s\n", a->out);
+    else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, plot.gp\n", a->out);
+    for (i = 0; i < d.n_nodes; i++) {
+        const psb_node *nd = d.nodes + i;
+        fe_branch b;
+        if (nd->kind == PSB_NODE_FOLD && n_fold < 8) folds[n_fold++] = nd->param;
+        n_branching += nd->kind == PSB_NODE_NONSMOOTH || nd->kind == PSB_NODE_PC1 || nd->kind == PSB_NODE_BRANCH;
+        if (a->fold || (nd->kind != PSB_NODE_BOUND && nd->kind != PSB_NODE_START) || fabs(nd->param) != 1) continue;
+        memset(&b, 0, sizeof b);
+        b.y = nd->y;
+        b.end = PSB_PARAM_BOUND;
+        b.resnorm = fe_resnorm(md, nd->y);
+        classify(md, &b);
+        ok = ok && check_branch(&b, n, 1e-8);
+        count[b.number]++;
+        printf("  branch %d (%s) ends at node %d, gamma = %+g, |H| = %.1e\n", b.number, b.label, i, nd->param, b.resnorm);
+    }
+    if (a->fold) {
+        printf("  limit points (gamma):");
+        for (i = 0; i < n_fold; i++) {
+            printf(" %.8f", folds[i]);
+            ok = ok && folds[i] > 0.4 && folds[i] < 0.9;
+        }
+        printf("   (paper: 0.56541, 0.66665 on M4096)\n");
+        ok = ok && n_fold == 2 && d.n_edges == 1 && d.edges[0].end == PSB_EDGE_BOUND;
+    } else {
+        for (i = 1; i <= 4; i++) ok = ok && count[i] == 1;
+        ok = ok && n_branching == 1;
+    }
+    ok = ok && r == PSB_SUCCESS;
+    printf("triangle: %s\n", ok ? (a->fold ? "OK (the explorer located two limit points in (0.4, 0.9))"
+                                            : "OK (the explorer found the four branches of the paper)")
+                                 : "FAILED (the explored diagram differs)");
+    psb_diagram_free(&d);
+    free(ye);
+    free(te);
+    return ok ? 0 : 1;
+}
+
 int main(int argc, char **argv)
 {
     args a;
@@ -393,8 +467,8 @@ int main(int argc, char **argv)
     rv[n] = 1; /* towards larger gamma */
     r = psb_tangent(&run.s, y, rv, t);
     if (r != PSB_SUCCESS) { printf("triangle: tangent failed: %s\n", psb_result_string(r)); return 1; }
-    if (a.fold) {
-        rc = run_fold(&run, y, t, &a, t0);
+    if (a.explore || a.fold) {
+        rc = a.explore ? run_explore(&run, y, t, &a, t0) : run_fold(&run, y, t, &a, t0);
         report_umf(umf);
         free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
         return rc;
