@@ -793,6 +793,7 @@ typedef struct psb_solver {
     void *owned_;
     unsigned long long rng_[4];
     int last_fail_;
+    double sp_d_[2]; /* psb_trace's detectors: the corners d of the random borders (user backend) */
 } psb_solver;
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
@@ -860,7 +861,45 @@ PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t)
 #define PSB_POINT_SWITCH 4 /* reached through a tangent switch (a kink was passed) */
 #define PSB_POINT_BOUND 8  /* the point lies exactly on a parameter bound */
 #define PSB_POINT_KINK 16  /* the last couple before a kink, located to h_min (locate_kinks) */
+#define PSB_POINT_SPECIAL 32 /* p->special describes a located special point (its own on_point
+                                call, before the accepted point that follows it; detect) */
 #define PSB_MAX_FOLDS 16
+
+/* Kinds of special points on a traced curve (psb_trace_options.detect; manual section 6,
+   "Special points on the path"). */
+typedef enum psb_special_kind {
+    PSB_SPECIAL_FOLD = 1,      /* limit point: the parameter component of t vanishes (smooth) */
+    PSB_SPECIAL_FOLD_KINK = 2, /* nonsmooth fold: the parameter has an extremum at a kink */
+    PSB_SPECIAL_BRANCH = 3,    /* smooth branch point: the sign of det [dH; t^T] changes */
+    PSB_SPECIAL_PC1 = 4,       /* PC1 bifurcation passed through: det sign changes across a kink */
+    PSB_SPECIAL_EVENT = 5      /* a user event function changed sign */
+} psb_special_kind;
+
+typedef struct psb_special {
+    psb_special_kind kind;
+    const double *y, *t;  /* FOLD, BRANCH, EVENT: the located point on the curve and the unit
+                             tangent there (direction of travel), n+1 each. PC1, FOLD_KINK:
+                             the last couple on the incoming smooth piece, within `precision`
+                             of the kink (ready for psb_locate_end + psb_find_branches) */
+    const double *kernel; /* BRANCH: unit (||.||_w) second kernel direction of dH at the point,
+                             w-orthogonal to t (for psb_branch_point_switch); NULL otherwise */
+    double param;         /* y[param_index] of the reported point */
+    double precision;     /* bound on the location error, ||.||_w along the curve */
+    int event;            /* EVENT: index of the event component; -1 otherwise */
+    int direction;        /* EVENT: +1 rising, -1 falling; 0 otherwise */
+} psb_special;
+
+/* psb_trace_options.detect: a bit mask */
+#define PSB_DETECT_FOLDS 1  /* smooth folds located, nonsmooth folds reported at their kink */
+#define PSB_DETECT_BRANCH 2 /* smooth branch points (dense, banded and user backends) */
+#define PSB_DETECT_PC1 4    /* PC1 bifurcation points passed through (dense and banded) */
+#define PSB_DETECT_EVENTS 8 /* sign changes of the event functions */
+#define PSB_DETECT_ALL 15
+
+/* Event functions g(y) = (g_0 .. g_{n_events-1}) (y: n+1 values in, g: n_events out); same
+   return convention as the residual (0 ok; > 0 or NaN/Inf: the trace fails with
+   PSB_ERR_CALLBACK_FAILED / PSB_ERR_NONFINITE; < 0 stops with PSB_ERR_CALLBACK). */
+typedef int (*psb_event_fn)(const double *y, double *g, void *user);
 
 typedef struct psb_point {
     const double *y, *t; /* the accepted couple (n+1 each) */
@@ -868,6 +907,7 @@ typedef struct psb_point {
     long index;          /* 0 for the start, then 1, 2, ... */
     int flags;           /* PSB_POINT_* */
     double fold_param;   /* with PSB_POINT_FOLD: estimated parameter value of the limit point */
+    const psb_special *special; /* non-NULL only with PSB_POINT_SPECIAL */
 } psb_point;
 
 /* Called for every accepted point; return nonzero to stop the trace (PSB_STOPPED). */
@@ -884,6 +924,16 @@ typedef struct psb_trace_options {
                                     a nonzero return from on_point there stops the trace on it */
     psb_point_fn on_point;       /* optional */
     void *point_user;
+    /* special points on the path (manual section 6, "Special points on the path") */
+    int detect;                  /* PSB_DETECT_* bit mask [0: none; results as without] */
+    unsigned stop_at;            /* bit (1u << kind): stop (PSB_STOPPED) with (y, t) the special
+                                    point's couple [0] */
+    double locate_tol;           /* precision of location, ||.||_w along the curve [1e-10] */
+    int n_events;                /* event components (PSB_DETECT_EVENTS) [0] */
+    psb_event_fn event;          /* required when n_events > 0 */
+    void *event_user;
+    double *event_work;          /* 3 n_events doubles of the caller's for the event values
+                                    (no allocation in the library) */
 } psb_trace_options;
 
 typedef struct psb_trace_report {
@@ -894,6 +944,7 @@ typedef struct psb_trace_report {
     int n_kinks;      /* kinks located (locate_kinks) */
     double fold_params[PSB_MAX_FOLDS]; /* their parameter values (the first PSB_MAX_FOLDS) */
     double h;         /* the step size at the end */
+    int n_special[6]; /* special points reported, by kind (index PSB_SPECIAL_*; 0 unused) */
 } psb_trace_report;
 
 /* Traces the curve through (y, t) (in/out; t is the direction of travel, ||t||_w = 1 is
@@ -942,6 +993,17 @@ typedef struct psb_branch_report {
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            int max_branches, double *ys, double *ts,
                                            psb_branch_report *rep);
+
+/* Branches through a smooth branch point located by psb_trace (y, t, kernel of a
+   PSB_SPECIAL_BRANCH point): every branch's couple (ys[k*(n+1) ...], ts[k*(n+1) ...],
+   k < max_branches) on the sphere of radius branch_h_init around y, ts oriented away from
+   the point; k = 0 is the traced curve backwards (-t), k = 1 forwards (+t), k >= 2 the new
+   ones (where more than two curves cross in the plane of t and kernel, all of them).
+   rep as psb_find_branches' (n_branches; n_pc counts the sphere corrections). Returns
+   PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
+PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
+                                                 const double *kernel, int max_branches,
+                                                 double *ys, double *ts, psb_branch_report *rep);
 
 /* ---- exploring the whole diagram (manual section 6, "Exploring the whole diagram") ------- */
 
@@ -1002,8 +1064,12 @@ typedef int (*psb_explore_point_fn)(int edge, const psb_point *pt, void *user);
 
 typedef struct psb_explore_options {
     psb_trace_options trace; /* every trace's options: param_min, param_max, max_steps, and the
-                                detectors' fields; the explorer sets on_point, point_user,
-                                detect_loop (1) and locate_kinks (branch_at_kinks) itself */
+                                detectors' (detect [0: folds, branch points, PC1 points, and
+                                events when n_events > 0], locate_tol, events); the explorer
+                                sets on_point, point_user, detect_loop (1), locate_kinks
+                                (branch_at_kinks) and stop_at (0) itself */
+    int no_detect;     /* 1: no detectors (nodes only where traces end, and at kinks with
+                          branch_at_kinks) [0] */
     const double *box_min, *box_max; /* optional (n+1 each): a trace ends at its first point
                                         with some y_i outside [box_min_i, box_max_i] [NULL] */
     double state_max;  /* > 0: a trace ends at its first point whose state (y without the
@@ -1329,6 +1395,8 @@ enum {
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
     PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P, PSB__V_BR_Q, PSB__V_BR_K, PSB__V_BR_S, /* branching */
+    PSB__V_SP_Y, PSB__V_SP_T, PSB__V_SP_K, PSB__V_SP_YA, PSB__V_SP_TA, PSB__V_SP_YB, PSB__V_SP_TB,
+    PSB__V_SP_YE, PSB__V_SP_TE, PSB__V_SP_B1, PSB__V_SP_B2, PSB__V_SP_C1, PSB__V_SP_C2, /* special points */
     PSB__NVEC
 };
 /* Entries of each of psb_find_branches' two stores, the tangents tried (memo_) and the
@@ -2863,14 +2931,495 @@ static psb_result psb__land_on_bound(psb_solver *s, const double *y0, double *y1
     return r;
 }
 
+/* ---- special points on the path (psb_trace_options.detect; manual section 6) ------------- */
+
+static unsigned long long psb__splitmix(unsigned long long *x);
+static double psb__gauss(unsigned long long *st);
+
+/* The branch-point test function at the current factors of B = [dH(y); row^T]. Dense and
+   banded: sign and log|.| of det B from the LU factors, O(N) and exact in sign. User backend
+   (factor/solve only): tau_k = 1 / (d_k - c_k^T B^{-1} b_k) = det B / det [B b_k; c_k^T d_k]
+   for two random borders, one solve with two right-hand sides; det B changes sign where both
+   do (a pole of one tau, where its bordered matrix is singular, seldom meets the other's). */
+typedef struct psb__mon {
+    double sign, logabs, sign2;
+} psb__mon;
+
+static psb_result psb__monitor(psb_solver *s, psb__mon *m)
+{
+    int np1 = s->np1_, n = s->n_, i, k;
+    double sign = 1, logabs = 0;
+    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
+    psb_result r;
+    if (s->prob.linear == PSB_LINEAR_DENSE) {
+        for (i = 0; i < np1; i++) {
+            double u = s->mat_[i + (size_t)i * (size_t)np1];
+            if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
+            logabs += log(fabs(u));
+        }
+    } else if (s->prob.linear == PSB_LINEAR_BANDED) {
+        /* det B = (-1)^(n - p) det A (d - c.w): the parameter column moved last */
+        int kv = s->prob.kl + s->prob.ku;
+        if (!s->border_ok_) {
+            r = psb__band_border(s, NULL);
+            if (r != PSB_SUCCESS) return r;
+        }
+        for (i = 0; i < n; i++) {
+            double u = s->lu_[(size_t)kv + (size_t)i * (size_t)s->ldlu_];
+            if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
+            logabs += log(fabs(u));
+        }
+        if (s->delta_ < 0) sign = -sign;
+        if ((n - s->prob.param_index) % 2) sign = -sign;
+        logabs += log(fabs(s->delta_));
+    } else {
+        double *x = s->rhs_, q[2];
+        psb__copy(x, PSB__VEC(s, PSB__V_SP_B1), np1);
+        psb__copy(x + np1, PSB__VEC(s, PSB__V_SP_B2), np1);
+        r = psb__solve_factored(s, x, 2);
+        if (r != PSB_SUCCESS) return r;
+        for (k = 0; k < 2; k++) {
+            const double *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
+            q[k] = s->sp_d_[k];
+            for (i = 0; i < np1; i++) q[k] -= c[i] * x[(size_t)k * (size_t)np1 + (size_t)i];
+        }
+        m->sign = q[0] < 0 ? -1 : 1;
+        m->sign2 = q[1] < 0 ? -1 : 1;
+        m->logabs = -log(fabs(q[0]));
+        if (!psb__finite(m->logabs)) m->logabs = m->logabs > 0 ? 700 : -700;
+        return PSB_SUCCESS;
+    }
+    if (!psb__finite(logabs)) logabs = -700;
+    m->sign = m->sign2 = sign;
+    m->logabs = logabs;
+    return PSB_SUCCESS;
+}
+
+/* A sign change of det B between two points (both taus with the user backend). */
+static int psb__mon_changed(const psb__mon *a, const psb__mon *b)
+{
+    return a->sign != b->sign && a->sign2 != b->sign2;
+}
+
+/* Newton's method on H(y) = 0 plus one scalar equation, from the prediction in y (in/out,
+   replaced only on convergence): dir != NULL, the plane <dir, y - base>_w = value (points of
+   the curve by their pseudo-arclength from base); dir == NULL, the sphere ||y - base||_w =
+   value. t (out, may be NULL): the unit tangent there, oriented along dir (or outwards), from
+   the same factorisation as the last correction, whose factors stay for psb__monitor.
+   Convergence as the corrector's (section 6). */
+static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const double *base,
+                                 const double *dir, double value)
+{
+    int n = s->n_, np1 = s->np1_, it, i;
+    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->work_, corr_prev = 0;
+    psb_result r;
+    psb__copy(yc, y, np1);
+    r = psb__residual(s, yc, s->res_);
+    if (r != PSB_SUCCESS) return r;
+    for (it = 1; it <= s->opt.max_iter; it++) {
+        double corr, res, g = 0;
+        s->stats.n_newton++;
+        r = psb__jacobian(s, yc, s->res_);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < np1; i++) {
+            double d = yc[i] - base[i];
+            row[i] = s->w_[i] * (dir ? dir[i] : d);
+            g += row[i] * (dir ? d : 0.5 * d);
+        }
+        g -= dir ? value : 0.5 * value * value;
+        r = psb__factor_bordered(s, row, NULL);
+        if (r != PSB_SUCCESS) return r;
+        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
+        s->rhs_[n] = g;
+        memset(s->rhs_ + np1, 0, (size_t)np1 * sizeof(double));
+        s->rhs_[np1 + n] = 1;
+        r = psb__solve_factored(s, s->rhs_, 2);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
+        corr = psb_norm_w(s, s->rhs_);
+        r = psb__residual(s, yc, s->res_);
+        if (r != PSB_SUCCESS) return r;
+        res = psb__norm2(s->res_, n);
+        if (res <= s->opt.tol_residual &&
+            (corr <= s->opt.tol_correction ||
+             (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) {
+            if (t) {
+                psb__copy(t, s->rhs_ + np1, np1);
+                if (!psb__normalize_w(s, t)) {
+                    s->last_fail_ = PSB__FAIL_SINGULAR;
+                    return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
+                }
+            }
+            psb__copy(y, yc, np1);
+            return PSB_SUCCESS;
+        }
+        corr_prev = corr;
+    }
+    s->last_fail_ = PSB__FAIL_CONVERGE;
+    return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Newton on the constrained system did not converge");
+}
+
+/* The scalar whose sign change marks a special point, at a point (y, t) just computed by
+   psb__newton_on: t[param] (folds), det B scaled by exp(-ref) (branch points), g_k(y)
+   (events). */
+typedef struct psb__sp_fn {
+    psb_special_kind kind;
+    int index;
+    const psb_trace_options *to;
+    double ref;
+} psb__sp_fn;
+
+static psb_result psb__event_values(psb_solver *s, const psb_trace_options *to, const double *y,
+                                    double *g)
+{
+    psb_result r = psb__callback_code(s, to->event(y, g, to->event_user), "event callback returned nonzero");
+    if (r != PSB_SUCCESS) return r;
+    if (!psb__all_finite(g, (size_t)to->n_events))
+        return psb__fail(s, PSB_ERR_NONFINITE, "event callback returned NaN or Inf");
+    return PSB_SUCCESS;
+}
+
+static psb_result psb__sp_value(psb_solver *s, const psb__sp_fn *fn, const double *y,
+                                const double *t, double *f)
+{
+    psb__mon m;
+    psb_result r;
+    switch (fn->kind) {
+    case PSB_SPECIAL_FOLD: *f = t[s->prob.param_index]; return PSB_SUCCESS;
+    case PSB_SPECIAL_EVENT: {
+        double *g = fn->to->event_work + 2 * fn->to->n_events;
+        r = psb__event_values(s, fn->to, y, g);
+        *f = g[fn->index];
+        return r;
+    }
+    default:
+        r = psb__monitor(s, &m);
+        if (r != PSB_SUCCESS) return r;
+        *f = m.sign * exp(fmin(fmax(m.logabs - fn->ref, -700.0), 700.0));
+        return PSB_SUCCESS;
+    }
+}
+
+/* Locates the sign change of fn between the accepted couples (y0, t0) and y1, on the curve
+   parameterised by s = <t0, y - y0>_w (psb__newton_on on the plane): both ends are evaluated
+   again on that parameterisation, then the bracket shrinks by the Illinois variant of regula
+   falsi, bisecting whenever two evaluations did not halve it, until it is below tol. Each
+   point is predicted from the nearer end along its tangent, so the prediction error is of
+   the order of the bracket squared, well inside Newton's basin even next to a branch point.
+   Leaves in SP_Y/SP_T the end with the smaller |f| (fabs_end) and sets *precision to the
+   bracket's width; *f0_abs, *f1_abs: |f| at the first two ends. Returns PSB_SUCCESS,
+   PSB_NONSMOOTH_END (no sign change on re-evaluation: nothing to locate), or a failure; a
+   Newton failure inside stops the shrinking with the bracket reached. */
+static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double *y0,
+                                     const double *t0, const double *y1, double tol,
+                                     double *precision, double *fend_abs, double *f01_abs)
+{
+    int np1 = s->np1_, iter, side = 0, bisect = 0, evals = 0, i;
+    double *ya = PSB__VEC(s, PSB__V_SP_YA), *ta = PSB__VEC(s, PSB__V_SP_TA);
+    double *yb = PSB__VEC(s, PSB__V_SP_YB), *tb = PSB__VEC(s, PSB__V_SP_TB);
+    double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
+    double sa = 0, sb = 0, fa, fb, ga, gb, width_before = 0;
+    psb_result r;
+    for (i = 0; i < np1; i++) sb += s->w_[i] * t0[i] * (y1[i] - y0[i]);
+    if (!(sb > 0)) return PSB_NONSMOOTH_END;
+    psb__copy(ya, y0, np1);
+    r = psb__newton_on(s, ya, ta, y0, t0, 0);
+    if (r == PSB_SUCCESS) {
+        psb__mon m;
+        if (fn->kind == PSB_SPECIAL_BRANCH) {
+            r = psb__monitor(s, &m);
+            fn->ref = m.logabs;
+        }
+        if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ya, ta, &fa);
+    }
+    if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_NONSMOOTH_END;
+    psb__copy(yb, y1, np1);
+    r = psb__newton_on(s, yb, tb, y0, t0, sb);
+    if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, yb, tb, &fb);
+    if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_NONSMOOTH_END;
+    f01_abs[0] = fabs(fa);
+    f01_abs[1] = fabs(fb);
+    if ((fa < 0) == (fb < 0)) return PSB_NONSMOOTH_END;
+    ga = fa;
+    gb = fb;
+    for (iter = 0; sb - sa > tol && iter < 200 && fa != 0 && fb != 0; iter++) {
+        double sm, fm, se, c;
+        const double *yf, *tf;
+        int from_a;
+        if (evals % 2 == 0) {
+            bisect = evals > 0 && sb - sa > 0.5 * width_before;
+            width_before = sb - sa;
+        }
+        sm = bisect ? 0.5 * (sa + sb) : (sa * gb - sb * ga) / (gb - ga);
+        if (!(sm > sa && sm < sb)) sm = 0.5 * (sa + sb);
+        from_a = sm - sa <= sb - sm;
+        yf = from_a ? ya : yb;
+        tf = from_a ? ta : tb;
+        se = from_a ? sa : sb;
+        c = psb_dot_w(s, t0, tf);
+        for (i = 0; i < np1; i++) ye[i] = yf[i] + (sm - se) / c * tf[i];
+        r = psb__newton_on(s, ye, te, y0, t0, sm);
+        if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
+        if (psb__is_fatal(r)) return r;
+        evals++;
+        if (r != PSB_SUCCESS) {
+            if (bisect) break; /* even the midpoint failed: keep the bracket reached */
+            bisect = 1;
+            continue;
+        }
+        if ((fm < 0) == (fa < 0)) {
+            sa = sm; fa = ga = fm;
+            psb__copy(ya, ye, np1); psb__copy(ta, te, np1);
+            if (side == -1) gb *= 0.5; /* Illinois: the end kept twice has its value halved */
+            side = -1;
+        } else {
+            sb = sm; fb = gb = fm;
+            psb__copy(yb, ye, np1); psb__copy(tb, te, np1);
+            if (side == 1) ga *= 0.5;
+            side = 1;
+        }
+    }
+    if (fabs(fa) <= fabs(fb)) {
+        psb__copy(PSB__VEC(s, PSB__V_SP_Y), ya, np1);
+        psb__copy(PSB__VEC(s, PSB__V_SP_T), ta, np1);
+        *fend_abs = fabs(fa);
+    } else {
+        psb__copy(PSB__VEC(s, PSB__V_SP_Y), yb, np1);
+        psb__copy(PSB__VEC(s, PSB__V_SP_T), tb, np1);
+        *fend_abs = fabs(fb);
+    }
+    *precision = fa == 0 || fb == 0 ? 0 : sb - sa;
+    s->message[0] = 0;
+    return PSB_SUCCESS;
+}
+
+/* Tangent and second kernel direction at a located branch point y* = SP_Y, s* from y0 along
+   t0. The tangent from B^{-1} e_{N+1} right at y* carries an error ~ eps cond(B), and B is
+   singular there; the mean of the tangents at s* -+ delta is O(delta^2 + eps / delta) off.
+   The kernel: one step of inverse iteration with B at y* (nearly singular, its null vector
+   is dH's second kernel direction w-orthogonal to t0), from a random right-hand side, then
+   made w-orthogonal to the tangent. Results in SP_T, SP_K. */
+static psb_result psb__branch_directions(psb_solver *s, const double *y0, const double *t0,
+                                         double span)
+{
+    int np1 = s->np1_, i, k;
+    double *ys = PSB__VEC(s, PSB__V_SP_Y), *ts = PSB__VEC(s, PSB__V_SP_T), *ks = PSB__VEC(s, PSB__V_SP_K);
+    double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
+    double *tsum = PSB__VEC(s, PSB__V_SP_TA), sstar = 0, delta, c;
+    psb_result r;
+    for (i = 0; i < np1; i++) sstar += s->w_[i] * t0[i] * (ys[i] - y0[i]);
+    delta = fmin(1e-5 * span, 0.25 * fmin(sstar, span - sstar));
+    memset(tsum, 0, (size_t)np1 * sizeof(double));
+    for (k = -1; k <= 1 && delta > 0; k += 2) {
+        psb__axpy_to(ye, ys, k * delta / psb_dot_w(s, t0, ts), ts, np1);
+        r = psb__newton_on(s, ye, te, y0, t0, sstar + k * delta);
+        if (psb__is_fatal(r)) return r;
+        if (r != PSB_SUCCESS) break;
+        for (i = 0; i < np1; i++) tsum[i] += te[i];
+        if (k == 1) {
+            psb__copy(ts, tsum, np1);
+            psb__normalize_w(s, ts);
+        }
+    }
+    psb__copy(ye, ys, np1);
+    r = psb__newton_on(s, ye, NULL, y0, t0, sstar);
+    if (r != PSB_SUCCESS) return r;
+    for (i = 0; i < np1; i++) ks[i] = psb__gauss(s->rng_);
+    ks[np1 - 1] = 0;
+    r = psb__solve_factored(s, ks, 1);
+    if (r != PSB_SUCCESS) return r;
+    c = psb_dot_w(s, ks, ts);
+    for (i = 0; i < np1; i++) ks[i] -= c * ts[i];
+    if (!psb__normalize_w(s, ks)) return psb__fail(s, PSB_ERR_SINGULAR, "kernel estimate vanished");
+    return PSB_SUCCESS;
+}
+
+/* What psb_trace's detectors carry from one accepted point to the next. */
+typedef struct psb__detector {
+    const psb_trace_options *to;
+    psb_trace_report *rep;
+    psb__mon mon_old, mon_new;
+    int mon_on, mon_old_ok, mon_new_ok;
+    double *g_old, *g_new;
+    psb_special sp;
+} psb__detector;
+
+/* The test function at (y, t) by a factorisation of its own (start point, bound landing). */
+static psb_result psb__monitor_at(psb_solver *s, const double *y, const double *t, psb__mon *m)
+{
+    int i;
+    psb_result r = psb__jacobian(s, y, NULL);
+    if (r != PSB_SUCCESS) return r;
+    for (i = 0; i < s->np1_; i++) s->work_[i] = s->w_[i] * t[i];
+    r = psb__factor_bordered(s, s->work_, NULL);
+    if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_BANDED) r = psb__band_border(s, NULL);
+    if (r != PSB_SUCCESS) return r;
+    return psb__monitor(s, m);
+}
+
+/* Sets up the detectors at the start couple: borders of the user backend's test function
+   from the generator, reseeded from options.seed; the test function and events there. */
+static psb_result psb__detect_start(psb_solver *s, psb__detector *d, const double *y, const double *t)
+{
+    const psb_trace_options *to = d->to;
+    unsigned long long seed = s->opt.seed;
+    int k, i;
+    psb_result r;
+    for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
+    for (k = 0; k < 2; k++) {
+        double *b = PSB__VEC(s, k ? PSB__V_SP_B2 : PSB__V_SP_B1), *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
+        for (i = 0; i < s->np1_; i++) b[i] = psb__gauss(s->rng_);
+        for (i = 0; i < s->np1_; i++) c[i] = psb__gauss(s->rng_);
+        s->sp_d_[k] = psb__gauss(s->rng_);
+    }
+    d->mon_on = (to->detect & (PSB_DETECT_BRANCH | PSB_DETECT_PC1)) != 0;
+    d->mon_old_ok = 0;
+    if (d->mon_on) {
+        r = psb__monitor_at(s, y, t, &d->mon_old);
+        if (psb__is_fatal(r)) return r;
+        d->mon_old_ok = r == PSB_SUCCESS;
+    }
+    if ((to->detect & PSB_DETECT_EVENTS) && to->n_events > 0) {
+        d->g_old = to->event_work;
+        d->g_new = to->event_work + to->n_events;
+        r = psb__event_values(s, to, y, d->g_old);
+        if (r != PSB_SUCCESS) return r;
+    }
+    s->message[0] = 0;
+    return PSB_SUCCESS;
+}
+
+/* Reports d->sp: counted, passed to on_point; returns 1 when the trace is to stop there. */
+static int psb__report_special(psb__detector *d, long index)
+{
+    psb_point p;
+    d->rep->n_special[d->sp.kind]++;
+    memset(&p, 0, sizeof p);
+    p.y = d->sp.y;
+    p.t = d->sp.t;
+    p.index = index;
+    p.flags = PSB_POINT_SPECIAL;
+    p.special = &d->sp;
+    if (d->to->on_point && d->to->on_point(&p, d->to->point_user)) return 1;
+    return (d->to->stop_at >> d->sp.kind & 1u) != 0;
+}
+
+static void psb__special_init(psb__detector *d, psb_special_kind kind, const double *y,
+                              const double *t, int param_index)
+{
+    memset(&d->sp, 0, sizeof d->sp);
+    d->sp.kind = kind;
+    d->sp.y = y;
+    d->sp.t = t;
+    d->sp.param = y[param_index];
+    d->sp.event = -1;
+}
+
+/* The detectors for the accepted step from (y0, t0) to (y1, t1) of length h_step: kink
+   (1: the couple before a kink is in K_YA/K_TA, 2: (y0, t0) is, the step was a tangent
+   switch, 0: none known). Returns 0 to go on, 1 to stop at d->sp (PSB_STOPPED), or a
+   failure code. */
+static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, const double *t0,
+                            const double *y1, const double *t1, int kink, double h_step, long index)
+{
+    const psb_trace_options *to = d->to;
+    int p = s->prob.param_index, detect = to->detect, k, fold, branch;
+    double tol = to->locate_tol > 0 ? to->locate_tol : 1e-10, precision, fend, f01[2];
+    const double *yk = NULL, *tk = NULL;
+    psb__sp_fn fn;
+    psb_result r;
+    fold = (detect & PSB_DETECT_FOLDS) && t0[p] * t1[p] < 0;
+    branch = d->mon_on && d->mon_old_ok && d->mon_new_ok && psb__mon_changed(&d->mon_old, &d->mon_new);
+    if (!kink && (fold || branch) && psb__cos_w(s, t0, t1) < s->opt.c_diff) {
+        /* a fold or a det sign change in a step that turned: at a kink, or smooth? */
+        int found = psb__locate_kink(s, y0, t0, t1, h_step);
+        if (found < 0) return found;
+        kink = found;
+    }
+    if (kink == 1) {
+        yk = PSB__VEC(s, PSB__V_K_YA);
+        tk = PSB__VEC(s, PSB__V_K_TA);
+    } else if (kink == 2) {
+        yk = y0;
+        tk = t0;
+    }
+    memset(&fn, 0, sizeof fn);
+    fn.to = to;
+    if (fold) {
+        if (kink) {
+            psb__special_init(d, PSB_SPECIAL_FOLD_KINK, yk, tk, p);
+            d->sp.precision = s->opt.h_min / s->opt.h_dec;
+            if (psb__report_special(d, index)) return 1;
+        } else {
+            fn.kind = PSB_SPECIAL_FOLD;
+            r = psb__locate_change(s, &fn, y0, t0, y1, tol, &precision, &fend, f01);
+            if (r < 0) return r;
+            if (r == PSB_SUCCESS) {
+                psb__special_init(d, PSB_SPECIAL_FOLD, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
+                d->sp.precision = precision;
+                if (psb__report_special(d, index)) return 1;
+            }
+        }
+    }
+    if (branch && kink && (detect & PSB_DETECT_PC1)) {
+        psb__special_init(d, PSB_SPECIAL_PC1, yk, tk, p);
+        d->sp.precision = s->opt.h_min / s->opt.h_dec;
+        if (psb__report_special(d, index)) return 1;
+    } else if (branch && !kink && (detect & PSB_DETECT_BRANCH)) {
+        fn.kind = PSB_SPECIAL_BRANCH;
+        r = psb__locate_change(s, &fn, y0, t0, y1, tol, &precision, &fend, f01);
+        if (r < 0) return r;
+        /* the user backend's tau also changes sign at its poles: a zero shrinks |tau| below
+           its values at the ends, a pole grows it beyond */
+        if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_USER && fend > fmin(f01[0], f01[1]))
+            r = PSB_NONSMOOTH_END;
+        if (r == PSB_SUCCESS) {
+            double span = 0;
+            for (k = 0; k < s->np1_; k++) span += s->w_[k] * t0[k] * (y1[k] - y0[k]);
+            r = psb__branch_directions(s, y0, t0, span);
+            if (psb__is_fatal(r)) return r;
+            psb__special_init(d, PSB_SPECIAL_BRANCH, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
+            d->sp.kernel = r == PSB_SUCCESS ? PSB__VEC(s, PSB__V_SP_K) : NULL;
+            d->sp.precision = precision;
+            if (psb__report_special(d, index)) return 1;
+        }
+    }
+    if ((detect & PSB_DETECT_EVENTS) && to->n_events > 0) {
+        double *swap;
+        r = psb__event_values(s, to, y1, d->g_new);
+        if (r != PSB_SUCCESS) return r;
+        for (k = 0; k < to->n_events; k++) {
+            if ((d->g_old[k] < 0) == (d->g_new[k] < 0)) continue;
+            fn.kind = PSB_SPECIAL_EVENT;
+            fn.index = k;
+            r = psb__locate_change(s, &fn, y0, t0, y1, tol, &precision, &fend, f01);
+            if (r < 0) return r;
+            if (r != PSB_SUCCESS) continue;
+            psb__special_init(d, PSB_SPECIAL_EVENT, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
+            d->sp.precision = precision;
+            d->sp.event = k;
+            d->sp.direction = d->g_new[k] > d->g_old[k] ? 1 : -1;
+            if (psb__report_special(d, index)) return 1;
+        }
+        swap = d->g_old;
+        d->g_old = d->g_new;
+        d->g_new = swap;
+    }
+    d->mon_old = d->mon_new;
+    d->mon_old_ok = d->mon_new_ok;
+    s->message[0] = 0;
+    return 0;
+}
+
 PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                                    const psb_trace_options *to, psb_trace_report *rep)
 {
     psb_trace_options opts;
     psb_trace_report local;
     psb_point pt;
+    psb__detector det;
     int np1, p, bounded, iters, flags, kink, just_switched = 0;
-    double h, travelled = 0;
+    double h, h_step = 0, travelled = 0;
     double *yc, *tc, *yold, *told, *ystart, *tkink;
     psb_result r;
     if (!rep) rep = &local;
@@ -2885,6 +3434,14 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     bounded = opts.param_min < opts.param_max;
     if (bounded && (!(y[p] >= opts.param_min) || !(y[p] <= opts.param_max)))
         return rep->end = psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
+    if (opts.detect < 0 || opts.detect > PSB_DETECT_ALL || !(opts.locate_tol >= 0) ||
+        !psb__finite(opts.locate_tol))
+        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "detect must be a PSB_DETECT_* mask and locate_tol >= 0");
+    if ((opts.detect & PSB_DETECT_PC1) && s->prob.linear == PSB_LINEAR_USER)
+        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "PSB_DETECT_PC1 needs the dense or banded backend");
+    if (opts.n_events < 0) return rep->end = psb__fail(s, PSB_ERR_SIZE, "n_events must be >= 0");
+    if ((opts.detect & PSB_DETECT_EVENTS) && opts.n_events > 0 && (!opts.event || !opts.event_work))
+        return rep->end = psb__fail(s, PSB_ERR_NULL, "event or event_work is NULL");
     yc = PSB__VEC(s, PSB__V_TR_Y);
     tc = PSB__VEC(s, PSB__V_TR_T);
     yold = PSB__VEC(s, PSB__V_TR_Y0);
@@ -2896,6 +3453,13 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     psb__normalize_w(s, tc);
     psb__copy(ystart, yc, np1);
     h = s->opt.h_init;
+    memset(&det, 0, sizeof det);
+    det.to = &opts;
+    det.rep = rep;
+    if (opts.detect) {
+        r = psb__detect_start(s, &det, yc, tc);
+        if (r != PSB_SUCCESS) { rep->end = r; goto done; }
+    }
     memset(&pt, 0, sizeof pt);
     pt.y = yc;
     pt.t = tc;
@@ -2910,12 +3474,19 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         flags = 0;
         kink = 0;
         r = psb__try_step(s, yc, tc, &h, s->opt.h_min, &iters);
+        h_step = h;
         if (r == PSB_ERR_STEP_TOO_SMALL) {
             if (opts.no_switch) { rep->end = PSB_NONSMOOTH_END; goto done; }
             r = psb__switch(s, yc, tc, just_switched ? tkink : NULL);
             psb__copy(tkink, told, np1);
             if (r == PSB_NONSMOOTH_END) { rep->end = r; goto done; }
             if (r != PSB_SUCCESS) { rep->end = r; goto done; }
+            /* the test function from the factors of the switch step's last corrector iteration */
+            if (det.mon_on) {
+                r = psb__monitor(s, &det.mon_new);
+                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                det.mon_new_ok = r == PSB_SUCCESS;
+            }
             flags |= PSB_POINT_SWITCH;
             rep->n_switches++;
             h = s->opt.h_init;
@@ -2928,6 +3499,12 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             rep->end = r;
             goto done;
         } else {
+            /* the test function from the factors of the step's last corrector iteration */
+            if (det.mon_on) {
+                r = psb__monitor(s, &det.mon_new);
+                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                det.mon_new_ok = r == PSB_SUCCESS;
+            }
             if (opts.locate_kinks) {
                 int found = psb__locate_kink(s, yold, told, tc, h);
                 if (found < 0) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = (psb_result)found; goto done; }
@@ -2971,6 +3548,11 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                 continue;
             }
             flags |= PSB_POINT_BOUND;
+            if (det.mon_on) {
+                r = psb__monitor_at(s, yc, tc, &det.mon_new);
+                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                det.mon_new_ok = r == PSB_SUCCESS;
+            }
         }
         just_switched = (flags & PSB_POINT_SWITCH) != 0;
         rep->steps++;
@@ -2982,6 +3564,17 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             pt.fold_param = (flags & PSB_POINT_SWITCH) ? yold[p] : psb__fold_param(s, yold, told, yc, tc);
             if (rep->n_folds < PSB_MAX_FOLDS) rep->fold_params[rep->n_folds] = pt.fold_param;
             rep->n_folds++;
+        }
+        if (opts.detect) {
+            int stop = psb__detect_step(s, &det, yold, told, yc, tc,
+                                        (flags & PSB_POINT_SWITCH) ? 2 : kink, h_step, rep->steps);
+            if (stop < 0) { rep->end = (psb_result)stop; goto done; }
+            if (stop) {
+                psb__copy(yc, det.sp.y, np1);
+                psb__copy(tc, det.sp.t, np1);
+                rep->end = PSB_STOPPED;
+                goto done;
+            }
         }
         pt.index = rep->steps;
         pt.flags = flags;
@@ -3498,6 +4091,98 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
 
+/* ---- switching at a smooth branch point ----------------------------------------------------
+   Near a branch point y* the solutions lie, to first order, on lines through y* in the plane
+   of t and the second kernel direction k. Each point of the circle y* + r (cos a t + sin a k),
+   a = 2 pi i / (2 n_dir), is corrected by Newton on the sphere ||y - y*||_w = r, which lands
+   where a branch crosses the sphere: the crossings are isolated points, so two trials landed
+   on the same branch when they lie within r sqrt(2 (1 - c_diff)) of each other (c_diff's
+   angle seen from y*). Unlike a trial step's landing point, which lies anywhere from h_min to
+   h from y*, a crossing does not depend on where the trial started, so curved branches are
+   told apart by c_diff as straight ones are. */
+
+/* One sweep of the circle of radius r; returns PSB_SUCCESS or a failure; *overflow set when a
+   branch found no room. */
+static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double *t, const double *k,
+                                    double r, int max_branches, double *ys, double *ts,
+                                    psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->np1_, n_trial = 2 * s->opt.n_dir, i, j, m;
+    double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
+    double same = r * sqrt(2 * (1 - s->opt.c_diff));
+    psb_result res;
+    for (i = 0; i < n_trial; i++) {
+        /* -t first, then +t: branches 0 and 1 are the traced curve */
+        int step = i == 0 ? n_trial / 2 : i == n_trial / 2 ? 0 : i;
+        double a = 6.283185307179586 * step / n_trial;
+        int is_new = 1;
+        for (m = 0; m < np1; m++) yb[m] = y[m] + r * (cos(a) * t[m] + sin(a) * k[m]);
+        rep->n_pc++;
+        s->stats.n_pc_steps++;
+        res = psb__newton_on(s, yb, tb, y, NULL, r);
+        if (psb__is_fatal(res)) return res;
+        if (res != PSB_SUCCESS) {
+            if (i < 2) { /* keep the indices of the traced curve: its couple at the point */
+                if (rep->n_branches >= max_branches) { *overflow = 1; continue; }
+                psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, y, np1);
+                for (m = 0; m < np1; m++) ts[(size_t)rep->n_branches * (size_t)np1 + (size_t)m] = i ? t[m] : -t[m];
+                rep->n_branches++;
+            }
+            continue;
+        }
+        for (j = 0; j < rep->n_branches && is_new; j++)
+            if (psb__dist_w(s, yb, ys + (size_t)j * (size_t)np1) <= same) is_new = 0;
+        if (!is_new) continue;
+        if (rep->n_branches >= max_branches) { *overflow = 1; continue; }
+        psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
+        psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
+        rep->n_branches++;
+    }
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
+                                                 const double *kernel, int max_branches,
+                                                 double *ys, double *ts, psb_branch_report *rep)
+{
+    psb_branch_report local;
+    int np1, i, overflow = 0;
+    double *yc, *tc, *kc, c, r;
+    psb_result res;
+    if (!rep) rep = &local;
+    memset(rep, 0, sizeof *rep);
+    res = psb__check_couple(s, y, t);
+    if (res != PSB_SUCCESS) return res;
+    if (!kernel || !ys || !ts) return psb__fail(s, PSB_ERR_NULL, "kernel, ys or ts is NULL");
+    if (max_branches < 1) return psb__fail(s, PSB_ERR_SIZE, "max_branches must be >= 1");
+    np1 = s->np1_;
+    if (!psb__all_finite(kernel, (size_t)np1)) return psb__fail(s, PSB_ERR_NONFINITE, "kernel contains NaN or Inf");
+    yc = PSB__VEC(s, PSB__V_BR_Y0);
+    tc = PSB__VEC(s, PSB__V_BR_T0);
+    kc = PSB__VEC(s, PSB__V_BR_K);
+    psb__copy(yc, y, np1);
+    psb__copy(tc, t, np1);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    c = psb_dot_w(s, kernel, tc);
+    for (i = 0; i < np1; i++) kc[i] = kernel[i] - c * tc[i];
+    if (!psb__normalize_w(s, kc)) return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
+    /* a simple branch point has four half-branches; fewer at branch_h_init (a radius beyond
+       the branches' curvature, or crossings too close for Newton's basins) -> a smaller one */
+    for (r = s->opt.branch_h_init, i = 0; i < 3; i++, r *= 0.125) {
+        psb_branch_report attempt;
+        memset(&attempt, 0, sizeof attempt);
+        overflow = 0;
+        res = psb__sphere_sweep(s, yc, tc, kc, r, max_branches, ys, ts, &attempt, &overflow);
+        attempt.n_pc += rep->n_pc;
+        *rep = attempt;
+        rep->n_span = i + 1;
+        if (res != PSB_SUCCESS) return res;
+        if (rep->n_branches >= 4 || overflow) break;
+    }
+    s->message[0] = 0;
+    return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+}
+
 /* ==== exploring the whole diagram ========================================================== */
 
 /* Scratch vectors of the explorer (n+1 each), after the nodes' storage: the couple being
@@ -3743,12 +4428,10 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         return PSB_BRANCH_CAPACITY;
     }
     nd = d->nodes + d->n_nodes; /* filled in place, counted once it is a node */
-#ifdef PSB_POINT_SPECIAL
-    if (kind == PSB_NODE_BRANCH)
-        r = psb_branch_point_switch(s, y, t, x->has_kernel ? PSB__XVEC(x, PSB__X_K) : NULL,
-                                    d->max_branches, nd->ys, nd->ts, &br);
+    if (kind == PSB_NODE_BRANCH && x->has_kernel)
+        r = psb_branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
+                                    nd->ts, &br);
     else
-#endif
         r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     d->n_branchings++;
     if (r < 0) {
@@ -3776,7 +4459,6 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     return r == PSB_BRANCH_CAPACITY ? r : PSB_SUCCESS;
 }
 
-#ifdef PSB_POINT_SPECIAL
 /* A special point reported by a trace: folds and events become nodes on the edge; a branch
    or PC1 point (other than the one the edge leaves) stops the trace for the branching. */
 static int psb__explore_special(psb__explorer *x, const psb_special *sp)
@@ -3801,7 +4483,6 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
     }
     return 0;
 }
-#endif
 
 static int psb__explore_point(const psb_point *pt, void *user)
 {
@@ -3816,9 +4497,7 @@ static int psb__explore_point(const psb_point *pt, void *user)
         x->stop = PSB__XS_KINK;
         return 1;
     }
-#ifdef PSB_POINT_SPECIAL
     if (pt->flags & PSB_POINT_SPECIAL) return psb__explore_special(x, pt->special);
-#endif
     x->d->n_points++;
     x->points++;
     x->length += pt->h;
@@ -3879,6 +4558,11 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
     to.point_user = x;
     to.detect_loop = 1;
     to.locate_kinks = x->eo->branch_at_kinks != 0;
+    to.stop_at = 0; /* psb__explore_special stops where a branching is due */
+    if (!to.detect && !x->eo->no_detect)
+        to.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH | PSB_DETECT_PC1 |
+                    (to.n_events > 0 ? PSB_DETECT_EVENTS : 0);
+    if (x->eo->no_detect) to.detect = 0;
     x->edge = e;
     x->from = from;
     for (;;) {
