@@ -397,6 +397,19 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
         }
         printf("   (paper: 0.56541, 0.66665 on M4096)\n");
         ok = ok && n_fold == 2 && d.n_edges == 1 && d.edges[0].end == PSB_EDGE_BOUND;
+        /* the hand-driven fold run from the same couple: its limit points are kinks located to h_min */
+        {
+            fold_state fs;
+            psb_trace_report rep;
+            double worst = 0;
+            memcpy(ye, y, bytes);
+            memcpy(te, t, bytes);
+            trace_fold(run, ye, te, &fs, &rep, 0);
+            ok = ok && fs.nfold == n_fold;
+            for (i = 0; i < n_fold && i < fs.nfold; i++) worst = fmax(worst, fabs(folds[i] - fs.folds[i]));
+            printf("  hand-driven fold run: %d limit points, largest difference %.1e in gamma\n", fs.nfold, worst);
+            ok = ok && worst <= 1e-8;
+        }
     } else {
         for (i = 1; i <= 4; i++) ok = ok && count[i] == 1;
         ok = ok && n_branching == 1;
