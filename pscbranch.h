@@ -1074,8 +1074,9 @@ typedef struct psb_explore_options {
                                         with some y_i outside [box_min_i, box_max_i] [NULL] */
     double state_max;  /* > 0: a trace ends at its first point whose state (y without the
                           parameter) has a weighted norm above it [0: none] */
-    int one_direction; /* 1: from the start couple along t only; 0: along t and -t [0] */
-    int max_traces;    /* edges traced in all [0: the diagram's max_edges] */
+    int one_direction; /* 1: from the start couple along t only; 0: along t and -t [0] (from
+                          a start on a parameter bound, the direction leaving it is left out) */
+    int max_traces;    /* edges traced in all [0: no limit but the diagram's max_edges] */
     long max_points;   /* accepted points in all [0: no limit] */
     int branch_at_kinks; /* 1: locate every kink a trace passes and run Algorithms 2.1 and 2.2
                             there; a kink with two branches is ordinary and the trace goes on
@@ -4187,8 +4188,9 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
 
 /* Scratch vectors of the explorer (n+1 each), after the nodes' storage: the couple being
    traced, the couple where a trace stopped for a branching (a kink's or a detector's), the
-   detector's kernel direction, and the stop couple before Algorithm 2.1 moved it. */
-enum { PSB__X_Y, PSB__X_T, PSB__X_SY, PSB__X_ST, PSB__X_K, PSB__X_P, PSB__NX };
+   detector's kernel direction, the stop couple before Algorithm 2.1 moved it, and the
+   trace's previous accepted point. */
+enum { PSB__X_Y, PSB__X_T, PSB__X_SY, PSB__X_ST, PSB__X_K, PSB__X_P, PSB__X_PREV, PSB__NX };
 
 /* Carves the diagram's arrays out of memory (when d is not NULL) and returns the bytes needed
    (0 for invalid sizes), so that the size query and the layout cannot disagree. */
@@ -4294,14 +4296,15 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end)
 }
 
 /* Why the explorer's point callback stopped a trace. */
-enum { PSB__XS_NONE, PSB__XS_USER, PSB__XS_POINTS, PSB__XS_BOX, PSB__XS_KINK, PSB__XS_SPECIAL };
+enum { PSB__XS_NONE, PSB__XS_USER, PSB__XS_POINTS, PSB__XS_BOX, PSB__XS_KINK, PSB__XS_SPECIAL,
+       PSB__XS_NODE };
 
 typedef struct psb__explorer {
     psb_solver *s;
     psb_diagram *d;
     const psb_explore_options *eo;
     double node_tol;
-    int edge, from, stop;
+    int edge, from, stop, stop_node;
     psb_node_kind stop_kind; /* the branching the stop asks for (NONSMOOTH, BRANCH, PC1) */
     int has_kernel;
     double stop_precision;
@@ -4484,6 +4487,33 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
     return 0;
 }
 
+/* The branching node (not the edge's own start on its first step) that the chord from prev to
+   the accepted point passes within tolerance of, or -1: a trace going straight through a known
+   point (a piecewise-linear branch meets no kink there, and the detectors may see nothing)
+   arrives at it. The chord stands for the curve to within 1e-3 of its length. */
+static int psb__explore_passed(const psb__explorer *x, const double *prev, const psb_point *pt)
+{
+    const psb_solver *s = x->s;
+    int np1 = s->np1_, j, i;
+    double seg2 = pt->h * pt->h;
+    for (j = 0; j < x->d->n_nodes; j++) {
+        const psb_node *nd = x->d->nodes + j;
+        double proj = 0, dist2 = 0, a, tol;
+        if (nd->kind != PSB_NODE_NONSMOOTH && nd->kind != PSB_NODE_BRANCH && nd->kind != PSB_NODE_PC1) continue;
+        if (j == x->from && pt->index == 1) continue;
+        for (i = 0; i < np1; i++) proj += s->w_[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
+        a = seg2 > 0 ? proj / seg2 : 0;
+        a = a < 0 ? 0 : (a > 1 ? 1 : a);
+        for (i = 0; i < np1; i++) {
+            double di = prev[i] + a * (pt->y[i] - prev[i]) - nd->y[i];
+            dist2 += s->w_[i] * di * di;
+        }
+        tol = x->node_tol + 4 * nd->precision + 1e-3 * pt->h;
+        if (dist2 <= tol * tol) return j;
+    }
+    return -1;
+}
+
 static int psb__explore_point(const psb_point *pt, void *user)
 {
     psb__explorer *x = (psb__explorer *)user;
@@ -4501,6 +4531,17 @@ static int psb__explore_point(const psb_point *pt, void *user)
     x->d->n_points++;
     x->points++;
     x->length += pt->h;
+    if (pt->index > 0) {
+        int j = psb__explore_passed(x, PSB__XVEC(x, PSB__X_PREV), pt);
+        if (j >= 0) {
+            psb__copy(PSB__XVEC(x, PSB__X_SY), pt->y, np1);
+            psb__copy(PSB__XVEC(x, PSB__X_ST), pt->t, np1);
+            x->stop_node = j;
+            x->stop = PSB__XS_NODE;
+            return 1;
+        }
+    }
+    psb__copy(PSB__XVEC(x, PSB__X_PREV), pt->y, np1);
     if (eo->on_point && eo->on_point(x->edge, pt, eo->point_user)) {
         x->stop = PSB__XS_USER;
         return 1;
@@ -4588,6 +4629,29 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
         break;
     }
     switch (x->stop) {
+    case PSB__XS_NODE: {
+        /* through a known node: arrive, and make sure the way on is one of its branches */
+        psb_node *nd = d->nodes + x->stop_node;
+        int kb, best = -1;
+        double best_cos = -2;
+        ed->length -= psb__dist_w(s, y, nd->y);
+        psb__explore_arrive(x, e, x->stop_node, t);
+        for (kb = 0; kb < nd->n_branches; kb++) {
+            double c = psb__cos_w(s, t, nd->ts + (size_t)kb * (size_t)np1);
+            if (c > best_cos) { best_cos = c; best = kb; }
+        }
+        if (best < 0 || (best_cos < s->opt.c_diff && best_cos < s->opt.c_min)) {
+            if (nd->n_branches == d->max_branches) {
+                d->truncated = 1;
+            } else {
+                kb = nd->n_branches++;
+                psb__copy(nd->ys + (size_t)kb * (size_t)np1, nd->y, np1);
+                psb__copy(nd->ts + (size_t)kb * (size_t)np1, t, np1);
+                nd->branch_edge[kb] = -1;
+            }
+        }
+        return PSB_SUCCESS;
+    }
     case PSB__XS_USER: psb__explore_end(x, e, PSB_EDGE_BUDGET, PSB_NODE_BUDGET, y); return PSB_STOPPED;
     case PSB__XS_POINTS: psb__explore_end(x, e, PSB_EDGE_BUDGET, PSB_NODE_BUDGET, y); return PSB_STEP_BUDGET;
     case PSB__XS_BOX: psb__explore_end(x, e, PSB_EDGE_BOX, PSB_NODE_BOUND, y); return PSB_SUCCESS;
@@ -4659,19 +4723,25 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     x.d = d;
     x.eo = eo;
     x.node_tol = eo->node_tol > 0 ? eo->node_tol : 16 * s->opt.branch_h;
-    max_traces = eo->max_traces > 0 ? eo->max_traces : d->max_edges;
+    max_traces = eo->max_traces > 0 ? eo->max_traces : -1;
 
     /* the start node: its directions are the first branches of the queue */
     psb__explore_add_node(&x, PSB_NODE_START, y, 0, -1);
     start = d->nodes;
-    start->n_branches = eo->one_direction || d->max_branches < 2 ? 1 : 2;
-    if (!eo->one_direction && d->max_branches < 2) d->truncated = 1;
-    for (k = 0; k < start->n_branches; k++) {
-        double *tk = start->ts + (size_t)k * (size_t)np1;
-        psb__copy(start->ys + (size_t)k * (size_t)np1, y, np1);
+    for (k = 0; k < (eo->one_direction ? 1 : 2); k++) {
+        double *tk = start->ts + (size_t)start->n_branches * (size_t)np1, dir = k ? -t[p] : t[p];
+        /* a direction leaving the parameter interval from a start on its bound is left out */
+        if (eo->trace.param_min < eo->trace.param_max &&
+            ((y[p] == eo->trace.param_min && dir < 0) || (y[p] == eo->trace.param_max && dir > 0)))
+            continue;
+        if (start->n_branches == d->max_branches) {
+            d->truncated = 1;
+            break;
+        }
+        psb__copy(start->ys + (size_t)start->n_branches * (size_t)np1, y, np1);
         for (i = 0; i < np1; i++) tk[i] = k ? -t[i] : t[i];
         psb__normalize_w(s, tk);
-        start->branch_edge[k] = -1;
+        start->branch_edge[start->n_branches++] = -1;
     }
 
     /* the queue: the first untraced branch in the order nodes were made */
