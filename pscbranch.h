@@ -798,7 +798,7 @@ typedef struct psb_solver {
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
    invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n (band_lean: (3 kl + 2 ku + 3) n);
-   user ~ 40 (n+1). */
+   user ~ 53 (n+1). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
@@ -2940,10 +2940,12 @@ static double psb__gauss(unsigned long long *st);
 /* The branch-point test function at the current factors of B = [dH(y); row^T]. Dense and
    banded: sign and log|.| of det B from the LU factors, O(N) and exact in sign. User backend
    (factor/solve only): tau_k = 1 / (d_k - c_k^T B^{-1} b_k) = det B / det [B b_k; c_k^T d_k]
-   for two random borders, one solve with two right-hand sides; det B changes sign where both
-   do (a pole of one tau, where its bordered matrix is singular, seldom meets the other's). */
+   for two random borders, one solve with two right-hand sides. A tau changes sign at the
+   zeros of det B and at its own poles (where its bordered matrix is singular), and where a
+   pole lies next to a zero it shows neither: a sign change of either tau is located and kept
+   when |tau| shrank there (a zero), not grew (a pole). */
 typedef struct psb__mon {
-    double sign, logabs, sign2;
+    double sign[2], logabs[2];
 } psb__mon;
 
 static psb_result psb__monitor(psb_solver *s, psb__mon *m)
@@ -2959,8 +2961,20 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
             logabs += log(fabs(u));
         }
     } else if (s->prob.linear == PSB_LINEAR_BANDED) {
-        /* det B = (-1)^(n - p) det A (d - c.w): the parameter column moved last */
+        /* det B = (-1)^(n - p) det A (d - c.w): the parameter column moved last. Factors of
+           A + sigma I (A nearly singular) would move a zero of det B by ~sigma: A is factored
+           as it is (exactly singular: det B = 0) */
         int kv = s->prob.kl + s->prob.ku;
+        if (s->shifted_) {
+            r = psb__band_prepare(s, 0.0);
+            s->shifted_ = 0;
+            if (r == PSB_ERR_SINGULAR) {
+                m->sign[0] = m->sign[1] = 1;
+                m->logabs[0] = m->logabs[1] = -700;
+                return PSB_SUCCESS;
+            }
+            if (r != PSB_SUCCESS) return r;
+        }
         if (!s->border_ok_) {
             r = psb__band_border(s, NULL);
             if (r != PSB_SUCCESS) return r;
@@ -2984,22 +2998,17 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
             q[k] = s->sp_d_[k];
             for (i = 0; i < np1; i++) q[k] -= c[i] * x[(size_t)k * (size_t)np1 + (size_t)i];
         }
-        m->sign = q[0] < 0 ? -1 : 1;
-        m->sign2 = q[1] < 0 ? -1 : 1;
-        m->logabs = -log(fabs(q[0]));
-        if (!psb__finite(m->logabs)) m->logabs = m->logabs > 0 ? 700 : -700;
+        for (k = 0; k < 2; k++) {
+            m->sign[k] = q[k] < 0 ? -1 : 1;
+            m->logabs[k] = -log(fabs(q[k]));
+            if (!psb__finite(m->logabs[k])) m->logabs[k] = m->logabs[k] > 0 ? 700 : -700;
+        }
         return PSB_SUCCESS;
     }
     if (!psb__finite(logabs)) logabs = -700;
-    m->sign = m->sign2 = sign;
-    m->logabs = logabs;
+    m->sign[0] = m->sign[1] = sign;
+    m->logabs[0] = m->logabs[1] = logabs;
     return PSB_SUCCESS;
-}
-
-/* A sign change of det B between two points (both taus with the user backend). */
-static int psb__mon_changed(const psb__mon *a, const psb__mon *b)
-{
-    return a->sign != b->sign && a->sign2 != b->sign2;
 }
 
 /* Newton's method on H(y) = 0 plus one scalar equation, from the prediction in y (in/out,
@@ -3007,12 +3016,12 @@ static int psb__mon_changed(const psb__mon *a, const psb__mon *b)
    the curve by their pseudo-arclength from base); dir == NULL, the sphere ||y - base||_w =
    value. t (out, may be NULL): the unit tangent there, oriented along dir (or outwards), from
    the same factorisation as the last correction, whose factors stay for psb__monitor.
-   Convergence as the corrector's (section 6). */
+   Converged as the corrector, but on the last correction alone (<= tol_correction). */
 static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const double *base,
                                  const double *dir, double value)
 {
     int n = s->n_, np1 = s->np1_, it, i;
-    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->work_, corr_prev = 0;
+    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->work_;
     psb_result r;
     psb__copy(yc, y, np1);
     r = psb__residual(s, yc, s->res_);
@@ -3041,9 +3050,10 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
         r = psb__residual(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
         res = psb__norm2(s->res_, n);
-        if (res <= s->opt.tol_residual &&
-            (corr <= s->opt.tol_correction ||
-             (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) {
+        /* not on the contraction estimate: the tangent and the test function come from the
+           factors at the iterate before the last correction, which must be as small as the
+           location's precision */
+        if (res <= s->opt.tol_residual && corr <= s->opt.tol_correction) {
             if (t) {
                 psb__copy(t, s->rhs_ + np1, np1);
                 if (!psb__normalize_w(s, t)) {
@@ -3054,7 +3064,6 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
             psb__copy(y, yc, np1);
             return PSB_SUCCESS;
         }
-        corr_prev = corr;
     }
     s->last_fail_ = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Newton on the constrained system did not converge");
@@ -3096,7 +3105,7 @@ static psb_result psb__sp_value(psb_solver *s, const psb__sp_fn *fn, const doubl
     default:
         r = psb__monitor(s, &m);
         if (r != PSB_SUCCESS) return r;
-        *f = m.sign * exp(fmin(fmax(m.logabs - fn->ref, -700.0), 700.0));
+        *f = m.sign[fn->index] * exp(fmin(fmax(m.logabs[fn->index] - fn->ref, -700.0), 700.0));
         return PSB_SUCCESS;
     }
 }
@@ -3129,7 +3138,7 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         psb__mon m;
         if (fn->kind == PSB_SPECIAL_BRANCH) {
             r = psb__monitor(s, &m);
-            fn->ref = m.logabs;
+            fn->ref = m.logabs[fn->index];
         }
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ya, ta, &fa);
     }
@@ -3197,38 +3206,36 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
 /* Tangent and second kernel direction at a located branch point y* = SP_Y, s* from y0 along
    t0. The tangent from B^{-1} e_{N+1} right at y* carries an error ~ eps cond(B), and B is
    singular there; the mean of the tangents at s* -+ delta is O(delta^2 + eps / delta) off.
-   The kernel: one step of inverse iteration with B at y* (nearly singular, its null vector
-   is dH's second kernel direction w-orthogonal to t0), from a random right-hand side, then
-   made w-orthogonal to the tangent. Results in SP_T, SP_K. */
+   The kernel: two steps of inverse iteration with B at s* + delta (nearly singular, its
+   near-null vector is, to O(delta), dH's second kernel direction w-orthogonal to t0; each
+   step gains a factor ~ delta), from a random right-hand side, then made w-orthogonal to the
+   tangent. Results in SP_T, SP_K. */
 static psb_result psb__branch_directions(psb_solver *s, const double *y0, const double *t0,
                                          double span)
 {
-    int np1 = s->np1_, i, k;
+    int np1 = s->np1_, i, k, it;
     double *ys = PSB__VEC(s, PSB__V_SP_Y), *ts = PSB__VEC(s, PSB__V_SP_T), *ks = PSB__VEC(s, PSB__V_SP_K);
     double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
     double *tsum = PSB__VEC(s, PSB__V_SP_TA), sstar = 0, delta, c;
-    psb_result r;
+    psb_result r = PSB_ERR_SINGULAR;
     for (i = 0; i < np1; i++) sstar += s->w_[i] * t0[i] * (ys[i] - y0[i]);
     delta = fmin(1e-5 * span, 0.25 * fmin(sstar, span - sstar));
     memset(tsum, 0, (size_t)np1 * sizeof(double));
     for (k = -1; k <= 1 && delta > 0; k += 2) {
         psb__axpy_to(ye, ys, k * delta / psb_dot_w(s, t0, ts), ts, np1);
         r = psb__newton_on(s, ye, te, y0, t0, sstar + k * delta);
-        if (psb__is_fatal(r)) return r;
-        if (r != PSB_SUCCESS) break;
+        if (r != PSB_SUCCESS) return r;
         for (i = 0; i < np1; i++) tsum[i] += te[i];
-        if (k == 1) {
-            psb__copy(ts, tsum, np1);
-            psb__normalize_w(s, ts);
-        }
     }
-    psb__copy(ye, ys, np1);
-    r = psb__newton_on(s, ye, NULL, y0, t0, sstar);
     if (r != PSB_SUCCESS) return r;
+    psb__copy(ts, tsum, np1);
+    psb__normalize_w(s, ts);
     for (i = 0; i < np1; i++) ks[i] = psb__gauss(s->rng_);
-    ks[np1 - 1] = 0;
-    r = psb__solve_factored(s, ks, 1);
-    if (r != PSB_SUCCESS) return r;
+    for (it = 0; it < 2; it++) {
+        r = psb__solve_factored(s, ks, 1);
+        if (r != PSB_SUCCESS) return r;
+        if (!psb__normalize_w(s, ks)) break;
+    }
     c = psb_dot_w(s, ks, ts);
     for (i = 0; i < np1; i++) ks[i] -= c * ts[i];
     if (!psb__normalize_w(s, ks)) return psb__fail(s, PSB_ERR_SINGULAR, "kernel estimate vanished");
@@ -3324,13 +3331,15 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
                             const double *y1, const double *t1, int kink, double h_step, long index)
 {
     const psb_trace_options *to = d->to;
-    int p = s->prob.param_index, detect = to->detect, k, fold, branch;
+    int p = s->prob.param_index, detect = to->detect, k, fold, branch, changed[2];
     double tol = to->locate_tol > 0 ? to->locate_tol : 1e-10, precision, fend, f01[2];
     const double *yk = NULL, *tk = NULL;
     psb__sp_fn fn;
     psb_result r;
     fold = (detect & PSB_DETECT_FOLDS) && t0[p] * t1[p] < 0;
-    branch = d->mon_on && d->mon_old_ok && d->mon_new_ok && psb__mon_changed(&d->mon_old, &d->mon_new);
+    for (k = 0; k < 2; k++)
+        changed[k] = d->mon_on && d->mon_old_ok && d->mon_new_ok && d->mon_old.sign[k] != d->mon_new.sign[k];
+    branch = changed[0] || changed[1];
     if (!kink && (fold || branch) && psb__cos_w(s, t0, t1) < s->opt.c_diff) {
         /* a fold or a det sign change in a step that turned: at a kink, or smooth? */
         int found = psb__locate_kink(s, y0, t0, t1, h_step);
@@ -3368,12 +3377,17 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
         if (psb__report_special(d, index)) return 1;
     } else if (branch && !kink && (detect & PSB_DETECT_BRANCH)) {
         fn.kind = PSB_SPECIAL_BRANCH;
-        r = psb__locate_change(s, &fn, y0, t0, y1, tol, &precision, &fend, f01);
-        if (r < 0) return r;
-        /* the user backend's tau also changes sign at its poles: a zero shrinks |tau| below
-           its values at the ends, a pole grows it beyond */
-        if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_USER && fend > fmin(f01[0], f01[1]))
-            r = PSB_NONSMOOTH_END;
+        r = PSB_NONSMOOTH_END;
+        for (k = 0; k < 2 && r != PSB_SUCCESS; k++) {
+            if (!changed[k]) continue;
+            fn.index = k;
+            r = psb__locate_change(s, &fn, y0, t0, y1, tol, &precision, &fend, f01);
+            if (r < 0) return r;
+            /* the user backend's tau also changes sign at its poles: a zero shrinks |tau|
+               below its values at the ends, a pole grows it beyond */
+            if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_USER && fend > fmin(f01[0], f01[1]))
+                r = PSB_NONSMOOTH_END;
+        }
         if (r == PSB_SUCCESS) {
             double span = 0;
             for (k = 0; k < s->np1_; k++) span += s->w_[k] * t0[k] * (y1[k] - y0[k]);
@@ -3483,11 +3497,6 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             if (r == PSB_NONSMOOTH_END) { rep->end = r; goto done; }
             if (r != PSB_SUCCESS) { rep->end = r; goto done; }
             /* the test function from the factors of the switch step's last corrector iteration */
-            if (det.mon_on) {
-                r = psb__monitor(s, &det.mon_new);
-                if (psb__is_fatal(r)) { rep->end = r; goto done; }
-                det.mon_new_ok = r == PSB_SUCCESS;
-            }
             flags |= PSB_POINT_SWITCH;
             rep->n_switches++;
             h = s->opt.h_init;
@@ -3527,6 +3536,13 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                 rep->end = PSB_STOPPED;
                 goto done;
             }
+        }
+        /* across a kink the corrector's last factorisation may be at an iterate on the other
+           piece: the test function then costs a factorisation at the accepted point */
+        if (det.mon_on && ((flags & PSB_POINT_SWITCH) || psb__cos_w(s, told, tc) < s->opt.c_diff)) {
+            r = psb__monitor_at(s, yc, tc, &det.mon_new);
+            if (psb__is_fatal(r)) { rep->end = r; goto done; }
+            det.mon_new_ok = r == PSB_SUCCESS;
         }
         if (bounded && (yc[p] > opts.param_max || yc[p] < opts.param_min)) {
             double bound = yc[p] > opts.param_max ? opts.param_max : opts.param_min;
