@@ -209,7 +209,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
            psb_result_string(r), d.n_nodes, d.n_edges, d.n_branchings, d.n_kinks_plain, d.n_points, f_explore);
     xo_print(&d, comp);
     if (xo_finish(&o, &d, a->out, "block", "u1 of the left-most contact node (mm)")) printf("block: could not write to %s\n", a->out);
-    else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, plot.gp\n", a->out);
+    else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", a->out);
 
     /* the hand-driven run from the same couple */
     memset(&run->s.stats, 0, sizeof run->s.stats);

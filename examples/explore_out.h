@@ -11,15 +11,18 @@
 typedef struct xo_out {
     FILE *points;      /* DIR/points.csv: edge, parameter, state component (NULL: not written) */
     int param, comp;   /* y indices of the plot's axes */
+    double (*value)(const double *y); /* the plotted state value, when not y[comp] (may be NULL) */
     void *user;        /* chained callback's user data */
     psb_explore_point_fn chain; /* another point callback to call after writing (may be NULL) */
 } xo_out;
+
+static double xo_value(const xo_out *o, const double *y) { return o->value ? o->value(y) : y[o->comp]; }
 
 /* Point callback of psb_explore: one CSV row per accepted point. */
 static int xo_point(int edge, const psb_point *pt, void *user)
 {
     xo_out *o = (xo_out *)user;
-    if (o->points) fprintf(o->points, "%d,%.12g,%.12g\n", edge, pt->y[o->param], pt->y[o->comp]);
+    if (o->points) fprintf(o->points, "%d,%.12g,%.12g\n", edge, pt->y[o->param], xo_value(o, pt->y));
     return o->chain ? o->chain(edge, pt, o->user) : 0;
 }
 
@@ -58,8 +61,9 @@ static void xo_print(const psb_diagram *d, int comp)
     }
 }
 
-/* Closes points.csv and writes DIR/diagram.json, nodes.csv, edges.csv and plot.gp (gnuplot:
-   DIR/diagram.png, the parameter against y[comp], edges as lines, nodes by kind). 0 or -1. */
+/* Closes points.csv and writes DIR/diagram.json, nodes.csv, edges.csv, marks.csv (kind,
+   parameter and plotted value of every node) and plot.gp (gnuplot: DIR/diagram.png, the
+   parameter against the plotted value, edges as lines, nodes by kind). 0 or -1. */
 static int xo_finish(xo_out *o, const psb_diagram *d, const char *dir, const char *title, const char *ylabel)
 {
     char path[1024];
@@ -84,21 +88,26 @@ static int xo_finish(xo_out *o, const psb_diagram *d, const char *dir, const cha
     if (!f || !g || psb_diagram_write_csv(d, f, g) != PSB_SUCCESS) bad = 1;
     if (f) bad |= fclose(f) != 0;
     if (g) bad |= fclose(g) != 0;
+    snprintf(path, sizeof path, "%s/marks.csv", dir);
+    if (!(f = fopen(path, "w"))) return -1;
+    fprintf(f, "kind,param,value\n");
+    for (kind = 0; kind < d->n_nodes; kind++)
+        fprintf(f, "%s,%.12g,%.12g\n", psb_node_kind_string(d->nodes[kind].kind), d->nodes[kind].param,
+                xo_value(o, d->nodes[kind].y));
+    bad |= fclose(f) != 0;
     snprintf(path, sizeof path, "%s/plot.gp", dir);
     if (!(f = fopen(path, "w"))) return -1;
     fprintf(f, "# gnuplot script written by psb_explore's %s example: run `gnuplot plot.gp` in this folder\n", title);
     fprintf(f, "set datafile separator ','\nset terminal pngcairo size 900,650 noenhanced\nset output 'diagram.png'\n");
     fprintf(f, "set title '%s: the diagram psb_explore found'\nset grid\nset key outside right\n", title);
     fprintf(f, "set xlabel 'parameter'\nset ylabel '%s'\n", ylabel);
-    /* nodes.csv: y_i is column 10 + i; a kind's column is NaN on the other kinds' rows */
     fprintf(f, "plot for [e=0:%d] 'points.csv' every ::1 using ($1==e?$2:1/0):3 with lines lw 2 lc e+1 notitle", d->n_edges - 1);
     for (kind = PSB_NODE_START; kind <= PSB_NODE_FAILURE; kind++) {
         int i, any = 0;
         for (i = 0; i < d->n_nodes; i++) any |= d->nodes[i].kind == (psb_node_kind)kind;
         if (any)
-            fprintf(f, ", \\\n  'nodes.csv' every ::1 using (strcol(2) eq '%s' ? $3 : 1/0):%d with points %s title '%s'",
-                    psb_node_kind_string((psb_node_kind)kind), 10 + o->comp, marks[kind],
-                    psb_node_kind_string((psb_node_kind)kind));
+            fprintf(f, ", \\\n  'marks.csv' every ::1 using (strcol(1) eq '%s' ? $2 : 1/0):3 with points %s title '%s'",
+                    psb_node_kind_string((psb_node_kind)kind), marks[kind], psb_node_kind_string((psb_node_kind)kind));
     }
     fprintf(f, "\n");
     bad |= fclose(f) != 0;

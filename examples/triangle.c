@@ -373,7 +373,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     xo_print(&d, comp);
     if (xo_finish(&o, &d, a->out, a->fold ? "triangle (fold)" : "triangle (branching)", "u1 of the lower left vertex (m)"))
         printf("triangle: could not write to %s\n", a->out);
-    else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, plot.gp\n", a->out);
+    else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", a->out);
     for (i = 0; i < d.n_nodes; i++) {
         const psb_node *nd = d.nodes + i;
         fe_branch b;
