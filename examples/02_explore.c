@@ -109,6 +109,7 @@ int main(int argc, char **argv)
         return 1;
     }
     out.value = x1_minus_x2;
+    out.diagram = &diagram;
     eo.on_point = xo_point; /* writes DIR/points.csv */
     eo.point_user = &out;
 

@@ -200,6 +200,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     eo.branch_at_kinks = 1;
     if (a->out) mkdir(a->out, 0777);
     if (xo_open(&o, a->out, n, comp)) { printf("block: cannot write to %s\n", a->out); return 1; }
+    o.diagram = &d;
     eo.on_point = xo_point;
     eo.point_user = &o;
     memset(&run->s.stats, 0, sizeof run->s.stats);

@@ -14,6 +14,9 @@ typedef struct xo_out {
     double (*value)(const double *y); /* the plotted state value, when not y[comp] (may be NULL) */
     void *user;        /* chained callback's user data */
     psb_explore_point_fn chain; /* another point callback to call after writing (may be NULL) */
+    const psb_diagram *diagram; /* the one being explored: edges are drawn from their start node
+                                   to their end node (may be NULL) */
+    int last_edge;     /* the edge of the last point written */
 } xo_out;
 
 static double xo_value(const xo_out *o, const double *y) { return o->value ? o->value(y) : y[o->comp]; }
@@ -22,6 +25,11 @@ static double xo_value(const xo_out *o, const double *y) { return o->value ? o->
 static int xo_point(int edge, const psb_point *pt, void *user)
 {
     xo_out *o = (xo_out *)user;
+    if (o->points && o->diagram && edge != o->last_edge) {
+        const double *from = o->diagram->nodes[o->diagram->edges[edge].from].y;
+        fprintf(o->points, "%d,%.12g,%.12g\n", edge, from[o->param], xo_value(o, from));
+    }
+    o->last_edge = edge;
     if (o->points) fprintf(o->points, "%d,%.12g,%.12g\n", edge, pt->y[o->param], xo_value(o, pt->y));
     return o->chain ? o->chain(edge, pt, o->user) : 0;
 }
@@ -33,6 +41,7 @@ static int xo_open(xo_out *o, const char *dir, int param, int comp)
     memset(o, 0, sizeof *o);
     o->param = param;
     o->comp = comp;
+    o->last_edge = -1;
     if (!dir) return 0;
     snprintf(path, sizeof path, "%s/points.csv", dir);
     if (!(o->points = fopen(path, "w"))) return -1;
@@ -74,7 +83,15 @@ static int xo_finish(xo_out *o, const psb_diagram *d, const char *dir, const cha
                                         "pt 11 ps 1.6 lc rgb '#008000'", "pt 3 ps 1.4 lc rgb 'orange'",
                                         "pt 4 ps 1.0 lc rgb 'gray40'",  "pt 6 ps 1.0 lc rgb 'gray40'",
                                         "pt 2 ps 1.4 lc rgb 'black'"};
-    if (o->points) bad |= fclose(o->points) != 0;
+    if (o->points) {
+        int e;
+        for (e = 0; e < d->n_edges; e++) /* each edge's last segment, to its end node */
+            if (d->edges[e].to >= 0) {
+                const double *y = d->nodes[d->edges[e].to].y;
+                fprintf(o->points, "%d,%.12g,%.12g\n", e, y[o->param], xo_value(o, y));
+            }
+        bad |= fclose(o->points) != 0;
+    }
     o->points = NULL;
     if (!dir) return bad ? -1 : 0;
     snprintf(path, sizeof path, "%s/diagram.json", dir);

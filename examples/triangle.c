@@ -364,6 +364,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     eo.branch_at_kinks = !a->fold;
     if (a->out) mkdir(a->out, 0777);
     if (xo_open(&o, a->out, n, comp)) { printf("triangle: cannot write to %s\n", a->out); return 1; }
+    o.diagram = &d;
     eo.on_point = xo_point;
     eo.point_user = &o;
     r = psb_explore(&run->s, ye, te, &eo, &d);
