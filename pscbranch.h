@@ -80,6 +80,7 @@
    psb_trace            the driver: from (y, t) to a bound, budget, end point, loop or failure
    psb_locate_end       Algorithm 2.1: approach the end point of a branch
    psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
+   psb_branch_point_switch  every branch through a smooth branch point psb_trace located
    psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
    Inputs are never modified on failure: y and t keep the last accepted couple.
    No function allocates except psb_solver_init. Single operations (solve, tangent, correct,
@@ -100,7 +101,14 @@
    accepted point, and (locate_kinks) every kink; a nonzero return stops the trace there.
    p->flags: PSB_POINT_START, _FOLD (the parameter component of t changed sign; p->fold_param
    estimates the limit point), _SWITCH (reached through the tangent switch), _BOUND (exactly on a
-   parameter bound), _KINK (the last couple before a kink, located to h_min).
+   parameter bound), _KINK (the last couple before a kink, located to h_min), _SPECIAL (a
+   located special point, p->special; its own call, before the accepted point that follows it,
+   p->index = that point's index; only with psb_trace_options.detect, section 6 "Special
+   points on the path").
+   int event(const double *y, double *g, void *user)   g = the n_events event values at y
+   (PSB_DETECT_EVENTS); 0 ok, < 0 stops (PSB_ERR_CALLBACK), > 0 or NaN/Inf at an accepted
+   point ends the trace with PSB_ERR_CALLBACK_FAILED / PSB_ERR_NONFINITE (inside a location
+   it only ends the location, with the bracket reached).
 
    4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`)
    ---------------
@@ -179,7 +187,14 @@
                                     is (report.n_cut); 1: along +-t to the end, as printed
    restart [PSB_RESTART_MIXED]      random spans: _PAPER (as printed), _GLOBAL (uniform), or
                                     _MIXED: uniform and near found branches, alternately
-   seed [0]                         the generator of the random spans (xoshiro256**)
+   seed [0]                         the generator of the random spans (xoshiro256**), and
+                                    of psb_trace's random borders (section 6)
+   psb_trace_options (per call; zero fields as in brackets): param_min, param_max (bounds,
+   none when min >= max), max_steps [10000], no_switch, detect_loop, locate_kinks,
+   on_point; detect [0: no detector; a PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4,
+   EVENTS 8, ALL 15], stop_at [0; bit 1u << PSB_SPECIAL_*: stop on that special point's
+   couple, PSB_STOPPED], locate_tol [1e-10, ||.||_w along the curve], n_events, event,
+   event_user, event_work (3 n_events doubles of the caller's) (section 6).
    The paper's values for its contact examples: c_diff = 0.99999, branch_h = 5e-7,
    branch_h_min = branch_h / 2^14, branch_h_init = 5e-4, n_dir = 20, n_span = 15.
 
@@ -404,6 +419,80 @@
    by the caller is kept, so the paper's n_span means what it says.
    Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
    at every psb_find_branches call, so equal inputs give bit-identical results.
+
+   Special points on the path (psb_trace_options.detect; off by default, and then the trace is
+   what it was, bit for bit; with detectors on, its accepted points are the same too). Between
+   two accepted couples (y0, t0), (y1, t1) the trace looks for
+     PSB_SPECIAL_FOLD       t[param] changed sign on a smooth piece: located;
+     PSB_SPECIAL_FOLD_KINK  t[param] changed sign across a kink: the couple before the kink;
+     PSB_SPECIAL_BRANCH     the sign of det [dH; (W t)^T] changed on a smooth piece: located,
+                            with the second kernel direction, for psb_branch_point_switch;
+     PSB_SPECIAL_PC1        that sign changed across a kink: the couple before the kink, for
+                            psb_locate_end + psb_find_branches;
+     PSB_SPECIAL_EVENT      an event value g_k changed sign: located, with its direction;
+   and reports each by its own on_point call (PSB_POINT_SPECIAL, p->special: kind, y, t,
+   kernel, param = y[param_index], precision, event, direction), in that order within one
+   step, before the accepted point. stop_at ends the trace on the special point's couple.
+   PSB_POINT_FOLD and fold_param (the Hermite estimate) are kept as they were.
+   Why det [dH; (W t)^T]: it is continuous along a smooth curve oriented by its direction of
+   travel (t does not flip at a fold, W > 0 keeps the sign of <W t, t>), and vanishes exactly
+   where dH loses rank, so a simple branch point crossed flips it. Dense: the sign and log|.|
+   come from the corrector's last LU (product of sign U_ii and of the row swaps, O(N));
+   banded: det A of the band LU times the Schur complement d - c.w (factors of A + sigma I
+   would move the zero by ~sigma, so there A is factored as it is). No factorisation is
+   added per step, except one at the start and one at the accepted point after a kink (the
+   corrector's last factorisation may belong to the other piece there). The user backend
+   (factor/solve only) gets tau_k = 1 / (d_k - c_k^T B^{-1} b_k) = det B / det [B b_k;
+   c_k^T d_k] for two borders drawn from the generator (reseeded from options.seed at each
+   psb_trace call; one solve with two right-hand sides per step). A tau also changes sign at
+   its own poles, and a pole next to a zero hides both: a sign change of either tau is
+   located, and kept when |tau| shrank there (a zero), not grew (a pole).
+   Location: the curve between the couples is parameterised by s = <t0, y - y0>_w, each point
+   by Newton on H(y) = 0, <t0, y - y0>_w = s, converged on a last correction <= tol_correction
+   (the tangent and the test function come from the factors before it), predicted from the
+   nearer end of the bracket along its tangent (an error of the order of the bracket squared:
+   inside Newton's basin even next to a branch point). The bracket shrinks by the Illinois
+   variant of regula falsi, bisecting when two evaluations did not halve it, to locate_tol;
+   precision is its width, the point the end with the smaller |test function|. A branch point's
+   tangent is the mean of the tangents at s* -+ delta (delta = 1e-5 of the step; the one at s*
+   is off by eps cond B), its kernel two steps of inverse iteration with B at s* + delta, made
+   w-orthogonal to t. Measured (tests/test_detect.c): pitchfork and transcritical points on
+   all three backends to 1e-11 in the parameter, folds of the unit circle at l = +-1 with x
+   within 1e-10, events within 1e-10; a fold costs ~23 factorisations, an event ~18, a
+   branch point ~17 (dense).
+   Kinks: a fold or a det change in a step that took the tangent switch, that locate_kinks
+   found a kink in, or whose tangents differ by more than c_diff and where the kink test of
+   locate_kinks finds one, is at a kink: FOLD_KINK / PC1, with the couple before it within
+   h_min / h_dec (the triangle's fold problem: both limit points, M64 gamma = 0.6666458 and
+   0.5654145 at h_min 1e-9).
+   PC1 (Ligursky and Renard's test of det [dH_j; t_j^T] det [dH_j+1; t_j+1^T] < 0 across a
+   kink): orient every branch leaving the point outwards; their signs add up to 0 (H maps
+   a small sphere around the point to R^N, and the signed count of zeros of such a map is
+   0), so at an ordinary kink (two branches) the test is never positive, and it is positive
+   exactly when the incoming and outgoing branches have the same outward sign: a sufficient
+   test of more than two branches, not a necessary one. Generated piecewise-linear families
+   (min(x, M x + q g), N = 2-4, kappa 0.3-4, traced through the origin): at 241 points with
+   4 or more branches the test was positive 139 times and detected all 139; at 215 ordinary
+   kinks no false alarm; every nonsmooth fold found (206 of 206). Not with the user backend
+   (PSB_ERR_OPTIONS): its factor callback forms dH itself, so neither the determinant nor
+   the authors' path of convex combinations of the two bordered matrices is available, and
+   tau's sign jumps with the matrix. With finite differences the last couple before a kink
+   lies within h_min of it, where quotients can mix the pieces: give an analytic selection
+   gradient (as for branching).
+   Cost of monitoring (all detectors, whole runs): block M20x40 (approach and six branches to
+   |gamma| = 1) 1258 -> 1286 factorisations (1.02x), no special point on the way; triangle
+   fold problem M16 177 -> 184 (1.04x), M64 1175 -> 1185 (1.01x), its two limit points.
+   psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
+   through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t +
+   sin a k), r = branch_h_init, 2 n_dir angles (-t first, then +t: branches 0 and 1 are the
+   traced curve), is corrected by Newton on the sphere ||y - y*||_w = r: each trial lands
+   where a branch crosses the sphere, and two landings within r sqrt(2 (1 - c_diff)) of each
+   other are one branch. A crossing does not depend on where the trial started, so curved
+   branches are told apart as straight ones are (landing points of trial steps, anywhere from
+   h_min to h away, were not: the tangents of one parabola differed by more than c_diff). With
+   fewer than four branches the circle is tried again at r/8 and r/64. All crossings in the
+   plane are found (four lines through a point: eight half-lines); branches outside it
+   (a kernel of dimension above 2) are not: psb_find_branches sweeps such points.
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
    ------------------
@@ -882,7 +971,10 @@ typedef struct psb_special {
                              the last couple on the incoming smooth piece, within `precision`
                              of the kink (ready for psb_locate_end + psb_find_branches) */
     const double *kernel; /* BRANCH: unit (||.||_w) second kernel direction of dH at the point,
-                             w-orthogonal to t (for psb_branch_point_switch); NULL otherwise */
+                             w-orthogonal to t (for psb_branch_point_switch); NULL otherwise.
+                             y, t, kernel point into the solver's memory: valid during the
+                             on_point call and until the next library call on the solver
+                             (psb_branch_point_switch and psb_locate_end take them as input) */
     double param;         /* y[param_index] of the reported point */
     double precision;     /* bound on the location error, ||.||_w along the curve */
     int event;            /* EVENT: index of the event component; -1 otherwise */
@@ -2969,6 +3061,7 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
             r = psb__band_prepare(s, 0.0);
             s->shifted_ = 0;
             if (r == PSB_ERR_SINGULAR) {
+                s->border_ok_ = s->bv_ok_ = 0; /* no usable factors: the next solve refactors */
                 m->sign[0] = m->sign[1] = 1;
                 m->logabs[0] = m->logabs[1] = -700;
                 return PSB_SUCCESS;

@@ -539,7 +539,7 @@ typedef struct {
    incoming and outgoing rays agree (the criterion), a nonsmooth fold exactly when both rays
    lie on the same side of g = 0. */
 static void pass_through(const pl_problem *pl, const double *rays, int n_rays, int incoming,
-                         psb_linear linear, family_stats *st)
+                         psb_linear linear, double kappa, family_stats *st)
 {
     psb_solver s;
     psb_problem p;
@@ -558,6 +558,7 @@ static void pass_through(const pl_problem *pl, const double *rays, int n_rays, i
     memset(&opt, 0, sizeof opt);
     opt.h_min = 1e-7;
     opt.h_init = 0.02;
+    opt.kappa = kappa; /* the sign of det [dH; (W t)^T] does not depend on the weights */
     CHECK(psb_solver_init(&s, &p, &opt) == PSB_SUCCESS);
     for (i = 0; i < n_rays; i++) sum += (int)ray_sign(pl, rays + i * np1, 1);
     st->degree_ok += sum == 0; /* the outward signs of the rays add up to 0 */
@@ -609,10 +610,13 @@ static void test_pl_families(void)
     memset(&bif, 0, sizeof bif);
     memset(&ord, 0, sizeof ord);
     /* random LCPs min(x, M x + q g), N = 2..4: 2 rays (an ordinary kink at the origin) or
-       4 and more (a PC1 bifurcation point); in along a ray of g > 0 */
+       4 and more (a PC1 bifurcation point); in along a ray of g > 0; dense and banded,
+       state weights kappa 1, 4 and 0.3 */
     while ((bif.runs < 260 || ord.runs < 260) && draws < 200000) {
         pl_problem pl;
         int n = 2 + draws % 3, a, b, i, np1 = n + 1;
+        psb_linear lin;
+        double kappa;
         draws++;
         memset(&pl, 0, sizeof pl);
         pl.n = n;
@@ -622,8 +626,10 @@ static void test_pl_families(void)
         if (a < 1) continue;
         b = pl_enumerate_rays(&pl, -1.0, 1e-3, rays + a * np1, PL_MAX_RAYS - a);
         if (b < 0 || a + b > PL_MAX_RAYS || a + b < 2) continue;
-        if (a + b == 2 && ord.runs < 260) pass_through(&pl, rays, 2, 0, draws % 4 ? PSB_LINEAR_DENSE : PSB_LINEAR_BANDED, &ord);
-        else if (a + b > 2 && bif.runs < 260) pass_through(&pl, rays, a + b, 0, draws % 4 ? PSB_LINEAR_DENSE : PSB_LINEAR_BANDED, &bif);
+        lin = draws % 4 ? PSB_LINEAR_DENSE : PSB_LINEAR_BANDED;
+        kappa = draws % 5 == 1 ? 4.0 : draws % 5 == 2 ? 0.3 : 1.0;
+        if (a + b == 2 && ord.runs < 260) pass_through(&pl, rays, 2, 0, lin, kappa, &ord);
+        else if (a + b > 2 && bif.runs < 260) pass_through(&pl, rays, a + b, 0, lin, kappa, &bif);
     }
     printf("  PL families, bifurcation points (4+ rays): %d traces, %d passed through; criterion positive %d,"
            " detected %d, missed %d, false %d; folds at the kink %d of %d, false %d; degree 0 in %d\n",
