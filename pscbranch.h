@@ -81,9 +81,14 @@
    psb_locate_end       Algorithm 2.1: approach the end point of a branch
    psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
    psb_branch_point_switch  every branch through a smooth branch point psb_trace located
+   psb_explore          the whole diagram from one couple: every branch reachable through
+                        nonsmooth, PC1 and smooth branch points, as a graph (section 6,
+                        "Exploring the whole diagram")
+   psb_diagram_init / _init_with_memory / _free, psb_diagram_memory_size   the graph's storage
+   psb_diagram_write_json, _write_csv   the graph as JSON and CSV (with PSCBRANCH_STDIO)
    psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
    Inputs are never modified on failure: y and t keep the last accepted couple.
-   No function allocates except psb_solver_init. Single operations (solve, tangent, correct,
+   No function allocates except psb_solver_init and psb_diagram_init. Single operations (solve, tangent, correct,
    step, switch, locate_end, find_branches) may be called from a point callback of psb_trace;
    psb_trace itself may not (it would reuse the trace's scratch vectors).
    The solver is not thread-safe; distinct solvers are independent (no global state).
@@ -494,6 +499,74 @@
    plane are found (four lines through a point: eight half-lines); branches outside it
    (a kernel of dimension above 2) are not: psb_find_branches sweeps such points.
 
+   Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
+   reach and returns the graph: nodes are special points, edges the branch segments between.
+     psb_diagram d;  psb_explore_options eo = {0};      // zero fields: defaults
+     psb_diagram_init(&d, n, 64, 128, 16);              // nodes, edges, branches per node
+     eo.trace.param_min = -1;  eo.trace.param_max = 1;  // each trace's options
+     eo.branch_at_kinks = 1;                            // contact problems: see below
+     eo.on_point = save_point;                          // (edge, psb_point): the curves
+     if (psb_explore(&s, y, t, &eo, &d) < 0) puts(psb_solver_message(&s));
+     for (int i = 0; i < d.n_nodes; i++) {              // start, nonsmooth, branch, pc1,
+         const psb_node *nd = &d.nodes[i];              // fold, event, bound, budget, failure
+         printf("%s at %g, %d branches\n", psb_node_kind_string(nd->kind), nd->param,
+                nd->n_branches);                        // nd->ts: their tangents, outwards
+     }
+     for (int i = 0; i < d.n_edges; i++)                // from -> to, how it ended
+         printf("%d -> %d %s\n", d.edges[i].from, d.edges[i].to,
+                psb_edge_end_string(d.edges[i].end));
+     psb_diagram_free(&d);
+   examples/02_explore.c (a PC1 point a trace passes through), 03_pitchforks.c (smooth, closed
+   form), block --explore and triangle --explore show it in full.
+   The queue is the nodes' untraced branches (branch_edge[k] = -1), taken in the order the
+   nodes were made, the start's directions first (+t, then -t unless one_direction; from a
+   start on a parameter bound, the direction leaving it is left out). Each is traced
+   (eo.trace: bounds, max_steps, detectors, with detect_loop on) until it ends: on a bound or
+   out of the box or state_max (a bound node), at its budget, in a failure (node and edge say
+   which; exploring goes on, only a callback's stop ends it), back at its start (a loop), or
+   at a branching point: where the trace ends (PSB_NONSMOOTH_END) or a PC1 point is reported,
+   Algorithm 2.1 and 2.2 (a nonsmooth or pc1 node); at a smooth branch point,
+   psb_branch_point_switch (a branch node). Branch 0 of a new node is the one the edge arrived
+   by; the others join the queue. Folds and events are nodes on their edge (node.edge) and do
+   not end it. So nothing is traced twice, a branching point within node_tol + 4 (the two
+   precisions) of a known node is that node, and the edge arrives by the node's branch whose
+   tangent is closest to the way it came (taken above c_diff, else the best above c_min, else
+   added as a new branch); and a trace whose chord passes within that distance (plus 1e-3 of
+   the chord) of a known node arrives there too: a piecewise-linear branch goes straight
+   through a point where it has no kink, and the detectors may see nothing there (the way on
+   is made one of the node's branches if it is not). node_tol defaults to 16 branch_h.
+   Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
+   and outgoing branches have opposite outward signs it is silent. The block's and the
+   triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
+   from branch 1 to branch 4 at gamma = 0 (their tangents' cosine -0.999), no switch, no
+   special point; the crossing kinks min(x_i, g - x_i) with k odd likewise. With
+   branch_at_kinks every kink a trace passes is located (locate_kinks) and gets Algorithms 2.1
+   and 2.2; one with two branches is ordinary (d.n_kinks_plain) and the edge goes on along the
+   other. It costs an Algorithm 2.2 per kink, so it suits problems whose branches have few
+   kinks: block M200, one point, its branches none: 1088 factorisations against the hand-
+   driven run's 1070 (1.02x), the same six end points to 1.3e-14; triangle M1024, the four
+   branches; crossing kinks k = 2-4 and random complementarity problems N = 3-4, every ray
+   once (tests/test_explore.c: 24 of 24 random ones complete).
+   Budgets and capacities: max_traces, max_points and a point callback returning nonzero stop
+   exploring (PSB_STEP_BUDGET, PSB_STOPPED); nodes, edges or branches at a node running out
+   give PSB_BRANCH_CAPACITY (d.truncated) after tracing what fits; d.n_queued counts the
+   branches left. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
+   doubles, set up once; psb_explore allocates nothing and uses the solver's scratch (so not
+   from a point callback of psb_trace). Same inputs and seed, the same graph bit for bit.
+   Output (PSCBRANCH_STDIO). psb_diagram_write_json writes
+     {"format": "pscbranch-diagram", "version": 1, "n": N, "param_index": p,
+      "complete": true when no branch was left and nothing was cut,
+      "nodes": [{"id", "kind" (psb_node_kind_string), "param", "precision", "edge", "event",
+                 "direction", "y": [N+1], "branches": [{"edge" (-1: untraced), "y", "t"}]}],
+      "edges": [{"id", "from", "from_branch", "to" (-1: no room), "to_branch",
+                 "end" (psb_edge_end_string), "result" (the psb_result code), "points",
+                 "length"}]}
+   with numbers to 17 digits; psb_diagram_write_csv two tables, nodes (id, kind, param,
+   precision, edge, event, direction, n_branches, n_untraced, y0 .. yN) and edges (id, from,
+   from_branch, to, to_branch, end, result, points, length). The accepted points are the
+   point callback's to keep (the examples write edge, parameter, state value rows;
+   examples/explore_out.h, with a gnuplot script of the parameter-state plane).
+
    7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
    ------------------
    Every projection returns its value, one element of its B-Jacobian and a piece id; value and
@@ -590,6 +663,8 @@
    PSCBRANCH_USE_DGBTRF       the banded backend factors with LAPACK's dgbtrf instead of the
                               header's own LU (same factors with reference LAPACK)
    PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (results are the same)
+   PSCBRANCH_STDIO            with the implementation: psb_diagram_write_json and _csv (the
+                              only functions that take a FILE *; the rest never prints)
    LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r (dgbtrf with
    PSCBRANCH_USE_DGBTRF).
 
