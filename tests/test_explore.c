@@ -378,6 +378,7 @@ static void test_capacity_and_budgets(void)
     CHECK(psb_diagram_init(&d, 3, 32, 4, 16) == PSB_SUCCESS);
     r = psb_explore(&s, y, t, &eo, &d);
     CHECK(r == PSB_BRANCH_CAPACITY && d.n_edges == 4 && d.n_queued == 5);
+    psb_diagram_free(&d);
     /* budgets: traces, points */
     eo.max_traces = 3;
     CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
