@@ -496,8 +496,13 @@
    branches are told apart as straight ones are (landing points of trial steps, anywhere from
    h_min to h away, were not: the tangents of one parabola differed by more than c_diff). With
    fewer than four branches the circle is tried again at r/8 and r/64. All crossings in the
-   plane are found (four lines through a point: eight half-lines); branches outside it
-   (a kernel of dimension above 2) are not: psb_find_branches sweeps such points.
+   plane are found (four lines through a point: eight half-lines). The kernel may be larger
+   (symmetric problems: several pitchforks at one point): two steps of inverse iteration with
+   B at y* + 1e-4 r t from random vectors give up to 3 more directions, each kept while its
+   part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8
+   for the others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are
+   tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28
+   half-branches, the 26 parabolas with their analytic tangents).
 
    Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
    reach and returns the graph: nodes are special points, edges the branch segments between.
@@ -962,7 +967,7 @@ typedef struct psb_solver {
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
    invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n (band_lean: (3 kl + 2 ku + 3) n);
-   user ~ 53 (n+1). */
+   user ~ 56 (n+1). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
@@ -1165,9 +1170,10 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
    PSB_SPECIAL_BRANCH point): every branch's couple (ys[k*(n+1) ...], ts[k*(n+1) ...],
    k < max_branches) on the sphere of radius branch_h_init around y, ts oriented away from
    the point; k = 0 is the traced curve backwards (-t), k = 1 forwards (+t), k >= 2 the new
-   ones (where more than two curves cross in the plane of t and kernel, all of them).
-   rep as psb_find_branches' (n_branches; n_pc counts the sphere corrections). Returns
-   PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
+   ones (where more than two curves cross, all of them: in the plane of t and kernel, and in
+   a kernel of up to 5 dimensions). rep as psb_find_branches' (n_branches; n_pc counts the
+   sphere corrections, n_tangents the kernel's dimension besides t, n_span the radii tried).
+   Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
                                                  const double *kernel, int max_branches,
                                                  double *ys, double *ts, psb_branch_report *rep);
@@ -1563,6 +1569,7 @@ enum {
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
     PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P, PSB__V_BR_Q, PSB__V_BR_K, PSB__V_BR_S, /* branching */
+    PSB__V_BP_K0, PSB__V_BP_K1, PSB__V_BP_K2, PSB__V_BP_K3, /* kernel at a smooth branch point */
     PSB__V_SP_Y, PSB__V_SP_T, PSB__V_SP_K, PSB__V_SP_YA, PSB__V_SP_TA, PSB__V_SP_YB, PSB__V_SP_TB,
     PSB__V_SP_YE, PSB__V_SP_TE, PSB__V_SP_B1, PSB__V_SP_B2, PSB__V_SP_C1, PSB__V_SP_C2, /* special points */
     PSB__NVEC
@@ -4277,51 +4284,120 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
 }
 
 /* ---- switching at a smooth branch point ----------------------------------------------------
-   Near a branch point y* the solutions lie, to first order, on lines through y* in the plane
-   of t and the second kernel direction k. Each point of the circle y* + r (cos a t + sin a k),
-   a = 2 pi i / (2 n_dir), is corrected by Newton on the sphere ||y - y*||_w = r, which lands
-   where a branch crosses the sphere: the crossings are isolated points, so two trials landed
-   on the same branch when they lie within r sqrt(2 (1 - c_diff)) of each other (c_diff's
-   angle seen from y*). Unlike a trial step's landing point, which lies anywhere from h_min to
-   h from y*, a crossing does not depend on where the trial started, so curved branches are
-   told apart by c_diff as straight ones are. */
+   Near a branch point y* the solutions lie, to first order, on lines through y* in the kernel
+   of dH(y*): the plane of t and the second kernel direction k at a simple branch point. Trial
+   points y* + r v, v in that kernel, are corrected by Newton on the sphere ||y - y*||_w = r,
+   which lands where a branch crosses the sphere: the crossings are isolated points, so two
+   trials landed on the same branch when they lie within r sqrt(2 (1 - c_diff)) of each other
+   (c_diff's angle seen from y*). Unlike a trial step's landing point, which lies anywhere from
+   h_min to h from y*, a crossing does not depend on where the trial started, so curved
+   branches are told apart by c_diff as straight ones are. */
 
-/* One sweep of the circle of radius r; returns PSB_SUCCESS or a failure; *overflow set when a
-   branch found no room. */
-static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double *t, const double *k,
-                                    double r, int max_branches, double *ys, double *ts,
+#define PSB__KERNEL_MAX 4 /* kernel directions besides t that psb_branch_point_switch sweeps */
+
+/* One trial from y* + r v (v unit); a new crossing is stored (*overflow when no room). keep
+   (the traced curve's trials, -t and +t): a failed trial stores the couple (y*, v), so that
+   branches 0 and 1 stay the traced curve. */
+static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double *v, double r,
+                                    int keep, int max_branches, double *ys, double *ts,
+                                    psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->np1_, j, m;
+    double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
+    psb_result res;
+    for (m = 0; m < np1; m++) yb[m] = y[m] + r * v[m];
+    rep->n_pc++;
+    s->stats.n_pc_steps++;
+    res = psb__newton_on(s, yb, tb, y, NULL, r);
+    if (psb__is_fatal(res)) return res;
+    if (res != PSB_SUCCESS) {
+        if (!keep) return PSB_SUCCESS;
+        psb__copy(yb, y, np1);
+        psb__copy(tb, v, np1);
+    } else {
+        double same = r * sqrt(2 * (1 - s->opt.c_diff));
+        for (j = 0; j < rep->n_branches; j++)
+            if (psb__dist_w(s, yb, ys + (size_t)j * (size_t)np1) <= same) return PSB_SUCCESS;
+    }
+    if (rep->n_branches >= max_branches) {
+        *overflow = 1;
+        return PSB_SUCCESS;
+    }
+    psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
+    psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
+    rep->n_branches++;
+    return PSB_SUCCESS;
+}
+
+/* Kernel directions of dH at y beyond t and ks[0] (given): inverse iteration, two steps from
+   random vectors, with B = [dH(y + delta t); (W t)^T], delta = 1e-4 r, whose near-null vectors
+   span the kernel w-orthogonal to t to O(delta). A direction is new when its part outside t
+   and the known ones is above 1e-3 (a near-null vector keeps O(1) of it, any other ~delta^2).
+   Returns the number of directions in ks (PSB__KERNEL_MAX at most), at least 1. */
+static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, double r, double *ks)
+{
+    int np1 = s->np1_, kdim = 1, i, j, it, attempt;
+    double *yq = PSB__VEC(s, PSB__V_BR_P), *row = s->work_, *v = ks + (size_t)kdim * (size_t)np1;
+    psb_result res = PSB_ERR_SINGULAR;
+    for (attempt = 0; attempt < 3 && res != PSB_SUCCESS; attempt++) {
+        psb__axpy_to(yq, y, 1e-4 * r * pow(4.0, attempt), t, np1);
+        res = psb__jacobian(s, yq, NULL);
+        if (res != PSB_SUCCESS) return kdim;
+        for (i = 0; i < np1; i++) row[i] = s->w_[i] * t[i];
+        res = psb__factor_bordered(s, row, NULL);
+    }
+    if (res != PSB_SUCCESS) return kdim;
+    while (kdim < PSB__KERNEL_MAX) {
+        double before, after;
+        v = ks + (size_t)kdim * (size_t)np1;
+        for (i = 0; i < np1; i++) v[i] = psb__gauss(s->rng_) / sqrt(s->w_[i]);
+        for (it = 0; it < 2; it++) {
+            if (psb__solve_factored(s, v, 1) != PSB_SUCCESS || !psb__normalize_w(s, v)) return kdim;
+        }
+        before = psb_norm_w(s, v);
+        for (it = 0; it < 2; it++) { /* twice: Gram-Schmidt that keeps orthogonality */
+            double c = psb_dot_w(s, v, t);
+            for (i = 0; i < np1; i++) v[i] -= c * t[i];
+            for (j = 0; j < kdim; j++) {
+                const double *kj = ks + (size_t)j * (size_t)np1;
+                c = psb_dot_w(s, v, kj);
+                for (i = 0; i < np1; i++) v[i] -= c * kj[i];
+            }
+        }
+        after = psb_norm_w(s, v);
+        if (!(after > 1e-3 * before) || !psb__normalize_w(s, v)) break;
+        kdim++;
+    }
+    s->message[0] = 0;
+    return kdim;
+}
+
+/* The trials at radius r: the circle of t and ks[0] (2 n_dir angles, -t first, then +t), and
+   with a larger kernel (kdim > 1) 2 n_dir kdim^2 random directions in it. */
+static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double *t, const double *ks,
+                                    int kdim, double r, int max_branches, double *ys, double *ts,
                                     psb_branch_report *rep, int *overflow)
 {
     int np1 = s->np1_, n_trial = 2 * s->opt.n_dir, i, j, m;
-    double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
-    double same = r * sqrt(2 * (1 - s->opt.c_diff));
+    double *v = PSB__VEC(s, PSB__V_BR_TT);
     psb_result res;
     for (i = 0; i < n_trial; i++) {
-        /* -t first, then +t: branches 0 and 1 are the traced curve */
         int step = i == 0 ? n_trial / 2 : i == n_trial / 2 ? 0 : i;
         double a = 6.283185307179586 * step / n_trial;
-        int is_new = 1;
-        for (m = 0; m < np1; m++) yb[m] = y[m] + r * (cos(a) * t[m] + sin(a) * k[m]);
-        rep->n_pc++;
-        s->stats.n_pc_steps++;
-        res = psb__newton_on(s, yb, tb, y, NULL, r);
-        if (psb__is_fatal(res)) return res;
-        if (res != PSB_SUCCESS) {
-            if (i < 2) { /* keep the indices of the traced curve: its couple at the point */
-                if (rep->n_branches >= max_branches) { *overflow = 1; continue; }
-                psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, y, np1);
-                for (m = 0; m < np1; m++) ts[(size_t)rep->n_branches * (size_t)np1 + (size_t)m] = i ? t[m] : -t[m];
-                rep->n_branches++;
-            }
-            continue;
+        for (m = 0; m < np1; m++) v[m] = cos(a) * t[m] + sin(a) * ks[m];
+        res = psb__sphere_trial(s, y, v, r, i < 2, max_branches, ys, ts, rep, overflow);
+        if (res != PSB_SUCCESS) return res;
+    }
+    for (i = 0; kdim > 1 && i < n_trial * kdim * kdim; i++) {
+        double g = psb__gauss(s->rng_);
+        for (m = 0; m < np1; m++) v[m] = g * t[m];
+        for (j = 0; j < kdim; j++) {
+            g = psb__gauss(s->rng_);
+            for (m = 0; m < np1; m++) v[m] += g * ks[(size_t)j * (size_t)np1 + (size_t)m];
         }
-        for (j = 0; j < rep->n_branches && is_new; j++)
-            if (psb__dist_w(s, yb, ys + (size_t)j * (size_t)np1) <= same) is_new = 0;
-        if (!is_new) continue;
-        if (rep->n_branches >= max_branches) { *overflow = 1; continue; }
-        psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
-        psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
-        rep->n_branches++;
+        if (!psb__normalize_w(s, v)) continue;
+        res = psb__sphere_trial(s, y, v, r, 0, max_branches, ys, ts, rep, overflow);
+        if (res != PSB_SUCCESS) return res;
     }
     return PSB_SUCCESS;
 }
@@ -4331,7 +4407,8 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
                                                  double *ys, double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
-    int np1, i, overflow = 0;
+    int np1, i, overflow = 0, kdim;
+    unsigned long long seed;
     double *yc, *tc, *kc, c, r;
     psb_result res;
     if (!rep) rep = &local;
@@ -4344,21 +4421,26 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     if (!psb__all_finite(kernel, (size_t)np1)) return psb__fail(s, PSB_ERR_NONFINITE, "kernel contains NaN or Inf");
     yc = PSB__VEC(s, PSB__V_BR_Y0);
     tc = PSB__VEC(s, PSB__V_BR_T0);
-    kc = PSB__VEC(s, PSB__V_BR_K);
+    kc = PSB__VEC(s, PSB__V_BP_K0); /* PSB__KERNEL_MAX vectors from here: BP_K0 .. BP_K3 */
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     c = psb_dot_w(s, kernel, tc);
     for (i = 0; i < np1; i++) kc[i] = kernel[i] - c * tc[i];
     if (!psb__normalize_w(s, kc)) return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
+    seed = s->opt.seed;
+    for (i = 0; i < 4; i++) s->rng_[i] = psb__splitmix(&seed);
+    kdim = psb__kernel_dirs(s, yc, tc, s->opt.branch_h_init, kc);
+    rep->n_tangents = kdim;
     /* a simple branch point has four half-branches; fewer at branch_h_init (a radius beyond
        the branches' curvature, or crossings too close for Newton's basins) -> a smaller one */
     for (r = s->opt.branch_h_init, i = 0; i < 3; i++, r *= 0.125) {
         psb_branch_report attempt;
         memset(&attempt, 0, sizeof attempt);
         overflow = 0;
-        res = psb__sphere_sweep(s, yc, tc, kc, r, max_branches, ys, ts, &attempt, &overflow);
+        res = psb__sphere_sweep(s, yc, tc, kc, kdim, r, max_branches, ys, ts, &attempt, &overflow);
         attempt.n_pc += rep->n_pc;
+        attempt.n_tangents = kdim;
         *rep = attempt;
         rep->n_span = i + 1;
         if (res != PSB_SUCCESS) return res;

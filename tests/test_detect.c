@@ -12,7 +12,7 @@
 
 /* ---- smooth problems with closed-form diagrams ------------------------------------------- */
 
-enum { P_PITCHFORK, P_TRANSCRITICAL, P_TWO_PITCHFORKS, P_CIRCLE, P_TENT, P_FOUR_LINES };
+enum { P_PITCHFORK, P_TRANSCRITICAL, P_TWO_PITCHFORKS, P_CIRCLE, P_TENT, P_FOUR_LINES, P_THREE_PITCHFORKS };
 
 typedef struct {
     int kind;
@@ -23,7 +23,8 @@ typedef struct {
 
 /* pitchfork x^3 - l x; transcritical x^2 - l x; two coupled pitchforks on x = 0 at l = 0
    (x1^2 = l) and l = 1 (x2^2 = l - 1); circle x^2 + l^2 = 1; tent l = 1 - |x|; four lines
-   x (x - l)(x + l)(x - 2 l) crossing at the origin */
+   x (x - l)(x + l)(x - 2 l) crossing at the origin; three pitchforks x_i^3 - l x_i, i = 1..3,
+   at the origin (a kernel of dimension 4) */
 static int smooth_res(const double *y, double *h, void *u)
 {
     const problem *p = (const problem *)u;
@@ -36,6 +37,11 @@ static int smooth_res(const double *y, double *h, void *u)
         break;
     case P_CIRCLE: h[0] = y[0] * y[0] + y[1] * y[1] - 1; break;
     case P_FOUR_LINES: h[0] = y[0] * (y[0] - y[1]) * (y[0] + y[1]) * (y[0] - 2 * y[1]); break;
+    case P_THREE_PITCHFORKS:
+        h[0] = y[0] * y[0] * y[0] - y[3] * y[0];
+        h[1] = y[1] * y[1] * y[1] - y[3] * y[1];
+        h[2] = y[2] * y[2] * y[2] - y[3] * y[2];
+        break;
     default: h[0] = y[1] - 1 + fabs(y[0]); break;
     }
     return 0;
@@ -62,6 +68,14 @@ static int smooth_jac(const double *y, double *j, int ld, void *u)
         j[ld] = -2 * x * l * (x - 2 * l) - 2 * a;
         break;
     }
+    case P_THREE_PITCHFORKS: {
+        int i, k;
+        for (i = 0; i < 3; i++) {
+            for (k = 0; k < 3; k++) j[i + k * ld] = i == k ? 3 * y[i] * y[i] - y[3] : 0;
+            j[i + 3 * ld] = -y[i];
+        }
+        break;
+    }
     default: j[0] = y[0] < 0 ? -1 : 1; j[ld] = 1; break;
     }
     return 0;
@@ -72,7 +86,7 @@ static int smooth_band_jac(const double *y, double *band, int ldband, double *dp
 {
     const problem *p = (const problem *)u;
     int n = p->np1 - 1, i, j, ku = n - 1;
-    double jac[6];
+    double jac[12];
     smooth_jac(y, jac, n, u);
     for (j = 0; j < n; j++)
         for (i = 0; i < n; i++) band[PSB_BAND_INDEX(ku, ldband, i, j)] = jac[i + j * n];
@@ -80,7 +94,7 @@ static int smooth_band_jac(const double *y, double *band, int ldband, double *dp
     return 0;
 }
 
-static int problem_n(int kind) { return kind == P_TWO_PITCHFORKS ? 2 : 1; }
+static int problem_n(int kind) { return kind == P_TWO_PITCHFORKS ? 2 : kind == P_THREE_PITCHFORKS ? 3 : 1; }
 
 /* the user backend: dense LU with partial pivoting of [dH(y); row] written here */
 static int user_factor(const double *y, const double *row, void *ctx)
@@ -357,6 +371,61 @@ static void test_four_lines(psb_linear linear)
         CHECK(line >= 0);
     }
     CHECK(seen[0] == 3 && seen[1] == 3 && seen[2] == 3 && seen[3] == 3);
+    psb_solver_free(&s);
+}
+
+/* Three pitchforks at once: det ~ -l^3 on x = 0, a kernel of dimension 4 at the origin; the
+   switch finds the two halves of x = 0 and the 26 parabolas x = s sigma, l = s^2, sigma in
+   {0, 1, -1}^3 \ {0}, each with its analytic tangent (sigma, 2 s) outwards. */
+static void test_three_pitchforks(psb_linear linear)
+{
+    psb_solver s;
+    problem pr;
+    psb_options opt;
+    psb_trace_options to;
+    record rc;
+    psb_branch_report br;
+    double y[4] = {0, 0, 0, -0.5}, t[4] = {0, 0, 0, 1}, ys[40 * 4], ts[40 * 4];
+    int k, i, trivial = 0, seen[27];
+    memset(&opt, 0, sizeof opt);
+    opt.h_max = 0.2;
+    opt.seed = 3;
+    memset(seen, 0, sizeof seen);
+    setup(&s, &pr, P_THREE_PITCHFORKS, linear, &opt);
+    trace_options(&to, &rc, 4, PSB_DETECT_BRANCH);
+    to.param_min = -0.5;
+    to.param_max = 0.5;
+    CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_PARAM_BOUND);
+    CHECK(rc.n == 1 && rc.sp[0].kind == PSB_SPECIAL_BRANCH);
+    if (rc.n != 1) return;
+    CHECK(fabs(rc.y[0][3]) <= 1e-10);
+    CHECK(psb_branch_point_switch(&s, rc.y[0], rc.t[0], rc.k[0], 40, ys, ts, &br) == PSB_SUCCESS);
+    CHECK(br.n_branches == 28);
+    CHECK(br.n_tangents == 3); /* the kernel besides t */
+    for (k = 0; k < br.n_branches && k < 40; k++) {
+        const double *yk = ys + 4 * k, *tk = ts + 4 * k;
+        double sgm = 0, ta[4], nrm = 0, h[3];
+        int code = 0, ok = 1;
+        smooth_res(yk, h, &pr);
+        CHECK(fabs(h[0]) + fabs(h[1]) + fabs(h[2]) < 1e-10);
+        if (fabs(yk[0]) + fabs(yk[1]) + fabs(yk[2]) < 1e-12) { trivial++; continue; }
+        for (i = 0; i < 3; i++) if (fabs(yk[i]) > sgm) sgm = fabs(yk[i]);
+        for (i = 0; i < 3; i++) {
+            int c = fabs(yk[i]) < 1e-12 ? 0 : yk[i] > 0 ? 1 : 2;
+            if (c) ok &= fabs(fabs(yk[i]) - sgm) < 1e-12;
+            code = 3 * code + c;
+            ta[i] = c == 0 ? 0 : c == 1 ? 1 : -1;
+        }
+        CHECK(ok && fabs(yk[3] - sgm * sgm) < 1e-12);
+        ta[3] = 2 * sgm;
+        for (i = 0; i < 4; i++) nrm += ta[i] * ta[i];
+        for (i = 0; i < 4; i++) ta[i] /= sqrt(nrm);
+        /* dH ~ s^2 there: the point's error (tol_correction) moves the tangent by ~1e-10 / s */
+        CHECK(unit_err(tk, ta, 4) < 1e-7);
+        seen[code]++;
+    }
+    CHECK(trivial == 2);
+    for (k = 1; k < 27; k++) CHECK(seen[k] == 1);
     psb_solver_free(&s);
 }
 
@@ -715,6 +784,7 @@ int main(void)
         test_branch_point_1d(P_TRANSCRITICAL, backends[b]);
         test_two_pitchforks(backends[b]);
         test_four_lines(backends[b]);
+        test_three_pitchforks(backends[b]);
         test_circle(backends[b]);
     }
     test_fold_kink();
