@@ -4881,6 +4881,8 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
         ed->length += x->length;
         ed->result = r;
         if (x->stop == PSB__XS_KINK || x->stop == PSB__XS_SPECIAL) {
+            /* the stop couple lies beyond the last accepted point */
+            ed->length += psb__dist_w(s, PSB__XVEC(x, PSB__X_PREV), PSB__XVEC(x, PSB__X_SY));
             psb__copy(y, PSB__XVEC(x, PSB__X_SY), np1);
             psb__copy(t, PSB__XVEC(x, PSB__X_ST), np1);
             r = psb__explore_branching(x, e, y, t, x->stop == PSB__XS_KINK, &resume);
