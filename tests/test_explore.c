@@ -333,6 +333,56 @@ static void test_loop(void)
     psb_solver_free(&s);
 }
 
+/* ---- an ordinary kink: x = |g| ------------------------------------------------------------
+   With branch_at_kinks the kink at g = 0 gets Algorithms 2.1 and 2.2, which find its two
+   branches: no node, the edge goes on (length sqrt(1/2) + sqrt(2) from (1/2, -1/2) to (1, 1)). */
+static int vee_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] - fabs(y[1]);
+    return 0;
+}
+
+static int vee_jac(const double *y, double *j, int ld, void *u)
+{
+    (void)u;
+    j[0] = 1;
+    j[ld] = y[1] < 0 ? 1 : -1;
+    return 0;
+}
+
+static void test_ordinary_kink(void)
+{
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    double y[2] = {0.5, -0.5}, t[2] = {-1, 1};
+    int i, n_bound = 0;
+    psb_problem_init(&prob, 1, vee_res, vee_jac, NULL);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 1, 8, 8, 8) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+    CHECK(d.n_kinks_plain == 1 && d.n_branchings == 1);
+    CHECK(d.n_edges == 2);
+    for (i = 0; i < d.n_nodes; i++) {
+        CHECK(d.nodes[i].kind == PSB_NODE_START || d.nodes[i].kind == PSB_NODE_BOUND);
+        if (d.nodes[i].kind == PSB_NODE_BOUND) {
+            n_bound++;
+            CHECK_NEAR(d.nodes[i].y[0], 1, 1e-9);
+        }
+    }
+    CHECK(n_bound == 2);
+    CHECK_NEAR(d.edges[0].length, sqrt(0.5) + sqrt(2.0), 1e-6);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
 /* ---- capacities, budgets, bad input, memory, determinism, output -------------------------- */
 static void crossing_setup(pl_problem *pp, double *rays, psb_solver *s, double *y, double *t)
 {
@@ -604,6 +654,7 @@ int main(void)
     test_pitchforks();
     test_crossing_circles();
     test_loop();
+    test_ordinary_kink();
     test_capacity_and_budgets();
     test_bad_input();
     test_callback_failure();
