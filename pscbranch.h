@@ -1302,8 +1302,9 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    options and detectors of eo->trace) until a bound, the box, its budget, a loop,
    a failure or a branching point. There Algorithms 2.1 and 2.2 (nonsmooth and PC1 points) or
    psb_branch_point_switch (smooth branch points) give the branches, whose new ones join the
-   queue; a point within node_tol of a known node is that node, and the branch arrived by is
-   marked traced, so nothing is traced twice. d is reset first and holds the graph (every
+   queue; a branching point within node_tol of a known node, or a trace's chord passing that
+   close to one, arrives at that node, and the branch arrived by is marked traced, so nothing
+   is traced twice. d is reset first and holds the graph (every
    node's and edge's index is the order it was made in). eo may be NULL. Same inputs and seed,
    same diagram, bit for bit. No allocation; s's scratch is used (not from a point callback).
    Returns PSB_SUCCESS (the queue emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a
