@@ -362,6 +362,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     eo.trace.param_max = 1;
     eo.one_direction = 1; /* the start lies on the lower bound */
     eo.branch_at_kinks = !a->fold;
+    eo.kink_spans = 1; /* an ordinary kink costs one span of Algorithm 2.2, not the sweep */
     if (a->out) mkdir(a->out, 0777);
     if (xo_open(&o, a->out, n, comp)) { printf("triangle: cannot write to %s\n", a->out); return 1; }
     o.diagram = &d;

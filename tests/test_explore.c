@@ -47,7 +47,8 @@ static int which_ray(const double *y, const double *rays, int n_rays, int np1, d
 /* Explores a piecewise-linear problem from half-way along ray `incoming` (both directions,
    g in [-1, 1]) and compares the graph with its rays: one branching node at the origin whose
    branches are the rays, each once; every ray ends on the bound g = +-1 once (ray `incoming`
-   too: its outer half is the start's second edge); nothing else. Returns whether all held. */
+   too: its outer half is the start's second edge); nothing else. branch_at_kinks 2: with
+   kink_spans 1. Returns whether all held. */
 static int check_pl_diagram(pl_problem *pp, const double *rays, int n_rays, int incoming,
                             int branch_at_kinks, int no_detect, int verbose)
 {
@@ -66,7 +67,8 @@ static int check_pl_diagram(pl_problem *pp, const double *rays, int n_rays, int 
     memset(&eo, 0, sizeof eo);
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
-    eo.branch_at_kinks = branch_at_kinks;
+    eo.branch_at_kinks = branch_at_kinks != 0;
+    eo.kink_spans = branch_at_kinks == 2; /* 2: with a one-span look first */
     eo.no_detect = no_detect;
     r = psb_explore(&s, y, t, &eo, &d);
     ok &= r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0;
@@ -379,6 +381,22 @@ static void test_ordinary_kink(void)
     }
     CHECK(n_bound == 2);
     CHECK_NEAR(d.edges[0].length, sqrt(0.5) + sqrt(2.0), 1e-6);
+    /* a one-span look tells the kink ordinary at a fraction of the sweep, same diagram */
+    {
+        long full = s.stats.n_factor, look;
+        double len = d.edges[0].length;
+        memset(&s.stats, 0, sizeof s.stats);
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        full = s.stats.n_factor;
+        memset(&s.stats, 0, sizeof s.stats);
+        eo.kink_spans = 1;
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        look = s.stats.n_factor;
+        CHECK(d.n_kinks_plain == 1 && d.n_edges == 2 && d.edges[0].length == len);
+        CHECK(look < full);
+        eo.kink_spans = -1;
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    }
     psb_diagram_free(&d);
     psb_solver_free(&s);
 }
