@@ -464,7 +464,8 @@
    w-orthogonal to t. Measured (tests/test_detect.c): pitchfork and transcritical points on
    all three backends to 1e-11 in the parameter, folds of the unit circle at l = +-1 with x
    within 1e-10, events within 1e-10; a fold costs ~23 factorisations, an event ~18, a
-   branch point ~17 (dense).
+   branch point ~17 (dense; user backend ~75, a pole of a tau located and dropped on the
+   way: a location is abandoned once |tau| exceeds 1e3 times its values at the ends).
    Kinks: a fold or a det change in a step that took the tangent switch, that locate_kinks
    found a kink in, or whose tangents differ by more than c_diff and where the kink test of
    locate_kinks finds one, is at a kink: FOLD_KINK / PC1, with the couple before it within
@@ -478,7 +479,11 @@
    test of more than two branches, not a necessary one. Generated piecewise-linear families
    (min(x, M x + q g), N = 2-4, kappa 0.3-4, traced through the origin): at 241 points with
    4 or more branches the test was positive 139 times and detected all 139; at 215 ordinary
-   kinks no false alarm; every nonsmooth fold found (206 of 206). Not with the user backend
+   kinks no false alarm; every nonsmooth fold found (206 of 206). The block of Section 3
+   (M20x40), traced from each input branch through its nonsmooth point (six branches) to
+   gamma = 1: PC1 reported from input 3 (gamma = -1.6e-10, within 2e-9 of the kink), not from
+   inputs 1 and 2, where the switch continued on a branch of the other outward sign. A trace
+   that must not miss such points stops at its kinks (locate_kinks) and runs Algorithm 2.2. Not with the user backend
    (PSB_ERR_OPTIONS): its factor callback forms dH itself, so neither the determinant nor
    the authors' path of convex combinations of the two bordered matrices is available, and
    tau's sign jumps with the matrix. With finite differences the last couple before a kink
@@ -502,7 +507,7 @@
    part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8
    for the others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are
    tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28
-   half-branches, the 26 parabolas with their analytic tangents).
+   half-branches, the 26 half-parabolas with their analytic tangents).
 
    Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
    reach and returns the graph: nodes are special points, edges the branch segments between.
@@ -3356,6 +3361,10 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         r = psb__newton_on(s, ye, te, y0, t0, sm);
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
         if (psb__is_fatal(r)) return r;
+        /* the user backend's tau growing far beyond its values at the ends: a pole */
+        if (r == PSB_SUCCESS && fn->kind == PSB_SPECIAL_BRANCH && s->prob.linear == PSB_LINEAR_USER &&
+            fabs(fm) > 1e3 * fmax(f01_abs[0], f01_abs[1]))
+            return PSB_NONSMOOTH_END;
         evals++;
         if (r != PSB_SUCCESS) {
             if (bisect) break; /* even the midpoint failed: keep the bracket reached */

@@ -375,8 +375,8 @@ static void test_four_lines(psb_linear linear)
 }
 
 /* Three pitchforks at once: det ~ -l^3 on x = 0, a kernel of dimension 4 at the origin; the
-   switch finds the two halves of x = 0 and the 26 parabolas x = s sigma, l = s^2, sigma in
-   {0, 1, -1}^3 \ {0}, each with its analytic tangent (sigma, 2 s) outwards. */
+   switch finds the two halves of x = 0 and the 26 half-parabolas x = s sigma, l = s^2, s > 0,
+   sigma in {0, 1, -1}^3 \ {0}, each with its analytic tangent (sigma, 2 s) outwards. */
 static void test_three_pitchforks(psb_linear linear)
 {
     psb_solver s;
@@ -436,12 +436,14 @@ static int event_x(const double *y, double *g, void *u)
     (void)u;
     g[0] = y[0] - 0.3;
     g[1] = y[1] + 0.5;
+    g[2] = y[1] > 0.5 ? 1 : -1; /* a state that switches, as a contact node's does */
     return 0;
 }
 
 /* The unit circle from (1, 0) anticlockwise: folds at l = +-1 (x = 0) located to 1e-10 along
    the curve, events x = 0.3 (falling at l > 0, rising at l < 0) and l = -0.5 (falling at
-   x < 0, rising at x > 0). */
+   x < 0, rising at x > 0), and a jump of a state at l = 0.5 (rising at x > 0, falling at
+   x < 0), located as precisely. */
 static void test_circle(psb_linear linear)
 {
     psb_solver s;
@@ -450,18 +452,18 @@ static void test_circle(psb_linear linear)
     psb_trace_options to;
     psb_trace_report rep;
     record rc;
-    double y[2] = {1, 0}, t[2] = {0, 1}, work[6];
+    double y[2] = {1, 0}, t[2] = {0, 1}, work[9];
     int k, folds = 0, events = 0;
     memset(&opt, 0, sizeof opt);
     setup(&s, &pr, P_CIRCLE, linear, &opt);
     trace_options(&to, &rc, 2, PSB_DETECT_FOLDS | PSB_DETECT_EVENTS | PSB_DETECT_BRANCH);
     to.detect_loop = 1;
-    to.n_events = 2;
+    to.n_events = 3;
     to.event = event_x;
     to.event_work = work;
     CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
     CHECK(rep.n_folds == 2);
-    CHECK(rep.n_special[PSB_SPECIAL_FOLD] == 2 && rep.n_special[PSB_SPECIAL_EVENT] == 4);
+    CHECK(rep.n_special[PSB_SPECIAL_FOLD] == 2 && rep.n_special[PSB_SPECIAL_EVENT] == 6);
     CHECK(rep.n_special[PSB_SPECIAL_BRANCH] == 0);
     for (k = 0; k < rc.n && k < MAX_SP; k++) {
         const psb_special *sp = &rc.sp[k];
@@ -482,9 +484,14 @@ static void test_circle(psb_linear linear)
             CHECK_NEAR(rc.y[k][1], -0.5, 1e-10);
             CHECK(sp->direction == (rc.y[k][0] < 0 ? -1 : 1));
             events++;
+        } else if (sp->kind == PSB_SPECIAL_EVENT && sp->event == 2) {
+            /* the end of the final bracket nearer the jump: within the bracket's width */
+            CHECK(fabs(rc.y[k][1] - 0.5) <= 2 * sp->precision);
+            CHECK(sp->direction == (rc.y[k][0] > 0 ? 1 : -1));
+            events++;
         }
     }
-    CHECK(folds == 2 && events == 4);
+    CHECK(folds == 2 && events == 6);
     /* the trace itself is the one without detectors, bit for bit */
     {
         double y2[2] = {1, 0}, t2[2] = {0, 1};
@@ -500,14 +507,14 @@ static void test_circle(psb_linear linear)
     {
         double y3[2] = {1, 0}, t3[2] = {0, 1};
         trace_options(&to, &rc, 2, PSB_DETECT_EVENTS);
-        to.n_events = 2;
+        to.n_events = 3;
         to.event = event_x;
         to.event_work = work;
         to.stop_at = 1u << PSB_SPECIAL_EVENT;
         CHECK(psb_trace(&s, y3, t3, &to, &rep) == PSB_STOPPED);
-        CHECK(rc.n == 1);
-        CHECK_NEAR(y3[0], 0.3, 1e-10);
-        CHECK(y3[1] > 0 && !memcmp(y3, rc.y[0], sizeof y3));
+        CHECK(rc.n == 1 && rc.sp[0].event == 2); /* the state's jump at l = 0.5 comes first */
+        CHECK(fabs(y3[1] - 0.5) <= 2 * rc.sp[0].precision && rc.sp[0].precision <= 1e-10);
+        CHECK(y3[0] > 0 && !memcmp(y3, rc.y[0], sizeof y3));
     }
     psb_solver_free(&s);
 }
