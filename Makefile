@@ -28,8 +28,9 @@ DEPS = CC="$(CC)" CXX="$(CXX)" LAPACK_LIBS="$(LAPACK_LIBS)" sh tools/deps.sh
 HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
 	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_detect \
-	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic
-EXAMPLES = examples/01_branching examples/fc_solve examples/block examples/triangle examples/quasistatic
+	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic $(BUILD)/test_explore
+EXAMPLES = examples/01_branching examples/02_explore examples/03_pitchforks examples/fc_solve examples/block \
+	examples/triangle examples/quasistatic
 
 .PHONY: all test check demo demo-run examples bench asan ubsan install uninstall clean \
 	quasistatic-demo quasistatic-demo-run images images-run
@@ -63,6 +64,9 @@ $(BUILD)/test_fc_solve: tests/test_fc_solve.c tests/fc_gen.h tests/harness.h exa
 
 $(BUILD)/test_fe: tests/test_fe.c tests/harness.h examples/fe.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_fe.c -o $@ $(LIBS)
+
+$(BUILD)/test_explore: tests/test_explore.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_explore.c -o $@ $(LIBS)
 
 $(BUILD)/test_static: tests/test_static.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_static.c -o $@ $(LIBS)
@@ -100,13 +104,17 @@ $(BUILD)/fc_solve-hdf5-$(HDF5): | $(BUILD)
 examples/fc_solve: examples/fc_solve.c $(HEADER) $(BUILD)/fc_solve-hdf5-$(HDF5)
 	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) $< -o $@ $(FC_HDF5_LIBS) $(LIBS)
 
-examples/block examples/triangle examples/quasistatic: examples/fe.h
+examples/block examples/triangle: examples/fe.h examples/explore_out.h
+examples/quasistatic: examples/fe.h
+examples/02_explore examples/03_pitchforks: examples/explore_out.h
 
 examples: $(EXAMPLES)
 
 # each example exits non-zero when its result differs from the analytic or the papers' one
 SMOKE = "smoke:$(BUILD)/consumer" \
 	"smoke:examples/01_branching" \
+	"smoke:examples/02_explore" \
+	"smoke:examples/03_pitchforks" \
 	"smoke:examples/fc_solve $(DATA)/fc-problems/*.dat" \
 	"smoke:examples/fc_solve $(DATA)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
 	"smoke:examples/block" \
@@ -115,6 +123,9 @@ SMOKE = "smoke:$(BUILD)/consumer" \
 	"smoke:examples/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && examples/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
 	"smoke:examples/triangle --mesh 16" \
 	"smoke:examples/triangle --mesh 16 --problem fold" \
+	"smoke:examples/block --explore" \
+	"smoke:examples/triangle --mesh 16 --explore" \
+	"smoke:examples/triangle --mesh 16 --explore --problem fold" \
 	"smoke:examples/quasistatic --mesh 8 --dt 0.1" \
 	"smoke:bash tests/cli.sh" \
 	"smoke:bash tests/readme_program.sh"

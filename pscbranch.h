@@ -83,9 +83,14 @@
    psb_branch_point_switch  every branch through a smooth branch point psb_trace located
    psb_evolve_step      one time step of a quasi-static evolution: Newton, else continuation
                         in the load through folds (section 6, "Quasi-static evolution")
+   psb_explore          the whole diagram from one couple: every branch reachable through
+                        nonsmooth, PC1 and smooth branch points, as a graph (section 6,
+                        "Exploring the whole diagram")
+   psb_diagram_init / _init_with_memory / _free, psb_diagram_memory_size   the graph's storage
+   psb_diagram_write_json, _write_csv   the graph as JSON and CSV (with PSCBRANCH_STDIO)
    psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
    Inputs are never modified on failure: y and t keep the last accepted couple.
-   No function allocates except psb_solver_init. Single operations (solve, tangent, correct,
+   No function allocates except psb_solver_init and psb_diagram_init. Single operations (solve, tangent, correct,
    step, switch, locate_end, find_branches) may be called from a point callback of psb_trace;
    psb_trace itself may not (it would reuse the trace's scratch vectors).
    The solver is not thread-safe; distinct solvers are independent (no global state).
@@ -471,6 +476,80 @@
    tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28
    half-branches, the 26 half-parabolas with their analytic tangents).
 
+   Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
+   reach and returns the graph: nodes are special points, edges the branch segments between.
+     psb_diagram d;  psb_explore_options eo = {0};      // zero fields: defaults
+     psb_diagram_init(&d, n, 64, 128, 16);              // nodes, edges, branches per node
+     eo.trace.param_min = -1;  eo.trace.param_max = 1;  // each trace's options
+     eo.branch_at_kinks = 1;                            // contact problems: see below
+     eo.on_point = save_point;                          // (edge, psb_point): the curves
+     if (psb_explore(&s, y, t, &eo, &d) < 0) puts(psb_solver_message(&s));
+     for (int i = 0; i < d.n_nodes; i++) {              // start, nonsmooth, branch, pc1,
+         const psb_node *nd = &d.nodes[i];              // fold, event, bound, budget, failure
+         printf("%s at %g, %d branches\n", psb_node_kind_string(nd->kind), nd->param,
+                nd->n_branches);                        // nd->ts: their tangents, outwards
+     }
+     for (int i = 0; i < d.n_edges; i++)                // from -> to, how it ended
+         printf("%d -> %d %s\n", d.edges[i].from, d.edges[i].to,
+                psb_edge_end_string(d.edges[i].end));
+     psb_diagram_free(&d);
+   examples/02_explore.c (a PC1 point a trace passes through), 03_pitchforks.c (smooth, closed
+   form), block --explore and triangle --explore show it in full.
+   The queue is the nodes' untraced branches (branch_edge[k] = -1), taken in the order the
+   nodes were made, the start's directions first (+t, then -t unless one_direction; from a
+   start on a parameter bound, the direction leaving it is left out). Each is traced
+   (eo.trace: bounds, max_steps, detectors, with detect_loop on) until it ends: on a bound or
+   out of the box or state_max (a bound node), at its budget, in a failure (node and edge say
+   which; exploring goes on, only a callback's stop ends it), back at its start (a loop), or
+   at a branching point: where the trace ends (PSB_NONSMOOTH_END) or a PC1 point is reported,
+   Algorithm 2.1 and 2.2 (a nonsmooth or pc1 node); at a smooth branch point,
+   psb_branch_point_switch (a branch node). Branch 0 of a new node is the one the edge arrived
+   by; the others join the queue. Folds and events are nodes on their edge (node.edge) and do
+   not end it. So nothing is traced twice, a branching point within node_tol + 4 (the two
+   precisions) of a known node is that node, and the edge arrives by the node's branch whose
+   tangent is closest to the way it came (taken above c_diff, else the best above c_min, else
+   added as a new branch); and a trace whose chord passes within that distance (plus 1e-3 of
+   the chord) of a known node arrives there too: a piecewise-linear branch goes straight
+   through a point where it has no kink, and the detectors may see nothing there (the way on
+   is made one of the node's branches if it is not). node_tol defaults to 16 branch_h.
+   Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
+   and outgoing branches have opposite outward signs it is silent. The block's and the
+   triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
+   from branch 1 to branch 4 at gamma = 0 (their tangents' cosine -0.999), no switch, no
+   special point; the crossing kinks min(x_i, g - x_i) with k odd likewise. With
+   branch_at_kinks every kink a trace passes is located (locate_kinks) and gets Algorithms 2.1
+   and 2.2; one with two branches is ordinary (d.n_kinks_plain) and the edge goes on along the
+   other. It costs an Algorithm 2.2 per kink, so it suits problems whose branches have few
+   kinks: block M200, one point, its branches none: 1088 factorisations against the hand-
+   driven run's 1070 (1.02x), the same six end points to 1.3e-14; triangle M1024, the four
+   branches; crossing kinks k = 2-4 and random complementarity problems N = 3-4, every ray
+   once (tests/test_explore.c: 24 of 24 random ones complete). kink_spans = 1 looks at a kink
+   with one span first and sweeps in full only where it found more than two branches: block
+   M800, whose branches pass two ordinary kinks, 2756 -> 1573 factorisations (1.26x the hand-
+   driven run's 1250; M200 1.15x, the look costing ~105 at the point itself). The look can
+   miss a point whose first span (the incoming branch and the tangent beyond) meets no third
+   branch's region: the crossing kinks (their rays pairwise span planes meeting no other
+   ray's) pass for ordinary, random complementarity problems 21 of 24 complete.
+   Budgets and capacities: max_traces, max_points and a point callback returning nonzero stop
+   exploring (PSB_STEP_BUDGET, PSB_STOPPED); nodes, edges or branches at a node running out
+   give PSB_BRANCH_CAPACITY (d.truncated) after tracing what fits; d.n_queued counts the
+   branches left. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
+   doubles, set up once; psb_explore allocates nothing and uses the solver's scratch (so not
+   from a point callback of psb_trace). Same inputs and seed, the same graph bit for bit.
+   Output (PSCBRANCH_STDIO). psb_diagram_write_json writes
+     {"format": "pscbranch-diagram", "version": 1, "n": N, "param_index": p,
+      "complete": true when no branch was left and nothing was cut,
+      "nodes": [{"id", "kind" (psb_node_kind_string), "param", "precision", "edge", "event",
+                 "direction", "y": [N+1], "branches": [{"edge" (-1: untraced), "y", "t"}]}],
+      "edges": [{"id", "from", "from_branch", "to" (-1: no room), "to_branch",
+                 "end" (psb_edge_end_string), "result" (the psb_result code), "points",
+                 "length"}]}
+   with numbers to 17 digits; psb_diagram_write_csv two tables, nodes (id, kind, param,
+   precision, edge, event, direction, n_branches, n_untraced, y0 .. yN) and edges (id, from,
+   from_branch, to, to_branch, end, result, points, length). The accepted points are the
+   point callback's to keep (the examples write edge, parameter, state value rows;
+   examples/explore_out.h, with a gnuplot script of the parameter-state plane).
+
    7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
    ------------------
    Every projection returns its value, one element of its B-Jacobian and a piece id; value and
@@ -567,6 +646,8 @@
    PSCBRANCH_USE_DGBTRF       the banded backend factors with LAPACK's dgbtrf instead of the
                               header's own LU (same factors with reference LAPACK)
    PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (results are the same)
+   PSCBRANCH_STDIO            with the implementation: psb_diagram_write_json and _csv (the
+                              only functions that take a FILE *; the rest never prints)
    LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r (dgbtrf with
    PSCBRANCH_USE_DGBTRF).
 
@@ -1095,6 +1176,159 @@ typedef struct psb_evolve_report {
    PSB_ERR_STEP_TOO_SMALL, ...). y is untouched unless PSB_SUCCESS. */
 PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
                                          const psb_evolve_options *eo, psb_evolve_report *rep);
+
+/* ---- exploring the whole diagram (manual section 6, "Exploring the whole diagram") ------- */
+
+/* What a node of a diagram is. */
+typedef enum psb_node_kind {
+    PSB_NODE_START = 0,     /* the start couple */
+    PSB_NODE_NONSMOOTH = 1, /* an end point a trace could not pass: Algorithms 2.1 and 2.2 */
+    PSB_NODE_BRANCH = 2,    /* a smooth branch point (psb_branch_point_switch) */
+    PSB_NODE_PC1 = 3,       /* a PC1 bifurcation point a trace passed through: 2.1 and 2.2 */
+    PSB_NODE_FOLD = 4,      /* a limit point on an edge (smooth or at a kink) */
+    PSB_NODE_EVENT = 5,     /* a sign change of an event function on an edge */
+    PSB_NODE_BOUND = 6,     /* a trace's end on a parameter bound or out of the state box */
+    PSB_NODE_BUDGET = 7,    /* a trace's end at its step budget (or the point budget) */
+    PSB_NODE_FAILURE = 8    /* a trace's end at a failure (edge.result says which) */
+} psb_node_kind;
+
+/* How an edge (a traced branch segment) ended. */
+typedef enum psb_edge_end {
+    PSB_EDGE_NODE = 0,    /* at a branching node (new or known): edge.to, edge.to_branch */
+    PSB_EDGE_BOUND = 1,   /* on a parameter bound */
+    PSB_EDGE_BOX = 2,     /* at its first point out of the state box */
+    PSB_EDGE_BUDGET = 3,  /* step budget of the edge, the point budget, or a stop */
+    PSB_EDGE_LOOP = 4,    /* back at its start: a closed curve (edge.to = edge.from) */
+    PSB_EDGE_FAILURE = 5  /* a failure of the trace or of the branching at its end */
+} psb_edge_end;
+
+typedef struct psb_node {
+    psb_node_kind kind;
+    double *y;         /* the point (n+1): branching nodes, where Algorithm 2.1 or the detector
+                          put it; bound, budget and failure nodes, the edge's last couple */
+    double precision;  /* bound on the location error, ||.||_w (Algorithm 2.1's last h, the
+                          detector's precision); 0 where the point is exact */
+    double param;      /* y[param_index] */
+    int edge;          /* FOLD, EVENT: the edge the point lies on; BOUND, BUDGET, FAILURE: the
+                          edge ending here; -1 for the others */
+    int event, direction; /* EVENT: the event component and +1 rising, -1 falling; else -1, 0 */
+    int n_branches;    /* branches found here (START: the directions asked for) */
+    double *ys, *ts;   /* branch k: the couple (ys + k (n+1), ts + k (n+1)), ts pointing away
+                          from the node (Algorithm 2.2's or the switch's output; branch 0 is the
+                          one the node was reached by) */
+    int *branch_edge;  /* the edge that traced branch k (leaving or arriving); -1: not traced
+                          (still queued when exploring stopped early) */
+} psb_node;
+
+typedef struct psb_edge {
+    int from, from_branch; /* the node and branch it leaves by */
+    int to, to_branch;     /* the node it ends at (-1 when capacity ran out) and, at a branching
+                              node, the branch it arrived by (-1 otherwise) */
+    psb_edge_end end;
+    psb_result result;     /* the trace's (or the branching's) result code */
+    long n_points;         /* accepted points (the ones given to the point callback) */
+    double length;         /* arc length, ||.||_w, node to node */
+} psb_edge;
+
+/* Called for every accepted point of every edge (the edge's index, the trace's point); return
+   nonzero to stop exploring (psb_explore returns PSB_STOPPED, the diagram is kept). */
+typedef int (*psb_explore_point_fn)(int edge, const psb_point *pt, void *user);
+
+typedef struct psb_explore_options {
+    psb_trace_options trace; /* every trace's options: param_min, param_max, max_steps, and the
+                                detectors' (detect [0: folds, branch points, PC1 points, and
+                                events when n_events > 0], locate_tol, events); the explorer
+                                sets on_point, point_user, detect_loop (1), locate_kinks
+                                (branch_at_kinks) and stop_at (0) itself */
+    int no_detect;     /* 1: no detectors (nodes only where traces end, and at kinks with
+                          branch_at_kinks) [0] */
+    const double *box_min, *box_max; /* optional (n+1 each): a trace ends at its first point
+                                        with some y_i outside [box_min_i, box_max_i] [NULL] */
+    double state_max;  /* > 0: a trace ends at its first point whose state (y without the
+                          parameter) has a weighted norm above it [0: none] */
+    int one_direction; /* 1: from the start couple along t only; 0: along t and -t [0] (from
+                          a start on a parameter bound, the direction leaving it is left out) */
+    int max_traces;    /* edges traced in all [0: no limit but the diagram's max_edges] */
+    long max_points;   /* accepted points in all [0: no limit] */
+    int branch_at_kinks; /* 1: locate every kink a trace passes and run Algorithms 2.1 and 2.2
+                            there; a kink with two branches is ordinary and the trace goes on
+                            (diagram.n_kinks_plain). Finds bifurcations the detectors' tests
+                            cannot see, at the price of Algorithm 2.2 at each kink [0] */
+    int kink_spans;    /* branch_at_kinks: Algorithm 2.2 first looks at a kink with this many
+                          spans, and sweeps in full (the solver's n_span) only where that found
+                          more than two branches [0: in full at once] */
+    double node_tol;   /* two branching points within node_tol + 4 (their precisions) of each
+                          other, ||.||_w, are one node [16 branch_h] */
+    psb_explore_point_fn on_point; /* optional */
+    void *point_user;
+} psb_explore_options;
+
+typedef struct psb_diagram {
+    int n;                  /* N of the problem */
+    int param_index;        /* the problem's (set by psb_explore) */
+    int max_nodes, max_edges, max_branches; /* capacities (max_branches per node) */
+    int n_nodes, n_edges;
+    psb_node *nodes;
+    psb_edge *edges;
+    long n_points;          /* accepted points of all edges */
+    int n_branchings;       /* calls of Algorithm 2.2 or of the branch point switch */
+    int n_kinks_plain;      /* branch_at_kinks: kinks found ordinary (two branches) */
+    int n_queued;           /* branches left untraced (budget, capacity or a stop) */
+    int n_failed;           /* edges that ended in a failure */
+    int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node) */
+    /* private */
+    double *work_;
+    void *owned_;
+} psb_diagram;
+
+/* Bytes psb_diagram_init_with_memory needs for n equations and the capacities (0 when a value
+   is out of range: n < 1, a capacity < 1, or the size overflows). Memory is about
+   max_nodes (2 max_branches + 1) (n+1) doubles. */
+PSCBRANCH_DEF size_t psb_diagram_memory_size(int n, int max_nodes, int max_edges, int max_branches);
+/* Sets up an empty diagram on caller memory (aligned for double); never allocates.
+   Returns PSB_SUCCESS, PSB_ERR_NULL, PSB_ERR_SIZE, PSB_ERR_NOMEM (block too small). */
+PSCBRANCH_DEF psb_result psb_diagram_init_with_memory(psb_diagram *d, int n, int max_nodes,
+                                                      int max_edges, int max_branches,
+                                                      void *memory, size_t bytes);
+/* Same, allocating with PSCBRANCH_MALLOC; release with psb_diagram_free. */
+PSCBRANCH_DEF psb_result psb_diagram_init(psb_diagram *d, int n, int max_nodes, int max_edges,
+                                          int max_branches);
+/* Frees what psb_diagram_init allocated (nothing for caller memory). d may be NULL. */
+PSCBRANCH_DEF void psb_diagram_free(psb_diagram *d);
+/* Names of the kinds ("nonsmooth", "bound", ...), as the JSON and CSV forms write them. */
+PSCBRANCH_DEF const char *psb_node_kind_string(psb_node_kind kind);
+PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
+
+/* The whole diagram reachable from the couple (y, t) (in, n+1 each; t need not be unit): a
+   queue of branches, first the start's directions; each is traced (psb_trace with the
+   options and detectors of eo->trace) until a bound, the box, its budget, a loop,
+   a failure or a branching point. There Algorithms 2.1 and 2.2 (nonsmooth and PC1 points) or
+   psb_branch_point_switch (smooth branch points) give the branches, whose new ones join the
+   queue; a branching point within node_tol of a known node, or a trace's chord passing that
+   close to one, arrives at that node, and the branch arrived by is marked traced, so nothing
+   is traced twice. d is reset first and holds the graph (every
+   node's and edge's index is the order it was made in). eo may be NULL. Same inputs and seed,
+   same diagram, bit for bit. No allocation; s's scratch is used (not from a point callback).
+   Returns PSB_SUCCESS (the queue emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a
+   node ran out: what fits is kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points
+   reached first), PSB_STOPPED (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE
+   (d->n differs from the problem's), PSB_ERR_OPTIONS (NaN bounds or node_tol, negative budgets,
+   box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or box), PSB_ERR_NONFINITE,
+   PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is kept). A trace or a
+   branching that fails otherwise ends its edge (PSB_EDGE_FAILURE, d->n_failed) and exploring
+   goes on. */
+PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
+                                     const psb_explore_options *eo, psb_diagram *d);
+
+#ifdef PSCBRANCH_STDIO
+#include <stdio.h>
+/* The diagram as JSON (schema: manual section 6, "Exploring the whole diagram"), and as two
+   CSV tables, nodes and edges (either FILE may be NULL). Return PSB_SUCCESS, PSB_ERR_NULL, or
+   PSB_ERR_INPUT when writing failed. Defined where PSCBRANCH_STDIO is defined with the
+   implementation. */
+PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f);
+PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes, FILE *edges);
+#endif
 
 /* ---- contact helpers: see the manual section "Contact helpers" ----------------------------- */
 
@@ -4395,6 +4629,690 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
                      : r == PSB_LOOP_CLOSED ? "the path closed a loop without reaching param_next"
                      : "the path ended at a point the tangent switch could not pass");
 }
+
+/* ==== exploring the whole diagram ========================================================== */
+
+/* Scratch vectors of the explorer (n+1 each), after the nodes' storage: the couple being
+   traced, the couple where a trace stopped for a branching (a kink's or a detector's), the
+   detector's kernel direction, the stop couple before Algorithm 2.1 moved it, and the
+   trace's previous accepted point. */
+enum { PSB__X_Y, PSB__X_T, PSB__X_SY, PSB__X_ST, PSB__X_K, PSB__X_P, PSB__X_PREV, PSB__NX };
+
+/* Carves the diagram's arrays out of memory (when d is not NULL) and returns the bytes needed
+   (0 for invalid sizes), so that the size query and the layout cannot disagree. */
+static size_t psb__diagram_layout(int n, int max_nodes, int max_edges, int max_branches,
+                                  psb_diagram *d, void *memory)
+{
+    size_t np1 = (size_t)n + 1, nn = (size_t)max_nodes, nb = (size_t)max_branches, off, dbl, i;
+    char *base = (char *)memory;
+    double total;
+    if (n < 1 || max_nodes < 1 || max_edges < 1 || max_branches < 1) return 0;
+    total = (double)max_nodes * (sizeof(psb_node) + (2.0 * max_branches + 1) * (n + 1.0) * sizeof(double) +
+                                 max_branches * (double)sizeof(int)) +
+            (double)max_edges * sizeof(psb_edge) + (PSB__NX + 4.0) * (n + 1.0) * sizeof(double) + 64;
+    if (total > (double)((size_t)-1 / 2)) return 0;
+    off = psb__align(nn * sizeof(psb_node));
+    off += psb__align((size_t)max_edges * sizeof(psb_edge));
+    dbl = off;
+    off += psb__align((nn * (2 * nb + 1) + PSB__NX) * np1 * sizeof(double));
+    if (d) {
+        double *pool = (double *)(void *)(base + dbl);
+        int *ints = (int *)(void *)(base + off);
+        d->nodes = (psb_node *)(void *)base;
+        d->edges = (psb_edge *)(void *)(base + psb__align(nn * sizeof(psb_node)));
+        for (i = 0; i < nn; i++) {
+            psb_node *nd = d->nodes + i;
+            nd->y = pool + i * (2 * nb + 1) * np1;
+            nd->ys = nd->y + np1;
+            nd->ts = nd->ys + nb * np1;
+            nd->branch_edge = ints + i * nb;
+        }
+        d->work_ = pool + nn * (2 * nb + 1) * np1;
+    }
+    return off + psb__align(nn * nb * sizeof(int));
+}
+
+PSCBRANCH_DEF size_t psb_diagram_memory_size(int n, int max_nodes, int max_edges, int max_branches)
+{
+    return psb__diagram_layout(n, max_nodes, max_edges, max_branches, NULL, NULL);
+}
+
+PSCBRANCH_DEF psb_result psb_diagram_init_with_memory(psb_diagram *d, int n, int max_nodes,
+                                                      int max_edges, int max_branches,
+                                                      void *memory, size_t bytes)
+{
+    size_t need;
+    if (!d) return PSB_ERR_NULL;
+    memset(d, 0, sizeof *d);
+    if (!memory) return PSB_ERR_NULL;
+    need = psb__diagram_layout(n, max_nodes, max_edges, max_branches, NULL, NULL);
+    if (!need) return PSB_ERR_SIZE;
+    if (bytes < need) return PSB_ERR_NOMEM;
+    d->n = n;
+    d->param_index = n;
+    d->max_nodes = max_nodes;
+    d->max_edges = max_edges;
+    d->max_branches = max_branches;
+    psb__diagram_layout(n, max_nodes, max_edges, max_branches, d, memory);
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_diagram_init(psb_diagram *d, int n, int max_nodes, int max_edges,
+                                          int max_branches)
+{
+    size_t bytes;
+    void *mem;
+    psb_result r;
+    if (!d) return PSB_ERR_NULL;
+    memset(d, 0, sizeof *d);
+    bytes = psb__diagram_layout(n, max_nodes, max_edges, max_branches, NULL, NULL);
+    if (!bytes) return PSB_ERR_SIZE;
+    mem = PSCBRANCH_MALLOC(bytes);
+    if (!mem) return PSB_ERR_NOMEM;
+    r = psb_diagram_init_with_memory(d, n, max_nodes, max_edges, max_branches, mem, bytes);
+    if (r < 0) {
+        PSCBRANCH_FREE(mem);
+        return r;
+    }
+    d->owned_ = mem;
+    return r;
+}
+
+PSCBRANCH_DEF void psb_diagram_free(psb_diagram *d)
+{
+    if (!d) return;
+    if (d->owned_) PSCBRANCH_FREE(d->owned_);
+    d->owned_ = NULL;
+    d->nodes = NULL;
+    d->edges = NULL;
+    d->n_nodes = d->n_edges = 0;
+}
+
+PSCBRANCH_DEF const char *psb_node_kind_string(psb_node_kind kind)
+{
+    static const char *const names[] = {"start", "nonsmooth", "branch", "pc1", "fold",
+                                        "event", "bound", "budget", "failure"};
+    return kind >= PSB_NODE_START && kind <= PSB_NODE_FAILURE ? names[kind] : "unknown";
+}
+
+PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end)
+{
+    static const char *const names[] = {"node", "bound", "box", "budget", "loop", "failure"};
+    return end >= PSB_EDGE_NODE && end <= PSB_EDGE_FAILURE ? names[end] : "unknown";
+}
+
+/* Why the explorer's point callback stopped a trace. */
+enum { PSB__XS_NONE, PSB__XS_USER, PSB__XS_POINTS, PSB__XS_BOX, PSB__XS_KINK, PSB__XS_SPECIAL,
+       PSB__XS_NODE };
+
+typedef struct psb__explorer {
+    psb_solver *s;
+    psb_diagram *d;
+    const psb_explore_options *eo;
+    double node_tol;
+    int edge, from, stop, stop_node;
+    psb_node_kind stop_kind; /* the branching the stop asks for (NONSMOOTH, BRANCH, PC1) */
+    int has_kernel;
+    double stop_precision;
+    long points;
+    double length;
+} psb__explorer;
+
+#define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->np1_)
+
+/* Whether y is within tolerance of node nd (precision: y's own location error). */
+static int psb__explore_near(const psb__explorer *x, const psb_node *nd, const double *y,
+                             double precision)
+{
+    return psb__dist_w(x->s, y, nd->y) <= x->node_tol + 4 * (precision + nd->precision);
+}
+
+/* A new node of the given kind at y, or -1 when the nodes are used up. */
+static int psb__explore_add_node(psb__explorer *x, psb_node_kind kind, const double *y,
+                                 double precision, int edge)
+{
+    psb_diagram *d = x->d;
+    psb_node *nd;
+    if (d->n_nodes == d->max_nodes) {
+        d->truncated = 1;
+        return -1;
+    }
+    nd = d->nodes + d->n_nodes;
+    nd->kind = kind;
+    psb__copy(nd->y, y, x->s->np1_);
+    nd->precision = precision;
+    nd->param = y[x->s->prob.param_index];
+    nd->edge = edge;
+    nd->event = -1;
+    nd->direction = 0;
+    nd->n_branches = 0;
+    return d->n_nodes++;
+}
+
+/* Ends edge e at a new node of the given kind at y (bound, budget, failure). */
+static void psb__explore_end(psb__explorer *x, int e, psb_edge_end end, psb_node_kind kind,
+                             const double *y)
+{
+    psb_edge *ed = x->d->edges + e;
+    ed->end = end;
+    ed->to = psb__explore_add_node(x, kind, y, 0, e);
+    ed->to_branch = -1;
+    if (end == PSB_EDGE_FAILURE) x->d->n_failed++;
+}
+
+/* Edge e arrived at node j along the branch whose tangent away from j is -t: marks that
+   branch traced (the best match by cosine, taken at c_diff, else at c_min), or adds it. */
+static void psb__explore_arrive(psb__explorer *x, int e, int j, const double *t)
+{
+    psb_solver *s = x->s;
+    psb_node *nd = x->d->nodes + j;
+    psb_edge *ed = x->d->edges + e;
+    int np1 = s->np1_, k, best = -1;
+    double best_cos = -2;
+    for (k = 0; k < nd->n_branches; k++) {
+        double c = -psb__cos_w(s, t, nd->ts + (size_t)k * (size_t)np1);
+        if (c > best_cos) {
+            best_cos = c;
+            best = k;
+        }
+    }
+    if (best >= 0 && best_cos < s->opt.c_diff && best_cos < s->opt.c_min) best = -1;
+    if (best < 0 && nd->n_branches < x->d->max_branches) {
+        best = nd->n_branches++;
+        psb__copy(nd->ys + (size_t)best * (size_t)np1, nd->y, np1);
+        for (k = 0; k < np1; k++) nd->ts[(size_t)best * (size_t)np1 + (size_t)k] = -t[k];
+        psb__normalize_w(s, nd->ts + (size_t)best * (size_t)np1);
+        nd->branch_edge[best] = e;
+    } else if (best < 0) {
+        x->d->truncated = 1;
+    } else if (nd->branch_edge[best] < 0) {
+        nd->branch_edge[best] = e;
+    }
+    ed->end = PSB_EDGE_NODE;
+    ed->to = j;
+    ed->to_branch = best;
+}
+
+/* The branching at the end of edge e: (y, t) is the couple where the trace stopped (before a
+   nonsmooth or PC1 point, or at a located smooth branch point with its kernel estimate in
+   X_K). A known node is arrived at; a new one gets its branches (Algorithm 2.1 and 2.2, or
+   the switch), branch 0 being the one arrived by. *resume (kinks, with branch_at_kinks): the
+   kink was ordinary and (y, t) is now the couple to go on from. Returns PSB_SUCCESS,
+   PSB_BRANCH_CAPACITY, or a fatal failure. */
+static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, double *t,
+                                         int kink, int *resume)
+{
+    psb_solver *s = x->s;
+    psb_diagram *d = x->d;
+    psb_edge *ed = d->edges + e;
+    psb_node *nd;
+    psb_branch_report br;
+    psb_node_kind kind = kink ? PSB_NODE_PC1 : x->stop_kind;
+    int np1 = s->np1_, j, k, nb;
+    double precision = x->stop_precision, *before = PSB__XVEC(x, PSB__X_P);
+    psb_result r = PSB_SUCCESS;
+    *resume = 0;
+    psb__copy(before, y, np1);
+    if (kind != PSB_NODE_BRANCH) {
+        r = psb_locate_end(s, y, t, &precision);
+        if (r < 0) {
+            ed->result = r;
+            psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
+            return psb__is_fatal(r) ? r : PSB_SUCCESS;
+        }
+    }
+    ed->length += psb__dist_w(s, before, y);
+    for (j = 0; j < d->n_nodes; j++) {
+        nd = d->nodes + j;
+        if ((nd->kind == PSB_NODE_NONSMOOTH || nd->kind == PSB_NODE_BRANCH ||
+             nd->kind == PSB_NODE_PC1) && psb__explore_near(x, nd, y, precision)) {
+            psb__explore_arrive(x, e, j, t);
+            return PSB_SUCCESS;
+        }
+    }
+    if (d->n_nodes == d->max_nodes) {
+        d->truncated = 1;
+        ed->end = PSB_EDGE_NODE;
+        ed->to = -1;
+        return PSB_BRANCH_CAPACITY;
+    }
+    nd = d->nodes + d->n_nodes; /* filled in place, counted once it is a node */
+    if (kind == PSB_NODE_BRANCH && x->has_kernel)
+        r = psb_branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
+                                    nd->ts, &br);
+    else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->opt.n_span) {
+        /* a short look first: an ordinary kink is told by it; else the full sweep (reseeded:
+           the same result as without the look) */
+        int n_span = s->opt.n_span, n_span_auto = s->n_span_auto_;
+        s->opt.n_span = x->eo->kink_spans;
+        s->n_span_auto_ = 0;
+        r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        s->opt.n_span = n_span;
+        s->n_span_auto_ = n_span_auto;
+        if (r >= 0 && br.n_branches > 2)
+            r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+    } else {
+        r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+    }
+    d->n_branchings++;
+    if (r < 0) {
+        ed->result = r;
+        psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
+        return psb__is_fatal(r) ? r : PSB_SUCCESS;
+    }
+    if (r == PSB_BRANCH_CAPACITY) d->truncated = 1;
+    nb = br.n_branches < d->max_branches ? br.n_branches : d->max_branches;
+    if (kink && nb == 2) { /* an ordinary kink: go on along the other branch */
+        ed->length += psb__dist_w(s, y, nd->ys + np1);
+        psb__copy(y, nd->ys + np1, np1);
+        psb__copy(t, nd->ts + np1, np1);
+        d->n_kinks_plain++;
+        *resume = 1;
+        return PSB_SUCCESS;
+    }
+    psb__explore_add_node(x, kind, y, precision, -1);
+    nd->n_branches = nb;
+    nd->branch_edge[0] = e;
+    for (k = 1; k < nb; k++) nd->branch_edge[k] = -1;
+    ed->end = PSB_EDGE_NODE;
+    ed->to = (int)(nd - d->nodes);
+    ed->to_branch = 0;
+    return r == PSB_BRANCH_CAPACITY ? r : PSB_SUCCESS;
+}
+
+/* A special point reported by a trace: folds and events become nodes on the edge; a branch
+   or PC1 point (other than the one the edge leaves) stops the trace for the branching. */
+static int psb__explore_special(psb__explorer *x, const psb_special *sp)
+{
+    int np1 = x->s->np1_, j;
+    if (sp->kind == PSB_SPECIAL_BRANCH || sp->kind == PSB_SPECIAL_PC1) {
+        if (psb__explore_near(x, x->d->nodes + x->from, sp->y, sp->precision)) return 0;
+        psb__copy(PSB__XVEC(x, PSB__X_SY), sp->y, np1);
+        psb__copy(PSB__XVEC(x, PSB__X_ST), sp->t, np1);
+        x->has_kernel = sp->kernel != NULL;
+        if (sp->kernel) psb__copy(PSB__XVEC(x, PSB__X_K), sp->kernel, np1);
+        x->stop_kind = sp->kind == PSB_SPECIAL_BRANCH ? PSB_NODE_BRANCH : PSB_NODE_PC1;
+        x->stop_precision = sp->precision;
+        x->stop = PSB__XS_SPECIAL;
+        return 1;
+    }
+    j = psb__explore_add_node(x, sp->kind == PSB_SPECIAL_EVENT ? PSB_NODE_EVENT : PSB_NODE_FOLD,
+                              sp->y, sp->precision, x->edge);
+    if (j >= 0 && sp->kind == PSB_SPECIAL_EVENT) {
+        x->d->nodes[j].event = sp->event;
+        x->d->nodes[j].direction = sp->direction;
+    }
+    return 0;
+}
+
+/* The branching node (not the edge's own start on its first step) that the chord from prev to
+   the accepted point passes within tolerance of, or -1: a trace going straight through a known
+   point (a piecewise-linear branch meets no kink there, and the detectors may see nothing)
+   arrives at it. The chord stands for the curve to within 1e-3 of its length. */
+static int psb__explore_passed(const psb__explorer *x, const double *prev, const psb_point *pt)
+{
+    const psb_solver *s = x->s;
+    int np1 = s->np1_, j, i;
+    double seg2 = pt->h * pt->h;
+    for (j = 0; j < x->d->n_nodes; j++) {
+        const psb_node *nd = x->d->nodes + j;
+        double proj = 0, dist2 = 0, a, tol;
+        if (nd->kind != PSB_NODE_NONSMOOTH && nd->kind != PSB_NODE_BRANCH && nd->kind != PSB_NODE_PC1) continue;
+        if (j == x->from && pt->index == 1) continue;
+        for (i = 0; i < np1; i++) proj += s->w_[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
+        a = seg2 > 0 ? proj / seg2 : 0;
+        a = a < 0 ? 0 : (a > 1 ? 1 : a);
+        for (i = 0; i < np1; i++) {
+            double di = prev[i] + a * (pt->y[i] - prev[i]) - nd->y[i];
+            dist2 += s->w_[i] * di * di;
+        }
+        tol = x->node_tol + 4 * nd->precision + 1e-3 * pt->h;
+        if (dist2 <= tol * tol) return j;
+    }
+    return -1;
+}
+
+static int psb__explore_point(const psb_point *pt, void *user)
+{
+    psb__explorer *x = (psb__explorer *)user;
+    psb_solver *s = x->s;
+    const psb_explore_options *eo = x->eo;
+    int np1 = s->np1_, i;
+    if (pt->flags & PSB_POINT_KINK) {
+        if (psb__explore_near(x, x->d->nodes + x->from, pt->y, 0)) return 0;
+        psb__copy(PSB__XVEC(x, PSB__X_SY), pt->y, np1);
+        psb__copy(PSB__XVEC(x, PSB__X_ST), pt->t, np1);
+        x->stop = PSB__XS_KINK;
+        return 1;
+    }
+    if (pt->flags & PSB_POINT_SPECIAL) return psb__explore_special(x, pt->special);
+    x->d->n_points++;
+    x->points++;
+    x->length += pt->h;
+    if (pt->index > 0) {
+        int j = psb__explore_passed(x, PSB__XVEC(x, PSB__X_PREV), pt);
+        if (j >= 0) {
+            psb__copy(PSB__XVEC(x, PSB__X_SY), pt->y, np1);
+            psb__copy(PSB__XVEC(x, PSB__X_ST), pt->t, np1);
+            x->stop_node = j;
+            x->stop = PSB__XS_NODE;
+            return 1;
+        }
+    }
+    psb__copy(PSB__XVEC(x, PSB__X_PREV), pt->y, np1);
+    if (eo->on_point && eo->on_point(x->edge, pt, eo->point_user)) {
+        x->stop = PSB__XS_USER;
+        return 1;
+    }
+    for (i = 0; eo->box_min && i < np1; i++)
+        if (pt->y[i] < eo->box_min[i] || pt->y[i] > eo->box_max[i]) {
+            x->stop = PSB__XS_BOX;
+            return 1;
+        }
+    if (eo->state_max > 0) {
+        double sum = 0;
+        for (i = 0; i < np1; i++)
+            if (i != s->prob.param_index) sum += s->w_[i] * pt->y[i] * pt->y[i];
+        if (sqrt(sum) > eo->state_max) {
+            x->stop = PSB__XS_BOX;
+            return 1;
+        }
+    }
+    if (eo->max_points && x->d->n_points >= eo->max_points) {
+        x->stop = PSB__XS_POINTS;
+        return 1;
+    }
+    return 0;
+}
+
+/* Traces branch k of node `from` as a new edge, to its end. Returns PSB_SUCCESS (the edge
+   ended, however), PSB_BRANCH_CAPACITY (edges or nodes ran out), PSB_STEP_BUDGET (the point
+   budget), PSB_STOPPED, or a fatal failure. */
+static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
+{
+    psb_solver *s = x->s;
+    psb_diagram *d = x->d;
+    psb_node *nf = d->nodes + from;
+    psb_edge *ed;
+    psb_trace_options to = x->eo->trace;
+    psb_trace_report rep;
+    int np1 = s->np1_, e, resume;
+    double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
+    psb_result r;
+    if (d->n_edges == d->max_edges) {
+        d->truncated = 1;
+        return PSB_BRANCH_CAPACITY;
+    }
+    e = d->n_edges++;
+    ed = d->edges + e;
+    memset(ed, 0, sizeof *ed);
+    ed->from = from;
+    ed->from_branch = k;
+    ed->to = ed->to_branch = -1;
+    nf->branch_edge[k] = e;
+    psb__copy(y, nf->ys + (size_t)k * (size_t)np1, np1);
+    psb__copy(t, nf->ts + (size_t)k * (size_t)np1, np1);
+    ed->length = psb__dist_w(s, nf->y, y);
+    to.on_point = psb__explore_point;
+    to.point_user = x;
+    to.detect_loop = 1;
+    to.locate_kinks = x->eo->branch_at_kinks != 0;
+    to.stop_at = 0; /* psb__explore_special stops where a branching is due */
+    if (!to.detect && !x->eo->no_detect)
+        to.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH | PSB_DETECT_PC1 |
+                    (to.n_events > 0 ? PSB_DETECT_EVENTS : 0);
+    if (x->eo->no_detect) to.detect = 0;
+    x->edge = e;
+    x->from = from;
+    for (;;) {
+        x->stop = PSB__XS_NONE;
+        x->points = 0;
+        x->length = 0;
+        r = psb_trace(s, y, t, &to, &rep);
+        ed->n_points += x->points;
+        ed->length += x->length;
+        ed->result = r;
+        if (x->stop == PSB__XS_KINK || x->stop == PSB__XS_SPECIAL) {
+            /* the stop couple lies beyond the last accepted point */
+            ed->length += psb__dist_w(s, PSB__XVEC(x, PSB__X_PREV), PSB__XVEC(x, PSB__X_SY));
+            psb__copy(y, PSB__XVEC(x, PSB__X_SY), np1);
+            psb__copy(t, PSB__XVEC(x, PSB__X_ST), np1);
+            r = psb__explore_branching(x, e, y, t, x->stop == PSB__XS_KINK, &resume);
+            if (resume) continue;
+            return r;
+        }
+        if (x->stop == PSB__XS_NONE && r == PSB_NONSMOOTH_END) {
+            x->stop_kind = PSB_NODE_NONSMOOTH;
+            x->stop_precision = 0;
+            return psb__explore_branching(x, e, y, t, 0, &resume);
+        }
+        break;
+    }
+    switch (x->stop) {
+    case PSB__XS_NODE: {
+        /* through a known node: arrive, and make sure the way on is one of its branches */
+        psb_node *nd = d->nodes + x->stop_node;
+        int kb, best = -1;
+        double best_cos = -2;
+        ed->length -= psb__dist_w(s, y, nd->y);
+        psb__explore_arrive(x, e, x->stop_node, t);
+        for (kb = 0; kb < nd->n_branches; kb++) {
+            double c = psb__cos_w(s, t, nd->ts + (size_t)kb * (size_t)np1);
+            if (c > best_cos) { best_cos = c; best = kb; }
+        }
+        if (best < 0 || (best_cos < s->opt.c_diff && best_cos < s->opt.c_min)) {
+            if (nd->n_branches == d->max_branches) {
+                d->truncated = 1;
+            } else {
+                kb = nd->n_branches++;
+                psb__copy(nd->ys + (size_t)kb * (size_t)np1, nd->y, np1);
+                psb__copy(nd->ts + (size_t)kb * (size_t)np1, t, np1);
+                nd->branch_edge[kb] = -1;
+            }
+        }
+        return PSB_SUCCESS;
+    }
+    case PSB__XS_USER: psb__explore_end(x, e, PSB_EDGE_BUDGET, PSB_NODE_BUDGET, y); return PSB_STOPPED;
+    case PSB__XS_POINTS: psb__explore_end(x, e, PSB_EDGE_BUDGET, PSB_NODE_BUDGET, y); return PSB_STEP_BUDGET;
+    case PSB__XS_BOX: psb__explore_end(x, e, PSB_EDGE_BOX, PSB_NODE_BOUND, y); return PSB_SUCCESS;
+    default: break;
+    }
+    switch (r) {
+    case PSB_PARAM_BOUND: psb__explore_end(x, e, PSB_EDGE_BOUND, PSB_NODE_BOUND, y); break;
+    case PSB_STEP_BUDGET: psb__explore_end(x, e, PSB_EDGE_BUDGET, PSB_NODE_BUDGET, y); break;
+    case PSB_LOOP_CLOSED:
+        ed->length += psb__dist_w(s, y, nf->y);
+        psb__explore_arrive(x, e, from, t);
+        ed->end = PSB_EDGE_LOOP;
+        break;
+    default:
+        psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
+        if (psb__is_fatal(r)) return r;
+    }
+    return PSB_SUCCESS;
+}
+
+/* Checks the explorer's options; a message or NULL. */
+static const char *psb__check_explore(const psb_explore_options *eo, int np1)
+{
+    int i;
+    if (eo->trace.param_min != eo->trace.param_min || eo->trace.param_max != eo->trace.param_max)
+        return "the parameter bounds are NaN";
+    if (!(eo->node_tol >= 0) || !psb__finite(eo->node_tol)) return "node_tol must be finite and >= 0";
+    if (eo->kink_spans < 0) return "kink_spans must be >= 0";
+    if (!(eo->state_max >= 0)) return "state_max must be >= 0";
+    if (eo->max_traces < 0 || eo->max_points < 0 || eo->trace.max_steps < 0)
+        return "budgets must be >= 0";
+    if (!eo->box_min != !eo->box_max) return "give both box_min and box_max, or neither";
+    for (i = 0; eo->box_min && i < np1; i++)
+        if (!(eo->box_min[i] <= eo->box_max[i])) return "need box_min <= box_max (no NaN)";
+    return NULL;
+}
+
+PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
+                                     const psb_explore_options *eo, psb_diagram *d)
+{
+    psb_explore_options local;
+    psb__explorer x;
+    psb_node *start;
+    const char *bad;
+    int np1, p, i, k, traces = 0, max_traces;
+    psb_result r = psb__check_couple(s, y, t), result = PSB_SUCCESS;
+    if (r != PSB_SUCCESS) return r;
+    if (!d || !d->nodes || !d->work_) return psb__fail(s, PSB_ERR_NULL, "the diagram is NULL or not set up");
+    if (d->n != s->n_) return psb__fail(s, PSB_ERR_SIZE, "the diagram's n differs from the problem's");
+    if (!eo) {
+        memset(&local, 0, sizeof local);
+        eo = &local;
+    }
+    np1 = s->np1_;
+    p = s->prob.param_index;
+    bad = psb__check_explore(eo, np1);
+    if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    if (eo->trace.param_min < eo->trace.param_max &&
+        (y[p] < eo->trace.param_min || y[p] > eo->trace.param_max))
+        return psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
+    for (i = 0; eo->box_min && i < np1; i++)
+        if (y[i] < eo->box_min[i] || y[i] > eo->box_max[i])
+            return psb__fail(s, PSB_ERR_INPUT, "start point outside the box");
+    d->n_nodes = d->n_edges = 0;
+    d->n_points = 0;
+    d->n_branchings = d->n_kinks_plain = d->n_queued = d->n_failed = d->truncated = 0;
+    d->param_index = p;
+    memset(&x, 0, sizeof x);
+    x.s = s;
+    x.d = d;
+    x.eo = eo;
+    x.node_tol = eo->node_tol > 0 ? eo->node_tol : 16 * s->opt.branch_h;
+    max_traces = eo->max_traces > 0 ? eo->max_traces : -1;
+
+    /* the start node: its directions are the first branches of the queue */
+    psb__explore_add_node(&x, PSB_NODE_START, y, 0, -1);
+    start = d->nodes;
+    for (k = 0; k < (eo->one_direction ? 1 : 2); k++) {
+        double *tk = start->ts + (size_t)start->n_branches * (size_t)np1, dir = k ? -t[p] : t[p];
+        /* a direction leaving the parameter interval from a start on its bound is left out */
+        if (eo->trace.param_min < eo->trace.param_max &&
+            ((y[p] == eo->trace.param_min && dir < 0) || (y[p] == eo->trace.param_max && dir > 0)))
+            continue;
+        if (start->n_branches == d->max_branches) {
+            d->truncated = 1;
+            break;
+        }
+        psb__copy(start->ys + (size_t)start->n_branches * (size_t)np1, y, np1);
+        for (i = 0; i < np1; i++) tk[i] = k ? -t[i] : t[i];
+        psb__normalize_w(s, tk);
+        start->branch_edge[start->n_branches++] = -1;
+    }
+
+    /* the queue: the first untraced branch in the order nodes were made */
+    for (;;) {
+        int from = -1, kb = -1;
+        for (i = 0; i < d->n_nodes && from < 0; i++)
+            for (k = 0; k < d->nodes[i].n_branches; k++)
+                if (d->nodes[i].branch_edge[k] < 0) {
+                    from = i;
+                    kb = k;
+                    break;
+                }
+        if (from < 0) break;
+        if (traces == max_traces) {
+            result = PSB_STEP_BUDGET;
+            break;
+        }
+        traces++;
+        r = psb__explore_edge(&x, from, kb);
+        if (r < 0 || r == PSB_STOPPED || r == PSB_STEP_BUDGET) {
+            result = r;
+            break;
+        }
+        if (r == PSB_BRANCH_CAPACITY && d->n_edges == d->max_edges) break;
+    }
+    for (i = 0; i < d->n_nodes; i++)
+        for (k = 0; k < d->nodes[i].n_branches; k++) d->n_queued += d->nodes[i].branch_edge[k] < 0;
+    if (result == PSB_SUCCESS && d->truncated) result = PSB_BRANCH_CAPACITY;
+    if (result >= 0) s->message[0] = 0;
+    return result;
+}
+
+#ifdef PSCBRANCH_STDIO
+static void psb__write_vec(FILE *f, const double *v, int np1, const char *sep)
+{
+    int i;
+    for (i = 0; i < np1; i++) fprintf(f, "%s%.17g", i ? sep : "", v[i]);
+}
+
+PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
+{
+    int i, k, np1;
+    if (!d || !f || !d->nodes) return PSB_ERR_NULL;
+    np1 = d->n + 1;
+    fprintf(f, "{\n  \"format\": \"pscbranch-diagram\",\n  \"version\": 1,\n  \"n\": %d,\n"
+               "  \"param_index\": %d,\n  \"complete\": %s,\n  \"nodes\": [",
+            d->n, d->param_index, d->n_queued || d->truncated ? "false" : "true");
+    for (i = 0; i < d->n_nodes; i++) {
+        const psb_node *nd = d->nodes + i;
+        fprintf(f, "%s\n    {\"id\": %d, \"kind\": \"%s\", \"param\": %.17g, \"precision\": %.17g, "
+                   "\"edge\": %d, \"event\": %d, \"direction\": %d,\n     \"y\": [",
+                i ? "," : "", i, psb_node_kind_string(nd->kind), nd->param, nd->precision, nd->edge,
+                nd->event, nd->direction);
+        psb__write_vec(f, nd->y, np1, ", ");
+        fprintf(f, "],\n     \"branches\": [");
+        for (k = 0; k < nd->n_branches; k++) {
+            fprintf(f, "%s\n       {\"edge\": %d, \"y\": [", k ? "," : "", nd->branch_edge[k]);
+            psb__write_vec(f, nd->ys + (size_t)k * (size_t)np1, np1, ", ");
+            fprintf(f, "], \"t\": [");
+            psb__write_vec(f, nd->ts + (size_t)k * (size_t)np1, np1, ", ");
+            fprintf(f, "]}");
+        }
+        fprintf(f, "]}");
+    }
+    fprintf(f, "\n  ],\n  \"edges\": [");
+    for (i = 0; i < d->n_edges; i++) {
+        const psb_edge *ed = d->edges + i;
+        fprintf(f, "%s\n    {\"id\": %d, \"from\": %d, \"from_branch\": %d, \"to\": %d, \"to_branch\": %d, "
+                   "\"end\": \"%s\", \"result\": %d, \"points\": %ld, \"length\": %.17g}",
+                i ? "," : "", i, ed->from, ed->from_branch, ed->to, ed->to_branch,
+                psb_edge_end_string(ed->end), (int)ed->result, ed->n_points, ed->length);
+    }
+    fprintf(f, "\n  ]\n}\n");
+    return ferror(f) ? PSB_ERR_INPUT : PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes, FILE *edges)
+{
+    int i, np1;
+    if (!d || !d->nodes || (!nodes && !edges)) return PSB_ERR_NULL;
+    np1 = d->n + 1;
+    if (nodes) {
+        fprintf(nodes, "id,kind,param,precision,edge,event,direction,n_branches,n_untraced");
+        for (i = 0; i < np1; i++) fprintf(nodes, ",y%d", i);
+        fprintf(nodes, "\n");
+        for (i = 0; i < d->n_nodes; i++) {
+            const psb_node *nd = d->nodes + i;
+            int k, untraced = 0;
+            for (k = 0; k < nd->n_branches; k++) untraced += nd->branch_edge[k] < 0;
+            fprintf(nodes, "%d,%s,%.17g,%.17g,%d,%d,%d,%d,%d,", i, psb_node_kind_string(nd->kind),
+                    nd->param, nd->precision, nd->edge, nd->event, nd->direction, nd->n_branches,
+                    untraced);
+            psb__write_vec(nodes, nd->y, np1, ",");
+            fprintf(nodes, "\n");
+        }
+        if (ferror(nodes)) return PSB_ERR_INPUT;
+    }
+    if (edges) {
+        fprintf(edges, "id,from,from_branch,to,to_branch,end,result,points,length\n");
+        for (i = 0; i < d->n_edges; i++) {
+            const psb_edge *ed = d->edges + i;
+            fprintf(edges, "%d,%d,%d,%d,%d,%s,%d,%ld,%.17g\n", i, ed->from, ed->from_branch, ed->to,
+                    ed->to_branch, psb_edge_end_string(ed->end), (int)ed->result, ed->n_points,
+                    ed->length);
+        }
+        if (ferror(edges)) return PSB_ERR_INPUT;
+    }
+    return PSB_SUCCESS;
+}
+#endif
 
 /* ==== contact helpers ==================================================================== */
 /* Shared by both half-lines: sign = +1 for [0,inf[, -1 for ]-inf,0]. */

@@ -36,9 +36,11 @@
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
+#define PSCBRANCH_STDIO
 #include "pscbranch.h"
 #define FE_USE_PSB_CONTACT
 #include "fe.h"
+#include "explore_out.h"
 
 #include "cli.h"
 
@@ -72,6 +74,8 @@ static const char block_usage[] =
     "  --branch-mult-weight W  the same for Algorithms 2.1-2.2 alone (default: --mult-weight)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
     "  --dense               dense LAPACK instead of the banded backend\n"
+    "  --explore             the whole diagram from the start point alone (psb_explore), checked\n"
+    "                        against a hand-driven run: one nonsmooth point, six branches\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
     "  --refine FILE         re-solve a coarser nested mesh's end points on this mesh (Table 3)\n"
     "  --compare FILE        relative H1 errors of a coarser file's end points (up to 4 times)\n"
@@ -82,7 +86,7 @@ static const char block_usage[] =
     "  -h, --help            this help\n";
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, dense, maxiter, restart, paper_sweep, patience, no_screen;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, dense, maxiter, restart, paper_sweep, patience, no_screen, explore;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min); h_init: one trial
                      per direction, enough near a conical point (see the manual) */
@@ -116,6 +120,7 @@ static int parse(int argc, char **argv, args *a)
         if (cli_flag(&c, "--verbose")) a->verbose = 1;
         else if (cli_flag(&c, "--quiet")) a->quiet = 1;
         else if (cli_flag(&c, "--dense")) a->dense = 1;
+        else if (cli_flag(&c, "--explore")) a->explore = 1;
         else if (cli_flag(&c, "--paper-sweep")) a->paper_sweep = 1;
         else if (cli_flag(&c, "--no-screen")) a->no_screen = 1;
         else if (cli_pair(&c, "--mesh", &a->nx, &a->ny, 2, BLOCK_MAX_MESH)) {}
@@ -223,6 +228,84 @@ static int branch_and_trace(fe_run *run, double *y, double *t, const args *a)
     return run->br[0].number;
 }
 
+/* --explore: the whole diagram from the start point alone (psb_explore: kinks located, and
+   Algorithms 2.1-2.2 run at each, after a one-span look that tells an ordinary kink, with two
+   branches), then the hand-driven run
+   from the same couple. Exit status 0 only when the explorer found one nonsmooth point and the
+   six branches of the paper, each once, traced to |gamma| = 1 with end points equal to the
+   hand-driven run's to 1e-8, at no more than 1.3 times its factorisations. */
+static int run_explore(fe_run *run, const double *y, const double *t, const args *a)
+{
+    const fe_model *md = run->md;
+    int n = md->n, np1 = n + 1, i, k, ok = 1, count[7] = {0}, nodes_branching = 0, comp = md->udof[md->cnode[0]];
+    size_t bytes = sizeof(double) * (size_t)np1;
+    double *yh = malloc(bytes), *th = malloc(bytes), worst = 0;
+    long f_explore, f_hand;
+    psb_diagram d;
+    psb_explore_options eo;
+    psb_result r;
+    xo_out o;
+    if (!yh || !th || psb_diagram_init(&d, n, 32, 32, FE_MAX_BRANCHES) != PSB_SUCCESS) { free(yh); free(th); return 1; }
+    memcpy(yh, y, bytes);
+    memcpy(th, t, bytes);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.one_direction = 1; /* the start lies on gamma = -1 */
+    eo.branch_at_kinks = 1;
+    eo.kink_spans = 1; /* an ordinary kink (M800 has two) costs one span, not the sweep */
+    if (a->out) mkdir(a->out, 0777);
+    if (xo_open(&o, a->out, n, comp)) { printf("block: cannot write to %s\n", a->out); return 1; }
+    o.diagram = &d;
+    eo.on_point = xo_point;
+    eo.point_user = &o;
+    memset(&run->s.stats, 0, sizeof run->s.stats);
+    r = psb_explore(&run->s, yh, th, &eo, &d);
+    f_explore = run->s.stats.n_factor;
+    printf("\n  psb_explore: %s; %d nodes, %d edges, %d branchings, %d ordinary kinks, %ld points, factorisations %ld\n",
+           psb_result_string(r), d.n_nodes, d.n_edges, d.n_branchings, d.n_kinks_plain, d.n_points, f_explore);
+    xo_print(&d, comp);
+    if (xo_finish(&o, &d, a->out, "block", "u1 of the left-most contact node (mm)")) printf("block: could not write to %s\n", a->out);
+    else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", a->out);
+
+    /* the hand-driven run from the same couple */
+    memset(&run->s.stats, 0, sizeof run->s.stats);
+    if (branch_and_trace(run, yh, th, a) < 0) return 1;
+    f_hand = run->s.stats.n_factor;
+    for (i = 0; i < d.n_nodes; i++) nodes_branching += d.nodes[i].kind == PSB_NODE_NONSMOOTH || d.nodes[i].kind == PSB_NODE_PC1 || d.nodes[i].kind == PSB_NODE_BRANCH;
+    /* the branches' ends on |gamma| = 1: the bound nodes, and the start (the incoming branch) */
+    printf("\n  branch  node  gamma    max |y - y_hand| / max |y_hand|\n");
+    for (i = 0; i < d.n_nodes; i++) {
+        fe_branch b;
+        double diff = HUGE_VAL, scale = 0;
+        if ((d.nodes[i].kind != PSB_NODE_BOUND && d.nodes[i].kind != PSB_NODE_START) || fabs(d.nodes[i].param) != 1) continue;
+        memset(&b, 0, sizeof b);
+        b.y = d.nodes[i].y;
+        classify(md, &b);
+        if (b.number < 1 || b.number > 6) continue;
+        count[b.number]++;
+        for (k = 0; k < run->nbr; k++)
+            if (run->br[k].number == b.number && run->br[k].duplicate_of < 0) {
+                int j;
+                double dk = 0, sk = 0;
+                for (j = 0; j < np1; j++) { dk = fmax(dk, fabs(b.y[j] - run->br[k].y[j])); sk = fmax(sk, fabs(run->br[k].y[j])); }
+                if (dk < diff) { diff = dk; scale = sk; }
+            }
+        diff = scale > 0 ? diff / scale : HUGE_VAL;
+        worst = fmax(worst, diff);
+        printf("  %-6d  %-4d  %+.3f   %.1e\n", b.number, i, b.y[n], diff);
+    }
+    for (k = 1; k <= 6; k++) ok = ok && count[k] == 1;
+    ok = ok && r == PSB_SUCCESS && nodes_branching == 1 && worst <= 1e-8 && f_explore <= 1.3 * f_hand;
+    printf("\n  explorer: %ld factorisations, hand-driven run: %ld (ratio %.2f); largest end-point difference %.1e\n",
+           f_explore, f_hand, (double)f_explore / (double)f_hand, worst);
+    printf("block: %s\n", ok ? "OK (the explorer found the six branches of the paper)" : "FAILED (the explored diagram differs)");
+    psb_diagram_free(&d);
+    free(yh);
+    free(th);
+    return ok ? 0 : 1;
+}
+
 int main(int argc, char **argv)
 {
     args a;
@@ -313,6 +396,10 @@ int main(int argc, char **argv)
         r = psb_tangent(&run.s, y, rv, t);
         free(rv);
         if (r != PSB_SUCCESS) { fprintf(stderr, "block: tangent failed: %s\n", psb_result_string(r)); goto done; }
+    }
+    if (a.explore) {
+        rc = run_explore(&run, y, t, &a) == 0 ? 0 : 1;
+        goto done;
     }
     input = branch_and_trace(&run, y, t, &a);
     if (input < 0) goto done;

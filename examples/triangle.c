@@ -37,8 +37,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
+#define PSCBRANCH_STDIO
 #include "pscbranch.h"
 #include "fe.h"
+#include "explore_out.h"
 #ifdef FE_UMFPACK
 #include "fe_umfpack.h"
 #endif
@@ -70,6 +72,8 @@ static const char triangle_usage[] =
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2, 1 for fold; 0 < W <= 1e12)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
     "  --dense               dense LAPACK instead of the banded backend\n"
+    "  --explore             the whole diagram from the start point alone (psb_explore): the four\n"
+    "                        branches, or with --problem fold the two limit points\n"
     "  --sparse              UMFPACK (a build with -DFE_UMFPACK only)\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
     "  --refine FILE         re-solve a coarser nested mesh's end points on this mesh (needs --load; Table 4)\n"
@@ -80,7 +84,7 @@ static const char triangle_usage[] =
     "  -h, --help            this help\n";
 
 typedef struct args {
-    int n, fold, ndir, nspan, multipliers, verbose, quiet, dense, sparse, load_auto;
+    int n, fold, ndir, nspan, multipliers, verbose, quiet, dense, sparse, load_auto, explore;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
@@ -105,6 +109,7 @@ static int parse(int argc, char **argv, args *a)
         if (cli_flag(&c, "--verbose")) a->verbose = 1;
         else if (cli_flag(&c, "--quiet")) a->quiet = 1;
         else if (cli_flag(&c, "--dense")) a->dense = 1;
+        else if (cli_flag(&c, "--explore")) a->explore = 1;
         else if (cli_flag(&c, "--sparse")) {
 #ifdef FE_UMFPACK
             a->sparse = 1;
@@ -395,6 +400,92 @@ done:
     return ok ? 0 : -1;
 }
 
+/* --explore: the whole diagram from the start point alone (psb_explore). fold: from gamma = -3
+   to 1, the limit points as fold nodes (two, in (0.4, 0.9)); branching: kinks located and
+   branched at, one nonsmooth point and the paper's four branches, each once, traced to
+   |gamma| = 1 and checked as the hand-driven run's are. */
+static int run_explore(fe_run *run, const double *y, const double *t, const args *a, double t0)
+{
+    const fe_model *md = run->md;
+    int n = md->n, i, ok = 1, count[5] = {0}, n_fold = 0, n_branching = 0, comp = md->udof[md->cnode[0]];
+    size_t bytes = sizeof(double) * ((size_t)n + 1);
+    double *ye = malloc(bytes), *te = malloc(bytes), folds[8];
+    psb_diagram d;
+    psb_explore_options eo;
+    psb_result r;
+    xo_out o;
+    if (!ye || !te || psb_diagram_init(&d, n, 64, 64, FE_MAX_BRANCHES) != PSB_SUCCESS) { free(ye); free(te); return 1; }
+    memcpy(ye, y, bytes);
+    memcpy(te, t, bytes);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = a->fold ? -3 : -1;
+    eo.trace.param_max = 1;
+    eo.one_direction = 1; /* the start lies on the lower bound */
+    eo.branch_at_kinks = !a->fold;
+    eo.kink_spans = 1; /* an ordinary kink costs one span of Algorithm 2.2, not the sweep */
+    if (a->out) mkdir(a->out, 0777);
+    if (xo_open(&o, a->out, n, comp)) { printf("triangle: cannot write to %s\n", a->out); return 1; }
+    o.diagram = &d;
+    eo.on_point = xo_point;
+    eo.point_user = &o;
+    r = psb_explore(&run->s, ye, te, &eo, &d);
+    printf("\n  psb_explore: %s; %d nodes, %d edges, %d branchings, %d ordinary kinks, %ld points, time %.2f s (CPU), factorisations %ld\n",
+           psb_result_string(r), d.n_nodes, d.n_edges, d.n_branchings, d.n_kinks_plain, d.n_points, seconds() - t0,
+           run->s.stats.n_factor);
+    xo_print(&d, comp);
+    if (xo_finish(&o, &d, a->out, a->fold ? "triangle (fold)" : "triangle (branching)", "u1 of the lower left vertex (m)"))
+        printf("triangle: could not write to %s\n", a->out);
+    else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", a->out);
+    for (i = 0; i < d.n_nodes; i++) {
+        const psb_node *nd = d.nodes + i;
+        fe_branch b;
+        if (nd->kind == PSB_NODE_FOLD && n_fold < 8) folds[n_fold++] = nd->param;
+        n_branching += nd->kind == PSB_NODE_NONSMOOTH || nd->kind == PSB_NODE_PC1 || nd->kind == PSB_NODE_BRANCH;
+        if (a->fold || (nd->kind != PSB_NODE_BOUND && nd->kind != PSB_NODE_START) || fabs(nd->param) != 1) continue;
+        memset(&b, 0, sizeof b);
+        b.y = nd->y;
+        b.end = PSB_PARAM_BOUND;
+        b.resnorm = fe_resnorm(md, nd->y);
+        classify(md, &b);
+        ok = ok && check_branch(&b, n, 1e-8);
+        count[b.number]++;
+        printf("  branch %d (%s) ends at node %d, gamma = %+g, |H| = %.1e\n", b.number, b.label, i, nd->param, b.resnorm);
+    }
+    if (a->fold) {
+        printf("  limit points (gamma):");
+        for (i = 0; i < n_fold; i++) {
+            printf(" %.8f", folds[i]);
+            ok = ok && folds[i] > 0.4 && folds[i] < 0.9;
+        }
+        printf("   (paper: 0.56541, 0.66665 on M4096)\n");
+        ok = ok && n_fold == 2 && d.n_edges == 1 && d.edges[0].end == PSB_EDGE_BOUND;
+        /* the hand-driven fold run from the same couple: its limit points are kinks located to h_min */
+        {
+            fold_state fs;
+            psb_trace_report rep;
+            double worst = 0;
+            memcpy(ye, y, bytes);
+            memcpy(te, t, bytes);
+            trace_fold(run, ye, te, &fs, &rep, 0);
+            ok = ok && fs.nfold == n_fold;
+            for (i = 0; i < n_fold && i < fs.nfold; i++) worst = fmax(worst, fabs(folds[i] - fs.folds[i]));
+            printf("  hand-driven fold run: %d limit points, largest difference %.1e in gamma\n", fs.nfold, worst);
+            ok = ok && worst <= 1e-8;
+        }
+    } else {
+        for (i = 1; i <= 4; i++) ok = ok && count[i] == 1;
+        ok = ok && n_branching == 1;
+    }
+    ok = ok && r == PSB_SUCCESS;
+    printf("triangle: %s\n", ok ? (a->fold ? "OK (the explorer located two limit points in (0.4, 0.9))"
+                                            : "OK (the explorer found the four branches of the paper)")
+                                 : "FAILED (the explored diagram differs)");
+    psb_diagram_free(&d);
+    free(ye);
+    free(te);
+    return ok ? 0 : 1;
+}
+
 int main(int argc, char **argv)
 {
     args a;
@@ -456,8 +547,8 @@ int main(int argc, char **argv)
     rv[n] = 1; /* towards larger gamma */
     r = psb_tangent(&run.s, y, rv, t);
     if (r != PSB_SUCCESS) { fprintf(stderr, "triangle: tangent failed: %s\n", psb_result_string(r)); goto done; }
-    if (a.fold) {
-        rc = run_fold(&run, y, t, &a, t0);
+    if (a.explore || a.fold) {
+        rc = a.explore ? run_explore(&run, y, t, &a, t0) : run_fold(&run, y, t, &a, t0);
         report_umf(umf);
         goto done;
     }

@@ -1,0 +1,682 @@
+/* psb_explore: the explorer's graph against exact diagrams (piecewise-linear problems whose
+   branches are known rays, smooth pitchforks with folds, two crossing circles, a closed
+   curve), capacities and budgets, bad input, determinism, the JSON and CSV forms. */
+#define PSCBRANCH_IMPLEMENTATION
+#define PSCBRANCH_STDIO
+#include "pscbranch.h"
+#include "harness.h"
+#include "pl_problems.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MAXB 64
+
+static psb_options pl_options(void)
+{
+    psb_options o;
+    memset(&o, 0, sizeof o);
+    o.h_init = 5e-2;
+    o.h_min = 1e-7;
+    return o;
+}
+
+/* Index of the ray (rays: np1 each) a nonzero point y lies on (direction within tol), or -1. */
+static int ray_index(const double *y, const double *rays, int n_rays, int np1, double tol)
+{
+    double u[PL_MAX_N + 1], ny = 0;
+    int i;
+    for (i = 0; i < np1; i++) ny += y[i] * y[i];
+    ny = sqrt(ny);
+    if (!(ny > 0)) return -1;
+    for (i = 0; i < np1; i++) u[i] = y[i] / ny;
+    return pl_match_rays(u, 1, rays, n_rays, np1, tol) == 1 ? (int)(
+               /* which one: the first matched within tol */
+               0) : -1;
+}
+
+/* The ray y lies on, by search (pl_match_rays says only whether). */
+static int which_ray(const double *y, const double *rays, int n_rays, int np1, double tol)
+{
+    int j;
+    for (j = 0; j < n_rays; j++)
+        if (ray_index(y, rays + j * np1, 1, np1, tol) == 0) return j;
+    return -1;
+}
+
+/* Explores a piecewise-linear problem from half-way along ray `incoming` (both directions,
+   g in [-1, 1]) and compares the graph with its rays: one branching node at the origin whose
+   branches are the rays, each once; every ray ends on the bound g = +-1 once (ray `incoming`
+   too: its outer half is the start's second edge); nothing else. branch_at_kinks 2: with
+   kink_spans 1. Returns whether all held. */
+static int check_pl_diagram(pl_problem *pp, const double *rays, int n_rays, int incoming,
+                            int branch_at_kinks, int no_detect, int verbose)
+{
+    int n = pp->n, np1 = n + 1, i, ok = 1, n_branching = 0, seen[PL_MAX_RAYS] = {0}, ends = 0;
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1];
+    psb_result r;
+    psb_problem_init(&prob, n, pl_residual, pl_jacobian, pp);
+    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return 0;
+    if (psb_diagram_init(&d, n, 2 * PL_MAX_RAYS, 2 * PL_MAX_RAYS, MAXB) != PSB_SUCCESS) return 0;
+    pl_start_on_ray(np1, rays, incoming, y, t);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = branch_at_kinks != 0;
+    eo.kink_spans = branch_at_kinks == 2; /* 2: with a one-span look first */
+    eo.no_detect = no_detect;
+    r = psb_explore(&s, y, t, &eo, &d);
+    ok &= r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0;
+    for (i = 0; i < d.n_nodes; i++) {
+        const psb_node *nd = d.nodes + i;
+        int k;
+        switch (nd->kind) {
+        case PSB_NODE_START: break;
+        case PSB_NODE_NONSMOOTH: case PSB_NODE_PC1: case PSB_NODE_BRANCH:
+            n_branching++;
+            ok &= psb_norm_w(&s, nd->y) < 1e-9;
+            ok &= nd->n_branches == n_rays && pl_match_rays(nd->ts, nd->n_branches, rays, n_rays, np1, 1e-8) == n_rays;
+            for (k = 0; k < nd->n_branches; k++) ok &= nd->branch_edge[k] >= 0;
+            break;
+        case PSB_NODE_BOUND: {
+            int j = which_ray(nd->y, rays, n_rays, np1, 1e-8);
+            ok &= fabs(nd->param) == 1 && j >= 0 && !seen[j];
+            if (j >= 0) seen[j] = 1;
+            ends++;
+            break;
+        }
+        case PSB_NODE_FOLD: break; /* the origin is a nonsmooth fold of the entering trace */
+        default: ok = 0;
+        }
+    }
+    ok &= n_branching == 1 && ends == n_rays && d.n_edges == n_rays + 1;
+    if (!ok && verbose)
+        printf("  explore: %s, %d nodes, %d edges, %d branching, %d ends of %d rays, queued %d\n",
+               psb_result_string(r), d.n_nodes, d.n_edges, n_branching, ends, n_rays, d.n_queued);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+    return ok;
+}
+
+/* H_i = min(x_i, g - x_i): 2^k rays meet at the origin; a trace entering along one passes
+   straight through (the tangent switch), so only kinks or the PC1 detector show the point. */
+static void test_crossing_kinks(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    pl_problem pp;
+    int k, entry;
+    for (k = 2; k <= 4; k++) {
+        int n_rays = pl_crossing_kinks(&pp, k, rays), complete = 0;
+        CHECK(n_rays == 1 << k);
+        for (entry = 0; entry < n_rays; entry += 3) complete += check_pl_diagram(&pp, rays, n_rays, entry, 1, 0, 1);
+        CHECK(complete == (n_rays + 2) / 3);
+        /* without kinks: the PC1 detector sees the point where det changes sign (k even) */
+        if (k % 2 == 0) CHECK(check_pl_diagram(&pp, rays, n_rays, 0, 0, 0, 1));
+        /* with neither, the trace passes the point: one edge through it, no node */
+        CHECK(!check_pl_diagram(&pp, rays, n_rays, 0, 0, 1, 0));
+    }
+}
+
+/* Random complementarity problems with 3 or more rays (both signs of g): the graph's branches
+   are rays (nothing spurious), every ray at most once; the share complete is reported. */
+static void test_random_lcps(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    unsigned long long st = 42;
+    pl_problem pp;
+    int trial, complete = 0, total = 24;
+    for (trial = 0; trial < total; trial++) {
+        int n = 3 + trial % 2, n_rays = pl_random_lcp(&pp, n, &st, 1, rays);
+        CHECK(n_rays >= 3);
+        complete += check_pl_diagram(&pp, rays, n_rays, trial % n_rays, 1, 0, 0);
+    }
+    printf("  random LCPs, N = 3 and 4: %d of %d diagrams complete and exact\n", complete, total);
+    CHECK(complete >= total - 2);
+}
+
+/* ---- smooth: pitchforks with folds, H_i = x_i (l - c_i - x_i^2 + x_i^4) -------------------
+   Branch points (0, c_i) on the trivial branch; from each, x_i = +-s with l = c_i + s^2 - s^4,
+   a fold at s^2 = 1/2 (l = c_i + 1/4), leaving the box |x_i| <= 1 at l = c_i; the other
+   components stay 0 (|x_i| <= 1 keeps l above every c_j < c_i: no secondary points). */
+typedef struct { int n; double c[4]; } pitch;
+
+static int pitch_res(const double *y, double *h, void *u)
+{
+    const pitch *p = (const pitch *)u;
+    int i;
+    for (i = 0; i < p->n; i++) {
+        double x = y[i];
+        h[i] = x * (y[p->n] - p->c[i] - x * x + x * x * x * x);
+    }
+    return 0;
+}
+
+static int pitch_jac(const double *y, double *j, int ld, void *u)
+{
+    const pitch *p = (const pitch *)u;
+    int i, k;
+    for (i = 0; i < p->n; i++) {
+        double x = y[i];
+        for (k = 0; k <= p->n; k++) j[i + k * ld] = 0;
+        j[i + i * ld] = y[p->n] - p->c[i] - 3 * x * x + 5 * x * x * x * x;
+        j[i + p->n * ld] = x;
+    }
+    return 0;
+}
+
+typedef struct { const pitch *p; double worst; long points; } pitch_check;
+
+/* every accepted point satisfies the closed form of the branch it is on */
+static int pitch_point(int edge, const psb_point *pt, void *user)
+{
+    pitch_check *pc = (pitch_check *)user;
+    int i, nz = 0, iz = -1, n = pc->p->n;
+    (void)edge;
+    for (i = 0; i < n; i++)
+        if (fabs(pt->y[i]) > 1e-7) { nz++; iz = i; }
+    if (nz == 0) {
+        pc->worst = fmax(pc->worst, 0);
+    } else if (nz == 1) {
+        double x = pt->y[iz];
+        pc->worst = fmax(pc->worst, fabs(pt->y[n] - (pc->p->c[iz] + x * x - x * x * x * x)));
+    } else {
+        pc->worst = 1; /* no branch has two nonzero components here */
+    }
+    pc->points++;
+    return 0;
+}
+
+static void test_pitchforks(void)
+{
+    pitch p = {2, {0.0, 0.5, 0, 0}};
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    pitch_check pc = {&p, 0, 0};
+    double y[3] = {0, 0, -0.5}, t[3] = {0, 0, 1}, lo[3] = {-1, -1, -10}, hi[3] = {1, 1, 10};
+    int i, n_branch = 0, n_fold = 0, n_box = 0, n_bound = 0;
+    psb_result r;
+    psb_problem_init(&prob, 2, pitch_res, pitch_jac, &p);
+    memset(&o, 0, sizeof o);
+    o.h_init = 2e-2;
+    o.h_max = 5e-2;
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 2, 32, 32, 8) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -0.5;
+    eo.trace.param_max = 1.5;
+    eo.box_min = lo;
+    eo.box_max = hi;
+    eo.on_point = pitch_point;
+    eo.point_user = &pc;
+    r = psb_explore(&s, y, t, &eo, &d);
+    CHECK(r == PSB_SUCCESS);
+    for (i = 0; i < d.n_nodes; i++) {
+        const psb_node *nd = d.nodes + i;
+        if (nd->kind == PSB_NODE_BRANCH) {
+            /* at l = c_i, x = 0, four half-branches */
+            int which = fabs(nd->param - p.c[0]) < 1e-8 ? 0 : (fabs(nd->param - p.c[1]) < 1e-8 ? 1 : -1);
+            CHECK(which >= 0);
+            CHECK(fabs(nd->y[0]) + fabs(nd->y[1]) < 1e-8);
+            CHECK(nd->n_branches == 4);
+            n_branch++;
+        } else if (nd->kind == PSB_NODE_FOLD) {
+            /* l = c_i + 1/4 at |x_i| = 1/sqrt(2) */
+            int c = fabs(nd->y[0]) > fabs(nd->y[1]) ? 0 : 1;
+            CHECK_NEAR(nd->param, p.c[c] + 0.25, 1e-8);
+            CHECK_NEAR(fabs(nd->y[c]), sqrt(0.5), 1e-6);
+            n_fold++;
+        } else if (nd->kind == PSB_NODE_BOUND) {
+            if (d.edges[nd->edge].end == PSB_EDGE_BOX) n_box++;
+            else if (nd->param == 1.5) n_bound++;
+        }
+    }
+    /* start -> P0 -> P1 -> l = 1.5, and two arms from each P_i to the box */
+    CHECK(n_branch == 2);
+    CHECK(n_fold == 4);
+    CHECK(n_box == 4);
+    CHECK(n_bound == 1);
+    CHECK(d.n_edges == 7);
+    CHECK(d.n_queued == 0);
+    CHECK(pc.points > 50 && pc.worst < 1e-8);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+/* ---- two circles crossing at (+-sqrt(3)/2, 0): arrivals at known nodes -------------------
+   H = (x^2 + (l - 1/2)^2 - 1)(x^2 + (l + 1/2)^2 - 1). From the top of the upper circle: two
+   simple branch points, four arcs between them plus the start's two half-arcs; every arc is
+   traced once, and the traces that reach the second point find it known. */
+static int circles_res(const double *y, double *h, void *u)
+{
+    double a = y[0] * y[0] + (y[1] - 0.5) * (y[1] - 0.5) - 1, b = y[0] * y[0] + (y[1] + 0.5) * (y[1] + 0.5) - 1;
+    (void)u;
+    h[0] = a * b;
+    return 0;
+}
+
+static int circles_jac(const double *y, double *j, int ld, void *u)
+{
+    double a = y[0] * y[0] + (y[1] - 0.5) * (y[1] - 0.5) - 1, b = y[0] * y[0] + (y[1] + 0.5) * (y[1] + 0.5) - 1;
+    (void)u;
+    j[0] = 2 * y[0] * b + a * 2 * y[0];
+    j[ld] = 2 * (y[1] - 0.5) * b + a * 2 * (y[1] + 0.5);
+    return 0;
+}
+
+static void test_crossing_circles(void)
+{
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    psb_diagram d;
+    double y[2] = {0, 1.5}, t[2] = {1, 0};
+    int i, n_branch = 0, arrivals = 0;
+    psb_result r;
+    psb_problem_init(&prob, 1, circles_res, circles_jac, NULL);
+    memset(&o, 0, sizeof o);
+    o.h_init = 1e-2;
+    o.h_max = 5e-2;
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 1, 16, 16, 8) == PSB_SUCCESS);
+    r = psb_explore(&s, y, t, NULL, &d);
+    CHECK(r == PSB_SUCCESS);
+    for (i = 0; i < d.n_nodes; i++)
+        if (d.nodes[i].kind == PSB_NODE_BRANCH) {
+            CHECK_NEAR(fabs(d.nodes[i].y[0]), sqrt(0.75), 1e-8);
+            CHECK_NEAR(d.nodes[i].y[1], 0, 1e-8);
+            CHECK(d.nodes[i].n_branches == 4);
+            n_branch++;
+        }
+    for (i = 0; i < d.n_edges; i++) {
+        CHECK(d.edges[i].end == PSB_EDGE_NODE);
+        arrivals += d.edges[i].to >= 0 && d.edges[i].to_branch > 0;
+    }
+    CHECK(n_branch == 2);
+    CHECK(d.n_edges == 5);
+    CHECK(arrivals == 3); /* the three arcs of the second point that reach it from the first */
+    CHECK(d.n_queued == 0);
+    if (n_branch != 2 || d.n_edges != 5) printf("  circles: %d branch nodes, %d edges, %d arrivals\n", n_branch, d.n_edges, arrivals);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+/* ---- a closed curve: one edge, a loop --------------------------------------------------- */
+static int circle_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] * y[0] + y[1] * y[1] - 1;
+    return 0;
+}
+
+static void test_loop(void)
+{
+    psb_problem prob;
+    psb_solver s;
+    psb_diagram d;
+    double y[2] = {1, 0}, t[2] = {0, 1};
+    psb_problem_init(&prob, 1, circle_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 1, 4, 4, 4) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, NULL, &d) == PSB_SUCCESS);
+    CHECK(d.n_edges == 1);
+    CHECK(d.edges[0].end == PSB_EDGE_LOOP && d.edges[0].to == 0 && d.edges[0].to_branch == 1);
+    CHECK_NEAR(d.edges[0].length, 2 * 3.141592653589793, 0.1); /* the loop ends past its start, within a step */
+    CHECK(d.nodes[0].branch_edge[0] == 0 && d.nodes[0].branch_edge[1] == 0);
+    CHECK(d.n_queued == 0);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+/* ---- an ordinary kink: x = |g| ------------------------------------------------------------
+   With branch_at_kinks the kink at g = 0 gets Algorithms 2.1 and 2.2, which find its two
+   branches: no node, the edge goes on (length sqrt(1/2) + sqrt(2) from (1/2, -1/2) to (1, 1)). */
+static int vee_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] - fabs(y[1]);
+    return 0;
+}
+
+static int vee_jac(const double *y, double *j, int ld, void *u)
+{
+    (void)u;
+    j[0] = 1;
+    j[ld] = y[1] < 0 ? 1 : -1;
+    return 0;
+}
+
+static void test_ordinary_kink(void)
+{
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    double y[2] = {0.5, -0.5}, t[2] = {-1, 1};
+    int i, n_bound = 0;
+    psb_problem_init(&prob, 1, vee_res, vee_jac, NULL);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 1, 8, 8, 8) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+    CHECK(d.n_kinks_plain == 1 && d.n_branchings == 1);
+    CHECK(d.n_edges == 2);
+    for (i = 0; i < d.n_nodes; i++) {
+        CHECK(d.nodes[i].kind == PSB_NODE_START || d.nodes[i].kind == PSB_NODE_BOUND);
+        if (d.nodes[i].kind == PSB_NODE_BOUND) {
+            n_bound++;
+            CHECK_NEAR(d.nodes[i].y[0], 1, 1e-9);
+        }
+    }
+    CHECK(n_bound == 2);
+    CHECK_NEAR(d.edges[0].length, sqrt(0.5) + sqrt(2.0), 1e-6);
+    /* a one-span look tells the kink ordinary at a fraction of the sweep, same diagram */
+    {
+        long full = s.stats.n_factor, look;
+        double len = d.edges[0].length;
+        memset(&s.stats, 0, sizeof s.stats);
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        full = s.stats.n_factor;
+        memset(&s.stats, 0, sizeof s.stats);
+        eo.kink_spans = 1;
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        look = s.stats.n_factor;
+        CHECK(d.n_kinks_plain == 1 && d.n_edges == 2 && d.edges[0].length == len);
+        CHECK(look < full);
+        eo.kink_spans = -1;
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    }
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+/* ---- capacities, budgets, bad input, memory, determinism, output -------------------------- */
+static void crossing_setup(pl_problem *pp, double *rays, psb_solver *s, double *y, double *t)
+{
+    psb_problem prob;
+    psb_options o = pl_options();
+    int n_rays = pl_crossing_kinks(pp, 3, rays);
+    (void)n_rays;
+    psb_problem_init(&prob, 3, pl_residual, pl_jacobian, pp);
+    CHECK(psb_solver_init(s, &prob, &o) == PSB_SUCCESS);
+    pl_start_on_ray(4, rays, 0, y, t);
+}
+
+static void test_capacity_and_budgets(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4];
+    pl_problem pp;
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    psb_result r;
+    int i, k;
+    crossing_setup(&pp, rays, &s, y, t);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    /* 4 branches per node: Algorithm 2.2's 8 rays do not fit; what fits is traced */
+    CHECK(psb_diagram_init(&d, 3, 32, 32, 4) == PSB_SUCCESS);
+    r = psb_explore(&s, y, t, &eo, &d);
+    CHECK(r == PSB_BRANCH_CAPACITY && d.truncated);
+    CHECK(d.n_edges == 5 && d.n_queued == 0);
+    for (i = 0; i < d.n_nodes; i++)
+        if (d.nodes[i].kind == PSB_NODE_PC1) CHECK(d.nodes[i].n_branches == 4);
+    psb_diagram_free(&d);
+    /* 3 nodes: start, the point, one bound end; other edges end with to = -1 */
+    CHECK(psb_diagram_init(&d, 3, 3, 32, 16) == PSB_SUCCESS);
+    r = psb_explore(&s, y, t, &eo, &d);
+    CHECK(r == PSB_BRANCH_CAPACITY && d.n_nodes == 3 && d.n_edges == 9);
+    for (i = 2, k = 0; i < d.n_edges; i++) k += d.edges[i].to == -1;
+    CHECK(k == 7);
+    psb_diagram_free(&d);
+    /* 4 edges: the queue is left with the untraced branches */
+    CHECK(psb_diagram_init(&d, 3, 32, 4, 16) == PSB_SUCCESS);
+    r = psb_explore(&s, y, t, &eo, &d);
+    CHECK(r == PSB_BRANCH_CAPACITY && d.n_edges == 4 && d.n_queued == 5);
+    psb_diagram_free(&d);
+    /* budgets: traces, points */
+    eo.max_traces = 3;
+    CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
+    r = psb_explore(&s, y, t, &eo, &d);
+    CHECK(r == PSB_STEP_BUDGET && d.n_edges == 3 && d.n_queued == 6);
+    eo.max_traces = 0;
+    eo.max_points = 30;
+    r = psb_explore(&s, y, t, &eo, &d);
+    CHECK(r == PSB_STEP_BUDGET && d.n_points == 30);
+    CHECK(d.edges[d.n_edges - 1].end == PSB_EDGE_BUDGET && d.nodes[d.edges[d.n_edges - 1].to].kind == PSB_NODE_BUDGET);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+static int stop_at_tenth(int edge, const psb_point *pt, void *user)
+{
+    (void)edge;
+    (void)pt;
+    return ++*(int *)user == 10;
+}
+
+static void test_bad_input(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4], y_copy[4], lo[4] = {-1, -1, -1, -1}, hi[4] = {1, 1, 1, 1},
+           nan = strtod("nan", NULL);
+    pl_problem pp;
+    psb_solver s;
+    psb_diagram d, d2;
+    psb_explore_options eo;
+    unsigned char small[64];
+    int calls = 0;
+    crossing_setup(&pp, rays, &s, y, t);
+    memcpy(y_copy, y, sizeof y);
+    /* sizes */
+    CHECK(psb_diagram_memory_size(0, 4, 4, 4) == 0);
+    CHECK(psb_diagram_memory_size(3, 0, 4, 4) == 0);
+    CHECK(psb_diagram_memory_size(3, 4, 0, 4) == 0);
+    CHECK(psb_diagram_memory_size(3, 4, 4, 0) == 0);
+    CHECK(psb_diagram_memory_size(3, 1 << 30, 1 << 30, 1 << 30) == 0);
+    CHECK(psb_diagram_memory_size(3, 4, 4, 4) > 0);
+    CHECK(psb_diagram_init(&d, 3, 0, 4, 4) == PSB_ERR_SIZE);
+    CHECK(psb_diagram_init(NULL, 3, 4, 4, 4) == PSB_ERR_NULL);
+    CHECK(psb_diagram_init_with_memory(&d, 3, 4, 4, 4, small, sizeof small) == PSB_ERR_NOMEM);
+    CHECK(psb_diagram_init_with_memory(&d, 3, 4, 4, 4, NULL, 1000) == PSB_ERR_NULL);
+    psb_diagram_free(NULL);
+    CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
+    /* pointers, sizes, numbers */
+    CHECK(psb_explore(NULL, y, t, NULL, &d) == PSB_ERR_NULL);
+    CHECK(psb_explore(&s, NULL, t, NULL, &d) == PSB_ERR_NULL);
+    CHECK(psb_explore(&s, y, t, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(psb_diagram_init(&d2, 2, 4, 4, 4) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, NULL, &d2) == PSB_ERR_SIZE);
+    psb_diagram_free(&d2);
+    CHECK(psb_explore(&s, y, t, NULL, &d2) == PSB_ERR_NULL); /* freed */
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = nan;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    CHECK(strstr(psb_solver_message(&s), "NaN") != NULL);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.node_tol = nan;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    eo.node_tol = -1;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    eo.node_tol = 0;
+    eo.max_points = -1;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    eo.max_points = 0;
+    eo.box_min = lo;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS); /* box_max missing */
+    eo.box_max = hi;
+    hi[1] = nan;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    hi[1] = -2;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    hi[1] = 1;
+    eo.trace.param_max = 0.25; /* the start lies at g = 0.5 */
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_INPUT);
+    eo.trace.param_max = 1;
+    lo[3] = 0.75;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_INPUT);
+    lo[3] = -1;
+    t[0] = nan;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_NONFINITE);
+    t[0] = 0;
+    {
+        double zero[4] = {0, 0, 0, 0};
+        CHECK(psb_explore(&s, y, zero, &eo, &d) == PSB_ERR_INPUT);
+    }
+    CHECK(memcmp(y, y_copy, sizeof y) == 0); /* inputs untouched */
+    /* the point callback stops it: PSB_STOPPED, the diagram so far kept */
+    eo.on_point = stop_at_tenth;
+    eo.point_user = &calls;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_STOPPED);
+    CHECK(calls == 10 && d.n_points == 10 && d.n_edges >= 1);
+    CHECK(memcmp(y, y_copy, sizeof y) == 0);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+/* a residual that asks to stop (< 0) past g = 0.8 */
+static int stop_res(const double *y, double *h, void *u)
+{
+    if (y[3] > 0.8) return -1;
+    return pl_residual(y, h, u);
+}
+
+static void test_callback_failure(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4];
+    pl_problem pp;
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    pl_crossing_kinks(&pp, 3, rays);
+    psb_problem_init(&prob, 3, stop_res, pl_jacobian, &pp);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    pl_start_on_ray(4, rays, 0, y, t);
+    CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_CALLBACK);
+    CHECK(d.n_edges >= 1 && d.edges[d.n_edges - 1].end == PSB_EDGE_FAILURE);
+    CHECK(d.edges[d.n_edges - 1].result == PSB_ERR_CALLBACK);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+/* same inputs and seed: the same diagram bit for bit, on caller memory as allocated */
+static void test_determinism(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4];
+    pl_problem pp;
+    psb_solver s;
+    psb_diagram a, b;
+    psb_explore_options eo;
+    size_t bytes = psb_diagram_memory_size(3, 32, 32, 16);
+    void *mem = malloc(bytes);
+    int i, same = 1;
+    crossing_setup(&pp, rays, &s, y, t);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    CHECK(mem != NULL);
+    CHECK(psb_diagram_init(&a, 3, 32, 32, 16) == PSB_SUCCESS);
+    CHECK(psb_diagram_init_with_memory(&b, 3, 32, 32, 16, mem, bytes) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, &eo, &a) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, &eo, &b) == PSB_SUCCESS);
+    same &= a.n_nodes == b.n_nodes && a.n_edges == b.n_edges && a.n_points == b.n_points;
+    for (i = 0; same && i < a.n_nodes; i++) {
+        const psb_node *p = a.nodes + i, *q = b.nodes + i;
+        same &= p->kind == q->kind && p->n_branches == q->n_branches && p->precision == q->precision &&
+                memcmp(p->y, q->y, 4 * sizeof(double)) == 0 &&
+                memcmp(p->ts, q->ts, (size_t)p->n_branches * 4 * sizeof(double)) == 0 &&
+                memcmp(p->branch_edge, q->branch_edge, (size_t)p->n_branches * sizeof(int)) == 0;
+    }
+    for (i = 0; same && i < a.n_edges; i++)
+        same &= memcmp(a.edges + i, b.edges + i, sizeof(psb_edge)) == 0;
+    CHECK(same);
+    psb_diagram_free(&a);
+    psb_diagram_free(&b); /* caller memory: nothing to free */
+    free(mem);
+    psb_solver_free(&s);
+}
+
+/* the JSON and CSV forms hold the graph: counts of records, kinds, the schema's keys */
+static void test_output(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4];
+    pl_problem pp;
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    char buf[1 << 16];
+    size_t len;
+    FILE *f = tmpfile(), *g = tmpfile();
+    int lines = 0, pc1 = 0;
+    const char *p;
+    crossing_setup(&pp, rays, &s, y, t);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+    CHECK(f && g);
+    if (!f || !g) return;
+    CHECK(psb_diagram_write_json(&d, f) == PSB_SUCCESS);
+    rewind(f);
+    len = fread(buf, 1, sizeof buf - 1, f);
+    buf[len] = 0;
+    CHECK(strstr(buf, "\"format\": \"pscbranch-diagram\"") && strstr(buf, "\"complete\": true"));
+    for (p = buf; (p = strstr(p, "\"end\": \"bound\"")) != NULL; p++) lines++;
+    CHECK(lines == 8);
+    for (p = buf; (p = strstr(p, "\"kind\": \"pc1\"")) != NULL; p++) pc1++;
+    CHECK(pc1 == 1);
+    rewind(f);
+    CHECK(psb_diagram_write_csv(&d, f, g) == PSB_SUCCESS);
+    CHECK(psb_diagram_write_csv(&d, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(psb_diagram_write_json(NULL, f) == PSB_ERR_NULL);
+    rewind(g);
+    lines = 0;
+    while (fgets(buf, sizeof buf, g)) lines++;
+    CHECK(lines == 1 + d.n_edges);
+    CHECK(strcmp(psb_node_kind_string(PSB_NODE_NONSMOOTH), "nonsmooth") == 0);
+    CHECK(strcmp(psb_edge_end_string(PSB_EDGE_LOOP), "loop") == 0);
+    CHECK(strcmp(psb_node_kind_string((psb_node_kind)99), "unknown") == 0);
+    fclose(f);
+    fclose(g);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+int main(void)
+{
+    test_crossing_kinks();
+    test_random_lcps();
+    test_pitchforks();
+    test_crossing_circles();
+    test_loop();
+    test_ordinary_kink();
+    test_capacity_and_budgets();
+    test_bad_input();
+    test_callback_failure();
+    test_determinism();
+    test_output();
+    return HARNESS_END();
+}
