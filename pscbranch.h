@@ -683,6 +683,10 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
 typedef enum psb_restart { PSB_RESTART_MIXED = 0, PSB_RESTART_PAPER = 1, PSB_RESTART_GLOBAL = 2 } psb_restart;
 
 /* ---- options: every field's zero value means "the default in brackets" ------------------ */
+/* Upper limits of the options' counts (psb_solver_init returns PSB_ERR_OPTIONS above them) */
+#define PSB_MAX_ITER_LIMIT 1000   /* max_iter, iter_threshold */
+#define PSB_MAX_DIR_LIMIT 10000   /* n_dir */
+#define PSB_MAX_SPAN_LIMIT 10000  /* n_span, n_span_max */
 typedef struct psb_options {
     /* weighted inner product <a,b>_w = sum_i w_i a_i b_i, used for every norm, cosine and
        normalisation in the library */
@@ -718,6 +722,10 @@ typedef struct psb_options {
                              10^4 difference steps at the point, see section 1; a value
                              set here stands, and Algorithm 2.2 then takes its sample
                              tangents with difference steps below branch_h / 1000] */
+    double branch_h_fd_steps; /* finite differences, branch_h left at 0: branch_h is this
+                             many difference steps at each branching point [1e4]; resolved
+                             (psb_options_resolve_for) to 0 when not used, while branch_h
+                             then stays 0, meaning "follows the point" */
     double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
     double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
     int n_dir;            /* directions per span of two tangents [20] */
@@ -728,6 +736,12 @@ typedef struct psb_options {
                              left at 0 (memo on), at least 15 counted spans, and on while
                              fewer than 3 times the span of the last new branch, up to 60
                              (8 n_span in all) */
+    int n_span_max;       /* counted spans at most when the sweep adapts its length [60 when
+                             n_span is left at 0 and the memo is on, else n_span]: n_span <
+                             n_span_max adapts (n_span counted spans at least, then on while
+                             fewer than 3 times the span of the last new branch; 2 n_span_max
+                             or 4 n_span spans in all, idle ones included); n_span_max =
+                             n_span is a fixed length */
     double branch_trial_h_min; /* trial steps of Algorithm 2.2 give up below this step [h_min];
                                   e.g. branch_h_init / 16 bounds each trial to 5 correctors */
     int branch_patience;  /* stop after this many spans in a row found no new branch
@@ -746,8 +760,15 @@ typedef struct psb_options {
     unsigned long long seed; /* seed of the generator of the random spans [0 is a valid seed] */
 } psb_options;
 
-/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by its
-   default, so a log or a test can show what will be used. Does not validate. */
+/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by what a
+   solver of problem p uses (p may be NULL: a problem with an analytic Jacobian), so a log or
+   a test can show it; given back to psb_solver_init it means the same. Adaptive values say so:
+   n_span < n_span_max (the sweep's length adapts between them), and, with finite differences
+   and branch_h left at 0, branch_h = branch_h_min = 0 with branch_h_fd_steps > 0 (they follow
+   each branching point; s->opt.branch_h shows the last value). Does not validate. */
+PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const psb_problem *p);
+/* psb_options_resolve_for(opt, NULL): the values for an analytic Jacobian (0.9.0 and before
+   reported n_span 15 without n_span_max, and branch_h = h_min also for finite differences) */
 PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt);
 
 /* ---- counters ---------------------------------------------------------------------------- */
@@ -780,8 +801,7 @@ typedef struct psb_solver {
                                            branches swept, bit j (j - 1) / 2 + i */
     int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
                                          A^{-1} dpfac_ / delta_ is current */
-    int branch_h_auto_, branch_h_min_auto_; /* left to their defaults (see psb__branch_h) */
-    int n_span_auto_; /* n_span left to its default: the sweep's end adapts (psb_find_branches) */
+    int branch_h_auto_, branch_h_min_auto_; /* follow the point (see psb__branch_h) */
     double fd_cap_;   /* > 0: largest difference step (weighted), see psb__sample_tangent */
     double *w_;
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
@@ -793,6 +813,11 @@ typedef struct psb_solver {
     void *owned_;
     unsigned long long rng_[4];
     int last_fail_;
+    long faults_[4]; /* trials of the current algorithm that failed because of a fault, by
+                        cause: callback > 0, NaN/Inf, singular Jacobian; [3]: singular
+                        difference Jacobians, a fault only when n_ok_ = 0 (psb__note_fault) */
+    long n_ok_;      /* tangents and corrector runs of the current algorithm that succeeded */
+    unsigned ready_; /* PSB__READY between a successful init and psb_solver_free */
 } psb_solver;
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
@@ -931,6 +956,12 @@ typedef struct psb_branch_report {
                              found: the smallest n_span that finds them all, all else equal */
     long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
     int n_rand_last_new;  /* n_span = span_last_new would report */
+    long n_failed;        /* trials and sample tangents that failed because of a fault, the sum
+                             of the next three; psb_find_branches succeeds only when it is 0 */
+    long n_failed_callback;  /* ... because a callback returned > 0 */
+    long n_failed_nonfinite; /* ... because of NaN or Inf from a callback */
+    long n_failed_singular;  /* ... because dH had rank < N there (no tangent), or
+                                solver.factor failed whatever the bordering row */
 } psb_branch_report;
 
 /* Algorithm 2.2 with the restarts of Section 3: n_span spans of two tangents, each swept in
@@ -1181,6 +1212,7 @@ enum {
     PSB__V_REF,   /* reference direction copy */
     PSB__V_STEP_Y, PSB__V_STEP_T,   /* psb_step trial couple */
     PSB__V_SW_Y, PSB__V_SW_T, PSB__V_SW_D, PSB__V_SW_P, PSB__V_SW_A, PSB__V_SW_B, PSB__V_SW_C, /* switch */
+    PSB__V_IO_Y, PSB__V_IO_T,       /* psb_step / psb_switch_tangent: the caller's couple, copied */
     PSB__V_TR_Y, PSB__V_TR_T, PSB__V_TR_Y0, PSB__V_TR_T0, PSB__V_TR_B, PSB__V_TR_S, PSB__V_TR_K, /* trace */
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
@@ -1200,9 +1232,17 @@ static int psb__memo_capacity(int n)
    psb__try_tangent) */
 #define PSB__PATH_MAX 8
 
-/* Why the last recoverable failure happened, to report the right code when steps run out. */
+/* Why the last recoverable failure happened. Geometry (no convergence, a rejected or cut trial,
+   a bordered matrix singular only because the curve turned across its bordering row: TURN)
+   says something about the curve; a fault (a callback returned > 0, NaN or Inf, a Jacobian of
+   rank < N or a failing solver.factor: SINGULAR) says nothing about it, and an algorithm whose
+   outcome rests on one returns its code (psb__note_fault, psb__faults_code). A difference
+   Jacobian of rank < N (FD_RANK) is geometry too: quotients across a piece boundary mix the
+   pieces, which happens within a difference step of every kink; only when nothing at all
+   succeeded is it a fault. */
 enum { PSB__FAIL_NONE, PSB__FAIL_CONVERGE, PSB__FAIL_NONFINITE, PSB__FAIL_CALLBACK,
-       PSB__FAIL_SINGULAR, PSB__FAIL_COSINE, PSB__FAIL_KNOWN };
+       PSB__FAIL_SINGULAR, PSB__FAIL_COSINE, PSB__FAIL_KNOWN, PSB__FAIL_TURN, PSB__FAIL_FD_RANK };
+#define PSB__READY 0x70736231u /* psb_solver.ready_ of an initialised solver */
 
 PSCBRANCH_DEF const char *psb_result_string(psb_result code)
 {
@@ -1244,7 +1284,28 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
 
 PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
 {
+    return psb_options_resolve_for(opt, NULL);
+}
+
+/* Whether the library forms dH by finite differences (no analytic Jacobian callback). */
+static int psb__fd_jacobian(const psb_problem *p)
+{
+    switch (p->linear) {
+    case PSB_LINEAR_BANDED: return p->band_jacobian == NULL;
+    case PSB_LINEAR_USER: return 0;
+    default: return p->jacobian == NULL;
+    }
+}
+
+/* Fields that depend on the problem: branch_h (finite differences: follows the point) and
+   with it branch_h_min; without a problem, those of an analytic Jacobian. Fields that mean
+   "adaptive" resolve to the values the adaptation uses, with a field saying it adapts (n_span
+   and n_span_max, branch_h = 0 and branch_h_fd_steps), so that a resolved set given back to
+   psb_solver_init means the same as the set it came from. */
+PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const psb_problem *p)
+{
     psb_options o;
+    int fd = p && psb__fd_jacobian(p);
     if (opt) o = *opt;
     else memset(&o, 0, sizeof o);
     if (o.kappa == 0) o.kappa = 1.0;
@@ -1262,10 +1323,17 @@ PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
     if (o.switch_delta_max == 0) o.switch_delta_max = o.h_init;
     if (o.fd_step == 0) o.fd_step = o.fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
     if (o.c_diff == 0) o.c_diff = 0.99999;
-    if (o.branch_h == 0) o.branch_h = o.h_min;
-    if (o.branch_h_min == 0) o.branch_h_min = o.branch_h / 16384.0;
+    if (o.branch_h == 0 && fd) {
+        if (o.branch_h_fd_steps == 0) o.branch_h_fd_steps = 1e4; /* branch_h follows the point */
+    } else {
+        if (o.branch_h == 0) o.branch_h = o.h_min;
+        if (o.branch_h_min == 0) o.branch_h_min = o.branch_h / 16384.0;
+        o.branch_h_fd_steps = 0; /* not used */
+    }
     if (o.branch_h_init == 0) o.branch_h_init = o.h_init;
     if (o.n_dir == 0) o.n_dir = 20;
+    if (o.n_span_max == 0)
+        o.n_span_max = o.n_span == 0 && !o.branch_no_memo ? 60 : o.n_span ? o.n_span : 15;
     if (o.n_span == 0) o.n_span = 15;
     if (o.branch_trial_h_min == 0) o.branch_trial_h_min = o.h_min;
     return o;
@@ -1295,36 +1363,52 @@ static psb_result psb__fail(psb_solver *s, psb_result code, const char *what)
     return code;
 }
 
-/* Checks the options after resolution; returns a message or NULL. */
+/* Checks the options after resolution; returns a message naming the field, or NULL. The upper
+   limits keep every count the code forms within an int and every loop bounded: a step shrinks
+   at most log(h_max / h_min) / log(1 / h_dec) times (h_dec <= 0.9: under 15000 trials). */
 static const char *psb__check_options(const psb_options *o, int np1)
 {
     int i;
-    if (!(o->kappa > 0) || !psb__finite(o->kappa)) return "kappa must be positive";
+#define PSB__POS(x) ((x) > 0 && psb__finite(x)) /* false for NaN and Inf */
+    if (!PSB__POS(o->kappa)) return "kappa must be positive and finite";
     if (o->weights)
         for (i = 0; i < np1; i++)
-            if (!(o->weights[i] > 0) || !psb__finite(o->weights[i]))
-                return "weights must be positive and finite";
-    if (!(o->h_min > 0) || !(o->h_min <= o->h_init) || !(o->h_init <= o->h_max) ||
-        !psb__finite(o->h_max))
-        return "need 0 < h_min <= h_init <= h_max < inf";
-    if (!(o->h_inc >= 1) || !psb__finite(o->h_inc)) return "h_inc must be >= 1";
-    if (!(o->h_dec > 0 && o->h_dec < 1)) return "h_dec must lie in (0, 1)";
-    if (o->max_iter < 1 || o->iter_threshold < 1) return "max_iter and iter_threshold must be >= 1";
-    if (!(o->tol_residual > 0) || !(o->tol_correction > 0)) return "tolerances must be positive";
+            if (!PSB__POS(o->weights[i])) return "weights must be positive and finite";
+    if (!PSB__POS(o->h_min) || !PSB__POS(o->h_init) || !PSB__POS(o->h_max) ||
+        !(o->h_min <= o->h_init) || !(o->h_init <= o->h_max))
+        return "h_min, h_init, h_max: need 0 < h_min <= h_init <= h_max < inf";
+    if (!(o->h_inc >= 1 && o->h_inc <= 100)) return "h_inc must lie in [1, 100]";
+    if (!(o->h_dec > 0 && o->h_dec <= 0.9)) return "h_dec must lie in (0, 0.9]";
+    if (o->max_iter < 1 || o->max_iter > PSB_MAX_ITER_LIMIT) return "max_iter must lie in [1, PSB_MAX_ITER_LIMIT = 1000]";
+    if (o->iter_threshold < 1 || o->iter_threshold > PSB_MAX_ITER_LIMIT)
+        return "iter_threshold must lie in [1, PSB_MAX_ITER_LIMIT = 1000]";
+    if (!PSB__POS(o->tol_residual)) return "tol_residual must be positive and finite";
+    if (!PSB__POS(o->tol_correction)) return "tol_correction must be positive and finite";
     if (!(o->c_min > -1 && o->c_min < 1)) return "c_min must lie in (-1, 1)";
-    if (!(o->switch_delta_min > 0) || !(o->switch_delta_min <= o->switch_delta_max) ||
-        !psb__finite(o->switch_delta_max))
-        return "need 0 < switch_delta_min <= switch_delta_max";
+    if (!PSB__POS(o->switch_delta_min) || !PSB__POS(o->switch_delta_max) ||
+        !(o->switch_delta_min <= o->switch_delta_max))
+        return "switch_delta_min, switch_delta_max: need 0 < switch_delta_min <= switch_delta_max < inf";
     if (!(o->fd_step > 0) || !(o->fd_step < 1)) return "fd_step must lie in (0, 1)";
     if (!(o->c_diff > 0 && o->c_diff < 1)) return "c_diff must lie in (0, 1)";
-    if (!(o->branch_h_min > 0) || !(o->branch_h_min < o->branch_h) || !(o->branch_h_init > 0) ||
-        !psb__finite(o->branch_h) || !psb__finite(o->branch_h_init))
-        return "need 0 < branch_h_min < branch_h and branch_h_init > 0";
-    if (o->n_dir < 1 || o->n_span < 1) return "n_dir and n_span must be >= 1";
-    if (!(o->branch_trial_h_min > 0) || o->branch_patience < 0 || o->branch_max_pc < 0)
-        return "need branch_trial_h_min > 0, branch_patience >= 0, branch_max_pc >= 0";
+    if (!PSB__POS(o->branch_h_init)) return "branch_h_init must be positive and finite";
+    if (o->branch_h == 0 && o->branch_h_fd_steps != 0) { /* follows the point (finite differences) */
+        if (!(o->branch_h_fd_steps >= 1 && o->branch_h_fd_steps <= 1e8))
+            return "branch_h_fd_steps must lie in [1, 1e8]";
+        if (o->branch_h_min != 0 && !PSB__POS(o->branch_h_min))
+            return "branch_h_min must be positive and finite";
+    } else if (!PSB__POS(o->branch_h) || !PSB__POS(o->branch_h_min) || !(o->branch_h_min < o->branch_h)) {
+        return "branch_h, branch_h_min: need 0 < branch_h_min < branch_h < inf";
+    }
+    if (o->n_dir < 1 || o->n_dir > PSB_MAX_DIR_LIMIT) return "n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
+    if (o->n_span < 1 || o->n_span > PSB_MAX_SPAN_LIMIT) return "n_span must lie in [1, PSB_MAX_SPAN_LIMIT = 10000]";
+    if (o->n_span_max < o->n_span || o->n_span_max > PSB_MAX_SPAN_LIMIT)
+        return "n_span_max must lie in [n_span, PSB_MAX_SPAN_LIMIT = 10000]";
+    if (!PSB__POS(o->branch_trial_h_min)) return "branch_trial_h_min must be positive and finite";
+    if (o->branch_patience < 0) return "branch_patience must be >= 0";
+    if (o->branch_max_pc < 0) return "branch_max_pc must be >= 0";
     if (o->restart < PSB_RESTART_MIXED || o->restart > PSB_RESTART_GLOBAL)
         return "restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
+#undef PSB__POS
     return NULL;
 }
 
@@ -1414,16 +1498,6 @@ PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p)
     return psb__layout(p, NULL, NULL);
 }
 
-/* Whether the library forms dH by finite differences (no analytic Jacobian callback). */
-static int psb__fd_jacobian(const psb_problem *p)
-{
-    switch (p->linear) {
-    case PSB_LINEAR_BANDED: return p->band_jacobian == NULL;
-    case PSB_LINEAR_USER: return 0;
-    default: return p->jacobian == NULL;
-    }
-}
-
 PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_problem *p,
                                                      const psb_options *opt, void *memory,
                                                      size_t bytes)
@@ -1438,11 +1512,10 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     if (bad) return psb__fail(s, code, bad);
     if (bytes < psb__layout(p, NULL, NULL))
         return psb__fail(s, PSB_ERR_NOMEM, "memory block smaller than psb_solver_memory_size(p)");
-    s->opt = psb_options_resolve(opt);
+    s->opt = psb_options_resolve_for(opt, p);
     /* finite differences: branch_h follows the difference steps at each point (psb__branch_h) */
-    s->branch_h_auto_ = (!opt || opt->branch_h == 0) && psb__fd_jacobian(p);
-    s->branch_h_min_auto_ = !opt || opt->branch_h_min == 0;
-    s->n_span_auto_ = !opt || opt->n_span == 0;
+    s->branch_h_auto_ = s->opt.branch_h == 0;
+    s->branch_h_min_auto_ = s->opt.branch_h_min == 0;
     bad = psb__check_options(&s->opt, p->n + 1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->prob = *p;
@@ -1457,6 +1530,7 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
         s->w_[i] = s->opt.weights ? s->opt.weights[i]
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
     s->opt.weights = NULL; /* copied: the caller's array need not outlive init */
+    s->ready_ = PSB__READY;
     return PSB_SUCCESS;
 }
 
@@ -1486,15 +1560,20 @@ PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
 
 PSCBRANCH_DEF void psb_solver_free(psb_solver *s)
 {
+    psb_stats stats;
     if (!s) return;
-    if (s->owned_) PSCBRANCH_FREE(s->owned_);
-    s->owned_ = NULL;
-    s->vec_ = NULL;
+    if (s->ready_ == PSB__READY && s->owned_) PSCBRANCH_FREE(s->owned_);
+    /* every pointer into the block goes, so that a later call fails cleanly (PSB_ERR_NULL);
+       the counters stay readable */
+    stats = s->stats;
+    memset(s, 0, sizeof *s);
+    s->stats = stats;
 }
 
 PSCBRANCH_DEF const char *psb_solver_message(const psb_solver *s) { return s ? s->message : ""; }
 
-PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b)
+/* The weighted inner product of the library's own vectors (no checks: every caller has them) */
+static double psb__dot_w(const psb_solver *s, const double *a, const double *b)
 {
     double sum = 0;
     int i;
@@ -1502,7 +1581,19 @@ PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const doubl
     return sum;
 }
 
-PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a) { return sqrt(psb_dot_w(s, a, a)); }
+PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b)
+{
+    if (!s || s->ready_ != PSB__READY || !s->w_ || !a || !b) return NAN;
+    return psb__dot_w(s, a, b);
+}
+
+static double psb__norm_w(const psb_solver *s, const double *a) { return sqrt(psb__dot_w(s, a, a)); }
+
+PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a)
+{
+    if (!s || s->ready_ != PSB__READY || !s->w_ || !a) return NAN;
+    return sqrt(psb__dot_w(s, a, a));
+}
 
 /* ||a - b||_w, formed from the differences (not from dot products, which cancel for close points) */
 static double psb__dist_w(const psb_solver *s, const double *a, const double *b)
@@ -1524,8 +1615,8 @@ static double psb__norm2(const double *a, int n)
 /* Weighted cosine of the angle between a and b (0 when either vanishes). */
 static double psb__cos_w(const psb_solver *s, const double *a, const double *b)
 {
-    double na = psb_norm_w(s, a), nb = psb_norm_w(s, b);
-    return (na > 0 && nb > 0) ? psb_dot_w(s, a, b) / (na * nb) : 0.0;
+    double na = psb__norm_w(s, a), nb = psb__norm_w(s, b);
+    return (na > 0 && nb > 0) ? psb__dot_w(s, a, b) / (na * nb) : 0.0;
 }
 
 static void psb__copy(double *dst, const double *src, int n) { memmove(dst, src, (size_t)n * sizeof *dst); }
@@ -1539,7 +1630,7 @@ static void psb__axpy_to(double *dst, const double *a, double h, const double *b
 
 static int psb__normalize_w(const psb_solver *s, double *a)
 {
-    double nrm = psb_norm_w(s, a);
+    double nrm = psb__norm_w(s, a);
     int i;
     if (!(nrm > 0) || !psb__finite(nrm)) return 0;
     for (i = 0; i < s->np1_; i++) a[i] /= nrm;
@@ -1553,6 +1644,57 @@ static psb_result psb__callback_code(psb_solver *s, int rc, const char *which)
     if (rc < 0) return psb__fail(s, PSB_ERR_CALLBACK, which);
     s->last_fail_ = PSB__FAIL_CALLBACK;
     return psb__fail(s, PSB_ERR_CALLBACK_FAILED, which);
+}
+
+static int psb__fd_jacobian(const psb_problem *p);
+
+/* Whether a recoverable failure code is a fault (not geometry): the codes of psb__tangent and
+   psb__try_step, whose SINGULAR is a rank-deficient Jacobian (psb__correct's may be a TURN). */
+static int psb__is_fault(psb_result r)
+{
+    return r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE || r == PSB_ERR_SINGULAR;
+}
+
+/* Starts the count of faults of an algorithm (psb__note_fault, psb__faults_code). */
+static void psb__faults_reset(psb_solver *s)
+{
+    memset(s->faults_, 0, sizeof s->faults_);
+    s->n_ok_ = 0;
+}
+
+/* Counts a failed trial or tangent of the current algorithm when its code r is a fault;
+   returns whether it was. A singular difference Jacobian is counted apart (FD_RANK). */
+static int psb__note_fault(psb_solver *s, psb_result r)
+{
+    if (!psb__is_fault(r)) return 0;
+    if (r == PSB_ERR_SINGULAR && psb__fd_jacobian(&s->prob)) {
+        s->faults_[3]++;
+        return 0;
+    }
+    s->faults_[r == PSB_ERR_CALLBACK_FAILED ? 0 : r == PSB_ERR_NONFINITE ? 1 : 2]++;
+    return 1;
+}
+
+/* PSB_SUCCESS when no trial of the current algorithm failed because of a fault; otherwise the
+   fault's code (a callback before NaN/Inf before singular) with a message counting them.
+   Singular difference Jacobians are a fault when no tangent or corrector run succeeded. */
+static psb_result psb__faults_code(psb_solver *s, const char *what)
+{
+    static const psb_result codes[3] = {PSB_ERR_CALLBACK_FAILED, PSB_ERR_NONFINITE, PSB_ERR_SINGULAR};
+    int k;
+    if (s->n_ok_ == 0 && s->faults_[3] > 0) {
+        s->faults_[2] += s->faults_[3];
+        s->faults_[3] = 0;
+    }
+    for (k = 0; k < 3; k++)
+        if (s->faults_[k]) {
+            char buf[160];
+            snprintf(buf, sizeof buf, "%s: trials failed because a callback returned > 0 (%ld), "
+                     "NaN or Inf (%ld), a singular Jacobian or solver.factor (%ld)", what,
+                     s->faults_[0], s->faults_[1], s->faults_[2]);
+            return psb__fail(s, codes[k], buf);
+        }
+    return PSB_SUCCESS;
 }
 
 /* H(y) into out (n). */
@@ -2266,13 +2408,14 @@ static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref
         }
     }
     if (r != PSB_SUCCESS) return r;
-    if (psb_dot_w(s, x, ref) < 0)
+    if (psb__dot_w(s, x, ref) < 0)
         for (i = 0; i < np1; i++) x[i] = -x[i];
     if (!psb__normalize_w(s, x)) {
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
     }
     psb__copy(t, x, np1);
+    s->n_ok_++;
     return PSB_SUCCESS;
 }
 
@@ -2289,7 +2432,7 @@ static int psb__trial_known(const psb_solver *s, const double *x, const double *
    path_on_ (Algorithm 2.2's trials) it records its tangents and stops as soon as one is a
    tangent whose trial's outcome is known (the cut, see psb__try_tangent; last_fail_
    PSB__FAIL_KNOWN). */
-static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterations)
+static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *iterations)
 {
     int n = s->n_, np1 = s->np1_, it, i;
     double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_, corr_prev = 0;
@@ -2322,11 +2465,12 @@ static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterati
         }
         if (s->path_on_ && s->path_n_ < PSB__PATH_MAX)
             psb__copy(s->path_ + (size_t)s->path_n_++ * (size_t)np1, tc, np1);
+        *iterations = it;
         if (s->path_on_ && psb__trial_known(s, tc, s->path_ts_, s->path_nts_, NULL, s->path_own_)) {
             s->last_fail_ = PSB__FAIL_KNOWN;
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
-        corr = psb_norm_w(s, s->rhs_);
+        corr = psb__norm_w(s, s->rhs_);
         r = psb__residual(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
         res = psb__norm2(s->res_, n);
@@ -2335,13 +2479,44 @@ static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterati
              (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) {
             psb__copy(y, yc, np1);
             psb__copy(t, tc, np1);
-            if (iterations) *iterations = it;
             return PSB_SUCCESS;
         }
         corr_prev = corr;
     }
     s->last_fail_ = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector did not converge in max_iter iterations");
+}
+
+/* The corrector; *iterations (may be NULL) gets the iterations spent, also on failure. A
+   singular bordered matrix is geometry when dH has a tangent where it happened (the curve
+   turned across the bordering row: last_fail_ TURN), a fault when it has none (rank < N, or a
+   solver.factor that fails with any row: last_fail_ SINGULAR); the extra tangent costs a
+   factorisation only on that failure. With differences it is never a fault (FD_RANK). */
+static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterations)
+{
+    int its = 0;
+    psb_result r = psb__correct_run(s, y, t, &its), rt;
+    if (iterations) *iterations = its;
+    if (r == PSB_SUCCESS) s->n_ok_++;
+    if (r != PSB_ERR_SINGULAR) return r;
+    if (psb__fd_jacobian(&s->prob)) { /* either way no fault (FD_RANK): spare the test */
+        s->last_fail_ = PSB__FAIL_FD_RANK;
+        s->faults_[3]++;
+        return r;
+    }
+    rt = psb__tangent(s, PSB__VEC(s, PSB__V_Y), PSB__VEC(s, PSB__V_T), s->rhs_);
+    if (rt == PSB_SUCCESS) {
+        s->last_fail_ = PSB__FAIL_TURN;
+        return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix singular: the tangent turned across the bordering row");
+    }
+    if (rt == PSB_ERR_SINGULAR) s->last_fail_ = PSB__FAIL_SINGULAR;
+    return rt;
+}
+
+/* Whether psb__correct's failure r was a fault (psb__is_fault, its SINGULAR told apart). */
+static int psb__correct_fault(const psb_solver *s, psb_result r)
+{
+    return psb__is_fault(r) && s->last_fail_ != PSB__FAIL_TURN && s->last_fail_ != PSB__FAIL_FD_RANK;
 }
 
 /* Whether y1 lies on the line through y0 along t (|cosine| >= c_diff), at most dmax away. */
@@ -2351,8 +2526,8 @@ static int psb__on_ray(psb_solver *s, const double *y0, const double *y1, const 
     double *d = PSB__VEC(s, PSB__V_FD), dn;
     int i;
     for (i = 0; i < s->np1_; i++) d[i] = y1[i] - y0[i];
-    dn = psb_norm_w(s, d);
-    return dn > 0 && dn <= dmax && fabs(psb_dot_w(s, d, t)) >= s->opt.c_diff * dn * psb_norm_w(s, t);
+    dn = psb__norm_w(s, d);
+    return dn > 0 && dn <= dmax && fabs(psb__dot_w(s, d, t)) >= s->opt.c_diff * dn * psb__norm_w(s, t);
 }
 
 /* Trial steps from (y, t) starting at *h and shrinking by h_dec down to h_floor; on success
@@ -2366,6 +2541,7 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
 {
     int np1 = s->np1_;
     double *yt = PSB__VEC(s, PSB__V_STEP_Y), *tt = PSB__VEC(s, PSB__V_STEP_T), hh = *h;
+    psb_result fault = PSB_SUCCESS; /* the first fault among the failed trials */
     s->last_fail_ = PSB__FAIL_NONE;
     while (hh >= h_floor) {
         psb_result r;
@@ -2392,15 +2568,20 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
                 return PSB_SUCCESS;
             }
             s->last_fail_ = PSB__FAIL_COSINE;
+        } else if (fault == PSB_SUCCESS && psb__correct_fault(s, r)) {
+            fault = r;
         }
         s->stats.n_rejected++;
         /* a cut trial: a smaller step is the same trial scaled down */
         if (s->last_fail_ == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
         hh *= s->opt.h_dec;
     }
-    switch (s->last_fail_) {
-    case PSB__FAIL_NONFINITE: return psb__fail(s, PSB_ERR_NONFINITE, "NaN or Inf at every trial step down to h_min");
-    case PSB__FAIL_CALLBACK: return psb__fail(s, PSB_ERR_CALLBACK_FAILED, "callback failed at every trial step down to h_min");
+    /* a trial that failed because of a fault might have converged: the steps did not run out
+       because of the curve */
+    switch (fault) {
+    case PSB_ERR_NONFINITE: return psb__fail(s, fault, "NaN or Inf at a trial step, and no smaller step converged");
+    case PSB_ERR_CALLBACK_FAILED: return psb__fail(s, fault, "a callback failed at a trial step, and no smaller step converged");
+    case PSB_ERR_SINGULAR: return psb__fail(s, fault, "singular Jacobian (no tangent) at a trial step, and no smaller step converged");
     default: return psb__fail(s, PSB_ERR_STEP_TOO_SMALL, "no trial step converged down to h_min");
     }
 }
@@ -2411,14 +2592,24 @@ static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, 
     return psb__try_step_from(s, y, t, h, h_floor, iters, NULL);
 }
 
+/* Whether s is an initialised solver (not freed). A non-NULL s that is not gets the message
+   "solver not initialised". */
+static int psb__ready(psb_solver *s)
+{
+    if (!s) return 0;
+    if (s->ready_ == PSB__READY && s->vec_) return 1;
+    psb__fail(s, PSB_ERR_NULL, "solver not initialised (or freed)");
+    return 0;
+}
+
 static psb_result psb__check_couple(psb_solver *s, const void *y, const void *t)
 {
-    if (!s || !s->vec_) return PSB_ERR_NULL;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
     if (!psb__all_finite((const double *)y, s->np1_) || !psb__all_finite((const double *)t, s->np1_))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or t contains NaN or Inf");
-    if (!(psb_norm_w(s, (const double *)t) > 0)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    if (!(psb__norm_w(s, (const double *)t) > 0)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     return PSB_SUCCESS;
 }
 
@@ -2427,7 +2618,7 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
     int n, np1, it, i, k;
     double *yc, *yt, *row, res;
     psb_result r;
-    if (!s || !s->vec_) return PSB_ERR_NULL;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
     if (!psb__all_finite(y, s->np1_)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
@@ -2454,7 +2645,7 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
         s->rhs_[n] = 0;
         r = psb__solve_factored(s, s->rhs_, 1);
         if (r != PSB_SUCCESS) return r;
-        corr = psb_norm_w(s, s->rhs_);
+        corr = psb__norm_w(s, s->rhs_);
         /* backtracking on ||H||: full steps when they reduce it, which is the usual case */
         for (k = 0; k < 12; k++, lambda *= 0.5) {
             double trial;
@@ -2483,14 +2674,14 @@ PSCBRANCH_DEF psb_result psb_tangent(psb_solver *s, const double *y, const doubl
 {
     double *r0;
     psb_result r;
-    if (!s || !s->vec_) return PSB_ERR_NULL;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
     if (!psb__all_finite(y, s->np1_) || (ref && !psb__all_finite(ref, s->np1_)))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or ref contains NaN or Inf");
     r0 = PSB__VEC(s, PSB__V_REF);
     if (ref) {
-        if (!(psb_norm_w(s, ref) > 0)) return psb__fail(s, PSB_ERR_INPUT, "ref is zero");
+        if (!(psb__norm_w(s, ref) > 0)) return psb__fail(s, PSB_ERR_INPUT, "ref is zero");
         psb__copy(r0, ref, s->np1_);
     } else {
         memset(r0, 0, (size_t)s->np1_ * sizeof *r0);
@@ -2518,14 +2709,23 @@ static double psb__adapt(const psb_solver *s, double h, int iters)
 PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h)
 {
     int iters = 0;
+    double hh, *yc, *tc;
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
     if (!h) return psb__fail(s, PSB_ERR_NULL, "h is NULL");
     if (!(*h > 0) || !psb__finite(*h)) return psb__fail(s, PSB_ERR_INPUT, "step size must be positive");
-    if (*h > s->opt.h_max) *h = s->opt.h_max;
-    if (!psb__normalize_w(s, t)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
-    r = psb__try_step(s, y, t, h, s->opt.h_min, &iters);
-    if (r == PSB_SUCCESS) *h = psb__adapt(s, *h, iters);
+    hh = *h < s->opt.h_max ? *h : s->opt.h_max;
+    /* on copies: the caller's couple and h stay as they were unless a step is accepted */
+    yc = PSB__VEC(s, PSB__V_IO_Y);
+    tc = PSB__VEC(s, PSB__V_IO_T);
+    psb__copy(yc, y, s->np1_);
+    psb__copy(tc, t, s->np1_);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    r = psb__try_step(s, yc, tc, &hh, s->opt.h_min, &iters);
+    if (r != PSB_SUCCESS) return r;
+    psb__copy(y, yc, s->np1_);
+    psb__copy(t, tc, s->np1_);
+    *h = psb__adapt(s, hh, iters);
     return r;
 }
 
@@ -2544,7 +2744,10 @@ static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const dou
         h = s->opt.h_init;
         r = psb__try_step(s, yd, td, &h, h_floor, &iters);
         if (psb__is_fatal(r)) return r;
-        if (r != PSB_SUCCESS) continue;
+        if (r != PSB_SUCCESS) {
+            psb__note_fault(s, r);
+            continue;
+        }
         /* going back along the incoming branch is no continuation */
         if (-psb__cos_w(s, td, t) >= s->opt.c_diff) continue;
         if (t_before && -psb__cos_w(s, td, t_before) >= s->opt.c_diff) continue;
@@ -2564,11 +2767,13 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
     double *dir = PSB__VEC(s, PSB__V_SW_D), *probe = PSB__VEC(s, PSB__V_SW_P);
     double *t1 = PSB__VEC(s, PSB__V_SW_A), *q = PSB__VEC(s, PSB__V_SW_B), delta;
     psb_result r;
+    psb__faults_reset(s);
     /* the simple tangent switch: probe straight ahead */
     for (delta = s->opt.switch_delta_min; delta <= s->opt.switch_delta_max; delta *= 2) {
         psb__axpy_to(probe, y, delta, t, np1);
         r = psb__tangent(s, probe, t, dir);
         if (psb__is_fatal(r)) return r;
+        psb__note_fault(s, r);
         if (r != PSB_SUCCESS || psb__cos_w(s, dir, t) >= s->opt.c_diff) continue;
         r = psb__switch_try(s, y, t, t_before, dir, s->opt.h_min);
         if (r != PSB_NONSMOOTH_END) return r;
@@ -2582,9 +2787,10 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
             psb__axpy_to(probe, y, delta, t, np1);
             r = psb__tangent(s, probe, t, q);
             if (psb__is_fatal(r)) return r;
+            psb__note_fault(s, r);
             if (r != PSB_SUCCESS) continue;
             {
-                double c = psb_dot_w(s, t1, q);
+                double c = psb__dot_w(s, t1, q);
                 for (k = 0; k < np1; k++) q[k] -= c * t1[k];
                 if (!psb__normalize_w(s, q)) continue;
             }
@@ -2595,6 +2801,7 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
                 psb__copy(PSB__VEC(s, PSB__V_SW_C), dir, np1);
                 r = psb__tangent(s, probe, PSB__VEC(s, PSB__V_SW_C), dir);
                 if (psb__is_fatal(r)) return r;
+                psb__note_fault(s, r);
                 if (r != PSB_SUCCESS || fabs(psb__cos_w(s, dir, t)) >= s->opt.c_diff) continue;
                 /* steps much shorter than the probe distance see only the kink itself */
                 r = psb__switch_try(s, y, t, t_before, dir, fmax(s->opt.h_min, delta / 64));
@@ -2602,16 +2809,29 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
             }
         }
     }
+    /* nothing found: an end point only if no probe or trial failed because of a fault */
+    r = psb__faults_code(s, "tangent switch");
+    if (r != PSB_SUCCESS) return r;
     s->message[0] = 0;
     return PSB_NONSMOOTH_END;
 }
 
 PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t)
 {
+    double *yc, *tc;
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
-    if (!psb__normalize_w(s, t)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
-    return psb__switch(s, y, t, NULL);
+    /* on copies: the caller's couple stays as it was unless the switch succeeds */
+    yc = PSB__VEC(s, PSB__V_IO_Y);
+    tc = PSB__VEC(s, PSB__V_IO_T);
+    psb__copy(yc, y, s->np1_);
+    psb__copy(tc, t, s->np1_);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    r = psb__switch(s, yc, tc, NULL);
+    if (r != PSB_SUCCESS) return r;
+    psb__copy(y, yc, s->np1_);
+    psb__copy(t, tc, s->np1_);
+    return r;
 }
 
 /* Parameter value of the limit point between two couples whose tangents' parameter components
@@ -2678,7 +2898,7 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
     psb__copy(tt, t0, np1);
     trial = hs;
     r = psb__try_step(s, yt, tt, &trial, hs, &iters);
-    if (psb__is_fatal(r)) return r;
+    if (psb__is_fatal(r) || psb__is_fault(r)) return r; /* a fault leaves the kink unlocated */
     if (r == PSB_SUCCESS) {
         half_theta = psb__angle_w(s, t0, tt);
         if (half_theta >= 0.25 * theta && half_theta <= 0.75 * theta) return 0;
@@ -2694,7 +2914,7 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
         psb__copy(tt, ta, np1);
         trial = half;
         r = psb__try_step(s, yt, tt, &trial, half, &iters);
-        if (psb__is_fatal(r)) return r;
+        if (psb__is_fatal(r) || psb__is_fault(r)) return r;
         if (r == PSB_SUCCESS && psb__angle_w(s, ta, tt) < 0.25 * theta) {
             psb__copy(ya, yt, np1);
             psb__copy(ta, tt, np1);
@@ -2738,6 +2958,8 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     if (opts.max_steps <= 0) opts.max_steps = 10000;
     np1 = s->np1_;
     p = s->prob.param_index;
+    if (opts.param_min != opts.param_min || opts.param_max != opts.param_max)
+        return rep->end = psb__fail(s, PSB_ERR_INPUT, "trace options: param_min or param_max is NaN");
     bounded = opts.param_min < opts.param_max;
     if (bounded && (!(y[p] >= opts.param_min) || !(y[p] <= opts.param_max)))
         return rep->end = psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
@@ -2815,9 +3037,10 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                 goto done;
             }
             r = psb__land_on_bound(s, yold, yc, bound);
-            if (psb__is_fatal(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
+            /* (a singular Newton matrix there is a fold at the bound: a shorter step may land) */
+            if (psb__is_fatal(r) || r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
             if (r == PSB_SUCCESS) r = psb__tangent(s, yc, tc, tc);
-            if (psb__is_fatal(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
+            if (psb__is_fatal(r) || psb__is_fault(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
             if (r != PSB_SUCCESS) {
                 /* land by a shorter step next time */
                 psb__copy(yc, yold, np1);
@@ -2861,8 +3084,12 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     }
     rep->end = PSB_STEP_BUDGET;
 done:
-    psb__copy(y, yc, np1);
-    psb__copy(t, tc, np1);
+    /* a failure before the first accepted step leaves the caller's couple as it was (t not
+       normalised); otherwise (y, t) is the last accepted couple */
+    if (rep->end >= 0 || rep->steps > 0) {
+        psb__copy(y, yc, np1);
+        psb__copy(t, tc, np1);
+    }
     rep->h = h;
     return rep->end;
 }
@@ -2884,7 +3111,7 @@ static void psb__branch_h(psb_solver *s, const double *y)
         double sj = s->opt.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
         if (sj > step) step = sj;
     }
-    h = 1e4 * step;
+    h = s->opt.branch_h_fd_steps * step;
     if (h > s->opt.branch_h_init / 8) h = s->opt.branch_h_init / 8;
     s->opt.branch_h = h > s->opt.h_min ? h : s->opt.h_min;
     if (s->branch_h_min_auto_) s->opt.branch_h_min = s->opt.branch_h / 16384.0;
@@ -2892,7 +3119,7 @@ static void psb__branch_h(psb_solver *s, const double *y)
 
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision)
 {
-    int np1;
+    int np1, last_fault = 0;
     long advances = 0;
     double h, *yc, *tc, *yt, *tt, *tin;
     psb_result r = psb__check_couple(s, y, t);
@@ -2912,6 +3139,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
        halved: the paper's version moves at most h in all, so it cannot reach an end point
        farther than h (the last step of a continuation can stop up to h_min / h_dec away). */
     h = s->opt.branch_h;
+    psb__faults_reset(s);
     do {
         int moved = 0;
         h *= 0.5;
@@ -2921,6 +3149,10 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
             s->stats.n_pc_steps++;
             r = psb__correct(s, yt, tt, NULL);
             if (psb__is_fatal(r)) return r;
+            /* a fault at the last trial leaves the end point unlocated (one that a later trial
+               outlived cost nothing: the same h is tried again after every move) */
+            last_fault = r != PSB_SUCCESS && psb__correct_fault(s, r);
+            if (last_fault) psb__note_fault(s, r);
             /* Step 4, also against the entering tangent, so that small turns passing c_diff
                one by one cannot add up to another direction, and only for a point ahead: the
                corrector may fall back from beyond the end point onto the branch behind it
@@ -2944,23 +3176,36 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
             }
         } while (moved);
     } while (h >= s->opt.branch_h_min);
+    if (last_fault) return psb__faults_code(s, "Algorithm 2.1");
     if (psb__fd_jacobian(&s->prob)) {
         /* the entering tangent too may come from quotients mixing the pieces (the last couple
            of a trace lies within h_min of the end point): take the branch's tangent 16
            branch_h back, where a difference step meets a piece boundary only if the branch
            runs within ~fd_step / (16 branch_h) radians of it. The point must lie behind and
            the tangent pass the continuation's own test, c_min, against one that may be off
-           by more than c_diff allows (central differences: 0.05 rad) */
-        double behind = 0, back = 16 * s->opt.branch_h;
-        int i;
-        psb__axpy_to(yt, yc, -back, tc, np1);
-        psb__copy(tt, tc, np1);
-        s->stats.n_pc_steps++;
-        r = psb__correct(s, yt, tt, NULL);
-        if (psb__is_fatal(r)) return r;
-        for (i = 0; i < np1; i++) behind += s->w_[i] * (yc[i] - yt[i]) * tc[i];
-        if (r == PSB_SUCCESS && behind >= 0.5 * back && psb__cos_w(s, tt, tc) >= s->opt.c_min)
-            psb__copy(tc, tt, np1);
+           by more than c_diff allows (central differences: 0.05 rad). When that correction
+           fails, 32, 8, 64 and 4 branch_h back; when all fail the call fails: kept, the
+           entering tangent was found a second time by the sweep as a new branch */
+        static const double backs[5] = {16, 32, 8, 64, 4};
+        int i, k, repaired = 0;
+        for (k = 0; k < 5 && !repaired; k++) {
+            double behind = 0, back = backs[k] * s->opt.branch_h;
+            psb__axpy_to(yt, yc, -back, tc, np1);
+            psb__copy(tt, tc, np1);
+            s->stats.n_pc_steps++;
+            r = psb__correct(s, yt, tt, NULL);
+            if (psb__is_fatal(r)) return r;
+            if (r != PSB_SUCCESS && psb__correct_fault(s, r)) {
+                psb__note_fault(s, r);
+                return psb__faults_code(s, "Algorithm 2.1, the tangent behind the end point");
+            }
+            for (i = 0; i < np1; i++) behind += s->w_[i] * (yc[i] - yt[i]) * tc[i];
+            repaired = r == PSB_SUCCESS && behind >= 0.5 * back && psb__cos_w(s, tt, tc) >= s->opt.c_min;
+        }
+        if (!repaired)
+            return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Algorithm 2.1: no branch tangent behind the end point "
+                             "(finite differences; 4 to 64 branch_h back)");
+        psb__copy(tc, tt, np1);
     }
     psb__copy(y, yc, np1);
     psb__copy(t, tc, np1);
@@ -3113,6 +3358,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
         s->path_on_ = 0;
         if (psb__is_fatal(r)) return r;
+        if (psb__note_fault(s, r)) continue;
         /* cut at iteration i: the trial is then a trial along k_i scaled up, whose outcome is
            known (k_i passes the screen): it lands on a found branch, or repeats a trial made
            before, which found no branch that is not known now; having spent i iterations it
@@ -3169,10 +3415,10 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         /* t2 made w-orthogonal to t1: the same plane, but the n_dir directions spread evenly
            over it even when t1 and t2 are nearly parallel (then the printed combination
            bunches them around +-t1 and +-t2 and misses the regions in between) */
-        double c = psb_dot_w(s, t1, t2) / psb_dot_w(s, t1, t1);
+        double c = psb__dot_w(s, t1, t2) / psb__dot_w(s, t1, t1);
         for (k = 0; k < np1; k++) q[k] = t2[k] - c * t1[k];
         if (!psb__normalize_w(s, q)) return PSB_SUCCESS; /* t2 parallel to t1: no plane */
-        for (k = 0; k < np1; k++) q[k] *= psb_norm_w(s, t1);
+        for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
     for (i = 0; i < s->opt.n_dir; i++) {
         double alpha = 6.283185307179586 * i / s->opt.n_dir;
@@ -3182,7 +3428,10 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         rep->n_tangents++;
         r = psb__sample_tangent(s, pt, v, tt);
         if (psb__is_fatal(r)) return r;
-        if (r != PSB_SUCCESS) continue;
+        if (r != PSB_SUCCESS) {
+            psb__note_fault(s, r);
+            continue;
+        }
         /* Step 4: a tangent seen at the previous direction belongs to the same region */
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         psb__copy(tprev, tt, np1);
@@ -3244,11 +3493,11 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
 {
     psb_branch_report local;
     int np1, k, span, overflow = 0, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
-    int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, pi, pj;
+    int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, spans_in_all, pi, pj;
     long pc_before;
     unsigned long long seed;
     double *yc, *tc, *t1, *t2, *pt;
-    psb_result r;
+    psb_result r, fatal = PSB_SUCCESS;
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
     r = psb__check_couple(s, y0, t0);
@@ -3270,6 +3519,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     s->memo_n_ = 0;
     s->known_n_ = 0;
     memset(s->pairs_done_, 0, sizeof s->pairs_done_);
+    psb__faults_reset(s);
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
@@ -3295,10 +3545,11 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
        twice as many counted spans without a new branch as it took to find the last one, up
        to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
        keep trickling in, and how long they took to come tells how long to wait). */
-    extend = s->n_span_auto_ && !s->opt.branch_no_memo;
+    extend = s->opt.n_span_max > s->opt.n_span;
+    spans_in_all = 4 * s->opt.n_span > 2 * s->opt.n_span_max ? 4 * s->opt.n_span : 2 * s->opt.n_span_max;
     for (span = 0; (rep->n_span < s->opt.n_span ||
-                    (extend && rep->n_span < 4 * s->opt.n_span && rep->n_span < 3 * rep->span_last_new)) &&
-                   span - idle_pair_spans < (extend ? 8 : 4) * s->opt.n_span; span++) {
+                    (extend && rep->n_span < s->opt.n_span_max && rep->n_span < 3 * rep->span_last_new)) &&
+                   span - idle_pair_spans < spans_in_all; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
         if (span > 0) {
@@ -3322,7 +3573,11 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 rep->n_tangents++;
                 r = psb__sample_tangent(s, pt, global ? prev : centre, t2);
                 if (psb__is_fatal(r)) return r;
-                if (r != PSB_SUCCESS) { psb__copy(t2, prev, np1); continue; }
+                if (r != PSB_SUCCESS) {
+                    psb__note_fault(s, r);
+                    psb__copy(t2, prev, np1);
+                    continue;
+                }
                 /* a tangent tried before: the plane through it and t~1 likely revisits swept
                    ground (on a piecewise-linear H it is two piece directions); the random
                    direction itself spans a fresh one */
@@ -3330,7 +3585,10 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
             }
         }
         r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
-        if (r != PSB_SUCCESS) return r;
+        if (r != PSB_SUCCESS) {
+            fatal = r;
+            break;
+        }
         pair_stale = pair_span && rep->n_pc == pc_before;
         if (rep->n_pc == pc_before && !s->opt.branch_no_memo) {
             rep->n_span_idle++;
@@ -3350,6 +3608,15 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
         idle = rep->n_branches > found_before ? 0 : idle + 1;
         if (s->opt.branch_patience && idle >= s->opt.branch_patience) break;
     }
+    rep->n_failed_callback = s->faults_[0];
+    rep->n_failed_nonfinite = s->faults_[1];
+    rep->n_failed_singular = s->faults_[2];
+    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+    if (fatal != PSB_SUCCESS) return fatal; /* psb__is_fatal in a sweep */
+    /* a trial that failed because of a fault might have found a branch: the set is not known
+       to be complete */
+    r = psb__faults_code(s, "Algorithm 2.2 (the branches found are in ys, ts)");
+    if (r != PSB_SUCCESS) return r;
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
