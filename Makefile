@@ -16,7 +16,7 @@ BUILD ?= build
 
 HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
-	$(BUILD)/test_contact $(BUILD)/test_fc_solve \
+	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_faults \
 	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static
 EXAMPLES = examples/01_branching examples/fc_solve examples/block examples/triangle
 
@@ -39,6 +39,10 @@ $(BUILD)/test_linear_dgbtrf: tests/test_linear.c tests/harness.h tests/pl_proble
 
 $(BUILD)/test_linear_nosimd: tests/test_linear.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -DPSCBRANCH_NO_SIMD -Itests tests/test_linear.c -o $@ $(LIBS)
+
+# fault injection and misuse (issue 20); its allocator replaces PSCBRANCH_MALLOC
+$(BUILD)/test_faults: tests/test_faults.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_faults.c -o $@ $(LIBS)
 
 $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)
