@@ -3622,6 +3622,37 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
 }
 
 /* ==== contact helpers ==================================================================== */
+/* The helpers' one exit: values are computed into locals, and copied to the caller's outputs
+   (dst NULL: not asked for) only when every asked-for value is finite. So a helper never
+   returns success with Inf or NaN (overflow inside gives PSB_ERR_NONFINITE), and writes no
+   output when it fails. */
+typedef struct psb__ct_out {
+    double *dst;
+    const double *src;
+    int n;
+} psb__ct_out;
+
+static psb_result psb__ct_emit(const psb__ct_out *outs, int count, int *piece_dst, int piece)
+{
+    int i;
+    for (i = 0; i < count; i++)
+        if (outs[i].dst && !psb__all_finite(outs[i].src, (size_t)outs[i].n)) return PSB_ERR_NONFINITE;
+    for (i = 0; i < count; i++)
+        if (outs[i].dst) memmove(outs[i].dst, outs[i].src, (size_t)outs[i].n * sizeof(double));
+    if (piece_dst) *piece_dst = piece;
+    return PSB_SUCCESS;
+}
+
+/* Unit direction of (a, b) != 0 and its length (may overflow to Inf): scaled by the larger
+   magnitude first, so that subnormal components keep their direction (hypot alone rounds
+   (5e-324, -5e-324) to length 5e-324 and direction (1, -1)). */
+static double psb__ct_dir2(double a, double b, double *d0, double *d1)
+{
+    double m = fabs(a) > fabs(b) ? fabs(a) : fabs(b), ua = a / m, ub = b / m, nu = hypot(ua, ub);
+    *d0 = ua / nu;
+    *d1 = ub / nu;
+    return m * nu;
+}
 /* Shared by both half-lines: sign = +1 for [0,inf[, -1 for ]-inf,0]. */
 static psb_result psb__ct_proj_half(double x, double sign, int req, double *value, double *deriv,
                                  int *piece)
@@ -3634,12 +3665,13 @@ static psb_result psb__ct_proj_half(double x, double sign, int req, double *valu
     if (req < PSB_PIECE_DEFAULT || req > PSB_HALF_OUT)
         return PSB_ERR_SIZE;
     pc = req >= 0 ? req : (sign * x >= 0.0 ? PSB_HALF_IN : PSB_HALF_OUT);
-    *value = pc == PSB_HALF_IN ? x : 0.0;
-    if (deriv)
-        *deriv = pc == PSB_HALF_IN ? 1.0 : 0.0;
-    if (piece)
-        *piece = pc;
-    return PSB_SUCCESS;
+    {
+        double v = pc == PSB_HALF_IN ? x : 0.0, d = pc == PSB_HALF_IN ? 1.0 : 0.0;
+        psb__ct_out outs[2];
+        outs[0].dst = value, outs[0].src = &v, outs[0].n = 1;
+        outs[1].dst = deriv, outs[1].src = &d, outs[1].n = 1;
+        return psb__ct_emit(outs, 2, piece, pc);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_proj_nonpos(double x, int piece_request, double *value,
@@ -3692,15 +3724,16 @@ PSCBRANCH_DEF psb_result psb_proj_interval(double x, double a, double b, int pie
         pc = PSB_IVL_LOWER;
     else
         pc = PSB_IVL_IN;
-    *value = pc == PSB_IVL_IN ? x : (pc == PSB_IVL_LOWER ? a : b);
-    if (d) {
-        d[0] = pc == PSB_IVL_IN ? 1.0 : 0.0;
-        d[1] = pc == PSB_IVL_LOWER ? 1.0 : 0.0;
-        d[2] = pc == PSB_IVL_UPPER ? 1.0 : 0.0;
+    {
+        double v = pc == PSB_IVL_IN ? x : (pc == PSB_IVL_LOWER ? a : b), dv[3];
+        psb__ct_out outs[2];
+        dv[0] = pc == PSB_IVL_IN ? 1.0 : 0.0;
+        dv[1] = pc == PSB_IVL_LOWER ? 1.0 : 0.0;
+        dv[2] = pc == PSB_IVL_UPPER ? 1.0 : 0.0;
+        outs[0].dst = value, outs[0].src = &v, outs[0].n = 1;
+        outs[1].dst = d, outs[1].src = dv, outs[1].n = 3;
+        return psb__ct_emit(outs, 2, piece, pc);
     }
-    if (piece)
-        *piece = pc;
-    return PSB_SUCCESS;
 }
 
 PSCBRANCH_DEF psb_result psb_proj_interval_active(double x, double a, double b, double tol,
@@ -3725,7 +3758,7 @@ PSCBRANCH_DEF psb_result psb_proj_interval_active(double x, double a, double b, 
 PSCBRANCH_DEF psb_result psb_proj_disk(const double x[2], double s, int piece_request, double p[2],
                                        double jx[4], double js[2], int *piece)
 {
-    double nx, d0, d1, k;
+    double nx, d0, d1, k, pv[2], jv[4], sv[2];
     int pc;
     if (!x || !p)
         return PSB_ERR_NULL;
@@ -3745,43 +3778,43 @@ PSCBRANCH_DEF psb_result psb_proj_disk(const double x[2], double s, int piece_re
     if (pc == PSB_DISK_BOUNDARY) {
         /* P = s x/|x|, dP/dx = (s/|x|)(I - d d^T), dP/ds = d. At x = 0 (only a neighbour when
            s = 0) take the limit along d = e1 with s/|x| -> 0; for s > 0 use s/|x| = 1. */
-        if (nx > 0.0) {
+        if (nx >= DBL_MIN) {
             d0 = x[0] / nx;
             d1 = x[1] / nx;
+            k = s / nx;
+        } else if (nx > 0.0) { /* subnormal: the direction of the scaled x (s/|x| may overflow) */
+            nx = psb__ct_dir2(x[0], x[1], &d0, &d1);
             k = s / nx;
         } else {
             d0 = 1.0;
             d1 = 0.0;
             k = s > 0.0 ? 1.0 : 0.0;
         }
-        p[0] = s * d0;
-        p[1] = s * d1;
-        if (jx) {
-            jx[0] = k * (1.0 - d0 * d0);
-            jx[1] = -k * d0 * d1;
-            jx[2] = jx[1];
-            jx[3] = k * (1.0 - d1 * d1);
-        }
-        if (js) {
-            js[0] = d0;
-            js[1] = d1;
-        }
+        pv[0] = s * d0;
+        pv[1] = s * d1;
+        jv[0] = k * (1.0 - d0 * d0);
+        jv[1] = -k * d0 * d1;
+        jv[2] = jv[1];
+        jv[3] = k * (1.0 - d1 * d1);
+        sv[0] = d0;
+        sv[1] = d1;
     } else {
         double id = pc == PSB_DISK_IN ? 1.0 : 0.0;
-        p[0] = id * x[0];
-        p[1] = id * x[1];
-        if (jx) {
-            jx[0] = id;
-            jx[1] = 0.0;
-            jx[2] = 0.0;
-            jx[3] = id;
-        }
-        if (js)
-            js[0] = js[1] = 0.0;
+        pv[0] = id * x[0];
+        pv[1] = id * x[1];
+        jv[0] = id;
+        jv[1] = 0.0;
+        jv[2] = 0.0;
+        jv[3] = id;
+        sv[0] = sv[1] = 0.0;
     }
-    if (piece)
-        *piece = pc;
-    return PSB_SUCCESS;
+    {
+        psb__ct_out outs[3];
+        outs[0].dst = p, outs[0].src = pv, outs[0].n = 2;
+        outs[1].dst = jx, outs[1].src = jv, outs[1].n = 4;
+        outs[2].dst = js, outs[2].src = sv, outs[2].n = 2;
+        return psb__ct_emit(outs, 3, piece, pc);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_proj_disk_active(const double x[2], double s, double tol,
@@ -3808,8 +3841,8 @@ PSCBRANCH_DEF psb_result psb_proj_disk_active(const double x[2], double s, doubl
 PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_request,
                                        double p[3], double j[9], int *piece)
 {
-    double n, t, d0, d1, c, k, w;
-    int pc, a, b;
+    double n, t, d0, d1, c, k = 0.0, w, wm, wmm, mc, pv[3], jv[9];
+    int pc, a, b, scaled = 0;
     if (!x || !p)
         return PSB_ERR_NULL;
     if (!psb__all_finite(x, 3) || !psb__finite(mu))
@@ -3822,7 +3855,8 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
     t = hypot(x[1], x[2]);
     if (piece_request >= 0)
         pc = piece_request;
-    else if (mu > 0.0 && t <= mu * n) /* mu = 0: IN has no interior, never the default */
+    else if (mu > 0.0 && n >= 0.0 && t <= mu * n) /* mu = 0: IN has no interior, never the
+                                                     default; n < 0: mu n may underflow to -0 */
         pc = PSB_CONE_IN;
     else if (mu * t <= -n)
         pc = PSB_CONE_POLAR;
@@ -3836,43 +3870,72 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
            apex along x_N = 0, k = mu^2/(1+mu^2) (for mu = 0 every d-term vanishes anyway). */
         w = 1.0 / (1.0 + mu * mu);
         c = (n + mu * t) * w;
+        wm = mu * w;
+        wmm = mu * mu * w;
+        mc = mu * c;
+        if (!(t >= DBL_MIN || t == 0.0) || !psb__finite(mu * mu) || !psb__finite(mc)) {
+            /* extreme magnitudes: mu^2, mu |x_T| or mu c overflow, or x_T is subnormal. The
+               weights 1, mu, mu^2 over 1 + mu^2 are formed without mu^2 and c, mu c as sums
+               of bounded multiples of x_N and |x_T| (finite unless the projection is not) */
+            double im = 1.0 / mu, m = fabs(x[1]) > fabs(x[2]) ? fabs(x[1]) : fabs(x[2]), nu;
+            w = mu <= 1.0 ? 1.0 / (1.0 + mu * mu) : im / (mu + im);
+            wm = mu <= 1.0 ? mu / (1.0 + mu * mu) : 1.0 / (mu + im);
+            wmm = mu <= 1.0 ? mu * mu / (1.0 + mu * mu) : 1.0 / (1.0 + im * im);
+            if (t > 0.0) {
+                /* |x_T| = m nu, nu in [1, sqrt 2]; products with m first: |x_T| may overflow
+                   where the projection does not */
+                psb__ct_dir2(x[1], x[2], &d0, &d1);
+                nu = hypot(x[1] / m, x[2] / m);
+                c = w * n + (wm * m) * nu;
+                mc = wm * n + (wmm * m) * nu;
+                k = wm * (n / m / nu) + wmm;
+            } else {
+                c = w * n;
+                mc = wm * n;
+            }
+            scaled = 1;
+        }
         if (t > 0.0) {
-            d0 = x[1] / t;
-            d1 = x[2] / t;
-            k = mu * c / t;
+            if (!scaled) {
+                d0 = x[1] / t;
+                d1 = x[2] / t;
+                k = mc / t;
+            }
         } else {
             d0 = 1.0;
             d1 = 0.0;
-            k = mu * mu * w;
+            k = wmm;
         }
-        p[0] = c;
-        p[1] = mu * c * d0;
-        p[2] = mu * c * d1;
-        if (j) {
+        pv[0] = c;
+        pv[1] = mc * d0;
+        pv[2] = mc * d1;
+        {
             double dd[2];
             dd[0] = d0;
             dd[1] = d1;
-            j[0] = w;
-            j[1] = mu * w * d0;
-            j[2] = mu * w * d1;
-            j[3] = mu * w * d0;
-            j[6] = mu * w * d1;
+            jv[0] = w;
+            jv[1] = wm * d0;
+            jv[2] = wm * d1;
+            jv[3] = wm * d0;
+            jv[6] = wm * d1;
             for (a = 0; a < 2; a++)
                 for (b = 0; b < 2; b++)
-                    j[(1 + a) + 3 * (1 + b)] =
-                        mu * mu * w * dd[a] * dd[b] + k * ((a == b ? 1.0 : 0.0) - dd[a] * dd[b]);
+                    jv[(1 + a) + 3 * (1 + b)] =
+                        wmm * dd[a] * dd[b] + k * ((a == b ? 1.0 : 0.0) - dd[a] * dd[b]);
         }
     } else {
         double id = pc == PSB_CONE_IN ? 1.0 : 0.0;
         for (a = 0; a < 3; a++)
-            p[a] = id * x[a];
-        if (j)
-            for (a = 0; a < 9; a++)
-                j[a] = (a % 4 == 0) ? id : 0.0;
+            pv[a] = id * x[a];
+        for (a = 0; a < 9; a++)
+            jv[a] = (a % 4 == 0) ? id : 0.0;
     }
-    if (piece)
-        *piece = pc;
-    return PSB_SUCCESS;
+    {
+        psb__ct_out outs[2];
+        outs[0].dst = p, outs[0].src = pv, outs[0].n = 3;
+        outs[1].dst = j, outs[1].src = jv, outs[1].n = 9;
+        return psb__ct_emit(outs, 2, piece, pc);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_proj_cone_active(const double x[3], double mu, double tol,
@@ -3912,7 +3975,7 @@ PSCBRANCH_DEF psb_result psb_ac2d_node(double u_n, double u_t, double lam_n, dou
                                        double r, double friction, double gap, int piece_request,
                                        double res[2], double jac[8], int *piece)
 {
-    double xn, xt, s = 0.0, dn = 0.0, pt = 0.0, di[3] = {0.0, 0.0, 0.0}, ps;
+    double xn, xt, s = 0.0, dn = 0.0, pt = 0.0, di[3] = {0.0, 0.0, 0.0}, ps, rv[2], jv[8];
     int pn = 0, pi = 0, rn = PSB_PIECE_DEFAULT, ri = PSB_PIECE_DEFAULT;
     psb_result e;
     if (!res)
@@ -3932,22 +3995,23 @@ PSCBRANCH_DEF psb_result psb_ac2d_node(double u_n, double u_t, double lam_n, dou
     if (psb_proj_nonpos(xn, rn, &s, &dn, &pn) != PSB_SUCCESS ||
         psb_proj_interval(xt, friction * s, -friction * s, ri, &pt, di, &pi) != PSB_SUCCESS)
         return PSB_ERR_NONFINITE;
-    res[0] = -(lam_n - s) / r;
-    res[1] = -(lam_t - pt) / r;
-    if (jac) {
-        ps = friction * (di[1] - di[2]) * dn; /* dP/dx_n through a = F s, b = -F s */
-        jac[0] = -dn;                  /* d res0 / d u_n   */
-        jac[1] = -ps;                  /* d res1 / d u_n   */
-        jac[2] = 0.0;                  /* d res0 / d u_t   */
-        jac[3] = -di[0];               /* d res1 / d u_t   */
-        jac[4] = -(1.0 - dn) / r;      /* d res0 / d lam_n */
-        jac[5] = ps / r;               /* d res1 / d lam_n */
-        jac[6] = 0.0;                  /* d res0 / d lam_t */
-        jac[7] = -(1.0 - di[0]) / r;   /* d res1 / d lam_t */
+    rv[0] = -(lam_n - s) / r;
+    rv[1] = -(lam_t - pt) / r;
+    ps = friction * (di[1] - di[2]) * dn; /* dP/dx_n through a = F s, b = -F s */
+    jv[0] = -dn;                  /* d res0 / d u_n   */
+    jv[1] = -ps;                  /* d res1 / d u_n   */
+    jv[2] = 0.0;                  /* d res0 / d u_t   */
+    jv[3] = -di[0];               /* d res1 / d u_t   */
+    jv[4] = -(1.0 - dn) / r;      /* d res0 / d lam_n */
+    jv[5] = ps / r;               /* d res1 / d lam_n */
+    jv[6] = 0.0;                  /* d res0 / d lam_t */
+    jv[7] = -(1.0 - di[0]) / r;   /* d res1 / d lam_t */
+    {
+        psb__ct_out outs[2];
+        outs[0].dst = res, outs[0].src = rv, outs[0].n = 2;
+        outs[1].dst = jac, outs[1].src = jv, outs[1].n = 8;
+        return psb__ct_emit(outs, 2, piece, PSB_AC2D_PIECE(pn, pi));
     }
-    if (piece)
-        *piece = PSB_AC2D_PIECE(pn, pi);
-    return PSB_SUCCESS;
 }
 
 PSCBRANCH_DEF psb_result psb_ac2d_active(double u_n, double u_t, double lam_n, double lam_t,
@@ -4030,7 +4094,7 @@ static psb_result psb__ct_fc3d_acjm(const double r[3], const double u[3], double
                                  double ju[9], int *piece)
 {
     double xn, pn_v = 0.0, an = 0.0, rad_arg, pr_v = 0.0, ar = 0.0, xt[2], pt[2] = {0.0, 0.0};
-    double jx[4] = {0.0, 0.0, 0.0, 0.0}, js[2] = {0.0, 0.0};
+    double jx[4] = {0.0, 0.0, 0.0, 0.0}, js[2] = {0.0, 0.0}, fv[3], tr[9], tu[9];
     int rn = PSB_PIECE_DEFAULT, rr = PSB_PIECE_DEFAULT, rd = PSB_PIECE_DEFAULT, pn = 0, pr = 0;
     int pd = 0;
     int a, b, nmax;
@@ -4073,13 +4137,12 @@ static psb_result psb__ct_fc3d_acjm(const double r[3], const double u[3], double
         else if (rad_arg == 0.0)
             rd = (xt[0] != 0.0 || xt[1] != 0.0) ? PSB_DISK_BOUNDARY : PSB_DISK_IN;
     }
-    if (psb_proj_disk(xt, mu * rad_arg, rd, pt, jx, js, &pd) != PSB_SUCCESS)
+    if (psb_proj_disk(xt, mu * rad_arg, rd, pt, jr || ju ? jx : NULL, jr || ju ? js : NULL, &pd) != PSB_SUCCESS)
         return PSB_ERR_NONFINITE; /* overflow */
-    f[0] = r[0] - pn_v;
-    f[1] = r[1] - pt[0];
-    f[2] = r[2] - pt[1];
-    if (jr || ju) {
-        double tr[9], tu[9];
+    fv[0] = r[0] - pn_v;
+    fv[1] = r[1] - pt[0];
+    fv[2] = r[2] - pt[1];
+    {
         for (a = 0; a < 9; a++)
             tr[a] = tu[a] = 0.0;
         tr[0] = 1.0 - an;
@@ -4093,14 +4156,14 @@ static psb_result psb__ct_fc3d_acjm(const double r[3], const double u[3], double
                 tu[(1 + a) + 3 * (1 + b)] = rho_t * jx[a + 2 * b];
             }
         }
-        if (jr)
-            memcpy(jr, tr, sizeof tr);
-        if (ju)
-            memcpy(ju, tu, sizeof tu);
     }
-    if (piece)
-        *piece = jm ? PSB_FC3D_JM_PIECE(pn, pr, pd) : PSB_FC3D_AC_PIECE(pn, pd);
-    return PSB_SUCCESS;
+    {
+        psb__ct_out outs[3];
+        outs[0].dst = f, outs[0].src = fv, outs[0].n = 3;
+        outs[1].dst = jr, outs[1].src = tr, outs[1].n = 9;
+        outs[2].dst = ju, outs[2].src = tu, outs[2].n = 9;
+        return psb__ct_emit(outs, 3, piece, jm ? PSB_FC3D_JM_PIECE(pn, pr, pd) : PSB_FC3D_AC_PIECE(pn, pd));
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_fc3d_ac(const double r[3], const double u[3], double mu, double rho_n,
@@ -4119,7 +4182,7 @@ PSCBRANCH_DEF psb_result psb_fc3d_jm(const double r[3], const double u[3], doubl
 
 PSCBRANCH_DEF psb_result psb_fc3d_desaxce(const double u[3], double mu, double uhat[3], double j[9])
 {
-    double t;
+    double t, uv[3], jv[9];
     int a;
     if (!u || !uhat)
         return PSB_ERR_NULL;
@@ -4128,25 +4191,38 @@ PSCBRANCH_DEF psb_result psb_fc3d_desaxce(const double u[3], double mu, double u
     if (mu < 0.0)
         return PSB_ERR_INPUT;
     t = hypot(u[1], u[2]);
-    if (j) {
-        for (a = 0; a < 9; a++)
-            j[a] = (a % 4 == 0) ? 1.0 : 0.0;
-        /* d|u_T|/du_T = u_T/|u_T|; at u_T = 0 the B-limit along e1 */
-        j[3] = t > 0.0 ? mu * u[1] / t : mu;
-        j[6] = t > 0.0 ? mu * u[2] / t : 0.0;
+    for (a = 0; a < 9; a++)
+        jv[a] = (a % 4 == 0) ? 1.0 : 0.0;
+    /* d|u_T|/du_T = u_T/|u_T|; at u_T = 0 the B-limit along e1 (subnormal u_T: scaled) */
+    if (t >= DBL_MIN) {
+        jv[3] = mu * u[1] / t;
+        jv[6] = mu * u[2] / t;
+    } else if (t > 0.0) {
+        double d0, d1;
+        psb__ct_dir2(u[1], u[2], &d0, &d1);
+        jv[3] = mu * d0;
+        jv[6] = mu * d1;
+    } else {
+        jv[3] = mu;
+        jv[6] = 0.0;
     }
-    uhat[0] = u[0] + mu * t;
-    uhat[1] = u[1];
-    uhat[2] = u[2];
-    return PSB_SUCCESS;
+    uv[0] = u[0] + mu * t; /* overflows only where uhat does */
+    uv[1] = u[1];
+    uv[2] = u[2];
+    {
+        psb__ct_out outs[2];
+        outs[0].dst = uhat, outs[0].src = uv, outs[0].n = 3;
+        outs[1].dst = j, outs[1].src = jv, outs[1].n = 9;
+        return psb__ct_emit(outs, 2, NULL, 0);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_fc3d_nat(const double r[3], const double u[3], double mu, double rho,
                                       int piece_request, double f[3], double jr[9], double ju[9],
                                       int *piece)
 {
-    double uh[3], jh[9], z[3], p[3], jk[9];
-    int a, b, c;
+    double uh[3], jh[9], z[3], p[3], jk[9], fv[3], tr[9], tu[9];
+    int a, b, c, pc;
     psb_result e = psb__ct_fc3d_check(r, u, mu, rho, rho, f);
     if (e != PSB_SUCCESS)
         return e;
@@ -4156,22 +4232,26 @@ PSCBRANCH_DEF psb_result psb_fc3d_nat(const double r[3], const double u[3], doub
         return PSB_ERR_NONFINITE;
     for (a = 0; a < 3; a++)
         z[a] = r[a] - rho * uh[a];
-    if (psb_proj_cone(z, mu, piece_request, p, jk, piece) != PSB_SUCCESS)
+    if (psb_proj_cone(z, mu, piece_request, p, jk, &pc) != PSB_SUCCESS)
         return PSB_ERR_NONFINITE; /* overflow of z */
     for (a = 0; a < 3; a++)
-        f[a] = r[a] - p[a];
-    if (jr)
-        for (a = 0; a < 9; a++)
-            jr[a] = ((a % 4 == 0) ? 1.0 : 0.0) - jk[a];
-    if (ju) /* df/du = rho J_K d uhat/du */
-        for (a = 0; a < 3; a++)
-            for (b = 0; b < 3; b++) {
-                double sum = 0.0;
-                for (c = 0; c < 3; c++)
-                    sum += jk[a + 3 * c] * jh[c + 3 * b];
-                ju[a + 3 * b] = rho * sum;
-            }
-    return PSB_SUCCESS;
+        fv[a] = r[a] - p[a];
+    for (a = 0; a < 9; a++)
+        tr[a] = ((a % 4 == 0) ? 1.0 : 0.0) - jk[a];
+    for (a = 0; a < 3; a++) /* df/du = rho J_K d uhat/du */
+        for (b = 0; b < 3; b++) {
+            double sum = 0.0;
+            for (c = 0; c < 3; c++)
+                sum += jk[a + 3 * c] * jh[c + 3 * b];
+            tu[a + 3 * b] = rho * sum;
+        }
+    {
+        psb__ct_out outs[3];
+        outs[0].dst = f, outs[0].src = fv, outs[0].n = 3;
+        outs[1].dst = jr, outs[1].src = tr, outs[1].n = 9;
+        outs[2].dst = ju, outs[2].src = tu, outs[2].n = 9;
+        return psb__ct_emit(outs, 3, piece, pc);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_fc_nat_error(int dim, size_t nc, const double *r, const double *u,
@@ -4207,10 +4287,14 @@ PSCBRANCH_DEF psb_result psb_fc_nat_error(int dim, size_t nc, const double *r, c
             }
         }
     }
-    *err = scale * sqrt(sum);
-    if (qnorm > 0.0)
-        *err /= qnorm;
-    return PSB_SUCCESS;
+    {
+        double e_out = scale * sqrt(sum);
+        psb__ct_out out;
+        if (qnorm > 0.0)
+            e_out /= qnorm;
+        out.dst = err, out.src = &e_out, out.n = 1;
+        return psb__ct_emit(&out, 1, NULL, 0);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
@@ -4230,11 +4314,15 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
         di[k] = disp_in[k];
     }
     for (k = 0; k < dim; k++) {
-        force_out[k] = -fi[k];
-        disp_out[k] = -di[k];
+        fi[k] = -fi[k];
+        di[k] = k == 0 ? gap - di[0] : -di[k];
     }
-    disp_out[0] = gap - di[0];
-    return PSB_SUCCESS;
+    {
+        psb__ct_out outs[2];
+        outs[0].dst = force_out, outs[0].src = fi, outs[0].n = dim;
+        outs[1].dst = disp_out, outs[1].src = di, outs[1].n = dim;
+        return psb__ct_emit(outs, 2, NULL, 0);
+    }
 }
 
 #endif /* PSCBRANCH_IMPLEMENTATION_DONE */
