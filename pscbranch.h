@@ -81,7 +81,9 @@
    psb_locate_end       Algorithm 2.1: approach the end point of a branch
    psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
    psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
-   Inputs are never modified on failure: y and t keep the last accepted couple.
+   Inputs are never modified on failure (psb_trace: y and t hold the last accepted couple once
+   a step was accepted); what each function writes on failure is in its declaration. A freed
+   or uninitialised solver makes every call return PSB_ERR_NULL (psb_dot_w/_norm_w: NaN).
    No function allocates except psb_solver_init. Single operations (solve, tangent, correct,
    step, switch, locate_end, find_branches) may be called from a point callback of psb_trace;
    psb_trace itself may not (it would reuse the trace's scratch vectors).
@@ -95,7 +97,11 @@
    Return 0 on success; > 0 for a recoverable failure (the trial step is rejected and shortened;
    where no retry exists the call returns PSB_ERR_CALLBACK_FAILED); < 0 to stop at once
    (PSB_ERR_CALLBACK, the last accepted couple is kept). NaN or Inf in h or jac is treated like a
-   recoverable failure and reported as PSB_ERR_NONFINITE when no retry succeeds.
+   recoverable failure and reported as PSB_ERR_NONFINITE when no retry succeeds. A failed trial
+   tells nothing about the curve: an outcome that rests on one (an end point, no move of
+   Algorithm 2.1, a branch set with a failed trial) is reported as that failure, never as an
+   end point or a success; so is a Jacobian of rank < N (analytic or user solver; differences
+   only when nothing succeeded: their quotients mix the pieces near every kink).
    int on_point(const psb_point *p, void *user) is called by psb_trace for the start, every
    accepted point, and (locate_kinks) every kink; a nonzero return stops the trace there.
    p->flags: PSB_POINT_START, _FOLD (the parameter component of t changed sign; p->fold_param
@@ -108,7 +114,8 @@
    PSB_PARAM_BOUND       1  trace landed exactly on param_min or param_max
    PSB_STEP_BUDGET       2  trace used max_steps accepted steps
    PSB_NONSMOOTH_END     3  steps failed down to h_min and the tangent switch found no
-                            continuation (or no_switch was set): an end point
+                            continuation (or no_switch was set): an end point; never when a
+                            callback, a NaN or a rank-deficient dH failed a trial there
    PSB_STOPPED           4  the point callback returned nonzero
    PSB_LOOP_CLOSED       5  (detect_loop) the curve came back to its start
    PSB_BRANCH_CAPACITY   6  more branches than max_branches; the first ones are returned
@@ -120,20 +127,25 @@
    PSB_ERR_CALLBACK_FAILED -6  a callback returned > 0 with no smaller step to try
    PSB_ERR_NONFINITE    -7  NaN or Inf in the input or from a callback
    PSB_ERR_SINGULAR     -8  singular matrix: dH(y) has rank < N (no unique tangent), or a
-                            bordered system has no solution
+                            bordered system has no solution; solver.factor/.solve returned
+                            > 0 or gave NaN
    PSB_ERR_LAPACK       -9  LAPACK rejected an argument (a bug in pscbranch: please report)
    PSB_ERR_NO_CONVERGENCE -10  Newton / corrector iterations did not converge
    PSB_ERR_STEP_TOO_SMALL -11  psb_step: every trial down to h_min failed
-   PSB_ERR_INPUT       -12  invalid numerical input: zero tangent, r <= 0, start out of bounds
+   PSB_ERR_INPUT       -12  invalid numerical input: zero tangent, r <= 0, start out of bounds,
+                            NaN trace bounds
    After a failure psb_solver_message(s) holds a one-line diagnostic.
 
    5. OPTIONS AND DEFAULTS (psb_options; every zero field takes the default in brackets)
    -----------------------
+   Every real must be finite (NaN and Inf give PSB_ERR_OPTIONS, the message names the field).
    kappa [1], weights [NULL]        the weighted inner product (section 1)
    h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 0 < h_min <= h_init <= h_max
    h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
-                                    corrector iterations; shrink after a rejected trial
-   max_iter [10]                    corrector iterations per trial
+                                    corrector iterations; shrink after a rejected trial;
+                                    1 <= h_inc <= 100, 0 < h_dec <= 0.9 (bounded shrinking)
+   max_iter [10]                    corrector iterations per trial; max_iter, iter_threshold
+                                    <= PSB_MAX_ITER_LIMIT (1000)
    tol_residual [1e-10]             ||H(y)||_2 at convergence
    tol_correction [1e-10]           distance to the solution at convergence, ||.||_w: the last
                                     correction or its contraction estimate (section 6)
@@ -144,6 +156,7 @@
                                     finite differences: column j steps fd_step * max(1, |y_j|)
    c_diff [0.99999]                 cosine above which two tangents are one branch
    branch_h [h_min; with finite differences 10^4 steps, see section 1]
+   branch_h_fd_steps [1e4]          those steps (resolved: 0 when not used)
                                     h of Algorithms 2.1 and 2.2 (the paper: the continuation's
                                     smallest step)
    branch_h_min [branch_h / 2^14]   precision of Algorithm 2.1
@@ -151,7 +164,9 @@
    n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
                                     at 0: at least 15, then on until twice as many counted
                                     spans as the last new branch took have found nothing,
-                                    up to 60 (section 6); a value set here is kept as given
+                                    up to n_span_max [60] (section 6); a value set here is
+                                    kept as given (n_span_max [n_span]). n_dir, n_span,
+                                    n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000)
    paper_sweep [0]                  1: directions exactly as printed, pairs of found branches
                                     closest first (see section 6)
    branch_trial_h_min [h_min]       trial steps of Algorithm 2.2 give up below this step. Near
@@ -415,6 +430,10 @@
    return a bitmask (bit k = piece k) of the pieces whose closure contains the point within tol.
    Jacobians are column-major. Bad input: PSB_ERR_NULL, PSB_ERR_NONFINITE (NaN/Inf, also overflow
    inside), PSB_ERR_INPUT (r, rho <= 0; mu, F < 0; a > b; tol < 0), PSB_ERR_SIZE (piece id, dim).
+   Success means every output asked for (non-NULL) is finite; where the true value overflows
+   (e.g. De Saxce's u_N + mu |u_T| > DBL_MAX, or dP/dx of the disk at a subnormal x) the
+   helper returns PSB_ERR_NONFINITE and writes no output. Subnormal and huge arguments are
+   scaled where the result is representable (the cone with mu up to 1e308).
 
    Half-lines. The papers' (x)_- is min(x,0), the projection onto ]-inf,0]; other texts write
    max(-x,0) for the negative part. Here the names say the set:
@@ -833,19 +852,23 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
 /* Same, allocating with PSCBRANCH_MALLOC; release with psb_solver_free. */
 PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
                                          const psb_options *opt);
-/* Frees what psb_solver_init allocated (nothing for caller memory). s may be NULL. */
+/* Frees what psb_solver_init allocated (nothing for caller memory) and clears s (its stats
+   stay), so that every later call on it returns PSB_ERR_NULL until the next init. s may be
+   NULL; freeing twice is harmless. */
 PSCBRANCH_DEF void psb_solver_free(psb_solver *s);
 /* The last diagnostic message, "" if none; never NULL. */
 PSCBRANCH_DEF const char *psb_solver_message(const psb_solver *s);
 
-/* Weighted inner product and norm of vectors of n+1 components. */
+/* Weighted inner product and norm of vectors of n+1 components; NaN when s is NULL, freed or
+   not initialised, or a or b is NULL. */
 PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b);
 PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a);
 
 /* ---- single operations (none allocates; all may be called from a point callback) -------- */
 
 /* Newton's method on H(y) = 0 with y[param_index] held fixed, for a starting point.
-   y (in/out, n+1): untouched unless PSB_SUCCESS. max_iter <= 0 means 50.
+   y (in/out, n+1): untouched unless PSB_SUCCESS. max_iter <= 0 means 50; above
+   PSB_MAX_ITER_LIMIT: PSB_ERR_INPUT.
    Returns PSB_SUCCESS, PSB_ERR_NO_CONVERGENCE, PSB_ERR_SINGULAR, PSB_ERR_NONFINITE,
    PSB_ERR_CALLBACK(_FAILED), PSB_ERR_NULL. */
 PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_iter);
@@ -854,13 +877,14 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
    bordered system [dH(y); (W ref)^T] t = e_{n+1}; when that is singular or ill-conditioned
    (ref nearly orthogonal to the kernel, e.g. at a fold with ref = e_param) it falls back to
    the QR factorisation of dH(y)^T. ref may be NULL (then e_param orients t).
-   Returns PSB_SUCCESS, PSB_ERR_SINGULAR (rank of dH(y) < n), PSB_ERR_NONFINITE, ... */
+   Returns PSB_SUCCESS, PSB_ERR_SINGULAR (rank of dH(y) < n), PSB_ERR_NONFINITE, ...; t is
+   written only on success. */
 PSCBRANCH_DEF psb_result psb_tangent(psb_solver *s, const double *y, const double *ref,
                                      double *t);
 
 /* Moore-Penrose corrector from the couple (y, t) (in/out): each iteration factors
    [dH(y); (W t)^T] once and solves it for the point update (rhs [H(y); 0]) and the new
-   tangent (rhs [0; 1]). iterations (out, may be NULL).
+   tangent (rhs [0; 1]). iterations (out, may be NULL): the iterations spent, also on failure.
    Returns PSB_SUCCESS, PSB_ERR_NO_CONVERGENCE, PSB_ERR_SINGULAR, ...; y, t untouched on failure. */
 PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *iterations);
 
@@ -868,15 +892,18 @@ PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *i
    corrector converges no farther than *h from the prediction y + *h t, with a tangent within
    c_min of t, or until *h < h_min. On success (y, t) is
    the new couple and *h the step that was accepted, already adapted for the next step (h_inc
-   when the corrector was quick, capped at h_max).
-   Returns PSB_SUCCESS, PSB_ERR_STEP_TOO_SMALL, PSB_ERR_CALLBACK, ... */
+   when the corrector was quick, capped at h_max). On failure y, t and *h are untouched.
+   Returns PSB_SUCCESS, PSB_ERR_STEP_TOO_SMALL (every trial failed for the curve's sake),
+   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR (a trial failed because of the callback,
+   a NaN or a Jacobian of rank < N, and no smaller one converged), PSB_ERR_CALLBACK, ... */
 PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h);
 
 /* Simple tangent switch at a couple (y, t) where steps fail (a kink ahead): computes the
    tangent t~ at y + delta t for delta = switch_delta_min, 2 delta, ... <= switch_delta_max and,
    once t~ differs from t (cosine < c_diff), tries steps from y along +t~ then -t~, accepting a
    new couple that does not go back along the incoming branch.
-   Returns PSB_SUCCESS (y, t updated), PSB_NONSMOOTH_END (nothing found), or a failure. */
+   Returns PSB_SUCCESS (y, t updated), PSB_NONSMOOTH_END (nothing found; y, t untouched), or
+   a failure (y, t untouched), also when a probe or trial failed because of a fault (section 3). */
 PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t);
 
 /* ---- the driver -------------------------------------------------------------------------- */
@@ -923,9 +950,11 @@ typedef struct psb_trace_report {
 
 /* Traces the curve through (y, t) (in/out; t is the direction of travel, ||t||_w = 1 is
    enforced) until a bound, the step budget, an end point it cannot pass, or a failure. At the
-   end (y, t) is the last accepted couple. With bounds, the last point lies exactly on the bound.
-   to and rep may be NULL. Returns PSB_PARAM_BOUND, PSB_STEP_BUDGET, PSB_NONSMOOTH_END,
-   PSB_STOPPED, PSB_LOOP_CLOSED, or a failure (PSB_ERR_CALLBACK when a callback returned < 0). */
+   end (y, t) is the last accepted couple; a failure before the first accepted step leaves them
+   untouched. With bounds, the last point lies exactly on the bound (bounds may be infinite;
+   NaN gives PSB_ERR_INPUT). to and rep may be NULL (rep is always written). Returns
+   PSB_PARAM_BOUND, PSB_STEP_BUDGET, PSB_NONSMOOTH_END, PSB_STOPPED, PSB_LOOP_CLOSED, or a
+   failure (PSB_ERR_CALLBACK when a callback returned < 0). */
 PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                                    const psb_trace_options *to, psb_trace_report *rep);
 
@@ -936,7 +965,11 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
    correction of y + h t converges with a tangent within c_diff of t (and trying the same h
    again after each such move, see section 6). On return y approximates
    the end point, t (unit) points out of the branch's region, *precision (may be NULL) is the
-   last h tried. Returns PSB_SUCCESS or a failure (PSB_ERR_CALLBACK...). */
+   last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision untouched:
+   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed because of a
+   fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end point lies
+   within 1000 moves or, with finite differences, no branch tangent could be computed 4 to 64
+   branch_h behind it, PSB_ERR_CALLBACK ... */
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision);
 
 typedef struct psb_branch_report {
@@ -969,7 +1002,10 @@ typedef struct psb_branch_report {
    (y0, t0) is Algorithm 2.1's output. Branch k (k < max_branches) is the
    couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented away from the point; branch 0 is
    the incoming branch (y0, -t0). rep may be NULL. Same seed, same result, bit for bit.
-   Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
+   Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure: PSB_ERR_CALLBACK_FAILED /
+   _NONFINITE / _SINGULAR when a trial or sample tangent failed because of a fault (the set may
+   be incomplete; rep->n_failed* count them), PSB_ERR_CALLBACK, ... After a failure ys, ts hold
+   the rep->n_branches branches found until then and rep is written; y0, t0 are inputs only. */
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            int max_branches, double *ys, double *ts,
                                            psb_branch_report *rep);
@@ -2622,6 +2658,7 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
     s->message[0] = 0;
     if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
     if (!psb__all_finite(y, s->np1_)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
+    if (max_iter > PSB_MAX_ITER_LIMIT) return psb__fail(s, PSB_ERR_INPUT, "max_iter > PSB_MAX_ITER_LIMIT");
     n = s->n_;
     np1 = s->np1_;
     if (max_iter <= 0) max_iter = 50;
