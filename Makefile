@@ -40,7 +40,8 @@ $(BUILD)/test_linear_dgbtrf: tests/test_linear.c tests/harness.h tests/pl_proble
 $(BUILD)/test_linear_nosimd: tests/test_linear.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -DPSCBRANCH_NO_SIMD -Itests tests/test_linear.c -o $@ $(LIBS)
 
-# fault injection and misuse (issue 20); its allocator replaces PSCBRANCH_MALLOC
+# fault injection and misuse (issue 20); its allocator replaces PSCBRANCH_MALLOC. The public
+# API's libFuzzer target is fuzz/fuzz_api.c (seeds in fuzz/corpus/api/), built by `make fuzz`
 $(BUILD)/test_faults: tests/test_faults.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_faults.c -o $@ $(LIBS)
 

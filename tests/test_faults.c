@@ -664,8 +664,46 @@ static void test_resolve_truthful(void)
     }
 }
 
+/* Algorithm 2.1 with differences recomputes the incoming tangent 16 branch_h behind the end
+   point; a failure there was dropped (the entering tangent kept, and found again by the sweep
+   as a new branch). Here H is NaN beyond g = 1e-3 once the trace is done: the correction 16
+   branch_h back (g ~ 2.4e-3) fails, so does every other distance, and the call says so. */
+static double nan_above = HUGE_VAL;
+static int res_nan_above(const double *y, double *h, void *u)
+{
+    pl_residual(y, h, u);
+    if (y[2] > nan_above) h[0] = NAN;
+    return 0;
+}
+
+static void test_fd_repair_failure(void)
+{
+    pl_problem p;
+    double rays[PL_MAX_RAYS * 3], y[3], t[3], y0[3], t0[3];
+    psb_problem prob;
+    psb_solver s;
+    int incoming = 0, j;
+    example_problem(&p, rays);
+    for (j = 0; j < 4; j++)
+        if (rays[j * 3] > 0 && rays[j * 3 + 1] > 0) incoming = j;
+    psb_problem_init(&prob, 2, res_nan_above, NULL, &p);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    pl_start_on_ray(3, rays, incoming, y, t);
+    nan_above = HUGE_VAL;
+    CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
+    memcpy(y0, y, sizeof y);
+    memcpy(t0, t, sizeof t);
+    nan_above = 1e-3;
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_NONFINITE); /* was PSB_SUCCESS */
+    CHECK(same(y, y0, 3) && same(t, t0, 3));
+    nan_above = HUGE_VAL;
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+    psb_solver_free(&s);
+}
+
 int main(void)
 {
+    test_fd_repair_failure();
     test_failures_reported();
     test_inputs_untouched();
     test_misuse();
