@@ -69,7 +69,7 @@
 
    2. THE API AT A GLANCE (every function validates its arguments and returns psb_result)
    ----------------------
-   psb_problem_init, psb_options_resolve          describe the problem; see resolved options
+   psb_problem_init, psb_options_resolve(_for)    describe the problem; see resolved options
    psb_solver_init / _init_with_memory / _free    caller-owned state; all memory at init
    psb_solver_memory_size(problem)                bytes for _init_with_memory
    psb_solve_at_param   Newton on H(y) = 0 with the parameter held fixed (a starting point)
@@ -1725,9 +1725,8 @@ static psb_result psb__faults_code(psb_solver *s, const char *what)
     for (k = 0; k < 3; k++)
         if (s->faults_[k]) {
             char buf[160];
-            snprintf(buf, sizeof buf, "%s: trials failed because a callback returned > 0 (%ld), "
-                     "NaN or Inf (%ld), a singular Jacobian or solver.factor (%ld)", what,
-                     s->faults_[0], s->faults_[1], s->faults_[2]);
+            snprintf(buf, sizeof buf, "%s: failed trials: callback > 0 %ld, NaN/Inf %ld, "
+                     "singular dH or solver.factor %ld", what, s->faults_[0], s->faults_[1], s->faults_[2]);
             return psb__fail(s, codes[k], buf);
         }
     return PSB_SUCCESS;
@@ -3652,7 +3651,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     if (fatal != PSB_SUCCESS) return fatal; /* psb__is_fatal in a sweep */
     /* a trial that failed because of a fault might have found a branch: the set is not known
        to be complete */
-    r = psb__faults_code(s, "Algorithm 2.2 (the branches found are in ys, ts)");
+    r = psb__faults_code(s, "Algorithm 2.2 (ys, ts: the branches found)");
     if (r != PSB_SUCCESS) return r;
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
