@@ -926,7 +926,8 @@ typedef struct psb_point {
 typedef int (*psb_point_fn)(const psb_point *pt, void *user);
 
 typedef struct psb_trace_options {
-    double param_min, param_max; /* bounds on y[param_index]; ignored when param_min >= param_max */
+    double param_min, param_max; /* bounds on y[param_index]; ignored when param_min >= param_max;
+                                    either may be infinite, NaN gives PSB_ERR_INPUT */
     long max_steps;              /* accepted steps [0 -> 10000] */
     int no_switch;               /* 1: stop (PSB_NONSMOOTH_END) instead of switching at a kink */
     int detect_loop;             /* 1: stop (PSB_LOOP_CLOSED) when the curve returns to its start */
