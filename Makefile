@@ -27,7 +27,7 @@ DEPS = CC="$(CC)" CXX="$(CXX)" LAPACK_LIBS="$(LAPACK_LIBS)" sh tools/deps.sh
 
 HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
-	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_detect \
+	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_detect $(BUILD)/test_faults \
 	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic $(BUILD)/test_explore
 EXAMPLES = examples/01_branching examples/02_explore examples/03_pitchforks examples/fc_solve examples/block \
 	examples/triangle examples/quasistatic
@@ -55,6 +55,11 @@ $(BUILD)/test_linear_nosimd: tests/test_linear.c tests/harness.h tests/pl_proble
 
 $(BUILD)/test_detect: tests/test_detect.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_detect.c -o $@ $(LIBS)
+
+# fault injection and misuse (issue 20); its allocator replaces PSCBRANCH_MALLOC. The public
+# API's libFuzzer target is fuzz/fuzz_api.c (seeds in fuzz/corpus/api/), built by `make fuzz`
+$(BUILD)/test_faults: tests/test_faults.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_faults.c -o $@ $(LIBS)
 
 $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)

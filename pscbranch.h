@@ -69,7 +69,7 @@
 
    2. THE API AT A GLANCE (every function validates its arguments and returns psb_result)
    ----------------------
-   psb_problem_init, psb_options_resolve          describe the problem; see resolved options
+   psb_problem_init, psb_options_resolve(_for)    describe the problem; see resolved options
    psb_solver_init / _init_with_memory / _free    caller-owned state; all memory at init
    psb_solver_memory_size(problem)                bytes for _init_with_memory
    psb_solve_at_param   Newton on H(y) = 0 with the parameter held fixed (a starting point)
@@ -89,9 +89,12 @@
    psb_diagram_init / _init_with_memory / _free, psb_diagram_memory_size   the graph's storage
    psb_diagram_write_json, _write_csv   the graph as JSON and CSV (with PSCBRANCH_STDIO)
    psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
-   Inputs are never modified on failure: y and t keep the last accepted couple.
-   No function allocates except psb_solver_init and psb_diagram_init. Single operations (solve, tangent, correct,
-   step, switch, locate_end, find_branches) may be called from a point callback of psb_trace;
+   Inputs are never modified on failure (psb_trace: y and t hold the last accepted couple once
+   a step was accepted); what each function writes on failure is in its declaration. A freed
+   or uninitialised solver makes every call return PSB_ERR_NULL (psb_dot_w/_norm_w: NaN).
+   No function allocates except psb_solver_init and psb_diagram_init. Single operations (solve,
+   tangent, correct, step, switch, locate_end, find_branches) may be called from a point
+   callback of psb_trace;
    psb_trace itself may not (it would reuse the trace's scratch vectors).
    The solver is not thread-safe; distinct solvers are independent (no global state).
 
@@ -103,7 +106,11 @@
    Return 0 on success; > 0 for a recoverable failure (the trial step is rejected and shortened;
    where no retry exists the call returns PSB_ERR_CALLBACK_FAILED); < 0 to stop at once
    (PSB_ERR_CALLBACK, the last accepted couple is kept). NaN or Inf in h or jac is treated like a
-   recoverable failure and reported as PSB_ERR_NONFINITE when no retry succeeds.
+   recoverable failure and reported as PSB_ERR_NONFINITE when no retry succeeds. A failed trial
+   tells nothing about the curve: an outcome that rests on one (an end point, no move of
+   Algorithm 2.1, a branch set with a failed trial) is reported as that failure, never as an
+   end point or a success; so is a Jacobian of rank < N (analytic or user solver; differences
+   only when nothing succeeded: their quotients mix the pieces near every kink).
    int on_point(const psb_point *p, void *user) is called by psb_trace for the start, every
    accepted point, and (locate_kinks) every kink; a nonzero return stops the trace there.
    p->flags: PSB_POINT_START, _FOLD (the parameter component of t changed sign; p->fold_param
@@ -123,7 +130,8 @@
    PSB_PARAM_BOUND       1  trace landed exactly on param_min or param_max
    PSB_STEP_BUDGET       2  trace used max_steps accepted steps
    PSB_NONSMOOTH_END     3  steps failed down to h_min and the tangent switch found no
-                            continuation (or no_switch was set): an end point
+                            continuation (or no_switch was set): an end point; never when a
+                            callback, a NaN or a rank-deficient dH failed a trial there
    PSB_STOPPED           4  the point callback returned nonzero
    PSB_LOOP_CLOSED       5  (detect_loop) the curve came back to its start
    PSB_BRANCH_CAPACITY   6  more branches than max_branches; the first ones are returned
@@ -135,20 +143,25 @@
    PSB_ERR_CALLBACK_FAILED -6  a callback returned > 0 with no smaller step to try
    PSB_ERR_NONFINITE    -7  NaN or Inf in the input or from a callback
    PSB_ERR_SINGULAR     -8  singular matrix: dH(y) has rank < N (no unique tangent), or a
-                            bordered system has no solution
+                            bordered system has no solution; solver.factor/.solve returned
+                            > 0 or gave NaN
    PSB_ERR_LAPACK       -9  LAPACK rejected an argument (a bug in pscbranch: please report)
    PSB_ERR_NO_CONVERGENCE -10  Newton / corrector iterations did not converge
    PSB_ERR_STEP_TOO_SMALL -11  psb_step: every trial down to h_min failed
-   PSB_ERR_INPUT       -12  invalid numerical input: zero tangent, r <= 0, start out of bounds
+   PSB_ERR_INPUT       -12  invalid numerical input: zero tangent, r <= 0, start out of bounds,
+                            NaN trace bounds
    After a failure psb_solver_message(s) holds a one-line diagnostic.
 
    5. OPTIONS AND DEFAULTS (psb_options; every zero field takes the default in brackets)
    -----------------------
+   Every real must be finite (NaN and Inf give PSB_ERR_OPTIONS, the message names the field).
    kappa [1], weights [NULL]        the weighted inner product (section 1)
    h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 0 < h_min <= h_init <= h_max
    h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
-                                    corrector iterations; shrink after a rejected trial
-   max_iter [10]                    corrector iterations per trial
+                                    corrector iterations; shrink after a rejected trial;
+                                    1 <= h_inc <= 100, 0 < h_dec <= 0.9 (bounded shrinking)
+   max_iter [10]                    corrector iterations per trial; max_iter, iter_threshold
+                                    <= PSB_MAX_ITER_LIMIT (1000)
    tol_residual [1e-10]             ||H(y)||_2 at convergence
    tol_correction [1e-10]           distance to the solution at convergence, ||.||_w: the last
                                     correction or its contraction estimate (section 6)
@@ -159,6 +172,7 @@
                                     finite differences: column j steps fd_step * max(1, |y_j|)
    c_diff [0.99999]                 cosine above which two tangents are one branch
    branch_h [h_min; with finite differences 10^4 steps, see section 1]
+   branch_h_fd_steps [1e4]          those steps (resolved: 0 when not used)
                                     h of Algorithms 2.1 and 2.2 (the paper: the continuation's
                                     smallest step)
    branch_h_min [branch_h / 2^14]   precision of Algorithm 2.1
@@ -166,7 +180,9 @@
    n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
                                     at 0: at least 15, then on until twice as many counted
                                     spans as the last new branch took have found nothing,
-                                    up to 60 (section 6); a value set here is kept as given
+                                    up to n_span_max [60] (section 6); a value set here is
+                                    kept as given (n_span_max [n_span]). n_dir, n_span,
+                                    n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000)
    paper_sweep [0]                  1: directions exactly as printed, pairs of found branches
                                     closest first (see section 6)
    branch_trial_h_min [h_min]       trial steps of Algorithm 2.2 give up below this step. Near
@@ -560,6 +576,10 @@
    return a bitmask (bit k = piece k) of the pieces whose closure contains the point within tol.
    Jacobians are column-major. Bad input: PSB_ERR_NULL, PSB_ERR_NONFINITE (NaN/Inf, also overflow
    inside), PSB_ERR_INPUT (r, rho <= 0; mu, F < 0; a > b; tol < 0), PSB_ERR_SIZE (piece id, dim).
+   Success means every output asked for (non-NULL) is finite; where the true value overflows
+   (e.g. De Saxce's u_N + mu |u_T| > DBL_MAX, or dP/dx of the disk at a subnormal x) the
+   helper returns PSB_ERR_NONFINITE and writes no output. Subnormal and huge arguments are
+   scaled where the result is representable (the cone with mu up to 1e308).
 
    Half-lines. The papers' (x)_- is min(x,0), the projection onto ]-inf,0]; other texts write
    max(-x,0) for the negative part. Here the names say the set:
@@ -783,6 +803,10 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
 typedef enum psb_restart { PSB_RESTART_MIXED = 0, PSB_RESTART_PAPER = 1, PSB_RESTART_GLOBAL = 2 } psb_restart;
 
 /* ---- options: every field's zero value means "the default in brackets" ------------------ */
+/* Upper limits of the options' counts (psb_solver_init returns PSB_ERR_OPTIONS above them) */
+#define PSB_MAX_ITER_LIMIT 1000   /* max_iter, iter_threshold */
+#define PSB_MAX_DIR_LIMIT 10000   /* n_dir */
+#define PSB_MAX_SPAN_LIMIT 10000  /* n_span, n_span_max */
 typedef struct psb_options {
     /* weighted inner product <a,b>_w = sum_i w_i a_i b_i, used for every norm, cosine and
        normalisation in the library */
@@ -818,6 +842,10 @@ typedef struct psb_options {
                              10^4 difference steps at the point, see section 1; a value
                              set here stands, and Algorithm 2.2 then takes its sample
                              tangents with difference steps below branch_h / 1000] */
+    double branch_h_fd_steps; /* finite differences, branch_h left at 0: branch_h is this
+                             many difference steps at each branching point [1e4]; resolved
+                             (psb_options_resolve_for) to 0 when not used, while branch_h
+                             then stays 0, meaning "follows the point" */
     double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
     double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
     int n_dir;            /* directions per span of two tangents [20] */
@@ -828,6 +856,12 @@ typedef struct psb_options {
                              left at 0 (memo on), at least 15 counted spans, and on while
                              fewer than 3 times the span of the last new branch, up to 60
                              (8 n_span in all) */
+    int n_span_max;       /* counted spans at most when the sweep adapts its length [60 when
+                             n_span is left at 0 and the memo is on, else n_span]: n_span <
+                             n_span_max adapts (n_span counted spans at least, then on while
+                             fewer than 3 times the span of the last new branch; 2 n_span_max
+                             or 4 n_span spans in all, idle ones included); n_span_max =
+                             n_span is a fixed length */
     double branch_trial_h_min; /* trial steps of Algorithm 2.2 give up below this step [h_min];
                                   e.g. branch_h_init / 16 bounds each trial to 5 correctors */
     int branch_patience;  /* stop after this many spans in a row found no new branch
@@ -846,8 +880,15 @@ typedef struct psb_options {
     unsigned long long seed; /* seed of the generator of the random spans [0 is a valid seed] */
 } psb_options;
 
-/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by its
-   default, so a log or a test can show what will be used. Does not validate. */
+/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by what a
+   solver of problem p uses (p may be NULL: a problem with an analytic Jacobian), so a log or
+   a test can show it; given back to psb_solver_init it means the same. Adaptive values say so:
+   n_span < n_span_max (the sweep's length adapts between them), and, with finite differences
+   and branch_h left at 0, branch_h = branch_h_min = 0 with branch_h_fd_steps > 0 (they follow
+   each branching point; s->opt.branch_h shows the last value). Does not validate. */
+PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const psb_problem *p);
+/* psb_options_resolve_for(opt, NULL): the values for an analytic Jacobian (0.9.0 and before
+   reported n_span 15 without n_span_max, and branch_h = h_min also for finite differences) */
 PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt);
 
 /* ---- counters ---------------------------------------------------------------------------- */
@@ -880,8 +921,7 @@ typedef struct psb_solver {
                                            branches swept, bit j (j - 1) / 2 + i */
     int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
                                          A^{-1} dpfac_ / delta_ is current */
-    int branch_h_auto_, branch_h_min_auto_; /* left to their defaults (see psb__branch_h) */
-    int n_span_auto_; /* n_span left to its default: the sweep's end adapts (psb_find_branches) */
+    int branch_h_auto_, branch_h_min_auto_; /* follow the point (see psb__branch_h) */
     double fd_cap_;   /* > 0: largest difference step (weighted), see psb__sample_tangent */
     double *w_;
     double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
@@ -894,6 +934,11 @@ typedef struct psb_solver {
     unsigned long long rng_[4];
     int last_fail_;
     double sp_d_[2]; /* psb_trace's detectors: the corners d of the random borders (user backend) */
+    long faults_[4]; /* trials of the current algorithm that failed because of a fault, by
+                        cause: callback > 0, NaN/Inf, singular Jacobian; [3]: singular
+                        difference Jacobians, a fault only when n_ok_ = 0 (psb__note_fault) */
+    long n_ok_;      /* tangents and corrector runs of the current algorithm that succeeded */
+    unsigned ready_; /* PSB__READY between a successful init and psb_solver_free */
 } psb_solver;
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
@@ -909,19 +954,23 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
 /* Same, allocating with PSCBRANCH_MALLOC; release with psb_solver_free. */
 PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
                                          const psb_options *opt);
-/* Frees what psb_solver_init allocated (nothing for caller memory). s may be NULL. */
+/* Frees what psb_solver_init allocated (nothing for caller memory) and clears s (its stats
+   stay), so that every later call on it returns PSB_ERR_NULL until the next init. s may be
+   NULL; freeing twice is harmless. */
 PSCBRANCH_DEF void psb_solver_free(psb_solver *s);
 /* The last diagnostic message, "" if none; never NULL. */
 PSCBRANCH_DEF const char *psb_solver_message(const psb_solver *s);
 
-/* Weighted inner product and norm of vectors of n+1 components. */
+/* Weighted inner product and norm of vectors of n+1 components; NaN when s is NULL, freed or
+   not initialised, or a or b is NULL. */
 PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b);
 PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a);
 
 /* ---- single operations (none allocates; all may be called from a point callback) -------- */
 
 /* Newton's method on H(y) = 0 with y[param_index] held fixed, for a starting point.
-   y (in/out, n+1): untouched unless PSB_SUCCESS. max_iter <= 0 means 50.
+   y (in/out, n+1): untouched unless PSB_SUCCESS. max_iter <= 0 means 50; above
+   PSB_MAX_ITER_LIMIT: PSB_ERR_INPUT.
    Returns PSB_SUCCESS, PSB_ERR_NO_CONVERGENCE, PSB_ERR_SINGULAR, PSB_ERR_NONFINITE,
    PSB_ERR_CALLBACK(_FAILED), PSB_ERR_NULL. */
 PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_iter);
@@ -930,13 +979,14 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
    bordered system [dH(y); (W ref)^T] t = e_{n+1}; when that is singular or ill-conditioned
    (ref nearly orthogonal to the kernel, e.g. at a fold with ref = e_param) it falls back to
    the QR factorisation of dH(y)^T. ref may be NULL (then e_param orients t).
-   Returns PSB_SUCCESS, PSB_ERR_SINGULAR (rank of dH(y) < n), PSB_ERR_NONFINITE, ... */
+   Returns PSB_SUCCESS, PSB_ERR_SINGULAR (rank of dH(y) < n), PSB_ERR_NONFINITE, ...; t is
+   written only on success. */
 PSCBRANCH_DEF psb_result psb_tangent(psb_solver *s, const double *y, const double *ref,
                                      double *t);
 
 /* Moore-Penrose corrector from the couple (y, t) (in/out): each iteration factors
    [dH(y); (W t)^T] once and solves it for the point update (rhs [H(y); 0]) and the new
-   tangent (rhs [0; 1]). iterations (out, may be NULL).
+   tangent (rhs [0; 1]). iterations (out, may be NULL): the iterations spent, also on failure.
    Returns PSB_SUCCESS, PSB_ERR_NO_CONVERGENCE, PSB_ERR_SINGULAR, ...; y, t untouched on failure. */
 PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *iterations);
 
@@ -944,15 +994,18 @@ PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *i
    corrector converges no farther than *h from the prediction y + *h t, with a tangent within
    c_min of t, or until *h < h_min. On success (y, t) is
    the new couple and *h the step that was accepted, already adapted for the next step (h_inc
-   when the corrector was quick, capped at h_max).
-   Returns PSB_SUCCESS, PSB_ERR_STEP_TOO_SMALL, PSB_ERR_CALLBACK, ... */
+   when the corrector was quick, capped at h_max). On failure y, t and *h are untouched.
+   Returns PSB_SUCCESS, PSB_ERR_STEP_TOO_SMALL (every trial failed for the curve's sake),
+   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR (a trial failed because of the callback,
+   a NaN or a Jacobian of rank < N, and no smaller one converged), PSB_ERR_CALLBACK, ... */
 PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h);
 
 /* Simple tangent switch at a couple (y, t) where steps fail (a kink ahead): computes the
    tangent t~ at y + delta t for delta = switch_delta_min, 2 delta, ... <= switch_delta_max and,
    once t~ differs from t (cosine < c_diff), tries steps from y along +t~ then -t~, accepting a
    new couple that does not go back along the incoming branch.
-   Returns PSB_SUCCESS (y, t updated), PSB_NONSMOOTH_END (nothing found), or a failure. */
+   Returns PSB_SUCCESS (y, t updated), PSB_NONSMOOTH_END (nothing found; y, t untouched), or
+   a failure (y, t untouched), also when a probe or trial failed because of a fault (section 3). */
 PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t);
 
 /* ---- the driver -------------------------------------------------------------------------- */
@@ -1017,7 +1070,8 @@ typedef struct psb_point {
 typedef int (*psb_point_fn)(const psb_point *pt, void *user);
 
 typedef struct psb_trace_options {
-    double param_min, param_max; /* bounds on y[param_index]; ignored when param_min >= param_max */
+    double param_min, param_max; /* bounds on y[param_index]; ignored when param_min >= param_max;
+                                    either may be infinite, NaN gives PSB_ERR_INPUT */
     long max_steps;              /* accepted steps [0 -> 10000] */
     int no_switch;               /* 1: stop (PSB_NONSMOOTH_END) instead of switching at a kink */
     int detect_loop;             /* 1: stop (PSB_LOOP_CLOSED) when the curve returns to its start */
@@ -1052,9 +1106,11 @@ typedef struct psb_trace_report {
 
 /* Traces the curve through (y, t) (in/out; t is the direction of travel, ||t||_w = 1 is
    enforced) until a bound, the step budget, an end point it cannot pass, or a failure. At the
-   end (y, t) is the last accepted couple. With bounds, the last point lies exactly on the bound.
-   to and rep may be NULL. Returns PSB_PARAM_BOUND, PSB_STEP_BUDGET, PSB_NONSMOOTH_END,
-   PSB_STOPPED, PSB_LOOP_CLOSED, or a failure (PSB_ERR_CALLBACK when a callback returned < 0). */
+   end (y, t) is the last accepted couple; a failure before the first accepted step leaves them
+   untouched. With bounds, the last point lies exactly on the bound (bounds may be infinite;
+   NaN gives PSB_ERR_INPUT). to and rep may be NULL (rep is always written). Returns
+   PSB_PARAM_BOUND, PSB_STEP_BUDGET, PSB_NONSMOOTH_END, PSB_STOPPED, PSB_LOOP_CLOSED, or a
+   failure (PSB_ERR_CALLBACK when a callback returned < 0). */
 PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                                    const psb_trace_options *to, psb_trace_report *rep);
 
@@ -1065,7 +1121,11 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
    correction of y + h t converges with a tangent within c_diff of t (and trying the same h
    again after each such move, see section 6). On return y approximates
    the end point, t (unit) points out of the branch's region, *precision (may be NULL) is the
-   last h tried. Returns PSB_SUCCESS or a failure (PSB_ERR_CALLBACK...). */
+   last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision untouched:
+   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed because of a
+   fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end point lies
+   within 1000 moves or, with finite differences, no branch tangent could be computed 4 to 64
+   branch_h behind it, PSB_ERR_CALLBACK ... */
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision);
 
 typedef struct psb_branch_report {
@@ -1085,6 +1145,12 @@ typedef struct psb_branch_report {
                              found: the smallest n_span that finds them all, all else equal */
     long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
     int n_rand_last_new;  /* n_span = span_last_new would report */
+    long n_failed;        /* trials and sample tangents that failed because of a fault, the sum
+                             of the next three; psb_find_branches succeeds only when it is 0 */
+    long n_failed_callback;  /* ... because a callback returned > 0 */
+    long n_failed_nonfinite; /* ... because of NaN or Inf from a callback */
+    long n_failed_singular;  /* ... because dH had rank < N there (no tangent), or
+                                solver.factor failed whatever the bordering row */
 } psb_branch_report;
 
 /* Algorithm 2.2 with the restarts of Section 3: n_span spans of two tangents, each swept in
@@ -1092,7 +1158,10 @@ typedef struct psb_branch_report {
    (y0, t0) is Algorithm 2.1's output. Branch k (k < max_branches) is the
    couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented away from the point; branch 0 is
    the incoming branch (y0, -t0). rep may be NULL. Same seed, same result, bit for bit.
-   Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
+   Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure: PSB_ERR_CALLBACK_FAILED /
+   _NONFINITE / _SINGULAR when a trial or sample tangent failed because of a fault (the set may
+   be incomplete; rep->n_failed* count them), PSB_ERR_CALLBACK, ... After a failure ys, ts hold
+   the rep->n_branches branches found until then and rep is written; y0, t0 are inputs only. */
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            int max_branches, double *ys, double *ts,
                                            psb_branch_report *rep);
@@ -1568,6 +1637,7 @@ enum {
     PSB__V_REF,   /* reference direction copy */
     PSB__V_STEP_Y, PSB__V_STEP_T,   /* psb_step trial couple */
     PSB__V_SW_Y, PSB__V_SW_T, PSB__V_SW_D, PSB__V_SW_P, PSB__V_SW_A, PSB__V_SW_B, PSB__V_SW_C, /* switch */
+    PSB__V_IO_Y, PSB__V_IO_T,       /* psb_step / psb_switch_tangent: the caller's couple, copied */
     PSB__V_TR_Y, PSB__V_TR_T, PSB__V_TR_Y0, PSB__V_TR_T0, PSB__V_TR_B, PSB__V_TR_S, PSB__V_TR_K, /* trace */
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
@@ -1591,9 +1661,17 @@ static int psb__memo_capacity(int n)
    psb__try_tangent) */
 #define PSB__PATH_MAX 8
 
-/* Why the last recoverable failure happened, to report the right code when steps run out. */
+/* Why the last recoverable failure happened. Geometry (no convergence, a rejected or cut trial,
+   a bordered matrix singular only because the curve turned across its bordering row: TURN)
+   says something about the curve; a fault (a callback returned > 0, NaN or Inf, a Jacobian of
+   rank < N or a failing solver.factor: SINGULAR) says nothing about it, and an algorithm whose
+   outcome rests on one returns its code (psb__note_fault, psb__faults_code). A difference
+   Jacobian of rank < N (FD_RANK) is geometry too: quotients across a piece boundary mix the
+   pieces, which happens within a difference step of every kink; only when nothing at all
+   succeeded is it a fault. */
 enum { PSB__FAIL_NONE, PSB__FAIL_CONVERGE, PSB__FAIL_NONFINITE, PSB__FAIL_CALLBACK,
-       PSB__FAIL_SINGULAR, PSB__FAIL_COSINE, PSB__FAIL_KNOWN };
+       PSB__FAIL_SINGULAR, PSB__FAIL_COSINE, PSB__FAIL_KNOWN, PSB__FAIL_TURN, PSB__FAIL_FD_RANK };
+#define PSB__READY 0x70736231u /* psb_solver.ready_ of an initialised solver */
 
 PSCBRANCH_DEF const char *psb_result_string(psb_result code)
 {
@@ -1635,7 +1713,28 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
 
 PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
 {
+    return psb_options_resolve_for(opt, NULL);
+}
+
+/* Whether the library forms dH by finite differences (no analytic Jacobian callback). */
+static int psb__fd_jacobian(const psb_problem *p)
+{
+    switch (p->linear) {
+    case PSB_LINEAR_BANDED: return p->band_jacobian == NULL;
+    case PSB_LINEAR_USER: return 0;
+    default: return p->jacobian == NULL;
+    }
+}
+
+/* Fields that depend on the problem: branch_h (finite differences: follows the point) and
+   with it branch_h_min; without a problem, those of an analytic Jacobian. Fields that mean
+   "adaptive" resolve to the values the adaptation uses, with a field saying it adapts (n_span
+   and n_span_max, branch_h = 0 and branch_h_fd_steps), so that a resolved set given back to
+   psb_solver_init means the same as the set it came from. */
+PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const psb_problem *p)
+{
     psb_options o;
+    int fd = p && psb__fd_jacobian(p);
     if (opt) o = *opt;
     else memset(&o, 0, sizeof o);
     if (o.kappa == 0) o.kappa = 1.0;
@@ -1653,10 +1752,17 @@ PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
     if (o.switch_delta_max == 0) o.switch_delta_max = o.h_init;
     if (o.fd_step == 0) o.fd_step = o.fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
     if (o.c_diff == 0) o.c_diff = 0.99999;
-    if (o.branch_h == 0) o.branch_h = o.h_min;
-    if (o.branch_h_min == 0) o.branch_h_min = o.branch_h / 16384.0;
+    if (o.branch_h == 0 && fd) {
+        if (o.branch_h_fd_steps == 0) o.branch_h_fd_steps = 1e4; /* branch_h follows the point */
+    } else {
+        if (o.branch_h == 0) o.branch_h = o.h_min;
+        if (o.branch_h_min == 0) o.branch_h_min = o.branch_h / 16384.0;
+        o.branch_h_fd_steps = 0; /* not used */
+    }
     if (o.branch_h_init == 0) o.branch_h_init = o.h_init;
     if (o.n_dir == 0) o.n_dir = 20;
+    if (o.n_span_max == 0)
+        o.n_span_max = o.n_span == 0 && !o.branch_no_memo ? 60 : o.n_span ? o.n_span : 15;
     if (o.n_span == 0) o.n_span = 15;
     if (o.branch_trial_h_min == 0) o.branch_trial_h_min = o.h_min;
     return o;
@@ -1686,36 +1792,52 @@ static psb_result psb__fail(psb_solver *s, psb_result code, const char *what)
     return code;
 }
 
-/* Checks the options after resolution; returns a message or NULL. */
+/* Checks the options after resolution; returns a message naming the field, or NULL. The upper
+   limits keep every count the code forms within an int and every loop bounded: a step shrinks
+   at most log(h_max / h_min) / log(1 / h_dec) times (h_dec <= 0.9: under 15000 trials). */
 static const char *psb__check_options(const psb_options *o, int np1)
 {
     int i;
-    if (!(o->kappa > 0) || !psb__finite(o->kappa)) return "kappa must be positive";
+#define PSB__POS(x) ((x) > 0 && psb__finite(x)) /* false for NaN and Inf */
+    if (!PSB__POS(o->kappa)) return "kappa must be positive and finite";
     if (o->weights)
         for (i = 0; i < np1; i++)
-            if (!(o->weights[i] > 0) || !psb__finite(o->weights[i]))
-                return "weights must be positive and finite";
-    if (!(o->h_min > 0) || !(o->h_min <= o->h_init) || !(o->h_init <= o->h_max) ||
-        !psb__finite(o->h_max))
-        return "need 0 < h_min <= h_init <= h_max < inf";
-    if (!(o->h_inc >= 1) || !psb__finite(o->h_inc)) return "h_inc must be >= 1";
-    if (!(o->h_dec > 0 && o->h_dec < 1)) return "h_dec must lie in (0, 1)";
-    if (o->max_iter < 1 || o->iter_threshold < 1) return "max_iter and iter_threshold must be >= 1";
-    if (!(o->tol_residual > 0) || !(o->tol_correction > 0)) return "tolerances must be positive";
+            if (!PSB__POS(o->weights[i])) return "weights must be positive and finite";
+    if (!PSB__POS(o->h_min) || !PSB__POS(o->h_init) || !PSB__POS(o->h_max) ||
+        !(o->h_min <= o->h_init) || !(o->h_init <= o->h_max))
+        return "h_min, h_init, h_max: need 0 < h_min <= h_init <= h_max < inf";
+    if (!(o->h_inc >= 1 && o->h_inc <= 100)) return "h_inc must lie in [1, 100]";
+    if (!(o->h_dec > 0 && o->h_dec <= 0.9)) return "h_dec must lie in (0, 0.9]";
+    if (o->max_iter < 1 || o->max_iter > PSB_MAX_ITER_LIMIT) return "max_iter must lie in [1, PSB_MAX_ITER_LIMIT = 1000]";
+    if (o->iter_threshold < 1 || o->iter_threshold > PSB_MAX_ITER_LIMIT)
+        return "iter_threshold must lie in [1, PSB_MAX_ITER_LIMIT = 1000]";
+    if (!PSB__POS(o->tol_residual)) return "tol_residual must be positive and finite";
+    if (!PSB__POS(o->tol_correction)) return "tol_correction must be positive and finite";
     if (!(o->c_min > -1 && o->c_min < 1)) return "c_min must lie in (-1, 1)";
-    if (!(o->switch_delta_min > 0) || !(o->switch_delta_min <= o->switch_delta_max) ||
-        !psb__finite(o->switch_delta_max))
-        return "need 0 < switch_delta_min <= switch_delta_max";
+    if (!PSB__POS(o->switch_delta_min) || !PSB__POS(o->switch_delta_max) ||
+        !(o->switch_delta_min <= o->switch_delta_max))
+        return "switch_delta_min, switch_delta_max: need 0 < switch_delta_min <= switch_delta_max < inf";
     if (!(o->fd_step > 0) || !(o->fd_step < 1)) return "fd_step must lie in (0, 1)";
     if (!(o->c_diff > 0 && o->c_diff < 1)) return "c_diff must lie in (0, 1)";
-    if (!(o->branch_h_min > 0) || !(o->branch_h_min < o->branch_h) || !(o->branch_h_init > 0) ||
-        !psb__finite(o->branch_h) || !psb__finite(o->branch_h_init))
-        return "need 0 < branch_h_min < branch_h and branch_h_init > 0";
-    if (o->n_dir < 1 || o->n_span < 1) return "n_dir and n_span must be >= 1";
-    if (!(o->branch_trial_h_min > 0) || o->branch_patience < 0 || o->branch_max_pc < 0)
-        return "need branch_trial_h_min > 0, branch_patience >= 0, branch_max_pc >= 0";
+    if (!PSB__POS(o->branch_h_init)) return "branch_h_init must be positive and finite";
+    if (o->branch_h == 0 && o->branch_h_fd_steps != 0) { /* follows the point (finite differences) */
+        if (!(o->branch_h_fd_steps >= 1 && o->branch_h_fd_steps <= 1e8))
+            return "branch_h_fd_steps must lie in [1, 1e8]";
+        if (o->branch_h_min != 0 && !PSB__POS(o->branch_h_min))
+            return "branch_h_min must be positive and finite";
+    } else if (!PSB__POS(o->branch_h) || !PSB__POS(o->branch_h_min) || !(o->branch_h_min < o->branch_h)) {
+        return "branch_h, branch_h_min: need 0 < branch_h_min < branch_h < inf";
+    }
+    if (o->n_dir < 1 || o->n_dir > PSB_MAX_DIR_LIMIT) return "n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
+    if (o->n_span < 1 || o->n_span > PSB_MAX_SPAN_LIMIT) return "n_span must lie in [1, PSB_MAX_SPAN_LIMIT = 10000]";
+    if (o->n_span_max < o->n_span || o->n_span_max > PSB_MAX_SPAN_LIMIT)
+        return "n_span_max must lie in [n_span, PSB_MAX_SPAN_LIMIT = 10000]";
+    if (!PSB__POS(o->branch_trial_h_min)) return "branch_trial_h_min must be positive and finite";
+    if (o->branch_patience < 0) return "branch_patience must be >= 0";
+    if (o->branch_max_pc < 0) return "branch_max_pc must be >= 0";
     if (o->restart < PSB_RESTART_MIXED || o->restart > PSB_RESTART_GLOBAL)
         return "restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
+#undef PSB__POS
     return NULL;
 }
 
@@ -1805,16 +1927,6 @@ PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p)
     return psb__layout(p, NULL, NULL);
 }
 
-/* Whether the library forms dH by finite differences (no analytic Jacobian callback). */
-static int psb__fd_jacobian(const psb_problem *p)
-{
-    switch (p->linear) {
-    case PSB_LINEAR_BANDED: return p->band_jacobian == NULL;
-    case PSB_LINEAR_USER: return 0;
-    default: return p->jacobian == NULL;
-    }
-}
-
 PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_problem *p,
                                                      const psb_options *opt, void *memory,
                                                      size_t bytes)
@@ -1829,11 +1941,10 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     if (bad) return psb__fail(s, code, bad);
     if (bytes < psb__layout(p, NULL, NULL))
         return psb__fail(s, PSB_ERR_NOMEM, "memory block smaller than psb_solver_memory_size(p)");
-    s->opt = psb_options_resolve(opt);
+    s->opt = psb_options_resolve_for(opt, p);
     /* finite differences: branch_h follows the difference steps at each point (psb__branch_h) */
-    s->branch_h_auto_ = (!opt || opt->branch_h == 0) && psb__fd_jacobian(p);
-    s->branch_h_min_auto_ = !opt || opt->branch_h_min == 0;
-    s->n_span_auto_ = !opt || opt->n_span == 0;
+    s->branch_h_auto_ = s->opt.branch_h == 0;
+    s->branch_h_min_auto_ = s->opt.branch_h_min == 0;
     bad = psb__check_options(&s->opt, p->n + 1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->prob = *p;
@@ -1848,6 +1959,7 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
         s->w_[i] = s->opt.weights ? s->opt.weights[i]
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
     s->opt.weights = NULL; /* copied: the caller's array need not outlive init */
+    s->ready_ = PSB__READY;
     return PSB_SUCCESS;
 }
 
@@ -1877,15 +1989,20 @@ PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
 
 PSCBRANCH_DEF void psb_solver_free(psb_solver *s)
 {
+    psb_stats stats;
     if (!s) return;
-    if (s->owned_) PSCBRANCH_FREE(s->owned_);
-    s->owned_ = NULL;
-    s->vec_ = NULL;
+    if (s->ready_ == PSB__READY && s->owned_) PSCBRANCH_FREE(s->owned_);
+    /* every pointer into the block goes, so that a later call fails cleanly (PSB_ERR_NULL);
+       the counters stay readable */
+    stats = s->stats;
+    memset(s, 0, sizeof *s);
+    s->stats = stats;
 }
 
 PSCBRANCH_DEF const char *psb_solver_message(const psb_solver *s) { return s ? s->message : ""; }
 
-PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b)
+/* The weighted inner product of the library's own vectors (no checks: every caller has them) */
+static double psb__dot_w(const psb_solver *s, const double *a, const double *b)
 {
     double sum = 0;
     int i;
@@ -1893,7 +2010,19 @@ PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const doubl
     return sum;
 }
 
-PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a) { return sqrt(psb_dot_w(s, a, a)); }
+PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b)
+{
+    if (!s || s->ready_ != PSB__READY || !s->w_ || !a || !b) return NAN;
+    return psb__dot_w(s, a, b);
+}
+
+static double psb__norm_w(const psb_solver *s, const double *a) { return sqrt(psb__dot_w(s, a, a)); }
+
+PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a)
+{
+    if (!s || s->ready_ != PSB__READY || !s->w_ || !a) return NAN;
+    return sqrt(psb__dot_w(s, a, a));
+}
 
 /* ||a - b||_w, formed from the differences (not from dot products, which cancel for close points) */
 static double psb__dist_w(const psb_solver *s, const double *a, const double *b)
@@ -1915,8 +2044,8 @@ static double psb__norm2(const double *a, int n)
 /* Weighted cosine of the angle between a and b (0 when either vanishes). */
 static double psb__cos_w(const psb_solver *s, const double *a, const double *b)
 {
-    double na = psb_norm_w(s, a), nb = psb_norm_w(s, b);
-    return (na > 0 && nb > 0) ? psb_dot_w(s, a, b) / (na * nb) : 0.0;
+    double na = psb__norm_w(s, a), nb = psb__norm_w(s, b);
+    return (na > 0 && nb > 0) ? psb__dot_w(s, a, b) / (na * nb) : 0.0;
 }
 
 static void psb__copy(double *dst, const double *src, int n) { memmove(dst, src, (size_t)n * sizeof *dst); }
@@ -1930,7 +2059,7 @@ static void psb__axpy_to(double *dst, const double *a, double h, const double *b
 
 static int psb__normalize_w(const psb_solver *s, double *a)
 {
-    double nrm = psb_norm_w(s, a);
+    double nrm = psb__norm_w(s, a);
     int i;
     if (!(nrm > 0) || !psb__finite(nrm)) return 0;
     for (i = 0; i < s->np1_; i++) a[i] /= nrm;
@@ -1944,6 +2073,56 @@ static psb_result psb__callback_code(psb_solver *s, int rc, const char *which)
     if (rc < 0) return psb__fail(s, PSB_ERR_CALLBACK, which);
     s->last_fail_ = PSB__FAIL_CALLBACK;
     return psb__fail(s, PSB_ERR_CALLBACK_FAILED, which);
+}
+
+static int psb__fd_jacobian(const psb_problem *p);
+
+/* Whether a recoverable failure code is a fault (not geometry): the codes of psb__tangent and
+   psb__try_step, whose SINGULAR is a rank-deficient Jacobian (psb__correct's may be a TURN). */
+static int psb__is_fault(psb_result r)
+{
+    return r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE || r == PSB_ERR_SINGULAR;
+}
+
+/* Starts the count of faults of an algorithm (psb__note_fault, psb__faults_code). */
+static void psb__faults_reset(psb_solver *s)
+{
+    memset(s->faults_, 0, sizeof s->faults_);
+    s->n_ok_ = 0;
+}
+
+/* Counts a failed trial or tangent of the current algorithm when its code r is a fault;
+   returns whether it was. A singular difference Jacobian is counted apart (FD_RANK). */
+static int psb__note_fault(psb_solver *s, psb_result r)
+{
+    if (!psb__is_fault(r)) return 0;
+    if (r == PSB_ERR_SINGULAR && psb__fd_jacobian(&s->prob)) {
+        s->faults_[3]++;
+        return 0;
+    }
+    s->faults_[r == PSB_ERR_CALLBACK_FAILED ? 0 : r == PSB_ERR_NONFINITE ? 1 : 2]++;
+    return 1;
+}
+
+/* PSB_SUCCESS when no trial of the current algorithm failed because of a fault; otherwise the
+   fault's code (a callback before NaN/Inf before singular) with a message counting them.
+   Singular difference Jacobians are a fault when no tangent or corrector run succeeded. */
+static psb_result psb__faults_code(psb_solver *s, const char *what)
+{
+    static const psb_result codes[3] = {PSB_ERR_CALLBACK_FAILED, PSB_ERR_NONFINITE, PSB_ERR_SINGULAR};
+    int k;
+    if (s->n_ok_ == 0 && s->faults_[3] > 0) {
+        s->faults_[2] += s->faults_[3];
+        s->faults_[3] = 0;
+    }
+    for (k = 0; k < 3; k++)
+        if (s->faults_[k]) {
+            char buf[160];
+            snprintf(buf, sizeof buf, "%s: failed trials: callback > 0 %ld, NaN/Inf %ld, "
+                     "singular dH or solver.factor %ld", what, s->faults_[0], s->faults_[1], s->faults_[2]);
+            return psb__fail(s, codes[k], buf);
+        }
+    return PSB_SUCCESS;
 }
 
 /* H(y) into out (n). */
@@ -2657,13 +2836,14 @@ static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref
         }
     }
     if (r != PSB_SUCCESS) return r;
-    if (psb_dot_w(s, x, ref) < 0)
+    if (psb__dot_w(s, x, ref) < 0)
         for (i = 0; i < np1; i++) x[i] = -x[i];
     if (!psb__normalize_w(s, x)) {
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
     }
     psb__copy(t, x, np1);
+    s->n_ok_++;
     return PSB_SUCCESS;
 }
 
@@ -2680,7 +2860,7 @@ static int psb__trial_known(const psb_solver *s, const double *x, const double *
    path_on_ (Algorithm 2.2's trials) it records its tangents and stops as soon as one is a
    tangent whose trial's outcome is known (the cut, see psb__try_tangent; last_fail_
    PSB__FAIL_KNOWN). */
-static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterations)
+static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *iterations)
 {
     int n = s->n_, np1 = s->np1_, it, i;
     double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_, corr_prev = 0;
@@ -2713,11 +2893,12 @@ static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterati
         }
         if (s->path_on_ && s->path_n_ < PSB__PATH_MAX)
             psb__copy(s->path_ + (size_t)s->path_n_++ * (size_t)np1, tc, np1);
+        *iterations = it;
         if (s->path_on_ && psb__trial_known(s, tc, s->path_ts_, s->path_nts_, NULL, s->path_own_)) {
             s->last_fail_ = PSB__FAIL_KNOWN;
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
-        corr = psb_norm_w(s, s->rhs_);
+        corr = psb__norm_w(s, s->rhs_);
         r = psb__residual(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
         res = psb__norm2(s->res_, n);
@@ -2726,13 +2907,44 @@ static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterati
              (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) {
             psb__copy(y, yc, np1);
             psb__copy(t, tc, np1);
-            if (iterations) *iterations = it;
             return PSB_SUCCESS;
         }
         corr_prev = corr;
     }
     s->last_fail_ = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector did not converge in max_iter iterations");
+}
+
+/* The corrector; *iterations (may be NULL) gets the iterations spent, also on failure. A
+   singular bordered matrix is geometry when dH has a tangent where it happened (the curve
+   turned across the bordering row: last_fail_ TURN), a fault when it has none (rank < N, or a
+   solver.factor that fails with any row: last_fail_ SINGULAR); the extra tangent costs a
+   factorisation only on that failure. With differences it is never a fault (FD_RANK). */
+static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterations)
+{
+    int its = 0;
+    psb_result r = psb__correct_run(s, y, t, &its), rt;
+    if (iterations) *iterations = its;
+    if (r == PSB_SUCCESS) s->n_ok_++;
+    if (r != PSB_ERR_SINGULAR) return r;
+    if (psb__fd_jacobian(&s->prob)) { /* either way no fault (FD_RANK): spare the test */
+        s->last_fail_ = PSB__FAIL_FD_RANK;
+        s->faults_[3]++;
+        return r;
+    }
+    rt = psb__tangent(s, PSB__VEC(s, PSB__V_Y), PSB__VEC(s, PSB__V_T), s->rhs_);
+    if (rt == PSB_SUCCESS) {
+        s->last_fail_ = PSB__FAIL_TURN;
+        return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix singular: the tangent turned across the bordering row");
+    }
+    if (rt == PSB_ERR_SINGULAR) s->last_fail_ = PSB__FAIL_SINGULAR;
+    return rt;
+}
+
+/* Whether psb__correct's failure r was a fault (psb__is_fault, its SINGULAR told apart). */
+static int psb__correct_fault(const psb_solver *s, psb_result r)
+{
+    return psb__is_fault(r) && s->last_fail_ != PSB__FAIL_TURN && s->last_fail_ != PSB__FAIL_FD_RANK;
 }
 
 /* Whether y1 lies on the line through y0 along t (|cosine| >= c_diff), at most dmax away. */
@@ -2742,8 +2954,8 @@ static int psb__on_ray(psb_solver *s, const double *y0, const double *y1, const 
     double *d = PSB__VEC(s, PSB__V_FD), dn;
     int i;
     for (i = 0; i < s->np1_; i++) d[i] = y1[i] - y0[i];
-    dn = psb_norm_w(s, d);
-    return dn > 0 && dn <= dmax && fabs(psb_dot_w(s, d, t)) >= s->opt.c_diff * dn * psb_norm_w(s, t);
+    dn = psb__norm_w(s, d);
+    return dn > 0 && dn <= dmax && fabs(psb__dot_w(s, d, t)) >= s->opt.c_diff * dn * psb__norm_w(s, t);
 }
 
 /* Trial steps from (y, t) starting at *h and shrinking by h_dec down to h_floor; on success
@@ -2757,6 +2969,7 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
 {
     int np1 = s->np1_;
     double *yt = PSB__VEC(s, PSB__V_STEP_Y), *tt = PSB__VEC(s, PSB__V_STEP_T), hh = *h;
+    psb_result fault = PSB_SUCCESS; /* the first fault among the failed trials */
     s->last_fail_ = PSB__FAIL_NONE;
     while (hh >= h_floor) {
         psb_result r;
@@ -2783,15 +2996,20 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
                 return PSB_SUCCESS;
             }
             s->last_fail_ = PSB__FAIL_COSINE;
+        } else if (fault == PSB_SUCCESS && psb__correct_fault(s, r)) {
+            fault = r;
         }
         s->stats.n_rejected++;
         /* a cut trial: a smaller step is the same trial scaled down */
         if (s->last_fail_ == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
         hh *= s->opt.h_dec;
     }
-    switch (s->last_fail_) {
-    case PSB__FAIL_NONFINITE: return psb__fail(s, PSB_ERR_NONFINITE, "NaN or Inf at every trial step down to h_min");
-    case PSB__FAIL_CALLBACK: return psb__fail(s, PSB_ERR_CALLBACK_FAILED, "callback failed at every trial step down to h_min");
+    /* a trial that failed because of a fault might have converged: the steps did not run out
+       because of the curve */
+    switch (fault) {
+    case PSB_ERR_NONFINITE: return psb__fail(s, fault, "NaN or Inf at a trial step, and no smaller step converged");
+    case PSB_ERR_CALLBACK_FAILED: return psb__fail(s, fault, "a callback failed at a trial step, and no smaller step converged");
+    case PSB_ERR_SINGULAR: return psb__fail(s, fault, "singular Jacobian (no tangent) at a trial step, and no smaller step converged");
     default: return psb__fail(s, PSB_ERR_STEP_TOO_SMALL, "no trial step converged down to h_min");
     }
 }
@@ -2802,14 +3020,24 @@ static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, 
     return psb__try_step_from(s, y, t, h, h_floor, iters, NULL);
 }
 
+/* Whether s is an initialised solver (not freed). A non-NULL s that is not gets the message
+   "solver not initialised". */
+static int psb__ready(psb_solver *s)
+{
+    if (!s) return 0;
+    if (s->ready_ == PSB__READY && s->vec_) return 1;
+    psb__fail(s, PSB_ERR_NULL, "solver not initialised (or freed)");
+    return 0;
+}
+
 static psb_result psb__check_couple(psb_solver *s, const void *y, const void *t)
 {
-    if (!s || !s->vec_) return PSB_ERR_NULL;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
     if (!psb__all_finite((const double *)y, s->np1_) || !psb__all_finite((const double *)t, s->np1_))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or t contains NaN or Inf");
-    if (!(psb_norm_w(s, (const double *)t) > 0)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    if (!(psb__norm_w(s, (const double *)t) > 0)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     return PSB_SUCCESS;
 }
 
@@ -2818,10 +3046,11 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
     int n, np1, it, i, k;
     double *yc, *yt, *row, res;
     psb_result r;
-    if (!s || !s->vec_) return PSB_ERR_NULL;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
     if (!psb__all_finite(y, s->np1_)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
+    if (max_iter > PSB_MAX_ITER_LIMIT) return psb__fail(s, PSB_ERR_INPUT, "max_iter > PSB_MAX_ITER_LIMIT");
     n = s->n_;
     np1 = s->np1_;
     if (max_iter <= 0) max_iter = 50;
@@ -2845,7 +3074,7 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
         s->rhs_[n] = 0;
         r = psb__solve_factored(s, s->rhs_, 1);
         if (r != PSB_SUCCESS) return r;
-        corr = psb_norm_w(s, s->rhs_);
+        corr = psb__norm_w(s, s->rhs_);
         /* backtracking on ||H||: full steps when they reduce it, which is the usual case */
         for (k = 0; k < 12; k++, lambda *= 0.5) {
             double trial;
@@ -2874,14 +3103,14 @@ PSCBRANCH_DEF psb_result psb_tangent(psb_solver *s, const double *y, const doubl
 {
     double *r0;
     psb_result r;
-    if (!s || !s->vec_) return PSB_ERR_NULL;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
     if (!psb__all_finite(y, s->np1_) || (ref && !psb__all_finite(ref, s->np1_)))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or ref contains NaN or Inf");
     r0 = PSB__VEC(s, PSB__V_REF);
     if (ref) {
-        if (!(psb_norm_w(s, ref) > 0)) return psb__fail(s, PSB_ERR_INPUT, "ref is zero");
+        if (!(psb__norm_w(s, ref) > 0)) return psb__fail(s, PSB_ERR_INPUT, "ref is zero");
         psb__copy(r0, ref, s->np1_);
     } else {
         memset(r0, 0, (size_t)s->np1_ * sizeof *r0);
@@ -2909,14 +3138,23 @@ static double psb__adapt(const psb_solver *s, double h, int iters)
 PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h)
 {
     int iters = 0;
+    double hh, *yc, *tc;
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
     if (!h) return psb__fail(s, PSB_ERR_NULL, "h is NULL");
     if (!(*h > 0) || !psb__finite(*h)) return psb__fail(s, PSB_ERR_INPUT, "step size must be positive");
-    if (*h > s->opt.h_max) *h = s->opt.h_max;
-    if (!psb__normalize_w(s, t)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
-    r = psb__try_step(s, y, t, h, s->opt.h_min, &iters);
-    if (r == PSB_SUCCESS) *h = psb__adapt(s, *h, iters);
+    hh = *h < s->opt.h_max ? *h : s->opt.h_max;
+    /* on copies: the caller's couple and h stay as they were unless a step is accepted */
+    yc = PSB__VEC(s, PSB__V_IO_Y);
+    tc = PSB__VEC(s, PSB__V_IO_T);
+    psb__copy(yc, y, s->np1_);
+    psb__copy(tc, t, s->np1_);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    r = psb__try_step(s, yc, tc, &hh, s->opt.h_min, &iters);
+    if (r != PSB_SUCCESS) return r;
+    psb__copy(y, yc, s->np1_);
+    psb__copy(t, tc, s->np1_);
+    *h = psb__adapt(s, hh, iters);
     return r;
 }
 
@@ -2935,7 +3173,10 @@ static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const dou
         h = s->opt.h_init;
         r = psb__try_step(s, yd, td, &h, h_floor, &iters);
         if (psb__is_fatal(r)) return r;
-        if (r != PSB_SUCCESS) continue;
+        if (r != PSB_SUCCESS) {
+            psb__note_fault(s, r);
+            continue;
+        }
         /* going back along the incoming branch is no continuation */
         if (-psb__cos_w(s, td, t) >= s->opt.c_diff) continue;
         if (t_before && -psb__cos_w(s, td, t_before) >= s->opt.c_diff) continue;
@@ -2955,11 +3196,13 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
     double *dir = PSB__VEC(s, PSB__V_SW_D), *probe = PSB__VEC(s, PSB__V_SW_P);
     double *t1 = PSB__VEC(s, PSB__V_SW_A), *q = PSB__VEC(s, PSB__V_SW_B), delta;
     psb_result r;
+    psb__faults_reset(s);
     /* the simple tangent switch: probe straight ahead */
     for (delta = s->opt.switch_delta_min; delta <= s->opt.switch_delta_max; delta *= 2) {
         psb__axpy_to(probe, y, delta, t, np1);
         r = psb__tangent(s, probe, t, dir);
         if (psb__is_fatal(r)) return r;
+        psb__note_fault(s, r);
         if (r != PSB_SUCCESS || psb__cos_w(s, dir, t) >= s->opt.c_diff) continue;
         r = psb__switch_try(s, y, t, t_before, dir, s->opt.h_min);
         if (r != PSB_NONSMOOTH_END) return r;
@@ -2973,9 +3216,10 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
             psb__axpy_to(probe, y, delta, t, np1);
             r = psb__tangent(s, probe, t, q);
             if (psb__is_fatal(r)) return r;
+            psb__note_fault(s, r);
             if (r != PSB_SUCCESS) continue;
             {
-                double c = psb_dot_w(s, t1, q);
+                double c = psb__dot_w(s, t1, q);
                 for (k = 0; k < np1; k++) q[k] -= c * t1[k];
                 if (!psb__normalize_w(s, q)) continue;
             }
@@ -2986,6 +3230,7 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
                 psb__copy(PSB__VEC(s, PSB__V_SW_C), dir, np1);
                 r = psb__tangent(s, probe, PSB__VEC(s, PSB__V_SW_C), dir);
                 if (psb__is_fatal(r)) return r;
+                psb__note_fault(s, r);
                 if (r != PSB_SUCCESS || fabs(psb__cos_w(s, dir, t)) >= s->opt.c_diff) continue;
                 /* steps much shorter than the probe distance see only the kink itself */
                 r = psb__switch_try(s, y, t, t_before, dir, fmax(s->opt.h_min, delta / 64));
@@ -2993,16 +3238,29 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
             }
         }
     }
+    /* nothing found: an end point only if no probe or trial failed because of a fault */
+    r = psb__faults_code(s, "tangent switch");
+    if (r != PSB_SUCCESS) return r;
     s->message[0] = 0;
     return PSB_NONSMOOTH_END;
 }
 
 PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t)
 {
+    double *yc, *tc;
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
-    if (!psb__normalize_w(s, t)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
-    return psb__switch(s, y, t, NULL);
+    /* on copies: the caller's couple stays as it was unless the switch succeeds */
+    yc = PSB__VEC(s, PSB__V_IO_Y);
+    tc = PSB__VEC(s, PSB__V_IO_T);
+    psb__copy(yc, y, s->np1_);
+    psb__copy(tc, t, s->np1_);
+    if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    r = psb__switch(s, yc, tc, NULL);
+    if (r != PSB_SUCCESS) return r;
+    psb__copy(y, yc, s->np1_);
+    psb__copy(t, tc, s->np1_);
+    return r;
 }
 
 /* Parameter value of the limit point between two couples whose tangents' parameter components
@@ -3069,7 +3327,7 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
     psb__copy(tt, t0, np1);
     trial = hs;
     r = psb__try_step(s, yt, tt, &trial, hs, &iters);
-    if (psb__is_fatal(r)) return r;
+    if (psb__is_fatal(r) || psb__is_fault(r)) return r; /* a fault leaves the kink unlocated */
     if (r == PSB_SUCCESS) {
         half_theta = psb__angle_w(s, t0, tt);
         if (half_theta >= 0.25 * theta && half_theta <= 0.75 * theta) return 0;
@@ -3085,7 +3343,7 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
         psb__copy(tt, ta, np1);
         trial = half;
         r = psb__try_step(s, yt, tt, &trial, half, &iters);
-        if (psb__is_fatal(r)) return r;
+        if (psb__is_fatal(r) || psb__is_fault(r)) return r;
         if (r == PSB_SUCCESS && psb__angle_w(s, ta, tt) < 0.25 * theta) {
             psb__copy(ya, yt, np1);
             psb__copy(ta, tt, np1);
@@ -3629,6 +3887,8 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     if (opts.max_steps <= 0) opts.max_steps = 10000;
     np1 = s->np1_;
     p = s->prob.param_index;
+    if (opts.param_min != opts.param_min || opts.param_max != opts.param_max)
+        return rep->end = psb__fail(s, PSB_ERR_INPUT, "trace options: param_min or param_max is NaN");
     bounded = opts.param_min < opts.param_max;
     if (bounded && (!(y[p] >= opts.param_min) || !(y[p] <= opts.param_max)))
         return rep->end = psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
@@ -3736,9 +3996,10 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                 goto done;
             }
             r = psb__land_on_bound(s, yold, yc, bound);
-            if (psb__is_fatal(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
+            /* (a singular Newton matrix there is a fold at the bound: a shorter step may land) */
+            if (psb__is_fatal(r) || r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
             if (r == PSB_SUCCESS) r = psb__tangent(s, yc, tc, tc);
-            if (psb__is_fatal(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
+            if (psb__is_fatal(r) || psb__is_fault(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
             if (r != PSB_SUCCESS) {
                 /* land by a shorter step next time */
                 psb__copy(yc, yold, np1);
@@ -3798,8 +4059,12 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     }
     rep->end = PSB_STEP_BUDGET;
 done:
-    psb__copy(y, yc, np1);
-    psb__copy(t, tc, np1);
+    /* a failure before the first accepted step leaves the caller's couple as it was (t not
+       normalised); otherwise (y, t) is the last accepted couple */
+    if (rep->end >= 0 || rep->steps > 0) {
+        psb__copy(y, yc, np1);
+        psb__copy(t, tc, np1);
+    }
     rep->h = h;
     return rep->end;
 }
@@ -3821,7 +4086,7 @@ static void psb__branch_h(psb_solver *s, const double *y)
         double sj = s->opt.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
         if (sj > step) step = sj;
     }
-    h = 1e4 * step;
+    h = s->opt.branch_h_fd_steps * step;
     if (h > s->opt.branch_h_init / 8) h = s->opt.branch_h_init / 8;
     s->opt.branch_h = h > s->opt.h_min ? h : s->opt.h_min;
     if (s->branch_h_min_auto_) s->opt.branch_h_min = s->opt.branch_h / 16384.0;
@@ -3829,7 +4094,7 @@ static void psb__branch_h(psb_solver *s, const double *y)
 
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision)
 {
-    int np1;
+    int np1, last_fault = 0;
     long advances = 0;
     double h, *yc, *tc, *yt, *tt, *tin;
     psb_result r = psb__check_couple(s, y, t);
@@ -3849,6 +4114,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
        halved: the paper's version moves at most h in all, so it cannot reach an end point
        farther than h (the last step of a continuation can stop up to h_min / h_dec away). */
     h = s->opt.branch_h;
+    psb__faults_reset(s);
     do {
         int moved = 0;
         h *= 0.5;
@@ -3858,6 +4124,10 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
             s->stats.n_pc_steps++;
             r = psb__correct(s, yt, tt, NULL);
             if (psb__is_fatal(r)) return r;
+            /* a fault at the last trial leaves the end point unlocated (one that a later trial
+               outlived cost nothing: the same h is tried again after every move) */
+            last_fault = r != PSB_SUCCESS && psb__correct_fault(s, r);
+            if (last_fault) psb__note_fault(s, r);
             /* Step 4, also against the entering tangent, so that small turns passing c_diff
                one by one cannot add up to another direction, and only for a point ahead: the
                corrector may fall back from beyond the end point onto the branch behind it
@@ -3881,23 +4151,36 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
             }
         } while (moved);
     } while (h >= s->opt.branch_h_min);
+    if (last_fault) return psb__faults_code(s, "Algorithm 2.1");
     if (psb__fd_jacobian(&s->prob)) {
         /* the entering tangent too may come from quotients mixing the pieces (the last couple
            of a trace lies within h_min of the end point): take the branch's tangent 16
            branch_h back, where a difference step meets a piece boundary only if the branch
            runs within ~fd_step / (16 branch_h) radians of it. The point must lie behind and
            the tangent pass the continuation's own test, c_min, against one that may be off
-           by more than c_diff allows (central differences: 0.05 rad) */
-        double behind = 0, back = 16 * s->opt.branch_h;
-        int i;
-        psb__axpy_to(yt, yc, -back, tc, np1);
-        psb__copy(tt, tc, np1);
-        s->stats.n_pc_steps++;
-        r = psb__correct(s, yt, tt, NULL);
-        if (psb__is_fatal(r)) return r;
-        for (i = 0; i < np1; i++) behind += s->w_[i] * (yc[i] - yt[i]) * tc[i];
-        if (r == PSB_SUCCESS && behind >= 0.5 * back && psb__cos_w(s, tt, tc) >= s->opt.c_min)
-            psb__copy(tc, tt, np1);
+           by more than c_diff allows (central differences: 0.05 rad). When that correction
+           fails, 32, 8, 64 and 4 branch_h back; when all fail the call fails: kept, the
+           entering tangent was found a second time by the sweep as a new branch */
+        static const double backs[5] = {16, 32, 8, 64, 4};
+        int i, k, repaired = 0;
+        for (k = 0; k < 5 && !repaired; k++) {
+            double behind = 0, back = backs[k] * s->opt.branch_h;
+            psb__axpy_to(yt, yc, -back, tc, np1);
+            psb__copy(tt, tc, np1);
+            s->stats.n_pc_steps++;
+            r = psb__correct(s, yt, tt, NULL);
+            if (psb__is_fatal(r)) return r;
+            if (r != PSB_SUCCESS && psb__correct_fault(s, r)) {
+                psb__note_fault(s, r);
+                return psb__faults_code(s, "Algorithm 2.1, the tangent behind the end point");
+            }
+            for (i = 0; i < np1; i++) behind += s->w_[i] * (yc[i] - yt[i]) * tc[i];
+            repaired = r == PSB_SUCCESS && behind >= 0.5 * back && psb__cos_w(s, tt, tc) >= s->opt.c_min;
+        }
+        if (!repaired)
+            return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Algorithm 2.1: no branch tangent behind the end point "
+                             "(finite differences; 4 to 64 branch_h back)");
+        psb__copy(tc, tt, np1);
     }
     psb__copy(y, yc, np1);
     psb__copy(t, tc, np1);
@@ -4050,6 +4333,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
         s->path_on_ = 0;
         if (psb__is_fatal(r)) return r;
+        if (psb__note_fault(s, r)) continue;
         /* cut at iteration i: the trial is then a trial along k_i scaled up, whose outcome is
            known (k_i passes the screen): it lands on a found branch, or repeats a trial made
            before, which found no branch that is not known now; having spent i iterations it
@@ -4106,10 +4390,10 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         /* t2 made w-orthogonal to t1: the same plane, but the n_dir directions spread evenly
            over it even when t1 and t2 are nearly parallel (then the printed combination
            bunches them around +-t1 and +-t2 and misses the regions in between) */
-        double c = psb_dot_w(s, t1, t2) / psb_dot_w(s, t1, t1);
+        double c = psb__dot_w(s, t1, t2) / psb__dot_w(s, t1, t1);
         for (k = 0; k < np1; k++) q[k] = t2[k] - c * t1[k];
         if (!psb__normalize_w(s, q)) return PSB_SUCCESS; /* t2 parallel to t1: no plane */
-        for (k = 0; k < np1; k++) q[k] *= psb_norm_w(s, t1);
+        for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
     for (i = 0; i < s->opt.n_dir; i++) {
         double alpha = 6.283185307179586 * i / s->opt.n_dir;
@@ -4119,7 +4403,10 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         rep->n_tangents++;
         r = psb__sample_tangent(s, pt, v, tt);
         if (psb__is_fatal(r)) return r;
-        if (r != PSB_SUCCESS) continue;
+        if (r != PSB_SUCCESS) {
+            psb__note_fault(s, r);
+            continue;
+        }
         /* Step 4: a tangent seen at the previous direction belongs to the same region */
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         psb__copy(tprev, tt, np1);
@@ -4181,11 +4468,11 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
 {
     psb_branch_report local;
     int np1, k, span, overflow = 0, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
-    int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, pi, pj;
+    int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, spans_in_all, pi, pj;
     long pc_before;
     unsigned long long seed;
     double *yc, *tc, *t1, *t2, *pt;
-    psb_result r;
+    psb_result r, fatal = PSB_SUCCESS;
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
     r = psb__check_couple(s, y0, t0);
@@ -4207,6 +4494,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     s->memo_n_ = 0;
     s->known_n_ = 0;
     memset(s->pairs_done_, 0, sizeof s->pairs_done_);
+    psb__faults_reset(s);
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
@@ -4232,10 +4520,11 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
        twice as many counted spans without a new branch as it took to find the last one, up
        to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
        keep trickling in, and how long they took to come tells how long to wait). */
-    extend = s->n_span_auto_ && !s->opt.branch_no_memo;
+    extend = s->opt.n_span_max > s->opt.n_span;
+    spans_in_all = 4 * s->opt.n_span > 2 * s->opt.n_span_max ? 4 * s->opt.n_span : 2 * s->opt.n_span_max;
     for (span = 0; (rep->n_span < s->opt.n_span ||
-                    (extend && rep->n_span < 4 * s->opt.n_span && rep->n_span < 3 * rep->span_last_new)) &&
-                   span - idle_pair_spans < (extend ? 8 : 4) * s->opt.n_span; span++) {
+                    (extend && rep->n_span < s->opt.n_span_max && rep->n_span < 3 * rep->span_last_new)) &&
+                   span - idle_pair_spans < spans_in_all; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
         if (span > 0) {
@@ -4259,7 +4548,11 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 rep->n_tangents++;
                 r = psb__sample_tangent(s, pt, global ? prev : centre, t2);
                 if (psb__is_fatal(r)) return r;
-                if (r != PSB_SUCCESS) { psb__copy(t2, prev, np1); continue; }
+                if (r != PSB_SUCCESS) {
+                    psb__note_fault(s, r);
+                    psb__copy(t2, prev, np1);
+                    continue;
+                }
                 /* a tangent tried before: the plane through it and t~1 likely revisits swept
                    ground (on a piecewise-linear H it is two piece directions); the random
                    direction itself spans a fresh one */
@@ -4267,7 +4560,10 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
             }
         }
         r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
-        if (r != PSB_SUCCESS) return r;
+        if (r != PSB_SUCCESS) {
+            fatal = r;
+            break;
+        }
         pair_stale = pair_span && rep->n_pc == pc_before;
         if (rep->n_pc == pc_before && !s->opt.branch_no_memo) {
             rep->n_span_idle++;
@@ -4287,6 +4583,15 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
         idle = rep->n_branches > found_before ? 0 : idle + 1;
         if (s->opt.branch_patience && idle >= s->opt.branch_patience) break;
     }
+    rep->n_failed_callback = s->faults_[0];
+    rep->n_failed_nonfinite = s->faults_[1];
+    rep->n_failed_singular = s->faults_[2];
+    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+    if (fatal != PSB_SUCCESS) return fatal; /* psb__is_fatal in a sweep */
+    /* a trial that failed because of a fault might have found a branch: the set is not known
+       to be complete */
+    r = psb__faults_code(s, "Algorithm 2.2 (ys, ts: the branches found)");
+    if (r != PSB_SUCCESS) return r;
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
@@ -4523,7 +4828,7 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
     rep->newton_jump = rep->newton_gap = -1;
-    if (!s || !s->vec_) return PSB_ERR_NULL;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
     if (eo) o = *eo;
@@ -4883,12 +5188,11 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->opt.n_span) {
         /* a short look first: an ordinary kink is told by it; else the full sweep (reseeded:
            the same result as without the look) */
-        int n_span = s->opt.n_span, n_span_auto = s->n_span_auto_;
-        s->opt.n_span = x->eo->kink_spans;
-        s->n_span_auto_ = 0;
+        int n_span = s->opt.n_span, n_span_max = s->opt.n_span_max;
+        s->opt.n_span = s->opt.n_span_max = x->eo->kink_spans;
         r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
         s->opt.n_span = n_span;
-        s->n_span_auto_ = n_span_auto;
+        s->opt.n_span_max = n_span_max;
         if (r >= 0 && br.n_branches > 2)
             r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     } else {
@@ -5315,6 +5619,37 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
 #endif
 
 /* ==== contact helpers ==================================================================== */
+/* The helpers' one exit: values are computed into locals, and copied to the caller's outputs
+   (dst NULL: not asked for) only when every asked-for value is finite. So a helper never
+   returns success with Inf or NaN (overflow inside gives PSB_ERR_NONFINITE), and writes no
+   output when it fails. */
+typedef struct psb__ct_out {
+    double *dst;
+    const double *src;
+    int n;
+} psb__ct_out;
+
+static psb_result psb__ct_emit(const psb__ct_out *outs, int count, int *piece_dst, int piece)
+{
+    int i;
+    for (i = 0; i < count; i++)
+        if (outs[i].dst && !psb__all_finite(outs[i].src, (size_t)outs[i].n)) return PSB_ERR_NONFINITE;
+    for (i = 0; i < count; i++)
+        if (outs[i].dst) memmove(outs[i].dst, outs[i].src, (size_t)outs[i].n * sizeof(double));
+    if (piece_dst) *piece_dst = piece;
+    return PSB_SUCCESS;
+}
+
+/* Unit direction of (a, b) != 0 and its length (may overflow to Inf): scaled by the larger
+   magnitude first, so that subnormal components keep their direction (hypot alone rounds
+   (5e-324, -5e-324) to length 5e-324 and direction (1, -1)). */
+static double psb__ct_dir2(double a, double b, double *d0, double *d1)
+{
+    double m = fabs(a) > fabs(b) ? fabs(a) : fabs(b), ua = a / m, ub = b / m, nu = hypot(ua, ub);
+    *d0 = ua / nu;
+    *d1 = ub / nu;
+    return m * nu;
+}
 /* Shared by both half-lines: sign = +1 for [0,inf[, -1 for ]-inf,0]. */
 static psb_result psb__ct_proj_half(double x, double sign, int req, double *value, double *deriv,
                                  int *piece)
@@ -5327,12 +5662,13 @@ static psb_result psb__ct_proj_half(double x, double sign, int req, double *valu
     if (req < PSB_PIECE_DEFAULT || req > PSB_HALF_OUT)
         return PSB_ERR_SIZE;
     pc = req >= 0 ? req : (sign * x >= 0.0 ? PSB_HALF_IN : PSB_HALF_OUT);
-    *value = pc == PSB_HALF_IN ? x : 0.0;
-    if (deriv)
-        *deriv = pc == PSB_HALF_IN ? 1.0 : 0.0;
-    if (piece)
-        *piece = pc;
-    return PSB_SUCCESS;
+    {
+        double v = pc == PSB_HALF_IN ? x : 0.0, d = pc == PSB_HALF_IN ? 1.0 : 0.0;
+        psb__ct_out outs[2];
+        outs[0].dst = value, outs[0].src = &v, outs[0].n = 1;
+        outs[1].dst = deriv, outs[1].src = &d, outs[1].n = 1;
+        return psb__ct_emit(outs, 2, piece, pc);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_proj_nonpos(double x, int piece_request, double *value,
@@ -5385,15 +5721,16 @@ PSCBRANCH_DEF psb_result psb_proj_interval(double x, double a, double b, int pie
         pc = PSB_IVL_LOWER;
     else
         pc = PSB_IVL_IN;
-    *value = pc == PSB_IVL_IN ? x : (pc == PSB_IVL_LOWER ? a : b);
-    if (d) {
-        d[0] = pc == PSB_IVL_IN ? 1.0 : 0.0;
-        d[1] = pc == PSB_IVL_LOWER ? 1.0 : 0.0;
-        d[2] = pc == PSB_IVL_UPPER ? 1.0 : 0.0;
+    {
+        double v = pc == PSB_IVL_IN ? x : (pc == PSB_IVL_LOWER ? a : b), dv[3];
+        psb__ct_out outs[2];
+        dv[0] = pc == PSB_IVL_IN ? 1.0 : 0.0;
+        dv[1] = pc == PSB_IVL_LOWER ? 1.0 : 0.0;
+        dv[2] = pc == PSB_IVL_UPPER ? 1.0 : 0.0;
+        outs[0].dst = value, outs[0].src = &v, outs[0].n = 1;
+        outs[1].dst = d, outs[1].src = dv, outs[1].n = 3;
+        return psb__ct_emit(outs, 2, piece, pc);
     }
-    if (piece)
-        *piece = pc;
-    return PSB_SUCCESS;
 }
 
 PSCBRANCH_DEF psb_result psb_proj_interval_active(double x, double a, double b, double tol,
@@ -5418,7 +5755,7 @@ PSCBRANCH_DEF psb_result psb_proj_interval_active(double x, double a, double b, 
 PSCBRANCH_DEF psb_result psb_proj_disk(const double x[2], double s, int piece_request, double p[2],
                                        double jx[4], double js[2], int *piece)
 {
-    double nx, d0, d1, k;
+    double nx, d0, d1, k, pv[2], jv[4], sv[2];
     int pc;
     if (!x || !p)
         return PSB_ERR_NULL;
@@ -5438,43 +5775,43 @@ PSCBRANCH_DEF psb_result psb_proj_disk(const double x[2], double s, int piece_re
     if (pc == PSB_DISK_BOUNDARY) {
         /* P = s x/|x|, dP/dx = (s/|x|)(I - d d^T), dP/ds = d. At x = 0 (only a neighbour when
            s = 0) take the limit along d = e1 with s/|x| -> 0; for s > 0 use s/|x| = 1. */
-        if (nx > 0.0) {
+        if (nx >= DBL_MIN) {
             d0 = x[0] / nx;
             d1 = x[1] / nx;
+            k = s / nx;
+        } else if (nx > 0.0) { /* subnormal: the direction of the scaled x (s/|x| may overflow) */
+            nx = psb__ct_dir2(x[0], x[1], &d0, &d1);
             k = s / nx;
         } else {
             d0 = 1.0;
             d1 = 0.0;
             k = s > 0.0 ? 1.0 : 0.0;
         }
-        p[0] = s * d0;
-        p[1] = s * d1;
-        if (jx) {
-            jx[0] = k * (1.0 - d0 * d0);
-            jx[1] = -k * d0 * d1;
-            jx[2] = jx[1];
-            jx[3] = k * (1.0 - d1 * d1);
-        }
-        if (js) {
-            js[0] = d0;
-            js[1] = d1;
-        }
+        pv[0] = s * d0;
+        pv[1] = s * d1;
+        jv[0] = k * (1.0 - d0 * d0);
+        jv[1] = -k * d0 * d1;
+        jv[2] = jv[1];
+        jv[3] = k * (1.0 - d1 * d1);
+        sv[0] = d0;
+        sv[1] = d1;
     } else {
         double id = pc == PSB_DISK_IN ? 1.0 : 0.0;
-        p[0] = id * x[0];
-        p[1] = id * x[1];
-        if (jx) {
-            jx[0] = id;
-            jx[1] = 0.0;
-            jx[2] = 0.0;
-            jx[3] = id;
-        }
-        if (js)
-            js[0] = js[1] = 0.0;
+        pv[0] = id * x[0];
+        pv[1] = id * x[1];
+        jv[0] = id;
+        jv[1] = 0.0;
+        jv[2] = 0.0;
+        jv[3] = id;
+        sv[0] = sv[1] = 0.0;
     }
-    if (piece)
-        *piece = pc;
-    return PSB_SUCCESS;
+    {
+        psb__ct_out outs[3];
+        outs[0].dst = p, outs[0].src = pv, outs[0].n = 2;
+        outs[1].dst = jx, outs[1].src = jv, outs[1].n = 4;
+        outs[2].dst = js, outs[2].src = sv, outs[2].n = 2;
+        return psb__ct_emit(outs, 3, piece, pc);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_proj_disk_active(const double x[2], double s, double tol,
@@ -5501,8 +5838,8 @@ PSCBRANCH_DEF psb_result psb_proj_disk_active(const double x[2], double s, doubl
 PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_request,
                                        double p[3], double j[9], int *piece)
 {
-    double n, t, d0, d1, c, k, w;
-    int pc, a, b;
+    double n, t, d0, d1, c, k = 0.0, w, wm, wmm, mc, pv[3], jv[9];
+    int pc, a, b, scaled = 0;
     if (!x || !p)
         return PSB_ERR_NULL;
     if (!psb__all_finite(x, 3) || !psb__finite(mu))
@@ -5515,7 +5852,8 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
     t = hypot(x[1], x[2]);
     if (piece_request >= 0)
         pc = piece_request;
-    else if (mu > 0.0 && t <= mu * n) /* mu = 0: IN has no interior, never the default */
+    else if (mu > 0.0 && n >= 0.0 && t <= mu * n) /* mu = 0: IN has no interior, never the
+                                                     default; n < 0: mu n may underflow to -0 */
         pc = PSB_CONE_IN;
     else if (mu * t <= -n)
         pc = PSB_CONE_POLAR;
@@ -5529,43 +5867,72 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
            apex along x_N = 0, k = mu^2/(1+mu^2) (for mu = 0 every d-term vanishes anyway). */
         w = 1.0 / (1.0 + mu * mu);
         c = (n + mu * t) * w;
+        wm = mu * w;
+        wmm = mu * mu * w;
+        mc = mu * c;
+        if (!(t >= DBL_MIN || t == 0.0) || !psb__finite(mu * mu) || !psb__finite(mc)) {
+            /* extreme magnitudes: mu^2, mu |x_T| or mu c overflow, or x_T is subnormal. The
+               weights 1, mu, mu^2 over 1 + mu^2 are formed without mu^2 and c, mu c as sums
+               of bounded multiples of x_N and |x_T| (finite unless the projection is not) */
+            double im = 1.0 / mu, m = fabs(x[1]) > fabs(x[2]) ? fabs(x[1]) : fabs(x[2]), nu;
+            w = mu <= 1.0 ? 1.0 / (1.0 + mu * mu) : im / (mu + im);
+            wm = mu <= 1.0 ? mu / (1.0 + mu * mu) : 1.0 / (mu + im);
+            wmm = mu <= 1.0 ? mu * mu / (1.0 + mu * mu) : 1.0 / (1.0 + im * im);
+            if (t > 0.0) {
+                /* |x_T| = m nu, nu in [1, sqrt 2]; products with m first: |x_T| may overflow
+                   where the projection does not */
+                psb__ct_dir2(x[1], x[2], &d0, &d1);
+                nu = hypot(x[1] / m, x[2] / m);
+                c = w * n + (wm * m) * nu;
+                mc = wm * n + (wmm * m) * nu;
+                k = wm * (n / m / nu) + wmm;
+            } else {
+                c = w * n;
+                mc = wm * n;
+            }
+            scaled = 1;
+        }
         if (t > 0.0) {
-            d0 = x[1] / t;
-            d1 = x[2] / t;
-            k = mu * c / t;
+            if (!scaled) {
+                d0 = x[1] / t;
+                d1 = x[2] / t;
+                k = mc / t;
+            }
         } else {
             d0 = 1.0;
             d1 = 0.0;
-            k = mu * mu * w;
+            k = wmm;
         }
-        p[0] = c;
-        p[1] = mu * c * d0;
-        p[2] = mu * c * d1;
-        if (j) {
+        pv[0] = c;
+        pv[1] = mc * d0;
+        pv[2] = mc * d1;
+        {
             double dd[2];
             dd[0] = d0;
             dd[1] = d1;
-            j[0] = w;
-            j[1] = mu * w * d0;
-            j[2] = mu * w * d1;
-            j[3] = mu * w * d0;
-            j[6] = mu * w * d1;
+            jv[0] = w;
+            jv[1] = wm * d0;
+            jv[2] = wm * d1;
+            jv[3] = wm * d0;
+            jv[6] = wm * d1;
             for (a = 0; a < 2; a++)
                 for (b = 0; b < 2; b++)
-                    j[(1 + a) + 3 * (1 + b)] =
-                        mu * mu * w * dd[a] * dd[b] + k * ((a == b ? 1.0 : 0.0) - dd[a] * dd[b]);
+                    jv[(1 + a) + 3 * (1 + b)] =
+                        wmm * dd[a] * dd[b] + k * ((a == b ? 1.0 : 0.0) - dd[a] * dd[b]);
         }
     } else {
         double id = pc == PSB_CONE_IN ? 1.0 : 0.0;
         for (a = 0; a < 3; a++)
-            p[a] = id * x[a];
-        if (j)
-            for (a = 0; a < 9; a++)
-                j[a] = (a % 4 == 0) ? id : 0.0;
+            pv[a] = id * x[a];
+        for (a = 0; a < 9; a++)
+            jv[a] = (a % 4 == 0) ? id : 0.0;
     }
-    if (piece)
-        *piece = pc;
-    return PSB_SUCCESS;
+    {
+        psb__ct_out outs[2];
+        outs[0].dst = p, outs[0].src = pv, outs[0].n = 3;
+        outs[1].dst = j, outs[1].src = jv, outs[1].n = 9;
+        return psb__ct_emit(outs, 2, piece, pc);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_proj_cone_active(const double x[3], double mu, double tol,
@@ -5605,7 +5972,7 @@ PSCBRANCH_DEF psb_result psb_ac2d_node(double u_n, double u_t, double lam_n, dou
                                        double r, double friction, double gap, int piece_request,
                                        double res[2], double jac[8], int *piece)
 {
-    double xn, xt, s = 0.0, dn = 0.0, pt = 0.0, di[3] = {0.0, 0.0, 0.0}, ps;
+    double xn, xt, s = 0.0, dn = 0.0, pt = 0.0, di[3] = {0.0, 0.0, 0.0}, ps, rv[2], jv[8];
     int pn = 0, pi = 0, rn = PSB_PIECE_DEFAULT, ri = PSB_PIECE_DEFAULT;
     psb_result e;
     if (!res)
@@ -5625,22 +5992,23 @@ PSCBRANCH_DEF psb_result psb_ac2d_node(double u_n, double u_t, double lam_n, dou
     if (psb_proj_nonpos(xn, rn, &s, &dn, &pn) != PSB_SUCCESS ||
         psb_proj_interval(xt, friction * s, -friction * s, ri, &pt, di, &pi) != PSB_SUCCESS)
         return PSB_ERR_NONFINITE;
-    res[0] = -(lam_n - s) / r;
-    res[1] = -(lam_t - pt) / r;
-    if (jac) {
-        ps = friction * (di[1] - di[2]) * dn; /* dP/dx_n through a = F s, b = -F s */
-        jac[0] = -dn;                  /* d res0 / d u_n   */
-        jac[1] = -ps;                  /* d res1 / d u_n   */
-        jac[2] = 0.0;                  /* d res0 / d u_t   */
-        jac[3] = -di[0];               /* d res1 / d u_t   */
-        jac[4] = -(1.0 - dn) / r;      /* d res0 / d lam_n */
-        jac[5] = ps / r;               /* d res1 / d lam_n */
-        jac[6] = 0.0;                  /* d res0 / d lam_t */
-        jac[7] = -(1.0 - di[0]) / r;   /* d res1 / d lam_t */
+    rv[0] = -(lam_n - s) / r;
+    rv[1] = -(lam_t - pt) / r;
+    ps = friction * (di[1] - di[2]) * dn; /* dP/dx_n through a = F s, b = -F s */
+    jv[0] = -dn;                  /* d res0 / d u_n   */
+    jv[1] = -ps;                  /* d res1 / d u_n   */
+    jv[2] = 0.0;                  /* d res0 / d u_t   */
+    jv[3] = -di[0];               /* d res1 / d u_t   */
+    jv[4] = -(1.0 - dn) / r;      /* d res0 / d lam_n */
+    jv[5] = ps / r;               /* d res1 / d lam_n */
+    jv[6] = 0.0;                  /* d res0 / d lam_t */
+    jv[7] = -(1.0 - di[0]) / r;   /* d res1 / d lam_t */
+    {
+        psb__ct_out outs[2];
+        outs[0].dst = res, outs[0].src = rv, outs[0].n = 2;
+        outs[1].dst = jac, outs[1].src = jv, outs[1].n = 8;
+        return psb__ct_emit(outs, 2, piece, PSB_AC2D_PIECE(pn, pi));
     }
-    if (piece)
-        *piece = PSB_AC2D_PIECE(pn, pi);
-    return PSB_SUCCESS;
 }
 
 PSCBRANCH_DEF psb_result psb_ac2d_active(double u_n, double u_t, double lam_n, double lam_t,
@@ -5723,7 +6091,7 @@ static psb_result psb__ct_fc3d_acjm(const double r[3], const double u[3], double
                                  double ju[9], int *piece)
 {
     double xn, pn_v = 0.0, an = 0.0, rad_arg, pr_v = 0.0, ar = 0.0, xt[2], pt[2] = {0.0, 0.0};
-    double jx[4] = {0.0, 0.0, 0.0, 0.0}, js[2] = {0.0, 0.0};
+    double jx[4] = {0.0, 0.0, 0.0, 0.0}, js[2] = {0.0, 0.0}, fv[3], tr[9], tu[9];
     int rn = PSB_PIECE_DEFAULT, rr = PSB_PIECE_DEFAULT, rd = PSB_PIECE_DEFAULT, pn = 0, pr = 0;
     int pd = 0;
     int a, b, nmax;
@@ -5766,13 +6134,12 @@ static psb_result psb__ct_fc3d_acjm(const double r[3], const double u[3], double
         else if (rad_arg == 0.0)
             rd = (xt[0] != 0.0 || xt[1] != 0.0) ? PSB_DISK_BOUNDARY : PSB_DISK_IN;
     }
-    if (psb_proj_disk(xt, mu * rad_arg, rd, pt, jx, js, &pd) != PSB_SUCCESS)
+    if (psb_proj_disk(xt, mu * rad_arg, rd, pt, jr || ju ? jx : NULL, jr || ju ? js : NULL, &pd) != PSB_SUCCESS)
         return PSB_ERR_NONFINITE; /* overflow */
-    f[0] = r[0] - pn_v;
-    f[1] = r[1] - pt[0];
-    f[2] = r[2] - pt[1];
-    if (jr || ju) {
-        double tr[9], tu[9];
+    fv[0] = r[0] - pn_v;
+    fv[1] = r[1] - pt[0];
+    fv[2] = r[2] - pt[1];
+    {
         for (a = 0; a < 9; a++)
             tr[a] = tu[a] = 0.0;
         tr[0] = 1.0 - an;
@@ -5786,14 +6153,14 @@ static psb_result psb__ct_fc3d_acjm(const double r[3], const double u[3], double
                 tu[(1 + a) + 3 * (1 + b)] = rho_t * jx[a + 2 * b];
             }
         }
-        if (jr)
-            memcpy(jr, tr, sizeof tr);
-        if (ju)
-            memcpy(ju, tu, sizeof tu);
     }
-    if (piece)
-        *piece = jm ? PSB_FC3D_JM_PIECE(pn, pr, pd) : PSB_FC3D_AC_PIECE(pn, pd);
-    return PSB_SUCCESS;
+    {
+        psb__ct_out outs[3];
+        outs[0].dst = f, outs[0].src = fv, outs[0].n = 3;
+        outs[1].dst = jr, outs[1].src = tr, outs[1].n = 9;
+        outs[2].dst = ju, outs[2].src = tu, outs[2].n = 9;
+        return psb__ct_emit(outs, 3, piece, jm ? PSB_FC3D_JM_PIECE(pn, pr, pd) : PSB_FC3D_AC_PIECE(pn, pd));
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_fc3d_ac(const double r[3], const double u[3], double mu, double rho_n,
@@ -5812,7 +6179,7 @@ PSCBRANCH_DEF psb_result psb_fc3d_jm(const double r[3], const double u[3], doubl
 
 PSCBRANCH_DEF psb_result psb_fc3d_desaxce(const double u[3], double mu, double uhat[3], double j[9])
 {
-    double t;
+    double t, uv[3], jv[9];
     int a;
     if (!u || !uhat)
         return PSB_ERR_NULL;
@@ -5821,25 +6188,38 @@ PSCBRANCH_DEF psb_result psb_fc3d_desaxce(const double u[3], double mu, double u
     if (mu < 0.0)
         return PSB_ERR_INPUT;
     t = hypot(u[1], u[2]);
-    if (j) {
-        for (a = 0; a < 9; a++)
-            j[a] = (a % 4 == 0) ? 1.0 : 0.0;
-        /* d|u_T|/du_T = u_T/|u_T|; at u_T = 0 the B-limit along e1 */
-        j[3] = t > 0.0 ? mu * u[1] / t : mu;
-        j[6] = t > 0.0 ? mu * u[2] / t : 0.0;
+    for (a = 0; a < 9; a++)
+        jv[a] = (a % 4 == 0) ? 1.0 : 0.0;
+    /* d|u_T|/du_T = u_T/|u_T|; at u_T = 0 the B-limit along e1 (subnormal u_T: scaled) */
+    if (t >= DBL_MIN) {
+        jv[3] = mu * u[1] / t;
+        jv[6] = mu * u[2] / t;
+    } else if (t > 0.0) {
+        double d0, d1;
+        psb__ct_dir2(u[1], u[2], &d0, &d1);
+        jv[3] = mu * d0;
+        jv[6] = mu * d1;
+    } else {
+        jv[3] = mu;
+        jv[6] = 0.0;
     }
-    uhat[0] = u[0] + mu * t;
-    uhat[1] = u[1];
-    uhat[2] = u[2];
-    return PSB_SUCCESS;
+    uv[0] = u[0] + mu * t; /* overflows only where uhat does */
+    uv[1] = u[1];
+    uv[2] = u[2];
+    {
+        psb__ct_out outs[2];
+        outs[0].dst = uhat, outs[0].src = uv, outs[0].n = 3;
+        outs[1].dst = j, outs[1].src = jv, outs[1].n = 9;
+        return psb__ct_emit(outs, 2, NULL, 0);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_fc3d_nat(const double r[3], const double u[3], double mu, double rho,
                                       int piece_request, double f[3], double jr[9], double ju[9],
                                       int *piece)
 {
-    double uh[3], jh[9], z[3], p[3], jk[9];
-    int a, b, c;
+    double uh[3], jh[9], z[3], p[3], jk[9], fv[3], tr[9], tu[9];
+    int a, b, c, pc;
     psb_result e = psb__ct_fc3d_check(r, u, mu, rho, rho, f);
     if (e != PSB_SUCCESS)
         return e;
@@ -5849,22 +6229,26 @@ PSCBRANCH_DEF psb_result psb_fc3d_nat(const double r[3], const double u[3], doub
         return PSB_ERR_NONFINITE;
     for (a = 0; a < 3; a++)
         z[a] = r[a] - rho * uh[a];
-    if (psb_proj_cone(z, mu, piece_request, p, jk, piece) != PSB_SUCCESS)
+    if (psb_proj_cone(z, mu, piece_request, p, jk, &pc) != PSB_SUCCESS)
         return PSB_ERR_NONFINITE; /* overflow of z */
     for (a = 0; a < 3; a++)
-        f[a] = r[a] - p[a];
-    if (jr)
-        for (a = 0; a < 9; a++)
-            jr[a] = ((a % 4 == 0) ? 1.0 : 0.0) - jk[a];
-    if (ju) /* df/du = rho J_K d uhat/du */
-        for (a = 0; a < 3; a++)
-            for (b = 0; b < 3; b++) {
-                double sum = 0.0;
-                for (c = 0; c < 3; c++)
-                    sum += jk[a + 3 * c] * jh[c + 3 * b];
-                ju[a + 3 * b] = rho * sum;
-            }
-    return PSB_SUCCESS;
+        fv[a] = r[a] - p[a];
+    for (a = 0; a < 9; a++)
+        tr[a] = ((a % 4 == 0) ? 1.0 : 0.0) - jk[a];
+    for (a = 0; a < 3; a++) /* df/du = rho J_K d uhat/du */
+        for (b = 0; b < 3; b++) {
+            double sum = 0.0;
+            for (c = 0; c < 3; c++)
+                sum += jk[a + 3 * c] * jh[c + 3 * b];
+            tu[a + 3 * b] = rho * sum;
+        }
+    {
+        psb__ct_out outs[3];
+        outs[0].dst = f, outs[0].src = fv, outs[0].n = 3;
+        outs[1].dst = jr, outs[1].src = tr, outs[1].n = 9;
+        outs[2].dst = ju, outs[2].src = tu, outs[2].n = 9;
+        return psb__ct_emit(outs, 3, piece, pc);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_fc_nat_error(int dim, size_t nc, const double *r, const double *u,
@@ -5900,10 +6284,14 @@ PSCBRANCH_DEF psb_result psb_fc_nat_error(int dim, size_t nc, const double *r, c
             }
         }
     }
-    *err = scale * sqrt(sum);
-    if (qnorm > 0.0)
-        *err /= qnorm;
-    return PSB_SUCCESS;
+    {
+        double e_out = scale * sqrt(sum);
+        psb__ct_out out;
+        if (qnorm > 0.0)
+            e_out /= qnorm;
+        out.dst = err, out.src = &e_out, out.n = 1;
+        return psb__ct_emit(&out, 1, NULL, 0);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
@@ -5923,11 +6311,15 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
         di[k] = disp_in[k];
     }
     for (k = 0; k < dim; k++) {
-        force_out[k] = -fi[k];
-        disp_out[k] = -di[k];
+        fi[k] = -fi[k];
+        di[k] = k == 0 ? gap - di[0] : -di[k];
     }
-    disp_out[0] = gap - di[0];
-    return PSB_SUCCESS;
+    {
+        psb__ct_out outs[2];
+        outs[0].dst = force_out, outs[0].src = fi, outs[0].n = dim;
+        outs[1].dst = disp_out, outs[1].src = di, outs[1].n = dim;
+        return psb__ct_emit(outs, 2, NULL, 0);
+    }
 }
 
 #endif /* PSCBRANCH_IMPLEMENTATION_DONE */

@@ -681,6 +681,190 @@ static void test_bad_input(void)
     CHECK(psb_contact_convert(2, r3, u3, nanv, p, f) == PSB_ERR_NONFINITE);
 }
 
+
+/* ---- extreme magnitudes (issue 20 item 5) ---- */
+
+/* +-10^u, u uniform in [-320, 308] (subnormals included), or 0 one time in 16 */
+static double extreme(void)
+{
+    double u = urand(0, 1), v;
+    if (u < 1.0 / 16) return 0.0;
+    v = pow(10.0, urand(-320, 308));
+    return urand(0, 1) < 0.5 ? -v : v;
+}
+
+static int all_finite(const double *a, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(a[i])) return 0;
+    return 1;
+}
+
+static double norm_n(const double *a, int n)
+{
+    double m = 0, s = 0;
+    int i;
+    for (i = 0; i < n; i++) m = fabs(a[i]) > m ? fabs(a[i]) : m;
+    if (m == 0) return 0;
+    for (i = 0; i < n; i++) s += (a[i] / m) * (a[i] / m);
+    return m * sqrt(s);
+}
+
+/* The reproducers, then random calls across 1e-320 .. 1e308, both signs, mu up to 1e308:
+   success implies every output finite; a projection lands in its set (relative tolerance)
+   and is its own projection; at moderate magnitudes the Jacobians match central
+   differences. */
+static void test_extremes(void)
+{
+    long calls = 0, successes = 0, bad_finite = 0, bad_set = 0, bad_idem = 0, fd_checked = 0, bad_fd = 0;
+    int it, k;
+    {
+        double u[3] = {0, 2, 0}, uh[3] = {7, 7, 7}, x[3] = {1, 1e308, 0}, p[3], j[9], d[2] = {5e-324, -5e-324}, pd[2] = {7, 7}, jx[4];
+        CHECK(psb_fc3d_desaxce(u, 1e308, uh, NULL) == PSB_ERR_NONFINITE); /* was (inf, 2, 0) */
+        CHECK(uh[0] == 7 && uh[1] == 7 && uh[2] == 7);                   /* nothing written */
+        CHECK(psb_proj_cone(x, 2, PSB_PIECE_DEFAULT, p, j, NULL) == PSB_SUCCESS); /* was (inf, inf, nan) */
+        CHECK(all_finite(p, 3) && all_finite(j, 9));
+        CHECK_NEAR(p[0] / 4e307, 1, 1e-15);
+        CHECK_NEAR(p[1] / 8e307, 1, 1e-15);
+        CHECK(p[2] == 0);
+        /* was (1, -1), outside the disk, with a NaN Jacobian: the true dP/dx overflows */
+        CHECK(psb_proj_disk(d, 1, PSB_DISK_BOUNDARY, pd, jx, NULL, NULL) == PSB_ERR_NONFINITE);
+        CHECK(pd[0] == 7);
+        CHECK(psb_proj_disk(d, 1, PSB_DISK_BOUNDARY, pd, NULL, NULL, NULL) == PSB_SUCCESS);
+        CHECK_NEAR(pd[0], sqrt(0.5), 1e-15);
+        CHECK_NEAR(pd[1], -sqrt(0.5), 1e-15);
+    }
+    for (it = 0; it < 200000; it++) {
+        double x[3], mu = urand(0, 1) < 0.2 ? 0.0 : fabs(extreme()), s = extreme(), p[3], q[3], j[9], jx[4], js[2];
+        double f[3], jr[9], ju[9], r3[3], u3[3], e;
+        int pc;
+        psb_result rc;
+        for (k = 0; k < 3; k++) {
+            x[k] = extreme();
+            r3[k] = extreme();
+            u3[k] = extreme();
+        }
+        /* disk */
+        rc = psb_proj_disk(x, s, PSB_PIECE_DEFAULT, p, jx, js, &pc);
+        calls++;
+        if (rc == PSB_SUCCESS) {
+            successes++;
+            bad_finite += !(all_finite(p, 2) && all_finite(jx, 4) && all_finite(js, 2));
+            /* (subnormal results carry an absolute error of a few 4.9e-324) */
+            bad_set += norm_n(p, 2) > (s > 0 ? s : 0) * (1 + 1e-15) + 1e-322;
+            if (psb_proj_disk(p, s, PSB_PIECE_DEFAULT, q, NULL, NULL, NULL) == PSB_SUCCESS) {
+                double dq[2] = {q[0] - p[0], q[1] - p[1]};
+                bad_idem += norm_n(dq, 2) > 1e-15 * norm_n(p, 2) + 1e-322;
+            } else {
+                bad_idem++;
+            }
+        }
+        for (k = 0; k < 3; k++) { /* requested pieces too: finite or failed */
+            rc = psb_proj_disk(x, s, k, p, jx, js, NULL);
+            calls++;
+            if (rc == PSB_SUCCESS) successes++, bad_finite += !(all_finite(p, 2) && all_finite(jx, 4) && all_finite(js, 2));
+            rc = psb_proj_cone(x, mu, k, p, j, NULL);
+            calls++;
+            if (rc == PSB_SUCCESS) successes++, bad_finite += !(all_finite(p, 3) && all_finite(j, 9));
+        }
+        /* cone */
+        rc = psb_proj_cone(x, mu, PSB_PIECE_DEFAULT, p, j, &pc);
+        calls++;
+        if (rc == PSB_SUCCESS) {
+            double pt = norm_n(p + 1, 2);
+            successes++;
+            bad_finite += !(all_finite(p, 3) && all_finite(j, 9));
+            /* in K up to rounding: (p_N + dn, p_T) with dn = |p_T| / mu - p_N and (p_N, p_T
+               shortened by dt = |p_T| - mu p_N) lie in K, so the distance to K is at most the
+               smaller, which must be small against |p| (with mu ~ 1e300, p_N ~ |x_T| / mu
+               underflows; with mu ~ 1e-300, p_T does: a subnormal's absolute error) */
+            {
+                double dn = mu > 0 ? pt / mu - p[0] : HUGE_VAL, dt = pt - mu * p[0];
+                bad_set += p[0] < 0 || (dn < dt ? dn : dt) > 1e-14 * norm_n(p, 3) + 1e-322;
+            }
+            if (psb_proj_cone(p, mu, PSB_PIECE_DEFAULT, q, NULL, NULL) == PSB_SUCCESS) {
+                double dq[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+                bad_idem += norm_n(dq, 3) > 1e-14 * norm_n(p, 3) + 1e-322;
+            } else {
+                bad_idem++;
+            }
+        }
+        /* the residuals and the rest: success implies finite outputs */
+        rc = psb_fc3d_desaxce(u3, mu, p, j);
+        calls++;
+        if (rc == PSB_SUCCESS) successes++, bad_finite += !(all_finite(p, 3) && all_finite(j, 9));
+        rc = psb_fc3d_nat(r3, u3, mu, fabs(s) + 1e-300, PSB_PIECE_DEFAULT, f, jr, ju, NULL);
+        calls++;
+        if (rc == PSB_SUCCESS) successes++, bad_finite += !(all_finite(f, 3) && all_finite(jr, 9) && all_finite(ju, 9));
+        rc = psb_fc3d_ac(r3, u3, mu, fabs(s) + 1e-300, fabs(x[0]) + 1e-300, PSB_PIECE_DEFAULT, f, jr, ju, NULL);
+        calls++;
+        if (rc == PSB_SUCCESS) successes++, bad_finite += !(all_finite(f, 3) && all_finite(jr, 9) && all_finite(ju, 9));
+        rc = psb_fc3d_jm(r3, u3, mu, fabs(s) + 1e-300, fabs(x[0]) + 1e-300, PSB_PIECE_DEFAULT, f, jr, ju, NULL);
+        calls++;
+        if (rc == PSB_SUCCESS) successes++, bad_finite += !(all_finite(f, 3) && all_finite(jr, 9) && all_finite(ju, 9));
+        rc = psb_ac2d_node(r3[0], r3[1], u3[0], u3[1], fabs(s) + 1e-300, mu, x[2], PSB_PIECE_DEFAULT, f, jr, NULL);
+        calls++;
+        if (rc == PSB_SUCCESS) successes++, bad_finite += !(all_finite(f, 2) && all_finite(jr, 8));
+        rc = psb_fc_nat_error(3, 1, r3, u3, &mu, s, &e);
+        calls++;
+        if (rc == PSB_SUCCESS) successes++, bad_finite += !isfinite(e);
+        rc = psb_contact_convert(3, r3, u3, x[0], f, p);
+        calls++;
+        if (rc == PSB_SUCCESS) successes++, bad_finite += !(all_finite(f, 3) && all_finite(p, 3));
+        /* moderate magnitudes, 1e-3 .. 1e3: Jacobians of the disk and the cone against central
+           differences, away from piece boundaries (the same piece at every sample) */
+        if (it % 4 == 0) {
+            double xm[3], sm = pow(10, urand(-3, 3)) * (urand(0, 1) < 0.5 ? 1 : 2), mm = pow(10, urand(-3, 3));
+            double jd[4], jc[9];
+            int c, pcs, pcc, ok;
+            for (k = 0; k < 3; k++) xm[k] = pow(10, urand(-3, 3)) * (urand(0, 1) < 0.5 ? -1 : 1);
+            if (psb_proj_disk(xm, sm, PSB_PIECE_DEFAULT, p, jd, NULL, &pcs) == PSB_SUCCESS &&
+                psb_proj_cone(xm, mm, PSB_PIECE_DEFAULT, q, jc, &pcc) == PSB_SUCCESS) {
+                /* disk */
+                ok = 1;
+                for (c = 0; c < 2 && ok; c++) {
+                    double h = 1e-6 * (1 + norm_n(xm, 2)), save = xm[c], a[2], b[2];
+                    int pa, pb, i;
+                    xm[c] = save + h;
+                    psb_proj_disk(xm, sm, PSB_PIECE_DEFAULT, a, NULL, NULL, &pa);
+                    xm[c] = save - h;
+                    psb_proj_disk(xm, sm, PSB_PIECE_DEFAULT, b, NULL, NULL, &pb);
+                    xm[c] = save;
+                    if (pa != pcs || pb != pcs) { ok = 0; break; }
+                    for (i = 0; i < 2; i++)
+                        if (fabs((a[i] - b[i]) / (2 * h) - jd[i + 2 * c]) > 1e-5 * (1 + fabs(jd[i + 2 * c]))) bad_fd++;
+                }
+                if (ok) fd_checked++;
+                ok = 1;
+                /* cone */
+                for (c = 0; c < 3 && ok; c++) {
+                    double h = 1e-6 * norm_n(xm, 3), save = xm[c], a[3], b[3];
+                    int pa, pb, i;
+                    xm[c] = save + h;
+                    psb_proj_cone(xm, mm, PSB_PIECE_DEFAULT, a, NULL, &pa);
+                    xm[c] = save - h;
+                    psb_proj_cone(xm, mm, PSB_PIECE_DEFAULT, b, NULL, &pb);
+                    xm[c] = save;
+                    if (pa != pcc || pb != pcc) { ok = 0; break; }
+                    for (i = 0; i < 3; i++)
+                        if (fabs((a[i] - b[i]) / (2 * h) - jc[i + 3 * c]) > 1e-5 * (1 + fabs(jc[i + 3 * c]))) bad_fd++;
+                }
+                if (ok) fd_checked++;
+            }
+        }
+    }
+    printf("  extreme magnitudes: %ld calls, %ld succeeded: %ld with a non-finite output, %ld projections "
+           "outside their set, %ld not idempotent; %ld Jacobians against differences, %ld entries off\n",
+           calls, successes, bad_finite, bad_set, bad_idem, fd_checked, bad_fd);
+    CHECK(successes > calls / 4);
+    CHECK(bad_finite == 0);
+    CHECK(bad_set == 0);
+    CHECK(bad_idem == 0);
+    CHECK(fd_checked > 20000);
+    CHECK(bad_fd == 0);
+}
+
 int main(void)
 {
     size_t k;
@@ -697,5 +881,6 @@ int main(void)
     test_conventions();
     test_error();
     test_bad_input();
+    test_extremes();
     return HARNESS_END();
 }

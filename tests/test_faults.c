@@ -1,0 +1,714 @@
+/* Fault injection and misuse: failures must be reported as the failures they are.
+
+   The quick-start pipeline (psb_solve_at_param, psb_tangent, psb_trace to the kink,
+   psb_locate_end, psb_find_branches) runs on the tiny complementarity problem of
+   examples/01_branching.c (four rays leave the origin) with the dense (analytic and
+   finite-difference), banded and user backends. A clean run counts the calls of every
+   callback; then, for every k up to that count, the callback fails at call k alone and from
+   call k on, in three ways (NaN in its output, return 1, return -1). A run may fail, with the
+   documented code and its inputs untouched; it may succeed only with the right four
+   branches. The allocator fails at each allocation in turn. Under `make asan`
+   LeakSanitizer checks that no run leaks. Then the reproducers of issue 20 (items 1-4). */
+#include <stdlib.h>
+
+static int alloc_count, alloc_fail_at; /* the test allocator fails at allocation alloc_fail_at */
+static void *test_malloc(size_t n)
+{
+    if (++alloc_count == alloc_fail_at) return NULL;
+    return malloc(n);
+}
+#define PSCBRANCH_MALLOC(size) test_malloc(size)
+#define PSCBRANCH_FREE(ptr) free(ptr)
+#define PSCBRANCH_IMPLEMENTATION
+#include "pscbranch.h"
+#include "harness.h"
+#include "pl_problems.h"
+
+#include <limits.h>
+#include <stddef.h>
+#include <string.h>
+
+enum { CB_RESIDUAL, CB_JACOBIAN, CB_FACTOR, CB_SOLVE, CB_N };
+enum { KIND_NAN, KIND_POSITIVE, KIND_NEGATIVE };
+enum { BK_DENSE, BK_DENSE_FD, BK_BANDED, BK_USER, BK_N };
+static const char *backend_name[BK_N] = {"dense", "dense, differences", "banded", "user"};
+
+typedef struct {
+    pl_problem p;
+    long calls[CB_N];
+    int target, kind, persistent; /* which callback fails, how, once or from call k on */
+    long at;                      /* 0: no fault */
+    int fired;
+    double mat[(PL_MAX_N + 1) * (PL_MAX_N + 1)]; /* user backend: the bordered matrix */
+    int np1;
+} faulty;
+
+/* 0: go on; else the callback fails now with this kind (NaN output is written by the caller) */
+static int fault_now(faulty *f, int cb)
+{
+    long c = ++f->calls[cb];
+    if (!f->at || cb != f->target) return 0;
+    if (c == f->at || (f->persistent && c > f->at)) {
+        f->fired = 1;
+        return 1;
+    }
+    return 0;
+}
+
+static int fault_rc(const faulty *f) { return f->kind == KIND_POSITIVE ? 1 : f->kind == KIND_NEGATIVE ? -1 : 0; }
+
+static int f_residual(const double *y, double *h, void *u)
+{
+    faulty *f = (faulty *)u;
+    pl_residual(y, h, &f->p);
+    if (!fault_now(f, CB_RESIDUAL)) return 0;
+    if (f->kind == KIND_NAN) h[f->p.n - 1] = NAN;
+    return fault_rc(f);
+}
+
+static int f_jacobian(const double *y, double *jac, int ld, void *u)
+{
+    faulty *f = (faulty *)u;
+    pl_jacobian(y, jac, ld, &f->p);
+    if (!fault_now(f, CB_JACOBIAN)) return 0;
+    if (f->kind == KIND_NAN) jac[0] = NAN;
+    return fault_rc(f);
+}
+
+/* The banded Jacobian from the dense one (kl = ku = n - 1: every entry in the band). */
+static int f_band(const double *y, double *band, int ldband, double *dparam, void *u)
+{
+    faulty *f = (faulty *)u;
+    int n = f->p.n, i, j;
+    double jac[PL_MAX_N * (PL_MAX_N + 1)];
+    pl_jacobian(y, jac, n, &f->p);
+    for (j = 0; j < n; j++)
+        for (i = 0; i < n; i++) band[PSB_BAND_INDEX(n - 1, ldband, i, j)] = jac[i + j * n];
+    for (i = 0; i < n; i++) dparam[i] = jac[i + n * n];
+    if (!fault_now(f, CB_JACOBIAN)) return 0;
+    if (f->kind == KIND_NAN) dparam[0] = NAN;
+    return fault_rc(f);
+}
+
+/* User backend: B = [dH(y); row^T] stored, solved by Gaussian elimination on a copy. */
+static int f_factor(const double *y, const double *row, void *ctx)
+{
+    faulty *f = (faulty *)ctx;
+    int n = f->p.n, np1 = n + 1, i, j;
+    double jac[PL_MAX_N * (PL_MAX_N + 1)];
+    pl_jacobian(y, jac, n, &f->p);
+    for (j = 0; j < np1; j++) {
+        for (i = 0; i < n; i++) f->mat[i + j * np1] = jac[i + j * n];
+        f->mat[n + j * np1] = row[j];
+    }
+    f->np1 = np1;
+    if (!fault_now(f, CB_FACTOR)) return 0;
+    if (f->kind == KIND_NAN) f->mat[0] = NAN; /* a factorisation gone wrong: NaN solutions */
+    return fault_rc(f);
+}
+
+static int f_solve(double *b, int nrhs, void *ctx)
+{
+    faulty *f = (faulty *)ctx;
+    int k, np1 = f->np1;
+    for (k = 0; k < nrhs; k++) {
+        double a[(PL_MAX_N + 1) * (PL_MAX_N + 1)];
+        memcpy(a, f->mat, sizeof(double) * (size_t)(np1 * np1));
+        if (!pl_solve_small(a, b + k * np1, np1)) return 1;
+    }
+    if (!fault_now(f, CB_SOLVE)) return 0;
+    if (f->kind == KIND_NAN) b[0] = NAN;
+    return fault_rc(f);
+}
+
+static void problem_for(psb_problem *prob, faulty *f, int backend)
+{
+    psb_problem_init(prob, f->p.n, f_residual, backend == BK_DENSE_FD ? NULL : f_jacobian, f);
+    if (backend == BK_BANDED) {
+        prob->linear = PSB_LINEAR_BANDED;
+        prob->kl = prob->ku = f->p.n - 1;
+        prob->band_jacobian = f_band;
+    } else if (backend == BK_USER) {
+        prob->linear = PSB_LINEAR_USER;
+        prob->jacobian = NULL;
+        prob->solver.factor = f_factor;
+        prob->solver.solve = f_solve;
+        prob->solver.ctx = f;
+    }
+}
+
+/* The example's problem: M = [-1 0.2; 0.1 -1], q = (1, 1); four rays for g > 0. */
+static int example_problem(pl_problem *p, double *rays)
+{
+    memset(p, 0, sizeof *p);
+    p->n = 2;
+    p->m[0] = -1;
+    p->m[1] = 0.1;
+    p->m[2] = 0.2;
+    p->m[3] = -1;
+    p->q[0] = p->q[1] = 1;
+    return pl_enumerate_rays(p, 1.0, 1e-6, rays, PL_MAX_RAYS);
+}
+
+typedef struct {
+    psb_result code;   /* the first failure, or find_branches' result */
+    int stage;         /* 0 solve_at_param ... 4 find_branches; 5 all done */
+    int n_branches, right, untouched, unexpected_info;
+    long n_failed;
+} outcome;
+
+static int same(const double *a, const double *b, int n) { return memcmp(a, b, sizeof(double) * (size_t)n) == 0; }
+
+/* The quick-start pipeline from near ray `incoming`. */
+static outcome pipeline(faulty *f, int backend, const double *rays, int n_rays, int incoming)
+{
+    int np1 = f->p.n + 1, i;
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1], y_in[PL_MAX_N + 1], t_in[PL_MAX_N + 1];
+    double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    psb_branch_report br;
+    psb_trace_report tr;
+    outcome out;
+    memset(&out, 0, sizeof out);
+    out.untouched = 1;
+    memset(&o, 0, sizeof o);
+    o.n_span = 2; /* short runs that still find the four rays */
+    o.n_dir = 12;
+    problem_for(&prob, f, backend);
+    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) {
+        out.code = PSB_ERR_NOMEM;
+        return out;
+    }
+    for (i = 0; i < np1; i++) y[i] = 0.5 * rays[incoming * np1 + i] + (i < np1 - 1 ? 0.01 : 0);
+    memcpy(y_in, y, sizeof y);
+    out.code = psb_solve_at_param(&s, y, 0);
+    if (out.code != PSB_SUCCESS) {
+        out.untouched = same(y, y_in, np1);
+        goto done;
+    }
+    out.stage = 1;
+    for (i = 0; i < np1; i++) t[i] = 7; /* must stay so on failure */
+    memcpy(t_in, t, sizeof t);
+    out.code = psb_tangent(&s, y, rays + incoming * np1, t);
+    if (out.code != PSB_SUCCESS) {
+        out.untouched = same(t, t_in, np1);
+        goto done;
+    }
+    for (i = 0; i < np1; i++) t[i] = -t[i];
+    out.stage = 2;
+    memcpy(y_in, y, sizeof y);
+    memcpy(t_in, t, sizeof t);
+    out.code = pl_trace_to_kink(&s, y, t, &tr);
+    if (out.code < 0) {
+        if (tr.steps == 0) out.untouched = same(y, y_in, np1) && same(t, t_in, np1);
+        goto done;
+    }
+    if (out.code != PSB_STOPPED) {
+        out.unexpected_info = 1;
+        goto done;
+    }
+    out.stage = 3;
+    memcpy(y_in, y, sizeof y);
+    memcpy(t_in, t, sizeof t);
+    out.code = psb_locate_end(&s, y, t, NULL);
+    if (out.code != PSB_SUCCESS) {
+        out.untouched = same(y, y_in, np1) && same(t, t_in, np1);
+        goto done;
+    }
+    out.stage = 4;
+    memcpy(y_in, y, sizeof y);
+    memcpy(t_in, t, sizeof t);
+    out.code = psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, &br);
+    out.untouched = same(y, y_in, np1) && same(t, t_in, np1);
+    out.n_branches = br.n_branches;
+    out.n_failed = br.n_failed;
+    if (out.code == PSB_SUCCESS) {
+        out.stage = 5;
+        out.right = br.n_branches == n_rays && pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-6) == n_rays;
+    } else if (out.code > 0) {
+        out.unexpected_info = 1;
+    }
+done:
+    psb_solver_free(&s);
+    return out;
+}
+
+/* The code a failing callback must give: NaN and > 0 from H or dH are NONFINITE and
+   CALLBACK_FAILED; a linear solver that fails (> 0) or gives NaN solutions, SINGULAR; < 0
+   always CALLBACK. */
+static psb_result expected_code(int target, int kind)
+{
+    if (kind == KIND_NEGATIVE) return PSB_ERR_CALLBACK;
+    if (target == CB_FACTOR || target == CB_SOLVE) return PSB_ERR_SINGULAR;
+    return kind == KIND_NAN ? PSB_ERR_NONFINITE : PSB_ERR_CALLBACK_FAILED;
+}
+
+static void test_fault_injection(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    faulty f;
+    int n_rays, backend, target, kind, persistent, incoming = 0, j;
+    long runs = 0, fired = 0, wrong_success = 0, wrong_code = 0, touched = 0, recovered = 0, failed = 0;
+    memset(&f, 0, sizeof f);
+    n_rays = example_problem(&f.p, rays);
+    CHECK(n_rays == 4);
+    /* enter along the ray with both components of x active, as the example does */
+    for (j = 0; j < n_rays; j++)
+        if (rays[j * 3] > 0 && rays[j * 3 + 1] > 0) incoming = j;
+    for (backend = 0; backend < BK_N; backend++) {
+        outcome clean;
+        long clean_calls[CB_N];
+        memset(f.calls, 0, sizeof f.calls);
+        f.at = 0;
+        clean = pipeline(&f, backend, rays, n_rays, incoming);
+        CHECK(clean.stage == 5 && clean.right && clean.n_failed == 0);
+        memcpy(clean_calls, f.calls, sizeof clean_calls);
+        printf("  fault injection, %s: clean run %ld residuals, %ld Jacobians, %ld factorisations, %ld solves\n",
+               backend_name[backend], clean_calls[0], clean_calls[1], clean_calls[2], clean_calls[3]);
+        for (target = 0; target < CB_N; target++)
+            for (kind = 0; kind < 3; kind++)
+                for (persistent = 0; persistent < 2; persistent++) {
+                    long k;
+                    for (k = 1; k <= clean_calls[target]; k++) {
+                        outcome out;
+                        memset(f.calls, 0, sizeof f.calls);
+                        f.target = target;
+                        f.kind = kind;
+                        f.persistent = persistent;
+                        f.at = k;
+                        f.fired = 0;
+                        out = pipeline(&f, backend, rays, n_rays, incoming);
+                        runs++;
+                        if (!f.fired) { /* the path changed before call k: as clean */
+                            CHECK(out.stage == 5 && out.right);
+                            continue;
+                        }
+                        fired++;
+                        if (out.unexpected_info || (out.stage == 5 && !out.right)) {
+                            wrong_success++;
+                            printf("  WRONG SUCCESS: %s, callback %d, kind %d, %s at call %ld: stage %d, code %d, %d branches\n",
+                                   backend_name[backend], target, kind, persistent ? "from" : "once", k,
+                                   out.stage, out.code, out.n_branches);
+                        }
+                        if (out.stage == 5) {
+                            recovered++;
+                            continue;
+                        }
+                        failed++;
+                        if (!out.untouched) {
+                            touched++;
+                            printf("  INPUT CHANGED: %s, callback %d, kind %d, %s at call %ld: stage %d, code %d\n",
+                                   backend_name[backend], target, kind, persistent ? "from" : "once", k,
+                                   out.stage, out.code);
+                        }
+                        if (!out.unexpected_info && out.code != expected_code(target, kind)) {
+                            wrong_code++;
+                            printf("  CODE: %s, callback %d, kind %d, %s at call %ld: stage %d, code %d (expected %d)\n",
+                                   backend_name[backend], target, kind, persistent ? "from" : "once", k,
+                                   out.stage, out.code, expected_code(target, kind));
+                        }
+                    }
+                }
+    }
+    printf("  fault injection: %ld runs, %ld with the fault fired: %ld failed (documented code: %ld), "
+           "%ld recovered with the right branches, %ld wrong successes, %ld inputs changed\n",
+           runs, fired, failed, failed - wrong_code, recovered, wrong_success, touched);
+    CHECK(runs >= 2400);
+    CHECK(wrong_success == 0);
+    CHECK(wrong_code == 0);
+    CHECK(touched == 0);
+    CHECK(failed > 0 && recovered > 0); /* both kinds of run occur: the test can tell them apart */
+
+    /* the allocator fails at allocation k: psb_solver_init is the only one that allocates */
+    {
+        psb_problem prob;
+        psb_solver s;
+        int k;
+        for (k = 1; k <= 3; k++) {
+            double y[3] = {0.3, 0.3, 0.5};
+            alloc_count = 0;
+            alloc_fail_at = k;
+            memset(f.calls, 0, sizeof f.calls);
+            f.at = 0;
+            problem_for(&prob, &f, BK_DENSE);
+            if (k == 1) {
+                CHECK(psb_solver_init(&s, &prob, NULL) == PSB_ERR_NOMEM);
+                CHECK(strstr(psb_solver_message(&s), "allocation") != NULL);
+                CHECK(psb_solve_at_param(&s, y, 0) == PSB_ERR_NULL); /* no half-made solver */
+                CHECK(y[0] == 0.3);
+            } else {
+                CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+                CHECK(alloc_count == 1);
+                CHECK(psb_solve_at_param(&s, y, 0) == PSB_SUCCESS);
+            }
+            psb_solver_free(&s);
+        }
+        alloc_fail_at = 0;
+    }
+}
+
+
+/* ---- reproducers of issue 20 ------------------------------------------------------------- */
+
+static int nan_res(const double *y, double *h, void *u)
+{
+    (void)y;
+    (void)u;
+    h[0] = h[1] = NAN;
+    return 0;
+}
+
+static int zero_jac(const double *y, double *jac, int ld, void *u)
+{
+    int i, j;
+    (void)y;
+    (void)u;
+    for (j = 0; j < 3; j++)
+        for (i = 0; i < 2; i++) jac[i + j * ld] = 0;
+    return 0;
+}
+
+static int failing_factor(const double *y, const double *row, void *ctx)
+{
+    (void)y;
+    (void)row;
+    (void)ctx;
+    return 1;
+}
+
+static int never_solve(double *b, int nrhs, void *ctx)
+{
+    (void)b;
+    (void)nrhs;
+    (void)ctx;
+    return 1;
+}
+
+/* Item 1: an algorithm whose every trial failed because of the callback, a NaN or a singular
+   matrix returns that code; an end point is reported only where the curve ends. */
+static void test_failures_reported(void)
+{
+    double rays[PL_MAX_RAYS * 3], y[3] = {1e-3, 1e-3, 1e-3}, t[3] = {-1, -1, -1}, y0[3], t0[3];
+    double ys[8 * 3], ts[8 * 3];
+    pl_problem p;
+    psb_problem prob;
+    psb_solver s;
+    psb_branch_report br;
+    psb_result r;
+    example_problem(&p, rays);
+    memcpy(y0, y, sizeof y);
+    memcpy(t0, t, sizeof t);
+
+    /* NaN from every residual: was PSB_SUCCESS from both, 1 branch and an empty message */
+    psb_problem_init(&prob, 2, nan_res, pl_jacobian, &p);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_NONFINITE);
+    CHECK(strstr(psb_solver_message(&s), "NaN") != NULL);
+    CHECK(same(y, y0, 3) && same(t, t0, 3));
+    r = psb_find_branches(&s, y, t, 8, ys, ts, &br);
+    CHECK(r == PSB_ERR_NONFINITE);
+    CHECK(br.n_failed > 0 && br.n_failed == br.n_failed_nonfinite && br.n_failed_callback == 0);
+    CHECK(psb_solver_message(&s)[0] != 0);
+    psb_solver_free(&s);
+
+    /* dH = 0 everywhere: psb_trace said PSB_NONSMOOTH_END, psb_locate_end PSB_SUCCESS */
+    psb_problem_init(&prob, 2, pl_residual, zero_jac, &p);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    y[0] = y[1] = 0.5;
+    y[2] = 1;
+    memcpy(y0, y, sizeof y);
+    CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_SINGULAR);
+    CHECK(same(y, y0, 3) && same(t, t0, 3)); /* failed before a step: untouched */
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_SINGULAR);
+    CHECK(psb_switch_tangent(&s, y, t) == PSB_ERR_SINGULAR);
+    CHECK(same(y, y0, 3) && same(t, t0, 3));
+    psb_solver_free(&s);
+
+    /* a user factorisation that always fails: was PSB_NONSMOOTH_END */
+    psb_problem_init(&prob, 2, pl_residual, NULL, &p);
+    prob.linear = PSB_LINEAR_USER;
+    prob.solver.factor = failing_factor;
+    prob.solver.solve = never_solve;
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_SINGULAR);
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_SINGULAR);
+    CHECK(psb_find_branches(&s, y, t, 8, ys, ts, &br) == PSB_ERR_SINGULAR);
+    psb_solver_free(&s);
+}
+
+/* H(x, g) = max(|x|, |g|): the point 0 alone. Its Jacobian has full rank everywhere, the
+   trials from 0 fail because nothing is there (a bordered matrix singular where the tangent
+   exists is geometry, not a fault): an end point, as before. */
+static int point_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = fabs(y[0]) > fabs(y[1]) ? fabs(y[0]) : fabs(y[1]);
+    return 0;
+}
+
+static int point_jac(const double *y, double *jac, int ld, void *u)
+{
+    (void)u;
+    (void)ld;
+    jac[0] = fabs(y[0]) > fabs(y[1]) ? (y[0] < 0 ? -1 : 1) : 0;
+    jac[1] = fabs(y[0]) > fabs(y[1]) ? 0 : (y[1] < 0 ? -1 : 1);
+    return 0;
+}
+
+typedef struct {
+    int fail_from, calls;
+} counter;
+
+static int circle_failing(const double *y, double *h, void *u)
+{
+    counter *c = (counter *)u;
+    h[0] = y[0] * y[0] + y[1] * y[1] - 1;
+    return ++c->calls > c->fail_from ? 1 : 0;
+}
+
+static int circle_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] * y[0] + y[1] * y[1] - 1;
+    return 0;
+}
+
+/* Item 4: inputs are never modified on failure; what each function writes then. */
+static void test_inputs_untouched(void)
+{
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    counter c = {0, 0};
+    double y[3] = {0, 0, 0}, t[2] = {2, 0}, h = 5, y0[3], t0[3];
+    int it = -5;
+
+    /* the switch at an isolated point: PSB_NONSMOOTH_END, t not normalised */
+    psb_problem_init(&prob, 1, point_res, point_jac, NULL);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_switch_tangent(&s, y, t) == PSB_NONSMOOTH_END);
+    CHECK(t[0] == 2 && t[1] == 0 && y[0] == 0 && y[1] == 0);
+    CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_NONSMOOTH_END);
+    psb_solver_free(&s);
+
+    /* psb_step with a residual that fails (> 0): t not normalised, h not clamped */
+    psb_problem_init(&prob, 1, circle_failing, NULL, &c);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    y[0] = 1;
+    y[1] = 0;
+    t[0] = 0;
+    t[1] = 2;
+    memcpy(y0, y, sizeof y);
+    memcpy(t0, t, 2 * sizeof(double));
+    CHECK(psb_step(&s, y, t, &h) == PSB_ERR_CALLBACK_FAILED);
+    CHECK(same(y, y0, 2) && same(t, t0, 2) && h == 5);
+    /* NaN trace bounds: rejected, not ignored */
+    {
+        psb_trace_options to;
+        memset(&to, 0, sizeof to);
+        to.param_min = NAN;
+        to.param_max = 1;
+        CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_ERR_INPUT);
+        CHECK(strstr(psb_solver_message(&s), "param_min") != NULL);
+        CHECK(same(y, y0, 2) && same(t, t0, 2));
+    }
+    psb_solver_free(&s);
+
+    /* psb_correct writes *iterations on failure too: max_iter = 1 from off the circle */
+    memset(&o, 0, sizeof o);
+    o.max_iter = 1;
+    psb_problem_init(&prob, 1, circle_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    y[0] = 1.3;
+    y[1] = 0.1;
+    t[0] = 0;
+    t[1] = 1;
+    memcpy(y0, y, sizeof y);
+    CHECK(psb_correct(&s, y, t, &it) == PSB_ERR_NO_CONVERGENCE);
+    CHECK(it == 1 && same(y, y0, 2) && t[1] == 1);
+    psb_solver_free(&s);
+}
+
+/* Item 3: misuse. A NULL or freed solver and NULL vectors fail cleanly. */
+static void test_misuse(void)
+{
+    pl_problem p;
+    double rays[PL_MAX_RAYS * 3], y[3] = {0.5, 0.5, 1}, t[3] = {1, 0, 0}, h = 0.1, ys[3], ts[3];
+    psb_problem prob;
+    psb_solver s;
+    example_problem(&p, rays);
+    CHECK(isnan(psb_dot_w(NULL, y, y)) && isnan(psb_norm_w(NULL, y)));
+    psb_problem_init(&prob, 2, pl_residual, pl_jacobian, &p);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_dot_w(&s, y, t) == 0.5 && psb_norm_w(&s, t) == 1);
+    CHECK(isnan(psb_dot_w(&s, NULL, y)) && isnan(psb_dot_w(&s, y, NULL)) && isnan(psb_norm_w(&s, NULL)));
+    psb_solver_free(&s);
+    /* a freed solver: every entry point says so; the weights are gone, not read */
+    CHECK(isnan(psb_dot_w(&s, y, y)) && isnan(psb_norm_w(&s, y)));
+    CHECK(psb_solve_at_param(&s, y, 0) == PSB_ERR_NULL);
+    CHECK(strstr(psb_solver_message(&s), "not initialised") != NULL);
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_ERR_NULL);
+    CHECK(psb_correct(&s, y, t, NULL) == PSB_ERR_NULL);
+    CHECK(psb_step(&s, y, t, &h) == PSB_ERR_NULL);
+    CHECK(psb_switch_tangent(&s, y, t) == PSB_ERR_NULL);
+    CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_NULL);
+    CHECK(psb_find_branches(&s, y, t, 1, ys, ts, NULL) == PSB_ERR_NULL);
+    psb_solver_free(&s); /* twice: harmless */
+    memset(&s, 0, sizeof s); /* never initialised */
+    CHECK(psb_tangent(&s, y, NULL, t) == PSB_ERR_NULL && isnan(psb_norm_w(&s, y)));
+}
+
+/* Item 2: option arithmetic. Every field NaN or Inf is rejected by name; counts have upper
+   limits that keep every product within an int and every loop bounded. */
+static void test_option_limits(void)
+{
+    pl_problem p;
+    double rays[PL_MAX_RAYS * 3];
+    psb_problem prob;
+    psb_solver s;
+    psb_options o;
+    size_t k;
+    static const struct {
+        size_t offset;
+        const char *name;
+    } fields[] = {
+#define FIELD(f) {offsetof(psb_options, f), #f}
+        FIELD(kappa), FIELD(h_init), FIELD(h_min), FIELD(h_max), FIELD(h_inc), FIELD(h_dec),
+        FIELD(tol_residual), FIELD(tol_correction), FIELD(c_min), FIELD(switch_delta_min),
+        FIELD(switch_delta_max), FIELD(fd_step), FIELD(c_diff), FIELD(branch_h),
+        FIELD(branch_h_fd_steps), FIELD(branch_h_min), FIELD(branch_h_init), FIELD(branch_trial_h_min),
+#undef FIELD
+    };
+    example_problem(&p, rays);
+    psb_problem_init(&prob, 2, pl_residual, NULL, &p); /* differences: branch_h_fd_steps counts */
+    for (k = 0; k < sizeof fields / sizeof fields[0]; k++) {
+        int inf;
+        for (inf = 0; inf < 2; inf++) {
+            memset(&o, 0, sizeof o);
+            *(double *)((char *)&o + fields[k].offset) = inf ? INFINITY : NAN;
+            CHECK(psb_solver_init(&s, &prob, &o) == PSB_ERR_OPTIONS);
+            CHECK(strstr(psb_solver_message(&s), fields[k].name) != NULL);
+        }
+    }
+#define REJECTED(set, name)                                                                        \
+    do {                                                                                           \
+        memset(&o, 0, sizeof o);                                                                   \
+        set;                                                                                       \
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_ERR_OPTIONS);                                 \
+        CHECK(strstr(psb_solver_message(&s), name) != NULL);                                       \
+    } while (0)
+    REJECTED(o.n_span = 600000000, "n_span"); /* 4 n_span overflowed: PSB_SUCCESS, 1 branch */
+    REJECTED(o.n_span = PSB_MAX_SPAN_LIMIT + 1, "n_span");
+    REJECTED(o.n_span_max = PSB_MAX_SPAN_LIMIT + 1, "n_span_max");
+    REJECTED((o.n_span = 20, o.n_span_max = 19), "n_span_max");
+    REJECTED(o.h_dec = 1 - 1e-12, "h_dec"); /* never finished */
+    REJECTED(o.n_dir = INT_MAX, "n_dir");
+    REJECTED(o.max_iter = INT_MAX, "max_iter");
+    REJECTED(o.iter_threshold = PSB_MAX_ITER_LIMIT + 1, "iter_threshold");
+    REJECTED(o.h_inc = 1e300, "h_inc");
+    REJECTED(o.branch_patience = -1, "branch_patience");
+    REJECTED(o.branch_max_pc = -1, "branch_max_pc");
+#undef REJECTED
+    memset(&o, 0, sizeof o); /* the limits themselves are valid */
+    o.n_span = o.n_span_max = PSB_MAX_SPAN_LIMIT;
+    o.n_dir = PSB_MAX_DIR_LIMIT;
+    o.max_iter = o.iter_threshold = PSB_MAX_ITER_LIMIT;
+    o.h_dec = 0.9;
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    psb_solver_free(&s);
+}
+
+/* Issue 21 item 4: psb_options_resolve(_for) reports what the solver uses, and a resolved set
+   given back to psb_solver_init runs the same, bit for bit. */
+static void test_resolve_truthful(void)
+{
+    pl_problem p;
+    double rays[PL_MAX_RAYS * 3];
+    psb_problem prob;
+    psb_options d = psb_options_resolve(NULL), o;
+    int fd, way;
+    example_problem(&p, rays);
+    CHECK(d.n_span == 15 && d.n_span_max == 60 && d.branch_h == d.h_min && d.branch_h_fd_steps == 0);
+    memset(&o, 0, sizeof o);
+    o.n_span = 15;
+    d = psb_options_resolve(&o); /* set by the caller: a fixed length */
+    CHECK(d.n_span == 15 && d.n_span_max == 15);
+    o.n_span = 0;
+    o.branch_no_memo = 1; /* the length adapts only with the memo */
+    d = psb_options_resolve(&o);
+    CHECK(d.n_span == 15 && d.n_span_max == 15);
+    psb_problem_init(&prob, 2, pl_residual, NULL, &p);
+    d = psb_options_resolve_for(NULL, &prob); /* differences: branch_h follows the point */
+    CHECK(d.branch_h == 0 && d.branch_h_min == 0 && d.branch_h_fd_steps == 1e4);
+    for (fd = 0; fd < 2; fd++) {
+        psb_branch_report br[2];
+        double ts[2][PL_MAX_RAYS * 3];
+        psb_problem_init(&prob, 2, pl_residual, fd ? NULL : pl_jacobian, &p);
+        for (way = 0; way < 2; way++) {
+            psb_solver s;
+            double y[3], t[3], ys[PL_MAX_RAYS * 3];
+            memset(&o, 0, sizeof o);
+            if (way) o = psb_options_resolve_for(&o, &prob);
+            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            pl_start_on_ray(3, rays, 0, y, t);
+            CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
+            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts[way], &br[way]) == PSB_SUCCESS);
+            psb_solver_free(&s);
+        }
+        CHECK(br[0].n_branches == 4 && br[1].n_branches == 4 && br[0].n_pc == br[1].n_pc &&
+              br[0].n_span == br[1].n_span && same(ts[0], ts[1], 4 * 3));
+    }
+}
+
+/* Algorithm 2.1 with differences recomputes the incoming tangent 16 branch_h behind the end
+   point; a failure there was dropped (the entering tangent kept, and found again by the sweep
+   as a new branch). Here H is NaN beyond g = 1e-3 once the trace is done: the correction 16
+   branch_h back (g ~ 2.4e-3) fails, so does every other distance, and the call says so. */
+static double nan_above = HUGE_VAL;
+static int res_nan_above(const double *y, double *h, void *u)
+{
+    pl_residual(y, h, u);
+    if (y[2] > nan_above) h[0] = NAN;
+    return 0;
+}
+
+static void test_fd_repair_failure(void)
+{
+    pl_problem p;
+    double rays[PL_MAX_RAYS * 3], y[3], t[3], y0[3], t0[3];
+    psb_problem prob;
+    psb_solver s;
+    int incoming = 0, j;
+    example_problem(&p, rays);
+    for (j = 0; j < 4; j++)
+        if (rays[j * 3] > 0 && rays[j * 3 + 1] > 0) incoming = j;
+    psb_problem_init(&prob, 2, res_nan_above, NULL, &p);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    pl_start_on_ray(3, rays, incoming, y, t);
+    nan_above = HUGE_VAL;
+    CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
+    memcpy(y0, y, sizeof y);
+    memcpy(t0, t, sizeof t);
+    nan_above = 1e-3;
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_NONFINITE); /* was PSB_SUCCESS */
+    CHECK(same(y, y0, 3) && same(t, t0, 3));
+    nan_above = HUGE_VAL;
+    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+    psb_solver_free(&s);
+}
+
+int main(void)
+{
+    test_fd_repair_failure();
+    test_failures_reported();
+    test_inputs_untouched();
+    test_misuse();
+    test_option_limits();
+    test_resolve_truthful();
+    test_fault_injection();
+    return HARNESS_END();
+}
