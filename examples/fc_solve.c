@@ -40,18 +40,148 @@
 #include <string.h>
 #include <time.h>
 
+/* Limits, checked before anything of that size is allocated (the readers' memory is
+   proportional to the file and to W's stored non-zeros, never to m^2 for a sparse file):
+   FC_MAX_FILE bytes of text; FC_MAX_CONTACTS contacts; FC_MAX_NNZ stored non-zeros of W (about
+   28 bytes each while reading, 8 to 72 in the solver's block storage); FC_MAX_COUPLED unknowns in
+   one coupled component of W's contact graph (its Newton system may be factored dense: 8 n^2
+   bytes, 1.2 GB at the limit). */
+#define FC_MAX_FILE 2147483647L
+#define FC_MAX_CONTACTS 1000000
+#define FC_MAX_NNZ 33554432L
+#define FC_MAX_COUPLED 12288
+
+/* A problem u = W r + q. W is either dense (W: m x m column-major, as in-memory callers such as
+   the tests build it) or, when W is NULL, in compressed sparse columns (Wp[m + 1], Wi, Wx: as
+   every reader stores it, with explicit zeros dropped and duplicates kept: entries add). */
 typedef struct {
     int dim, nc, m;
-    double *W; /* m x m, column-major */
+    double *W;
+    int *Wp, *Wi;
+    double *Wx;
     double *q, *mu;
+    char why[200]; /* a reader's error message (fc_read returns it) */
 } fc_problem;
 
 static void fc_free(fc_problem *p)
 {
     free(p->W);
+    free(p->Wp);
+    free(p->Wi);
+    free(p->Wx);
     free(p->q);
     free(p->mu);
-    memset(p, 0, sizeof *p);
+    p->W = p->Wx = p->q = p->mu = NULL;
+    p->Wp = p->Wi = NULL;
+    p->dim = p->nc = p->m = 0;
+}
+
+/* Entries of W as the readers find them (row, column, value), before compression. */
+typedef struct {
+    long n, cap;
+    int *i, *j;
+    double *x;
+} fc_coo;
+
+static void coo_free(fc_coo *c)
+{
+    free(c->i);
+    free(c->j);
+    free(c->x);
+    memset(c, 0, sizeof *c);
+}
+
+/* Appends W(i, j) += x (0 <= i, j < m checked by the caller); zeros are dropped. Returns 0 or a
+   message. */
+static const char *coo_add(fc_coo *c, long i, long j, double x)
+{
+    if (!isfinite(x))
+        return "non-finite W entry";
+    if (x == 0.0)
+        return NULL;
+    if (c->n == c->cap) {
+        long cap = c->cap ? 2 * c->cap : 1024;
+        int *ni, *nj;
+        double *nx;
+        if (c->n >= FC_MAX_NNZ)
+            return "W has more than FC_MAX_NNZ = 33554432 stored non-zeros";
+        if (cap > FC_MAX_NNZ)
+            cap = FC_MAX_NNZ;
+        ni = realloc(c->i, (size_t)cap * sizeof(int));
+        if (ni)
+            c->i = ni;
+        nj = realloc(c->j, (size_t)cap * sizeof(int));
+        if (nj)
+            c->j = nj;
+        nx = realloc(c->x, (size_t)cap * sizeof(double));
+        if (nx)
+            c->x = nx;
+        if (!ni || !nj || !nx)
+            return "out of memory";
+        c->cap = cap;
+    }
+    c->i[c->n] = (int)i;
+    c->j[c->n] = (int)j;
+    c->x[c->n] = x;
+    c->n++;
+    return NULL;
+}
+
+/* Compresses the entries into p->Wp, Wi, Wx (columns in order, entries in reading order). */
+static const char *coo_to_csc(fc_coo *c, fc_problem *p)
+{
+    long k;
+    int j, m = p->m;
+    p->Wp = calloc((size_t)m + 1, sizeof(int));
+    p->Wi = malloc((size_t)(c->n > 0 ? c->n : 1) * sizeof(int));
+    p->Wx = malloc((size_t)(c->n > 0 ? c->n : 1) * sizeof(double));
+    if (!p->Wp || !p->Wi || !p->Wx)
+        return "out of memory";
+    for (k = 0; k < c->n; k++)
+        p->Wp[c->j[k] + 1]++;
+    for (j = 0; j < m; j++)
+        p->Wp[j + 1] += p->Wp[j];
+    for (k = 0; k < c->n; k++) { /* Wp[j] runs through column j, then is restored below */
+        int at = p->Wp[c->j[k]]++;
+        p->Wi[at] = c->i[k];
+        p->Wx[at] = c->x[k];
+    }
+    for (j = m; j > 0; j--)
+        p->Wp[j] = p->Wp[j - 1];
+    p->Wp[0] = 0;
+    return NULL;
+}
+
+/* Sets p's sizes and allocates q and mu. dim and nc are validated here, for every reader. */
+static const char *fc_alloc_vectors(fc_problem *p, long dim, long nc)
+{
+    if (dim != 2 && dim != 3)
+        return "unsupported contact dimension (2 or 3)";
+    if (nc < 1 || nc > FC_MAX_CONTACTS)
+        return "unsupported number of contacts (1 to FC_MAX_CONTACTS = 1000000)";
+    p->dim = (int)dim;
+    p->nc = (int)nc;
+    p->m = (int)(dim * nc);
+    p->q = malloc((size_t)p->m * sizeof(double));
+    p->mu = malloc((size_t)nc * sizeof(double));
+    return p->q && p->mu ? NULL : "out of memory";
+}
+
+/* The same checks on q and mu for every reader: finite, mu >= 0. Writes the message to p->why. */
+static int fc_check_vectors(fc_problem *p)
+{
+    int i;
+    for (i = 0; i < p->m; i++)
+        if (!isfinite(p->q[i])) {
+            sprintf(p->why, "q[%d] = %g is not finite", i, p->q[i]);
+            return 0;
+        }
+    for (i = 0; i < p->nc; i++)
+        if (!isfinite(p->mu[i]) || !(p->mu[i] >= 0.0)) {
+            sprintf(p->why, "mu[%d] = %g is not a finite number >= 0", i, p->mu[i]);
+            return 0;
+        }
+    return 1;
 }
 
 /* ---- whitespace tokenizer over the whole file ---- */
@@ -82,13 +212,14 @@ static int tok_double(fc_tok *t, double *v)
     if (!s)
         return 0;
     *v = strtod(s, &end);
-    return *end == '\0' || *end == ',';
+    return end != s && (*end == '\0' || (*end == ',' && end[1] == '\0'));
 }
 
-static int tok_int(fc_tok *t, long *v)
+/* An integer token in [lo, hi] (written as an integer or an integral float, as some writers do) */
+static int tok_int(fc_tok *t, long *v, long lo, long hi)
 {
     double d;
-    if (!tok_double(t, &d) || d != floor(d) || fabs(d) > 1e9)
+    if (!tok_double(t, &d) || d != floor(d) || d < (double)lo || d > (double)hi)
         return 0;
     *v = (long)d;
     return 1;
@@ -100,15 +231,24 @@ static int tok_expect(fc_tok *t, const char *word)
     return s && strcmp(s, word) == 0;
 }
 
-static char *read_file(const char *path)
+/* The whole file, NUL-terminated (*len bytes before the NUL); NULL with a message in why. */
+static char *read_file(const char *path, long *len, char *why)
 {
     FILE *f = fopen(path, "rb");
     char *buf;
     long n;
-    if (!f)
+    if (!f) {
+        sprintf(why, "cannot open the file");
         return NULL;
+    }
     if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0) {
         fclose(f);
+        sprintf(why, "cannot read the file (not a regular file?)");
+        return NULL;
+    }
+    if (n >= FC_MAX_FILE) {
+        fclose(f);
+        sprintf(why, "file larger than FC_MAX_FILE = %ld bytes", FC_MAX_FILE);
         return NULL;
     }
     buf = malloc((size_t)n + 1);
@@ -116,9 +256,13 @@ static char *read_file(const char *path)
         free(buf);
         buf = NULL;
     }
-    if (buf)
-        buf[n] = '\0';
     fclose(f);
+    if (!buf) {
+        sprintf(why, "cannot read the file");
+        return NULL;
+    }
+    buf[n] = '\0';
+    *len = n;
     return buf;
 }
 
@@ -128,31 +272,71 @@ static char *read_file(const char *path)
    /fclib_local/vectors/{q,mu}. Optional build: -DFC_SOLVE_HDF5, link libhdf5. */
 #include <hdf5.h>
 
-/* Reads dataset `name` (exactly n values when n >= 0; returns the count in *cnt) into a new
-   buffer of int (isint) or double. NULL on any error. */
+/* Reads dataset `name` (exactly n values when n >= 0, at most FC_MAX_NNZ + 1 otherwise; the
+   count in *cnt) as int (isint) or double into a new buffer. NULL on any error. */
 static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
 {
-    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT), sp;
+    hid_t ds, sp;
     hssize_t np;
     void *buf = NULL;
+    if (cnt)
+        *cnt = -1;
+    if (H5Lexists(f, name, H5P_DEFAULT) <= 0)
+        return NULL;
+    ds = H5Dopen2(f, name, H5P_DEFAULT);
     if (ds < 0)
         return NULL;
     sp = H5Dget_space(ds);
     np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
-    if (np >= 0 && np < 100000000 && (n < 0 || np == n)) {
+    if (np >= 0 && np <= FC_MAX_NNZ + 1 && (n < 0 || np == n)) {
         buf = malloc((size_t)(np > 0 ? np : 1) * (isint ? sizeof(int) : sizeof(double)));
         if (buf && H5Dread(ds, isint ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
                            H5P_DEFAULT, buf) < 0) {
             free(buf);
             buf = NULL;
         }
+        if (buf && cnt)
+            *cnt = (long)np;
     }
-    if (cnt)
-        *cnt = (long)np;
     if (sp >= 0)
         H5Sclose(sp);
     H5Dclose(ds);
     return buf;
+}
+
+/* Checks compressed pointers ptr[0..n] (monotone from 0, ptr[n] <= the stored entries) and the
+   indices idx[k], k < ptr[n], in [0, n); then adds the entries to c (rows: the compressed index
+   is the column when rows = 0). Everything is validated before the first entry is used. */
+static const char *h5_compressed(const int *ptr, long np, const int *idx, long ni,
+                                 const double *x, long nx, long n, int rows, fc_coo *c,
+                                 char *why)
+{
+    long j, k;
+    const char *err;
+    if (np != n + 1) {
+        sprintf(why, "W/p has %ld pointers, %ld expected (m + 1)", np, n + 1);
+        return why;
+    }
+    if (ptr[0] != 0) {
+        sprintf(why, "W/p[0] = %d, 0 expected", ptr[0]);
+        return why;
+    }
+    for (j = 0; j < n; j++)
+        if (ptr[j + 1] < ptr[j] || ptr[j + 1] > ni || ptr[j + 1] > nx) {
+            sprintf(why, "W/p[%ld] = %d: pointers must not decrease nor exceed the %ld stored "
+                         "entries of W/i and %ld of W/x", j + 1, ptr[j + 1], ni, nx);
+            return why;
+        }
+    for (k = 0; k < ptr[n]; k++)
+        if (idx[k] < 0 || idx[k] >= n) {
+            sprintf(why, "W/i[%ld] = %d is out of range [0, %ld)", k, idx[k], n);
+            return why;
+        }
+    for (j = 0; j < n; j++)
+        for (k = ptr[j]; k < ptr[j + 1]; k++)
+            if ((err = rows ? coo_add(c, j, idx[k], x[k]) : coo_add(c, idx[k], j, x[k])) != NULL)
+                return err;
+    return NULL;
 }
 
 static const char *fc_read_hdf5(const char *path, fc_problem *p)
@@ -160,72 +344,62 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
     hid_t f;
     int *dim = NULL, *wm = NULL, *wn = NULL, *wnz = NULL, *pp = NULL, *ii = NULL;
     double *xx = NULL;
-    long np = 0, ni = 0, nx = 0, k, j, m = 0;
+    long np = 0, ni = 0, nx = 0, k, m = 0;
     const char *err = NULL;
-    memset(p, 0, sizeof *p);
+    fc_coo c;
+    memset(&c, 0, sizeof c);
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* report through our message, not on stderr */
     f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0)
-        return "cannot open HDF5 file";
+        return "cannot open as an HDF5 file";
     dim = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
     wm = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
     wn = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
     wnz = h5_read(f, "/fclib_local/W/nz", 1, 1, NULL);
     if (!dim || !wm || !wn || !wnz)
         err = "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz)";
-    else if ((*dim != 2 && *dim != 3) || *wm != *wn || *wm < *dim || *wm % *dim != 0 ||
-             *wm > 60000)
-        err = "unsupported sizes";
-    if (!err) {
+    else if (*wm != *wn || (*dim != 2 && *dim != 3) || *wm < *dim || *wm % *dim != 0) {
+        sprintf(p->why, "W is %d x %d: not (spacedim nc) x (spacedim nc) with spacedim = %d",
+                *wm, *wn, *dim);
+        err = p->why;
+    } else if ((err = fc_alloc_vectors(p, *dim, *wm / *dim)) == NULL) {
         m = *wm;
-        p->dim = *dim;
-        p->nc = (int)(m / *dim);
-        p->m = (int)m;
         pp = h5_read(f, "/fclib_local/W/p", 1, -1, &np);
         ii = h5_read(f, "/fclib_local/W/i", 1, -1, &ni);
         xx = h5_read(f, "/fclib_local/W/x", 0, -1, &nx);
+        free(p->q);
+        free(p->mu);
         p->q = h5_read(f, "/fclib_local/vectors/q", 0, m, NULL);
         p->mu = h5_read(f, "/fclib_local/vectors/mu", 0, p->nc, NULL);
-        p->W = calloc((size_t)m * (size_t)m, sizeof(double));
-        if (!pp || !ii || !xx || !p->q || !p->mu || !p->W)
-            err = "missing or malformed W/p, W/i, W/x, vectors/q or vectors/mu";
+        if (!pp || !ii || !xx || !p->q || !p->mu)
+            err = "missing or malformed W/p, W/i, W/x, vectors/q (m values) or vectors/mu (nc "
+                  "values)";
     }
-    if (!err && *wnz < 0) { /* compressed: p has m + 1 pointers into i, x */
-        if (*wnz < -2 || np != m + 1 || pp[0] != 0 || pp[m] > ni || pp[m] > nx)
-            err = "bad compressed W";
-        for (j = 0; !err && j < m; j++) {
-            if (pp[j + 1] < pp[j]) {
-                err = "bad compressed W pointers";
-                break;
-            }
-            for (k = pp[j]; k < pp[j + 1]; k++) {
-                long row = *wnz == -1 ? ii[k] : j, col = *wnz == -1 ? j : ii[k];
-                if (ii[k] < 0 || ii[k] >= m) {
-                    err = "bad W index";
-                    break;
-                }
-                p->W[row + col * m] += xx[k];
-            }
+    if (!err && (*wnz == -1 || *wnz == -2)) {
+        err = h5_compressed(pp, np, ii, ni, xx, nx, m, *wnz == -2, &c, p->why);
+    } else if (!err && *wnz >= 0) { /* triplets: i rows, p columns */
+        if (ni < *wnz || np < *wnz || nx < *wnz) {
+            sprintf(p->why, "W has nz = %d triplets but W/i, W/p, W/x hold %ld, %ld, %ld", *wnz,
+                    ni, np, nx);
+            err = p->why;
         }
-    } else if (!err) { /* triplets: i rows, p columns */
-        if (ni < *wnz || np < *wnz || nx < *wnz)
-            err = "bad triplet W";
-        for (k = 0; !err && k < *wnz; k++) {
-            if (ii[k] < 0 || ii[k] >= m || pp[k] < 0 || pp[k] >= m)
-                err = "bad W index";
-            else
-                p->W[ii[k] + (long)pp[k] * m] += xx[k];
-        }
+        for (k = 0; !err && k < *wnz; k++)
+            if (ii[k] < 0 || ii[k] >= m || pp[k] < 0 || pp[k] >= m) {
+                sprintf(p->why, "W triplet %ld: (%d, %d) is out of range [0, %ld)", k, ii[k],
+                        pp[k], m);
+                err = p->why;
+            }
+        for (k = 0; !err && k < *wnz; k++)
+            err = coo_add(&c, ii[k], pp[k], xx[k]);
+    } else if (!err) {
+        sprintf(p->why, "W/nz = %d: not -1 (columns), -2 (rows) or a triplet count", *wnz);
+        err = p->why;
     }
-    for (k = 0; !err && k < p->nc; k++)
-        if (!(p->mu[k] >= 0.0) || !isfinite(p->mu[k]))
-            err = "bad mu";
-    for (k = 0; !err && k < m; k++)
-        if (!isfinite(p->q[k]))
-            err = "bad q";
-    for (k = 0; !err && k < m * m; k++)
-        if (!isfinite(p->W[k]))
-            err = "non-finite W";
+    if (!err && !fc_check_vectors(p))
+        err = p->why;
+    if (!err)
+        err = coo_to_csc(&c, p);
+    coo_free(&c);
     free(dim);
     free(wm);
     free(wn);
@@ -234,169 +408,238 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
     free(ii);
     free(xx);
     H5Fclose(f);
-    if (err)
-        fc_free(p);
     return err;
 }
 #endif
 
-/* Returns 0 on success, else a message. */
-static const char *fc_read(const char *path, fc_problem *p)
+/* Siconos' text layouts of W after the header (dim nc flag m m); entries go to c. */
+
+/* 0, dense: the sizes again, then the m^2 values of the column-major array in sequence (each
+   printed line is a column, as Siconos' NM_write_in_file writes and NM_read_in_file reads it). */
+static const char *read_dense(fc_tok *t, int m, fc_coo *c, char *why)
+{
+    long s0, s1, k, total = (long)m * m;
+    const char *err;
+    if (!tok_int(t, &s0, 0, m) || !tok_int(t, &s1, 0, m) || s0 != m || s1 != m)
+        return "bad dense sizes (m m expected after the header)";
+    if (m > 46340) /* m^2 values would not fit in FC_MAX_FILE bytes */
+        return "dense W too large for FC_MAX_FILE (use a sparse storage)";
+    /* each value takes at least 2 bytes: reject a short file before reading m^2 tokens */
+    if ((long)(t->end - t->pos) / 2 + 1 < total) {
+        sprintf(why, "the file is too short for a dense %d x %d W", m, m);
+        return why;
+    }
+    for (k = 0; k < total; k++) {
+        double x;
+        if (!tok_double(t, &x)) {
+            sprintf(why, "bad dense W entry %ld (row %ld, column %ld)", k, k % m, k / m);
+            return why;
+        }
+        if ((err = coo_add(c, k % m, k / m, x)) != NULL)
+            return err;
+    }
+    return NULL;
+}
+
+/* 1, sparse block (Siconos SBM): nbb blocks, nb0 block rows, nb1 block columns; the cumulative
+   row and column block sizes (ending at m); nb0 + 1 block-row pointers (0 to nbb) and nbb block
+   column indices; then each block after its number, column-major. */
+static const char *read_sbm(fc_tok *t, int m, fc_coo *c, char *why)
+{
+    long nbb, nb0, nb1, f1, f2, *bs0 = NULL, *bs1 = NULL, *ix1 = NULL, *ix2 = NULL, bi, i, j, k,
+         v;
+    const char *err = NULL;
+    if (!tok_int(t, &nbb, 0, FC_MAX_NNZ) || !tok_int(t, &nb0, 1, m) || !tok_int(t, &nb1, 1, m) ||
+        (double)nbb > (double)nb0 * (double)nb1)
+        return "bad block header (blocks, block rows, block columns)";
+    bs0 = malloc((size_t)nb0 * sizeof(long));
+    bs1 = malloc((size_t)nb1 * sizeof(long));
+    if (!bs0 || !bs1)
+        err = "out of memory";
+    for (i = 0; !err && i < nb0; i++)
+        if (!tok_int(t, &bs0[i], i ? bs0[i - 1] + 1 : 1, m))
+            err = "bad row block sizes (cumulative, increasing, at most m)";
+    for (i = 0; !err && i < nb1; i++)
+        if (!tok_int(t, &bs1[i], i ? bs1[i - 1] + 1 : 1, m))
+            err = "bad column block sizes (cumulative, increasing, at most m)";
+    if (!err && (bs0[nb0 - 1] != m || bs1[nb1 - 1] != m))
+        err = "the block sizes do not add up to m";
+    if (!err && (!tok_int(t, &f1, 0, FC_MAX_NNZ) || !tok_int(t, &f2, 0, FC_MAX_NNZ) ||
+                 f1 != nb0 + 1 || f2 != nbb))
+        err = "bad block index sizes (block rows + 1, blocks expected)";
+    if (!err) {
+        ix1 = malloc((size_t)f1 * sizeof(long));
+        ix2 = malloc((size_t)(f2 > 0 ? f2 : 1) * sizeof(long));
+        if (!ix1 || !ix2)
+            err = "out of memory";
+    }
+    for (i = 0; !err && i < f1; i++)
+        if (!tok_int(t, &ix1[i], i ? ix1[i - 1] : 0, i ? nbb : 0) || (i == f1 - 1 && ix1[i] != nbb))
+            err = "bad block row pointers (from 0, not decreasing, to the number of blocks)";
+    for (i = 0; !err && i < f2; i++)
+        if (!tok_int(t, &ix2[i], 0, nb1 - 1))
+            err = "bad block column index";
+    for (bi = 0; !err && bi < nb0; bi++) {
+        long r0 = bi ? bs0[bi - 1] : 0, nr = bs0[bi] - r0;
+        for (k = ix1[bi]; !err && k < ix1[bi + 1]; k++) {
+            long cb = ix2[k], c0 = cb ? bs1[cb - 1] : 0, ncol = bs1[cb] - c0;
+            if (!tok_int(t, &v, 0, nbb) || v != k) {
+                sprintf(why, "bad block number (block %ld expected)", k);
+                err = why;
+                break;
+            }
+            for (j = 0; !err && j < ncol; j++)
+                for (i = 0; !err && i < nr; i++) {
+                    double x;
+                    if (!tok_double(t, &x)) {
+                        sprintf(why, "bad entry (%ld, %ld) of block %ld", i, j, k);
+                        err = why;
+                    } else {
+                        err = coo_add(c, r0 + i, c0 + j, x);
+                    }
+                }
+        }
+    }
+    free(bs0);
+    free(bs1);
+    free(ix1);
+    free(ix2);
+    return err;
+}
+
+/* 2, compressed sparse columns as printed by CSparse's cs_print: a banner up to the first "col",
+   then "col j : locations a to b" and b - a + 1 lines "i : x" per column; columns increase and
+   the locations run on from 0 without gaps. */
+static const char *read_csc(fc_tok *t, int m, fc_coo *c, char *why)
+{
+    const char *s, *err = NULL;
+    char *save;
+    long next = 0, prev = -1, i, j, k;
+    for (;;) {
+        save = t->pos;
+        s = tok_next(t);
+        if (!s)
+            return "no column data (\"col\") in the compressed-column W";
+        if (strcmp(s, "col") == 0) {
+            t->pos = save;
+            break;
+        }
+    }
+    for (;;) {
+        long a, b;
+        save = t->pos;
+        s = tok_next(t);
+        if (!s || strcmp(s, "col") != 0) {
+            t->pos = save;
+            return NULL;
+        }
+        if (!tok_int(t, &j, 0, m - 1) || !tok_expect(t, ":") || !tok_expect(t, "locations") ||
+            !tok_int(t, &a, 0, FC_MAX_NNZ) || !tok_expect(t, "to") ||
+            !tok_int(t, &b, -1, FC_MAX_NNZ)) {
+            sprintf(why, "bad column header after column %ld", prev);
+            return why;
+        }
+        if (j <= prev || a != next || b < a - 1) {
+            sprintf(why, "column %ld: locations %ld to %ld (columns must increase, locations run "
+                         "on from %ld)", j, a, b, next);
+            return why;
+        }
+        for (k = a; k <= b; k++) {
+            double x;
+            if (!tok_int(t, &i, 0, m - 1) || !tok_expect(t, ":") || !tok_double(t, &x)) {
+                sprintf(why, "bad entry at location %ld of column %ld (row in [0, %d) : value)",
+                        k, j, m);
+                return why;
+            }
+            if ((err = coo_add(c, i, j, x)) != NULL)
+                return err;
+        }
+        next = b + 1;
+        prev = j;
+    }
+}
+
+/* Parses a problem from buf (len bytes, NUL-terminated, modified in place). Returns NULL, or a
+   message (p->why); p is then empty. */
+static const char *fc_parse(char *buf, long len, fc_problem *p)
 {
     fc_tok t;
-    long dim, nc, flag, s0, s1, v, i, j, k;
-    int m;
+    fc_coo c;
+    long dim, nc, flag, s0, s1, i;
     const char *err = NULL;
+    memset(&c, 0, sizeof c);
+    t.buf = t.pos = buf;
+    t.end = buf + len;
+    if (!tok_int(&t, &dim, 0, 1000000000L) || !tok_int(&t, &nc, -1000000000L, 1000000000L) ||
+        !tok_int(&t, &flag, 0, 1000) || !tok_int(&t, &s0, 0, 1000000000L) ||
+        !tok_int(&t, &s1, 0, 1000000000L))
+        err = "bad header (dim nc storage m m)";
+    else if ((err = fc_alloc_vectors(p, dim, nc)) != NULL)
+        ;
+    else if (s0 != p->m || s1 != s0) /* the global problems (M v = H r + f) start the same way */
+        err = "W is not (dim nc) x (dim nc): not a reduced problem u = W r + q (a global one?)";
+    else if (flag == 0)
+        err = read_dense(&t, p->m, &c, p->why);
+    else if (flag == 1)
+        err = read_sbm(&t, p->m, &c, p->why);
+    else if (flag == 2)
+        err = read_csc(&t, p->m, &c, p->why);
+    else
+        err = "unsupported storage flag (0 dense, 1 sparse block, 2 compressed columns)";
+    for (i = 0; !err && i < p->m; i++)
+        if (!tok_double(&t, &p->q[i])) {
+            sprintf(p->why, "bad or missing q[%ld]", i);
+            err = p->why;
+        }
+    for (i = 0; !err && i < p->nc; i++)
+        if (!tok_double(&t, &p->mu[i])) {
+            sprintf(p->why, "bad or missing mu[%ld]", i);
+            err = p->why;
+        }
+    if (!err && !fc_check_vectors(p))
+        err = p->why;
+    if (!err)
+        err = coo_to_csc(&c, p);
+    coo_free(&c);
+    if (err) {
+        if (err != p->why)
+            snprintf(p->why, sizeof p->why, "%s", err);
+        fc_free(p);
+        return p->why;
+    }
+    return NULL;
+}
+
+/* Reads a problem file (Siconos text, or FCLib HDF5 when built with it). Returns NULL, or a
+   message saying what is wrong (then p is empty; the caller names the file). */
+static const char *fc_read(const char *path, fc_problem *p)
+{
+    long len = 0;
+    char *buf;
+    const char *err;
     memset(p, 0, sizeof *p);
-    t.buf = read_file(path);
-    if (!t.buf)
-        return "cannot read file";
-    if (strncmp(t.buf, "\211HDF", 4) == 0) {
-        free(t.buf);
+    buf = read_file(path, &len, p->why);
+    if (!buf)
+        return p->why;
+    if (len >= 4 && memcmp(buf, "\211HDF", 4) == 0) {
+        free(buf);
 #ifdef FC_SOLVE_HDF5
-        return fc_read_hdf5(path, p);
+        err = fc_read_hdf5(path, p);
+        if (err) {
+            if (err != p->why)
+                snprintf(p->why, sizeof p->why, "%s", err);
+            fc_free(p);
+            return p->why;
+        }
+        return NULL;
 #else
-        return "HDF5 (FCLib) files are not supported by this build (build with -DFC_SOLVE_HDF5)";
+        snprintf(p->why, sizeof p->why, "HDF5 (FCLib) files are not supported by this build "
+                                        "(build with -DFC_SOLVE_HDF5)");
+        return p->why;
 #endif
     }
-    t.pos = t.buf;
-    t.end = t.buf + strlen(t.buf);
-    if (!tok_int(&t, &dim) || !tok_int(&t, &nc) || !tok_int(&t, &flag) || !tok_int(&t, &s0) ||
-        !tok_int(&t, &s1)) {
-        err = "bad header";
-        goto done;
-    }
-    if ((dim != 2 && dim != 3) || nc < 1 || nc > 20000) {
-        err = "unsupported sizes (dimension 2 or 3, 1 to 20000 contacts)";
-        goto done;
-    }
-    if (s0 != dim * nc || s1 != s0) {
-        /* the global problems (M v = H r + f) of the same test suites start the same way */
-        err = "W is not (dim*nc) x (dim*nc): not a reduced problem u = W r + q (a global one?)";
-        goto done;
-    }
-    p->dim = (int)dim;
-    p->nc = (int)nc;
-    p->m = m = (int)(dim * nc);
-    p->W = calloc((size_t)m * (size_t)m, sizeof(double));
-    p->q = malloc((size_t)m * sizeof(double));
-    p->mu = malloc((size_t)nc * sizeof(double));
-    if (!p->W || !p->q || !p->mu) {
-        err = "out of memory";
-        goto done;
-    }
-    if (flag == 0) { /* dense: sizes again, then row by row */
-        if (!tok_int(&t, &s0) || !tok_int(&t, &s1) || s0 != m || s1 != m) {
-            err = "bad dense sizes";
-            goto done;
-        }
-        for (i = 0; i < m && !err; i++)
-            for (j = 0; j < m && !err; j++)
-                if (!tok_double(&t, &p->W[i + (size_t)j * (size_t)m]))
-                    err = "bad dense entry";
-    } else if (flag == 1) { /* sparse block: Siconos SBM layout, blocks column-major */
-        long nbb, nb0, nb1, f1, f2, *bs0 = NULL, *bs1 = NULL, *ix1 = NULL, *ix2 = NULL, bi;
-        if (!tok_int(&t, &nbb) || !tok_int(&t, &nb0) || !tok_int(&t, &nb1) || nb0 < 1 ||
-            nb1 < 1 || nb0 > m || nb1 > m || nbb < 0) {
-            err = "bad block header";
-            goto done;
-        }
-        bs0 = malloc((size_t)nb0 * sizeof(long));
-        bs1 = malloc((size_t)nb1 * sizeof(long));
-        for (i = 0; bs0 && bs1 && i < nb0 && !err; i++)
-            if (!tok_int(&t, &bs0[i]) || bs0[i] < 1 || bs0[i] > m || (i && bs0[i] <= bs0[i - 1]))
-                err = "bad row block sizes";
-        for (i = 0; bs0 && bs1 && i < nb1 && !err; i++)
-            if (!tok_int(&t, &bs1[i]) || bs1[i] < 1 || bs1[i] > m || (i && bs1[i] <= bs1[i - 1]))
-                err = "bad column block sizes";
-        if (!bs0 || !bs1)
-            err = "out of memory";
-        if (!err && (!tok_int(&t, &f1) || !tok_int(&t, &f2) || f1 != nb0 + 1 || f2 != nbb))
-            err = "bad block index sizes";
-        if (!err) {
-            ix1 = malloc((size_t)f1 * sizeof(long));
-            ix2 = malloc((size_t)(f2 > 0 ? f2 : 1) * sizeof(long));
-            if (!ix1 || !ix2)
-                err = "out of memory";
-        }
-        for (i = 0; !err && i < f1; i++)
-            if (!tok_int(&t, &ix1[i]) || ix1[i] < 0 || ix1[i] > nbb || (i && ix1[i] < ix1[i - 1]))
-                err = "bad block row pointer";
-        for (i = 0; !err && i < f2; i++)
-            if (!tok_int(&t, &ix2[i]) || ix2[i] < 0 || ix2[i] >= nb1)
-                err = "bad block column index";
-        for (bi = 0; !err && bi < nb0; bi++) {
-            long r0 = bi ? bs0[bi - 1] : 0, nr = bs0[bi] - r0;
-            for (k = ix1[bi]; !err && k < ix1[bi + 1]; k++) {
-                long cb = ix2[k], c0 = cb ? bs1[cb - 1] : 0, ncol = bs1[cb] - c0;
-                if (!tok_int(&t, &v) || v != k) {
-                    err = "bad block number";
-                    break;
-                }
-                for (j = 0; !err && j < ncol; j++)
-                    for (i = 0; !err && i < nr; i++)
-                        if (!tok_double(&t, &p->W[(r0 + i) + (size_t)(c0 + j) * (size_t)m]))
-                            err = "bad block entry";
-            }
-        }
-        free(bs0);
-        free(bs1);
-        free(ix1);
-        free(ix2);
-    } else if (flag == 2) { /* CSC as printed by cs_print: skip the banner up to "col" */
-        const char *s;
-        char *save;
-        for (;;) {
-            save = t.pos;
-            s = tok_next(&t);
-            if (!s) {
-                err = "no column data";
-                break;
-            }
-            if (strcmp(s, "col") == 0) {
-                t.pos = save;
-                break;
-            }
-        }
-        while (!err) {
-            long a, b;
-            save = t.pos;
-            s = tok_next(&t);
-            if (!s || strcmp(s, "col") != 0) {
-                t.pos = save;
-                break;
-            }
-            if (!tok_int(&t, &j) || !tok_expect(&t, ":") || !tok_expect(&t, "locations") ||
-                !tok_int(&t, &a) || !tok_expect(&t, "to") || !tok_int(&t, &b) || j < 0 ||
-                j >= m) {
-                err = "bad column header";
-                break;
-            }
-            for (k = a; k <= b && !err; k++) {
-                double x;
-                if (!tok_int(&t, &i) || !tok_expect(&t, ":") || !tok_double(&t, &x) || i < 0 ||
-                    i >= m)
-                    err = "bad CSC entry";
-                else
-                    p->W[i + (size_t)j * (size_t)m] += x;
-            }
-        }
-    } else {
-        err = "unsupported storage flag (HDF5 files are not read)";
-    }
-    for (i = 0; !err && i < m; i++)
-        if (!tok_double(&t, &p->q[i]))
-            err = "bad q";
-    for (i = 0; !err && i < nc; i++)
-        if (!tok_double(&t, &p->mu[i]) || p->mu[i] < 0.0)
-            err = "bad mu";
-    for (i = 0; !err && i < (long)m * m; i++)
-        if (!isfinite(p->W[i]))
-            err = "non-finite W";
-done:
-    free(t.buf);
-    if (err)
-        fc_free(p);
+    err = fc_parse(buf, len, p);
+    free(buf);
     return err;
 }
 
@@ -431,52 +674,100 @@ static void bsr_free(fc_bsr *S)
     memset(S, 0, sizeof *S);
 }
 
+/* Non-zeros of column j of W in turn, whichever storage p has: w_col_begin, then w_col_next
+   until it returns 0. */
+typedef struct {
+    long k, end;
+} fc_colit;
+
+static void w_col_begin(const fc_problem *p, int j, fc_colit *it)
+{
+    it->k = p->W ? 0 : p->Wp[j];
+    it->end = p->W ? p->m : p->Wp[j + 1];
+}
+
+static int w_col_next(const fc_problem *p, int j, fc_colit *it, int *row, double *x)
+{
+    while (it->k < it->end) {
+        long k = it->k++;
+        double v = p->W ? p->W[(size_t)k + (size_t)j * (size_t)p->m] : p->Wx[k];
+        if (v != 0.0) {
+            *row = p->W ? (int)k : p->Wi[k];
+            *x = v;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Block (c, e) met while scanning block column e: counted (pass 0) or given its slot (pass 1)
+   the first time. */
+static void bsr_touch(fc_bsr *S, int *mark, int *slot, int *fill, int pass, int c, int e)
+{
+    if (mark[c] == e)
+        return;
+    mark[c] = e;
+    if (!pass) {
+        S->rp[c + 1]++;
+        return;
+    }
+    slot[c] = fill[c]++;
+    S->ci[slot[c]] = e;
+    if (c == e)
+        S->dg[c] = slot[c];
+}
+
+/* Builds S from p's W (dense or compressed columns) in O(nnz + nc) memory: the blocks holding a
+   non-zero and every diagonal block, block columns in increasing order within each block row.
+   Returns 0 if out of memory (bsr_free still applies). */
 static int bsr_build(const fc_problem *p, fc_bsr *S)
 {
-    int d = p->dim, dd = d * d, nc = p->nc, m = p->m, c, e, a, b, k, pass;
+    int d = p->dim, dd = d * d, nc = p->nc, c, e, b, row = 0, pass, ok = 0;
+    int *mark = malloc((size_t)nc * sizeof(int)), *slot = malloc((size_t)nc * sizeof(int));
+    int *fill = malloc((size_t)nc * sizeof(int));
+    double x = 0.0;
+    fc_colit it;
     memset(S, 0, sizeof *S);
     S->nc = nc;
     S->d = d;
     S->dd = dd;
-    S->rp = malloc((size_t)(nc + 1) * sizeof(int));
+    S->rp = calloc((size_t)nc + 1, sizeof(int));
     S->dg = malloc((size_t)nc * sizeof(int));
-    if (!S->rp || !S->dg)
-        return 0;
-    for (pass = 0; pass < 2; pass++) { /* count, then fill */
-        k = 0;
-        for (c = 0; c < nc; c++) {
-            S->rp[c] = k;
-            S->dg[c] = -1;
-            for (e = 0; e < nc; e++) {
-                int nz = 0;
-                for (b = 0; b < d && !nz; b++)
-                    for (a = 0; a < d; a++)
-                        if (p->W[(size_t)(c * d + a) + (size_t)(e * d + b) * (size_t)m] != 0.0)
-                            nz = 1;
-                if (!nz && e != c) /* keep every diagonal block, even a zero one */
-                    continue;
-                if (pass) {
-                    S->ci[k] = e;
-                    for (b = 0; b < d; b++)
-                        for (a = 0; a < d; a++)
-                            S->bv[(size_t)k * dd + a + d * b] =
-                                p->W[(size_t)(c * d + a) + (size_t)(e * d + b) * (size_t)m];
+    if (!S->rp || !S->dg || !mark || !slot || !fill)
+        goto done;
+    for (pass = 0; pass < 2; pass++) { /* count the blocks per block row, then fill */
+        for (c = 0; c < nc; c++)
+            mark[c] = -1;
+        for (e = 0; e < nc; e++) { /* the diagonal block first, then those column e touches */
+            bsr_touch(S, mark, slot, fill, pass, e, e);
+            for (b = 0; b < d; b++) {
+                w_col_begin(p, e * d + b, &it);
+                while (w_col_next(p, e * d + b, &it, &row, &x)) {
+                    c = row / d;
+                    bsr_touch(S, mark, slot, fill, pass, c, e);
+                    if (pass)
+                        S->bv[(size_t)slot[c] * dd + (size_t)(row - c * d) + (size_t)(d * b)] += x;
                 }
-                if (e == c)
-                    S->dg[c] = k;
-                k++;
             }
         }
-        S->rp[nc] = k;
         if (!pass) {
-            S->nnz = k;
-            S->ci = malloc((size_t)k * sizeof(int));
-            S->bv = malloc((size_t)k * (size_t)dd * sizeof(double));
+            for (c = 0; c < nc; c++) {
+                S->rp[c + 1] += S->rp[c];
+                fill[c] = S->rp[c];
+            }
+            S->nnz = S->rp[nc];
+            S->ci = malloc((size_t)S->nnz * sizeof(int));
+            S->bv = calloc((size_t)S->nnz * (size_t)dd, sizeof(double));
             if (!S->ci || !S->bv)
-                return 0;
+                goto done;
         }
     }
-    return 1;
+    ok = 1;
+done:
+    free(mark);
+    free(slot);
+    free(fill);
+    return ok;
 }
 
 /* u = W r + q */
