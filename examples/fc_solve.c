@@ -34,6 +34,7 @@
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -266,43 +267,16 @@ static char *read_file(const char *path, long *len, char *why)
     return buf;
 }
 
-#ifdef FC_SOLVE_HDF5
-/* FCLib local problems (HDF5): /fclib_local/spacedim, /fclib_local/W/{m,n,nz,p,i,x} (nz = -1:
-   compressed columns, -2: compressed rows, >= 0: nz triplets with p the column indices) and
-   /fclib_local/vectors/{q,mu}. Optional build: -DFC_SOLVE_HDF5, link libhdf5. */
-#include <hdf5.h>
-
-/* Reads dataset `name` (exactly n values when n >= 0, at most FC_MAX_NNZ + 1 otherwise; the
-   count in *cnt) as int (isint) or double into a new buffer. NULL on any error. */
-static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
-{
-    hid_t ds, sp;
-    hssize_t np;
-    void *buf = NULL;
-    if (cnt)
-        *cnt = -1;
-    if (H5Lexists(f, name, H5P_DEFAULT) <= 0)
-        return NULL;
-    ds = H5Dopen2(f, name, H5P_DEFAULT);
-    if (ds < 0)
-        return NULL;
-    sp = H5Dget_space(ds);
-    np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
-    if (np >= 0 && np <= FC_MAX_NNZ + 1 && (n < 0 || np == n)) {
-        buf = malloc((size_t)(np > 0 ? np : 1) * (isint ? sizeof(int) : sizeof(double)));
-        if (buf && H5Dread(ds, isint ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
-                           H5P_DEFAULT, buf) < 0) {
-            free(buf);
-            buf = NULL;
-        }
-        if (buf && cnt)
-            *cnt = (long)np;
-    }
-    if (sp >= 0)
-        H5Sclose(sp);
-    H5Dclose(ds);
-    return buf;
-}
+/* An FCLib local problem's arrays as its HDF5 file stores them (/fclib_local/spacedim,
+   W/{m,n,nz,p,i,x}, vectors/{q,mu}: nz = -1 compressed columns, -2 compressed rows, >= 0 nz
+   triplets with p the column indices), each with the number of values it holds. Kept apart
+   from HDF5 so that the checks below are tested and fuzzed without it. */
+typedef struct {
+    int dim, m, n, nz;
+    const int *p, *i;
+    const double *x, *q, *mu;
+    long np, ni, nx, nq, nmu;
+} fc_fclib;
 
 /* Checks compressed pointers ptr[0..n] (monotone from 0, ptr[n] <= the stored entries) and the
    indices idx[k], k < ptr[n], in [0, n); then adds the entries to c (rows: the compressed index
@@ -339,60 +313,46 @@ static const char *h5_compressed(const int *ptr, long np, const int *idx, long n
     return NULL;
 }
 
-static const char *fc_read_hdf5(const char *path, fc_problem *p)
+/* Validates every size, pointer and index of a before using any, then fills p. Returns NULL
+   or a message (p->why or a literal); the caller empties p on error. */
+static const char *fc_from_fclib(fc_problem *p, const fc_fclib *a)
 {
-    hid_t f;
-    int *dim = NULL, *wm = NULL, *wn = NULL, *wnz = NULL, *pp = NULL, *ii = NULL;
-    double *xx = NULL;
-    long np = 0, ni = 0, nx = 0, k, m = 0;
     const char *err = NULL;
     fc_coo c;
+    long k, m = a->m;
     memset(&c, 0, sizeof c);
-    H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* report through our message, not on stderr */
-    f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (f < 0)
-        return "cannot open as an HDF5 file";
-    dim = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
-    wm = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
-    wn = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
-    wnz = h5_read(f, "/fclib_local/W/nz", 1, 1, NULL);
-    if (!dim || !wm || !wn || !wnz)
-        err = "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz)";
-    else if (*wm != *wn || (*dim != 2 && *dim != 3) || *wm < *dim || *wm % *dim != 0) {
+    if (a->m != a->n || (a->dim != 2 && a->dim != 3) || a->m < a->dim || a->m % a->dim != 0) {
         sprintf(p->why, "W is %d x %d: not (spacedim nc) x (spacedim nc) with spacedim = %d",
-                *wm, *wn, *dim);
-        err = p->why;
-    } else if ((err = fc_alloc_vectors(p, *dim, *wm / *dim)) == NULL) {
-        m = *wm;
-        pp = h5_read(f, "/fclib_local/W/p", 1, -1, &np);
-        ii = h5_read(f, "/fclib_local/W/i", 1, -1, &ni);
-        xx = h5_read(f, "/fclib_local/W/x", 0, -1, &nx);
-        free(p->q);
-        free(p->mu);
-        p->q = h5_read(f, "/fclib_local/vectors/q", 0, m, NULL);
-        p->mu = h5_read(f, "/fclib_local/vectors/mu", 0, p->nc, NULL);
-        if (!pp || !ii || !xx || !p->q || !p->mu)
-            err = "missing or malformed W/p, W/i, W/x, vectors/q (m values) or vectors/mu (nc "
-                  "values)";
+                a->m, a->n, a->dim);
+        return p->why;
     }
-    if (!err && (*wnz == -1 || *wnz == -2)) {
-        err = h5_compressed(pp, np, ii, ni, xx, nx, m, *wnz == -2, &c, p->why);
-    } else if (!err && *wnz >= 0) { /* triplets: i rows, p columns */
-        if (ni < *wnz || np < *wnz || nx < *wnz) {
-            sprintf(p->why, "W has nz = %d triplets but W/i, W/p, W/x hold %ld, %ld, %ld", *wnz,
-                    ni, np, nx);
+    if (a->nq != m || a->nmu != m / a->dim) {
+        sprintf(p->why, "vectors/q holds %ld values and vectors/mu %ld: %ld and %ld expected",
+                a->nq, a->nmu, m, m / a->dim);
+        return p->why;
+    }
+    if ((err = fc_alloc_vectors(p, a->dim, m / a->dim)) != NULL)
+        return err;
+    memcpy(p->q, a->q, (size_t)m * sizeof(double));
+    memcpy(p->mu, a->mu, (size_t)p->nc * sizeof(double));
+    if (a->nz == -1 || a->nz == -2) {
+        err = h5_compressed(a->p, a->np, a->i, a->ni, a->x, a->nx, m, a->nz == -2, &c, p->why);
+    } else if (a->nz >= 0) { /* triplets: i rows, p columns */
+        if (a->ni < a->nz || a->np < a->nz || a->nx < a->nz) {
+            sprintf(p->why, "W has nz = %d triplets but W/i, W/p, W/x hold %ld, %ld, %ld",
+                    a->nz, a->ni, a->np, a->nx);
             err = p->why;
         }
-        for (k = 0; !err && k < *wnz; k++)
-            if (ii[k] < 0 || ii[k] >= m || pp[k] < 0 || pp[k] >= m) {
-                sprintf(p->why, "W triplet %ld: (%d, %d) is out of range [0, %ld)", k, ii[k],
-                        pp[k], m);
+        for (k = 0; !err && k < a->nz; k++)
+            if (a->i[k] < 0 || a->i[k] >= m || a->p[k] < 0 || a->p[k] >= m) {
+                sprintf(p->why, "W triplet %ld: (%d, %d) is out of range [0, %ld)", k, a->i[k],
+                        a->p[k], m);
                 err = p->why;
             }
-        for (k = 0; !err && k < *wnz; k++)
-            err = coo_add(&c, ii[k], pp[k], xx[k]);
-    } else if (!err) {
-        sprintf(p->why, "W/nz = %d: not -1 (columns), -2 (rows) or a triplet count", *wnz);
+        for (k = 0; !err && k < a->nz; k++)
+            err = coo_add(&c, a->i[k], a->p[k], a->x[k]);
+    } else {
+        sprintf(p->why, "W/nz = %d: not -1 (columns), -2 (rows) or a triplet count", a->nz);
         err = p->why;
     }
     if (!err && !fc_check_vectors(p))
@@ -400,6 +360,74 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
     if (!err)
         err = coo_to_csc(&c, p);
     coo_free(&c);
+    return err;
+}
+
+#ifdef FC_SOLVE_HDF5
+/* FCLib's HDF5 files: optional build, -DFC_SOLVE_HDF5, link libhdf5. */
+#include <hdf5.h>
+
+/* Reads dataset `name` (exactly n values when n >= 0, at most FC_MAX_NNZ + 1 otherwise; the
+   count in *cnt) as int (isint) or double into a new buffer. NULL on any error. */
+static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
+{
+    hid_t ds, sp;
+    hssize_t np;
+    void *buf = NULL;
+    if (cnt)
+        *cnt = -1;
+    if (H5Lexists(f, name, H5P_DEFAULT) <= 0)
+        return NULL;
+    ds = H5Dopen2(f, name, H5P_DEFAULT);
+    if (ds < 0)
+        return NULL;
+    sp = H5Dget_space(ds);
+    np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
+    if (np >= 0 && np <= FC_MAX_NNZ + 1 && (n < 0 || np == n)) {
+        buf = malloc((size_t)(np > 0 ? np : 1) * (isint ? sizeof(int) : sizeof(double)));
+        if (buf && H5Dread(ds, isint ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
+                           H5P_DEFAULT, buf) < 0) {
+            free(buf);
+            buf = NULL;
+        }
+        if (buf && cnt)
+            *cnt = (long)np;
+    }
+    if (sp >= 0)
+        H5Sclose(sp);
+    H5Dclose(ds);
+    return buf;
+}
+
+static const char *fc_read_hdf5(const char *path, fc_problem *p)
+{
+    hid_t f;
+    int *dim, *wm, *wn, *wnz, *pp, *ii;
+    double *xx, *q, *mu;
+    fc_fclib a;
+    const char *err = NULL;
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* report through our message, not on stderr */
+    f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0)
+        return "cannot open as an HDF5 file";
+    memset(&a, 0, sizeof a);
+    dim = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
+    wm = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
+    wn = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
+    wnz = h5_read(f, "/fclib_local/W/nz", 1, 1, NULL);
+    pp = h5_read(f, "/fclib_local/W/p", 1, -1, &a.np);
+    ii = h5_read(f, "/fclib_local/W/i", 1, -1, &a.ni);
+    xx = h5_read(f, "/fclib_local/W/x", 0, -1, &a.nx);
+    q = h5_read(f, "/fclib_local/vectors/q", 0, -1, &a.nq);
+    mu = h5_read(f, "/fclib_local/vectors/mu", 0, -1, &a.nmu);
+    if (!dim || !wm || !wn || !wnz || !pp || !ii || !xx || !q || !mu) {
+        err = "not an FCLib local problem (missing or unreadable fclib_local/spacedim, W/m, W/n, "
+              "W/nz, W/p, W/i, W/x, vectors/q or vectors/mu)";
+    } else {
+        a.dim = *dim, a.m = *wm, a.n = *wn, a.nz = *wnz;
+        a.p = pp, a.i = ii, a.x = xx, a.q = q, a.mu = mu;
+        err = fc_from_fclib(p, &a);
+    }
     free(dim);
     free(wm);
     free(wn);
@@ -407,6 +435,8 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
     free(pp);
     free(ii);
     free(xx);
+    free(q);
+    free(mu);
     H5Fclose(f);
     return err;
 }
@@ -452,6 +482,8 @@ static const char *read_sbm(fc_tok *t, int m, fc_coo *c, char *why)
     if (!tok_int(t, &nbb, 0, FC_MAX_NNZ) || !tok_int(t, &nb0, 1, m) || !tok_int(t, &nb1, 1, m) ||
         (double)nbb > (double)nb0 * (double)nb1)
         return "bad block header (blocks, block rows, block columns)";
+    if ((t->end - t->pos) / 2 + 1 < nb0 + nb1 + nbb) /* before allocating the index arrays */
+        return "the file is too short for the block structure of its header";
     bs0 = malloc((size_t)nb0 * sizeof(long));
     bs1 = malloc((size_t)nb1 * sizeof(long));
     if (!bs0 || !bs1)
@@ -574,6 +606,9 @@ static const char *fc_parse(char *buf, long len, fc_problem *p)
         !tok_int(&t, &flag, 0, 1000) || !tok_int(&t, &s0, 0, 1000000000L) ||
         !tok_int(&t, &s1, 0, 1000000000L))
         err = "bad header (dim nc storage m m)";
+    else if ((dim == 2 || dim == 3) && nc >= 1 && nc <= FC_MAX_CONTACTS &&
+             (t.end - t.pos) / 2 + 1 < (dim + 1) * nc) /* before allocating q and mu */
+        err = "the file is too short for the q and mu of its header";
     else if ((err = fc_alloc_vectors(p, dim, nc)) != NULL)
         ;
     else if (s0 != p->m || s1 != s0) /* the global problems (M v = H r + f) start the same way */
@@ -649,11 +684,29 @@ typedef struct {
     double tol;
 } fc_options;
 
+/* What fc_solve concluded (fc_accept, fc_verdict_text) */
+enum {
+    FC_SOLVED = 0,    /* every acceptance condition holds */
+    FC_MISSED,        /* error above the tolerance */
+    FC_INFEASIBLE,    /* proved: u_N < 0 at one contact for every r in K (not solved) */
+    FC_DIVERGED,      /* |r| so large that the residual's rounding bound exceeds tol */
+    FC_UN_NEGATIVE,   /* u_N < 0 beyond the tolerance at the returned r */
+    FC_R_OUTSIDE,     /* r outside K beyond the tolerance */
+    FC_TOO_LARGE,     /* a coupled component above FC_MAX_COUPLED unknowns (not solved) */
+    FC_NO_MEMORY      /* allocation failure */
+};
+
 typedef struct {
     int newton, sweeps; /* Newton iterations, NSGS sweeps */
     int ipm;            /* interior-point iterations (restarts) */
     int absres;         /* 1: err is the absolute |F_nat| (|q| ~ 0) */
     double err;         /* eq. (15) error at the returned r */
+    int verdict;        /* FC_SOLVED, ... */
+    int contact;        /* the contact the verdict is about, or -1 */
+    double value;       /* the offending value (u_N, excess outside K, component size) */
+    double floor;       /* rounding bound of err: 4 eps (|r| + || |W| |r| || + |q|) / |q| */
+    double rnorm;       /* |r| */
+    int ncomp, maxcomp; /* coupled components of W, contacts in the largest */
 } fc_stats;
 
 /* W as a block CSR matrix of dim x dim blocks (column-major each): rows rp[c]..rp[c+1]-1, block
@@ -1796,7 +1849,11 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
 #define FC_RUNS 6
 static const double fc_run_rho[FC_RUNS / 2] = {1.0, 5.0, 0.2};
 
-static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stats *st)
+/* Solves one coupled component (p: its q, mu and sizes; Sp: its W) from r (in/out); the
+   statistics and the eq. (15) error of the component go to st. Returns 0 when its error meets
+   the tolerance, 1 if not, -1 on allocation failure. */
+static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options *o, double *r,
+                         fc_stats *st)
 {
     int m = p->m, d = p->dim, nc = p->nc, i, c, mode = 0, phase_it = 0, nh = 0;
     int nsgs_len = 30, stall_win = 30;
@@ -1806,15 +1863,11 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     int ncyc = 0, rep_len = 0;
     double rep_err = -1.0;
     fc_work w;
-    fc_bsr S;
+    const fc_bsr S = *Sp;
     int rc = 1;
     memset(&w, 0, sizeof w);
     memset(st, 0, sizeof *st);
     st->err = HUGE_VAL;
-    if (!bsr_build(p, &S)) {
-        bsr_free(&S);
-        return -1;
-    }
     keep = malloc((size_t)m * sizeof(double));
     start = malloc((size_t)m * sizeof(double));
     rho0 = malloc((size_t)nc * 2 * sizeof(double));
@@ -1826,7 +1879,6 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
             free(start);
             free(rho0);
             work_free(&w);
-            bsr_free(&S);
             return -1;
         }
         for (i = 0; i < m; i++)
@@ -2044,10 +2096,340 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     bsr_matvec(&S, p->q, r, w.u); /* honest measure at the returned reaction */
     st->err = nat_err(p, r, w.u, qn);
     work_free(&w);
-    bsr_free(&S);
     if (rc < 0)
         return -1;
     return st->err <= o->tol ? 0 : 1;
+}
+
+/* A contact c at which u_N < 0 for every r in K, if W and q prove one: q_N < 0 and no block of
+   W's normal row can raise u_N, i.e. W_cN,eN + mu_e |W_cN,eT| <= 0 for every contact e (then
+   (W r)_N <= 0 since r_eN >= 0 and |r_eT| <= mu_e r_eN). Returns c, or -1. */
+static int fc_certify_infeasible(const fc_problem *p, const fc_bsr *S)
+{
+    int c, k, d = S->d;
+    for (c = 0; c < S->nc; c++) {
+        int raises = 0;
+        if (!(p->q[c * d] < 0.0))
+            continue;
+        for (k = S->rp[c]; k < S->rp[c + 1] && !raises; k++) {
+            const double *blk = S->bv + (size_t)k * S->dd; /* row 0 of the block: blk[d j] */
+            double wt = d == 3 ? hypot(blk[d], blk[2 * d]) : fabs(blk[d]);
+            raises = blk[0] + p->mu[S->ci[k]] * wt > 0.0;
+        }
+        if (!raises)
+            return c;
+    }
+    return -1;
+}
+
+/* Copies the block rows list[0..n) of S into T (loc: contact -> index in list). 0 if out of
+   memory. */
+static int bsr_extract(const fc_bsr *S, const int *list, int n, const int *loc, fc_bsr *T)
+{
+    int i, k, kk = 0, nnz = 0;
+    memset(T, 0, sizeof *T);
+    T->nc = n;
+    T->d = S->d;
+    T->dd = S->dd;
+    for (i = 0; i < n; i++)
+        nnz += S->rp[list[i] + 1] - S->rp[list[i]];
+    T->nnz = nnz;
+    T->rp = malloc((size_t)(n + 1) * sizeof(int));
+    T->dg = malloc((size_t)n * sizeof(int));
+    T->ci = malloc((size_t)nnz * sizeof(int));
+    T->bv = malloc((size_t)nnz * (size_t)S->dd * sizeof(double));
+    if (!T->rp || !T->dg || !T->ci || !T->bv)
+        return 0;
+    for (i = 0; i < n; i++) {
+        int c = list[i];
+        T->rp[i] = kk;
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++, kk++) {
+            T->ci[kk] = loc[S->ci[k]];
+            memcpy(T->bv + (size_t)kk * S->dd, S->bv + (size_t)k * S->dd,
+                   (size_t)S->dd * sizeof(double));
+            if (k == S->dg[c])
+                T->dg[i] = kk;
+        }
+    }
+    T->rp[n] = kk;
+    return 1;
+}
+
+static int uf_root(int *parent, int c)
+{
+    while (parent[c] != c)
+        c = parent[c] = parent[parent[c]];
+    return c;
+}
+
+/* Splits the contacts into the connected components of W's block graph (contacts coupled by a
+   non-zero block either way) and solves each on its own (fc_solve_part): a block-decoupled
+   problem costs the sum of its parts, and the dense fallbacks of the Newton solves are sized by
+   one component. Refuses (-2, FC_TOO_LARGE) a component above FC_MAX_COUPLED unknowns before
+   solving anything. Returns 0 if every component met the tolerance, 1 if not, -1 / -2. */
+static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_options *o,
+                               double *r, fc_stats *st)
+{
+    int nc = p->nc, d = p->dim, c, k, i, a, rc = 0, ncomp = 0;
+    int *parent = malloc((size_t)nc * sizeof(int)), *start = NULL, *list = NULL, *loc = NULL;
+    double *qc = NULL, *muc = NULL, *rcp = NULL;
+    if (!parent)
+        return -1;
+    for (c = 0; c < nc; c++)
+        parent[c] = c;
+    for (c = 0; c < nc; c++)
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
+            int x = uf_root(parent, c), y = uf_root(parent, S->ci[k]);
+            if (x != y)
+                parent[x > y ? x : y] = x < y ? x : y; /* the smallest contact is the root */
+        }
+    start = calloc((size_t)nc + 1, sizeof(int));
+    list = malloc((size_t)nc * sizeof(int));
+    loc = malloc((size_t)nc * sizeof(int));
+    if (!start || !list || !loc) {
+        rc = -1;
+        goto done;
+    }
+    for (c = 0; c < nc; c++) { /* loc: component id by its root (in order of the roots) */
+        int root = uf_root(parent, c);
+        loc[c] = root == c ? ncomp++ : loc[root];
+        start[loc[c] + 1]++;
+    }
+    for (i = 0; i < ncomp; i++)
+        start[i + 1] += start[i];
+    for (c = 0; c < nc; c++) { /* list: contacts by component, increasing in each */
+        int id = loc[c];
+        list[start[id]++] = c;
+    }
+    for (i = ncomp; i > 0; i--)
+        start[i] = start[i - 1];
+    start[0] = 0;
+    st->ncomp = ncomp;
+    for (i = 0; i < ncomp; i++)
+        if (start[i + 1] - start[i] > st->maxcomp)
+            st->maxcomp = start[i + 1] - start[i];
+    if ((long)st->maxcomp * d > FC_MAX_COUPLED) {
+        st->verdict = FC_TOO_LARGE;
+        st->value = (double)st->maxcomp * d;
+        rc = -2;
+        goto done;
+    }
+    if (ncomp == 1) {
+        fc_stats sub;
+        rc = fc_solve_part(p, S, o, r, &sub);
+        st->newton = sub.newton;
+        st->sweeps = sub.sweeps;
+        st->ipm = sub.ipm;
+        goto done;
+    }
+    qc = malloc((size_t)st->maxcomp * d * sizeof(double));
+    muc = malloc((size_t)st->maxcomp * sizeof(double));
+    rcp = malloc((size_t)st->maxcomp * d * sizeof(double));
+    if (!qc || !muc || !rcp) {
+        rc = -1;
+        goto done;
+    }
+    for (i = 0; i < ncomp && rc >= 0; i++) {
+        int n = start[i + 1] - start[i], *li = list + start[i], res;
+        fc_problem sp;
+        fc_bsr T;
+        fc_stats sub;
+        for (k = 0; k < n; k++) {
+            loc[li[k]] = k;
+            muc[k] = p->mu[li[k]];
+            for (a = 0; a < d; a++) {
+                qc[k * d + a] = p->q[li[k] * d + a];
+                rcp[k * d + a] = r[li[k] * d + a];
+            }
+        }
+        memset(&sp, 0, sizeof sp);
+        sp.dim = d;
+        sp.nc = n;
+        sp.m = n * d;
+        sp.q = qc;
+        sp.mu = muc;
+        if (!bsr_extract(S, li, n, loc, &T)) {
+            bsr_free(&T);
+            rc = -1;
+            break;
+        }
+        res = fc_solve_part(&sp, &T, o, rcp, &sub);
+        bsr_free(&T);
+        st->newton += sub.newton;
+        st->sweeps += sub.sweeps;
+        st->ipm += sub.ipm;
+        if (res < 0)
+            rc = -1;
+        else if (res > 0)
+            rc = 1;
+        for (k = 0; k < n; k++)
+            for (a = 0; a < d; a++)
+                r[li[k] * d + a] = rcp[k * d + a];
+    }
+done:
+    free(parent);
+    free(start);
+    free(list);
+    free(loc);
+    free(qc);
+    free(muc);
+    free(rcp);
+    return rc;
+}
+
+/* The acceptance test at the returned r (tol = o->tol, eps the machine epsilon, s = |q|, or 1
+   when |q| < 1e-12 and the error is absolute); with u = W r + q and F_nat of eq. (15), r is
+   accepted iff
+     (a) |F_nat(r)| <= tol s                        (the eq. (15) error),
+     (b) 4 eps (|r| + || |W| |r| || + |q|) <= tol s  (the rounding bound of (a) and of u: a
+         diverging |r| fails here: F_nat then rounds to anything),
+     (c) u_N >= -((1 + mu) tol s + 4 eps (|W| |r| + |q|)_N) at every contact (feasibility),
+     (d) r_N >= -tol s - 4 eps |r_c| and |r_T| <= mu r_N + (1 + mu) tol s + 4 eps |r_c| (r in K).
+   Exact arithmetic makes (a) imply (c) and (d) (r - F in K and uhat - F in K*); they are
+   checked because rounding can hide them when |r| is huge, which (b) also catches. Sets
+   st->err, floor, rnorm, absres, verdict, contact, value. Returns 0 if out of memory. */
+static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const double *r,
+                     fc_stats *st)
+{
+    int m = p->m, d = p->dim, c, k, a, b;
+    double *u = malloc((size_t)m * sizeof(double)), *wr = malloc((size_t)m * sizeof(double));
+    double qn = 0.0, rn = 0.0, wn = 0.0, s, eps = 4.0 * DBL_EPSILON, worst_u = 0.0, worst_k = 0.0;
+    int cu = -1, ck = -1;
+    if (!u || !wr) {
+        free(u);
+        free(wr);
+        return 0;
+    }
+    bsr_matvec(S, p->q, r, u);
+    for (c = 0; c < S->nc; c++) { /* wr = |W| |r| */
+        for (a = 0; a < d; a++)
+            wr[c * d + a] = 0.0;
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++)
+            for (b = 0; b < d; b++)
+                for (a = 0; a < d; a++)
+                    wr[c * d + a] += fabs(S->bv[(size_t)k * S->dd + a + d * b]) *
+                                     fabs(r[S->ci[k] * d + b]);
+    }
+    for (a = 0; a < m; a++) {
+        qn = hypot(qn, p->q[a]);
+        rn = hypot(rn, r[a]);
+        wn = hypot(wn, wr[a]);
+    }
+    st->absres = qn < 1e-12;
+    s = st->absres ? 1.0 : qn;
+    st->err = nat_err(p, r, u, st->absres ? 0.0 : qn);
+    st->rnorm = rn;
+    st->floor = eps * (rn + wn + qn) / s;
+    for (c = 0; c < p->nc; c++) {
+        const double *rc = r + c * d, *uc = u + c * d;
+        double mu = p->mu[c], rt = d == 3 ? hypot(rc[1], rc[2]) : fabs(rc[1]);
+        double rcn = d == 3 ? hypot(rc[0], rt) : hypot(rc[0], rc[1]);
+        double lim_u = (1.0 + mu) * tol * s + eps * (wr[c * d] + fabs(p->q[c * d]));
+        double lim_r = (1.0 + mu) * tol * s + eps * rcn;
+        double ex = -rc[0] > rt - mu * rc[0] ? -rc[0] : rt - mu * rc[0];
+        if (uc[0] < -lim_u && (cu < 0 || uc[0] < worst_u)) {
+            cu = c;
+            worst_u = uc[0];
+        }
+        if (ex > lim_r && (ck < 0 || ex > worst_k)) {
+            ck = c;
+            worst_k = ex;
+        }
+    }
+    st->contact = -1;
+    if (!(st->floor <= tol) || !(st->err < HUGE_VAL)) {
+        st->verdict = FC_DIVERGED;
+        st->value = st->floor;
+    } else if (cu >= 0) {
+        st->verdict = FC_UN_NEGATIVE;
+        st->contact = cu;
+        st->value = worst_u;
+    } else if (ck >= 0) {
+        st->verdict = FC_R_OUTSIDE;
+        st->contact = ck;
+        st->value = worst_k;
+    } else {
+        st->verdict = st->err <= tol ? FC_SOLVED : FC_MISSED;
+    }
+    free(u);
+    free(wr);
+    return 1;
+}
+
+/* Solves p from the reaction r (in/out; zeros are a fine start; non-finite entries are reset to
+   0): proves infeasibility when W's normal rows allow it (fc_certify_infeasible), else solves
+   each coupled component (fc_solve_components, fc_solve_part) and checks the result
+   (fc_accept). Returns 0 when the result is accepted, 1 when not (st->verdict says why), -1 out
+   of memory, -2 a coupled component is too large. */
+static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stats *st)
+{
+    fc_bsr S;
+    int rc, i;
+    memset(st, 0, sizeof *st);
+    st->err = HUGE_VAL;
+    st->contact = -1;
+    for (i = 0; i < p->m; i++)
+        if (!isfinite(r[i]))
+            r[i] = 0.0;
+    if (!bsr_build(p, &S)) {
+        bsr_free(&S);
+        st->verdict = FC_NO_MEMORY;
+        return -1;
+    }
+    i = fc_certify_infeasible(p, &S);
+    rc = i >= 0 ? 1 : fc_solve_components(p, &S, o, r, st);
+    if (rc >= 0 && !fc_accept(p, &S, o->tol, r, st))
+        rc = -1;
+    if (i >= 0) {
+        st->verdict = FC_INFEASIBLE;
+        st->contact = i;
+        st->value = p->q[i * p->dim];
+    }
+    bsr_free(&S);
+    if (rc == -1)
+        st->verdict = FC_NO_MEMORY;
+    return rc < 0 ? rc : st->verdict == FC_SOLVED ? 0 : 1;
+}
+
+/* The verdict in words (what was checked, or why no solution was found) into buf. */
+static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
+{
+    const char *s = st->absres ? "" : " |q|";
+    switch (st->verdict) {
+    case FC_SOLVED:
+        snprintf(buf, n, "solved: residual %.3e <= tol %.1e, rounding bound %.1e <= tol, "
+                         "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, st->floor, s);
+        break;
+    case FC_MISSED:
+        snprintf(buf, n, "no solution found: residual %.3e > tol %.1e (the solver stalled)",
+                 st->err, tol);
+        break;
+    case FC_INFEASIBLE:
+        snprintf(buf, n, "no solution found: infeasible: at contact %d, q_N = %g < 0 and no "
+                         "reaction in the friction cones raises u_N (W's normal row), so "
+                         "u_N < 0 whatever r", st->contact, st->value);
+        break;
+    case FC_DIVERGED:
+        snprintf(buf, n, "no solution found: the reaction diverges (|r| = %.3e): the residual's "
+                         "rounding bound %.1e exceeds tol %.1e (probably infeasible)", st->rnorm,
+                 st->value, tol);
+        break;
+    case FC_UN_NEGATIVE:
+        snprintf(buf, n, "no solution found: u_N = %.3e < 0 at contact %d (the problem may be "
+                         "infeasible)", st->value, st->contact);
+        break;
+    case FC_R_OUTSIDE:
+        snprintf(buf, n, "no solution found: r is %.3e outside the friction cone at contact %d",
+                 st->value, st->contact);
+        break;
+    case FC_TOO_LARGE:
+        snprintf(buf, n, "not solved: a coupled component of W has %.0f unknowns, above the "
+                         "limit FC_MAX_COUPLED = %d (a dense Newton system of 8 n^2 bytes)",
+                 st->value, FC_MAX_COUPLED);
+        break;
+    default:
+        snprintf(buf, n, "not solved: out of memory");
+    }
 }
 
 #ifndef FC_SOLVE_NO_MAIN
@@ -2087,18 +2469,21 @@ int main(int argc, char **argv)
             r = calloc((size_t)p.m, sizeof(double));
             t0 = clock();
             res = r ? fc_solve(&p, &o, r, &st) : -1;
-            if (res < 0) {
-                printf("%s error: out of memory\n", argv[i]);
-                status = 1;
-            } else {
+            if (!r)
+                st.verdict = FC_NO_MEMORY;
+            if (res >= 0)
                 printf("%s contacts=%d iterations=%d residual%s=%.3e time=%.3fs newton=%d "
                        "sweeps=%d ipm=%d\n",
                        argv[i], p.nc, st.newton + st.sweeps + st.ipm, st.absres ? "(abs)" : "",
                        st.err, (double)(clock() - t0) / CLOCKS_PER_SEC, st.newton, st.sweeps,
                        st.ipm);
-                if (res != 0)
-                    status = 1;
+            {
+                char why[400];
+                fc_verdict_text(&st, o.tol, why, sizeof why);
+                printf("%s: %s\n", argv[i], why);
             }
+            if (res != 0)
+                status = 1;
             free(r);
             fc_free(&p);
         }
