@@ -44,7 +44,7 @@ $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)
 
 $(BUILD)/test_fc_solve: tests/test_fc_solve.c tests/fc_gen.h tests/harness.h examples/fc_solve.c $(HEADER) | $(BUILD)
-	$(CC) $(ALL_CFLAGS) -Itests tests/test_fc_solve.c -o $@ $(LIBS)
+	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) -Itests tests/test_fc_solve.c -o $@ $(FC_HDF5_LIBS) $(LIBS)
 
 $(BUILD)/test_fe: tests/test_fe.c tests/harness.h examples/fe.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_fe.c -o $@ $(LIBS)

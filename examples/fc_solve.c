@@ -267,6 +267,7 @@ static char *read_file(const char *path, long *len, char *why)
     return buf;
 }
 
+#if defined(FC_SOLVE_HDF5) || defined(FC_SOLVE_NO_MAIN)
 /* An FCLib local problem's arrays as its HDF5 file stores them (/fclib_local/spacedim,
    W/{m,n,nz,p,i,x}, vectors/{q,mu}: nz = -1 compressed columns, -2 compressed rows, >= 0 nz
    triplets with p the column indices), each with the number of values it holds. Kept apart
@@ -362,6 +363,8 @@ static const char *fc_from_fclib(fc_problem *p, const fc_fclib *a)
     coo_free(&c);
     return err;
 }
+
+#endif
 
 #ifdef FC_SOLVE_HDF5
 /* FCLib's HDF5 files: optional build, -DFC_SOLVE_HDF5, link libhdf5. */
