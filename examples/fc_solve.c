@@ -3,18 +3,35 @@
    on the pscbranch contact helpers.
 
    usage: fc_solve [--tol T] [--maxit N] [--verbose] FILE...
-   Reads Siconos' plain-text FrictionContact files: dim, nc, storage flag, then W (0: dense, row by
-   row; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's cs_print),
-   q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib local problems
-   in HDF5. Prints `FILE contacts=N iterations=K residual=R time=Ts newton=A sweeps=B ipm=C`
-   (K = A + B + C, C the interior-point iterations), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at
-   the returned r with u recomputed as W r + q, or the absolute |F_nat(r)| when |q| < 1e-12
-   (then the line says `residual(abs)=`). --maxit caps the Newton iterations (default 2000) and
-   20x that the NSGS sweeps, per run (see Method). Exits 1 if a problem misses the tolerance
-   (default 1e-10), 2 on read errors.
+   Reads Siconos' plain-text FrictionContact files: dim, nc, storage flag, m, m, then W (0:
+   dense: m, m again and the column-major array in sequence, each printed line a column, as
+   Siconos writes it; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's
+   cs_print), q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib
+   local problems in HDF5. Every size, pointer and index is checked before use, NaN and Inf are
+   rejected everywhere; a bad file gets `FILE error: what is wrong` and exit status 2. W is kept
+   in compressed columns, so memory follows its non-zeros, within the limits FC_MAX_FILE (2 GiB
+   of text), FC_MAX_CONTACTS (10^6), FC_MAX_NNZ (2^25 stored non-zeros) and FC_MAX_COUPLED
+   (12288 unknowns in one coupled component of W, whose Newton system may be factored dense:
+   8 n^2 bytes, 1.2 GB at the limit; larger components are refused with a message).
+   Prints `FILE contacts=N iterations=K residual=R time=Ts newton=A sweeps=B ipm=C` (K = A + B
+   + C, C the interior-point iterations), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at the returned
+   r with u recomputed as W r + q, or the absolute |F_nat(r)| when |q| < 1e-12 (then the line
+   says `residual(abs)=`), then `FILE: solved: ...` with the conditions checked, or `FILE: no
+   solution found: why`. --maxit caps the Newton iterations (default 2000) and 20x that the
+   NSGS sweeps, per run (see Method). Exits 1 if a problem is not solved, 2 on read errors.
+
+   Acceptance (fc_accept), with tol (default 1e-10), s = |q| (1 when the error is absolute) and
+   eps the machine epsilon: r is a solution iff (a) |F_nat(r)| <= tol s, (b) the rounding bound
+   4 eps (|r| + || |W| |r| || + |q|) of (a) is <= tol s, (c) u_N >= -(1 + mu) tol s (plus u's
+   rounding bound) at every contact and (d) r is in K to (1 + mu) tol s. Exact arithmetic makes
+   (a) imply (c) and (d); at a huge |r| rounding does not (issue 20: r_N = 1.3e96 gave an error
+   of 9.5e-11 on a problem without solution), so a diverging r fails (b) and is reported as such.
+   A problem is proved infeasible without solving when some contact has q_N < 0 and no reaction
+   in the cones can raise its u_N (W_cN,eN + mu_e |W_cN,eT| <= 0 for every contact e).
 
    Method (fc_solve below): W is stored block-sparse (rigid multibody W = H^T M^-1 H has a few
-   blocks per row). NSGS sweeps (local closed forms, else a 3x3 / 2x2 nonsmooth Newton per
+   blocks per row) and split into its coupled components (contacts linked by non-zero blocks),
+   each solved on its own: a block-decoupled problem costs the sum of its parts. NSGS sweeps (local closed forms, else a 3x3 / 2x2 nonsmooth Newton per
    contact) make cheap global progress; Newton phases on the Jean-Moreau residual, with the
    proximal regularisation W + eta diag(W) (solvable for rank-deficient W) and a non-monotone
    Armijo search, converge fast once the contact states are about right. Newton systems are
@@ -51,6 +68,12 @@
 #define FC_MAX_CONTACTS 1000000
 #define FC_MAX_NNZ 33554432L
 #define FC_MAX_COUPLED 12288
+
+/* The limits as the usage message states them */
+static const char fc_usage_limits[] =
+    "limits: files up to 2 GiB of text, 10^6 contacts, 2^25 stored non-zeros of W; W is kept\n"
+    "sparse; a coupled component of W (contacts linked by non-zero blocks) may have at most\n"
+    "12288 unknowns (its Newton system may be factored dense: 8 n^2 bytes, 1.2 GB)\n";
 
 /* A problem u = W r + q. W is either dense (W: m x m column-major, as in-memory callers such as
    the tests build it) or, when W is NULL, in compressed sparse columns (Wp[m + 1], Wi, Wx: as
@@ -2492,7 +2515,8 @@ int main(int argc, char **argv)
         }
     }
     if (nfiles == 0) {
-        fprintf(stderr, "usage: %s [--tol T] [--maxit N] [--verbose] FILE...\n", argv[0]);
+        fprintf(stderr, "usage: %s [--tol T] [--maxit N] [--verbose] FILE...\n%s", argv[0],
+                fc_usage_limits);
         return 2;
     }
     return status;
