@@ -474,12 +474,13 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
    printed line is a column, as Siconos' NM_write_in_file writes and NM_read_in_file reads it). */
 static const char *read_dense(fc_tok *t, int m, fc_coo *c, char *why)
 {
-    long s0, s1, k, total = (long)m * m;
+    long s0, s1, k, total;
     const char *err;
     if (!tok_int(t, &s0, 0, m) || !tok_int(t, &s1, 0, m) || s0 != m || s1 != m)
         return "bad dense sizes (m m expected after the header)";
-    if (m > 46340) /* m^2 values would not fit in FC_MAX_FILE bytes */
+    if (m > 46340) /* m^2 values would not fit in FC_MAX_FILE bytes (nor m^2 in a 32-bit long) */
         return "dense W too large for FC_MAX_FILE (use a sparse storage)";
+    total = (long)m * m;
     /* each value takes at least 2 bytes: reject a short file before reading m^2 tokens */
     if ((long)(t->end - t->pos) / 2 + 1 < total) {
         sprintf(why, "the file is too short for a dense %d x %d W", m, m);
