@@ -1851,8 +1851,9 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
     return it;
 }
 
-/* Solves p from the reaction r (in/out; zeros are a fine start). Alternates two phases, keeping
-   the best iterate by the eq. (15) error:
+/* Solves one coupled component (p: its q, mu and sizes, p->W unused; Sp: its W) from the
+   reaction r (in/out; zeros are a fine start). Alternates two phases, keeping the best iterate
+   by the eq. (15) error of the component:
    - NSGS sweeps (robust, cheap: O(nnz) each), phases of 30 sweeps doubling up to 1000, and
    - globalised nonsmooth Newton on the Jean-Moreau residual (fast local convergence): direction
      from the proximally regularised system (A + B (W + eta D)) d = -F, which stays solvable when
@@ -1867,8 +1868,8 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
    (ipm_restart) as long as these restarts improve the best error by 10 %; on the generated
    piles restarting at every stall solved 15 of 50 misses but lost 7 of 78 solved instances, so
    it is a second run rather than the only one. The better of the two runs is returned.
-   Returns 0 on success (st->err <= tol), 1 if the tolerance is missed, -1 on allocation
-   failure. */
+   Returns 0 when the component's error st->err meets the tolerance, 1 if not, -1 on
+   allocation failure (fc_solve then checks the whole result: fc_accept). */
 /* Runs in pairs (without, then with interior-point restarts), each pair with the augmentation
    rho scaled by one of these: where Newton stalls on one scaling it often converges on another
    (the kinks of the residual move with rho). On 36 generated piles (tests/fc_gen.h, mu 0.3 to
@@ -1876,9 +1877,6 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
 #define FC_RUNS 6
 static const double fc_run_rho[FC_RUNS / 2] = {1.0, 5.0, 0.2};
 
-/* Solves one coupled component (p: its q, mu and sizes; Sp: its W) from r (in/out); the
-   statistics and the eq. (15) error of the component go to st. Returns 0 when its error meets
-   the tolerance, 1 if not, -1 on allocation failure. */
 static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options *o, double *r,
                          fc_stats *st)
 {
