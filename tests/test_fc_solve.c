@@ -4,7 +4,10 @@
    against an independent recomputation from the dense W, and the solution facts per contact:
    r in K, uhat = u + mu|u_T| e_N in K*, r.uhat = 0. Also: the cone algebra and the frozen-s
    interior-point solver on their own, malformed input files give a clean error, degenerate
-   contacts (W_cc = 0) are handled. */
+   contacts (W_cc = 0) are handled. Issue 20: every reader's index and NaN/Inf checks, dense
+   files in Siconos' column-major layout (a non-symmetric instance with a known solution),
+   infeasible problems never reported solved, W kept sparse and split into coupled components
+   (15 000 decoupled contacts), the limit on a coupled component. */
 #define FC_SOLVE_NO_MAIN
 #include "examples/fc_solve.c"
 
