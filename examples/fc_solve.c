@@ -26,6 +26,9 @@
    rounding bound) at every contact and (d) r is in K to (1 + mu) tol s. Exact arithmetic makes
    (a) imply (c) and (d); at a huge |r| rounding does not (issue 20: r_N = 1.3e96 gave an error
    of 9.5e-11 on a problem without solution), so a diverging r fails (b) and is reported as such.
+   (b) also fails when |r| > ~1e5 |q| at tol 1e-10 on a feasible but badly scaled problem: the
+   eq. (15) residual (rho = 1) computes r - P_K(r - uhat), which cannot resolve uhat below
+   eps |r|; such a problem needs W (or r) rescaled, and is reported as not solved.
    A problem is proved infeasible without solving when some contact has q_N < 0 and no reaction
    in the cones can raise its u_N (W_cN,eN + mu_e |W_cN,eT| <= 0 for every contact e).
 
@@ -2435,9 +2438,10 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
                          "u_N < 0 whatever r", st->contact, st->value);
         break;
     case FC_DIVERGED:
-        snprintf(buf, n, "no solution found: the reaction diverges (|r| = %.3e): the residual's "
-                         "rounding bound %.1e exceeds tol %.1e (probably infeasible)", st->rnorm,
-                 st->value, tol);
+        snprintf(buf, n, "no solution found: |r| = %.3e is too large for the residual to be "
+                         "resolved to tol %.1e (rounding bound %.1e): the iterates diverge (the "
+                         "problem is probably infeasible) or W is badly scaled (|r| >> |q|)",
+                 st->rnorm, tol, st->value);
         break;
     case FC_UN_NEGATIVE:
         snprintf(buf, n, "no solution found: u_N = %.3e < 0 at contact %d (the problem may be "
