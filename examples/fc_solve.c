@@ -396,11 +396,12 @@ static const char *fc_from_fclib(fc_problem *p, const fc_fclib *a)
 /* FCLib's HDF5 files: optional build, -DFC_SOLVE_HDF5, link libhdf5. */
 #include <hdf5.h>
 
-/* Reads dataset `name` (exactly n values when n >= 0, at most FC_MAX_NNZ + 1 otherwise; the
+/* Reads dataset `name` of integers or floats of at most 8 bytes (exactly n values when n >= 0,
+   at most FC_MAX_NNZ + 1 otherwise, and at most 1000 times what the file stores of it; the
    count in *cnt) as int (isint) or double into a new buffer. NULL on any error. */
 static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
 {
-    hid_t ds, sp;
+    hid_t ds, sp, ty;
     hssize_t np;
     void *buf = NULL;
     if (cnt)
@@ -412,6 +413,17 @@ static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
         return NULL;
     sp = H5Dget_space(ds);
     np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
+    ty = H5Dget_type(ds);
+    /* numbers of at most 8 bytes only (HDF5 sizes its conversion buffers by the file's type);
+       and a dataset may declare far more values than the file stores (the rest are fill
+       values): refuse more than 1000 times its stored bytes, so that memory follows the file */
+    if (ty < 0 || (H5Tget_class(ty) != H5T_INTEGER && H5Tget_class(ty) != H5T_FLOAT) ||
+        H5Tget_size(ty) > 8 ||
+        (np > 0 && 1000.0 * (double)H5Dget_storage_size(ds) <
+                       (double)np * (double)(isint ? sizeof(int) : sizeof(double))))
+        np = -1;
+    if (ty >= 0)
+        H5Tclose(ty);
     if (np >= 0 && np <= FC_MAX_NNZ + 1 && (n < 0 || np == n)) {
         buf = malloc((size_t)(np > 0 ? np : 1) * (isint ? sizeof(int) : sizeof(double)));
         if (buf && H5Dread(ds, isint ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
@@ -450,8 +462,9 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
     q = h5_read(f, "/fclib_local/vectors/q", 0, -1, &a.nq);
     mu = h5_read(f, "/fclib_local/vectors/mu", 0, -1, &a.nmu);
     if (!dim || !wm || !wn || !wnz || !pp || !ii || !xx || !q || !mu) {
-        err = "not an FCLib local problem (missing or unreadable fclib_local/spacedim, W/m, W/n, "
-              "W/nz, W/p, W/i, W/x, vectors/q or vectors/mu)";
+        err = "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz, W/p, W/i, W/x, "
+              "vectors/q or vectors/mu missing, unreadable, or declaring far more values than "
+              "the file stores)";
     } else {
         a.dim = *dim, a.m = *wm, a.n = *wn, a.nz = *wnz;
         a.p = pp, a.i = ii, a.x = xx, a.q = q, a.mu = mu;
