@@ -34,10 +34,11 @@
 
    Method (fc_solve below): W is stored block-sparse (rigid multibody W = H^T M^-1 H has a few
    blocks per row) and split into its coupled components (contacts linked by non-zero blocks),
-   each solved on its own: a block-decoupled problem costs the sum of its parts. NSGS sweeps (local closed forms, else a 3x3 / 2x2 nonsmooth Newton per
-   contact) make cheap global progress; Newton phases on the Jean-Moreau residual, with the
-   proximal regularisation W + eta diag(W) (solvable for rank-deficient W) and a non-monotone
-   Armijo search, converge fast once the contact states are about right. Newton systems are
+   each solved on its own: a block-decoupled problem costs the sum of its parts. NSGS sweeps
+   (local closed forms, else a 3x3 / 2x2 nonsmooth Newton per contact) make cheap global
+   progress; Newton phases on the Jean-Moreau residual, with the proximal regularisation
+   W + eta diag(W) (solvable for rank-deficient W) and a non-monotone Armijo search, converge
+   fast once the contact states are about right. Newton systems are
    solved, after eliminating separated contacts, by whichever is cheapest by a flop estimate: a
    block-sparse LU in minimum-degree order (checked against the unfactored blocks), a banded LU
    in reverse Cuthill-McKee order, or a dense LU. The best iterate by the eq. (15) error is
