@@ -2,8 +2,9 @@
    the bytes are read as a text problem file (as fuzz_fc_text does) and problems of at most 9
    unknowns are solved with --maxit 2. A success must hold up when checked independently: u
    recomputed from the compressed columns, the eq. (15) error <= 2 tol (tol plus the rounding
-   bound the acceptance test allows), u_N >= -(1 + mu) tol |q| up to rounding, r finite. About a millisecond a run (six runs of the schedule, interior-point
-   restarts), hence a separate target from the reader's. */
+   bound the acceptance test allows), u_N >= -(1 + mu) tol |q| up to rounding, r finite. About
+   a millisecond a run (six runs of the schedule, interior-point restarts), hence a separate
+   target from the reader's. */
 #define FC_SOLVE_NO_MAIN
 #include "examples/fc_solve.c"
 
