@@ -22,7 +22,7 @@
 
    Acceptance (fc_accept), with tol (default 1e-10), s = |q| (1 when the error is absolute) and
    eps the machine epsilon: r is a solution iff (a) |F_nat(r)| <= tol s, (b) the rounding bound
-   4 eps (|r| + || |W| |r| || + |q|) of (a) is <= tol s, (c) u_N >= -(1 + mu) tol s (plus u's
+   4 eps (|r| + || (1 + mu) (|W| |r| + |q|) ||) of (a) is <= tol s, (c) u_N >= -(1 + mu) tol s (plus u's
    rounding bound) at every contact and (d) r is in K to (1 + mu) tol s. Exact arithmetic makes
    (a) imply (c) and (d); at a huge |r| rounding does not (issue 20: r_N = 1.3e96 gave an error
    of 9.5e-11 on a problem without solution), so a diverging r fails (b) and is reported as such.
@@ -748,7 +748,7 @@ typedef struct {
     int verdict;        /* FC_SOLVED, ... */
     int contact;        /* the contact the verdict is about, or -1 */
     double value;       /* the offending value (u_N, excess outside K, component size) */
-    double floor;       /* rounding bound of err: 4 eps (|r| + || |W| |r| || + |q|) / |q| */
+    double floor;       /* rounding bound of err: 4 eps (|r| + ||(1+mu)(|W||r| + |q|)||) / |q| */
     double rnorm;       /* |r| */
     int ncomp, maxcomp; /* coupled components of W, contacts in the largest */
 } fc_stats;
@@ -2323,8 +2323,9 @@ done:
    when |q| < 1e-12 and the error is absolute); with u = W r + q and F_nat of eq. (15), r is
    accepted iff
      (a) |F_nat(r)| <= tol s                        (the eq. (15) error),
-     (b) 4 eps (|r| + || |W| |r| || + |q|) <= tol s  (the rounding bound of (a) and of u: a
-         diverging |r| fails here: F_nat then rounds to anything),
+     (b) 4 eps (|r| + || (1 + mu) (|W| |r| + |q|) ||) <= tol s  (the rounding bound of (a),
+         of u and of uhat = u + mu |u_T| e_N, by contact: a diverging |r| fails here, F_nat then
+         rounding to anything; so does a huge mu, which amplifies u_T's rounding),
      (c) u_N >= -((1 + mu) tol s + 4 eps (|W| |r| + |q|)_N) at every contact (feasibility),
      (d) r_N >= -tol s - 4 eps |r_c| and |r_T| <= mu r_N + (1 + mu) tol s + 4 eps |r_c| (r in K).
    Exact arithmetic makes (a) imply (c) and (d) (r - F in K and uhat - F in K*); they are
@@ -2352,16 +2353,16 @@ static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const dou
                     wr[c * d + a] += fabs(S->bv[(size_t)k * S->dd + a + d * b]) *
                                      fabs(r[S->ci[k] * d + b]);
     }
-    for (a = 0; a < m; a++) {
+    for (a = 0; a < m; a++) { /* wn: the rounding scale of uhat = u + mu |u_T| e_N */
         qn = hypot(qn, p->q[a]);
         rn = hypot(rn, r[a]);
-        wn = hypot(wn, wr[a]);
+        wn = hypot(wn, (1.0 + p->mu[a / d]) * (wr[a] + fabs(p->q[a])));
     }
     st->absres = qn < 1e-12;
     s = st->absres ? 1.0 : qn;
     st->err = nat_err(p, r, u, st->absres ? 0.0 : qn);
     st->rnorm = rn;
-    st->floor = eps * (rn + wn + qn) / s;
+    st->floor = eps * (rn + wn) / s;
     for (c = 0; c < p->nc; c++) {
         const double *rc = r + c * d, *uc = u + c * d;
         double mu = p->mu[c], rt = d == 3 ? hypot(rc[1], rc[2]) : fabs(rc[1]);
@@ -2452,10 +2453,10 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
                          "u_N < 0 whatever r", st->contact, st->value);
         break;
     case FC_DIVERGED:
-        snprintf(buf, n, "no solution found: |r| = %.3e is too large for the residual to be "
-                         "resolved to tol %.1e (rounding bound %.1e): the iterates diverge (the "
-                         "problem is probably infeasible) or W is badly scaled (|r| >> |q|)",
-                 st->rnorm, tol, st->value);
+        snprintf(buf, n, "no solution found: at |r| = %.3e the residual cannot be resolved to "
+                         "tol %.1e (rounding bound %.1e): the iterates diverge (the problem is "
+                         "probably infeasible) or the problem is badly scaled (|r| >> |q|, or a "
+                         "huge mu)", st->rnorm, tol, st->value);
         break;
     case FC_UN_NEGATIVE:
         snprintf(buf, n, "no solution found: u_N = %.3e < 0 at contact %d (the problem may be "

@@ -809,6 +809,42 @@ static void test_coupled_limit(void)
     free(r);
 }
 
+/* A finding of fuzz_fc_solve: mu = 4.6e72 at a sliding contact multiplies the rounding of u_T
+   (~1e-29) into uhat_N, so the eq. (15) error the solver computed (3e-17) and an independent
+   recomputation (2e-3) disagreed and the problem was reported solved. The rounding bound of the
+   acceptance test carries (1 + mu) now: not solved, with the bound in the verdict. */
+static void test_huge_mu(void)
+{
+    char path[512];
+    fc_problem p;
+    fc_options o;
+    fc_stats st;
+    double r[4] = {0, 0, 0, 0};
+    tmp_path(path, "fc_solve_test_huge_mu.dat");
+    write_or_fail(path, "2 2 0 4 4 4 4\n"
+                        "9.365610022253570e+02 -4.642665883420583e+02 -9.152908496264952e+02 "
+                        "-4.642665883420583e+02\n"
+                        "-2.642662921766746e+02 2.365081445699369e+02 4.616596337492515e+02 "
+                        "2.365081445699369e+02\n"
+                        "-9.152918496264952e+02 4.616593375838678e+02 9.365610022253570e+02 "
+                        "4.616593375838678e+02\n"
+                        "-4.642662912766746e+02 2.365081445699369e+02 4.616596337492515e+02 "
+                        "2.365081445699369e+02\n"
+                        "-1.179087309965789e+02 -4.642665883420583e+02 -6.642662921766746e+02 "
+                        "2.365081445699369e+02\n"
+                        "4.616596337492515e+72 2.36508144682e-02\n");
+    CHECK(fc_read(path, &p) == NULL);
+    remove(path);
+    if (!p.Wp)
+        return;
+    o.tol = 1e-10;
+    o.maxit = 2;
+    o.verbose = 0;
+    CHECK(fc_solve(&p, &o, r, &st) == 1);
+    CHECK(st.verdict == FC_DIVERGED && st.floor > 1e40);
+    fc_free(&p);
+}
+
 int main(void)
 {
     test_malformed();
@@ -818,6 +854,7 @@ int main(void)
     test_infeasible();
     test_decoupled_large();
     test_coupled_limit();
+    test_huge_mu();
     test_degenerate();
     test_soc_algebra();
     test_ipm_frozen(FCG_FLEX3D, 40, 1.0, 41);
