@@ -32,7 +32,7 @@ TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BU
 EXAMPLES = examples/01_branching examples/02_explore examples/03_pitchforks examples/fc_solve examples/block \
 	examples/triangle examples/quasistatic
 
-.PHONY: all test check demo demo-run examples bench asan ubsan install uninstall clean \
+.PHONY: all test check demo demo-run examples bench asan ubsan fuzz install uninstall clean \
 	quasistatic-demo quasistatic-demo-run images images-run
 
 all: $(TESTS) $(EXAMPLES)
@@ -65,7 +65,7 @@ $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)
 
 $(BUILD)/test_fc_solve: tests/test_fc_solve.c tests/fc_gen.h tests/harness.h examples/fc_solve.c $(HEADER) | $(BUILD)
-	$(CC) $(ALL_CFLAGS) -Itests tests/test_fc_solve.c -o $@ $(LIBS)
+	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) -Itests tests/test_fc_solve.c -o $@ $(FC_HDF5_LIBS) $(LIBS)
 
 $(BUILD)/test_fe: tests/test_fe.c tests/harness.h examples/fe.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_fe.c -o $@ $(LIBS)
@@ -234,5 +234,33 @@ uninstall:
 	rm -rf "$(DESTDIR)$(DOCDIR)/docs"
 	rmdir "$(DESTDIR)$(CMAKEDIR)" "$(DESTDIR)$(DOCDIR)/examples" "$(DESTDIR)$(DOCDIR)" 2>/dev/null || true
 
+# libFuzzer targets (clang, ASan + UBSan): every fuzz/fuzz_NAME.c is built into build-fuzz/ and
+# run for FUZZ_SECONDS on a scratch copy of its seed corpus fuzz/corpus/NAME/ (the runs never
+# grow the repository); any crash, sanitizer report, leak or timeout fails the target. See
+# fuzz/README.md. The fc_hdf5 target needs HDF5 (left out without it).
+FUZZ_SECONDS ?= 30
+FUZZ_CC ?= clang
+FUZZ_BUILD ?= build-fuzz
+FUZZ_CFLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I. -Itests
+FUZZ_NAMES = $(filter-out $(if $(FC_HDF5_CFLAGS),,fc_hdf5),$(patsubst fuzz/fuzz_%.c,%,$(wildcard fuzz/fuzz_*.c)))
+$(FUZZ_BUILD)/fuzz_fc_hdf5: FUZZ_EXTRA_CFLAGS = $(FC_HDF5_CFLAGS)
+$(FUZZ_BUILD)/fuzz_fc_hdf5: FUZZ_EXTRA_LIBS = $(FC_HDF5_LIBS)
+
+$(FUZZ_BUILD)/fuzz_%: fuzz/fuzz_%.c $(HEADER) $(wildcard fuzz/*.h examples/*.c examples/*.h tests/*.h)
+	@mkdir -p $(FUZZ_BUILD)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) $(FUZZ_EXTRA_CFLAGS) $< -o $@ $(FUZZ_EXTRA_LIBS) $(LIBS)
+
+fuzz: $(patsubst %,$(FUZZ_BUILD)/fuzz_%,$(FUZZ_NAMES))
+	@set -e; for n in $(FUZZ_NAMES); do \
+	  rm -rf $(FUZZ_BUILD)/corpus-$$n; mkdir -p $(FUZZ_BUILD)/corpus-$$n; \
+	  if [ -d fuzz/corpus/$$n ]; then cp -R fuzz/corpus/$$n/. $(FUZZ_BUILD)/corpus-$$n/; fi; \
+	  echo "fuzz_$$n: $(FUZZ_SECONDS) s"; \
+	  $(FUZZ_BUILD)/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=10 -print_final_stats=1 \
+	    -artifact_prefix=$(FUZZ_BUILD)/$$n- $(FUZZ_BUILD)/corpus-$$n \
+	    > $(FUZZ_BUILD)/$$n.log 2>&1 || { tail -n 60 $(FUZZ_BUILD)/$$n.log; \
+	    echo "fuzz_$$n: FINDING (log $(FUZZ_BUILD)/$$n.log, input $(FUZZ_BUILD)/$$n-*)"; exit 1; }; \
+	  grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' $(FUZZ_BUILD)/$$n.log; \
+	done
+
 clean:
-	rm -rf build build-asan build-ubsan out bench/out $(EXAMPLES) $(BENCH)
+	rm -rf build build-asan build-ubsan build-fuzz out bench/out $(EXAMPLES) $(BENCH)

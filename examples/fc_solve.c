@@ -3,21 +3,42 @@
    on the pscbranch contact helpers.
 
    usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...  (--help: the limits)
-   Reads Siconos' plain-text FrictionContact files: dim, nc, storage flag, then W (0: dense, row by
-   row; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's cs_print),
-   q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib local problems
-   in HDF5. Prints `FILE contacts=N iterations=K residual=R time=Ts newton=A sweeps=B ipm=C`
-   (K = A + B + C, C the interior-point iterations), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at
-   the returned r with u recomputed as W r + q, or the absolute |F_nat(r)| when |q| < 1e-12
-   (then the line says `residual(abs)=`). --maxit caps the Newton iterations (default 2000) and
-   20x that the NSGS sweeps, per run (see Method). Exits 1 if a problem misses the tolerance
-   (default 1e-10), 2 on read errors.
+   Reads Siconos' plain-text FrictionContact files: dim, nc, storage flag, m, m, then W (0:
+   dense: m, m again and the column-major array in sequence, each printed line a column, as
+   Siconos writes it; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's
+   cs_print), q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib
+   local problems in HDF5. Every size, pointer and index is checked before use, NaN and Inf are
+   rejected everywhere; a bad file gets `FILE error: what is wrong` and exit status 2. W is kept
+   in compressed columns, so memory follows its non-zeros, within the limits FC_MAX_FILE (2 GiB
+   of text), FC_MAX_CONTACTS (10^6), FC_MAX_NNZ (2^25 stored non-zeros) and FC_MAX_COUPLED
+   (12288 unknowns in one coupled component of W, whose Newton system may be factored dense:
+   8 n^2 bytes, 1.2 GB at the limit; larger components are refused with a message).
+   Prints `FILE contacts=N iterations=K residual=R time=Ts newton=A sweeps=B ipm=C` (K = A + B
+   + C, C the interior-point iterations), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at the returned
+   r with u recomputed as W r + q, or the absolute |F_nat(r)| when |q| < 1e-12 (then the line
+   says `residual(abs)=`), then `FILE: solved: ...` with the conditions checked, or `FILE: no
+   solution found: why`. --maxit caps the Newton iterations (default 2000) and 20x that the
+   NSGS sweeps, per run (see Method). Exits 1 if a problem is not solved, 2 on read errors.
+
+   Acceptance (fc_accept), with tol (default 1e-10), s = |q| (1 when the error is absolute) and
+   eps the machine epsilon: r is a solution iff (a) |F_nat(r)| <= tol s, (b) the rounding bound
+   4 eps (|r| + || (1 + mu) (|W| |r| + |q|) ||) of (a) is <= tol s, (c) u_N >= -(1 + mu) tol s (plus u's
+   rounding bound) at every contact and (d) r is in K to (1 + mu) tol s. Exact arithmetic makes
+   (a) imply (c) and (d); at a huge |r| rounding does not (issue 20: r_N = 1.3e96 gave an error
+   of 9.5e-11 on a problem without solution), so a diverging r fails (b) and is reported as such.
+   (b) also fails when |r| > ~1e5 |q| at tol 1e-10 on a feasible but badly scaled problem: the
+   eq. (15) residual (rho = 1) computes r - P_K(r - uhat), which cannot resolve uhat below
+   eps |r|; such a problem needs W (or r) rescaled, and is reported as not solved.
+   A problem is proved infeasible without solving when some contact has q_N < 0 and no reaction
+   in the cones can raise its u_N (W_cN,eN + mu_e |W_cN,eT| <= 0 for every contact e).
 
    Method (fc_solve below): W is stored block-sparse (rigid multibody W = H^T M^-1 H has a few
-   blocks per row). NSGS sweeps (local closed forms, else a 3x3 / 2x2 nonsmooth Newton per
-   contact) make cheap global progress; Newton phases on the Jean-Moreau residual, with the
-   proximal regularisation W + eta diag(W) (solvable for rank-deficient W) and a non-monotone
-   Armijo search, converge fast once the contact states are about right. Newton systems are
+   blocks per row) and split into its coupled components (contacts linked by non-zero blocks),
+   each solved on its own: a block-decoupled problem costs the sum of its parts. NSGS sweeps
+   (local closed forms, else a 3x3 / 2x2 nonsmooth Newton per contact) make cheap global
+   progress; Newton phases on the Jean-Moreau residual, with the proximal regularisation
+   W + eta diag(W) (solvable for rank-deficient W) and a non-monotone Armijo search, converge
+   fast once the contact states are about right. Newton systems are
    solved, after eliminating separated contacts, by whichever is cheapest by a flop estimate: a
    block-sparse LU in minimum-degree order (checked against the unfactored blocks), a banded LU
    in reverse Cuthill-McKee order, or a dense LU. The best iterate by the eq. (15) error is
@@ -34,24 +55,155 @@
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+/* Limits, checked before anything of that size is allocated (the readers' memory is
+   proportional to the file and to W's stored non-zeros, never to m^2 for a sparse file):
+   FC_MAX_FILE bytes of text; FC_MAX_CONTACTS contacts; FC_MAX_NNZ stored non-zeros of W (about
+   28 bytes each while reading, 8 to 72 in the solver's block storage); FC_MAX_COUPLED unknowns in
+   one coupled component of W's contact graph (its Newton system may be factored dense: 8 n^2
+   bytes, 1.2 GB at the limit). */
+#define FC_MAX_FILE 2147483647L
+#define FC_MAX_CONTACTS 1000000
+#define FC_MAX_NNZ 33554432L
+#define FC_MAX_COUPLED 12288
+
+/* A problem u = W r + q. W is either dense (W: m x m column-major, as in-memory callers such as
+   the tests build it) or, when W is NULL, in compressed sparse columns (Wp[m + 1], Wi, Wx: as
+   every reader stores it, with explicit zeros dropped and duplicates kept: entries add). */
 typedef struct {
     int dim, nc, m;
-    double *W; /* m x m, column-major */
+    double *W;
+    int *Wp, *Wi;
+    double *Wx;
     double *q, *mu;
+    char why[200]; /* a reader's error message (fc_read returns it) */
 } fc_problem;
 
 static void fc_free(fc_problem *p)
 {
     free(p->W);
+    free(p->Wp);
+    free(p->Wi);
+    free(p->Wx);
     free(p->q);
     free(p->mu);
-    memset(p, 0, sizeof *p);
+    p->W = p->Wx = p->q = p->mu = NULL;
+    p->Wp = p->Wi = NULL;
+    p->dim = p->nc = p->m = 0;
+}
+
+/* Entries of W as the readers find them (row, column, value), before compression. */
+typedef struct {
+    long n, cap;
+    int *i, *j;
+    double *x;
+} fc_coo;
+
+static void coo_free(fc_coo *c)
+{
+    free(c->i);
+    free(c->j);
+    free(c->x);
+    memset(c, 0, sizeof *c);
+}
+
+/* Appends W(i, j) += x (0 <= i, j < m checked by the caller); zeros are dropped. Returns 0 or a
+   message. */
+static const char *coo_add(fc_coo *c, long i, long j, double x)
+{
+    if (!isfinite(x))
+        return "non-finite W entry";
+    if (x == 0.0)
+        return NULL;
+    if (c->n == c->cap) {
+        long cap = c->cap ? 2 * c->cap : 1024;
+        int *ni, *nj;
+        double *nx;
+        if (c->n >= FC_MAX_NNZ)
+            return "W has more than FC_MAX_NNZ = 33554432 stored non-zeros";
+        if (cap > FC_MAX_NNZ)
+            cap = FC_MAX_NNZ;
+        ni = realloc(c->i, (size_t)cap * sizeof(int));
+        if (ni)
+            c->i = ni;
+        nj = realloc(c->j, (size_t)cap * sizeof(int));
+        if (nj)
+            c->j = nj;
+        nx = realloc(c->x, (size_t)cap * sizeof(double));
+        if (nx)
+            c->x = nx;
+        if (!ni || !nj || !nx)
+            return "out of memory";
+        c->cap = cap;
+    }
+    c->i[c->n] = (int)i;
+    c->j[c->n] = (int)j;
+    c->x[c->n] = x;
+    c->n++;
+    return NULL;
+}
+
+/* Compresses the entries into p->Wp, Wi, Wx (columns in order, entries in reading order). */
+static const char *coo_to_csc(fc_coo *c, fc_problem *p)
+{
+    long k;
+    int j, m = p->m;
+    p->Wp = calloc((size_t)m + 1, sizeof(int));
+    p->Wi = malloc((size_t)(c->n > 0 ? c->n : 1) * sizeof(int));
+    p->Wx = malloc((size_t)(c->n > 0 ? c->n : 1) * sizeof(double));
+    if (!p->Wp || !p->Wi || !p->Wx)
+        return "out of memory";
+    for (k = 0; k < c->n; k++)
+        p->Wp[c->j[k] + 1]++;
+    for (j = 0; j < m; j++)
+        p->Wp[j + 1] += p->Wp[j];
+    for (k = 0; k < c->n; k++) { /* Wp[j] runs through column j, then is restored below */
+        int at = p->Wp[c->j[k]]++;
+        p->Wi[at] = c->i[k];
+        p->Wx[at] = c->x[k];
+    }
+    for (j = m; j > 0; j--)
+        p->Wp[j] = p->Wp[j - 1];
+    p->Wp[0] = 0;
+    return NULL;
+}
+
+/* Sets p's sizes and allocates q and mu. dim and nc are validated here, for every reader. */
+static const char *fc_alloc_vectors(fc_problem *p, long dim, long nc)
+{
+    if (dim != 2 && dim != 3)
+        return "unsupported contact dimension (2 or 3)";
+    if (nc < 1 || nc > FC_MAX_CONTACTS)
+        return "unsupported number of contacts (1 to FC_MAX_CONTACTS = 1000000)";
+    p->dim = (int)dim;
+    p->nc = (int)nc;
+    p->m = (int)(dim * nc);
+    p->q = malloc((size_t)p->m * sizeof(double));
+    p->mu = malloc((size_t)nc * sizeof(double));
+    return p->q && p->mu ? NULL : "out of memory";
+}
+
+/* The same checks on q and mu for every reader: finite, mu >= 0. Writes the message to p->why. */
+static int fc_check_vectors(fc_problem *p)
+{
+    int i;
+    for (i = 0; i < p->m; i++)
+        if (!isfinite(p->q[i])) {
+            sprintf(p->why, "q[%d] = %g is not finite", i, p->q[i]);
+            return 0;
+        }
+    for (i = 0; i < p->nc; i++)
+        if (!isfinite(p->mu[i]) || !(p->mu[i] >= 0.0)) {
+            sprintf(p->why, "mu[%d] = %g is not a finite number >= 0", i, p->mu[i]);
+            return 0;
+        }
+    return 1;
 }
 
 /* ---- whitespace tokenizer over the whole file ---- */
@@ -82,13 +234,14 @@ static int tok_double(fc_tok *t, double *v)
     if (!s)
         return 0;
     *v = strtod(s, &end);
-    return *end == '\0' || *end == ',';
+    return end != s && (*end == '\0' || (*end == ',' && end[1] == '\0'));
 }
 
-static int tok_int(fc_tok *t, long *v)
+/* An integer token in [lo, hi] (written as an integer or an integral float, as some writers do) */
+static int tok_int(fc_tok *t, long *v, long lo, long hi)
 {
     double d;
-    if (!tok_double(t, &d) || d != floor(d) || fabs(d) > 1e9)
+    if (!tok_double(t, &d) || d != floor(d) || d < (double)lo || d > (double)hi)
         return 0;
     *v = (long)d;
     return 1;
@@ -100,15 +253,24 @@ static int tok_expect(fc_tok *t, const char *word)
     return s && strcmp(s, word) == 0;
 }
 
-static char *read_file(const char *path)
+/* The whole file, NUL-terminated (*len bytes before the NUL); NULL with a message in why. */
+static char *read_file(const char *path, long *len, char *why)
 {
     FILE *f = fopen(path, "rb");
     char *buf;
     long n;
-    if (!f)
+    if (!f) {
+        sprintf(why, "cannot open the file");
         return NULL;
+    }
     if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0) {
         fclose(f);
+        sprintf(why, "cannot read the file (not a regular file?)");
+        return NULL;
+    }
+    if (n >= FC_MAX_FILE) {
+        fclose(f);
+        sprintf(why, "file larger than FC_MAX_FILE = %ld bytes", FC_MAX_FILE);
         return NULL;
     }
     buf = malloc((size_t)n + 1);
@@ -116,39 +278,157 @@ static char *read_file(const char *path)
         free(buf);
         buf = NULL;
     }
-    if (buf)
-        buf[n] = '\0';
     fclose(f);
+    if (!buf) {
+        sprintf(why, "cannot read the file");
+        return NULL;
+    }
+    buf[n] = '\0';
+    *len = n;
     return buf;
 }
 
+#if defined(FC_SOLVE_HDF5) || defined(FC_SOLVE_NO_MAIN)
+/* An FCLib local problem's arrays as its HDF5 file stores them (/fclib_local/spacedim,
+   W/{m,n,nz,p,i,x}, vectors/{q,mu}: nz = -1 compressed columns, -2 compressed rows, >= 0 nz
+   triplets with p the column indices), each with the number of values it holds. Kept apart
+   from HDF5 so that the checks below are tested and fuzzed without it. */
+typedef struct {
+    int dim, m, n, nz;
+    const int *p, *i;
+    const double *x, *q, *mu;
+    long np, ni, nx, nq, nmu;
+} fc_fclib;
+
+/* Checks compressed pointers ptr[0..n] (monotone from 0, ptr[n] <= the stored entries) and the
+   indices idx[k], k < ptr[n], in [0, n); then adds the entries to c (rows: the compressed index
+   is the column when rows = 0). Everything is validated before the first entry is used. */
+static const char *h5_compressed(const int *ptr, long np, const int *idx, long ni,
+                                 const double *x, long nx, long n, int rows, fc_coo *c,
+                                 char *why)
+{
+    long j, k;
+    const char *err;
+    if (np != n + 1) {
+        sprintf(why, "W/p has %ld pointers, %ld expected (m + 1)", np, n + 1);
+        return why;
+    }
+    if (ptr[0] != 0) {
+        sprintf(why, "W/p[0] = %d, 0 expected", ptr[0]);
+        return why;
+    }
+    for (j = 0; j < n; j++)
+        if (ptr[j + 1] < ptr[j] || ptr[j + 1] > ni || ptr[j + 1] > nx) {
+            sprintf(why, "W/p[%ld] = %d: pointers must not decrease nor exceed the %ld stored "
+                         "entries of W/i and %ld of W/x", j + 1, ptr[j + 1], ni, nx);
+            return why;
+        }
+    for (k = 0; k < ptr[n]; k++)
+        if (idx[k] < 0 || idx[k] >= n) {
+            sprintf(why, "W/i[%ld] = %d is out of range [0, %ld)", k, idx[k], n);
+            return why;
+        }
+    for (j = 0; j < n; j++)
+        for (k = ptr[j]; k < ptr[j + 1]; k++)
+            if ((err = rows ? coo_add(c, j, idx[k], x[k]) : coo_add(c, idx[k], j, x[k])) != NULL)
+                return err;
+    return NULL;
+}
+
+/* Validates every size, pointer and index of a before using any, then fills p. Returns NULL
+   or a message (p->why or a literal); the caller empties p on error. */
+static const char *fc_from_fclib(fc_problem *p, const fc_fclib *a)
+{
+    const char *err = NULL;
+    fc_coo c;
+    long k, m = a->m;
+    memset(&c, 0, sizeof c);
+    if (a->m != a->n || (a->dim != 2 && a->dim != 3) || a->m < a->dim || a->m % a->dim != 0) {
+        sprintf(p->why, "W is %d x %d: not (spacedim nc) x (spacedim nc) with spacedim = %d",
+                a->m, a->n, a->dim);
+        return p->why;
+    }
+    if (a->nq != m || a->nmu != m / a->dim) {
+        sprintf(p->why, "vectors/q holds %ld values and vectors/mu %ld: %ld and %ld expected",
+                a->nq, a->nmu, m, m / a->dim);
+        return p->why;
+    }
+    if ((err = fc_alloc_vectors(p, a->dim, m / a->dim)) != NULL)
+        return err;
+    memcpy(p->q, a->q, (size_t)m * sizeof(double));
+    memcpy(p->mu, a->mu, (size_t)p->nc * sizeof(double));
+    if (a->nz == -1 || a->nz == -2) {
+        err = h5_compressed(a->p, a->np, a->i, a->ni, a->x, a->nx, m, a->nz == -2, &c, p->why);
+    } else if (a->nz >= 0) { /* triplets: i rows, p columns */
+        if (a->ni < a->nz || a->np < a->nz || a->nx < a->nz) {
+            sprintf(p->why, "W has nz = %d triplets but W/i, W/p, W/x hold %ld, %ld, %ld",
+                    a->nz, a->ni, a->np, a->nx);
+            err = p->why;
+        }
+        for (k = 0; !err && k < a->nz; k++)
+            if (a->i[k] < 0 || a->i[k] >= m || a->p[k] < 0 || a->p[k] >= m) {
+                sprintf(p->why, "W triplet %ld: (%d, %d) is out of range [0, %ld)", k, a->i[k],
+                        a->p[k], m);
+                err = p->why;
+            }
+        for (k = 0; !err && k < a->nz; k++)
+            err = coo_add(&c, a->i[k], a->p[k], a->x[k]);
+    } else {
+        sprintf(p->why, "W/nz = %d: not -1 (columns), -2 (rows) or a triplet count", a->nz);
+        err = p->why;
+    }
+    if (!err && !fc_check_vectors(p))
+        err = p->why;
+    if (!err)
+        err = coo_to_csc(&c, p);
+    coo_free(&c);
+    return err;
+}
+
+#endif
+
 #ifdef FC_SOLVE_HDF5
-/* FCLib local problems (HDF5): /fclib_local/spacedim, /fclib_local/W/{m,n,nz,p,i,x} (nz = -1:
-   compressed columns, -2: compressed rows, >= 0: nz triplets with p the column indices) and
-   /fclib_local/vectors/{q,mu}. Optional build: -DFC_SOLVE_HDF5, link libhdf5. */
+/* FCLib's HDF5 files: optional build, -DFC_SOLVE_HDF5, link libhdf5. */
 #include <hdf5.h>
 
-/* Reads dataset `name` (exactly n values when n >= 0; returns the count in *cnt) into a new
-   buffer of int (isint) or double. NULL on any error. */
+/* Reads dataset `name` of integers or floats of at most 8 bytes (exactly n values when n >= 0,
+   at most FC_MAX_NNZ + 1 otherwise, and at most 1000 times what the file stores of it; the
+   count in *cnt) as int (isint) or double into a new buffer. NULL on any error. */
 static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
 {
-    hid_t ds = H5Dopen2(f, name, H5P_DEFAULT), sp;
+    hid_t ds, sp, ty;
     hssize_t np;
     void *buf = NULL;
+    if (cnt)
+        *cnt = -1;
+    if (H5Lexists(f, name, H5P_DEFAULT) <= 0)
+        return NULL;
+    ds = H5Dopen2(f, name, H5P_DEFAULT);
     if (ds < 0)
         return NULL;
     sp = H5Dget_space(ds);
     np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
-    if (np >= 0 && np < 100000000 && (n < 0 || np == n)) {
+    ty = H5Dget_type(ds);
+    /* numbers of at most 8 bytes only (HDF5 sizes its conversion buffers by the file's type);
+       and a dataset may declare far more values than the file stores (the rest are fill
+       values): refuse more than 1000 times its stored bytes, so that memory follows the file */
+    if (ty < 0 || (H5Tget_class(ty) != H5T_INTEGER && H5Tget_class(ty) != H5T_FLOAT) ||
+        H5Tget_size(ty) > 8 ||
+        (np > 0 && 1000.0 * (double)H5Dget_storage_size(ds) <
+                       (double)np * (double)(isint ? sizeof(int) : sizeof(double))))
+        np = -1;
+    if (ty >= 0)
+        H5Tclose(ty);
+    if (np >= 0 && np <= FC_MAX_NNZ + 1 && (n < 0 || np == n)) {
         buf = malloc((size_t)(np > 0 ? np : 1) * (isint ? sizeof(int) : sizeof(double)));
         if (buf && H5Dread(ds, isint ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
                            H5P_DEFAULT, buf) < 0) {
             free(buf);
             buf = NULL;
         }
+        if (buf && cnt)
+            *cnt = (long)np;
     }
-    if (cnt)
-        *cnt = (long)np;
     if (sp >= 0)
         H5Sclose(sp);
     H5Dclose(ds);
@@ -158,74 +438,33 @@ static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
 static const char *fc_read_hdf5(const char *path, fc_problem *p)
 {
     hid_t f;
-    int *dim = NULL, *wm = NULL, *wn = NULL, *wnz = NULL, *pp = NULL, *ii = NULL;
-    double *xx = NULL;
-    long np = 0, ni = 0, nx = 0, k, j, m = 0;
+    int *dim, *wm, *wn, *wnz, *pp, *ii;
+    double *xx, *q, *mu;
+    fc_fclib a;
     const char *err = NULL;
-    memset(p, 0, sizeof *p);
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* report through our message, not on stderr */
     f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0)
-        return "cannot open HDF5 file";
+        return "cannot open as an HDF5 file";
+    memset(&a, 0, sizeof a);
     dim = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
     wm = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
     wn = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
     wnz = h5_read(f, "/fclib_local/W/nz", 1, 1, NULL);
-    if (!dim || !wm || !wn || !wnz)
-        err = "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz)";
-    else if ((*dim != 2 && *dim != 3) || *wm != *wn || *wm < *dim || *wm % *dim != 0 ||
-             *wm > 60000)
-        err = "unsupported sizes";
-    if (!err) {
-        m = *wm;
-        p->dim = *dim;
-        p->nc = (int)(m / *dim);
-        p->m = (int)m;
-        pp = h5_read(f, "/fclib_local/W/p", 1, -1, &np);
-        ii = h5_read(f, "/fclib_local/W/i", 1, -1, &ni);
-        xx = h5_read(f, "/fclib_local/W/x", 0, -1, &nx);
-        p->q = h5_read(f, "/fclib_local/vectors/q", 0, m, NULL);
-        p->mu = h5_read(f, "/fclib_local/vectors/mu", 0, p->nc, NULL);
-        p->W = calloc((size_t)m * (size_t)m, sizeof(double));
-        if (!pp || !ii || !xx || !p->q || !p->mu || !p->W)
-            err = "missing or malformed W/p, W/i, W/x, vectors/q or vectors/mu";
+    pp = h5_read(f, "/fclib_local/W/p", 1, -1, &a.np);
+    ii = h5_read(f, "/fclib_local/W/i", 1, -1, &a.ni);
+    xx = h5_read(f, "/fclib_local/W/x", 0, -1, &a.nx);
+    q = h5_read(f, "/fclib_local/vectors/q", 0, -1, &a.nq);
+    mu = h5_read(f, "/fclib_local/vectors/mu", 0, -1, &a.nmu);
+    if (!dim || !wm || !wn || !wnz || !pp || !ii || !xx || !q || !mu) {
+        err = "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz, W/p, W/i, W/x, "
+              "vectors/q or vectors/mu missing, unreadable, or declaring far more values than "
+              "the file stores)";
+    } else {
+        a.dim = *dim, a.m = *wm, a.n = *wn, a.nz = *wnz;
+        a.p = pp, a.i = ii, a.x = xx, a.q = q, a.mu = mu;
+        err = fc_from_fclib(p, &a);
     }
-    if (!err && *wnz < 0) { /* compressed: p has m + 1 pointers into i, x */
-        if (*wnz < -2 || np != m + 1 || pp[0] != 0 || pp[m] > ni || pp[m] > nx)
-            err = "bad compressed W";
-        for (j = 0; !err && j < m; j++) {
-            if (pp[j + 1] < pp[j]) {
-                err = "bad compressed W pointers";
-                break;
-            }
-            for (k = pp[j]; k < pp[j + 1]; k++) {
-                long row = *wnz == -1 ? ii[k] : j, col = *wnz == -1 ? j : ii[k];
-                if (ii[k] < 0 || ii[k] >= m) {
-                    err = "bad W index";
-                    break;
-                }
-                p->W[row + col * m] += xx[k];
-            }
-        }
-    } else if (!err) { /* triplets: i rows, p columns */
-        if (ni < *wnz || np < *wnz || nx < *wnz)
-            err = "bad triplet W";
-        for (k = 0; !err && k < *wnz; k++) {
-            if (ii[k] < 0 || ii[k] >= m || pp[k] < 0 || pp[k] >= m)
-                err = "bad W index";
-            else
-                p->W[ii[k] + (long)pp[k] * m] += xx[k];
-        }
-    }
-    for (k = 0; !err && k < p->nc; k++)
-        if (!(p->mu[k] >= 0.0) || !isfinite(p->mu[k]))
-            err = "bad mu";
-    for (k = 0; !err && k < m; k++)
-        if (!isfinite(p->q[k]))
-            err = "bad q";
-    for (k = 0; !err && k < m * m; k++)
-        if (!isfinite(p->W[k]))
-            err = "non-finite W";
     free(dim);
     free(wm);
     free(wn);
@@ -233,170 +472,247 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
     free(pp);
     free(ii);
     free(xx);
+    free(q);
+    free(mu);
     H5Fclose(f);
-    if (err)
-        fc_free(p);
     return err;
 }
 #endif
 
-/* Returns 0 on success, else a message. */
-static const char *fc_read(const char *path, fc_problem *p)
+/* Siconos' text layouts of W after the header (dim nc flag m m); entries go to c. */
+
+/* 0, dense: the sizes again, then the m^2 values of the column-major array in sequence (each
+   printed line is a column, as Siconos' NM_write_in_file writes and NM_read_in_file reads it). */
+static const char *read_dense(fc_tok *t, int m, fc_coo *c, char *why)
+{
+    long s0, s1, k, total;
+    const char *err;
+    if (!tok_int(t, &s0, 0, m) || !tok_int(t, &s1, 0, m) || s0 != m || s1 != m)
+        return "bad dense sizes (m m expected after the header)";
+    if (m > 46340) /* m^2 values would not fit in FC_MAX_FILE bytes (nor m^2 in a 32-bit long) */
+        return "dense W too large for FC_MAX_FILE (use a sparse storage)";
+    total = (long)m * m;
+    /* each value takes at least 2 bytes: reject a short file before reading m^2 tokens */
+    if ((long)(t->end - t->pos) / 2 + 1 < total) {
+        sprintf(why, "the file is too short for a dense %d x %d W", m, m);
+        return why;
+    }
+    for (k = 0; k < total; k++) {
+        double x;
+        if (!tok_double(t, &x)) {
+            sprintf(why, "bad dense W entry %ld (row %ld, column %ld)", k, k % m, k / m);
+            return why;
+        }
+        if ((err = coo_add(c, k % m, k / m, x)) != NULL)
+            return err;
+    }
+    return NULL;
+}
+
+/* 1, sparse block (Siconos SBM): nbb blocks, nb0 block rows, nb1 block columns; the cumulative
+   row and column block sizes (ending at m); nb0 + 1 block-row pointers (0 to nbb) and nbb block
+   column indices; then each block after its number, column-major. */
+static const char *read_sbm(fc_tok *t, int m, fc_coo *c, char *why)
+{
+    long nbb, nb0, nb1, f1, f2, *bs0 = NULL, *bs1 = NULL, *ix1 = NULL, *ix2 = NULL, bi, i, j, k,
+         v;
+    const char *err = NULL;
+    if (!tok_int(t, &nbb, 0, FC_MAX_NNZ) || !tok_int(t, &nb0, 1, m) || !tok_int(t, &nb1, 1, m) ||
+        (double)nbb > (double)nb0 * (double)nb1)
+        return "bad block header (blocks, block rows, block columns)";
+    if ((t->end - t->pos) / 2 + 1 < nb0 + nb1 + nbb) /* before allocating the index arrays */
+        return "the file is too short for the block structure of its header";
+    bs0 = malloc((size_t)nb0 * sizeof(long));
+    bs1 = malloc((size_t)nb1 * sizeof(long));
+    if (!bs0 || !bs1)
+        err = "out of memory";
+    for (i = 0; !err && i < nb0; i++)
+        if (!tok_int(t, &bs0[i], i ? bs0[i - 1] + 1 : 1, m))
+            err = "bad row block sizes (cumulative, increasing, at most m)";
+    for (i = 0; !err && i < nb1; i++)
+        if (!tok_int(t, &bs1[i], i ? bs1[i - 1] + 1 : 1, m))
+            err = "bad column block sizes (cumulative, increasing, at most m)";
+    if (!err && (bs0[nb0 - 1] != m || bs1[nb1 - 1] != m))
+        err = "the block sizes do not add up to m";
+    if (!err && (!tok_int(t, &f1, 0, FC_MAX_NNZ) || !tok_int(t, &f2, 0, FC_MAX_NNZ) ||
+                 f1 != nb0 + 1 || f2 != nbb))
+        err = "bad block index sizes (block rows + 1, blocks expected)";
+    if (!err) {
+        ix1 = malloc((size_t)f1 * sizeof(long));
+        ix2 = malloc((size_t)(f2 > 0 ? f2 : 1) * sizeof(long));
+        if (!ix1 || !ix2)
+            err = "out of memory";
+    }
+    for (i = 0; !err && i < f1; i++)
+        if (!tok_int(t, &ix1[i], i ? ix1[i - 1] : 0, i ? nbb : 0) || (i == f1 - 1 && ix1[i] != nbb))
+            err = "bad block row pointers (from 0, not decreasing, to the number of blocks)";
+    for (i = 0; !err && i < f2; i++)
+        if (!tok_int(t, &ix2[i], 0, nb1 - 1))
+            err = "bad block column index";
+    for (bi = 0; !err && bi < nb0; bi++) {
+        long r0 = bi ? bs0[bi - 1] : 0, nr = bs0[bi] - r0;
+        for (k = ix1[bi]; !err && k < ix1[bi + 1]; k++) {
+            long cb = ix2[k], c0 = cb ? bs1[cb - 1] : 0, ncol = bs1[cb] - c0;
+            if (!tok_int(t, &v, 0, nbb) || v != k) {
+                sprintf(why, "bad block number (block %ld expected)", k);
+                err = why;
+                break;
+            }
+            for (j = 0; !err && j < ncol; j++)
+                for (i = 0; !err && i < nr; i++) {
+                    double x;
+                    if (!tok_double(t, &x)) {
+                        sprintf(why, "bad entry (%ld, %ld) of block %ld", i, j, k);
+                        err = why;
+                    } else {
+                        err = coo_add(c, r0 + i, c0 + j, x);
+                    }
+                }
+        }
+    }
+    free(bs0);
+    free(bs1);
+    free(ix1);
+    free(ix2);
+    return err;
+}
+
+/* 2, compressed sparse columns as printed by CSparse's cs_print: a banner up to the first "col",
+   then "col j : locations a to b" and b - a + 1 lines "i : x" per column; columns increase and
+   the locations run on from 0 without gaps. */
+static const char *read_csc(fc_tok *t, int m, fc_coo *c, char *why)
+{
+    const char *s, *err = NULL;
+    char *save;
+    long next = 0, prev = -1, i, j, k;
+    for (;;) {
+        save = t->pos;
+        s = tok_next(t);
+        if (!s)
+            return "no column data (\"col\") in the compressed-column W";
+        if (strcmp(s, "col") == 0) {
+            t->pos = save;
+            break;
+        }
+    }
+    for (;;) {
+        long a, b;
+        save = t->pos;
+        s = tok_next(t);
+        if (!s || strcmp(s, "col") != 0) {
+            t->pos = save;
+            return NULL;
+        }
+        if (!tok_int(t, &j, 0, m - 1) || !tok_expect(t, ":") || !tok_expect(t, "locations") ||
+            !tok_int(t, &a, 0, FC_MAX_NNZ) || !tok_expect(t, "to") ||
+            !tok_int(t, &b, -1, FC_MAX_NNZ)) {
+            sprintf(why, "bad column header after column %ld", prev);
+            return why;
+        }
+        if (j <= prev || a != next || b < a - 1) {
+            sprintf(why, "column %ld: locations %ld to %ld (columns must increase, locations run "
+                         "on from %ld)", j, a, b, next);
+            return why;
+        }
+        for (k = a; k <= b; k++) {
+            double x;
+            if (!tok_int(t, &i, 0, m - 1) || !tok_expect(t, ":") || !tok_double(t, &x)) {
+                sprintf(why, "bad entry at location %ld of column %ld (row in [0, %d) : value)",
+                        k, j, m);
+                return why;
+            }
+            if ((err = coo_add(c, i, j, x)) != NULL)
+                return err;
+        }
+        next = b + 1;
+        prev = j;
+    }
+}
+
+/* Parses a problem from buf (len bytes, NUL-terminated, modified in place). Returns NULL, or a
+   message (p->why); p is then empty. */
+static const char *fc_parse(char *buf, long len, fc_problem *p)
 {
     fc_tok t;
-    long dim, nc, flag, s0, s1, v, i, j, k;
-    int m;
+    fc_coo c;
+    long dim, nc, flag, s0, s1, i;
     const char *err = NULL;
+    memset(&c, 0, sizeof c);
+    t.buf = t.pos = buf;
+    t.end = buf + len;
+    if (!tok_int(&t, &dim, 0, 1000000000L) || !tok_int(&t, &nc, -1000000000L, 1000000000L) ||
+        !tok_int(&t, &flag, 0, 1000) || !tok_int(&t, &s0, 0, 1000000000L) ||
+        !tok_int(&t, &s1, 0, 1000000000L))
+        err = "bad header (dim nc storage m m)";
+    else if ((dim == 2 || dim == 3) && nc >= 1 && nc <= FC_MAX_CONTACTS &&
+             (t.end - t.pos) / 2 + 1 < (dim + 1) * nc) /* before allocating q and mu */
+        err = "the file is too short for the q and mu of its header";
+    else if ((err = fc_alloc_vectors(p, dim, nc)) != NULL)
+        ;
+    else if (s0 != p->m || s1 != s0) /* the global problems (M v = H r + f) start the same way */
+        err = "W is not (dim nc) x (dim nc): not a reduced problem u = W r + q (a global one?)";
+    else if (flag == 0)
+        err = read_dense(&t, p->m, &c, p->why);
+    else if (flag == 1)
+        err = read_sbm(&t, p->m, &c, p->why);
+    else if (flag == 2)
+        err = read_csc(&t, p->m, &c, p->why);
+    else
+        err = "unsupported storage flag (0 dense, 1 sparse block, 2 compressed columns)";
+    for (i = 0; !err && i < p->m; i++)
+        if (!tok_double(&t, &p->q[i])) {
+            sprintf(p->why, "bad or missing q[%ld]", i);
+            err = p->why;
+        }
+    for (i = 0; !err && i < p->nc; i++)
+        if (!tok_double(&t, &p->mu[i])) {
+            sprintf(p->why, "bad or missing mu[%ld]", i);
+            err = p->why;
+        }
+    if (!err && !fc_check_vectors(p))
+        err = p->why;
+    if (!err)
+        err = coo_to_csc(&c, p);
+    coo_free(&c);
+    if (err) {
+        if (err != p->why)
+            snprintf(p->why, sizeof p->why, "%s", err);
+        fc_free(p);
+        return p->why;
+    }
+    return NULL;
+}
+
+/* Reads a problem file (Siconos text, or FCLib HDF5 when built with it). Returns NULL, or a
+   message saying what is wrong (then p is empty; the caller names the file). */
+static const char *fc_read(const char *path, fc_problem *p)
+{
+    long len = 0;
+    char *buf;
+    const char *err;
     memset(p, 0, sizeof *p);
-    t.buf = read_file(path);
-    if (!t.buf)
-        return "cannot read file";
-    if (strncmp(t.buf, "\211HDF", 4) == 0) {
-        free(t.buf);
+    buf = read_file(path, &len, p->why);
+    if (!buf)
+        return p->why;
+    if (len >= 4 && memcmp(buf, "\211HDF", 4) == 0) {
+        free(buf);
 #ifdef FC_SOLVE_HDF5
-        return fc_read_hdf5(path, p);
+        err = fc_read_hdf5(path, p);
+        if (err) {
+            if (err != p->why)
+                snprintf(p->why, sizeof p->why, "%s", err);
+            fc_free(p);
+            return p->why;
+        }
+        return NULL;
 #else
-        return "HDF5 (FCLib) files are not supported by this build (build with -DFC_SOLVE_HDF5)";
+        snprintf(p->why, sizeof p->why, "HDF5 (FCLib) files are not supported by this build "
+                                        "(build with -DFC_SOLVE_HDF5)");
+        return p->why;
 #endif
     }
-    t.pos = t.buf;
-    t.end = t.buf + strlen(t.buf);
-    if (!tok_int(&t, &dim) || !tok_int(&t, &nc) || !tok_int(&t, &flag) || !tok_int(&t, &s0) ||
-        !tok_int(&t, &s1)) {
-        err = "bad header";
-        goto done;
-    }
-    if ((dim != 2 && dim != 3) || nc < 1 || nc > 20000) {
-        err = "unsupported sizes (dimension 2 or 3, 1 to 20000 contacts)";
-        goto done;
-    }
-    if (s0 != dim * nc || s1 != s0) {
-        /* the global problems (M v = H r + f) of the same test suites start the same way */
-        err = "W is not (dim*nc) x (dim*nc): not a reduced problem u = W r + q (a global one?)";
-        goto done;
-    }
-    p->dim = (int)dim;
-    p->nc = (int)nc;
-    p->m = m = (int)(dim * nc);
-    p->W = calloc((size_t)m * (size_t)m, sizeof(double));
-    p->q = malloc((size_t)m * sizeof(double));
-    p->mu = malloc((size_t)nc * sizeof(double));
-    if (!p->W || !p->q || !p->mu) {
-        err = "out of memory";
-        goto done;
-    }
-    if (flag == 0) { /* dense: sizes again, then row by row */
-        if (!tok_int(&t, &s0) || !tok_int(&t, &s1) || s0 != m || s1 != m) {
-            err = "bad dense sizes";
-            goto done;
-        }
-        for (i = 0; i < m && !err; i++)
-            for (j = 0; j < m && !err; j++)
-                if (!tok_double(&t, &p->W[i + (size_t)j * (size_t)m]))
-                    err = "bad dense entry";
-    } else if (flag == 1) { /* sparse block: Siconos SBM layout, blocks column-major */
-        long nbb, nb0, nb1, f1, f2, *bs0 = NULL, *bs1 = NULL, *ix1 = NULL, *ix2 = NULL, bi;
-        if (!tok_int(&t, &nbb) || !tok_int(&t, &nb0) || !tok_int(&t, &nb1) || nb0 < 1 ||
-            nb1 < 1 || nb0 > m || nb1 > m || nbb < 0) {
-            err = "bad block header";
-            goto done;
-        }
-        bs0 = malloc((size_t)nb0 * sizeof(long));
-        bs1 = malloc((size_t)nb1 * sizeof(long));
-        for (i = 0; bs0 && bs1 && i < nb0 && !err; i++)
-            if (!tok_int(&t, &bs0[i]) || bs0[i] < 1 || bs0[i] > m || (i && bs0[i] <= bs0[i - 1]))
-                err = "bad row block sizes";
-        for (i = 0; bs0 && bs1 && i < nb1 && !err; i++)
-            if (!tok_int(&t, &bs1[i]) || bs1[i] < 1 || bs1[i] > m || (i && bs1[i] <= bs1[i - 1]))
-                err = "bad column block sizes";
-        if (!bs0 || !bs1)
-            err = "out of memory";
-        if (!err && (!tok_int(&t, &f1) || !tok_int(&t, &f2) || f1 != nb0 + 1 || f2 != nbb))
-            err = "bad block index sizes";
-        if (!err) {
-            ix1 = malloc((size_t)f1 * sizeof(long));
-            ix2 = malloc((size_t)(f2 > 0 ? f2 : 1) * sizeof(long));
-            if (!ix1 || !ix2)
-                err = "out of memory";
-        }
-        for (i = 0; !err && i < f1; i++)
-            if (!tok_int(&t, &ix1[i]) || ix1[i] < 0 || ix1[i] > nbb || (i && ix1[i] < ix1[i - 1]))
-                err = "bad block row pointer";
-        for (i = 0; !err && i < f2; i++)
-            if (!tok_int(&t, &ix2[i]) || ix2[i] < 0 || ix2[i] >= nb1)
-                err = "bad block column index";
-        for (bi = 0; !err && bi < nb0; bi++) {
-            long r0 = bi ? bs0[bi - 1] : 0, nr = bs0[bi] - r0;
-            for (k = ix1[bi]; !err && k < ix1[bi + 1]; k++) {
-                long cb = ix2[k], c0 = cb ? bs1[cb - 1] : 0, ncol = bs1[cb] - c0;
-                if (!tok_int(&t, &v) || v != k) {
-                    err = "bad block number";
-                    break;
-                }
-                for (j = 0; !err && j < ncol; j++)
-                    for (i = 0; !err && i < nr; i++)
-                        if (!tok_double(&t, &p->W[(r0 + i) + (size_t)(c0 + j) * (size_t)m]))
-                            err = "bad block entry";
-            }
-        }
-        free(bs0);
-        free(bs1);
-        free(ix1);
-        free(ix2);
-    } else if (flag == 2) { /* CSC as printed by cs_print: skip the banner up to "col" */
-        const char *s;
-        char *save;
-        for (;;) {
-            save = t.pos;
-            s = tok_next(&t);
-            if (!s) {
-                err = "no column data";
-                break;
-            }
-            if (strcmp(s, "col") == 0) {
-                t.pos = save;
-                break;
-            }
-        }
-        while (!err) {
-            long a, b;
-            save = t.pos;
-            s = tok_next(&t);
-            if (!s || strcmp(s, "col") != 0) {
-                t.pos = save;
-                break;
-            }
-            if (!tok_int(&t, &j) || !tok_expect(&t, ":") || !tok_expect(&t, "locations") ||
-                !tok_int(&t, &a) || !tok_expect(&t, "to") || !tok_int(&t, &b) || j < 0 ||
-                j >= m) {
-                err = "bad column header";
-                break;
-            }
-            for (k = a; k <= b && !err; k++) {
-                double x;
-                if (!tok_int(&t, &i) || !tok_expect(&t, ":") || !tok_double(&t, &x) || i < 0 ||
-                    i >= m)
-                    err = "bad CSC entry";
-                else
-                    p->W[i + (size_t)j * (size_t)m] += x;
-            }
-        }
-    } else {
-        err = "unsupported storage flag (HDF5 files are not read)";
-    }
-    for (i = 0; !err && i < m; i++)
-        if (!tok_double(&t, &p->q[i]))
-            err = "bad q";
-    for (i = 0; !err && i < nc; i++)
-        if (!tok_double(&t, &p->mu[i]) || p->mu[i] < 0.0)
-            err = "bad mu";
-    for (i = 0; !err && i < (long)m * m; i++)
-        if (!isfinite(p->W[i]))
-            err = "non-finite W";
-done:
-    free(t.buf);
-    if (err)
-        fc_free(p);
+    err = fc_parse(buf, len, p);
+    free(buf);
     return err;
 }
 
@@ -406,11 +722,29 @@ typedef struct {
     double tol;
 } fc_options;
 
+/* What fc_solve concluded (fc_accept, fc_verdict_text) */
+enum {
+    FC_SOLVED = 0,    /* every acceptance condition holds */
+    FC_MISSED,        /* error above the tolerance */
+    FC_INFEASIBLE,    /* proved: u_N < 0 at one contact for every r in K (not solved) */
+    FC_DIVERGED,      /* |r| so large that the residual's rounding bound exceeds tol */
+    FC_UN_NEGATIVE,   /* u_N < 0 beyond the tolerance at the returned r */
+    FC_R_OUTSIDE,     /* r outside K beyond the tolerance */
+    FC_TOO_LARGE,     /* a coupled component above FC_MAX_COUPLED unknowns (not solved) */
+    FC_NO_MEMORY      /* allocation failure */
+};
+
 typedef struct {
     int newton, sweeps; /* Newton iterations, NSGS sweeps */
     int ipm;            /* interior-point iterations (restarts) */
     int absres;         /* 1: err is the absolute |F_nat| (|q| ~ 0) */
     double err;         /* eq. (15) error at the returned r */
+    int verdict;        /* FC_SOLVED, ... */
+    int contact;        /* the contact the verdict is about, or -1 */
+    double value;       /* the offending value (u_N, excess outside K, component size) */
+    double floor;       /* rounding bound of err: 4 eps (|r| + ||(1+mu)(|W||r| + |q|)||) / |q| */
+    double rnorm;       /* |r| */
+    int ncomp, maxcomp; /* coupled components of W, contacts in the largest */
 } fc_stats;
 
 /* W as a block CSR matrix of dim x dim blocks (column-major each): rows rp[c]..rp[c+1]-1, block
@@ -431,52 +765,100 @@ static void bsr_free(fc_bsr *S)
     memset(S, 0, sizeof *S);
 }
 
+/* Non-zeros of column j of W in turn, whichever storage p has: w_col_begin, then w_col_next
+   until it returns 0. */
+typedef struct {
+    long k, end;
+} fc_colit;
+
+static void w_col_begin(const fc_problem *p, int j, fc_colit *it)
+{
+    it->k = p->W ? 0 : p->Wp[j];
+    it->end = p->W ? p->m : p->Wp[j + 1];
+}
+
+static int w_col_next(const fc_problem *p, int j, fc_colit *it, int *row, double *x)
+{
+    while (it->k < it->end) {
+        long k = it->k++;
+        double v = p->W ? p->W[(size_t)k + (size_t)j * (size_t)p->m] : p->Wx[k];
+        if (v != 0.0) {
+            *row = p->W ? (int)k : p->Wi[k];
+            *x = v;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Block (c, e) met while scanning block column e: counted (pass 0) or given its slot (pass 1)
+   the first time. */
+static void bsr_touch(fc_bsr *S, int *mark, int *slot, int *fill, int pass, int c, int e)
+{
+    if (mark[c] == e)
+        return;
+    mark[c] = e;
+    if (!pass) {
+        S->rp[c + 1]++;
+        return;
+    }
+    slot[c] = fill[c]++;
+    S->ci[slot[c]] = e;
+    if (c == e)
+        S->dg[c] = slot[c];
+}
+
+/* Builds S from p's W (dense or compressed columns) in O(nnz + nc) memory: the blocks holding a
+   non-zero and every diagonal block, block columns in increasing order within each block row.
+   Returns 0 if out of memory (bsr_free still applies). */
 static int bsr_build(const fc_problem *p, fc_bsr *S)
 {
-    int d = p->dim, dd = d * d, nc = p->nc, m = p->m, c, e, a, b, k, pass;
+    int d = p->dim, dd = d * d, nc = p->nc, c, e, b, row = 0, pass, ok = 0;
+    int *mark = malloc((size_t)nc * sizeof(int)), *slot = malloc((size_t)nc * sizeof(int));
+    int *fill = malloc((size_t)nc * sizeof(int));
+    double x = 0.0;
+    fc_colit it;
     memset(S, 0, sizeof *S);
     S->nc = nc;
     S->d = d;
     S->dd = dd;
-    S->rp = malloc((size_t)(nc + 1) * sizeof(int));
+    S->rp = calloc((size_t)nc + 1, sizeof(int));
     S->dg = malloc((size_t)nc * sizeof(int));
-    if (!S->rp || !S->dg)
-        return 0;
-    for (pass = 0; pass < 2; pass++) { /* count, then fill */
-        k = 0;
-        for (c = 0; c < nc; c++) {
-            S->rp[c] = k;
-            S->dg[c] = -1;
-            for (e = 0; e < nc; e++) {
-                int nz = 0;
-                for (b = 0; b < d && !nz; b++)
-                    for (a = 0; a < d; a++)
-                        if (p->W[(size_t)(c * d + a) + (size_t)(e * d + b) * (size_t)m] != 0.0)
-                            nz = 1;
-                if (!nz && e != c) /* keep every diagonal block, even a zero one */
-                    continue;
-                if (pass) {
-                    S->ci[k] = e;
-                    for (b = 0; b < d; b++)
-                        for (a = 0; a < d; a++)
-                            S->bv[(size_t)k * dd + a + d * b] =
-                                p->W[(size_t)(c * d + a) + (size_t)(e * d + b) * (size_t)m];
+    if (!S->rp || !S->dg || !mark || !slot || !fill)
+        goto done;
+    for (pass = 0; pass < 2; pass++) { /* count the blocks per block row, then fill */
+        for (c = 0; c < nc; c++)
+            mark[c] = -1;
+        for (e = 0; e < nc; e++) { /* the diagonal block first, then those column e touches */
+            bsr_touch(S, mark, slot, fill, pass, e, e);
+            for (b = 0; b < d; b++) {
+                w_col_begin(p, e * d + b, &it);
+                while (w_col_next(p, e * d + b, &it, &row, &x)) {
+                    c = row / d;
+                    bsr_touch(S, mark, slot, fill, pass, c, e);
+                    if (pass)
+                        S->bv[(size_t)slot[c] * dd + (size_t)(row - c * d) + (size_t)(d * b)] += x;
                 }
-                if (e == c)
-                    S->dg[c] = k;
-                k++;
             }
         }
-        S->rp[nc] = k;
         if (!pass) {
-            S->nnz = k;
-            S->ci = malloc((size_t)k * sizeof(int));
-            S->bv = malloc((size_t)k * (size_t)dd * sizeof(double));
+            for (c = 0; c < nc; c++) {
+                S->rp[c + 1] += S->rp[c];
+                fill[c] = S->rp[c];
+            }
+            S->nnz = S->rp[nc];
+            S->ci = malloc((size_t)S->nnz * sizeof(int));
+            S->bv = calloc((size_t)S->nnz * (size_t)dd, sizeof(double));
             if (!S->ci || !S->bv)
-                return 0;
+                goto done;
         }
     }
-    return 1;
+    ok = 1;
+done:
+    free(mark);
+    free(slot);
+    free(fill);
+    return ok;
 }
 
 /* u = W r + q */
@@ -1480,8 +1862,9 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
     return it;
 }
 
-/* Solves p from the reaction r (in/out; zeros are a fine start). Alternates two phases, keeping
-   the best iterate by the eq. (15) error:
+/* Solves one coupled component (p: its q, mu and sizes, p->W unused; Sp: its W) from the
+   reaction r (in/out; zeros are a fine start). Alternates two phases, keeping the best iterate
+   by the eq. (15) error of the component:
    - NSGS sweeps (robust, cheap: O(nnz) each), phases of 30 sweeps doubling up to 1000, and
    - globalised nonsmooth Newton on the Jean-Moreau residual (fast local convergence): direction
      from the proximally regularised system (A + B (W + eta D)) d = -F, which stays solvable when
@@ -1496,8 +1879,8 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
    (ipm_restart) as long as these restarts improve the best error by 10 %; on the generated
    piles restarting at every stall solved 15 of 50 misses but lost 7 of 78 solved instances, so
    it is a second run rather than the only one. The better of the two runs is returned.
-   Returns 0 on success (st->err <= tol), 1 if the tolerance is missed, -1 on allocation
-   failure. */
+   Returns 0 when the component's error st->err meets the tolerance, 1 if not, -1 on
+   allocation failure (fc_solve then checks the whole result: fc_accept). */
 /* Runs in pairs (without, then with interior-point restarts), each pair with the augmentation
    rho scaled by one of these: where Newton stalls on one scaling it often converges on another
    (the kinks of the residual move with rho). On 36 generated piles (tests/fc_gen.h, mu 0.3 to
@@ -1505,7 +1888,8 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
 #define FC_RUNS 6
 static const double fc_run_rho[FC_RUNS / 2] = {1.0, 5.0, 0.2};
 
-static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stats *st)
+static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options *o, double *r,
+                         fc_stats *st)
 {
     int m = p->m, d = p->dim, nc = p->nc, i, c, mode = 0, phase_it = 0, nh = 0;
     int nsgs_len = 30, stall_win = 30;
@@ -1515,15 +1899,11 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     int ncyc = 0, rep_len = 0;
     double rep_err = -1.0;
     fc_work w;
-    fc_bsr S;
+    const fc_bsr S = *Sp;
     int rc = 1;
     memset(&w, 0, sizeof w);
     memset(st, 0, sizeof *st);
     st->err = HUGE_VAL;
-    if (!bsr_build(p, &S)) {
-        bsr_free(&S);
-        return -1;
-    }
     keep = malloc((size_t)m * sizeof(double));
     start = malloc((size_t)m * sizeof(double));
     rho0 = malloc((size_t)nc * 2 * sizeof(double));
@@ -1535,7 +1915,6 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
             free(start);
             free(rho0);
             work_free(&w);
-            bsr_free(&S);
             return -1;
         }
         for (i = 0; i < m; i++)
@@ -1753,10 +2132,342 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     bsr_matvec(&S, p->q, r, w.u); /* honest measure at the returned reaction */
     st->err = nat_err(p, r, w.u, qn);
     work_free(&w);
-    bsr_free(&S);
     if (rc < 0)
         return -1;
     return st->err <= o->tol ? 0 : 1;
+}
+
+/* A contact c at which u_N < 0 for every r in K, if W and q prove one: q_N < 0 and no block of
+   W's normal row can raise u_N, i.e. W_cN,eN + mu_e |W_cN,eT| <= 0 for every contact e (then
+   (W r)_N <= 0 since r_eN >= 0 and |r_eT| <= mu_e r_eN). Returns c, or -1. */
+static int fc_certify_infeasible(const fc_problem *p, const fc_bsr *S)
+{
+    int c, k, d = S->d;
+    for (c = 0; c < S->nc; c++) {
+        int raises = 0;
+        if (!(p->q[c * d] < 0.0))
+            continue;
+        for (k = S->rp[c]; k < S->rp[c + 1] && !raises; k++) {
+            const double *blk = S->bv + (size_t)k * S->dd; /* row 0 of the block: blk[d j] */
+            double wt = d == 3 ? hypot(blk[d], blk[2 * d]) : fabs(blk[d]);
+            raises = blk[0] + p->mu[S->ci[k]] * wt > 0.0;
+        }
+        if (!raises)
+            return c;
+    }
+    return -1;
+}
+
+/* Copies the block rows list[0..n) of S into T (loc: contact -> index in list). 0 if out of
+   memory. */
+static int bsr_extract(const fc_bsr *S, const int *list, int n, const int *loc, fc_bsr *T)
+{
+    int i, k, kk = 0, nnz = 0;
+    memset(T, 0, sizeof *T);
+    T->nc = n;
+    T->d = S->d;
+    T->dd = S->dd;
+    for (i = 0; i < n; i++)
+        nnz += S->rp[list[i] + 1] - S->rp[list[i]];
+    T->nnz = nnz;
+    T->rp = malloc((size_t)(n + 1) * sizeof(int));
+    T->dg = malloc((size_t)n * sizeof(int));
+    T->ci = malloc((size_t)nnz * sizeof(int));
+    T->bv = malloc((size_t)nnz * (size_t)S->dd * sizeof(double));
+    if (!T->rp || !T->dg || !T->ci || !T->bv)
+        return 0;
+    for (i = 0; i < n; i++) {
+        int c = list[i];
+        T->rp[i] = kk;
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++, kk++) {
+            T->ci[kk] = loc[S->ci[k]];
+            memcpy(T->bv + (size_t)kk * S->dd, S->bv + (size_t)k * S->dd,
+                   (size_t)S->dd * sizeof(double));
+            if (k == S->dg[c])
+                T->dg[i] = kk;
+        }
+    }
+    T->rp[n] = kk;
+    return 1;
+}
+
+static int uf_root(int *parent, int c)
+{
+    while (parent[c] != c)
+        c = parent[c] = parent[parent[c]];
+    return c;
+}
+
+/* Splits the contacts into the connected components of W's block graph (contacts coupled by a
+   non-zero block either way) and solves each on its own (fc_solve_part): a block-decoupled
+   problem costs the sum of its parts, and the dense fallbacks of the Newton solves are sized by
+   one component. Refuses (-2, FC_TOO_LARGE) a component above FC_MAX_COUPLED unknowns before
+   solving anything. Returns 0 if every component met the tolerance, 1 if not, -1 / -2. */
+static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_options *o,
+                               double *r, fc_stats *st)
+{
+    int nc = p->nc, d = p->dim, c, k, i, a, rc = 0, ncomp = 0;
+    int *parent = malloc((size_t)nc * sizeof(int)), *start = NULL, *list = NULL, *loc = NULL;
+    double *qc = NULL, *muc = NULL, *rcp = NULL;
+    if (!parent)
+        return -1;
+    for (c = 0; c < nc; c++)
+        parent[c] = c;
+    for (c = 0; c < nc; c++)
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
+            int x = uf_root(parent, c), y = uf_root(parent, S->ci[k]);
+            if (x != y)
+                parent[x > y ? x : y] = x < y ? x : y; /* the smallest contact is the root */
+        }
+    start = calloc((size_t)nc + 1, sizeof(int));
+    list = malloc((size_t)nc * sizeof(int));
+    loc = malloc((size_t)nc * sizeof(int));
+    if (!start || !list || !loc) {
+        rc = -1;
+        goto done;
+    }
+    for (c = 0; c < nc; c++) { /* loc: component id by its root (in order of the roots) */
+        int root = uf_root(parent, c);
+        loc[c] = root == c ? ncomp++ : loc[root];
+        start[loc[c] + 1]++;
+    }
+    for (i = 0; i < ncomp; i++)
+        start[i + 1] += start[i];
+    for (c = 0; c < nc; c++) { /* list: contacts by component, increasing in each */
+        int id = loc[c];
+        list[start[id]++] = c;
+    }
+    for (i = ncomp; i > 0; i--)
+        start[i] = start[i - 1];
+    start[0] = 0;
+    st->ncomp = ncomp;
+    for (i = 0; i < ncomp; i++)
+        if (start[i + 1] - start[i] > st->maxcomp)
+            st->maxcomp = start[i + 1] - start[i];
+    if ((long)st->maxcomp * d > FC_MAX_COUPLED) {
+        st->verdict = FC_TOO_LARGE;
+        st->value = (double)st->maxcomp * d;
+        rc = -2;
+        goto done;
+    }
+    if (ncomp == 1) {
+        fc_stats sub;
+        rc = fc_solve_part(p, S, o, r, &sub);
+        st->newton = sub.newton;
+        st->sweeps = sub.sweeps;
+        st->ipm = sub.ipm;
+        goto done;
+    }
+    qc = malloc((size_t)st->maxcomp * d * sizeof(double));
+    muc = malloc((size_t)st->maxcomp * sizeof(double));
+    rcp = malloc((size_t)st->maxcomp * d * sizeof(double));
+    if (!qc || !muc || !rcp) {
+        rc = -1;
+        goto done;
+    }
+    for (i = 0; i < ncomp && rc >= 0; i++) {
+        int n = start[i + 1] - start[i], *li = list + start[i], res;
+        fc_problem sp;
+        fc_bsr T;
+        fc_stats sub;
+        for (k = 0; k < n; k++) {
+            loc[li[k]] = k;
+            muc[k] = p->mu[li[k]];
+            for (a = 0; a < d; a++) {
+                qc[k * d + a] = p->q[li[k] * d + a];
+                rcp[k * d + a] = r[li[k] * d + a];
+            }
+        }
+        memset(&sp, 0, sizeof sp);
+        sp.dim = d;
+        sp.nc = n;
+        sp.m = n * d;
+        sp.q = qc;
+        sp.mu = muc;
+        if (!bsr_extract(S, li, n, loc, &T)) {
+            bsr_free(&T);
+            rc = -1;
+            break;
+        }
+        res = fc_solve_part(&sp, &T, o, rcp, &sub);
+        bsr_free(&T);
+        st->newton += sub.newton;
+        st->sweeps += sub.sweeps;
+        st->ipm += sub.ipm;
+        if (res < 0)
+            rc = -1;
+        else if (res > 0)
+            rc = 1;
+        for (k = 0; k < n; k++)
+            for (a = 0; a < d; a++)
+                r[li[k] * d + a] = rcp[k * d + a];
+    }
+done:
+    free(parent);
+    free(start);
+    free(list);
+    free(loc);
+    free(qc);
+    free(muc);
+    free(rcp);
+    return rc;
+}
+
+/* The acceptance test at the returned r (tol = o->tol, eps the machine epsilon, s = |q|, or 1
+   when |q| < 1e-12 and the error is absolute); with u = W r + q and F_nat of eq. (15), r is
+   accepted iff
+     (a) |F_nat(r)| <= tol s                        (the eq. (15) error),
+     (b) 4 eps (|r| + || (1 + mu) (|W| |r| + |q|) ||) <= tol s  (the rounding bound of (a),
+         of u and of uhat = u + mu |u_T| e_N, by contact: a diverging |r| fails here, F_nat then
+         rounding to anything; so does a huge mu, which amplifies u_T's rounding),
+     (c) u_N >= -((1 + mu) tol s + 4 eps (|W| |r| + |q|)_N) at every contact (feasibility),
+     (d) r_N >= -tol s - 4 eps |r_c| and |r_T| <= mu r_N + (1 + mu) tol s + 4 eps |r_c| (r in K).
+   Exact arithmetic makes (a) imply (c) and (d) (r - F in K and uhat - F in K*); they are
+   checked because rounding can hide them when |r| is huge, which (b) also catches. Sets
+   st->err, floor, rnorm, absres, verdict, contact, value. Returns 0 if out of memory. */
+static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const double *r,
+                     fc_stats *st)
+{
+    int m = p->m, d = p->dim, c, k, a, b;
+    double *u = malloc((size_t)m * sizeof(double)), *wr = malloc((size_t)m * sizeof(double));
+    double qn = 0.0, rn = 0.0, wn = 0.0, s, eps = 4.0 * DBL_EPSILON, worst_u = 0.0, worst_k = 0.0;
+    int cu = -1, ck = -1;
+    if (!u || !wr) {
+        free(u);
+        free(wr);
+        return 0;
+    }
+    bsr_matvec(S, p->q, r, u);
+    for (c = 0; c < S->nc; c++) { /* wr = |W| |r| */
+        for (a = 0; a < d; a++)
+            wr[c * d + a] = 0.0;
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++)
+            for (b = 0; b < d; b++)
+                for (a = 0; a < d; a++)
+                    wr[c * d + a] += fabs(S->bv[(size_t)k * S->dd + a + d * b]) *
+                                     fabs(r[S->ci[k] * d + b]);
+    }
+    for (a = 0; a < m; a++) { /* wn: the rounding scale of uhat = u + mu |u_T| e_N */
+        qn = hypot(qn, p->q[a]);
+        rn = hypot(rn, r[a]);
+        wn = hypot(wn, (1.0 + p->mu[a / d]) * (wr[a] + fabs(p->q[a])));
+    }
+    st->absres = qn < 1e-12;
+    s = st->absres ? 1.0 : qn;
+    st->err = nat_err(p, r, u, st->absres ? 0.0 : qn);
+    st->rnorm = rn;
+    st->floor = eps * (rn + wn) / s;
+    for (c = 0; c < p->nc; c++) {
+        const double *rc = r + c * d, *uc = u + c * d;
+        double mu = p->mu[c], rt = d == 3 ? hypot(rc[1], rc[2]) : fabs(rc[1]);
+        double rcn = d == 3 ? hypot(rc[0], rt) : hypot(rc[0], rc[1]);
+        double lim_u = (1.0 + mu) * tol * s + eps * (wr[c * d] + fabs(p->q[c * d]));
+        double lim_r = (1.0 + mu) * tol * s + eps * rcn;
+        double ex = -rc[0] > rt - mu * rc[0] ? -rc[0] : rt - mu * rc[0];
+        if (uc[0] < -lim_u && (cu < 0 || uc[0] < worst_u)) {
+            cu = c;
+            worst_u = uc[0];
+        }
+        if (ex > lim_r && (ck < 0 || ex > worst_k)) {
+            ck = c;
+            worst_k = ex;
+        }
+    }
+    st->contact = -1;
+    if (!(st->floor <= tol) || !(st->err < HUGE_VAL)) {
+        st->verdict = FC_DIVERGED;
+        st->value = st->floor;
+    } else if (cu >= 0) {
+        st->verdict = FC_UN_NEGATIVE;
+        st->contact = cu;
+        st->value = worst_u;
+    } else if (ck >= 0) {
+        st->verdict = FC_R_OUTSIDE;
+        st->contact = ck;
+        st->value = worst_k;
+    } else {
+        st->verdict = st->err <= tol ? FC_SOLVED : FC_MISSED;
+    }
+    free(u);
+    free(wr);
+    return 1;
+}
+
+/* Solves p from the reaction r (in/out; zeros are a fine start; non-finite entries are reset to
+   0): proves infeasibility when W's normal rows allow it (fc_certify_infeasible), else solves
+   each coupled component (fc_solve_components, fc_solve_part) and checks the result
+   (fc_accept). Returns 0 when the result is accepted, 1 when not (st->verdict says why), -1 out
+   of memory, -2 a coupled component is too large. */
+static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stats *st)
+{
+    fc_bsr S;
+    int rc, i;
+    memset(st, 0, sizeof *st);
+    st->err = HUGE_VAL;
+    st->contact = -1;
+    for (i = 0; i < p->m; i++)
+        if (!isfinite(r[i]))
+            r[i] = 0.0;
+    if (!bsr_build(p, &S)) {
+        bsr_free(&S);
+        st->verdict = FC_NO_MEMORY;
+        return -1;
+    }
+    i = fc_certify_infeasible(p, &S);
+    rc = i >= 0 ? 1 : fc_solve_components(p, &S, o, r, st);
+    if (rc >= 0 && !fc_accept(p, &S, o->tol, r, st))
+        rc = -1;
+    if (i >= 0) {
+        st->verdict = FC_INFEASIBLE;
+        st->contact = i;
+        st->value = p->q[i * p->dim];
+    }
+    bsr_free(&S);
+    if (rc == -1)
+        st->verdict = FC_NO_MEMORY;
+    return rc < 0 ? rc : st->verdict == FC_SOLVED ? 0 : 1;
+}
+
+/* The verdict in words (what was checked, or why no solution was found) into buf. */
+static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
+{
+    const char *s = st->absres ? "" : " |q|";
+    switch (st->verdict) {
+    case FC_SOLVED:
+        snprintf(buf, n, "solved: residual %.3e <= tol %.1e, rounding bound %.1e <= tol, "
+                         "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, st->floor, s);
+        break;
+    case FC_MISSED:
+        snprintf(buf, n, "no solution found: residual %.3e > tol %.1e (the solver stalled)",
+                 st->err, tol);
+        break;
+    case FC_INFEASIBLE:
+        snprintf(buf, n, "no solution found: infeasible: at contact %d, q_N = %g < 0 and no "
+                         "reaction in the friction cones raises u_N (W's normal row), so "
+                         "u_N < 0 whatever r", st->contact, st->value);
+        break;
+    case FC_DIVERGED:
+        snprintf(buf, n, "no solution found: at |r| = %.3e the residual cannot be resolved to "
+                         "tol %.1e (rounding bound %.1e): the iterates diverge (the problem is "
+                         "probably infeasible) or the problem is badly scaled (|r| >> |q|, or a "
+                         "huge mu)", st->rnorm, tol, st->value);
+        break;
+    case FC_UN_NEGATIVE:
+        snprintf(buf, n, "no solution found: u_N = %.3e < 0 at contact %d (the problem may be "
+                         "infeasible)", st->value, st->contact);
+        break;
+    case FC_R_OUTSIDE:
+        snprintf(buf, n, "no solution found: r is %.3e outside the friction cone at contact %d",
+                 st->value, st->contact);
+        break;
+    case FC_TOO_LARGE:
+        snprintf(buf, n, "not solved: a coupled component of W has %.0f unknowns, above the "
+                         "limit FC_MAX_COUPLED = %d (a dense Newton system of 8 n^2 bytes)",
+                 st->value, FC_MAX_COUPLED);
+        break;
+    default:
+        snprintf(buf, n, "not solved: out of memory");
+    }
 }
 
 #ifndef FC_SOLVE_NO_MAIN
@@ -1766,13 +2477,17 @@ static const char fc_usage[] =
     "usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...\n"
     "Solves reduced frictional-contact problems (Siconos text files; FCLib HDF5 files when built\n"
     "with -DFC_SOLVE_HDF5) and prints one line per file. Exit status 0 when every problem meets\n"
-    "the tolerance, 1 when one misses it, 2 on a usage or read error.\n"
+    "the tolerance, 1 when one is not solved, 2 on a usage or read error.\n"
     "\n"
     "  --tol T       tolerance on the eq. (15) error (default 1e-10; 0 < T <= 1)\n"
     "  --maxit N     Newton iterations per run, 20 N NSGS sweeps (default 2000; 1..10000000)\n"
     "  --verbose     the solver's iterations on stderr\n"
     "  --quiet       no progress on stderr\n"
-    "  -h, --help    this help\n";
+    "  -h, --help    this help\n"
+    "\n"
+    "Limits: files up to 2 GiB of text, 10^6 contacts, 2^25 stored non-zeros of W; W is kept\n"
+    "sparse; a coupled component of W (contacts linked by non-zero blocks) may have at most\n"
+    "12288 unknowns (its Newton system may be factored dense: 8 n^2 bytes, 1.2 GB).\n";
 
 int main(int argc, char **argv)
 {
@@ -1811,18 +2526,21 @@ int main(int argc, char **argv)
             r = calloc((size_t)p.m, sizeof(double));
             t0 = clock();
             res = r ? fc_solve(&p, &o, r, &st) : -1;
-            if (res < 0) {
-                printf("%s error: out of memory\n", argv[i]);
-                status = 1;
-            } else {
+            if (!r)
+                st.verdict = FC_NO_MEMORY;
+            if (res >= 0)
                 printf("%s contacts=%d iterations=%d residual%s=%.3e time=%.3fs newton=%d "
                        "sweeps=%d ipm=%d\n",
                        argv[i], p.nc, st.newton + st.sweeps + st.ipm, st.absres ? "(abs)" : "",
                        st.err, (double)(clock() - t0) / CLOCKS_PER_SEC, st.newton, st.sweeps,
                        st.ipm);
-                if (res != 0)
-                    status = 1;
+            {
+                char why[400];
+                fc_verdict_text(&st, o.tol, why, sizeof why);
+                printf("%s: %s\n", argv[i], why);
             }
+            if (res != 0)
+                status = 1;
             free(r);
             fc_free(&p);
         }

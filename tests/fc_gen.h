@@ -378,4 +378,49 @@ static int fcg_make(int kind, int size, double mu0, double vs, unsigned long lon
     return ok;
 }
 
+#ifdef FC_SOLVE_HDF5
+#include <hdf5.h>
+
+/* Writes an FCLib local problem (HDF5) with the given W arrays as they are, valid or not (the
+   readers' tests and the fuzzing seeds need malformed ones too): W/m = W/n = m, W/nz = nz, W/p
+   (np ints), W/i (ni ints), W/x (nx doubles), vectors/q (m), vectors/mu (m / dim). Returns 1 on
+   success. */
+static int fcg_write_hdf5(const char *path, int dim, int m, int nz, const int *p, int np,
+                          const int *i, int ni, const double *x, int nx, const double *q,
+                          const double *mu)
+{
+    hid_t f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), g1, g2, g3;
+    const char *names[] = {"/fclib_local/spacedim", "/fclib_local/W/m", "/fclib_local/W/n",
+                           "/fclib_local/W/nz", "/fclib_local/W/p", "/fclib_local/W/i",
+                           "/fclib_local/W/x", "/fclib_local/vectors/q",
+                           "/fclib_local/vectors/mu"};
+    const void *data[9];
+    int k, ok = 1, counts[9], isint[9] = {1, 1, 1, 1, 1, 1, 0, 0, 0};
+    if (f < 0)
+        return 0;
+    data[0] = &dim, data[1] = &m, data[2] = &m, data[3] = &nz, data[4] = p, data[5] = i;
+    data[6] = x, data[7] = q, data[8] = mu;
+    counts[0] = counts[1] = counts[2] = counts[3] = 1;
+    counts[4] = np, counts[5] = ni, counts[6] = nx, counts[7] = m, counts[8] = m / dim;
+    g1 = H5Gcreate2(f, "/fclib_local", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    g2 = H5Gcreate2(f, "/fclib_local/W", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    g3 = H5Gcreate2(f, "/fclib_local/vectors", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    for (k = 0; k < 9 && ok; k++) {
+        hsize_t n = (hsize_t)counts[k];
+        hid_t sp = H5Screate_simple(1, &n, NULL), ds;
+        hid_t ty = isint[k] ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE;
+        ds = sp >= 0 ? H5Dcreate2(f, names[k], ty, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
+        ok = ds >= 0 && (n == 0 || H5Dwrite(ds, ty, H5S_ALL, H5S_ALL, H5P_DEFAULT, data[k]) >= 0);
+        if (ds >= 0)
+            H5Dclose(ds);
+        if (sp >= 0)
+            H5Sclose(sp);
+    }
+    H5Gclose(g3);
+    H5Gclose(g2);
+    H5Gclose(g1);
+    return H5Fclose(f) >= 0 && ok;
+}
+#endif
+
 #endif
