@@ -25,7 +25,7 @@ typedef struct xo_out {
 } xo_out;
 
 /* Records the first failure: path and errno. Returns -1. */
-static int xo_fail(xo_out *o, const char *path)
+static inline int xo_fail(xo_out *o, const char *path)
 {
     if (!o->failed[0]) {
         snprintf(o->failed, sizeof o->failed, "%s", path);
@@ -35,7 +35,7 @@ static int xo_fail(xo_out *o, const char *path)
 }
 
 /* "PROG: cannot write FILE: reason" on stderr, after xo_open or xo_finish failed. */
-static void xo_error(const xo_out *o, const char *prog)
+static inline void xo_error(const xo_out *o, const char *prog)
 {
     if (o->failed[0])
         fprintf(stderr, "%s: cannot write %s: %s\n", prog, o->failed,
@@ -45,14 +45,14 @@ static void xo_error(const xo_out *o, const char *prog)
 }
 
 /* fclose that records a failure (a full disk shows at the flush) */
-static int xo_close(xo_out *o, FILE *f, const char *path)
+static inline int xo_close(xo_out *o, FILE *f, const char *path)
 {
     errno = 0;
     return fclose(f) ? xo_fail(o, path) : 0;
 }
 
 /* fopen for writing that records a failure */
-static FILE *xo_create(xo_out *o, const char *path)
+static inline FILE *xo_create(xo_out *o, const char *path)
 {
     FILE *f;
     errno = 0;
