@@ -62,13 +62,24 @@ static inline FILE *xo_create(xo_out *o, const char *path)
 
 static double xo_value(const xo_out *o, const double *y) { return o->value ? o->value(y) : y[o->comp]; }
 
-/* Point callback of psb_explore: one CSV row per accepted point. */
+/* Writes node `node`'s point as a row of `edge` (nothing for -1). */
+static void xo_node_row(xo_out *o, int edge, int node)
+{
+    if (node >= 0) {
+        const double *y = o->diagram->nodes[node].y;
+        fprintf(o->points, "%d,%.12g,%.12g\n", edge, y[o->param], xo_value(o, y));
+    }
+}
+
+/* Point callback of psb_explore: one CSV row per accepted point. An edge's rows stay together,
+   from its start node to its end node (known once the next edge starts), so that gnuplot joins
+   them into one line. */
 static int xo_point(int edge, const psb_point *pt, void *user)
 {
     xo_out *o = (xo_out *)user;
     if (o->points && o->diagram && edge != o->last_edge) {
-        const double *from = o->diagram->nodes[o->diagram->edges[edge].from].y;
-        fprintf(o->points, "%d,%.12g,%.12g\n", edge, from[o->param], xo_value(o, from));
+        if (o->last_edge >= 0) xo_node_row(o, o->last_edge, o->diagram->edges[o->last_edge].to);
+        xo_node_row(o, edge, o->diagram->edges[edge].from);
     }
     o->last_edge = edge;
     if (o->points) fprintf(o->points, "%d,%.12g,%.12g\n", edge, pt->y[o->param], xo_value(o, pt->y));
@@ -131,10 +142,12 @@ static int xo_finish(xo_out *o, const psb_diagram *d, const char *dir, const cha
     int bad = 0, kind, k;
     if (o->points) {
         int e;
-        for (e = 0; e < d->n_edges; e++) /* each edge's last segment, to its end node */
-            if (d->edges[e].to >= 0) {
-                const double *y = d->nodes[d->edges[e].to].y;
-                fprintf(o->points, "%d,%.12g,%.12g\n", e, y[o->param], xo_value(o, y));
+        o->diagram = d;
+        if (o->last_edge >= 0) xo_node_row(o, o->last_edge, d->edges[o->last_edge].to); /* the last edge's end */
+        for (e = 0; e < d->n_edges; e++) /* edges without accepted points: their two nodes */
+            if (d->edges[e].n_points == 0) {
+                xo_node_row(o, e, d->edges[e].from);
+                xo_node_row(o, e, d->edges[e].to);
             }
         snprintf(path, sizeof path, "%s/points.csv", dir ? dir : ".");
         bad |= xo_close(o, o->points, path);

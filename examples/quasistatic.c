@@ -512,6 +512,8 @@ static int write_curve(const curve *c, const char *dir, const char *name)
     return close_output(fp, path);
 }
 
+/* plot.gp: the load against q for both runs, the snap step's path over its static diagram, and an
+   inset around the snap; Okabe-Ito colours (no yellow) and a symbol per run, one legend. */
 static int write_gnuplot(const char *dir, const run *R)
 {
     char path[1024];
@@ -521,10 +523,10 @@ static int write_gnuplot(const char *dir, const run *R)
     if (!fp) return -1;
     const step_row *b = R->rows + R->snap_row - 1, *a = R->rows + R->snap_row;
     const char *series =
-        "plot 'diagram.csv' using 2:1 skip 1 with lines lw 1 lc rgb '#999999' title 'static diagram of the snap step (H_k = 0)', \\\n"
-        "     'snap_path.csv' using 2:1 skip 1 with lines lw 3 lc rgb '#d62728' title 'the snap step''s continuation path', \\\n"
-        "     'evolution.csv' using 3:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb '#1f77b4' title 'time steps with the continuation fallback', \\\n"
-        "     'newton.csv' using 3:2 skip 1 with points pt 6 ps 1.2 lc rgb '#2ca02c' title 'plain Newton time steps (stall at the fold)'\n";
+        "plot 'diagram.csv' using 2:1 skip 1 with lines lw 1 lc rgb '#888888' title 'static diagram of the snap step (H_k = 0)', \\\n"
+        "     'snap_path.csv' using 2:1 skip 1 with lines lw 3 lc rgb '#D55E00' title 'the snap step''s continuation path', \\\n"
+        "     'evolution.csv' using 3:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb '#0072B2' title 'time steps with the continuation fallback', \\\n"
+        "     'newton.csv' using 3:2 skip 1 with points pt 6 ps 1.2 lc rgb '#009E73' title 'plain Newton time steps (stall at the fold)'\n";
     fprintf(fp,
             "# gnuplot plot.gp -> quasistatic.png\n"
             "set terminal pngcairo size 1000,700 noenhanced\n"
@@ -537,7 +539,7 @@ static int write_gnuplot(const char *dir, const run *R)
             "set ylabel 'load lambda'\n"
             "set title 'snap-through in the step lambda %.3f -> %.3f: folds of its continuation problem at %.5f and %.5f'\n"
             "%s"
-            "set origin 0.55, 0.1\nset size 0.42, 0.45\nunset key\nunset title\nunset xlabel\nunset ylabel\n"
+            "set origin 0.55, 0.1\nset size 0.42, 0.45\nunset key\nunset title\nset xlabel 'q' offset 0,0.4\nset ylabel 'lambda' offset 2,0\n"
             "set object 1 rectangle from graph 0,0 to graph 1,1 behind fillcolor rgb 'white' fillstyle solid\n"
             "set xrange [%.4f:%.4f]\nset yrange [%.4f:%.4f]\n"
             "%s"
