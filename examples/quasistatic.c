@@ -522,30 +522,33 @@ static int write_gnuplot(const char *dir, const run *R)
     fp = open_output(path);
     if (!fp) return -1;
     const step_row *b = R->rows + R->snap_row - 1, *a = R->rows + R->snap_row;
+    /* the inset's q ticks: three or four, at 1, 2 or 5 times a power of ten (readable at 640 px) */
+    double inset_width = a->q - b->q + 0.03, raw = inset_width / 3, p10 = pow(10, floor(log10(raw)));
+    double inset_tick = (raw / p10 <= 1 ? 1 : raw / p10 <= 2 ? 2 : raw / p10 <= 5 ? 5 : 10) * p10;
     const char *series =
-        "plot 'diagram.csv' using 2:1 skip 1 with lines lw 1 lc rgb '#888888' title 'static diagram of the snap step (H_k = 0)', \\\n"
-        "     'snap_path.csv' using 2:1 skip 1 with lines lw 3 lc rgb '#D55E00' title 'the snap step''s continuation path', \\\n"
-        "     'evolution.csv' using 3:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb '#0072B2' title 'time steps with the continuation fallback', \\\n"
-        "     'newton.csv' using 3:2 skip 1 with points pt 6 ps 1.2 lc rgb '#009E73' title 'plain Newton time steps (stall at the fold)'\n";
+        "plot 'diagram.csv' using 2:1 skip 1 with lines lw 1 lc rgb '#888888' title 'static diagram of the snap step', \\\n"
+        "     'snap_path.csv' using 2:1 skip 1 with lines lw 3 lc rgb '#D55E00' title 'the snap step''s path', \\\n"
+        "     'evolution.csv' using 3:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb '#0072B2' title 'time steps, continuation fallback', \\\n"
+        "     'newton.csv' using 3:2 skip 1 with points pt 6 ps 1.2 lc rgb '#009E73' title 'plain Newton time steps (stall)'\n";
     fprintf(fp,
             "# gnuplot plot.gp -> quasistatic.png\n"
             "set terminal pngcairo size 1000,700 noenhanced\n"
             "set output 'quasistatic.png'\n"
             "set datafile separator ','\n"
             "set multiplot\n"
-            "set key top left\n"
+            "set key top left reverse Left samplen 2\n"
             "set grid\n"
             "set xlabel 'generalised displacement q = load1 . u (work per unit lambda)'\n"
             "set ylabel 'load lambda'\n"
-            "set title 'snap-through in the step lambda %.3f -> %.3f: folds of its continuation problem at %.5f and %.5f'\n"
+            "set title 'snap-through in the step lambda %.3f -> %.3f, folds at %.5f and %.5f'\n"
             "%s"
             "set origin 0.55, 0.1\nset size 0.42, 0.45\nunset key\nunset title\nset xlabel 'q' offset 0,0.4\nset ylabel 'lambda' offset 2,0\n"
             "set object 1 rectangle from graph 0,0 to graph 1,1 behind fillcolor rgb 'white' fillstyle solid\n"
-            "set xrange [%.4f:%.4f]\nset yrange [%.4f:%.4f]\n"
+            "set xrange [%.4f:%.4f]\nset yrange [%.4f:%.4f]\nset xtics %g\n"
             "%s"
             "unset multiplot\n",
             b->lambda, a->lambda, R->snap_rep.fold_params[0], R->snap_rep.fold_params[1], series, b->q - 0.02, a->q + 0.01,
-            R->snap_rep.param_low - 0.02, a->lambda + 0.02, series);
+            R->snap_rep.param_low - 0.02, a->lambda + 0.02, inset_tick, series);
     return close_output(fp, path);
 }
 
