@@ -105,9 +105,11 @@ fails "cannot write /dev/full" block --quiet --mesh 5x10 --save /dev/full
 fails "cannot write /dev/full" block --quiet --mesh 5x10 --compare "$tmp/short.txt" --save /dev/full
 # an output file that cannot be opened inside a writable --out (a directory in its place)
 mkdir -p "$tmp/o1/plot.gp" "$tmp/o2/folds.csv" "$tmp/o3/branches_01.csv" "$tmp/o4/branch_3.vtk" "$tmp/o5/marks.csv" \
-    "$tmp/o6/diagram.json" "$tmp/o7/step_0003.vtu" "$tmp/o8/evolution.csv"
+    "$tmp/o6/diagram.json" "$tmp/o7/step_0003.vtu" "$tmp/o8/evolution.csv" "$tmp/o9/points.csv"
 fails "cannot write $tmp/o1/plot.gp: Is a directory" block --quiet --mesh 5x10 --out "$tmp/o1"
 fails "cannot write $tmp/o4/branch_3.vtk: Is a directory" block --quiet --mesh 5x10 --out "$tmp/o4"
+fails "cannot write $tmp/o9/points.csv: Is a directory" block --quiet --explore --mesh 5x10 --out "$tmp/o9"
+fails "cannot write $tmp/o5/marks.csv: Is a directory" block --quiet --explore --mesh 5x10 --out "$tmp/o5"
 
 # triangle
 usage "unknown option '--bogus'" triangle --bogus
@@ -124,6 +126,7 @@ usage "--dirichlet foo: expected one of mult, elim" triangle --dirichlet foo
 fails "/dev/full is not a directory" triangle --quiet --mesh 16 --problem fold --out /dev/full
 fails "cannot write /dev/full" triangle --quiet --mesh 8 --problem branching --save /dev/full
 fails "cannot write $tmp/o2/folds.csv: Is a directory" triangle --quiet --mesh 16 --problem fold --out "$tmp/o2"
+fails "cannot write $tmp/o6/diagram.json: Is a directory" triangle --quiet --explore --mesh 8 --out "$tmp/o6"
 fails "not a valid end-point file" triangle --quiet --mesh 8 --load 26 --refine "$tmp/hostile.txt"
 # --mesh 2: the default load's fold problem fails; the message must not blame a --load not given
 fails "choosing the default load" triangle --quiet --mesh 2
