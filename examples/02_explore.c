@@ -132,6 +132,7 @@ int main(int argc, char **argv)
         return 1;
     }
     out.value = x1_minus_x2;
+    out.param_label = "load g";
     out.diagram = &diagram;
     eo.on_point = xo_point; /* writes DIR/points.csv */
     eo.point_user = &out;

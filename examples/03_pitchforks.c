@@ -138,6 +138,7 @@ int main(int argc, char **argv)
         return 1;
     }
     out.value = sum_x;
+    out.param_label = "parameter l";
     out.diagram = &diagram;
     ck.out = &out;
     ck.worst = 0;

@@ -258,6 +258,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     if (a->out) mkdir(a->out, 0777);
     if (xo_open(&o, a->out, n, comp)) { xo_error(&o, "block"); psb_diagram_free(&d); free(yh); free(th); return 1; }
     o.diagram = &d;
+    o.param_label = "load parameter gamma";
     eo.on_point = xo_point;
     eo.point_user = &o;
     memset(&run->s.stats, 0, sizeof run->s.stats);

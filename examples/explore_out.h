@@ -20,6 +20,7 @@ typedef struct xo_out {
     const psb_diagram *diagram; /* the one being explored: edges are drawn from their start node
                                    to their end node (may be NULL) */
     int last_edge;     /* the edge of the last point written */
+    const char *param_label; /* the plot's x label (NULL: "parameter") */
     char failed[1024]; /* the first file that could not be written ("" when none) */
     int failed_errno;  /* its errno */
 } xo_out;
@@ -180,7 +181,7 @@ static int xo_finish(xo_out *o, const psb_diagram *d, const char *dir, const cha
     for (k = 0; k < 7; k++) fprintf(f, "set linetype %d lc rgb '%s' lw 2\n", k + 1, okabe_ito[k]);
     fprintf(f, "set linetype cycle 7\n");
     fprintf(f, "set title '%s: the diagram psb_explore found'\nset grid\nset key outside right title 'nodes'\n", title);
-    fprintf(f, "set xlabel 'parameter'\nset ylabel '%s'\n", ylabel);
+    fprintf(f, "set xlabel '%s'\nset ylabel '%s'\n", o->param_label ? o->param_label : "parameter", ylabel);
     fprintf(f, "plot for [e=0:%d] 'points.csv' every ::1 using ($1==e?$2:1/0):3 with lines lt e%%7+1 notitle", d->n_edges - 1);
     for (kind = PSB_NODE_START; kind <= PSB_NODE_FAILURE; kind++) {
         int i, any = 0;

@@ -427,6 +427,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     if (a->out) mkdir(a->out, 0777);
     if (xo_open(&o, a->out, n, comp)) { xo_error(&o, "triangle"); psb_diagram_free(&d); free(ye); free(te); return 1; }
     o.diagram = &d;
+    o.param_label = "load parameter gamma";
     eo.on_point = xo_point;
     eo.point_user = &o;
     r = psb_explore(&run->s, ye, te, &eo, &d);
