@@ -9,23 +9,30 @@ command -v gnuplot >/dev/null 2>&1 || {
     echo "make_images.sh: gnuplot not found; install it with: apt-get install gnuplot-nox" >&2
     exit 1
 }
-make examples/01_branching examples/block examples/triangle >/dev/null
+make examples/01_branching examples/02_explore examples/03_pitchforks examples/block examples/triangle \
+    examples/quasistatic >/dev/null
 img=docs/img
 mkdir -p "$img"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT INT TERM
 
 # Render a gnuplot script written by an example: its pngcairo terminals are set to WxH
-# (every "set terminal pngcairo size ..." line), in the script's folder.
-# The deformed bodies' panels are small at that size: they are drawn without tick labels, with
-# gnuplot's built-in tiny font and a palette PNG (libgd's png terminal), which keeps them small.
+# (every "set terminal pngcairo size ..." line, noenhanced kept), in the script's folder.
+# The two diagram panels (block, triangle) get wider gaps and taller margins for their titles,
+# tick labels and a legend without a frame. The deformed bodies' panels are small at that size:
+# they are drawn with gnuplot's built-in tiny font as a palette PNG (libgd's png terminal), which
+# keeps the file small, with "branch " left out of their titles so that neighbours do not meet.
 render() { # dir width height
     awk -v size="$2,$3" '
-        /^set terminal pngcairo size/ { pending = 1; next }
+        /^set terminal pngcairo size/ { pending = 1; enh = /noenhanced/ ? " noenhanced" : ""; next }
         pending && /^set output .bodies\.png./ {
-            print "set terminal png size " size " tiny"; print; print "unset xtics"; print "unset ytics"
-            pending = 0; next }
-        pending { print "set terminal pngcairo size " size " font \",9\""; pending = 0 }
+            print "set terminal png size " size " tiny"; print
+            pending = 0; bodies = 1; next }
+        pending { print "set terminal pngcairo size " size " font \",9\"" enh; pending = 0 }
+        /^set multiplot layout 1,2/ {
+            sub(/margins [0-9.,]*/, "margins 0.1,0.98,0.4,0.84"); sub(/spacing [0-9.,]*/, "spacing 0.15,0") }
+        /^set key at screen/ { sub(/maxrows 2/, "maxrows 3"); sub(/ box opaque width 1/, "") }
+        bodies && /^set title .branch / { sub(/branch /, "") }
         { print }' "$1/plot.gp" >"$1/plot_small.gp"
     (cd "$1" && gnuplot plot_small.gp)
 }
@@ -39,11 +46,18 @@ stats 'branches_01.csv' every ::1 using 1 nooutput  # before the ranges, which i
 last = int(STATS_max)
 set terminal pngcairo size 640,400 font ',9'
 set output 'branches.png'
+set linetype 1 lc rgb '#0072B2'  # Okabe-Ito without its yellow, as the examples' own plots
+set linetype 2 lc rgb '#D55E00'
+set linetype 3 lc rgb '#009E73'
+set linetype 4 lc rgb '#CC79A7'
+set linetype 5 lc rgb '#E69F00'
+set linetype 6 lc rgb '#56B4E9'
+set linetype cycle 6
 set title 'examples/01\_branching: the four branches leaving the origin, at g = 1'
 set xlabel 'x_1'
 set ylabel 'x_2'
 set grid
-set key at 1.28,0.7 right
+set key at 1.28,0.38 right  # below the incoming ray, above the x1 axis
 set label 'branch 1: x = 0 for every g' at 0.04,0.06
 set size ratio -1
 set xrange [-0.1:1.3]
@@ -58,15 +72,34 @@ cp "$scratch/01/branches.png" "$img/01_branching.png"
 
 # block (M200, the example's defaults): the six branches' diagram and the deformed bodies.
 mkdir -p "$scratch/block"
-./examples/block --out "$scratch/block" >/dev/null
+./examples/block --quiet --out "$scratch/block" >/dev/null
 render "$scratch/block" 640 400
 cp "$scratch/block/diagram.png" "$img/block_diagram.png"
 cp "$scratch/block/bodies.png" "$img/block_bodies.png"
 
 # triangle (the example's default mesh, 32 x 32): the four branches' diagram.
 mkdir -p "$scratch/triangle"
-./examples/triangle --out "$scratch/triangle" >/dev/null
+./examples/triangle --quiet --out "$scratch/triangle" >/dev/null
 render "$scratch/triangle" 640 400
 cp "$scratch/triangle/diagram.png" "$img/triangle_diagram.png"
+
+# 02_explore and 03_pitchforks: the graphs psb_explore finds (a PC1 point with four rays; three
+# pitchforks and six folds), and block --explore: the block's diagram from one start point.
+for ex in 02_explore 03_pitchforks; do
+    mkdir -p "$scratch/$ex"
+    ./examples/$ex --out "$scratch/$ex" >/dev/null
+    render "$scratch/$ex" 640 400
+    cp "$scratch/$ex/diagram.png" "$img/$ex.png"
+done
+mkdir -p "$scratch/block_explore"
+./examples/block --explore --quiet --out "$scratch/block_explore" >/dev/null
+render "$scratch/block_explore" 640 400
+cp "$scratch/block_explore/diagram.png" "$img/block_explore.png"
+
+# quasistatic: the load-displacement path through the snap-through, the step's static diagram.
+mkdir -p "$scratch/quasistatic"
+./examples/quasistatic --quiet --out "$scratch/quasistatic" >/dev/null
+render "$scratch/quasistatic" 640 400
+cp "$scratch/quasistatic/quasistatic.png" "$img/quasistatic.png"
 
 ls -l "$img"/*.png

@@ -16,15 +16,16 @@
    prints the graph; with --out writes DIR/diagram.json, nodes.csv, edges.csv, points.csv,
    marks.csv and plot.gp (gnuplot plot.gp: diagram.png, g against x1 - x2). Exit status 0 only
    when the graph is the one above, every point to 1e-9. */
+#define _POSIX_C_SOURCE 200809L /* cli_output_dir */
 #define PSCBRANCH_IMPLEMENTATION
 #define PSCBRANCH_STDIO
 #include "../pscbranch.h"
+#include "cli.h"
 #include "explore_out.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/stat.h>
 
 static const double M[2][2] = {{-1.0, 2.0}, {2.0, -1.0}};
 static const double Q[2] = {1.0, 1.0};
@@ -76,6 +77,16 @@ static int ray_of(const double *y)
     return -1;
 }
 
+static const char usage[] =
+    "usage: 02_explore [--out DIR]\n"
+    "the whole bifurcation diagram of a 2-unknown complementarity problem, found by psb_explore\n"
+    "from one start point and checked against its four rays.\n"
+    "  --out DIR   write DIR/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv and plot.gp\n"
+    "              (created if missing; `gnuplot plot.gp` in DIR draws diagram.png)\n"
+    "  -h, --help  this text\n"
+    "Exit status: 0 when the diagram is the exact one, 1 when it is not or an output cannot be\n"
+    "written, 2 on a usage error.\n";
+
 int main(int argc, char **argv)
 {
     psb_problem problem;
@@ -88,27 +99,40 @@ int main(int argc, char **argv)
     double y[3] = {0.5, 0.5, -0.5}, t[3] = {-1, -1, 1}; /* on the g < 0 ray, towards the origin */
     int i, k, ok, seen[4] = {0}, n_pc1 = 0, n_bound = 0;
     psb_result r;
+    int written;
 
-    for (i = 1; i < argc; i++)
-        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) dir = argv[++i];
-    if (dir) mkdir(dir, 0777);
+    {
+        cli c;
+        cli_init(&c, "02_explore", argc, argv, usage);
+        while (cli_next(&c))
+            if (!cli_string(&c, "--out", &dir)) cli_unknown(&c);
+        if (c.status) return c.status == CLI_HELP ? 0 : 2;
+    }
+    if (dir && cli_output_dir("02_explore", dir)) return 1;
 
     psb_problem_init(&problem, 2, residual, jacobian, NULL);
     memset(&opt, 0, sizeof opt);
+    memset(&solver, 0, sizeof solver); /* freeable whichever init fails */
+    memset(&diagram, 0, sizeof diagram);
     opt.h_init = 0.05;
     opt.h_min = 1e-7;
     if (psb_solver_init(&solver, &problem, &opt) < 0 || psb_diagram_init(&diagram, 2, 16, 16, 8) < 0) {
-        fprintf(stderr, "init failed\n");
+        fprintf(stderr, "02_explore: out of memory\n");
+        psb_diagram_free(&diagram);
+        psb_solver_free(&solver);
         return 1;
     }
     memset(&eo, 0, sizeof eo); /* zero fields: both directions, the detectors on */
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     if (xo_open(&out, dir, 2, 0)) {
-        fprintf(stderr, "cannot write to %s\n", dir);
+        xo_error(&out, "02_explore");
+        psb_diagram_free(&diagram);
+        psb_solver_free(&solver);
         return 1;
     }
     out.value = x1_minus_x2;
+    out.param_label = "load g";
     out.diagram = &diagram;
     eo.on_point = xo_point; /* writes DIR/points.csv */
     eo.point_user = &out;
@@ -117,7 +141,8 @@ int main(int argc, char **argv)
     printf("psb_explore: %s; %d nodes, %d edges, %ld points, %ld factorisations\n\n", psb_result_string(r),
            diagram.n_nodes, diagram.n_edges, diagram.n_points, solver.stats.n_factor);
     xo_print(&diagram, 0);
-    if (xo_finish(&out, &diagram, dir, "02_explore", "x1 - x2")) fprintf(stderr, "cannot write to %s\n", dir);
+    written = !xo_finish(&out, &diagram, dir, "02_explore", "x1 - x2");
+    if (!written) xo_error(&out, "02_explore");
     else if (dir) printf("\nwrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", dir);
 
     /* the exact graph: one PC1 point at the origin whose four branches are the rays, each
@@ -142,5 +167,5 @@ int main(int argc, char **argv)
     printf("\n%s\n", ok ? "OK: the diagram is the exact one (a PC1 point, four rays)" : "FAILED: the diagram differs");
     psb_diagram_free(&diagram);
     psb_solver_free(&solver);
-    return ok ? 0 : 1;
+    return ok && written ? 0 : 1;
 }

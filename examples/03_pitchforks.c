@@ -16,15 +16,16 @@
    marks.csv and plot.gp (gnuplot plot.gp: diagram.png, l against x1 + x2 + x3). Exit status 0
    only when the graph is the closed-form one: branch points at l = c_i and folds at
    l = c_i + 1/4 to 1e-8, every accepted point on its branch to 1e-8. */
+#define _POSIX_C_SOURCE 200809L /* cli_output_dir */
 #define PSCBRANCH_IMPLEMENTATION
 #define PSCBRANCH_STDIO
 #include "../pscbranch.h"
+#include "cli.h"
 #include "explore_out.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #define N 3
 static const double C[N] = {0.0, 0.5, 1.0};
@@ -75,6 +76,16 @@ static int check_point(int edge, const psb_point *pt, void *user)
     return xo_point(edge, pt, ck->out);
 }
 
+static const char usage[] =
+    "usage: 03_pitchforks [--out DIR]\n"
+    "a smooth diagram with three pitchforks and six folds, found by psb_explore from one point\n"
+    "and checked against its closed form.\n"
+    "  --out DIR   write DIR/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv and plot.gp\n"
+    "              (created if missing; `gnuplot plot.gp` in DIR draws diagram.png)\n"
+    "  -h, --help  this text\n"
+    "Exit status: 0 when the diagram is the exact one, 1 when it is not or an output cannot be\n"
+    "written, 2 on a usage error.\n";
+
 int main(int argc, char **argv)
 {
     psb_problem problem;
@@ -88,10 +99,16 @@ int main(int argc, char **argv)
     double y[N + 1] = {0, 0, 0, -0.5}, t[N + 1] = {0, 0, 0, 1}, lo[N + 1], hi[N + 1];
     int i, ok, pitch[N] = {0}, folds[N] = {0}, box = 0, bound = 0;
     psb_result r;
+    int written;
 
-    for (i = 1; i < argc; i++)
-        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) dir = argv[++i];
-    if (dir) mkdir(dir, 0777);
+    {
+        cli c;
+        cli_init(&c, "03_pitchforks", argc, argv, usage);
+        while (cli_next(&c))
+            if (!cli_string(&c, "--out", &dir)) cli_unknown(&c);
+        if (c.status) return c.status == CLI_HELP ? 0 : 2;
+    }
+    if (dir && cli_output_dir("03_pitchforks", dir)) return 1;
     for (i = 0; i <= N; i++) {
         lo[i] = i < N ? -1 : -10; /* the state box; the parameter has its own bounds */
         hi[i] = i < N ? 1 : 10;
@@ -99,10 +116,14 @@ int main(int argc, char **argv)
 
     psb_problem_init(&problem, N, residual, jacobian, NULL);
     memset(&opt, 0, sizeof opt);
+    memset(&solver, 0, sizeof solver); /* freeable whichever init fails */
+    memset(&diagram, 0, sizeof diagram);
     opt.h_init = 2e-2;
     opt.h_max = 5e-2;
     if (psb_solver_init(&solver, &problem, &opt) < 0 || psb_diagram_init(&diagram, N, 32, 32, 8) < 0) {
-        fprintf(stderr, "init failed\n");
+        fprintf(stderr, "03_pitchforks: out of memory\n");
+        psb_diagram_free(&diagram);
+        psb_solver_free(&solver);
         return 1;
     }
     memset(&eo, 0, sizeof eo); /* the detectors on: folds, branch points, PC1 points */
@@ -111,10 +132,13 @@ int main(int argc, char **argv)
     eo.box_min = lo;
     eo.box_max = hi;
     if (xo_open(&out, dir, N, 0)) {
-        fprintf(stderr, "cannot write to %s\n", dir);
+        xo_error(&out, "03_pitchforks");
+        psb_diagram_free(&diagram);
+        psb_solver_free(&solver);
         return 1;
     }
     out.value = sum_x;
+    out.param_label = "parameter l";
     out.diagram = &diagram;
     ck.out = &out;
     ck.worst = 0;
@@ -126,7 +150,8 @@ int main(int argc, char **argv)
            psb_result_string(r), diagram.n_nodes, diagram.n_edges, diagram.n_points, diagram.n_branchings,
            solver.stats.n_factor);
     xo_print(&diagram, N - 1);
-    if (xo_finish(&out, &diagram, dir, "03_pitchforks", "x1 + x2 + x3")) fprintf(stderr, "cannot write to %s\n", dir);
+    written = !xo_finish(&out, &diagram, dir, "03_pitchforks", "x1 + x2 + x3");
+    if (!written) xo_error(&out, "03_pitchforks");
     else if (dir) printf("\nwrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", dir);
 
     ok = r == PSB_SUCCESS && diagram.n_queued == 0 && diagram.n_edges == 10 && ck.worst <= 1e-8;
@@ -161,5 +186,5 @@ int main(int argc, char **argv)
                       : "FAILED: the diagram differs from the closed form");
     psb_diagram_free(&diagram);
     psb_solver_free(&solver);
-    return ok ? 0 : 1;
+    return ok && written ? 0 : 1;
 }

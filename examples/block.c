@@ -236,6 +236,7 @@ static int branch_and_trace(fe_run *run, double *y, double *t, const args *a)
    hand-driven run's to 1e-8, at no more than 1.3 times its factorisations. */
 static int run_explore(fe_run *run, const double *y, const double *t, const args *a)
 {
+    int write_failed = 0; /* an output not written: named on stderr, exit 1 */
     const fe_model *md = run->md;
     int n = md->n, np1 = n + 1, i, k, ok = 1, count[7] = {0}, nodes_branching = 0, comp = md->udof[md->cnode[0]];
     size_t bytes = sizeof(double) * (size_t)np1;
@@ -255,8 +256,9 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     eo.branch_at_kinks = 1;
     eo.kink_spans = 1; /* an ordinary kink (M800 has two) costs one span, not the sweep */
     if (a->out) mkdir(a->out, 0777);
-    if (xo_open(&o, a->out, n, comp)) { printf("block: cannot write to %s\n", a->out); return 1; }
+    if (xo_open(&o, a->out, n, comp)) { xo_error(&o, "block"); psb_diagram_free(&d); free(yh); free(th); return 1; }
     o.diagram = &d;
+    o.param_label = "load parameter gamma";
     eo.on_point = xo_point;
     eo.point_user = &o;
     memset(&run->s.stats, 0, sizeof run->s.stats);
@@ -265,7 +267,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     printf("\n  psb_explore: %s; %d nodes, %d edges, %d branchings, %d ordinary kinks, %ld points, factorisations %ld\n",
            psb_result_string(r), d.n_nodes, d.n_edges, d.n_branchings, d.n_kinks_plain, d.n_points, f_explore);
     xo_print(&d, comp);
-    if (xo_finish(&o, &d, a->out, "block", "u1 of the left-most contact node (mm)")) printf("block: could not write to %s\n", a->out);
+    if (xo_finish(&o, &d, a->out, "block", "u1 of the left-most contact node (mm)")) { xo_error(&o, "block"); write_failed = 1; }
     else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", a->out);
 
     /* the hand-driven run from the same couple */
@@ -303,7 +305,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     psb_diagram_free(&d);
     free(yh);
     free(th);
-    return ok ? 0 : 1;
+    return ok && !write_failed ? 0 : 1;
 }
 
 int main(int argc, char **argv)

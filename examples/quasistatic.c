@@ -43,7 +43,7 @@
    run 2 and evolution.pvd (a ParaView time series of them, with each node's contact state), plot.gp (gnuplot: quasistatic.png,
    the load against the generalised displacement q = load1 . u, the work per unit lambda).
 
-   Usage: quasistatic [--mesh N] [--dt DT] [--out DIR] [--verbose] [--help]
+   Usage: quasistatic [--mesh N] [--dt DT] [--out DIR] [--verbose] [--quiet] [--help]
    Build (from the repository root):
      cc -std=c99 -O2 -I. examples/quasistatic.c -o examples/quasistatic -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
@@ -52,6 +52,7 @@
 #include "pscbranch.h"
 #define FE_USE_PSB_CONTACT
 #include "fe.h"
+#include "cli.h"
 
 #define LAMBDA_START (-3.0)
 #define LAMBDA_TURN 1.0
@@ -324,6 +325,22 @@ typedef struct outputs {
     psb_result diagram_end;
 } outputs;
 
+/* fopen/fclose of an output file that name it with the reason on failure. */
+static FILE *open_output(const char *path)
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp) fprintf(stderr, "quasistatic: cannot write %s: %s\n", path, strerror(errno));
+    return fp;
+}
+
+static int close_output(FILE *fp, const char *path)
+{
+    errno = 0;
+    if (!fclose(fp)) return 0;
+    fprintf(stderr, "quasistatic: cannot write %s: %s\n", path, errno ? strerror(errno) : "write error");
+    return -1;
+}
+
 /* One time step as VTK XML (.vtu, ASCII), which ParaView's .pvd time series reads: the mesh
    deformed by u, with the displacement and each node's contact state (-1: not a contact node,
    else psb_contact_state of the incremental law) as point data. */
@@ -344,7 +361,7 @@ static int write_vtu_step(const run *R, const fe_mesh *mesh, outputs *o, int ind
             state[b] = (int)st;
     }
     snprintf(path, sizeof path, "%s/step_%04d.vtu", o->dir, index);
-    fp = fopen(path, "w");
+    fp = open_output(path);
     if (!fp) { free(u); free(state); return -1; }
     fprintf(fp, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n<UnstructuredGrid>\n"
                 "<Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n<Points>\n"
@@ -368,14 +385,15 @@ static int write_vtu_step(const run *R, const fe_mesh *mesh, outputs *o, int ind
     fprintf(fp, "</DataArray>\n</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     free(u);
     free(state);
-    if (fclose(fp)) return -1;
+    if (close_output(fp, path)) return -1;
     if (o->pvd) fprintf(o->pvd, "    <DataSet timestep=\"%d\" file=\"step_%04d.vtu\"/>\n", index, index);
     return 0;
 }
 
 /* Runs the load path with time step dt. mode: PSB_EVOLVE_NEWTON (plain, halving) or _AUTO.
-   o (may be NULL): files and the snap step's diagram. */
-static int run_path(run *R, double dt, int mode, outputs *o, const fe_mesh *mesh, int verbose)
+   o (may be NULL): files and the snap step's diagram. progress (may be NULL): the run's name in
+   a progress line per leg of the load path on stderr. */
+static int run_path(run *R, double dt, int mode, outputs *o, const fe_mesh *mesh, int verbose, const char *progress)
 {
     const fe_model *md = R->q.md;
     int n = md->n, leg, vtk = 0;
@@ -397,6 +415,9 @@ static int run_path(run *R, double dt, int mode, outputs *o, const fe_mesh *mesh
     for (leg = 0; leg < 2; leg++) {
         double target = leg == 0 ? LAMBDA_TURN : LAMBDA_START, sign = leg == 0 ? 1 : -1;
         long k, nsteps = lround((LAMBDA_TURN - LAMBDA_START) / dt);
+        if (progress)
+            fprintf(stderr, "quasistatic: %s, %s lambda %g -> %g in %ld steps\n", progress, leg == 0 ? "loading" : "unloading",
+                    leg == 0 ? LAMBDA_START : LAMBDA_TURN, target, nsteps);
         for (k = 1; k <= nsteps; k++) {
             double lam = k == nsteps ? target : (leg == 0 ? LAMBDA_START + k * dt : LAMBDA_TURN - k * dt);
             double sub = lam - R->y[n];
@@ -465,7 +486,7 @@ static int write_rows(const run *R, const char *dir, const char *name)
     FILE *fp;
     int k;
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    fp = fopen(path, "w");
+    fp = open_output(path);
     if (!fp) return -1;
     fprintf(fp, "step,lambda,q,method,n_folds,fold1,fold2,jump_w,path_length,cont_steps,factorisations,"
                 "separated,stick,slip_pos,slip_neg,residual,coulomb_violation\n");
@@ -475,7 +496,7 @@ static int write_rows(const run *R, const char *dir, const char *name)
                 w->method == PSB_EVOLVE_CONTINUATION ? "continuation" : "newton", w->n_folds, w->fold[0], w->fold[1], w->jump,
                 w->path, w->steps, w->factor, w->states[0], w->states[1], w->states[2], w->states[3], w->resnorm, w->coulomb);
     }
-    return fclose(fp) ? -1 : 0;
+    return close_output(fp, path);
 }
 
 static int write_curve(const curve *c, const char *dir, const char *name)
@@ -484,49 +505,54 @@ static int write_curve(const curve *c, const char *dir, const char *name)
     FILE *fp;
     long k;
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    fp = fopen(path, "w");
+    fp = open_output(path);
     if (!fp) return -1;
     fprintf(fp, "lambda,q\n");
     for (k = 0; k < c->n; k++) fprintf(fp, "%.10f,%.10g\n", c->pts[2 * k], c->pts[2 * k + 1]);
-    return fclose(fp) ? -1 : 0;
+    return close_output(fp, path);
 }
 
+/* plot.gp: the load against q for both runs, the snap step's path over its static diagram, and an
+   inset around the snap; Okabe-Ito colours (no yellow) and a symbol per run, one legend. */
 static int write_gnuplot(const char *dir, const run *R)
 {
     char path[1024];
     FILE *fp;
     snprintf(path, sizeof path, "%s/plot.gp", dir);
-    fp = fopen(path, "w");
+    fp = open_output(path);
     if (!fp) return -1;
     const step_row *b = R->rows + R->snap_row - 1, *a = R->rows + R->snap_row;
+    /* the inset's q ticks: three or four, at 1, 2 or 5 times a power of ten (readable at 640 px) */
+    double inset_width = a->q - b->q + 0.03, raw = inset_width / 3, p10 = pow(10, floor(log10(raw)));
+    double inset_tick = (raw / p10 <= 1 ? 1 : raw / p10 <= 2 ? 2 : raw / p10 <= 5 ? 5 : 10) * p10;
     const char *series =
-        "plot 'diagram.csv' using 2:1 skip 1 with lines lw 1 lc rgb '#999999' title 'static diagram of the snap step (H_k = 0)', \\\n"
-        "     'snap_path.csv' using 2:1 skip 1 with lines lw 3 lc rgb '#d62728' title 'the snap step''s continuation path', \\\n"
-        "     'evolution.csv' using 3:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb '#1f77b4' title 'time steps with the continuation fallback', \\\n"
-        "     'newton.csv' using 3:2 skip 1 with points pt 6 ps 1.2 lc rgb '#2ca02c' title 'plain Newton time steps (stall at the fold)'\n";
+        "plot 'diagram.csv' using 2:1 skip 1 with lines lw 1 lc rgb '#888888' title 'static diagram of the snap step', \\\n"
+        "     'snap_path.csv' using 2:1 skip 1 with lines lw 3 lc rgb '#D55E00' title 'the snap step''s path', \\\n"
+        "     'evolution.csv' using 3:2 skip 1 with linespoints pt 7 ps 0.5 lc rgb '#0072B2' title 'time steps, continuation fallback', \\\n"
+        "     'newton.csv' using 3:2 skip 1 with points pt 6 ps 1.2 lc rgb '#009E73' title 'plain Newton time steps (stall)'\n";
     fprintf(fp,
             "# gnuplot plot.gp -> quasistatic.png\n"
             "set terminal pngcairo size 1000,700 noenhanced\n"
             "set output 'quasistatic.png'\n"
             "set datafile separator ','\n"
             "set multiplot\n"
-            "set key top left\n"
+            "set key top left reverse Left samplen 2\n"
             "set grid\n"
             "set xlabel 'generalised displacement q = load1 . u (work per unit lambda)'\n"
             "set ylabel 'load lambda'\n"
-            "set title 'snap-through in the step lambda %.3f -> %.3f: folds of its continuation problem at %.5f and %.5f'\n"
+            "set title 'snap-through in the step lambda %.3f -> %.3f, folds at %.5f and %.5f'\n"
             "%s"
-            "set origin 0.55, 0.1\nset size 0.42, 0.45\nunset key\nunset title\nunset xlabel\nunset ylabel\n"
+            "set origin 0.55, 0.1\nset size 0.42, 0.45\nunset key\nunset title\nset xlabel 'q' offset 0,0.4\nset ylabel 'lambda' offset 2,0\n"
             "set object 1 rectangle from graph 0,0 to graph 1,1 behind fillcolor rgb 'white' fillstyle solid\n"
-            "set xrange [%.4f:%.4f]\nset yrange [%.4f:%.4f]\n"
+            "set xrange [%.4f:%.4f]\nset yrange [%.4f:%.4f]\nset xtics %g\n"
             "%s"
             "unset multiplot\n",
             b->lambda, a->lambda, R->snap_rep.fold_params[0], R->snap_rep.fold_params[1], series, b->q - 0.02, a->q + 0.01,
-            R->snap_rep.param_low - 0.02, a->lambda + 0.02, series);
-    return fclose(fp) ? -1 : 0;
+            R->snap_rep.param_low - 0.02, a->lambda + 0.02, inset_tick, series);
+    return close_output(fp, path);
 }
 
-/* mkdir -p */
+/* mkdir -p (one level is checked by cli_output_dir afterwards) */
 static void make_dirs(const char *dir)
 {
     char buf[1024];
@@ -537,11 +563,22 @@ static void make_dirs(const char *dir)
     mkdir(buf, 0777);
 }
 
-static const char *usage =
-    "usage: quasistatic [--mesh N] [--dt DT] [--out DIR] [--verbose] [--help]\n"
-    "  --mesh N   subdivisions per leg of the triangle [16]\n"
-    "  --dt DT    load increment per time step [0.05]; a second run uses DT/2\n"
-    "  --out DIR  CSV per run, VTK (.vtu) per step with evolution.pvd, the snap step's diagram, plot.gp\n";
+#define QS_MAX_MESH 512   /* subdivisions per leg: N grows as its square */
+#define QS_MIN_DT 1e-4    /* 4 / dt steps per leg, 3 runs, a row and a state kept per step */
+
+static const char usage[] =
+    "usage: quasistatic [--mesh N] [--dt DT] [--out DIR] [--verbose] [--quiet]\n"
+    "Quasi-static evolution of the triangle on a frictional foundation through a snap-through:\n"
+    "plain Newton time stepping stalls at the fold, psb_evolve_step's continuation passes it.\n"
+    "  --mesh N    subdivisions per leg of the triangle, 2 to 512 [16]\n"
+    "  --dt DT     load increment per time step, 1e-4 to 1 [0.05]; a third run uses DT/2\n"
+    "  --out DIR   CSV per run, VTK (.vtu) per step with evolution.pvd, the snap step's diagram,\n"
+    "              plot.gp (`gnuplot plot.gp` in DIR draws quasistatic.png); DIR is created\n"
+    "  --verbose   a line per time step\n"
+    "  --quiet     no progress on stderr\n"
+    "  -h, --help  this text\n"
+    "Exit status: 0 when every check holds, 1 when one fails or an output cannot be written,\n"
+    "2 on a usage error.\n";
 
 int main(int argc, char **argv)
 {
@@ -549,36 +586,46 @@ int main(int argc, char **argv)
     fe_model md;
     run plain, cont, half;
     outputs out;
-    double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, dt = 0.05, *w, dmax = 0, umax = 0;
+    double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, dt = 0.05, *w = NULL, dmax = 0, umax = 0;
     int kmax = 0;
-    int nsub = 16, verbose = 0, i, k, ok = 1, ncommon = 0;
+    int nsub = 16, verbose = 0, quiet = 0, k, ok = 1, ncommon = 0, status = 1;
     const char *dir = NULL;
-    for (i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { fputs(usage, stdout); return 0; }
-        else if (!strcmp(argv[i], "--mesh") && i + 1 < argc) nsub = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--dt") && i + 1 < argc) dt = atof(argv[++i]);
-        else if (!strcmp(argv[i], "--out") && i + 1 < argc) dir = argv[++i];
-        else if (!strcmp(argv[i], "--verbose")) verbose = 1;
-        else { fputs(usage, stderr); return 2; }
+    {
+        cli c;
+        cli_init(&c, "quasistatic", argc, argv, usage);
+        while (cli_next(&c)) {
+            if (cli_flag(&c, "--verbose")) verbose = 1;
+            else if (cli_flag(&c, "--quiet")) quiet = 1;
+            else if (cli_int(&c, "--mesh", &nsub, 2, QS_MAX_MESH)) {}
+            else if (cli_double(&c, "--dt", &dt, QS_MIN_DT, 1, 0)) {}
+            else if (cli_string(&c, "--out", &dir)) {}
+            else cli_unknown(&c);
+        }
+        if (c.status) return c.status == CLI_HELP ? 0 : 2;
     }
-    if (nsub < 2 || nsub > 512 || !(dt > 0) || dt > 1) { fputs(usage, stderr); return 2; }
+    if (dir) {
+        make_dirs(dir);
+        if (cli_output_dir("quasistatic", dir)) return 1;
+    }
+    if (!quiet) fprintf(stderr, "quasistatic: building the mesh (%d per leg) and its model\n", nsub);
+    memset(&plain, 0, sizeof plain);
+    memset(&cont, 0, sizeof cont);
+    memset(&half, 0, sizeof half);
+    memset(&out, 0, sizeof out);
     if (fe_triangle_model(&md, &mesh, nsub, 1, h0, h1)) { fprintf(stderr, "quasistatic: out of memory\n"); return 1; }
     w = malloc(sizeof(double) * ((size_t)md.n + 1));
-    if (!w) return 1;
+    if (!w) { fprintf(stderr, "quasistatic: out of memory\n"); goto done; }
     fe_weights(&md, 1.0 / md.n, 1, w);
     if (run_init(&plain, &md, w) || run_init(&cont, &md, w) || run_init(&half, &md, w)) {
         fprintf(stderr, "quasistatic: solver set-up failed\n");
-        return 1;
+        goto done;
     }
-    memset(&out, 0, sizeof out);
     out.path.md = out.diagram.md = &md;
     out.dir = dir;
     if (dir) {
         char path[1024];
-        make_dirs(dir);
         snprintf(path, sizeof path, "%s/evolution.pvd", dir);
-        out.pvd = fopen(path, "w");
-        if (!out.pvd) { fprintf(stderr, "quasistatic: cannot write %s\n", path); return 1; }
+        if (!(out.pvd = open_output(path))) goto done;
         fprintf(out.pvd, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
     }
     printf("quasistatic: triangle M%d (%d per leg), N = %d, %d contact nodes, F = %g; h = (-20 - 10 lambda, -7.5), "
@@ -586,7 +633,7 @@ int main(int argc, char **argv)
            LAMBDA_START, dt);
 
     printf("\n1. plain time stepping (Newton from the previous state, step halved down to dt/4096):\n");
-    if (run_path(&plain, dt, PSB_EVOLVE_NEWTON, NULL, &mesh, verbose)) return 1;
+    if (run_path(&plain, dt, PSB_EVOLVE_NEWTON, NULL, &mesh, verbose, quiet ? NULL : "run 1 of 3 (plain Newton)")) goto done;
     if (plain.failed)
         printf("  stalled at lambda = %.6f after %d steps: no solution found for the next step, halved down to %.2e (%s)\n",
                plain.fail_lambda, plain.nrows, plain.fail_dt, psb_result_string(plain.fail_code));
@@ -594,7 +641,7 @@ int main(int argc, char **argv)
         printf("  reached the end of the load path (%d steps)\n", plain.nrows);
 
     printf("\n2. with the continuation fallback (psb_evolve_step, PSB_EVOLVE_AUTO):\n");
-    if (run_path(&cont, dt, PSB_EVOLVE_AUTO, &out, &mesh, verbose)) return 1;
+    if (run_path(&cont, dt, PSB_EVOLVE_AUTO, &out, &mesh, verbose, quiet ? NULL : "run 2 of 3 (continuation fallback)")) goto done;
     if (cont.failed) printf("  FAILED at lambda = %.6f: %s\n", cont.fail_lambda, psb_result_string(cont.fail_code));
     if (cont.snap_row > 0) {
         const psb_evolve_report *sr = &cont.snap_rep;
@@ -613,7 +660,7 @@ int main(int argc, char **argv)
     printf("  %d steps to lambda = %g, %d snap step(s)\n", cont.nrows, cont.rows[cont.nrows - 1].lambda, cont.snaps);
 
     printf("\n3. again with dt/2:\n");
-    if (run_path(&half, dt / 2, PSB_EVOLVE_AUTO, NULL, &mesh, 0)) return 1;
+    if (run_path(&half, dt / 2, PSB_EVOLVE_AUTO, NULL, &mesh, 0, quiet ? NULL : "run 3 of 3 (dt/2)")) goto done;
     printf("  %d steps, %d snap step(s)%s\n", half.nrows, half.snaps, half.failed ? ", FAILED" : "");
     /* common times: row k of run 2 is row 2k of run 3 (steps are exact fractions of the path) */
     for (k = 0; k < cont.nrows && 2 * k < half.nrows; k++) {
@@ -659,20 +706,24 @@ int main(int argc, char **argv)
     }
 
     if (dir) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/evolution.pvd", dir);
         fprintf(out.pvd, "  </Collection>\n</VTKFile>\n");
-        fclose(out.pvd);
-        if (write_rows(&plain, dir, "newton.csv") || write_rows(&cont, dir, "evolution.csv") ||
+        k = close_output(out.pvd, path);
+        out.pvd = NULL;
+        if (k || write_rows(&plain, dir, "newton.csv") || write_rows(&cont, dir, "evolution.csv") ||
             write_curve(&out.path, dir, "snap_path.csv") || write_curve(&out.diagram, dir, "diagram.csv") ||
-            (cont.snap_row > 0 && write_gnuplot(dir, &cont))) {
-            fprintf(stderr, "quasistatic: cannot write to %s\n", dir);
-            ok = 0;
-        } else {
+            (cont.snap_row > 0 && write_gnuplot(dir, &cont)))
+            ok = 0; /* the file is named on stderr */
+        else
             printf("files in %s: newton.csv, evolution.csv, snap_path.csv, diagram.csv, step_*.vtu + evolution.pvd, plot.gp\n", dir);
-        }
     }
     printf("quasistatic: %s\n", ok ? "OK" : "FAILED");
+    status = ok ? 0 : 1;
+done:
+    if (out.pvd) fclose(out.pvd);
     run_free(&plain); run_free(&cont); run_free(&half);
     free(out.path.pts); free(out.diagram.pts); free(w);
     fe_model_free(&md); fe_mesh_free(&mesh);
-    return ok ? 0 : 1;
+    return status;
 }

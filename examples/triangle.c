@@ -406,6 +406,7 @@ done:
    |gamma| = 1 and checked as the hand-driven run's are. */
 static int run_explore(fe_run *run, const double *y, const double *t, const args *a, double t0)
 {
+    int write_failed = 0; /* an output not written: named on stderr, exit 1 */
     const fe_model *md = run->md;
     int n = md->n, i, ok = 1, count[5] = {0}, n_fold = 0, n_branching = 0, comp = md->udof[md->cnode[0]];
     size_t bytes = sizeof(double) * ((size_t)n + 1);
@@ -424,8 +425,9 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     eo.branch_at_kinks = !a->fold;
     eo.kink_spans = 1; /* an ordinary kink costs one span of Algorithm 2.2, not the sweep */
     if (a->out) mkdir(a->out, 0777);
-    if (xo_open(&o, a->out, n, comp)) { printf("triangle: cannot write to %s\n", a->out); return 1; }
+    if (xo_open(&o, a->out, n, comp)) { xo_error(&o, "triangle"); psb_diagram_free(&d); free(ye); free(te); return 1; }
     o.diagram = &d;
+    o.param_label = "load parameter gamma";
     eo.on_point = xo_point;
     eo.point_user = &o;
     r = psb_explore(&run->s, ye, te, &eo, &d);
@@ -434,7 +436,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
            run->s.stats.n_factor);
     xo_print(&d, comp);
     if (xo_finish(&o, &d, a->out, a->fold ? "triangle (fold)" : "triangle (branching)", "u1 of the lower left vertex (m)"))
-        printf("triangle: could not write to %s\n", a->out);
+        { xo_error(&o, "triangle"); write_failed = 1; }
     else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", a->out);
     for (i = 0; i < d.n_nodes; i++) {
         const psb_node *nd = d.nodes + i;
@@ -483,7 +485,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     psb_diagram_free(&d);
     free(ye);
     free(te);
-    return ok ? 0 : 1;
+    return ok && !write_failed ? 0 : 1;
 }
 
 int main(int argc, char **argv)

@@ -14,7 +14,7 @@ trap 'rm -rf "$tmp"' EXIT
 passed=0
 failed=0
 
-for prog in 01_branching block triangle fc_solve; do
+for prog in 01_branching 02_explore 03_pitchforks block triangle fc_solve quasistatic; do
     if [ ! -x "$bin/$prog" ]; then
         echo "tests/cli.sh: $bin/$prog is missing (make examples)"
         exit 1
@@ -59,7 +59,7 @@ expect() {
 usage() { expect 2 "$@"; }
 fails() { expect 1 "$@"; }
 
-for prog in 01_branching block triangle fc_solve; do help "$prog"; done
+for prog in 01_branching 02_explore 03_pitchforks block triangle fc_solve quasistatic; do help "$prog"; done
 
 # end-point files for --refine: a hostile header (a heap overflow once), a missing file
 printf 'fe-ends rect 40 80 65536 65536\n1 4295098369\n' >"$tmp/hostile.txt"
@@ -104,9 +104,12 @@ fails "/dev/full is not a directory" block --quiet --out /dev/full
 fails "cannot write /dev/full" block --quiet --mesh 5x10 --save /dev/full
 fails "cannot write /dev/full" block --quiet --mesh 5x10 --compare "$tmp/short.txt" --save /dev/full
 # an output file that cannot be opened inside a writable --out (a directory in its place)
-mkdir -p "$tmp/o1/plot.gp" "$tmp/o2/folds.csv" "$tmp/o3/branches_01.csv" "$tmp/o4/branch_3.vtk"
+mkdir -p "$tmp/o1/plot.gp" "$tmp/o2/folds.csv" "$tmp/o3/branches_01.csv" "$tmp/o4/branch_3.vtk" "$tmp/o5/marks.csv" \
+    "$tmp/o6/diagram.json" "$tmp/o7/step_0003.vtu" "$tmp/o8/evolution.csv" "$tmp/o9/points.csv"
 fails "cannot write $tmp/o1/plot.gp: Is a directory" block --quiet --mesh 5x10 --out "$tmp/o1"
 fails "cannot write $tmp/o4/branch_3.vtk: Is a directory" block --quiet --mesh 5x10 --out "$tmp/o4"
+fails "cannot write $tmp/o9/points.csv: Is a directory" block --quiet --explore --mesh 5x10 --out "$tmp/o9"
+fails "cannot write $tmp/o5/marks.csv: Is a directory" block --quiet --explore --mesh 5x10 --out "$tmp/o5"
 
 # triangle
 usage "unknown option '--bogus'" triangle --bogus
@@ -123,6 +126,7 @@ usage "--dirichlet foo: expected one of mult, elim" triangle --dirichlet foo
 fails "/dev/full is not a directory" triangle --quiet --mesh 16 --problem fold --out /dev/full
 fails "cannot write /dev/full" triangle --quiet --mesh 8 --problem branching --save /dev/full
 fails "cannot write $tmp/o2/folds.csv: Is a directory" triangle --quiet --mesh 16 --problem fold --out "$tmp/o2"
+fails "cannot write $tmp/o6/diagram.json: Is a directory" triangle --quiet --explore --mesh 8 --out "$tmp/o6"
 fails "not a valid end-point file" triangle --quiet --mesh 8 --load 26 --refine "$tmp/hostile.txt"
 # --mesh 2: the default load's fold problem fails; the message must not blame a --load not given
 fails "choosing the default load" triangle --quiet --mesh 2
@@ -145,6 +149,37 @@ usage "--out needs a value" 01_branching --out
 usage "unexpected argument 'extra'" 01_branching extra
 fails "cannot create directory /dev/full/x" 01_branching --out /dev/full/x
 fails "cannot write $tmp/o3/branches_01.csv: Is a directory" 01_branching --out "$tmp/o3"
+
+# 02_explore, 03_pitchforks
+usage "unknown option '--bogus'" 02_explore --bogus
+usage "--out needs a value" 02_explore --out
+usage "--out: empty value" 02_explore --out=
+usage "unexpected argument 'extra'" 02_explore extra
+fails "cannot create directory /dev/full/x" 02_explore --out /dev/full/x
+fails "cannot write $tmp/o5/marks.csv: Is a directory" 02_explore --out "$tmp/o5"
+usage "unknown option '--quiet'" 03_pitchforks --quiet
+usage "--out needs a value" 03_pitchforks --out --help
+usage "unexpected argument 'x'" 03_pitchforks --out "$tmp" x
+fails "/dev/full is not a directory" 03_pitchforks --out /dev/full
+fails "cannot write $tmp/o6/diagram.json: Is a directory" 03_pitchforks --out "$tmp/o6"
+
+# quasistatic
+usage "unknown option '--bogus'" quasistatic --bogus
+usage "--mesh 1: must be between 2 and 512" quasistatic --mesh 1
+usage "--mesh 100000: must be between 2 and 512" quasistatic --mesh 100000
+usage "--mesh 8x8: expected an integer" quasistatic --mesh 8x8
+usage "--mesh 4294967312: must be between 2 and 512" quasistatic --mesh 4294967312
+usage "--dt 0: must be >= 0.0001" quasistatic --dt 0
+usage "--dt -0.1: must be >= 0.0001" quasistatic --dt -0.1
+usage "--dt 1e-300: must be >= 0.0001" quasistatic --dt 1e-300
+usage "--dt 2: must be <= 1" quasistatic --dt 2
+usage "--dt nan: must be a finite number" quasistatic --dt nan
+usage "--dt 0.1s: expected a number" quasistatic --dt 0.1s
+usage "--quiet takes no value" quasistatic --quiet=no
+usage "unexpected argument 'now'" quasistatic now
+fails "/dev/full is not a directory" quasistatic --quiet --out /dev/full
+fails "cannot write $tmp/o7/step_0003.vtu: Is a directory" quasistatic --quiet --mesh 8 --dt 0.1 --out "$tmp/o7"
+fails "cannot write $tmp/o8/evolution.csv: Is a directory" quasistatic --quiet --mesh 8 --dt 0.1 --out "$tmp/o8"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
