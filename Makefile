@@ -5,6 +5,8 @@
 #   make demo      run the main demo and draw its pictures (gnuplot, installed like the rest)
 #   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
 #   make bench     the benchmarks (bench/out/)
+#   make fuzz [FUZZ_SECONDS=30]   every libFuzzer target in fuzz/ (clang; see fuzz/README.md)
+#   make images    the README's pictures in docs/img/ (docs/make_images.sh)
 #   make install PREFIX=/usr/local [DESTDIR=...]   the header, pscbranch.pc, the CMake package
 #                  (find_package(pscbranch)), the docs and the examples' sources
 #   make uninstall PREFIX=... [DESTDIR=...]        removes what install put there
@@ -32,7 +34,7 @@ TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BU
 EXAMPLES = examples/01_branching examples/02_explore examples/03_pitchforks examples/fc_solve examples/block \
 	examples/triangle examples/quasistatic
 
-.PHONY: all test check demo demo-run examples bench asan ubsan fuzz install uninstall clean \
+.PHONY: all test check demo demo-run examples bench asan ubsan fuzz fuzz-run install uninstall clean \
 	quasistatic-demo quasistatic-demo-run images images-run
 
 all: $(TESTS) $(EXAMPLES)
@@ -250,7 +252,11 @@ $(FUZZ_BUILD)/fuzz_%: fuzz/fuzz_%.c $(HEADER) $(wildcard fuzz/*.h examples/*.c e
 	@mkdir -p $(FUZZ_BUILD)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) $(FUZZ_EXTRA_CFLAGS) $< -o $@ $(FUZZ_EXTRA_LIBS) $(LIBS)
 
-fuzz: $(patsubst %,$(FUZZ_BUILD)/fuzz_%,$(FUZZ_NAMES))
+fuzz:
+	@$(DEPS) lapack fuzz 'hdf5?'
+	@$(MAKE) --no-print-directory fuzz-run
+
+fuzz-run: $(patsubst %,$(FUZZ_BUILD)/fuzz_%,$(FUZZ_NAMES))
 	@set -e; for n in $(FUZZ_NAMES); do \
 	  rm -rf $(FUZZ_BUILD)/corpus-$$n; mkdir -p $(FUZZ_BUILD)/corpus-$$n; \
 	  if [ -d fuzz/corpus/$$n ]; then cp -R fuzz/corpus/$$n/. $(FUZZ_BUILD)/corpus-$$n/; fi; \

@@ -6,7 +6,8 @@
 #
 #   tools/deps.sh NEED...      NEED: cc (the C compiler $CC), cxx (the C++ compiler $CXX),
 #                              lapack (a program calling dgetrf_ links with $LAPACK_LIBS and
-#                              runs), gnuplot; a trailing '?' marks a need optional (hdf5?): it is
+#                              runs), gnuplot, fuzz (clang with libFuzzer: a fuzz target links
+#                              with -fsanitize=fuzzer,address,undefined); a trailing '?' marks a need optional (hdf5?): it is
 #                              installed along with the others when they are, never an error.
 #
 # Environment: CC, CXX, LAPACK_LIBS as make passes them; DEPS_NO_INSTALL=1 only reports.
@@ -23,6 +24,14 @@ trap cleanup EXIT
 has_cc() { command -v "${CC%% *}" >/dev/null 2>&1; }
 has_cxx() { command -v "${CXX%% *}" >/dev/null 2>&1; }
 has_gnuplot() { command -v gnuplot >/dev/null 2>&1; }
+has_fuzz() {
+    command -v clang >/dev/null 2>&1 || return 1
+    [ -n "$tmp" ] || tmp=$(mktemp -d "${TMPDIR:-/tmp}/pscbranch-deps.XXXXXX") || return 1
+    printf '%s\n' '#include <stddef.h>' '#include <stdint.h>' \
+        'int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n) { (void)d; (void)n; return 0; }' \
+        >"$tmp/f.c"
+    clang -fsanitize=fuzzer,address,undefined "$tmp/f.c" -o "$tmp/f" >"$tmp/log" 2>&1
+}
 has_hdf5() { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists hdf5; }
 has_lapack() {
     has_cc || return 1
@@ -57,6 +66,9 @@ package_of() {
     lapack) echo "liblapack-dev libblas-dev" ;;
     gnuplot) echo gnuplot-nox ;;
     hdf5) echo "pkg-config libhdf5-dev" ;;
+    fuzz) # libFuzzer ships with clang's runtime, packaged per clang version
+        v=$(clang --version 2>/dev/null | sed -n 's/.*clang version \([0-9]*\).*/\1/p' | head -n 1)
+        echo "clang libclang-rt-${v:-14}-dev" ;;
     *) echo "tools/deps.sh: unknown need '$1'" >&2; exit 2 ;;
     esac
 }
@@ -69,6 +81,7 @@ describe() {
     lapack) echo "LAPACK/BLAS (a program calling dgetrf_ linked with $LAPACK_LIBS)" ;;
     gnuplot) echo "gnuplot" ;;
     hdf5) echo "HDF5 through pkg-config" ;;
+    fuzz) echo "clang with libFuzzer" ;;
     esac
 }
 
