@@ -873,7 +873,9 @@ static void test_coupled_limit(void)
 /* A finding of fuzz_fc_solve: mu = 4.6e72 at a sliding contact multiplies the rounding of u_T
    (~1e-29) into uhat_N, so the eq. (15) error the solver computed (3e-17) and an independent
    recomputation (2e-3) disagreed and the problem was reported solved. The rounding bound of the
-   acceptance test carries (1 + mu) now: not solved, with the bound in the verdict. */
+   acceptance test carries (1 + mu) now: not solved, with the bound in the verdict. The numbers
+   are that mutation of data/fc-problems/FC2D_SliderCrankLagrangian00000.dat (Siconos, INRIA,
+   Apache-2.0: data/README.md). */
 static void test_huge_mu(void)
 {
     char path[512];
