@@ -13,13 +13,17 @@
 # without it the script says so and exits 0. Usage (from anywhere):
 #   bash bench/getfem_side_by_side.sh                       # block M200, 3 sittings
 #   REPEAT=1 MESH=20x40 bash bench/getfem_side_by_side.sh   # M800 once (GetFEM: minutes)
-#   TRIANGLE=64 bash bench/getfem_side_by_side.sh           # the triangle M4096 too
+#   TRIANGLE=64 bash bench/getfem_side_by_side.sh           # the triangle M4096 too, once
+#                                      (TRIANGLE_REPEAT=K: K sittings; GetFEM takes minutes there;
+#                                      BLOCK=0 skips the block)
 # Tables on stdout, CSV in bench/out/getfem_side_by_side.csv, logs in bench/out/getfem/.
 set -u
 cd "$(dirname "$0")/.."
 REPEAT=${REPEAT:-3}
 MESH=${MESH:-10x20}
 TRIANGLE=${TRIANGLE:-}
+TRIANGLE_REPEAT=${TRIANGLE_REPEAT:-1}
+BLOCK=${BLOCK:-1}
 PY=${GETFEM_PYTHON:-/usr/bin/python3}
 OUT=bench/out
 LOGS=$OUT/getfem
@@ -34,8 +38,18 @@ mkdir -p "$LOGS"
 
 # pscbranch's side: the examples built here with -O2 (the banded backend, as `make examples`)
 $CC -std=c99 -O2 -I. examples/block.c -o "$OUT/block_side" -llapack -lblas -lm || exit 1
+# the triangle with UMFPACK through the user-solver callbacks when libsuitesparse-dev is there
+# (as bench/triangle_study.sh), else with the banded backend
+tri_flags=()
 if [ -n "$TRIANGLE" ]; then
-    $CC -std=c99 -O2 -I. examples/triangle.c -o "$OUT/triangle_side" -llapack -lblas -lm || exit 1
+    SS_INC=${SS_INC:-/usr/include/suitesparse}
+    if [ -f "$SS_INC/umfpack.h" ]; then
+        $CC -std=c99 -O2 -I. -I"$SS_INC" -DFE_UMFPACK examples/triangle.c -o "$OUT/triangle_side" -lumfpack -llapack -lblas -lm || exit 1
+        tri_flags=(--sparse) tri_backend="UMFPACK (user solver)"
+    else
+        $CC -std=c99 -O2 -I. examples/triangle.c -o "$OUT/triangle_side" -llapack -lblas -lm || exit 1
+        tri_backend="banded LAPACK (no libsuitesparse-dev for the sparse build)"
+    fi
 fi
 
 # Both sides run single-threaded: pscbranch is, GetFEM's Debian build uses sequential MUMPS; a
@@ -47,6 +61,7 @@ gver=$(dpkg-query -W -f='${Version}' python3-getfem 2>/dev/null || echo unknown)
 echo "getfem_side_by_side: $(date -u +%Y-%m-%dT%H:%M:%SZ), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "  BLAS: pscbranch $blas; GetFEM $gblas (OPENBLAS_NUM_THREADS=OMP_NUM_THREADS=1)"
 echo "  GetFEM $gver (python3-getfem), linear solver MUMPS (sequential); $PY"
+echo "  pscbranch: block banded LAPACK${TRIANGLE:+, triangle $tri_backend}"
 
 CSV=$OUT/getfem_side_by_side.csv
 echo "problem,mesh,sitting,side,wall_s,cpu_s,own_cpu_s,branches,status" >"$CSV"
@@ -61,16 +76,16 @@ timed() {
 }
 
 ratios=()
-side_by_side() { # PROBLEM MESH PSB_CMD... -- GETFEM_CMD...
-    local problem=$1 mesh=$2 k psb=() gfm=() seen=0
-    shift 2
+side_by_side() { # PROBLEM MESH SITTINGS PSB_CMD... -- GETFEM_CMD...
+    local problem=$1 mesh=$2 reps=$3 k psb=() gfm=() seen=0
+    shift 3
     for a in "$@"; do
         if [ "$a" = -- ]; then seen=1; continue; fi
         if [ $seen = 0 ]; then psb+=("$a"); else gfm+=("$a"); fi
     done
     echo
     echo "  $problem $mesh: sitting | pscbranch wall  CPU  (own) branches | GetFEM wall  CPU  (own) branches | ratio wall  CPU | end values vs pscbranch"
-    for k in $(seq 1 "$REPEAT"); do
+    for k in $(seq 1 "$reps"); do
         local d=$LOGS/${problem}_${mesh}_$k
         mkdir -p "$d"
         timed "$d/pscbranch.log" "${psb[@]}" --out "$d/psb"
@@ -103,9 +118,9 @@ side_by_side() { # PROBLEM MESH PSB_CMD... -- GETFEM_CMD...
     grep -h "phases (CPU s)" "$LOGS/${problem}_${mesh}_"*/getfem.log 2>/dev/null | head -n 1 | sed 's/^ */  GetFEM /'
 }
 
-side_by_side block "$MESH" "$OUT/block_side" --mesh "$MESH" -- "$PY" bench/getfem/block.py --mesh "$MESH"
+[ "$BLOCK" = 0 ] || side_by_side block "$MESH" "$REPEAT" "$OUT/block_side" --mesh "$MESH" -- "$PY" bench/getfem/block.py --mesh "$MESH"
 if [ -n "$TRIANGLE" ]; then
-    side_by_side triangle "$TRIANGLE" "$OUT/triangle_side" --mesh "$TRIANGLE" --load 26.4 -- "$PY" bench/getfem/triangle.py --mesh "$TRIANGLE"
+    side_by_side triangle "$TRIANGLE" "$TRIANGLE_REPEAT" "$OUT/triangle_side" --mesh "$TRIANGLE" --load 26.4 "${tri_flags[@]}" -- "$PY" bench/getfem/triangle.py --mesh "$TRIANGLE"
 fi
 echo
 echo "  logs: $LOGS/, CSV: $CSV"
