@@ -58,7 +58,7 @@ export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 blas=$(ldd "$OUT/block_side" | awk '/libblas.so.3/{print $3}' | xargs readlink -f 2>/dev/null)
 gblas=$(ldd "$("$PY" -c 'import getfem._getfem as g; print(g.__file__)')" | awk '/libblas.so.3/{print $3}' | xargs readlink -f 2>/dev/null)
 gver=$(dpkg-query -W -f='${Version}' python3-getfem 2>/dev/null || echo unknown)
-echo "getfem_side_by_side: $(date -u +%Y-%m-%dT%H:%M:%SZ), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "getfem_side_by_side: $(date -u +%Y-%m-%dT%H:%M:%SZ), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $(grep -c ^processor /proc/cpuinfo) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "  BLAS: pscbranch $blas; GetFEM $gblas (OPENBLAS_NUM_THREADS=OMP_NUM_THREADS=1)"
 echo "  GetFEM $gver (python3-getfem), linear solver MUMPS (sequential); $PY"
 echo "  pscbranch: block banded LAPACK${TRIANGLE:+, triangle $tri_backend}"
