@@ -127,8 +127,10 @@ def run(name, a, md, corner_dofs, classify, expected, unit, start, h_branch, c_d
         txs = txs.T
     tgs = np.atleast_1d(np.asarray(tgs, dtype=float))
     t_branch = time.process_time()
-    print('  approach: %d continuation steps; non-smooth point at gamma = %.3e; %d one-sided branch tangents there'
-          ' (the input branch among them)' % (approach_steps, gs, len(tgs)))
+    print('  approach: %d continuation steps%s; non-smooth point at gamma = %.3e; %d one-sided branch tangents there'
+          ' (the input branch among them)'
+          % (approach_steps, ' (GetFEM\'s "Continuation has failed!" above: the approach stopping at the point,'
+             ' then the branching forced there)' if stop_at_kink else '', gs, len(tgs)))
 
     ends = []
     for k in range(len(tgs)):
