@@ -16,7 +16,7 @@
 #   TRIANGLE=64 bash bench/getfem_side_by_side.sh           # the triangle M4096 too, once
 #                                      (TRIANGLE_REPEAT=K: K sittings; GetFEM takes minutes there;
 #                                      BLOCK=0 skips the block)
-# Tables on stdout, CSV in bench/out/getfem_side_by_side.csv, logs in bench/out/getfem/.
+# Tables on stdout, CSV in bench/out/getfem_<problem>_<mesh>.csv, logs in bench/out/getfem/.
 set -u
 cd "$(dirname "$0")/.."
 REPEAT=${REPEAT:-3}
@@ -37,7 +37,9 @@ fi
 mkdir -p "$LOGS"
 
 # pscbranch's side: the examples built here with -O2 (the banded backend, as `make examples`)
-$CC -std=c99 -O2 -I. examples/block.c -o "$OUT/block_side" -llapack -lblas -lm || exit 1
+if [ "$BLOCK" != 0 ]; then
+    $CC -std=c99 -O2 -I. examples/block.c -o "$OUT/block_side" -llapack -lblas -lm || exit 1
+fi
 # the triangle with UMFPACK through the user-solver callbacks when libsuitesparse-dev is there
 # (as bench/triangle_study.sh), else with the banded backend
 tri_flags=()
@@ -55,7 +57,7 @@ fi
 # Both sides run single-threaded: pscbranch is, GetFEM's Debian build uses sequential MUMPS; a
 # threaded BLAS (OpenBLAS) is held to one thread on both sides.
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-blas=$(ldd "$OUT/block_side" | awk '/libblas.so.3/{print $3}' | xargs readlink -f 2>/dev/null)
+blas=$(ldd "$OUT/$([ "$BLOCK" != 0 ] && echo block || echo triangle)_side" | awk '/libblas.so.3/{print $3}' | xargs readlink -f 2>/dev/null)
 gblas=$(ldd "$("$PY" -c 'import getfem._getfem as g; print(g.__file__)')" | awk '/libblas.so.3/{print $3}' | xargs readlink -f 2>/dev/null)
 gver=$(dpkg-query -W -f='${Version}' python3-getfem 2>/dev/null || echo unknown)
 echo "getfem_side_by_side: $(date -u +%Y-%m-%dT%H:%M:%SZ), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $(grep -c ^processor /proc/cpuinfo) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -63,8 +65,6 @@ echo "  BLAS: pscbranch $blas; GetFEM $gblas (OPENBLAS_NUM_THREADS=OMP_NUM_THREA
 echo "  GetFEM $gver (python3-getfem), linear solver MUMPS (sequential); $PY"
 echo "  pscbranch: block banded LAPACK${TRIANGLE:+, triangle $tri_backend}"
 
-CSV=$OUT/getfem_side_by_side.csv
-echo "problem,mesh,sitting,side,wall_s,cpu_s,own_cpu_s,branches,status" >"$CSV"
 
 # timed LOG CMD...: runs CMD with its output in LOG; sets wall, cpu (user + sys)
 timed() {
@@ -83,6 +83,8 @@ side_by_side() { # PROBLEM MESH SITTINGS PSB_CMD... -- GETFEM_CMD...
         if [ "$a" = -- ]; then seen=1; continue; fi
         if [ $seen = 0 ]; then psb+=("$a"); else gfm+=("$a"); fi
     done
+    CSV=$OUT/getfem_${problem}_$mesh.csv
+    echo "problem,mesh,sitting,side,wall_s,cpu_s,own_cpu_s,branches,status,end_value_difference" >"$CSV"
     echo
     echo "  $problem $mesh: sitting | pscbranch wall  CPU  (own) branches | GetFEM wall  CPU  (own) branches | ratio wall  CPU | end values vs pscbranch"
     for k in $(seq 1 "$reps"); do
@@ -100,15 +102,15 @@ side_by_side() { # PROBLEM MESH SITTINGS PSB_CMD... -- GETFEM_CMD...
         gown=$(sed -n 's/.*time \([0-9.]*\) s (CPU, set-up.*/\1/p' "$d/getfem.log" | head -n 1)
         gnb=$(sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p' "$d/getfem.log" | head -n 1)
         gst=$(grep -q "^getfem-$problem: OK" "$d/getfem.log" && echo OK || echo FAILED)
-        diff=$(sed -n 's/.*largest end-value difference \([^ ]*\).*/\1/p' "$d/getfem.log" | head -n 1)
+        diff=$(sed -n 's/.*largest end-value difference \(.*\)$/\1/p' "$d/getfem.log" | head -n 1)
         local rw rc
         rw=$(awk -v a="$gw" -v b="$pw" 'BEGIN { if (b > 0) printf "%.1f", a / b; else print "-" }')
         rc=$(awk -v a="$gc" -v b="$pc" 'BEGIN { if (b > 0) printf "%.1f", a / b; else print "-" }')
         ratios+=("$problem $mesh $rw $rc")
         printf "  %-15s %7s | %14s %5s %6s %2s %-6s | %11s %5s %6s %2s %-6s | %8sx %4sx | %s\n" "" "$k" "$pw" "$pc" "(${pown:-?})" "${pnb:-?}" "$pst" \
-            "$gw" "$gc" "(${gown:-?})" "${gnb:-?}" "$gst" "$rw" "$rc" "max diff ${diff:-?} mm"
-        echo "$problem,$mesh,$k,pscbranch,$pw,$pc,$pown,$pnb,$pst" >>"$CSV"
-        echo "$problem,$mesh,$k,getfem,$gw,$gc,$gown,$gnb,$gst" >>"$CSV"
+            "$gw" "$gc" "(${gown:-?})" "${gnb:-?}" "$gst" "$rw" "$rc" "max diff ${diff:-?}"
+        echo "$problem,$mesh,$k,pscbranch,$pw,$pc,$pown,$pnb,$pst," >>"$CSV"
+        echo "$problem,$mesh,$k,getfem,$gw,$gc,$gown,$gnb,$gst,$diff" >>"$CSV"
     done
     # spread of the ratios over the sittings
     printf '%s\n' "${ratios[@]}" | awk -v p="$problem" -v m="$mesh" '$1 == p && $2 == m { i = n + 0; w[i] = $3; c[i] = $4; n = i + 1 }
@@ -123,4 +125,4 @@ if [ -n "$TRIANGLE" ]; then
     side_by_side triangle "$TRIANGLE" "$TRIANGLE_REPEAT" "$OUT/triangle_side" --mesh "$TRIANGLE" --load 26.4 "${tri_flags[@]}" -- "$PY" bench/getfem/triangle.py --mesh "$TRIANGLE"
 fi
 echo
-echo "  logs: $LOGS/, CSV: $CSV"
+echo "  logs: $LOGS/, CSV: $OUT/getfem_<problem>_<mesh>.csv"
