@@ -5,7 +5,9 @@
 #            gamma = -1 on branch 1, continuation to the nonsmooth point gamma = 0, Algorithms
 #            2.1-2.2 (n_dir 20, n_span 15), every branch traced to |gamma| = 1
 #   triangle (TRIANGLE=N, off by default) examples/triangle --mesh N --load 26.4 against
-#            bench/getfem/triangle.py: the same for the triangle of Section 3.3
+#            bench/getfem/triangle.py: the same for the triangle of Section 3.3 (GetFEM's own
+#            continuation passes its branching point unflagged; gfcont.py says how its
+#            Algorithms 2.1-2.2 are made to run there)
 # Each side is one process timed by /usr/bin/time (wall and CPU = user + sys, Python start-up and
 # model set-up included); each script's own CPU time of the computation is printed beside. GetFEM's
 # end values are compared with pscbranch's branch by branch (the scripts print the differences).
