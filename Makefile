@@ -4,7 +4,7 @@
 #   make check     the same without the dependency step
 #   make demo      run the main demo and draw its pictures (gnuplot, installed like the rest)
 #   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
-#   make bench     the benchmarks (bench/out/)
+#   make bench     the benchmarks (bench/out/), with GetFEM side by side when python3-getfem is there
 #   make fuzz [FUZZ_SECONDS=30]   every libFuzzer target in fuzz/ (clang; see fuzz/README.md)
 #   make images    the README's pictures in docs/img/ (docs/make_images.sh)
 #   make install PREFIX=/usr/local [DESTDIR=...]   the header, pscbranch.pc, the CMake package
@@ -185,6 +185,7 @@ bench: $(BENCH) examples/block
 	./bench/bench_linear --csv bench/out/linear.csv
 	./bench/bench_branching --csv bench/out/branching.csv
 	bash bench/bench_block.sh
+	REPEAT=1 bash bench/getfem_side_by_side.sh
 
 asan:
 	@$(DEPS) cc cxx lapack
