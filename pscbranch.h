@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* pscbranch.h - v0.9.0 - piecewise-smooth continuation and numerical branching - MIT license
+/* pscbranch.h - v0.10.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
    folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
@@ -693,7 +693,7 @@
 #endif
 
 #define PSCBRANCH_VERSION_MAJOR 0
-#define PSCBRANCH_VERSION_MINOR 9
+#define PSCBRANCH_VERSION_MINOR 10
 #define PSCBRANCH_VERSION_PATCH 0
 /* "MAJOR.MINOR.PATCH", made from the three numbers above */
 #define PSB__VERSION_STR(x) #x
