@@ -4624,6 +4624,7 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
     res = psb__newton_on(s, yb, tb, y, NULL, r);
     if (psb__is_fatal(res)) return res;
     if (res != PSB_SUCCESS) {
+        psb__note_fault(s, res); /* a trial lost to a fault may be a branch lost */
         if (!keep) return PSB_SUCCESS;
         psb__copy(yb, y, np1);
         psb__copy(tb, v, np1);
@@ -4655,17 +4656,22 @@ static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, dou
     for (attempt = 0; attempt < 3 && res != PSB_SUCCESS; attempt++) {
         psb__axpy_to(yq, y, 1e-4 * r * pow(4.0, attempt), t, np1);
         res = psb__jacobian(s, yq, NULL);
-        if (res != PSB_SUCCESS) return kdim;
+        if (res != PSB_SUCCESS) break;
         for (i = 0; i < np1; i++) row[i] = s->w_[i] * t[i];
         res = psb__factor_bordered(s, row, NULL);
     }
-    if (res != PSB_SUCCESS) return kdim;
+    if (res != PSB_SUCCESS) { /* the kernel beyond ks[0] unknown: a fault may hide branches */
+        if (!psb__is_fatal(res)) psb__note_fault(s, res);
+        return kdim;
+    }
     while (kdim < PSB__KERNEL_MAX) {
         double before, after;
         v = ks + (size_t)kdim * (size_t)np1;
         for (i = 0; i < np1; i++) v[i] = psb__gauss(s->rng_) / sqrt(s->w_[i]);
         for (it = 0; it < 2; it++) {
-            if (psb__solve_factored(s, v, 1) != PSB_SUCCESS || !psb__normalize_w(s, v)) return kdim;
+            res = psb__solve_factored(s, v, 1);
+            if (res != PSB_SUCCESS) psb__note_fault(s, res);
+            if (res != PSB_SUCCESS || !psb__normalize_w(s, v)) return kdim;
         }
         before = psb_norm_w(s, v);
         for (it = 0; it < 2; it++) { /* twice: Gram-Schmidt that keeps orthogonality */
@@ -4743,6 +4749,7 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     if (!psb__normalize_w(s, kc)) return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
     seed = s->opt.seed;
     for (i = 0; i < 4; i++) s->rng_[i] = psb__splitmix(&seed);
+    psb__faults_reset(s);
     kdim = psb__kernel_dirs(s, yc, tc, s->opt.branch_h_init, kc);
     rep->n_tangents = kdim;
     /* a simple branch point has four half-branches; fewer at branch_h_init (a radius beyond
@@ -4759,6 +4766,12 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
         if (res != PSB_SUCCESS) return res;
         if (rep->n_branches >= 4 || overflow) break;
     }
+    rep->n_failed_callback = s->faults_[0];
+    rep->n_failed_nonfinite = s->faults_[1];
+    rep->n_failed_singular = s->faults_[2];
+    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+    res = psb__faults_code(s, "psb_branch_point_switch");
+    if (res != PSB_SUCCESS) return res;
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
@@ -5362,8 +5375,9 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
     to.detect_loop = 1;
     to.locate_kinks = x->eo->branch_at_kinks != 0;
     to.stop_at = 0; /* psb__explore_special stops where a branching is due */
-    if (!to.detect && !x->eo->no_detect)
-        to.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH | PSB_DETECT_PC1 |
+    if (!to.detect && !x->eo->no_detect) /* PC1 needs the dense or banded backend */
+        to.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH |
+                    (s->prob.linear != PSB_LINEAR_USER ? PSB_DETECT_PC1 : 0) |
                     (to.n_events > 0 ? PSB_DETECT_EVENTS : 0);
     if (x->eo->no_detect) to.detect = 0;
     x->edge = e;
@@ -5535,6 +5549,20 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     for (i = 0; i < d->n_nodes; i++)
         for (k = 0; k < d->nodes[i].n_branches; k++) d->n_queued += d->nodes[i].branch_edge[k] < 0;
     if (result == PSB_SUCCESS && d->truncated) result = PSB_BRANCH_CAPACITY;
+    if (result >= 0 && result != PSB_STOPPED && result != PSB_STEP_BUDGET && d->n_failed > 0) {
+        /* a failed edge may hide branches: the diagram is kept, the call fails with the first
+           failed edge's code */
+        char buf[160];
+        psb_result first = PSB_ERR_NO_CONVERGENCE;
+        for (i = 0; i < d->n_edges; i++)
+            if (d->edges[i].end == PSB_EDGE_FAILURE) {
+                if (d->edges[i].result < 0) first = d->edges[i].result;
+                break;
+            }
+        snprintf(buf, sizeof buf, "psb_explore: %d edge(s) ended in a failure, the first (edge %d) with %s",
+                 d->n_failed, i, psb_result_string(first));
+        return psb__fail(s, first, buf);
+    }
     if (result >= 0) s->message[0] = 0;
     return result;
 }
