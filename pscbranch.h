@@ -3526,6 +3526,18 @@ static psb_result psb__event_values(psb_solver *s, const psb_trace_options *to, 
     return PSB_SUCCESS;
 }
 
+/* Whether a detector's evaluation failed because of a fault it must not hide (a special point
+   missed or mislocated while the trace succeeds): a callback's failure, NaN/Inf, anything
+   fatal, and where the matrix is regular by geometry (`regular`: at accepted points and
+   their re-evaluations, and anywhere but next to a branch point), the user solver's failure
+   (PSB_ERR_SINGULAR, the user's way to report it). Next to a branch point a singular matrix
+   is the geometry's: the detectors go on. */
+static int psb__sp_fault(const psb_solver *s, psb_result r, int regular)
+{
+    return psb__is_fatal(r) || r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE ||
+           (regular && r == PSB_ERR_SINGULAR && s->prob.linear == PSB_LINEAR_USER);
+}
+
 static psb_result psb__sp_value(psb_solver *s, const psb__sp_fn *fn, const double *y,
                                 const double *t, double *f)
 {
@@ -3579,11 +3591,11 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         }
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ya, ta, &fa);
     }
-    if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_NONSMOOTH_END;
+    if (r != PSB_SUCCESS) return psb__sp_fault(s, r, 1) ? r : PSB_NONSMOOTH_END;
     psb__copy(yb, y1, np1);
     r = psb__newton_on(s, yb, tb, y0, t0, sb);
     if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, yb, tb, &fb);
-    if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_NONSMOOTH_END;
+    if (r != PSB_SUCCESS) return psb__sp_fault(s, r, 1) ? r : PSB_NONSMOOTH_END;
     f01_abs[0] = fabs(fa);
     f01_abs[1] = fabs(fb);
     if ((fa < 0) == (fb < 0)) return PSB_NONSMOOTH_END;
@@ -3607,7 +3619,7 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         for (i = 0; i < np1; i++) ye[i] = yf[i] + (sm - se) / c * tf[i];
         r = psb__newton_on(s, ye, te, y0, t0, sm);
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
-        if (psb__is_fatal(r)) return r;
+        if (psb__sp_fault(s, r, fn->kind != PSB_SPECIAL_BRANCH)) return r;
         /* the user backend's tau growing far beyond its values at the ends: a pole */
         if (r == PSB_SUCCESS && fn->kind == PSB_SPECIAL_BRANCH && s->prob.linear == PSB_LINEAR_USER &&
             fabs(fm) > 1e3 * fmax(f01_abs[0], f01_abs[1]))
@@ -3725,7 +3737,7 @@ static psb_result psb__detect_start(psb_solver *s, psb__detector *d, const doubl
     d->mon_old_ok = 0;
     if (d->mon_on) {
         r = psb__monitor_at(s, y, t, &d->mon_old);
-        if (psb__is_fatal(r)) return r;
+        if (psb__sp_fault(s, r, 1)) return r;
         d->mon_old_ok = r == PSB_SUCCESS;
     }
     if ((to->detect & PSB_DETECT_EVENTS) && to->n_events > 0) {
@@ -3833,7 +3845,7 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
             double span = 0;
             for (k = 0; k < s->np1_; k++) span += s->w_[k] * t0[k] * (y1[k] - y0[k]);
             r = psb__branch_directions(s, y0, t0, span);
-            if (psb__is_fatal(r)) return r;
+            if (psb__sp_fault(s, r, 0)) return r;
             psb__special_init(d, PSB_SPECIAL_BRANCH, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
             d->sp.kernel = r == PSB_SUCCESS ? PSB__VEC(s, PSB__V_SP_K) : NULL;
             d->sp.precision = precision;
@@ -3954,8 +3966,10 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         } else {
             /* the test function from the factors of the step's last corrector iteration */
             if (det.mon_on) {
+                /* from factors that just served the corrector: any failure is a fault (the
+                   user's solve) */
                 r = psb__monitor(s, &det.mon_new);
-                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
                 det.mon_new_ok = r == PSB_SUCCESS;
             }
             if (opts.locate_kinks) {
@@ -3984,7 +3998,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
            piece: the test function then costs a factorisation at the accepted point */
         if (det.mon_on && ((flags & PSB_POINT_SWITCH) || psb__cos_w(s, told, tc) < s->opt.c_diff)) {
             r = psb__monitor_at(s, yc, tc, &det.mon_new);
-            if (psb__is_fatal(r)) { rep->end = r; goto done; }
+            if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
             det.mon_new_ok = r == PSB_SUCCESS;
         }
         if (bounded && (yc[p] > opts.param_max || yc[p] < opts.param_min)) {
@@ -4011,7 +4025,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             flags |= PSB_POINT_BOUND;
             if (det.mon_on) {
                 r = psb__monitor_at(s, yc, tc, &det.mon_new);
-                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
                 det.mon_new_ok = r == PSB_SUCCESS;
             }
         }

@@ -754,8 +754,14 @@ static int backend_of(int b) { return b ? BK_USER : BK_DENSE; }
 typedef struct {
     int n;
     psb_special_kind kind[8];
-    double param[8];
+    double param[8], precision[8];
 } specials;
+
+/* Whether special point j is of this kind and, within its stated precision, at param. */
+static int special_at(const specials *sp, int j, psb_special_kind kind, double param)
+{
+    return sp->kind[j] == kind && fabs(sp->param[j] - param) <= sp->precision[j] + 1e-6;
+}
 
 static int record_special(const psb_point *pt, void *user)
 {
@@ -764,6 +770,7 @@ static int record_special(const psb_point *pt, void *user)
     if (sp->n < 8) {
         sp->kind[sp->n] = pt->special->kind;
         sp->param[sp->n] = pt->special->param;
+        sp->precision[sp->n] = pt->special->precision;
     }
     sp->n++;
     return 0;
@@ -812,13 +819,13 @@ static run_result scenario_trace(faulty *f, int backend, int variant)
     out.right = out.code == PSB_PARAM_BOUND && y[1] == to.param_max && fabs(hy) < 1e-8;
     if (variant == SM_PITCHFORK)
         out.right &= fabs(y[0]) < 1e-8 && sp.n == 2 && tr.n_special[PSB_SPECIAL_BRANCH] == 1 &&
-                     tr.n_special[PSB_SPECIAL_EVENT] == 1 && sp.kind[0] == PSB_SPECIAL_BRANCH &&
-                     fabs(sp.param[0]) < 1e-6 && sp.kind[1] == PSB_SPECIAL_EVENT && fabs(sp.param[1] - 0.5) < 1e-8;
+                     tr.n_special[PSB_SPECIAL_EVENT] == 1 && special_at(&sp, 0, PSB_SPECIAL_BRANCH, 0) &&
+                     special_at(&sp, 1, PSB_SPECIAL_EVENT, 0.5);
     else
         out.right &= sp.n == 3 && tr.n_special[PSB_SPECIAL_FOLD] == 2 && tr.n_special[PSB_SPECIAL_EVENT] == 1 &&
-                     sp.kind[0] == PSB_SPECIAL_FOLD && fabs(sp.param[0] - fold) < 1e-6 &&
-                     sp.kind[1] == PSB_SPECIAL_EVENT && fabs(sp.param[1]) < 1e-6 &&
-                     sp.kind[2] == PSB_SPECIAL_FOLD && fabs(sp.param[2] + fold) < 1e-6;
+                     special_at(&sp, 0, PSB_SPECIAL_FOLD, fold) && special_at(&sp, 1, PSB_SPECIAL_EVENT, 0) &&
+                     special_at(&sp, 2, PSB_SPECIAL_FOLD, -fold);
+    if (!out.right && out.code >= 0 && f->fired) { int q; printf("DBG code %d y %g %g sp.n %d:", out.code, y[0], y[1], sp.n); for (q = 0; q < sp.n && q < 8; q++) printf(" (%d %.3g %.3g)", sp.kind[q], sp.param[q], sp.precision[q]); printf("\n"); }
     psb_solver_free(&s);
     return out;
 }
