@@ -3327,6 +3327,14 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
     psb__copy(tt, t0, np1);
     trial = hs;
     r = psb__try_step(s, yt, tt, &trial, hs, &iters);
+    if (r != PSB_SUCCESS && !psb__is_fatal(r) && s->prob.linear == PSB_LINEAR_USER) {
+        /* a failed half step says "kink": once more, as a user solver's passing failure
+           (PSB_ERR_SINGULAR, as a turn of the corrector) would call a smooth fold a kink */
+        psb__copy(yt, y0, np1);
+        psb__copy(tt, t0, np1);
+        trial = hs;
+        r = psb__try_step(s, yt, tt, &trial, hs, &iters);
+    }
     if (psb__is_fatal(r) || psb__is_fault(r)) return r; /* a fault leaves the kink unlocated */
     if (r == PSB_SUCCESS) {
         half_theta = psb__angle_w(s, t0, tt);
@@ -3618,6 +3626,9 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         c = psb_dot_w(s, t0, tf);
         for (i = 0; i < np1; i++) ye[i] = yf[i] + (sm - se) / c * tf[i];
         r = psb__newton_on(s, ye, te, y0, t0, sm);
+        if (r == PSB_ERR_SINGULAR && s->prob.linear == PSB_LINEAR_USER)
+            r = psb__newton_on(s, ye, te, y0, t0, sm); /* a singular matrix stays singular; a
+                                                         user solver's passing failure does not */
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
         if (psb__sp_fault(s, r, fn->kind != PSB_SPECIAL_BRANCH)) return r;
         /* the user backend's tau growing far beyond its values at the ends: a pole */

@@ -825,7 +825,6 @@ static run_result scenario_trace(faulty *f, int backend, int variant)
         out.right &= sp.n == 3 && tr.n_special[PSB_SPECIAL_FOLD] == 2 && tr.n_special[PSB_SPECIAL_EVENT] == 1 &&
                      special_at(&sp, 0, PSB_SPECIAL_FOLD, fold) && special_at(&sp, 1, PSB_SPECIAL_EVENT, 0) &&
                      special_at(&sp, 2, PSB_SPECIAL_FOLD, -fold);
-    if (!out.right && out.code >= 0 && f->fired) { int q; printf("DBG code %d y %g %g sp.n %d:", out.code, y[0], y[1], sp.n); for (q = 0; q < sp.n && q < 8; q++) printf(" (%d %.3g %.3g)", sp.kind[q], sp.param[q], sp.precision[q]); printf("\n"); }
     psb_solver_free(&s);
     return out;
 }
