@@ -4842,7 +4842,8 @@ static int psb__evolve_point(const psb_point *pt, void *user)
 static const char *psb__check_evolve_options(const psb_evolve_options *o)
 {
     if (o->mode < PSB_EVOLVE_AUTO || o->mode > PSB_EVOLVE_CONTINUATION) return "mode is not a psb_evolve_mode";
-    if (o->newton_max_iter < 0) return "newton_max_iter < 0";
+    if (o->newton_max_iter < 0 || o->newton_max_iter > PSB_MAX_ITER_LIMIT)
+        return "newton_max_iter must lie in [0, PSB_MAX_ITER_LIMIT]";
     if (!(o->newton_max_jump >= 0)) return "newton_max_jump must be >= 0 (0: any)";
     if (o->param_min != o->param_min || o->param_max != o->param_max) return "param_min or param_max is NaN";
     if (o->max_steps < 0) return "max_steps < 0";
@@ -4923,7 +4924,9 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
     if (r == PSB_SUCCESS && psb__norm2(s->res_, s->n_) > s->opt.tol_residual) {
         /* a polish of the previous solution; a move longer than a step means it was none */
         r = psb_correct(s, yc, tc, NULL);
-        if ((r != PSB_SUCCESS && !psb__is_fatal(r)) || (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
+        /* (a fault, a NaN or a singular matrix is reported as such, not as a bad y) */
+        if ((r != PSB_SUCCESS && !psb__is_fatal(r) && !psb__is_fault(r)) ||
+            (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
             r = psb__fail(s, PSB_ERR_INPUT, "y does not solve H(y) = 0 (no solution within h_init of it)");
     }
     if (r != PSB_SUCCESS) {
@@ -5482,7 +5485,13 @@ static const char *psb__check_explore(const psb_explore_options *eo, int np1)
     if (eo->trace.param_min != eo->trace.param_min || eo->trace.param_max != eo->trace.param_max)
         return "the parameter bounds are NaN";
     if (!(eo->node_tol >= 0) || !psb__finite(eo->node_tol)) return "node_tol must be finite and >= 0";
-    if (eo->kink_spans < 0) return "kink_spans must be >= 0";
+    if (eo->kink_spans < 0 || eo->kink_spans > PSB_MAX_SPAN_LIMIT) return "kink_spans must lie in [0, PSB_MAX_SPAN_LIMIT]";
+    /* psb_trace's own checks, made once here rather than failing every edge */
+    if (eo->trace.detect < 0 || eo->trace.detect > PSB_DETECT_ALL) return "trace.detect must be a PSB_DETECT_* mask";
+    if (!(eo->trace.locate_tol >= 0) || !psb__finite(eo->trace.locate_tol)) return "trace.locate_tol must be finite and >= 0";
+    if (eo->trace.n_events < 0) return "trace.n_events must be >= 0";
+    if (eo->trace.n_events > 0 && (!eo->trace.event || !eo->trace.event_work))
+        return "trace.event and trace.event_work are needed with n_events > 0";
     if (!(eo->state_max >= 0)) return "state_max must be >= 0";
     if (eo->max_traces < 0 || eo->max_points < 0 || eo->trace.max_steps < 0)
         return "budgets must be >= 0";

@@ -975,14 +975,15 @@ static run_result scenario_explore(faulty *f, int backend, int variant)
 
 /* psb_evolve_step on the S-curve from x = -1.2 (lambda = -0.528) to lambda = 1/2: through the
    fold at 0.385 to the only solution there, x = 1.19149 (Newton's answer farther than 1/2 is
-   left to continuation). Variant: PSB_EVOLVE_AUTO or PSB_EVOLVE_CONTINUATION. */
+   left to continuation). Variant: PSB_EVOLVE_AUTO or PSB_EVOLVE_CONTINUATION, + 4: from 1e-7
+   off the curve (the previous state is polished by psb_correct first). */
 static run_result scenario_evolve(faulty *f, int backend, int variant)
 {
     psb_problem prob;
     psb_solver s;
     psb_evolve_options eo, eo_in;
     psb_evolve_report rep;
-    double y[2] = {-1.2, -0.528}, y_in[2], x = 1.2;
+    double y[2] = {-1.2, -0.528}, y_in[2], x = 1.2; /* H(y) = 0 */
     run_result out = {PSB_SUCCESS, 0, 1};
     int i;
     for (i = 0; i < 60; i++) x -= (x * x * x - x - 0.5) / (3 * x * x - 1);
@@ -991,8 +992,9 @@ static run_result scenario_evolve(faulty *f, int backend, int variant)
     problem_for(&prob, f, backend);
     if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) return out;
     memset(&eo, 0, sizeof eo);
-    eo.mode = variant;
+    eo.mode = variant & 3;
     eo.newton_max_jump = 0.5;
+    if (variant & 4) y[0] += 1e-7; /* off the curve: the step polishes y first */
     eo_in = eo;
     memcpy(y_in, y, sizeof y);
     out.code = psb_evolve_step(&s, y, 0.5, &eo, &rep);
@@ -1093,6 +1095,7 @@ static void test_fault_injection_detectors(void)
         campaign("branch point switch", scenario_switch, backend_of(b), 0, &all);
         campaign("evolve, auto", scenario_evolve, backend_of(b), PSB_EVOLVE_AUTO, &all);
         campaign("evolve, continuation", scenario_evolve, backend_of(b), PSB_EVOLVE_CONTINUATION, &all);
+        campaign("evolve, continuation, polish", scenario_evolve, backend_of(b), PSB_EVOLVE_CONTINUATION + 4, &all);
         for (v = 0; v < 2; v++) {
             campaign(v ? "explore, crossing kinks" : "explore, pitchfork", scenario_explore, backend_of(b), v, &all);
             psb_diagram_free(&clean_diagram[v][b]);
@@ -1107,6 +1110,143 @@ static void test_fault_injection_detectors(void)
     CHECK(all.failed > 0 && all.recovered > 0);
 }
 
+/* The new entry points against misuse: NULL, sizes, NaN and absurd options, a freed solver,
+   a failing allocator; inputs untouched, a message each time. */
+static void test_misuse_new_functions(void)
+{
+    faulty f;
+    psb_problem prob;
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    psb_evolve_options ev;
+    psb_branch_report br;
+    double y[2] = {0, -0.5}, t[2] = {0, 1}, k[2] = {1, 0}, ys[8], ts[8], work[3], box_lo[2] = {-2, -2}, box_hi[2] = {2, 2};
+    double ye[2] = {-1.2, -0.528};
+    int kk;
+    memset(&f, 0, sizeof f);
+    f.smooth = SM_PITCHFORK;
+    f.p.n = 1;
+
+    /* psb_diagram_init: the allocator fails at allocation k (one allocation in all) */
+    for (kk = 1; kk <= 2; kk++) {
+        alloc_count = 0;
+        alloc_fail_at = kk;
+        if (kk == 1) {
+            CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_ERR_NOMEM);
+            CHECK(d.nodes == NULL && d.n_nodes == 0);
+        } else {
+            CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_SUCCESS && alloc_count == 1);
+        }
+        psb_diagram_free(&d);
+        psb_diagram_free(&d); /* twice: harmless */
+    }
+    alloc_fail_at = 0;
+    CHECK(psb_diagram_memory_size(1, INT_MAX, INT_MAX, INT_MAX) == 0); /* overflow: 0, no wrap */
+    CHECK(psb_diagram_memory_size(0, 8, 8, 4) == 0 && psb_diagram_memory_size(1, 8, 8, 0) == 0);
+    CHECK(psb_diagram_init(&d, 1, 8, -1, 4) == PSB_ERR_SIZE);
+    CHECK(psb_diagram_init_with_memory(&d, 1, 8, 8, 4, ys, sizeof ys) == PSB_ERR_NOMEM);
+
+    problem_for(&prob, &f, BK_DENSE);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_SUCCESS);
+#define EXPLORE_REJECTED(set, name)                                                                \
+    do {                                                                                           \
+        memset(&eo, 0, sizeof eo);                                                                 \
+        set;                                                                                       \
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);                                 \
+        CHECK(strstr(psb_solver_message(&s), name) != NULL);                                       \
+        CHECK(y[0] == 0 && y[1] == -0.5 && t[0] == 0 && t[1] == 1);                                \
+    } while (0)
+    EXPLORE_REJECTED(eo.node_tol = NAN, "node_tol");
+    EXPLORE_REJECTED(eo.node_tol = INFINITY, "node_tol");
+    EXPLORE_REJECTED(eo.node_tol = -1, "node_tol");
+    EXPLORE_REJECTED(eo.max_traces = -1, "budgets");
+    EXPLORE_REJECTED(eo.max_points = -1, "budgets");
+    EXPLORE_REJECTED(eo.trace.max_steps = -1, "budgets");
+    EXPLORE_REJECTED(eo.trace.param_max = NAN, "bounds");
+    EXPLORE_REJECTED(eo.state_max = NAN, "state_max");
+    EXPLORE_REJECTED(eo.kink_spans = PSB_MAX_SPAN_LIMIT + 1, "kink_spans");
+    EXPLORE_REJECTED(eo.trace.detect = 99, "detect");
+    EXPLORE_REJECTED(eo.trace.locate_tol = NAN, "locate_tol");
+    EXPLORE_REJECTED(eo.trace.n_events = 1, "event");
+    EXPLORE_REJECTED((eo.trace.n_events = 1, eo.trace.event = f_event, eo.trace.event_work = work, eo.trace.event_user = NULL,
+                      eo.trace.n_events = -1), "n_events");
+    EXPLORE_REJECTED(eo.box_min = box_lo, "box");
+    EXPLORE_REJECTED((eo.box_min = box_lo, eo.box_max = box_hi, box_lo[1] = NAN), "box_min");
+    box_lo[1] = -2;
+    memset(&eo, 0, sizeof eo);
+    CHECK(psb_explore(&s, y, t, &eo, NULL) == PSB_ERR_NULL);
+    CHECK(psb_explore(&s, NULL, t, &eo, &d) == PSB_ERR_NULL);
+    t[1] = NAN;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_NONFINITE);
+    t[1] = 1;
+
+    /* the branch point switch */
+    CHECK(psb_branch_point_switch(&s, y, t, NULL, 4, ys, ts, &br) == PSB_ERR_NULL);
+    CHECK(psb_branch_point_switch(&s, y, t, k, 0, ys, ts, &br) == PSB_ERR_SIZE);
+    k[0] = NAN;
+    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_NONFINITE);
+    k[0] = 0;
+    k[1] = 2; /* parallel to t */
+    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_INPUT);
+    CHECK(strstr(psb_solver_message(&s), "kernel") != NULL);
+    k[0] = 1;
+    k[1] = 0;
+    psb_solver_free(&s);
+
+    /* psb_evolve_step's options: rejected by name, y untouched */
+    f.smooth = SM_SCURVE;
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+#define EVOLVE_REJECTED(set, name)                                                                 \
+    do {                                                                                           \
+        memset(&ev, 0, sizeof ev);                                                                 \
+        set;                                                                                       \
+        CHECK(psb_evolve_step(&s, ye, 0.5, &ev, NULL) == PSB_ERR_OPTIONS);                        \
+        CHECK(strstr(psb_solver_message(&s), name) != NULL);                                       \
+        CHECK(ye[0] == -1.2 && ye[1] == -0.528);                                                   \
+    } while (0)
+    EVOLVE_REJECTED(ev.mode = 7, "mode");
+    EVOLVE_REJECTED(ev.newton_max_iter = -1, "newton_max_iter");
+    EVOLVE_REJECTED(ev.newton_max_iter = INT_MAX, "newton_max_iter"); /* went to continuation */
+    EVOLVE_REJECTED(ev.newton_max_jump = NAN, "newton_max_jump");
+    EVOLVE_REJECTED(ev.param_min = NAN, "param_min");
+    EVOLVE_REJECTED(ev.max_steps = -1, "max_steps");
+    EVOLVE_REJECTED(ev.max_length = NAN, "max_length");
+#undef EVOLVE_REJECTED
+#undef EXPLORE_REJECTED
+    CHECK(psb_evolve_step(&s, ye, NAN, NULL, NULL) == PSB_ERR_NONFINITE);
+    CHECK(psb_evolve_step(&s, NULL, 0.5, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(ye[0] == -1.2 && ye[1] == -0.528);
+    psb_solver_free(&s);
+
+    /* a freed solver: every new entry point says so and touches nothing */
+    CHECK(psb_explore(&s, y, t, NULL, &d) == PSB_ERR_NULL);
+    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_NULL);
+    CHECK(psb_evolve_step(&s, ye, 0.5, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(ye[0] == -1.2 && ye[1] == -0.528 && y[0] == 0 && y[1] == -0.5 && t[0] == 0 && t[1] == 1);
+    psb_diagram_free(&d);
+    CHECK(psb_explore(&s, y, t, NULL, &d) == PSB_ERR_NULL); /* freed diagram */
+
+    /* the user backend: the explorer's default detectors leave PC1 out (psb_trace refuses it
+       there: every edge failed, and psb_explore said PSB_SUCCESS); asked for, it is refused */
+    f.smooth = SM_PITCHFORK;
+    problem_for(&prob, &f, BK_USER);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+    CHECK(d.n_failed == 0 && d.n_edges == 5);
+    eo.trace.detect = PSB_DETECT_ALL;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    CHECK(d.n_failed > 0 && strstr(psb_solver_message(&s), "edge") != NULL);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
 int main(void)
 {
     test_fd_repair_failure();
@@ -1117,5 +1257,6 @@ int main(void)
     test_resolve_truthful();
     test_fault_injection();
     test_fault_injection_detectors();
+    test_misuse_new_functions();
     return HARNESS_END();
 }
