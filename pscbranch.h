@@ -1110,7 +1110,12 @@ typedef struct psb_trace_report {
    untouched. With bounds, the last point lies exactly on the bound (bounds may be infinite;
    NaN gives PSB_ERR_INPUT). to and rep may be NULL (rep is always written). Returns
    PSB_PARAM_BOUND, PSB_STEP_BUDGET, PSB_NONSMOOTH_END, PSB_STOPPED, PSB_LOOP_CLOSED, or a
-   failure (PSB_ERR_CALLBACK when a callback returned < 0). */
+   failure (PSB_ERR_CALLBACK when a callback returned < 0). With detectors, a fault while
+   evaluating a test function or an event, or while locating a special point (a callback's
+   > 0 or NaN/Inf; with the user backend also solver.factor/solve's failure where the matrix
+   is regular) fails the trace with that code rather than miss or mislocate the point; a
+   singular matrix next to a branch point is geometry: the location stops there, with
+   special.precision the bracket reached. */
 PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                                    const psb_trace_options *to, psb_trace_report *rep);
 
@@ -1173,7 +1178,13 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
    ones (where more than two curves cross, all of them: in the plane of t and kernel, and in
    a kernel of up to 5 dimensions). rep as psb_find_branches' (n_branches; n_pc counts the
    sphere corrections, n_tangents the kernel's dimension besides t, n_span the radii tried).
-   Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
+   Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
+   PSB_ERR_NULL, PSB_ERR_SIZE (max_branches < 1), PSB_ERR_NONFINITE (y, t or kernel; or a
+   callback's NaN/Inf), PSB_ERR_INPUT (t zero, kernel zero or parallel to t), and, as
+   psb_find_branches, PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a sphere trial or
+   the kernel's computation failed because of a fault (a branch may be missing; rep->n_failed*
+   count them), PSB_ERR_CALLBACK. After a failure ys, ts hold the rep->n_branches couples
+   found until then and rep is written; y, t, kernel are inputs only. */
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
                                                  const double *kernel, int max_branches,
                                                  double *ys, double *ts, psb_branch_report *rep);
@@ -1242,7 +1253,10 @@ typedef struct psb_evolve_report {
    (rep->trace_end says how: step budget, max_length, an end point, a closed loop, the range's
    far bound); PSB_ERR_CALLBACK (a callback returned < 0, or on_point stopped the path); or a
    failure of psb_tangent or psb_trace (PSB_ERR_SINGULAR at a start where dH has rank < N,
-   PSB_ERR_STEP_TOO_SMALL, ...). y is untouched unless PSB_SUCCESS. */
+   PSB_ERR_STEP_TOO_SMALL, ...); a callback's failure (> 0, NaN/Inf) or a singular matrix
+   while y is polished is returned as itself (PSB_ERR_CALLBACK_FAILED, _NONFINITE,
+   _SINGULAR), not as PSB_ERR_INPUT. newton_max_iter <= PSB_MAX_ITER_LIMIT. y is untouched
+   unless PSB_SUCCESS; rep is always written. */
 PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
                                          const psb_evolve_options *eo, psb_evolve_report *rep);
 
@@ -1385,7 +1399,11 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or box), PSB_ERR_NONFINITE,
    PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is kept). A trace or a
    branching that fails otherwise ends its edge (PSB_EDGE_FAILURE, d->n_failed) and exploring
-   goes on. */
+   goes on; once the queue is done the call returns the first failed edge's code
+   (edge.result: PSB_ERR_CALLBACK_FAILED, _NONFINITE, _SINGULAR, ...), not PSB_SUCCESS, since
+   what lies beyond a failed edge is missing. On every return but PSB_ERR_NULL, _SIZE,
+   _OPTIONS, _INPUT, _NONFINITE (checked before d is reset) d holds the graph made so far;
+   y, t and eo are inputs only. */
 PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
                                      const psb_explore_options *eo, psb_diagram *d);
 
