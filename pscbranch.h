@@ -1399,9 +1399,9 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or box), PSB_ERR_NONFINITE,
    PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is kept). A trace or a
    branching that fails otherwise ends its edge (PSB_EDGE_FAILURE, d->n_failed) and exploring
-   goes on; once the queue is done the call returns the first failed edge's code
-   (edge.result: PSB_ERR_CALLBACK_FAILED, _NONFINITE, _SINGULAR, ...), not PSB_SUCCESS, since
-   what lies beyond a failed edge is missing. On every return but PSB_ERR_NULL, _SIZE,
+   goes on; once the queue is done (or a budget or capacity ran out) the call returns the
+   first failed edge's code (edge.result: PSB_ERR_CALLBACK_FAILED, _NONFINITE, _SINGULAR,
+   ...), not PSB_SUCCESS, since what lies beyond a failed edge is missing. On every return but PSB_ERR_NULL, _SIZE,
    _OPTIONS, _INPUT, _NONFINITE (checked before d is reset) d holds the graph made so far;
    y, t and eo are inputs only. */
 PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
@@ -5601,7 +5601,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     for (i = 0; i < d->n_nodes; i++)
         for (k = 0; k < d->nodes[i].n_branches; k++) d->n_queued += d->nodes[i].branch_edge[k] < 0;
     if (result == PSB_SUCCESS && d->truncated) result = PSB_BRANCH_CAPACITY;
-    if (result >= 0 && result != PSB_STOPPED && result != PSB_STEP_BUDGET && d->n_failed > 0) {
+    if (result >= 0 && result != PSB_STOPPED && d->n_failed > 0) {
         /* a failed edge may hide branches: the diagram is kept, the call fails with the first
            failed edge's code */
         char buf[160];
