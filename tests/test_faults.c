@@ -8,7 +8,17 @@
    call k on, in three ways (NaN in its output, return 1, return -1). A run may fail, with the
    documented code and its inputs untouched; it may succeed only with the right four
    branches. The allocator fails at each allocation in turn. Under `make asan`
-   LeakSanitizer checks that no run leaks. Then the reproducers of issue 20 (items 1-4). */
+   LeakSanitizer checks that no run leaks. Then the reproducers of issue 20 (items 1-4).
+
+   The same schedule (the event callback too) drives psb_trace with every detector on (a
+   pitchfork's branch point and an event; an S-curve's two folds and an event),
+   psb_branch_point_switch at the pitchfork's branch point, psb_explore (the pitchfork; the
+   crossing kinks min(x_i, g - x_i), k = 2, with branch_at_kinks) and psb_evolve_step through
+   the S-curve's fold, on the dense and user backends. Where a clean run makes more than 100
+   calls of a callback, k takes all values up to 50 and 50 more evenly spread up to the count.
+   A run that returns success or an informational code must give the known answer (special
+   points within their stated precision, the four half-branches, the clean run's diagram,
+   the solution past the fold); a failure must carry the documented code. */
 #include <stdlib.h>
 
 static int alloc_count, alloc_fail_at; /* the test allocator fails at allocation alloc_fail_at */
