@@ -14,7 +14,7 @@
    pitchfork's branch point and an event; an S-curve's two folds and an event),
    psb_branch_point_switch at the pitchfork's branch point, psb_explore (the pitchfork; the
    crossing kinks min(x_i, g - x_i), k = 2, with branch_at_kinks) and psb_evolve_step through
-   the S-curve's fold, on the dense and user backends. Where a clean run makes more than 100
+   the S-curve's fold, on the dense, banded and user backends. Where a clean run makes more than 100
    calls of a callback, k takes all values up to 50 and 50 more evenly spread up to the count.
    A run that returns success or an informational code must give the known answer (special
    points within their stated precision, the four half-branches, the clean run's diagram,
@@ -118,7 +118,7 @@ static int f_band(const double *y, double *band, int ldband, double *dparam, voi
     faulty *f = (faulty *)u;
     int n = f->p.n, i, j;
     double jac[PL_MAX_N * (PL_MAX_N + 1)];
-    pl_jacobian(y, jac, n, &f->p);
+    eval_jacobian(f, y, jac, n);
     for (j = 0; j < n; j++)
         for (i = 0; i < n; i++) band[PSB_BAND_INDEX(n - 1, ldband, i, j)] = jac[i + j * n];
     for (i = 0; i < n; i++) dparam[i] = jac[i + n * n];
@@ -759,7 +759,7 @@ typedef struct {
 
 typedef run_result (*scenario_fn)(faulty *f, int backend, int variant);
 
-static int backend_of(int b) { return b ? BK_USER : BK_DENSE; }
+static int backend_of(int b) { return b == 0 ? BK_DENSE : b == 1 ? BK_USER : BK_BANDED; }
 
 typedef struct {
     int n;
@@ -927,7 +927,7 @@ static int same_diagram(const psb_diagram *a, const psb_diagram *b)
     return 1;
 }
 
-static psb_diagram clean_diagram[2][2]; /* [variant][backend]: the clean run's */
+static psb_diagram clean_diagram[2][BK_N]; /* [variant][backend]: the clean run's */
 static int keep_clean;                  /* 1: the run being made is the clean one */
 
 /* psb_explore with bounds lambda in [-1, 1]: variant 0 the pitchfork from (0, -1/2) (a start,
@@ -973,10 +973,10 @@ static run_result scenario_explore(faulty *f, int backend, int variant)
     out.code = psb_explore(&s, y, t, &eo, &d);
     out.untouched = same(y, y_in, np1) && same(t, t_in, np1) && memcmp(&eo, &eo_in, sizeof eo) == 0;
     if (keep_clean) {
-        clean_diagram[variant][backend == BK_USER] = d;
+        clean_diagram[variant][backend] = d;
         out.right = out.code == PSB_SUCCESS;
     } else {
-        out.right = out.code == PSB_SUCCESS && same_diagram(&d, &clean_diagram[variant][backend == BK_USER]);
+        out.right = out.code == PSB_SUCCESS && same_diagram(&d, &clean_diagram[variant][backend]);
         psb_diagram_free(&d);
     }
     psb_solver_free(&s);
@@ -1099,7 +1099,7 @@ static void test_fault_injection_detectors(void)
     memset(&all, 0, sizeof all);
     CHECK(locate_branch_point());
     CHECK(fabs(bp_y[0]) < 1e-8 && fabs(bp_y[1]) < 1e-6 && fabs(bp_k[0]) > 0.999);
-    for (b = 0; b < 2; b++) {
+    for (b = 0; b < 3; b++) {
         campaign("trace, pitchfork", scenario_trace, backend_of(b), SM_PITCHFORK, &all);
         campaign("trace, S-curve", scenario_trace, backend_of(b), SM_SCURVE, &all);
         campaign("branch point switch", scenario_switch, backend_of(b), 0, &all);
@@ -1108,7 +1108,7 @@ static void test_fault_injection_detectors(void)
         campaign("evolve, continuation, polish", scenario_evolve, backend_of(b), PSB_EVOLVE_CONTINUATION + 4, &all);
         for (v = 0; v < 2; v++) {
             campaign(v ? "explore, crossing kinks" : "explore, pitchfork", scenario_explore, backend_of(b), v, &all);
-            psb_diagram_free(&clean_diagram[v][b]);
+            psb_diagram_free(&clean_diagram[v][backend_of(b)]);
         }
     }
     printf("  faults, detectors to explorer: %ld runs, %ld fired: %ld failed, %ld recovered, %ld wrong successes, "
