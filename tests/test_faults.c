@@ -14,8 +14,8 @@
    pitchfork's branch point and an event; an S-curve's two folds and an event),
    psb_branch_point_switch at the pitchfork's branch point, psb_explore (the pitchfork; the
    crossing kinks min(x_i, g - x_i), k = 2, with branch_at_kinks) and psb_evolve_step through
-   the S-curve's fold, on the dense, banded and user backends. Where a clean run makes more than 100
-   calls of a callback, k takes all values up to 50 and 50 more evenly spread up to the count.
+   the S-curve's fold, on the dense, banded and user backends. Where a clean run makes more
+   than 100 calls of a callback, k takes all values up to 50 and 50 more evenly spread up to the count.
    A run that returns success or an informational code must give the known answer (special
    points within their stated precision, the four half-branches, the clean run's diagram,
    the solution past the fold); a failure must carry the documented code. */
@@ -915,8 +915,8 @@ static int same_diagram(const psb_diagram *a, const psb_diagram *b)
     for (i = 0; i < a->n_nodes; i++) {
         const psb_node *p = a->nodes + i, *q = b->nodes + i;
         if (p->kind != q->kind || p->n_branches != q->n_branches) return 0;
-        for (k = 0; k < np1; k++)
-            if (!(fabs(p->y[k] - q->y[k]) < 1e-6)) return 0;
+        for (k = 0; k < np1; k++) /* within the nodes' stated precisions */
+            if (!(fabs(p->y[k] - q->y[k]) <= 1e-6 + p->precision + q->precision)) return 0;
         for (k = 0; k < p->n_branches * np1; k++)
             if (!(fabs(p->ts[k] - q->ts[k]) < 1e-3)) return 0;
     }
@@ -927,12 +927,14 @@ static int same_diagram(const psb_diagram *a, const psb_diagram *b)
     return 1;
 }
 
-static psb_diagram clean_diagram[2][BK_N]; /* [variant][backend]: the clean run's */
+static psb_diagram clean_diagram[3][BK_N]; /* [variant][backend]: the clean run's */
 static int keep_clean;                  /* 1: the run being made is the clean one */
 
 /* psb_explore with bounds lambda in [-1, 1]: variant 0 the pitchfork from (0, -1/2) (a start,
    a branch point, four bound ends); variant 1 the crossing kinks min(x_i, g - x_i), k = 2,
-   from half-way along a ray with branch_at_kinks (one point, four rays). A run that returns
+   from half-way along a ray with branch_at_kinks (one point, four rays); variant 2 the same
+   without branch_at_kinks (the PC1 detector finds the point; the user backend has none, its
+   traces pass through). A run that returns
    success or an informational code must give the clean run's diagram. */
 static run_result scenario_explore(faulty *f, int backend, int variant)
 {
@@ -1106,8 +1108,9 @@ static void test_fault_injection_detectors(void)
         campaign("evolve, auto", scenario_evolve, backend_of(b), PSB_EVOLVE_AUTO, &all);
         campaign("evolve, continuation", scenario_evolve, backend_of(b), PSB_EVOLVE_CONTINUATION, &all);
         campaign("evolve, continuation, polish", scenario_evolve, backend_of(b), PSB_EVOLVE_CONTINUATION + 4, &all);
-        for (v = 0; v < 2; v++) {
-            campaign(v ? "explore, crossing kinks" : "explore, pitchfork", scenario_explore, backend_of(b), v, &all);
+        for (v = 0; v < 3; v++) {
+            campaign(v == 0 ? "explore, pitchfork" : v == 1 ? "explore, crossing kinks" : "explore, crossing kinks, PC1",
+                     scenario_explore, backend_of(b), v, &all);
             psb_diagram_free(&clean_diagram[v][backend_of(b)]);
         }
     }
