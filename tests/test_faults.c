@@ -974,9 +974,19 @@ static run_result scenario_explore(faulty *f, int backend, int variant)
     memcpy(t_in, t, sizeof t);
     out.code = psb_explore(&s, y, t, &eo, &d);
     out.untouched = same(y, y_in, np1) && same(t, t_in, np1) && memcmp(&eo, &eo_in, sizeof eo) == 0;
-    if (keep_clean) {
+    if (keep_clean) { /* the known graph: one point with four half-branches, four bound ends */
+        int i, branching = 0, bounds = 0, passes = variant == 2 && backend == BK_USER;
+        for (i = 0; i < d.n_nodes; i++) {
+            psb_node_kind kd = d.nodes[i].kind;
+            branching += (kd == PSB_NODE_BRANCH || kd == PSB_NODE_PC1 || kd == PSB_NODE_NONSMOOTH) &&
+                         d.nodes[i].n_branches == 4 && psb_norm_w(&s, d.nodes[i].y) < 1e-6;
+            bounds += kd == PSB_NODE_BOUND && fabs(d.nodes[i].param) == 1;
+        }
         clean_diagram[variant][backend] = d;
-        out.right = out.code == PSB_SUCCESS;
+        /* (the user backend has no PC1 detector: without branch_at_kinks its traces pass the
+           point, two edges end on the bounds) */
+        out.right = out.code == PSB_SUCCESS && d.n_failed == 0 && bounds == (passes ? 2 : 4) &&
+                    branching == !passes;
     } else {
         out.right = out.code == PSB_SUCCESS && same_diagram(&d, &clean_diagram[variant][backend]);
         psb_diagram_free(&d);
