@@ -1110,7 +1110,12 @@ typedef struct psb_trace_report {
    untouched. With bounds, the last point lies exactly on the bound (bounds may be infinite;
    NaN gives PSB_ERR_INPUT). to and rep may be NULL (rep is always written). Returns
    PSB_PARAM_BOUND, PSB_STEP_BUDGET, PSB_NONSMOOTH_END, PSB_STOPPED, PSB_LOOP_CLOSED, or a
-   failure (PSB_ERR_CALLBACK when a callback returned < 0). */
+   failure (PSB_ERR_CALLBACK when a callback returned < 0). With detectors, a fault while
+   evaluating a test function or an event, or while locating a special point (a callback's
+   > 0 or NaN/Inf; with the user backend also solver.factor/solve's failure where the matrix
+   is regular) fails the trace with that code rather than miss or mislocate the point; a
+   singular matrix next to a branch point is geometry: the location stops there, with
+   special.precision the bracket reached. */
 PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                                    const psb_trace_options *to, psb_trace_report *rep);
 
@@ -1173,7 +1178,13 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
    ones (where more than two curves cross, all of them: in the plane of t and kernel, and in
    a kernel of up to 5 dimensions). rep as psb_find_branches' (n_branches; n_pc counts the
    sphere corrections, n_tangents the kernel's dimension besides t, n_span the radii tried).
-   Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure. */
+   Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
+   PSB_ERR_NULL, PSB_ERR_SIZE (max_branches < 1), PSB_ERR_NONFINITE (y, t or kernel; or a
+   callback's NaN/Inf), PSB_ERR_INPUT (t zero, kernel zero or parallel to t), and, as
+   psb_find_branches, PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a sphere trial or
+   the kernel's computation failed because of a fault (a branch may be missing; rep->n_failed*
+   count them), PSB_ERR_CALLBACK. After a failure ys, ts hold the rep->n_branches couples
+   found until then and rep is written; y, t, kernel are inputs only. */
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
                                                  const double *kernel, int max_branches,
                                                  double *ys, double *ts, psb_branch_report *rep);
@@ -1242,7 +1253,10 @@ typedef struct psb_evolve_report {
    (rep->trace_end says how: step budget, max_length, an end point, a closed loop, the range's
    far bound); PSB_ERR_CALLBACK (a callback returned < 0, or on_point stopped the path); or a
    failure of psb_tangent or psb_trace (PSB_ERR_SINGULAR at a start where dH has rank < N,
-   PSB_ERR_STEP_TOO_SMALL, ...). y is untouched unless PSB_SUCCESS. */
+   PSB_ERR_STEP_TOO_SMALL, ...); a callback's failure (> 0, NaN/Inf) or a singular matrix
+   while y is polished is returned as itself (PSB_ERR_CALLBACK_FAILED, _NONFINITE,
+   _SINGULAR), not as PSB_ERR_INPUT. newton_max_iter <= PSB_MAX_ITER_LIMIT. y is untouched
+   unless PSB_SUCCESS; rep is always written. */
 PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
                                          const psb_evolve_options *eo, psb_evolve_report *rep);
 
@@ -1385,7 +1399,11 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or box), PSB_ERR_NONFINITE,
    PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is kept). A trace or a
    branching that fails otherwise ends its edge (PSB_EDGE_FAILURE, d->n_failed) and exploring
-   goes on. */
+   goes on; once the queue is done (or a budget or capacity ran out) the call returns the
+   first failed edge's code (edge.result: PSB_ERR_CALLBACK_FAILED, _NONFINITE, _SINGULAR,
+   ...), not PSB_SUCCESS, since what lies beyond a failed edge is missing. On every return but PSB_ERR_NULL, _SIZE,
+   _OPTIONS, _INPUT, _NONFINITE (checked before d is reset) d holds the graph made so far;
+   y, t and eo are inputs only. */
 PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
                                      const psb_explore_options *eo, psb_diagram *d);
 
@@ -3327,6 +3345,14 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
     psb__copy(tt, t0, np1);
     trial = hs;
     r = psb__try_step(s, yt, tt, &trial, hs, &iters);
+    if (r != PSB_SUCCESS && !psb__is_fatal(r) && s->prob.linear == PSB_LINEAR_USER) {
+        /* a failed half step says "kink": once more, as a user solver's passing failure
+           (PSB_ERR_SINGULAR, as a turn of the corrector) would call a smooth fold a kink */
+        psb__copy(yt, y0, np1);
+        psb__copy(tt, t0, np1);
+        trial = hs;
+        r = psb__try_step(s, yt, tt, &trial, hs, &iters);
+    }
     if (psb__is_fatal(r) || psb__is_fault(r)) return r; /* a fault leaves the kink unlocated */
     if (r == PSB_SUCCESS) {
         half_theta = psb__angle_w(s, t0, tt);
@@ -3526,6 +3552,18 @@ static psb_result psb__event_values(psb_solver *s, const psb_trace_options *to, 
     return PSB_SUCCESS;
 }
 
+/* Whether a detector's evaluation failed because of a fault it must not hide (a special point
+   missed or mislocated while the trace succeeds): a callback's failure, NaN/Inf, anything
+   fatal, and where the matrix is regular by geometry (`regular`: at accepted points and
+   their re-evaluations, and anywhere but next to a branch point), the user solver's failure
+   (PSB_ERR_SINGULAR, the user's way to report it). Next to a branch point a singular matrix
+   is the geometry's: the detectors go on. */
+static int psb__sp_fault(const psb_solver *s, psb_result r, int regular)
+{
+    return psb__is_fatal(r) || r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE ||
+           (regular && r == PSB_ERR_SINGULAR && s->prob.linear == PSB_LINEAR_USER);
+}
+
 static psb_result psb__sp_value(psb_solver *s, const psb__sp_fn *fn, const double *y,
                                 const double *t, double *f)
 {
@@ -3579,11 +3617,11 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         }
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ya, ta, &fa);
     }
-    if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_NONSMOOTH_END;
+    if (r != PSB_SUCCESS) return psb__sp_fault(s, r, 1) ? r : PSB_NONSMOOTH_END;
     psb__copy(yb, y1, np1);
     r = psb__newton_on(s, yb, tb, y0, t0, sb);
     if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, yb, tb, &fb);
-    if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_NONSMOOTH_END;
+    if (r != PSB_SUCCESS) return psb__sp_fault(s, r, 1) ? r : PSB_NONSMOOTH_END;
     f01_abs[0] = fabs(fa);
     f01_abs[1] = fabs(fb);
     if ((fa < 0) == (fb < 0)) return PSB_NONSMOOTH_END;
@@ -3606,8 +3644,11 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         c = psb_dot_w(s, t0, tf);
         for (i = 0; i < np1; i++) ye[i] = yf[i] + (sm - se) / c * tf[i];
         r = psb__newton_on(s, ye, te, y0, t0, sm);
+        if (r == PSB_ERR_SINGULAR && s->prob.linear == PSB_LINEAR_USER)
+            r = psb__newton_on(s, ye, te, y0, t0, sm); /* a singular matrix stays singular; a
+                                                         user solver's passing failure does not */
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
-        if (psb__is_fatal(r)) return r;
+        if (psb__sp_fault(s, r, fn->kind != PSB_SPECIAL_BRANCH)) return r;
         /* the user backend's tau growing far beyond its values at the ends: a pole */
         if (r == PSB_SUCCESS && fn->kind == PSB_SPECIAL_BRANCH && s->prob.linear == PSB_LINEAR_USER &&
             fabs(fm) > 1e3 * fmax(f01_abs[0], f01_abs[1]))
@@ -3725,7 +3766,7 @@ static psb_result psb__detect_start(psb_solver *s, psb__detector *d, const doubl
     d->mon_old_ok = 0;
     if (d->mon_on) {
         r = psb__monitor_at(s, y, t, &d->mon_old);
-        if (psb__is_fatal(r)) return r;
+        if (psb__sp_fault(s, r, 1)) return r;
         d->mon_old_ok = r == PSB_SUCCESS;
     }
     if ((to->detect & PSB_DETECT_EVENTS) && to->n_events > 0) {
@@ -3833,7 +3874,7 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
             double span = 0;
             for (k = 0; k < s->np1_; k++) span += s->w_[k] * t0[k] * (y1[k] - y0[k]);
             r = psb__branch_directions(s, y0, t0, span);
-            if (psb__is_fatal(r)) return r;
+            if (psb__sp_fault(s, r, 0)) return r;
             psb__special_init(d, PSB_SPECIAL_BRANCH, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
             d->sp.kernel = r == PSB_SUCCESS ? PSB__VEC(s, PSB__V_SP_K) : NULL;
             d->sp.precision = precision;
@@ -3954,8 +3995,10 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         } else {
             /* the test function from the factors of the step's last corrector iteration */
             if (det.mon_on) {
+                /* from factors that just served the corrector: any failure is a fault (the
+                   user's solve) */
                 r = psb__monitor(s, &det.mon_new);
-                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
                 det.mon_new_ok = r == PSB_SUCCESS;
             }
             if (opts.locate_kinks) {
@@ -3984,7 +4027,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
            piece: the test function then costs a factorisation at the accepted point */
         if (det.mon_on && ((flags & PSB_POINT_SWITCH) || psb__cos_w(s, told, tc) < s->opt.c_diff)) {
             r = psb__monitor_at(s, yc, tc, &det.mon_new);
-            if (psb__is_fatal(r)) { rep->end = r; goto done; }
+            if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
             det.mon_new_ok = r == PSB_SUCCESS;
         }
         if (bounded && (yc[p] > opts.param_max || yc[p] < opts.param_min)) {
@@ -4011,7 +4054,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             flags |= PSB_POINT_BOUND;
             if (det.mon_on) {
                 r = psb__monitor_at(s, yc, tc, &det.mon_new);
-                if (psb__is_fatal(r)) { rep->end = r; goto done; }
+                if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
                 det.mon_new_ok = r == PSB_SUCCESS;
             }
         }
@@ -4624,6 +4667,7 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
     res = psb__newton_on(s, yb, tb, y, NULL, r);
     if (psb__is_fatal(res)) return res;
     if (res != PSB_SUCCESS) {
+        psb__note_fault(s, res); /* a trial lost to a fault may be a branch lost */
         if (!keep) return PSB_SUCCESS;
         psb__copy(yb, y, np1);
         psb__copy(tb, v, np1);
@@ -4655,17 +4699,22 @@ static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, dou
     for (attempt = 0; attempt < 3 && res != PSB_SUCCESS; attempt++) {
         psb__axpy_to(yq, y, 1e-4 * r * pow(4.0, attempt), t, np1);
         res = psb__jacobian(s, yq, NULL);
-        if (res != PSB_SUCCESS) return kdim;
+        if (res != PSB_SUCCESS) break;
         for (i = 0; i < np1; i++) row[i] = s->w_[i] * t[i];
         res = psb__factor_bordered(s, row, NULL);
     }
-    if (res != PSB_SUCCESS) return kdim;
+    if (res != PSB_SUCCESS) { /* the kernel beyond ks[0] unknown: a fault may hide branches */
+        if (!psb__is_fatal(res)) psb__note_fault(s, res);
+        return kdim;
+    }
     while (kdim < PSB__KERNEL_MAX) {
         double before, after;
         v = ks + (size_t)kdim * (size_t)np1;
         for (i = 0; i < np1; i++) v[i] = psb__gauss(s->rng_) / sqrt(s->w_[i]);
         for (it = 0; it < 2; it++) {
-            if (psb__solve_factored(s, v, 1) != PSB_SUCCESS || !psb__normalize_w(s, v)) return kdim;
+            res = psb__solve_factored(s, v, 1);
+            if (res != PSB_SUCCESS) psb__note_fault(s, res);
+            if (res != PSB_SUCCESS || !psb__normalize_w(s, v)) return kdim;
         }
         before = psb_norm_w(s, v);
         for (it = 0; it < 2; it++) { /* twice: Gram-Schmidt that keeps orthogonality */
@@ -4743,6 +4792,7 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     if (!psb__normalize_w(s, kc)) return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
     seed = s->opt.seed;
     for (i = 0; i < 4; i++) s->rng_[i] = psb__splitmix(&seed);
+    psb__faults_reset(s);
     kdim = psb__kernel_dirs(s, yc, tc, s->opt.branch_h_init, kc);
     rep->n_tangents = kdim;
     /* a simple branch point has four half-branches; fewer at branch_h_init (a radius beyond
@@ -4759,6 +4809,12 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
         if (res != PSB_SUCCESS) return res;
         if (rep->n_branches >= 4 || overflow) break;
     }
+    rep->n_failed_callback = s->faults_[0];
+    rep->n_failed_nonfinite = s->faults_[1];
+    rep->n_failed_singular = s->faults_[2];
+    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+    res = psb__faults_code(s, "psb_branch_point_switch");
+    if (res != PSB_SUCCESS) return res;
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
@@ -4804,7 +4860,8 @@ static int psb__evolve_point(const psb_point *pt, void *user)
 static const char *psb__check_evolve_options(const psb_evolve_options *o)
 {
     if (o->mode < PSB_EVOLVE_AUTO || o->mode > PSB_EVOLVE_CONTINUATION) return "mode is not a psb_evolve_mode";
-    if (o->newton_max_iter < 0) return "newton_max_iter < 0";
+    if (o->newton_max_iter < 0 || o->newton_max_iter > PSB_MAX_ITER_LIMIT)
+        return "newton_max_iter must lie in [0, PSB_MAX_ITER_LIMIT]";
     if (!(o->newton_max_jump >= 0)) return "newton_max_jump must be >= 0 (0: any)";
     if (o->param_min != o->param_min || o->param_max != o->param_max) return "param_min or param_max is NaN";
     if (o->max_steps < 0) return "max_steps < 0";
@@ -4885,7 +4942,9 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
     if (r == PSB_SUCCESS && psb__norm2(s->res_, s->n_) > s->opt.tol_residual) {
         /* a polish of the previous solution; a move longer than a step means it was none */
         r = psb_correct(s, yc, tc, NULL);
-        if ((r != PSB_SUCCESS && !psb__is_fatal(r)) || (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
+        /* (a fault, a NaN or a singular matrix is reported as such, not as a bad y) */
+        if ((r != PSB_SUCCESS && !psb__is_fatal(r) && !psb__is_fault(r)) ||
+            (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
             r = psb__fail(s, PSB_ERR_INPUT, "y does not solve H(y) = 0 (no solution within h_init of it)");
     }
     if (r != PSB_SUCCESS) {
@@ -5362,8 +5421,9 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
     to.detect_loop = 1;
     to.locate_kinks = x->eo->branch_at_kinks != 0;
     to.stop_at = 0; /* psb__explore_special stops where a branching is due */
-    if (!to.detect && !x->eo->no_detect)
-        to.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH | PSB_DETECT_PC1 |
+    if (!to.detect && !x->eo->no_detect) /* PC1 needs the dense or banded backend */
+        to.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH |
+                    (s->prob.linear != PSB_LINEAR_USER ? PSB_DETECT_PC1 : 0) |
                     (to.n_events > 0 ? PSB_DETECT_EVENTS : 0);
     if (x->eo->no_detect) to.detect = 0;
     x->edge = e;
@@ -5443,7 +5503,13 @@ static const char *psb__check_explore(const psb_explore_options *eo, int np1)
     if (eo->trace.param_min != eo->trace.param_min || eo->trace.param_max != eo->trace.param_max)
         return "the parameter bounds are NaN";
     if (!(eo->node_tol >= 0) || !psb__finite(eo->node_tol)) return "node_tol must be finite and >= 0";
-    if (eo->kink_spans < 0) return "kink_spans must be >= 0";
+    if (eo->kink_spans < 0 || eo->kink_spans > PSB_MAX_SPAN_LIMIT) return "kink_spans must lie in [0, PSB_MAX_SPAN_LIMIT]";
+    /* psb_trace's own checks, made once here rather than failing every edge */
+    if (eo->trace.detect < 0 || eo->trace.detect > PSB_DETECT_ALL) return "trace.detect must be a PSB_DETECT_* mask";
+    if (!(eo->trace.locate_tol >= 0) || !psb__finite(eo->trace.locate_tol)) return "trace.locate_tol must be finite and >= 0";
+    if (eo->trace.n_events < 0) return "trace.n_events must be >= 0";
+    if (eo->trace.n_events > 0 && (!eo->trace.event || !eo->trace.event_work))
+        return "trace.event and trace.event_work are needed with n_events > 0";
     if (!(eo->state_max >= 0)) return "state_max must be >= 0";
     if (eo->max_traces < 0 || eo->max_points < 0 || eo->trace.max_steps < 0)
         return "budgets must be >= 0";
@@ -5535,6 +5601,20 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     for (i = 0; i < d->n_nodes; i++)
         for (k = 0; k < d->nodes[i].n_branches; k++) d->n_queued += d->nodes[i].branch_edge[k] < 0;
     if (result == PSB_SUCCESS && d->truncated) result = PSB_BRANCH_CAPACITY;
+    if (result >= 0 && result != PSB_STOPPED && d->n_failed > 0) {
+        /* a failed edge may hide branches: the diagram is kept, the call fails with the first
+           failed edge's code */
+        char buf[160];
+        psb_result first = PSB_ERR_NO_CONVERGENCE;
+        for (i = 0; i < d->n_edges; i++)
+            if (d->edges[i].end == PSB_EDGE_FAILURE) {
+                if (d->edges[i].result < 0) first = d->edges[i].result;
+                break;
+            }
+        snprintf(buf, sizeof buf, "psb_explore: %d edge(s) ended in a failure, the first (edge %d) with %s",
+                 d->n_failed, i, psb_result_string(first));
+        return psb__fail(s, first, buf);
+    }
     if (result >= 0) s->message[0] = 0;
     return result;
 }

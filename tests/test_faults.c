@@ -8,7 +8,17 @@
    call k on, in three ways (NaN in its output, return 1, return -1). A run may fail, with the
    documented code and its inputs untouched; it may succeed only with the right four
    branches. The allocator fails at each allocation in turn. Under `make asan`
-   LeakSanitizer checks that no run leaks. Then the reproducers of issue 20 (items 1-4). */
+   LeakSanitizer checks that no run leaks. Then the reproducers of issue 20 (items 1-4).
+
+   The same schedule (the event callback too) drives psb_trace with every detector on (a
+   pitchfork's branch point and an event; an S-curve's two folds and an event),
+   psb_branch_point_switch at the pitchfork's branch point, psb_explore (the pitchfork; the
+   crossing kinks min(x_i, g - x_i), k = 2, with branch_at_kinks) and psb_evolve_step through
+   the S-curve's fold, on the dense, banded and user backends. Where a clean run makes more
+   than 100 calls of a callback, k takes all values up to 50 and 50 more evenly spread up to the count.
+   A run that returns success or an informational code must give the known answer (special
+   points within their stated precision, the four half-branches, the clean run's diagram,
+   the solution past the fold); a failure must carry the documented code. */
 #include <stdlib.h>
 
 static int alloc_count, alloc_fail_at; /* the test allocator fails at allocation alloc_fail_at */
@@ -28,13 +38,20 @@ static void *test_malloc(size_t n)
 #include <stddef.h>
 #include <string.h>
 
-enum { CB_RESIDUAL, CB_JACOBIAN, CB_FACTOR, CB_SOLVE, CB_N };
+enum { CB_RESIDUAL, CB_JACOBIAN, CB_FACTOR, CB_SOLVE, CB_EVENT, CB_N };
 enum { KIND_NAN, KIND_POSITIVE, KIND_NEGATIVE };
 enum { BK_DENSE, BK_DENSE_FD, BK_BANDED, BK_USER, BK_N };
 static const char *backend_name[BK_N] = {"dense", "dense, differences", "banded", "user"};
 
+/* The smooth problems of the detectors, the branch point switch, the explorer and the
+   quasi-static step (y = (x, lambda), N = 1): a pitchfork x (lambda - x^2), branches x = 0 and
+   lambda = x^2 through the branch point 0; an S-curve x^3 - x - lambda, folds at
+   x = -+1/sqrt(3). */
+enum { SM_PL, SM_PITCHFORK, SM_SCURVE };
+
 typedef struct {
     pl_problem p;
+    int smooth; /* SM_*: which problem the callbacks evaluate */
     long calls[CB_N];
     int target, kind, persistent; /* which callback fails, how, once or from call k on */
     long at;                      /* 0: no fault */
@@ -57,10 +74,30 @@ static int fault_now(faulty *f, int cb)
 
 static int fault_rc(const faulty *f) { return f->kind == KIND_POSITIVE ? 1 : f->kind == KIND_NEGATIVE ? -1 : 0; }
 
+static void eval_residual(faulty *f, const double *y, double *h)
+{
+    if (f->smooth == SM_PITCHFORK) h[0] = y[0] * (y[1] - y[0] * y[0]);
+    else if (f->smooth == SM_SCURVE) h[0] = y[0] * y[0] * y[0] - y[0] - y[1];
+    else pl_residual(y, h, &f->p);
+}
+
+static void eval_jacobian(faulty *f, const double *y, double *jac, int ld)
+{
+    if (f->smooth == SM_PITCHFORK) {
+        jac[0] = y[1] - 3 * y[0] * y[0];
+        jac[ld] = y[0];
+    } else if (f->smooth == SM_SCURVE) {
+        jac[0] = 3 * y[0] * y[0] - 1;
+        jac[ld] = -1;
+    } else {
+        pl_jacobian(y, jac, ld, &f->p);
+    }
+}
+
 static int f_residual(const double *y, double *h, void *u)
 {
     faulty *f = (faulty *)u;
-    pl_residual(y, h, &f->p);
+    eval_residual(f, y, h);
     if (!fault_now(f, CB_RESIDUAL)) return 0;
     if (f->kind == KIND_NAN) h[f->p.n - 1] = NAN;
     return fault_rc(f);
@@ -69,7 +106,7 @@ static int f_residual(const double *y, double *h, void *u)
 static int f_jacobian(const double *y, double *jac, int ld, void *u)
 {
     faulty *f = (faulty *)u;
-    pl_jacobian(y, jac, ld, &f->p);
+    eval_jacobian(f, y, jac, ld);
     if (!fault_now(f, CB_JACOBIAN)) return 0;
     if (f->kind == KIND_NAN) jac[0] = NAN;
     return fault_rc(f);
@@ -81,7 +118,7 @@ static int f_band(const double *y, double *band, int ldband, double *dparam, voi
     faulty *f = (faulty *)u;
     int n = f->p.n, i, j;
     double jac[PL_MAX_N * (PL_MAX_N + 1)];
-    pl_jacobian(y, jac, n, &f->p);
+    eval_jacobian(f, y, jac, n);
     for (j = 0; j < n; j++)
         for (i = 0; i < n; i++) band[PSB_BAND_INDEX(n - 1, ldband, i, j)] = jac[i + j * n];
     for (i = 0; i < n; i++) dparam[i] = jac[i + n * n];
@@ -96,7 +133,7 @@ static int f_factor(const double *y, const double *row, void *ctx)
     faulty *f = (faulty *)ctx;
     int n = f->p.n, np1 = n + 1, i, j;
     double jac[PL_MAX_N * (PL_MAX_N + 1)];
-    pl_jacobian(y, jac, n, &f->p);
+    eval_jacobian(f, y, jac, n);
     for (j = 0; j < np1; j++) {
         for (i = 0; i < n; i++) f->mat[i + j * np1] = jac[i + j * n];
         f->mat[n + j * np1] = row[j];
@@ -118,6 +155,16 @@ static int f_solve(double *b, int nrhs, void *ctx)
     }
     if (!fault_now(f, CB_SOLVE)) return 0;
     if (f->kind == KIND_NAN) b[0] = NAN;
+    return fault_rc(f);
+}
+
+/* Event of the smooth problems: lambda - 1/2 (pitchfork), x (S-curve). */
+static int f_event(const double *y, double *g, void *u)
+{
+    faulty *f = (faulty *)u;
+    g[0] = f->smooth == SM_PITCHFORK ? y[1] - 0.5 : y[0];
+    if (!fault_now(f, CB_EVENT)) return 0;
+    if (f->kind == KIND_NAN) g[0] = NAN;
     return fault_rc(f);
 }
 
@@ -701,6 +748,528 @@ static void test_fd_repair_failure(void)
     psb_solver_free(&s);
 }
 
+/* ---- fault injection on the detectors, the branch point switch, the explorer, evolve ------ */
+
+/* One run of a scenario: its code, whether the answer is the known one, whether the inputs
+   that must stay untouched did. */
+typedef struct {
+    psb_result code;
+    int right, untouched;
+} run_result;
+
+typedef run_result (*scenario_fn)(faulty *f, int backend, int variant);
+
+static int backend_of(int b) { return b == 0 ? BK_DENSE : b == 1 ? BK_USER : BK_BANDED; }
+
+typedef struct {
+    int n;
+    psb_special_kind kind[8];
+    double param[8], precision[8];
+} specials;
+
+/* Whether special point j is of this kind and, within its stated precision, at param. */
+static int special_at(const specials *sp, int j, psb_special_kind kind, double param)
+{
+    return sp->kind[j] == kind && fabs(sp->param[j] - param) <= sp->precision[j] + 1e-6;
+}
+
+static int record_special(const psb_point *pt, void *user)
+{
+    specials *sp = (specials *)user;
+    if (!(pt->flags & PSB_POINT_SPECIAL)) return 0;
+    if (sp->n < 8) {
+        sp->kind[sp->n] = pt->special->kind;
+        sp->param[sp->n] = pt->special->param;
+        sp->precision[sp->n] = pt->special->precision;
+    }
+    sp->n++;
+    return 0;
+}
+
+/* psb_trace with every detector on and one event: the pitchfork's trivial branch from
+   lambda = -0.9 to 1 (a branch point at 0, the event at 1/2), or the S-curve from x = -1.5 to
+   lambda = 2 (folds at lambda = +-2/(3 sqrt 3), the event x = 0 at lambda = 0). */
+static run_result scenario_trace(faulty *f, int backend, int variant)
+{
+    static const double fold = 0.38490017945975050; /* 2 / (3 sqrt 3) */
+    psb_problem prob;
+    psb_solver s;
+    psb_trace_options to, to_in;
+    psb_trace_report tr;
+    specials sp;
+    double y[2], t[2], y_in[2], t_in[2], work[3], hy;
+    run_result out = {PSB_SUCCESS, 0, 1};
+    f->smooth = variant;
+    f->p.n = 1;
+    problem_for(&prob, f, backend);
+    if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) return out;
+    if (variant == SM_PITCHFORK) {
+        y[0] = 0; y[1] = -0.9; t[0] = 0; t[1] = 1;
+    } else {
+        y[0] = -1.5; y[1] = -1.875; t[0] = 1; t[1] = 5.75;
+    }
+    memset(&to, 0, sizeof to);
+    memset(&sp, 0, sizeof sp);
+    to.param_min = variant == SM_PITCHFORK ? -1 : -2;
+    to.param_max = variant == SM_PITCHFORK ? 1 : 2;
+    to.detect = backend == BK_USER ? PSB_DETECT_ALL & ~PSB_DETECT_PC1 : PSB_DETECT_ALL;
+    to.n_events = 1;
+    to.event = f_event;
+    to.event_user = f;
+    to.event_work = work;
+    to.on_point = record_special;
+    to.point_user = &sp;
+    to_in = to;
+    memcpy(y_in, y, sizeof y);
+    memcpy(t_in, t, sizeof t);
+    out.code = psb_trace(&s, y, t, &to, &tr);
+    out.untouched = memcmp(&to, &to_in, sizeof to) == 0 &&
+                    (out.code >= 0 || tr.steps > 0 || (same(y, y_in, 2) && same(t, t_in, 2)));
+    eval_residual(f, y, &hy);
+    out.right = out.code == PSB_PARAM_BOUND && y[1] == to.param_max && fabs(hy) < 1e-8;
+    if (variant == SM_PITCHFORK)
+        out.right &= fabs(y[0]) < 1e-8 && sp.n == 2 && tr.n_special[PSB_SPECIAL_BRANCH] == 1 &&
+                     tr.n_special[PSB_SPECIAL_EVENT] == 1 && special_at(&sp, 0, PSB_SPECIAL_BRANCH, 0) &&
+                     special_at(&sp, 1, PSB_SPECIAL_EVENT, 0.5);
+    else
+        out.right &= sp.n == 3 && tr.n_special[PSB_SPECIAL_FOLD] == 2 && tr.n_special[PSB_SPECIAL_EVENT] == 1 &&
+                     special_at(&sp, 0, PSB_SPECIAL_FOLD, fold) && special_at(&sp, 1, PSB_SPECIAL_EVENT, 0) &&
+                     special_at(&sp, 2, PSB_SPECIAL_FOLD, -fold);
+    psb_solver_free(&s);
+    return out;
+}
+
+/* The pitchfork's branch point as psb_trace locates it (clean, dense): y, t, kernel. */
+static double bp_y[2], bp_t[2], bp_k[2];
+
+static int stop_at_branch(const psb_point *pt, void *user)
+{
+    if (!(pt->flags & PSB_POINT_SPECIAL) || pt->special->kind != PSB_SPECIAL_BRANCH) return 0;
+    memcpy(bp_y, pt->special->y, sizeof bp_y);
+    memcpy(bp_t, pt->special->t, sizeof bp_t);
+    memcpy(bp_k, pt->special->kernel, sizeof bp_k);
+    return *(int *)user = 1;
+}
+
+static int locate_branch_point(void)
+{
+    faulty f;
+    psb_problem prob;
+    psb_solver s;
+    psb_trace_options to;
+    double y[2] = {0, -0.9}, t[2] = {0, 1};
+    int found = 0;
+    memset(&f, 0, sizeof f);
+    f.smooth = SM_PITCHFORK;
+    f.p.n = 1;
+    problem_for(&prob, &f, BK_DENSE);
+    if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) return 0;
+    memset(&to, 0, sizeof to);
+    to.param_min = -1;
+    to.param_max = 1;
+    to.detect = PSB_DETECT_BRANCH;
+    to.on_point = stop_at_branch;
+    to.point_user = &found;
+    psb_trace(&s, y, t, &to, NULL);
+    psb_solver_free(&s);
+    return found;
+}
+
+/* psb_branch_point_switch at the pitchfork's branch point: four half-branches, -t, +t and
+   the parabola's two (x = -+, tangent along x). */
+static run_result scenario_switch(faulty *f, int backend, int variant)
+{
+    psb_problem prob;
+    psb_solver s;
+    psb_branch_report br;
+    double y[2], t[2], k[2], ys[8 * 2], ts[8 * 2];
+    run_result out = {PSB_SUCCESS, 0, 1};
+    int j, plus = 0, minus = 0;
+    (void)variant;
+    f->smooth = SM_PITCHFORK;
+    f->p.n = 1;
+    problem_for(&prob, f, backend);
+    if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) return out;
+    memcpy(y, bp_y, sizeof y);
+    memcpy(t, bp_t, sizeof t);
+    memcpy(k, bp_k, sizeof k);
+    out.code = psb_branch_point_switch(&s, y, t, k, 8, ys, ts, &br);
+    out.untouched = same(y, bp_y, 2) && same(t, bp_t, 2) && same(k, bp_k, 2);
+    out.right = out.code == PSB_SUCCESS && br.n_branches == 4 && ts[1] < -0.999 && ts[3] > 0.999;
+    for (j = 2; j < br.n_branches && j < 8; j++) {
+        plus += ts[2 * j] > 0.99;
+        minus += ts[2 * j] < -0.99;
+    }
+    out.right &= plus == 1 && minus == 1;
+    psb_solver_free(&s);
+    return out;
+}
+
+/* Whether two diagrams have the same graph: nodes (kind, place, branches), edges (ends). */
+static int same_diagram(const psb_diagram *a, const psb_diagram *b)
+{
+    int i, k, np1 = a->n + 1;
+    if (a->n_nodes != b->n_nodes || a->n_edges != b->n_edges || a->n_failed != b->n_failed ||
+        a->n_queued != b->n_queued || a->truncated != b->truncated)
+        return 0;
+    for (i = 0; i < a->n_nodes; i++) {
+        const psb_node *p = a->nodes + i, *q = b->nodes + i;
+        if (p->kind != q->kind || p->n_branches != q->n_branches) return 0;
+        for (k = 0; k < np1; k++) /* within the nodes' stated precisions */
+            if (!(fabs(p->y[k] - q->y[k]) <= 1e-6 + p->precision + q->precision)) return 0;
+        for (k = 0; k < p->n_branches * np1; k++)
+            if (!(fabs(p->ts[k] - q->ts[k]) < 1e-3)) return 0;
+    }
+    for (i = 0; i < a->n_edges; i++) {
+        const psb_edge *p = a->edges + i, *q = b->edges + i;
+        if (p->from != q->from || p->from_branch != q->from_branch || p->to != q->to || p->end != q->end) return 0;
+    }
+    return 1;
+}
+
+static psb_diagram clean_diagram[3][BK_N]; /* [variant][backend]: the clean run's */
+static int keep_clean;                  /* 1: the run being made is the clean one */
+
+/* psb_explore with bounds lambda in [-1, 1]: variant 0 the pitchfork from (0, -1/2) (a start,
+   a branch point, four bound ends); variant 1 the crossing kinks min(x_i, g - x_i), k = 2,
+   from half-way along a ray with branch_at_kinks (one point, four rays); variant 2 the same
+   without branch_at_kinks (the PC1 detector finds the point; the user backend has none, its
+   traces pass through). A run that returns
+   success or an informational code must give the clean run's diagram. */
+static run_result scenario_explore(faulty *f, int backend, int variant)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[3], t[3], y_in[3], t_in[3];
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    psb_explore_options eo, eo_in;
+    psb_diagram d;
+    run_result out = {PSB_SUCCESS, 0, 1};
+    int np1;
+    memset(&o, 0, sizeof o);
+    if (variant == 0) {
+        f->smooth = SM_PITCHFORK;
+        f->p.n = 1;
+        y[0] = 0; y[1] = -0.5; t[0] = 0; t[1] = 1;
+    } else {
+        f->smooth = SM_PL;
+        pl_crossing_kinks(&f->p, 2, rays);
+        pl_start_on_ray(3, rays, 0, y, t);
+        o.n_span = 2;
+        o.n_dir = 12;
+    }
+    np1 = f->p.n + 1;
+    problem_for(&prob, f, backend);
+    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return out;
+    if (psb_diagram_init(&d, f->p.n, 16, 16, 8) != PSB_SUCCESS) {
+        psb_solver_free(&s);
+        return out;
+    }
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = variant == 1;
+    eo_in = eo;
+    memcpy(y_in, y, sizeof y);
+    memcpy(t_in, t, sizeof t);
+    out.code = psb_explore(&s, y, t, &eo, &d);
+    out.untouched = same(y, y_in, np1) && same(t, t_in, np1) && memcmp(&eo, &eo_in, sizeof eo) == 0;
+    if (keep_clean) { /* the known graph: one point with four half-branches, four bound ends */
+        int i, branching = 0, bounds = 0, passes = variant == 2 && backend == BK_USER;
+        for (i = 0; i < d.n_nodes; i++) {
+            psb_node_kind kd = d.nodes[i].kind;
+            branching += (kd == PSB_NODE_BRANCH || kd == PSB_NODE_PC1 || kd == PSB_NODE_NONSMOOTH) &&
+                         d.nodes[i].n_branches == 4 && psb_norm_w(&s, d.nodes[i].y) < 1e-6;
+            bounds += kd == PSB_NODE_BOUND && fabs(d.nodes[i].param) == 1;
+        }
+        clean_diagram[variant][backend] = d;
+        /* (the user backend has no PC1 detector: without branch_at_kinks its traces pass the
+           point, two edges end on the bounds) */
+        out.right = out.code == PSB_SUCCESS && d.n_failed == 0 && bounds == (passes ? 2 : 4) &&
+                    branching == !passes;
+    } else {
+        out.right = out.code == PSB_SUCCESS && same_diagram(&d, &clean_diagram[variant][backend]);
+        psb_diagram_free(&d);
+    }
+    psb_solver_free(&s);
+    return out;
+}
+
+/* psb_evolve_step on the S-curve from x = -1.2 (lambda = -0.528) to lambda = 1/2: through the
+   fold at 0.385 to the only solution there, x = 1.19149 (Newton's answer farther than 1/2 is
+   left to continuation). Variant: PSB_EVOLVE_AUTO or PSB_EVOLVE_CONTINUATION, + 4: from 1e-7
+   off the curve (the previous state is polished by psb_correct first). */
+static run_result scenario_evolve(faulty *f, int backend, int variant)
+{
+    psb_problem prob;
+    psb_solver s;
+    psb_evolve_options eo, eo_in;
+    psb_evolve_report rep;
+    double y[2] = {-1.2, -0.528}, y_in[2], x = 1.2; /* H(y) = 0 */
+    run_result out = {PSB_SUCCESS, 0, 1};
+    int i;
+    for (i = 0; i < 60; i++) x -= (x * x * x - x - 0.5) / (3 * x * x - 1);
+    f->smooth = SM_SCURVE;
+    f->p.n = 1;
+    problem_for(&prob, f, backend);
+    if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) return out;
+    memset(&eo, 0, sizeof eo);
+    eo.mode = variant & 3;
+    eo.newton_max_jump = 0.5;
+    if (variant & 4) y[0] += 1e-7; /* off the curve: the step polishes y first */
+    eo_in = eo;
+    memcpy(y_in, y, sizeof y);
+    out.code = psb_evolve_step(&s, y, 0.5, &eo, &rep);
+    out.untouched = memcmp(&eo, &eo_in, sizeof eo) == 0 && (out.code == PSB_SUCCESS || same(y, y_in, 2));
+    out.right = out.code == PSB_SUCCESS && y[1] == 0.5 && fabs(y[0] - x) < 1e-8 &&
+                rep.method == PSB_EVOLVE_CONTINUATION && rep.snap_through;
+    psb_solver_free(&s);
+    return out;
+}
+
+typedef struct {
+    long runs, fired, failed, recovered, wrong_success, wrong_code, touched;
+} tally;
+
+/* The fault schedule on one scenario and backend: every callback the clean run calls, three
+   kinds, once and from call k on, for k = 1 .. 50 and then 50 values of k evenly spread up to
+   the clean run's count (all k when it is at most 100). */
+static void campaign(const char *name, scenario_fn run, int backend, int variant, tally *all)
+{
+    faulty f;
+    run_result clean;
+    long clean_calls[CB_N];
+    int target, kind, persistent;
+    tally t;
+    memset(&t, 0, sizeof t);
+    memset(&f, 0, sizeof f);
+    keep_clean = 1;
+    clean = run(&f, backend, variant);
+    keep_clean = 0;
+    CHECK(clean.right && clean.untouched);
+    memcpy(clean_calls, f.calls, sizeof clean_calls);
+    for (target = 0; target < CB_N; target++)
+        for (kind = 0; kind < 3; kind++)
+            for (persistent = 0; persistent < 2; persistent++) {
+                long n = clean_calls[target], i, n_k = n <= 100 ? n : 100;
+                for (i = 1; i <= n_k; i++) {
+                    long k = n <= 100 || i <= 50 ? i : 50 + (n - 50) * (i - 50) / 50;
+                    run_result out;
+                    memset(&f, 0, sizeof f);
+                    f.target = target;
+                    f.kind = kind;
+                    f.persistent = persistent;
+                    f.at = k;
+                    out = run(&f, backend, variant);
+                    t.runs++;
+                    if (!f.fired) {
+                        CHECK(out.right);
+                        continue;
+                    }
+                    t.fired++;
+                    if (!out.untouched) {
+                        t.touched++;
+                        printf("  INPUT CHANGED: %s, %s, callback %d, kind %d, %s at call %ld: code %d\n", name,
+                               backend_name[backend], target, kind, persistent ? "from" : "once", k, out.code);
+                    }
+                    if (out.code >= 0) {
+                        if (out.right) {
+                            t.recovered++;
+                        } else {
+                            t.wrong_success++;
+                            printf("  WRONG SUCCESS: %s, %s, callback %d, kind %d, %s at call %ld: code %d\n", name,
+                                   backend_name[backend], target, kind, persistent ? "from" : "once", k, out.code);
+                        }
+                        continue;
+                    }
+                    t.failed++;
+                    if (out.code != expected_code(target, kind)) {
+                        t.wrong_code++;
+                        printf("  CODE: %s, %s, callback %d, kind %d, %s at call %ld: code %d (expected %d)\n", name,
+                               backend_name[backend], target, kind, persistent ? "from" : "once", k, out.code,
+                               expected_code(target, kind));
+                    }
+                }
+            }
+    printf("  faults, %s (%s): clean run %ld residuals, %ld Jacobians, %ld factorisations, %ld solves, %ld events;"
+           " %ld runs, %ld fired: %ld failed, %ld recovered, %ld wrong successes, %ld wrong codes, %ld inputs changed\n",
+           name, backend_name[backend], clean_calls[0], clean_calls[1], clean_calls[2], clean_calls[3], clean_calls[4],
+           t.runs, t.fired, t.failed, t.recovered, t.wrong_success, t.wrong_code, t.touched);
+    all->runs += t.runs;
+    all->fired += t.fired;
+    all->failed += t.failed;
+    all->recovered += t.recovered;
+    all->wrong_success += t.wrong_success;
+    all->wrong_code += t.wrong_code;
+    all->touched += t.touched;
+}
+
+static void test_fault_injection_detectors(void)
+{
+    tally all;
+    int b, v;
+    memset(&all, 0, sizeof all);
+    CHECK(locate_branch_point());
+    CHECK(fabs(bp_y[0]) < 1e-8 && fabs(bp_y[1]) < 1e-6 && fabs(bp_k[0]) > 0.999);
+    for (b = 0; b < 3; b++) {
+        campaign("trace, pitchfork", scenario_trace, backend_of(b), SM_PITCHFORK, &all);
+        campaign("trace, S-curve", scenario_trace, backend_of(b), SM_SCURVE, &all);
+        campaign("branch point switch", scenario_switch, backend_of(b), 0, &all);
+        campaign("evolve, auto", scenario_evolve, backend_of(b), PSB_EVOLVE_AUTO, &all);
+        campaign("evolve, continuation", scenario_evolve, backend_of(b), PSB_EVOLVE_CONTINUATION, &all);
+        campaign("evolve, continuation, polish", scenario_evolve, backend_of(b), PSB_EVOLVE_CONTINUATION + 4, &all);
+        for (v = 0; v < 3; v++) {
+            campaign(v == 0 ? "explore, pitchfork" : v == 1 ? "explore, crossing kinks" : "explore, crossing kinks, PC1",
+                     scenario_explore, backend_of(b), v, &all);
+            psb_diagram_free(&clean_diagram[v][backend_of(b)]);
+        }
+    }
+    printf("  faults, detectors to explorer: %ld runs, %ld fired: %ld failed, %ld recovered, %ld wrong successes, "
+           "%ld wrong codes, %ld inputs changed\n",
+           all.runs, all.fired, all.failed, all.recovered, all.wrong_success, all.wrong_code, all.touched);
+    CHECK(all.wrong_success == 0);
+    CHECK(all.wrong_code == 0);
+    CHECK(all.touched == 0);
+    CHECK(all.failed > 0 && all.recovered > 0);
+}
+
+/* The new entry points against misuse: NULL, sizes, NaN and absurd options, a freed solver,
+   a failing allocator; inputs untouched, a message each time. */
+static void test_misuse_new_functions(void)
+{
+    faulty f;
+    psb_problem prob;
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    psb_evolve_options ev;
+    psb_branch_report br;
+    double y[2] = {0, -0.5}, t[2] = {0, 1}, k[2] = {1, 0}, ys[8], ts[8], work[3], box_lo[2] = {-2, -2}, box_hi[2] = {2, 2};
+    double ye[2] = {-1.2, -0.528};
+    int kk;
+    memset(&f, 0, sizeof f);
+    f.smooth = SM_PITCHFORK;
+    f.p.n = 1;
+
+    /* psb_diagram_init: the allocator fails at allocation k (one allocation in all) */
+    for (kk = 1; kk <= 2; kk++) {
+        alloc_count = 0;
+        alloc_fail_at = kk;
+        if (kk == 1) {
+            CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_ERR_NOMEM);
+            CHECK(d.nodes == NULL && d.n_nodes == 0);
+        } else {
+            CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_SUCCESS && alloc_count == 1);
+        }
+        psb_diagram_free(&d);
+        psb_diagram_free(&d); /* twice: harmless */
+    }
+    alloc_fail_at = 0;
+    CHECK(psb_diagram_memory_size(1, INT_MAX, INT_MAX, INT_MAX) == 0); /* overflow: 0, no wrap */
+    CHECK(psb_diagram_memory_size(0, 8, 8, 4) == 0 && psb_diagram_memory_size(1, 8, 8, 0) == 0);
+    CHECK(psb_diagram_init(&d, 1, 8, -1, 4) == PSB_ERR_SIZE);
+    CHECK(psb_diagram_init_with_memory(&d, 1, 8, 8, 4, ys, sizeof ys) == PSB_ERR_NOMEM);
+
+    problem_for(&prob, &f, BK_DENSE);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_SUCCESS);
+#define EXPLORE_REJECTED(set, name)                                                                \
+    do {                                                                                           \
+        memset(&eo, 0, sizeof eo);                                                                 \
+        set;                                                                                       \
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);                                 \
+        CHECK(strstr(psb_solver_message(&s), name) != NULL);                                       \
+        CHECK(y[0] == 0 && y[1] == -0.5 && t[0] == 0 && t[1] == 1);                                \
+    } while (0)
+    EXPLORE_REJECTED(eo.node_tol = NAN, "node_tol");
+    EXPLORE_REJECTED(eo.node_tol = INFINITY, "node_tol");
+    EXPLORE_REJECTED(eo.node_tol = -1, "node_tol");
+    EXPLORE_REJECTED(eo.max_traces = -1, "budgets");
+    EXPLORE_REJECTED(eo.max_points = -1, "budgets");
+    EXPLORE_REJECTED(eo.trace.max_steps = -1, "budgets");
+    EXPLORE_REJECTED(eo.trace.param_max = NAN, "bounds");
+    EXPLORE_REJECTED(eo.state_max = NAN, "state_max");
+    EXPLORE_REJECTED(eo.kink_spans = PSB_MAX_SPAN_LIMIT + 1, "kink_spans");
+    EXPLORE_REJECTED(eo.trace.detect = 99, "detect");
+    EXPLORE_REJECTED(eo.trace.locate_tol = NAN, "locate_tol");
+    EXPLORE_REJECTED(eo.trace.n_events = 1, "event");
+    EXPLORE_REJECTED((eo.trace.n_events = 1, eo.trace.event = f_event, eo.trace.event_work = work, eo.trace.event_user = NULL,
+                      eo.trace.n_events = -1), "n_events");
+    EXPLORE_REJECTED(eo.box_min = box_lo, "box");
+    EXPLORE_REJECTED((eo.box_min = box_lo, eo.box_max = box_hi, box_lo[1] = NAN), "box_min");
+    box_lo[1] = -2;
+    memset(&eo, 0, sizeof eo);
+    CHECK(psb_explore(&s, y, t, &eo, NULL) == PSB_ERR_NULL);
+    CHECK(psb_explore(&s, NULL, t, &eo, &d) == PSB_ERR_NULL);
+    t[1] = NAN;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_NONFINITE);
+    t[1] = 1;
+
+    /* the branch point switch */
+    CHECK(psb_branch_point_switch(&s, y, t, NULL, 4, ys, ts, &br) == PSB_ERR_NULL);
+    CHECK(psb_branch_point_switch(&s, y, t, k, 0, ys, ts, &br) == PSB_ERR_SIZE);
+    k[0] = NAN;
+    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_NONFINITE);
+    k[0] = 0;
+    k[1] = 2; /* parallel to t */
+    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_INPUT);
+    CHECK(strstr(psb_solver_message(&s), "kernel") != NULL);
+    k[0] = 1;
+    k[1] = 0;
+    psb_solver_free(&s);
+
+    /* psb_evolve_step's options: rejected by name, y untouched */
+    f.smooth = SM_SCURVE;
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+#define EVOLVE_REJECTED(set, name)                                                                 \
+    do {                                                                                           \
+        memset(&ev, 0, sizeof ev);                                                                 \
+        set;                                                                                       \
+        CHECK(psb_evolve_step(&s, ye, 0.5, &ev, NULL) == PSB_ERR_OPTIONS);                        \
+        CHECK(strstr(psb_solver_message(&s), name) != NULL);                                       \
+        CHECK(ye[0] == -1.2 && ye[1] == -0.528);                                                   \
+    } while (0)
+    EVOLVE_REJECTED(ev.mode = 7, "mode");
+    EVOLVE_REJECTED(ev.newton_max_iter = -1, "newton_max_iter");
+    EVOLVE_REJECTED(ev.newton_max_iter = INT_MAX, "newton_max_iter"); /* went to continuation */
+    EVOLVE_REJECTED(ev.newton_max_jump = NAN, "newton_max_jump");
+    EVOLVE_REJECTED(ev.param_min = NAN, "param_min");
+    EVOLVE_REJECTED(ev.max_steps = -1, "max_steps");
+    EVOLVE_REJECTED(ev.max_length = NAN, "max_length");
+#undef EVOLVE_REJECTED
+#undef EXPLORE_REJECTED
+    CHECK(psb_evolve_step(&s, ye, NAN, NULL, NULL) == PSB_ERR_NONFINITE);
+    CHECK(psb_evolve_step(&s, NULL, 0.5, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(ye[0] == -1.2 && ye[1] == -0.528);
+    psb_solver_free(&s);
+
+    /* a freed solver: every new entry point says so and touches nothing */
+    CHECK(psb_explore(&s, y, t, NULL, &d) == PSB_ERR_NULL);
+    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_NULL);
+    CHECK(psb_evolve_step(&s, ye, 0.5, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(ye[0] == -1.2 && ye[1] == -0.528 && y[0] == 0 && y[1] == -0.5 && t[0] == 0 && t[1] == 1);
+    psb_diagram_free(&d);
+    CHECK(psb_explore(&s, y, t, NULL, &d) == PSB_ERR_NULL); /* freed diagram */
+
+    /* the user backend: the explorer's default detectors leave PC1 out (psb_trace refuses it
+       there: every edge failed, and psb_explore said PSB_SUCCESS); asked for, it is refused */
+    f.smooth = SM_PITCHFORK;
+    problem_for(&prob, &f, BK_USER);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+    CHECK(d.n_failed == 0 && d.n_edges == 5);
+    eo.trace.detect = PSB_DETECT_ALL;
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
+    CHECK(d.n_failed > 0 && strstr(psb_solver_message(&s), "edge") != NULL);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
 int main(void)
 {
     test_fd_repair_failure();
@@ -710,5 +1279,7 @@ int main(void)
     test_option_limits();
     test_resolve_truthful();
     test_fault_injection();
+    test_fault_injection_detectors();
+    test_misuse_new_functions();
     return HARNESS_END();
 }
