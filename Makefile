@@ -175,7 +175,7 @@ images:
 images-run: $(EXAMPLES)
 	sh docs/make_images.sh
 
-BENCH = bench/bench_linear bench/bench_branching
+BENCH = bench/bench_linear bench/bench_branching bench/bench_detect
 
 bench/%: bench/%.c $(HEADER) tests/pl_problems.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
@@ -184,6 +184,7 @@ bench: $(BENCH) examples/block
 	@mkdir -p bench/out
 	./bench/bench_linear --csv bench/out/linear.csv
 	./bench/bench_branching --csv bench/out/branching.csv
+	./bench/bench_detect --csv bench/out/detect.csv
 	bash bench/bench_block.sh
 	REPEAT=1 bash bench/getfem_side_by_side.sh
 

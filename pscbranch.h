@@ -437,11 +437,24 @@
    located, and kept when |tau| shrank there (a zero), not grew (a pole).
    Location: the curve between the couples is parameterised by s = <t0, y - y0>_w, each point
    by Newton on H(y) = 0, <t0, y - y0>_w = s, converged on a last correction <= tol_correction
-   (the tangent and the test function come from the factors before it), predicted from the
-   nearer end of the bracket along its tangent (an error of the order of the bracket squared:
-   inside Newton's basin even next to a branch point). The bracket shrinks by the Illinois
-   variant of regula falsi, bisecting when two evaluations did not halve it, to locate_tol;
-   precision is its width, the point the end with the smaller |test function|. A branch point's
+   (the tangent and the test function come from the factors before it), predicted by the cubic
+   Hermite interpolate of the bracket's ends (an error of the order of the bracket to the
+   fourth). Near a branch point that plane cuts every branch, and Newton may land on another
+   one (two circles crossing at 60 degrees: points on the wrong circle made a bracket 2e-4 off
+   the crossing, reported to 1e-10): a point is used only when it continues the ends' curve,
+   within |ta - tb| / 2 + 0.05 of their interpolated tangent (and c_min of each) and
+   w (|ta - tb| / 2 + 0.05) of their chord (w the bracket's length; a smooth curve departs by
+   its sagitta, w |ta - tb| / 8); otherwise s moves halfway to the end farther from the zero,
+   up to 12 times, then the bracket reached is kept. The bracket shrinks by the Illinois
+   variant of regula falsi, bisecting when two evaluations did not halve it, each point at
+   least min(locate_tol, w) / 4 inside (as in Brent's method: an end converging on the zero
+   alone would leave the other where it was), until its ends lie within locate_tol of each
+   other: precision is their distance (both on the traced curve, so a true bound), the point
+   the end with the smaller |test function|. Crossing circles (dH = 0 at the crossing, steps
+   up to 0.2, angles 60 and 35 degrees, three backends): both points within 3.3e-11, precision
+   <= 1e-10, the four half-arcs; the kink test of a step that turned by more than c_diff,
+   whose half step ended at the crossing on the other circle, tries 3/8 and 5/8 of the step
+   before calling it a kink. A branch point's
    tangent is the mean of the tangents at s* -+ delta (delta = 1e-5 of the step; the one at s*
    is off by eps cond B), its kernel two steps of inverse iteration with B at s* + delta, made
    w-orthogonal to t. Measured (tests/test_detect.c): pitchfork and transcritical points on
@@ -3361,6 +3374,19 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
             psb__copy(ya, yt, np1);
             psb__copy(ta, tt, np1);
         }
+    } else {
+        /* the half step may end next to a smooth branch point, where its corrector lands on
+           the other branch (and is rejected): a smooth turn shows at 3/8 or 5/8 of the step */
+        double frac;
+        for (frac = 0.375; frac < 0.7; frac += 0.25) {
+            psb__copy(yt, y0, np1);
+            psb__copy(tt, t0, np1);
+            trial = frac * h;
+            r = psb__try_step(s, yt, tt, &trial, trial, &iters);
+            if (psb__is_fatal(r) || psb__is_fault(r)) return r;
+            half_theta = psb__angle_w(s, t0, tt);
+            if (r == PSB_SUCCESS && half_theta >= 0.5 * frac * theta && half_theta <= 1.5 * frac * theta) return 0;
+        }
     }
     /* the kink lies within hs of ya */
     while (hs >= s->opt.h_min) {
@@ -3452,10 +3478,16 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
         logabs += log(fabs(s->delta_));
     } else {
         double *x = s->rhs_, q[2];
-        psb__copy(x, PSB__VEC(s, PSB__V_SP_B1), np1);
-        psb__copy(x + np1, PSB__VEC(s, PSB__V_SP_B2), np1);
-        r = psb__solve_factored(s, x, 2);
+        int attempt;
+        for (attempt = 0; attempt < 2; attempt++) { /* a user solver's failure may be passing */
+            psb__copy(x, PSB__VEC(s, PSB__V_SP_B1), np1);
+            psb__copy(x + np1, PSB__VEC(s, PSB__V_SP_B2), np1);
+            r = psb__solve_factored(s, x, 2);
+            if (r != PSB_ERR_SINGULAR) break;
+        }
         if (r != PSB_SUCCESS) return r;
+        if (!psb__all_finite(x, (size_t)(2 * np1)))
+            return psb__fail(s, PSB_ERR_NONFINITE, "solver.solve gave NaN or Inf");
         for (k = 0; k < 2; k++) {
             const double *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
             q[k] = s->sp_d_[k];
@@ -3585,16 +3617,81 @@ static psb_result psb__sp_value(psb_solver *s, const psb__sp_fn *fn, const doubl
     }
 }
 
+/* Whether (ye, te), corrected on the plane at the fraction lambda of the bracket from (ya, ta)
+   to (yb, tb), continues the curve the ends lie on, rather than another branch the plane cuts
+   as well (near a branch point it cuts them all, and Newton may land on any). Along one
+   smooth curve the point departs from the chord by at most its sagitta, w |ta - tb| / 8 for a
+   bracket of length w, and the tangent from the ends' interpolate by O(w^2); a branch
+   crossing at an angle phi has a tangent phi away, and its point departs by ~ phi times the
+   distance to the crossing. Bounds: the tangent within c_min of both ends' (as a step's) and
+   within |ta - tb| / 2 + 0.05 of the interpolate (the floor: a point within tol_correction of
+   the curve at a distance d from a branch point has its tangent off by ~ tol_correction / d),
+   the point within w (|ta - tb| / 2 + 0.05) + tol_correction of the chord. */
+static int psb__on_bracket(const psb_solver *s, const double *ya, const double *ta, const double *yb,
+                           const double *tb, double lambda, const double *ye, const double *te)
+{
+    double len = 0, turn = 0, off = 0, tdev = 0, bound;
+    int i;
+    for (i = 0; i < s->np1_; i++) {
+        double dy = yb[i] - ya[i], dt = tb[i] - ta[i];
+        double ey = ye[i] - ya[i] - lambda * dy, et = te[i] - ta[i] - lambda * dt;
+        len += s->w_[i] * dy * dy;
+        turn += s->w_[i] * dt * dt;
+        off += s->w_[i] * ey * ey;
+        tdev += s->w_[i] * et * et;
+    }
+    bound = 0.5 * sqrt(turn) + 0.05;
+    return psb__cos_w(s, te, ta) >= s->opt.c_min && psb__cos_w(s, te, tb) >= s->opt.c_min &&
+           sqrt(tdev) <= bound && sqrt(off) <= sqrt(len) * bound + s->opt.tol_correction;
+}
+
+/* A point (ye, te) of the curve between the bracket's ends (sa, ya, ta) and (sb, yb, tb), by
+   Newton on the plane s = *sm (s = <t0, y - y0>_w), accepted when psb__on_bracket holds.
+   Predicted by the cubic Hermite interpolate of the ends (it lies on the plane, an error
+   O(w^4): the secant's points close to a branch point, where the branches are close too,
+   land on the traced one). When that fails, *sm moves halfway to the end far_b selects (the
+   one farther from the zero: away from the other branches and from where the points, within
+   tol_correction of the curve, have tangents off by tol_correction / distance), up to 12
+   times (a singular matrix is geometry here: a user solver's is tried twice, as its failure
+   may be passing). Returns PSB_SUCCESS, PSB_ERR_NO_CONVERGENCE (no point of the branch found),
+   a fault (callback > 0, NaN/Inf) or a fatal code. */
+static psb_result psb__bracket_point(psb_solver *s, const double *y0, const double *t0, double sa,
+                                     const double *ya, const double *ta, double sb, const double *yb,
+                                     const double *tb, int far_b, double *sm, double *ye, double *te)
+{
+    int np1 = s->np1_, k, i;
+    double w = sb - sa, ca = psb_dot_w(s, t0, ta), cb = psb_dot_w(s, t0, tb);
+    for (k = 0; k < 12; k++) {
+        double l = (*sm - sa) / w, l2 = l * l, l3 = l2 * l, h00, h10, h01, h11;
+        psb_result r;
+        h00 = 2 * l3 - 3 * l2 + 1;
+        h01 = 1 - h00;
+        h10 = (l3 - 2 * l2 + l) * w / ca;
+        h11 = (l3 - l2) * w / cb;
+        for (i = 0; i < np1; i++) ye[i] = h00 * ya[i] + h10 * ta[i] + h01 * yb[i] + h11 * tb[i];
+        r = psb__newton_on(s, ye, te, y0, t0, *sm);
+        if (r == PSB_ERR_SINGULAR && s->prob.linear == PSB_LINEAR_USER) {
+            /* a singular matrix stays singular; a user solver's passing failure does not */
+            for (i = 0; i < np1; i++) ye[i] = h00 * ya[i] + h10 * ta[i] + h01 * yb[i] + h11 * tb[i];
+            r = psb__newton_on(s, ye, te, y0, t0, *sm);
+        }
+        if (psb__is_fatal(r) || r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE) return r;
+        if (r == PSB_SUCCESS && psb__on_bracket(s, ya, ta, yb, tb, l, ye, te)) return PSB_SUCCESS;
+        *sm += 0.5 * ((far_b ? sb : sa) - *sm);
+    }
+    return PSB_ERR_NO_CONVERGENCE;
+}
+
 /* Locates the sign change of fn between the accepted couples (y0, t0) and y1, on the curve
-   parameterised by s = <t0, y - y0>_w (psb__newton_on on the plane): both ends are evaluated
-   again on that parameterisation, then the bracket shrinks by the Illinois variant of regula
-   falsi, bisecting whenever two evaluations did not halve it, until it is below tol. Each
-   point is predicted from the nearer end along its tangent, so the prediction error is of
-   the order of the bracket squared, well inside Newton's basin even next to a branch point.
-   Leaves in SP_Y/SP_T the end with the smaller |f| (fabs_end) and sets *precision to the
-   bracket's width; *f0_abs, *f1_abs: |f| at the first two ends. Returns PSB_SUCCESS,
-   PSB_NONSMOOTH_END (no sign change on re-evaluation: nothing to locate), or a failure; a
-   Newton failure inside stops the shrinking with the bracket reached. */
+   parameterised by s = <t0, y - y0>_w: both ends are evaluated again on that
+   parameterisation, then the bracket shrinks by the Illinois variant of regula falsi,
+   bisecting whenever two evaluations did not halve it, until its ends are within tol of each
+   other. Every point is one of the curve the ends lie on (psb__bracket_point), so the zero
+   lies on the arc between them: the precision is their distance, a true bound (up to the
+   arc's excess over its chord, O(w^3)). Leaves in SP_Y/SP_T the end with the smaller |f|
+   (*fend_abs); f01_abs: |f| at the first two ends. Returns PSB_SUCCESS, PSB_NONSMOOTH_END (no
+   sign change on re-evaluation: nothing to locate), or a failure; when no point of the curve
+   is found inside, the bracket reached is kept. */
 static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double *y0,
                                      const double *t0, const double *y1, double tol,
                                      double *precision, double *fend_abs, double *f01_abs)
@@ -3627,26 +3724,20 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
     if ((fa < 0) == (fb < 0)) return PSB_NONSMOOTH_END;
     ga = fa;
     gb = fb;
-    for (iter = 0; sb - sa > tol && iter < 200 && fa != 0 && fb != 0; iter++) {
-        double sm, fm, se, c;
-        const double *yf, *tf;
-        int from_a;
+    for (iter = 0; iter < 200 && fa != 0 && fb != 0; iter++) {
+        double width = psb__dist_w(s, ya, yb), sm, fm, margin;
+        if (width <= tol) break;
         if (evals % 2 == 0) {
-            bisect = evals > 0 && sb - sa > 0.5 * width_before;
-            width_before = sb - sa;
+            bisect = evals > 0 && width > 0.5 * width_before;
+            width_before = width;
         }
         sm = bisect ? 0.5 * (sa + sb) : (sa * gb - sb * ga) / (gb - ga);
         if (!(sm > sa && sm < sb)) sm = 0.5 * (sa + sb);
-        from_a = sm - sa <= sb - sm;
-        yf = from_a ? ya : yb;
-        tf = from_a ? ta : tb;
-        se = from_a ? sa : sb;
-        c = psb_dot_w(s, t0, tf);
-        for (i = 0; i < np1; i++) ye[i] = yf[i] + (sm - se) / c * tf[i];
-        r = psb__newton_on(s, ye, te, y0, t0, sm);
-        if (r == PSB_ERR_SINGULAR && s->prob.linear == PSB_LINEAR_USER)
-            r = psb__newton_on(s, ye, te, y0, t0, sm); /* a singular matrix stays singular; a
-                                                         user solver's passing failure does not */
+        /* at least min(tol, w) / 4 inside (as Brent's method steps): an end converging on the
+           zero alone would keep the other where it is */
+        margin = 0.25 * fmin(tol, sb - sa);
+        sm = fmin(fmax(sm, sa + margin), sb - margin);
+        r = psb__bracket_point(s, y0, t0, sa, ya, ta, sb, yb, tb, fabs(fb) > fabs(fa), &sm, ye, te);
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
         if (psb__sp_fault(s, r, fn->kind != PSB_SPECIAL_BRANCH)) return r;
         /* the user backend's tau growing far beyond its values at the ends: a pole */
@@ -3680,7 +3771,7 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         psb__copy(PSB__VEC(s, PSB__V_SP_T), tb, np1);
         *fend_abs = fabs(fb);
     }
-    *precision = fa == 0 || fb == 0 ? 0 : sb - sa;
+    *precision = fa == 0 || fb == 0 ? 0 : psb__dist_w(s, ya, yb);
     s->message[0] = 0;
     return PSB_SUCCESS;
 }

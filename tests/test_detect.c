@@ -12,10 +12,12 @@
 
 /* ---- smooth problems with closed-form diagrams ------------------------------------------- */
 
-enum { P_PITCHFORK, P_TRANSCRITICAL, P_TWO_PITCHFORKS, P_CIRCLE, P_TENT, P_FOUR_LINES, P_THREE_PITCHFORKS };
+enum { P_PITCHFORK, P_TRANSCRITICAL, P_TWO_PITCHFORKS, P_CIRCLE, P_TENT, P_FOUR_LINES, P_THREE_PITCHFORKS,
+       P_CROSSING_CIRCLES };
 
 typedef struct {
     int kind;
+    double c; /* P_CROSSING_CIRCLES: the centres (0, +-c) */
     /* user backend: the bordered matrix and its LU (n + 1 <= 4) */
     double lu[16];
     int piv[4], np1;
@@ -24,11 +26,16 @@ typedef struct {
 /* pitchfork x^3 - l x; transcritical x^2 - l x; two coupled pitchforks on x = 0 at l = 0
    (x1^2 = l) and l = 1 (x2^2 = l - 1); circle x^2 + l^2 = 1; tent l = 1 - |x|; four lines
    x (x - l)(x + l)(x - 2 l) crossing at the origin; three pitchforks x_i^3 - l x_i, i = 1..3,
-   at the origin (a kernel of dimension 4) */
+   at the origin (a kernel of dimension 4); two unit circles centred at (0, +-c), crossing at
+   (+-sqrt(1 - c^2), 0), where dH = 0 */
+static double circle_a(const problem *p, const double *y) { return y[0] * y[0] + (y[1] - p->c) * (y[1] - p->c) - 1; }
+static double circle_b(const problem *p, const double *y) { return y[0] * y[0] + (y[1] + p->c) * (y[1] + p->c) - 1; }
+
 static int smooth_res(const double *y, double *h, void *u)
 {
     const problem *p = (const problem *)u;
     switch (p->kind) {
+    case P_CROSSING_CIRCLES: h[0] = circle_a(p, y) * circle_b(p, y); break;
     case P_PITCHFORK: h[0] = y[0] * y[0] * y[0] - y[1] * y[0]; break;
     case P_TRANSCRITICAL: h[0] = y[0] * y[0] - y[1] * y[0]; break;
     case P_TWO_PITCHFORKS:
@@ -51,6 +58,12 @@ static int smooth_jac(const double *y, double *j, int ld, void *u)
 {
     const problem *p = (const problem *)u;
     switch (p->kind) {
+    case P_CROSSING_CIRCLES: {
+        double a = circle_a(p, y), b = circle_b(p, y);
+        j[0] = 2 * y[0] * (a + b);
+        j[ld] = 2 * (y[1] - p->c) * b + 2 * (y[1] + p->c) * a;
+        break;
+    }
     case P_PITCHFORK: j[0] = 3 * y[0] * y[0] - y[1]; j[ld] = -y[0]; break;
     case P_TRANSCRITICAL: j[0] = 2 * y[0] - y[1]; j[ld] = -y[0]; break;
     case P_TWO_PITCHFORKS:
@@ -429,6 +442,116 @@ static void test_three_pitchforks(psb_linear linear)
     psb_solver_free(&s);
 }
 
+/* ---- crossing circles: branch points where dH = 0 -------------------------------------------
+   Unit circles centred at (0, +-c) cross at (+-sqrt(1 - c^2), 0), where H = a b has dH = 0 (a
+   degenerate branch point: dH vanishes, det [dH; t^T] = b det [da; t^T] changes sign). The
+   trace along the upper circle a passes both points. Near them the plane on which the location
+   corrects its points cuts both circles: every point it uses must be on a, the located point
+   within locate_tol of the crossing, its precision a true bound, for every step size and for
+   crossing angles of 60 and 35 degrees (c = 0.5, 0.3; below acos c_min the trace itself
+   may step from one circle to the other). The switch gives the four half-arcs
+   with their analytic tangents; the events l = 0 (at the crossing) and l = 1e-3 are on a. */
+static int event_l(const double *y, double *g, void *u)
+{
+    (void)u;
+    g[0] = y[1];
+    g[1] = y[1] - 1e-3;
+    return 0;
+}
+
+/* the unit tangent at y of the circle centred at (0, centre), oriented along dir */
+static void circle_tangent(const double *y, double centre, const double *dir, double *ta)
+{
+    double nrm = sqrt(y[0] * y[0] + (y[1] - centre) * (y[1] - centre));
+    ta[0] = (y[1] - centre) / nrm;
+    ta[1] = -y[0] / nrm;
+    if (ta[0] * dir[0] + ta[1] * dir[1] < 0) {
+        ta[0] = -ta[0];
+        ta[1] = -ta[1];
+    }
+}
+
+static void test_crossing_circles(psb_linear linear)
+{
+    static const double offsets[2] = {0.5, 0.3}, h_maxes[4] = {0.02, 0.05, 0.1, 0.2};
+    int ic, ih;
+    for (ic = 0; ic < 2; ic++)
+        for (ih = 0; ih < 4; ih++) {
+            psb_solver s;
+            problem pr;
+            psb_options opt;
+            psb_trace_options to;
+            psb_trace_report rep;
+            record rc;
+            psb_branch_report br;
+            double c = offsets[ic], xs = sqrt(1 - c * c), y[2] = {0, 1 + c}, t[2] = {1, 0}, work[6];
+            double ys[16], ts[16], worst = 0;
+            int k, b, n_bp = 0, n_ev = 0, ok_switch = 1;
+            memset(&opt, 0, sizeof opt);
+            opt.h_max = h_maxes[ih];
+            opt.h_init = 1e-2;
+            setup(&s, &pr, P_CROSSING_CIRCLES, linear, &opt);
+            pr.c = c;
+            trace_options(&to, &rc, 2, PSB_DETECT_BRANCH | PSB_DETECT_EVENTS | PSB_DETECT_FOLDS);
+            to.detect_loop = 1;
+            to.n_events = 2;
+            to.event = event_l;
+            to.event_work = work;
+            CHECK(psb_trace(&s, y, t, &to, &rep) == PSB_LOOP_CLOSED);
+            CHECK(rep.n_special[PSB_SPECIAL_BRANCH] == 2 && rep.n_special[PSB_SPECIAL_EVENT] == 4);
+            CHECK(rep.n_special[PSB_SPECIAL_FOLD] == 2 && rc.n == 8);
+            for (k = 0; k < rc.n && k < MAX_SP; k++) {
+                const double *yk = rc.y[k];
+                double ta[2], cw[2], err;
+                /* on the traced circle, with its tangent (clockwise) */
+                CHECK(fabs(circle_a(&pr, yk)) < 1e-12);
+                cw[0] = yk[1] - c;
+                cw[1] = -yk[0];
+                circle_tangent(yk, c, cw, ta);
+                /* at the crossing dH = 0: the event's tangent there is undefined; the branch
+                   point's (tangents at s* -+ delta) is off by ~ tol_correction / delta */
+                if (rc.sp[k].kind == PSB_SPECIAL_BRANCH) CHECK(unit_err(rc.t[k], ta, 2) < 1e-3);
+                else if (rc.sp[k].event != 0) CHECK(unit_err(rc.t[k], ta, 2) < 1e-8);
+                CHECK(rc.sp[k].precision <= 1e-10);
+                if (rc.sp[k].kind == PSB_SPECIAL_BRANCH) {
+                    err = sqrt((fabs(yk[0]) - xs) * (fabs(yk[0]) - xs) + yk[1] * yk[1]);
+                    n_bp++;
+                } else if (rc.sp[k].kind == PSB_SPECIAL_EVENT) {
+                    err = fabs(yk[1] - (rc.sp[k].event ? 1e-3 : 0)); /* along the curve: ~ |dl| */
+                    n_ev++;
+                } else {
+                    err = fabs(yk[0]); /* the folds at (0, c -+ 1) */
+                }
+                CHECK(err <= 2 * rc.sp[k].precision + 1e-14); /* a true bound */
+                if (err > worst) worst = err;
+                if (rc.sp[k].kind != PSB_SPECIAL_BRANCH) continue;
+                CHECK(psb_branch_point_switch(&s, rc.y[k], rc.t[k], rc.k[k], 8, ys, ts, &br) == PSB_SUCCESS);
+                CHECK(br.n_branches == 4);
+                if (br.n_branches != 4) ok_switch = 0;
+                for (b = 0; b < br.n_branches && b < 8; b++) {
+                    const double *yb = ys + 2 * b, *tb = ts + 2 * b;
+                    double out[2], on_a = fabs(circle_a(&pr, yb)), on_b = fabs(circle_b(&pr, yb));
+                    out[0] = yb[0] - rc.y[k][0];
+                    out[1] = yb[1] - rc.y[k][1];
+                    CHECK(fmin(on_a, on_b) < 1e-10);
+                    CHECK_NEAR(sqrt(out[0] * out[0] + out[1] * out[1]), s.opt.branch_h_init, 1e-9);
+                    circle_tangent(yb, on_a < on_b ? c : -c, out, ta);
+                    CHECK(unit_err(tb, ta, 2) < 1e-8);
+                    /* branches 0 and 1: the traced circle, backwards and forwards; 2 and 3
+                       the other one, on either side */
+                    CHECK((b < 2) == (on_a < on_b));
+                    if (b == 3) CHECK(out[0] * (yb[0] - ys[4]) + out[1] * (yb[1] - ys[5]) > 0 &&
+                                      (yb[0] - rc.y[k][0]) * (ys[4] - rc.y[k][0]) + (yb[1] - rc.y[k][1]) * (ys[5] - rc.y[k][1]) < 0);
+                }
+            }
+            CHECK(n_bp == 2 && n_ev == 4 && ok_switch);
+            if (n_bp != 2 || worst > 1e-10)
+                printf("  crossing circles c = %g, h_max = %g, backend %d: %d branch points, worst error %.2e\n", c,
+                       opt.h_max, (int)linear, n_bp, worst);
+            psb_solver_free(&s);
+        }
+}
+
 /* ---- folds and events ----------------------------------------------------------------------- */
 
 static int event_x(const double *y, double *g, void *u)
@@ -793,6 +916,7 @@ int main(void)
         test_four_lines(backends[b]);
         test_three_pitchforks(backends[b]);
         test_circle(backends[b]);
+        test_crossing_circles(backends[b]);
     }
     test_fold_kink();
     test_pl_families();
