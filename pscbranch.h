@@ -454,10 +454,10 @@
    up to 0.2, angles 60 and 35 degrees, three backends): both points within 3.3e-11, precision
    <= 1e-10, the four half-arcs; the kink test of a step that turned by more than c_diff,
    whose half step ended at the crossing on the other circle, tries 3/8 and 5/8 of the step
-   before calling it a kink. A branch point's
-   tangent is the mean of the tangents at s* -+ delta (delta = 1e-5 of the step; the one at s*
-   is off by eps cond B), its kernel two steps of inverse iteration with B at s* + delta, made
-   w-orthogonal to t. Measured (tests/test_detect.c): pitchfork and transcritical points on
+   before calling it a kink. A branch point's tangent is the mean of the tangents at
+   s* -+ delta (delta = 1e-5 of the step; the one at s* is off by eps cond B), its kernel two
+   steps of inverse iteration with B at s* + delta, made w-orthogonal to t. Measured
+   (tests/test_detect.c): pitchfork and transcritical points on
    all three backends to 1e-11 in the parameter, folds of the unit circle at l = +-1 with x
    within 1e-10, events within 1e-10; a fold costs ~23 factorisations, an event ~18, a
    branch point ~17 (dense; user backend ~75, a pole of a tau located and dropped on the
@@ -488,6 +488,9 @@
    Cost of monitoring (all detectors, whole runs): block M20x40 (approach and six branches to
    |gamma| = 1) 1258 -> 1286 factorisations (1.02x), no special point on the way; triangle
    fold problem M16 177 -> 184 (1.04x), M64 1175 -> 1185 (1.01x), its two limit points.
+   bench/bench_detect (make bench; banded, one trace each): block M200 approach 130 -> 137
+   (1.05x), M800 123 -> 124 (1.01x); triangle fold problem n = 64 1169 -> 1179 (1.01x), both
+   limit points; the accepted points bit-identical.
    psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
    through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t +
    sin a k), r = branch_h_init, 2 n_dir angles (-t first, then +t: branches 0 and 1 are the
