@@ -151,6 +151,22 @@ PL_MAYBE_UNUSED static double pl_normal(unsigned long long *st)
     return sqrt(-2 * log(u)) * cos(6.283185307179586 * v);
 }
 
+/* Draws an LCP of size n (M and q standard normal, from *st) and its strictly complementary
+   rays (margin 1e-3) into rays (n + 1 each): *n_pos of g > 0 first, then those of g < 0.
+   Returns their number, or -1 when there are more than PL_MAX_RAYS. */
+PL_MAYBE_UNUSED static int pl_draw_lcp(pl_problem *p, int n, unsigned long long *st, double *rays, int *n_pos)
+{
+    int i, a, b;
+    memset(p, 0, sizeof *p);
+    p->n = n;
+    for (i = 0; i < n * n; i++) p->m[i] = pl_normal(st);
+    for (i = 0; i < n; i++) p->q[i] = pl_normal(st);
+    *n_pos = a = pl_enumerate_rays(p, 1.0, 1e-3, rays, PL_MAX_RAYS);
+    if (a < 0) return -1;
+    b = pl_enumerate_rays(p, -1.0, 1e-3, rays + a * (n + 1), PL_MAX_RAYS - a);
+    return b < 0 || a + b > PL_MAX_RAYS ? -1 : a + b;
+}
+
 /* Draws LCPs of size n (M and q standard normal, from *st) until one has 3 or more strictly
    complementary rays (margin 1e-3, both signs of g) and, if apart, no two of them within
    cosine 0.9999 (so that c_diff = 0.99999 tells them apart). Its rays go to rays (n + 1 each,
@@ -159,17 +175,10 @@ PL_MAYBE_UNUSED static int pl_random_lcp(pl_problem *p, int n, unsigned long lon
 {
     int tries, i, np1 = n + 1;
     for (tries = 0; tries < 100000; tries++) {
-        int a, b, j1, j2, close = 0;
-        memset(p, 0, sizeof *p);
-        p->n = n;
-        for (i = 0; i < n * n; i++) p->m[i] = pl_normal(st);
-        for (i = 0; i < n; i++) p->q[i] = pl_normal(st);
-        a = pl_enumerate_rays(p, 1.0, 1e-3, rays, PL_MAX_RAYS);
-        if (a < 0) continue;
-        b = pl_enumerate_rays(p, -1.0, 1e-3, rays + a * np1, PL_MAX_RAYS - a);
-        if (b < 0 || a + b < 3 || a + b > PL_MAX_RAYS) continue;
-        for (j1 = 0; apart && j1 < a + b; j1++)
-            for (j2 = j1 + 1; j2 < a + b; j2++) {
+        int a, n_rays = pl_draw_lcp(p, n, st, rays, &a), j1, j2, close = 0;
+        if (n_rays < 3) continue;
+        for (j1 = 0; apart && j1 < n_rays; j1++)
+            for (j2 = j1 + 1; j2 < n_rays; j2++) {
                 double c = 0, n1 = 0, n2 = 0;
                 for (i = 0; i < np1; i++) {
                     c += rays[j1 * np1 + i] * rays[j2 * np1 + i];
@@ -178,7 +187,7 @@ PL_MAYBE_UNUSED static int pl_random_lcp(pl_problem *p, int n, unsigned long lon
                 }
                 close |= c > 0.9999 * sqrt(n1 * n2);
             }
-        if (!close) return a + b;
+        if (!close) return n_rays;
     }
     return 0;
 }

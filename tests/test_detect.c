@@ -813,22 +813,16 @@ static void test_pl_families(void)
        state weights kappa 1, 4 and 0.3 */
     while ((bif.runs < 260 || ord.runs < 260) && draws < 200000) {
         pl_problem pl;
-        int n = 2 + draws % 3, a, b, i, np1 = n + 1;
+        int n = 2 + draws % 3, a, n_rays;
         psb_linear lin;
         double kappa;
         draws++;
-        memset(&pl, 0, sizeof pl);
-        pl.n = n;
-        for (i = 0; i < n * n; i++) pl.m[i] = pl_normal(&st);
-        for (i = 0; i < n; i++) pl.q[i] = pl_normal(&st);
-        a = pl_enumerate_rays(&pl, 1.0, 1e-3, rays, PL_MAX_RAYS);
-        if (a < 1) continue;
-        b = pl_enumerate_rays(&pl, -1.0, 1e-3, rays + a * np1, PL_MAX_RAYS - a);
-        if (b < 0 || a + b > PL_MAX_RAYS || a + b < 2) continue;
+        n_rays = pl_draw_lcp(&pl, n, &st, rays, &a);
+        if (a < 1 || n_rays < 2) continue; /* entered along a ray of g > 0 */
         lin = draws % 4 ? PSB_LINEAR_DENSE : PSB_LINEAR_BANDED;
         kappa = draws % 5 == 1 ? 4.0 : draws % 5 == 2 ? 0.3 : 1.0;
-        if (a + b == 2 && ord.runs < 260) pass_through(&pl, rays, 2, 0, lin, kappa, &ord);
-        else if (a + b > 2 && bif.runs < 260) pass_through(&pl, rays, a + b, 0, lin, kappa, &bif);
+        if (n_rays == 2 && ord.runs < 260) pass_through(&pl, rays, 2, 0, lin, kappa, &ord);
+        else if (n_rays > 2 && bif.runs < 260) pass_through(&pl, rays, n_rays, 0, lin, kappa, &bif);
     }
     printf("  PL families, bifurcation points (4+ rays): %d traces, %d passed through; criterion positive %d,"
            " detected %d, missed %d, false %d; folds at the kink %d of %d, false %d; degree 0 in %d\n",

@@ -217,28 +217,22 @@ static void test_pl_families_explore(void)
     int draws = 0, bif = 0, bif_ok = 0, ord = 0, ord_ok = 0, ord_stopped = 0, merged = 0;
     while ((bif < 200 || ord < 200) && draws < 100000) {
         pl_problem pl;
-        int n = 2 + draws % 3, a, b, i, np1 = n + 1;
+        int n = 2 + draws % 3, a, n_rays, np1 = n + 1;
         draws++;
-        memset(&pl, 0, sizeof pl);
-        pl.n = n;
-        for (i = 0; i < n * n; i++) pl.m[i] = pl_normal(&st);
-        for (i = 0; i < n; i++) pl.q[i] = pl_normal(&st);
-        a = pl_enumerate_rays(&pl, 1.0, 1e-3, rays, PL_MAX_RAYS);
-        if (a < 1) continue;
-        b = pl_enumerate_rays(&pl, -1.0, 1e-3, rays + a * np1, PL_MAX_RAYS - a);
-        if (b < 0 || a + b > PL_MAX_RAYS || a + b < 2) continue;
-        if (rays_merge(rays, a + b, np1)) {
+        n_rays = pl_draw_lcp(&pl, n, &st, rays, &a);
+        if (a < 1 || n_rays < 2) continue; /* entered along a ray of g > 0 */
+        if (rays_merge(rays, n_rays, np1)) {
             merged++;
             continue;
         }
-        if (a + b == 2 && ord < 200) {
+        if (n_rays == 2 && ord < 200) {
             int stopped;
             ord++;
             ord_ok += check_pl_ordinary(&pl, rays, &stopped);
             ord_stopped += stopped;
-        } else if (a + b > 2 && bif < 200) {
+        } else if (n_rays > 2 && bif < 200) {
             bif++;
-            bif_ok += check_pl_diagram(&pl, rays, a + b, 0, 1, 0, 1);
+            bif_ok += check_pl_diagram(&pl, rays, n_rays, 0, 1, 0, 1);
         }
     }
     printf("  PL families explored (branch_at_kinks): bifurcation points %d of %d graphs exact;"
