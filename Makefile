@@ -5,7 +5,8 @@
 #   make demo      run the main demo and draw its pictures (gnuplot, installed like the rest)
 #   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
 #   make bench     the benchmarks (bench/out/), with GetFEM side by side when python3-getfem is there
-#   make fuzz [FUZZ_SECONDS=30]   every libFuzzer target in fuzz/ (clang; see fuzz/README.md)
+#   make fuzz [FUZZ_SECONDS=30 | FUZZ_RUNS=N [FUZZ_SEED=1]]   every libFuzzer target in fuzz/
+#                  for a time, or for N runs from a fixed seed (clang; see fuzz/README.md)
 #   make images    the README's pictures in docs/img/ (docs/make_images.sh)
 #   make install PREFIX=/usr/local [DESTDIR=...]   the header, pscbranch.pc, the CMake package
 #                  (find_package(pscbranch)), the docs and the examples' sources
@@ -243,6 +244,11 @@ uninstall:
 # grow the repository); any crash, sanitizer report, leak or timeout fails the target. See
 # fuzz/README.md. The fc_hdf5 target needs HDF5 (left out without it).
 FUZZ_SECONDS ?= 30
+# FUZZ_RUNS=N: N executions from the fixed FUZZ_SEED instead, the same inputs at every run (CI's
+# gate: a finding there is reproducible; open-ended searches are FUZZ_SECONDS runs)
+FUZZ_RUNS ?=
+FUZZ_SEED ?= 1
+FUZZ_LIMIT = $(if $(FUZZ_RUNS),-runs=$(FUZZ_RUNS) -seed=$(FUZZ_SEED),-max_total_time=$(FUZZ_SECONDS))
 FUZZ_CC ?= clang
 FUZZ_BUILD ?= build-fuzz
 FUZZ_CFLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I. -Itests
@@ -262,8 +268,8 @@ fuzz-run: $(patsubst %,$(FUZZ_BUILD)/fuzz_%,$(FUZZ_NAMES))
 	@set -e; for n in $(FUZZ_NAMES); do \
 	  rm -rf $(FUZZ_BUILD)/corpus-$$n; mkdir -p $(FUZZ_BUILD)/corpus-$$n; \
 	  if [ -d fuzz/corpus/$$n ]; then cp -R fuzz/corpus/$$n/. $(FUZZ_BUILD)/corpus-$$n/; fi; \
-	  echo "fuzz_$$n: $(FUZZ_SECONDS) s"; \
-	  $(FUZZ_BUILD)/fuzz_$$n -max_total_time=$(FUZZ_SECONDS) -timeout=10 -print_final_stats=1 \
+	  echo "fuzz_$$n: $(if $(FUZZ_RUNS),$(FUZZ_RUNS) runs from seed $(FUZZ_SEED),$(FUZZ_SECONDS) s)"; \
+	  $(FUZZ_BUILD)/fuzz_$$n $(FUZZ_LIMIT) -timeout=10 -print_final_stats=1 \
 	    -artifact_prefix=$(FUZZ_BUILD)/$$n- $(FUZZ_BUILD)/corpus-$$n \
 	    > $(FUZZ_BUILD)/$$n.log 2>&1 || { tail -n 60 $(FUZZ_BUILD)/$$n.log; \
 	    echo "fuzz_$$n: FINDING (log $(FUZZ_BUILD)/$$n.log, input $(FUZZ_BUILD)/$$n-*)"; exit 1; }; \

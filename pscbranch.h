@@ -4009,7 +4009,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     psb_trace_report local;
     psb_point pt;
     psb__detector det;
-    int np1, p, bounded, iters, flags, kink, just_switched = 0;
+    int np1, p, bounded, iters, flags, kink, just_switched = 0, landings_failed = 0;
     double h, h_step = 0, travelled = 0;
     double *yc, *tc, *yold, *told, *ystart, *tkink;
     psb_result r;
@@ -4138,11 +4138,12 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             if (r == PSB_SUCCESS) r = psb__tangent(s, yc, tc, tc);
             if (psb__is_fatal(r) || psb__is_fault(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
             if (r != PSB_SUCCESS) {
-                /* land by a shorter step next time */
+                /* land by a shorter step next time; counted, since a tangent switch that
+                   crosses the bound again restarts at h_init (fuzz_api: a loop without end) */
                 psb__copy(yc, yold, np1);
                 psb__copy(tc, told, np1);
                 h *= s->opt.h_dec;
-                if (h < s->opt.h_min) { rep->end = psb__fail(s, PSB_ERR_NO_CONVERGENCE, "could not land on the parameter bound"); goto done; }
+                if (h < s->opt.h_min || ++landings_failed > 64) { rep->end = psb__fail(s, PSB_ERR_NO_CONVERGENCE, "could not land on the parameter bound"); goto done; }
                 continue;
             }
             flags |= PSB_POINT_BOUND;
@@ -4153,6 +4154,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             }
         }
         just_switched = (flags & PSB_POINT_SWITCH) != 0;
+        landings_failed = 0;
         rep->steps++;
         pt.h = psb__dist_w(s, yold, yc);
         travelled += pt.h;
