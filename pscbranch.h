@@ -94,8 +94,7 @@
    or uninitialised solver makes every call return PSB_ERR_NULL (psb_dot_w/_norm_w: NaN).
    No function allocates except psb_solver_init and psb_diagram_init. Single operations (solve,
    tangent, correct, step, switch, locate_end, find_branches) may be called from a point
-   callback of psb_trace;
-   psb_trace itself may not (it would reuse the trace's scratch vectors).
+   callback of psb_trace; psb_trace itself may not (it would reuse the trace's scratch vectors).
    The solver is not thread-safe; distinct solvers are independent (no global state).
 
    3. CALLBACKS
@@ -120,9 +119,9 @@
    p->index = that point's index; only with psb_trace_options.detect, section 6 "Special
    points on the path").
    int event(const double *y, double *g, void *user)   g = the n_events event values at y
-   (PSB_DETECT_EVENTS); 0 ok, < 0 stops (PSB_ERR_CALLBACK), > 0 or NaN/Inf at an accepted
-   point ends the trace with PSB_ERR_CALLBACK_FAILED / PSB_ERR_NONFINITE (inside a location
-   it only ends the location, with the bracket reached).
+   (PSB_DETECT_EVENTS); 0 ok, < 0 stops (PSB_ERR_CALLBACK), > 0 or NaN/Inf ends the trace
+   with PSB_ERR_CALLBACK_FAILED / PSB_ERR_NONFINITE, also inside a location (a point missed
+   or mislocated would otherwise pass for a result).
 
    4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`)
    ---------------
