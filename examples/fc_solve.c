@@ -7,7 +7,8 @@
    dense: m, m again and the column-major array in sequence, each printed line a column, as
    Siconos writes it; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's
    cs_print), q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib
-   local problems in HDF5. Every size, pointer and index is checked before use, NaN and Inf are
+   local problems in HDF5 (read by libhdf5 in a child process: a file on which libhdf5 crashes
+   or hangs is a read error). Every size, pointer and index is checked before use, NaN and Inf are
    rejected everywhere; a bad file gets `FILE error: what is wrong` and exit status 2. W is kept
    in compressed columns, so memory follows its non-zeros, within the limits FC_MAX_FILE (2 GiB
    of text), FC_MAX_CONTACTS (10^6), FC_MAX_NNZ (2^25 stored non-zeros) and FC_MAX_COUPLED
@@ -53,6 +54,9 @@
    (FC_RUNS): the best iterate of all runs is returned.
    Build with -DFC_SOLVE_NO_MAIN to #include the solver elsewhere (tests/test_fc_solve.c). */
 #define PSCBRANCH_IMPLEMENTATION
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L /* fork and pipe: the HDF5 reader's child process */
+#endif
 #include "pscbranch.h"
 
 #include <float.h>
@@ -390,6 +394,18 @@ static const char *fc_from_fclib(fc_problem *p, const fc_fclib *a)
 #ifdef FC_SOLVE_HDF5
 /* FCLib's HDF5 files: optional build, -DFC_SOLVE_HDF5, link libhdf5. */
 #include <hdf5.h>
+#ifndef _WIN32
+#include <errno.h>
+#include <signal.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#endif
+
+static const char FC_H5_NOT_FCLIB[] =
+    "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz, W/p, W/i, W/x, "
+    "vectors/q or vectors/mu missing, unreadable, or declaring far more values than the file "
+    "stores)";
 
 /* Reads dataset `name` of integers or floats of at most 8 bytes (exactly n values when n >= 0,
    at most FC_MAX_NNZ + 1 otherwise, and at most 1000 times what the file stores of it; the
@@ -435,48 +451,180 @@ static void *h5_read(hid_t f, const char *name, int isint, long n, long *cnt)
     return buf;
 }
 
-static const char *fc_read_hdf5(const char *path, fc_problem *p)
+/* Reads the nine arrays of path's FCLib local problem into a (their buffers in bufs, which
+   the caller frees). Returns NULL or a literal message. */
+static const char *h5_read_arrays(const char *path, fc_fclib *a, void *bufs[9])
 {
     hid_t f;
-    int *dim, *wm, *wn, *wnz, *pp, *ii;
-    double *xx, *q, *mu;
-    fc_fclib a;
+    int k;
     const char *err = NULL;
+    memset(a, 0, sizeof *a);
+    for (k = 0; k < 9; k++)
+        bufs[k] = NULL;
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* report through our message, not on stderr */
     f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0)
         return "cannot open as an HDF5 file";
-    memset(&a, 0, sizeof a);
-    dim = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
-    wm = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
-    wn = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
-    wnz = h5_read(f, "/fclib_local/W/nz", 1, 1, NULL);
-    pp = h5_read(f, "/fclib_local/W/p", 1, -1, &a.np);
-    ii = h5_read(f, "/fclib_local/W/i", 1, -1, &a.ni);
-    xx = h5_read(f, "/fclib_local/W/x", 0, -1, &a.nx);
-    q = h5_read(f, "/fclib_local/vectors/q", 0, -1, &a.nq);
-    mu = h5_read(f, "/fclib_local/vectors/mu", 0, -1, &a.nmu);
-    if (!dim || !wm || !wn || !wnz || !pp || !ii || !xx || !q || !mu) {
-        err = "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz, W/p, W/i, W/x, "
-              "vectors/q or vectors/mu missing, unreadable, or declaring far more values than "
-              "the file stores)";
-    } else {
-        a.dim = *dim, a.m = *wm, a.n = *wn, a.nz = *wnz;
-        a.p = pp, a.i = ii, a.x = xx, a.q = q, a.mu = mu;
-        err = fc_from_fclib(p, &a);
+    bufs[0] = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
+    bufs[1] = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
+    bufs[2] = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
+    bufs[3] = h5_read(f, "/fclib_local/W/nz", 1, 1, NULL);
+    bufs[4] = h5_read(f, "/fclib_local/W/p", 1, -1, &a->np);
+    bufs[5] = h5_read(f, "/fclib_local/W/i", 1, -1, &a->ni);
+    bufs[6] = h5_read(f, "/fclib_local/W/x", 0, -1, &a->nx);
+    bufs[7] = h5_read(f, "/fclib_local/vectors/q", 0, -1, &a->nq);
+    bufs[8] = h5_read(f, "/fclib_local/vectors/mu", 0, -1, &a->nmu);
+    for (k = 0; k < 9 && !err; k++)
+        if (!bufs[k])
+            err = FC_H5_NOT_FCLIB;
+    if (!err) {
+        a->dim = *(int *)bufs[0], a->m = *(int *)bufs[1], a->n = *(int *)bufs[2];
+        a->nz = *(int *)bufs[3];
+        a->p = bufs[4], a->i = bufs[5], a->x = bufs[6], a->q = bufs[7], a->mu = bufs[8];
     }
-    free(dim);
-    free(wm);
-    free(wn);
-    free(wnz);
-    free(pp);
-    free(ii);
-    free(xx);
-    free(q);
-    free(mu);
     H5Fclose(f);
     return err;
 }
+
+#ifdef _WIN32
+static const char *fc_read_hdf5(const char *path, fc_problem *p)
+{
+    fc_fclib a;
+    void *bufs[9];
+    const char *err = h5_read_arrays(path, &a, bufs);
+    int k;
+    if (!err)
+        err = fc_from_fclib(p, &a);
+    for (k = 0; k < 9; k++)
+        free(bufs[k]);
+    return err;
+}
+#else
+/* libhdf5 trusts a file's metadata: on a corrupted file it may crash or spin (Debian 12's
+   1.10.8 divides by a zero chunk size inside H5Dopen, fuzz/corpus/fc_hdf5/zero_chunk.hdf5).
+   So a child process reads the file and sends the arrays through a pipe; the parent checks
+   them like any input, and a child that dies or runs over FC_HDF5_SECONDS is a bad file. */
+#define FC_HDF5_SECONDS 60
+
+/* Writes n bytes (the child's side); 0 on success. */
+static int h5_put(int fd, const void *data, size_t n)
+{
+    const char *c = data;
+    while (n > 0) {
+        ssize_t w = write(fd, c, n);
+        if (w <= 0)
+            return -1;
+        c += w, n -= (size_t)w;
+    }
+    return 0;
+}
+
+/* Reads exactly n bytes (the parent's side); 0 on success. */
+static int h5_get(int fd, void *data, size_t n)
+{
+    char *c = data;
+    while (n > 0) {
+        ssize_t r = read(fd, c, n);
+        if (r <= 0)
+            return -1;
+        c += r, n -= (size_t)r;
+    }
+    return 0;
+}
+
+/* The child: a status word (0: the arrays follow, 1: not HDF5, 2: not FCLib), the sizes, then
+   p, i (int) and x, q, mu (double), in this process's own layout. */
+static void h5_child(const char *path, int fd)
+{
+    fc_fclib a;
+    void *bufs[9];
+    const char *err = h5_read_arrays(path, &a, bufs);
+    int head[5];
+    long cnt[5];
+    head[0] = !err ? 0 : err == FC_H5_NOT_FCLIB ? 2 : 1;
+    head[1] = a.dim, head[2] = a.m, head[3] = a.n, head[4] = a.nz;
+    cnt[0] = a.np, cnt[1] = a.ni, cnt[2] = a.nx, cnt[3] = a.nq, cnt[4] = a.nmu;
+    if (h5_put(fd, head, sizeof head) == 0 && !err && h5_put(fd, cnt, sizeof cnt) == 0 &&
+        h5_put(fd, a.p, (size_t)a.np * sizeof(int)) == 0 &&
+        h5_put(fd, a.i, (size_t)a.ni * sizeof(int)) == 0 &&
+        h5_put(fd, a.x, (size_t)a.nx * sizeof(double)) == 0 &&
+        h5_put(fd, a.q, (size_t)a.nq * sizeof(double)) == 0)
+        h5_put(fd, a.mu, (size_t)a.nmu * sizeof(double));
+    /* no cleanup: the process ends (_exit: neither atexit handlers nor stdio buffers, which
+       are the parent's) */
+}
+
+static const char *fc_read_hdf5(const char *path, fc_problem *p)
+{
+    int fds[2], head[5], status = 0, k;
+    long cnt[5];
+    void *bufs[5] = {NULL, NULL, NULL, NULL, NULL};
+    const char *err = NULL;
+    fc_fclib a;
+    pid_t pid;
+    if (pipe(fds) != 0)
+        return "cannot create a pipe for the HDF5 reader";
+    pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        return "cannot start the HDF5 reader (fork failed)";
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        alarm(FC_HDF5_SECONDS);
+        h5_child(path, fds[1]);
+        _exit(0);
+    }
+    close(fds[1]);
+    memset(&a, 0, sizeof a);
+    if (h5_get(fds[0], head, sizeof head) != 0) {
+        err = ""; /* the child's end says why */
+    } else if (head[0] != 0) {
+        err = head[0] == 2 ? FC_H5_NOT_FCLIB : "cannot open as an HDF5 file";
+    } else if (h5_get(fds[0], cnt, sizeof cnt) != 0) {
+        err = "";
+    } else {
+        for (k = 0; k < 5 && !err; k++)
+            if (cnt[k] < 0 || cnt[k] > FC_MAX_NNZ + 1)
+                err = FC_H5_NOT_FCLIB;
+        for (k = 0; k < 5 && !err; k++) {
+            size_t bytes = (size_t)cnt[k] * (k < 2 ? sizeof(int) : sizeof(double));
+            bufs[k] = malloc(bytes > 0 ? bytes : 1);
+            if (!bufs[k])
+                err = "out of memory reading the HDF5 file";
+            else if (h5_get(fds[0], bufs[k], bytes) != 0)
+                err = "";
+        }
+    }
+    close(fds[0]); /* a child still writing gets SIGPIPE */
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR) {
+            status = 0;
+            break;
+        }
+    if (err && !err[0]) {
+        if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM)
+            snprintf(p->why, sizeof p->why, "libhdf5 took more than %d s on this file: "
+                     "corrupted HDF5 metadata?", FC_HDF5_SECONDS);
+        else if (WIFSIGNALED(status))
+            snprintf(p->why, sizeof p->why, "libhdf5 failed on this file (signal %d): "
+                     "corrupted HDF5 metadata", WTERMSIG(status));
+        else
+            snprintf(p->why, sizeof p->why, "the HDF5 reader ended early");
+        err = p->why;
+    }
+    if (!err) {
+        a.dim = head[1], a.m = head[2], a.n = head[3], a.nz = head[4];
+        a.np = cnt[0], a.ni = cnt[1], a.nx = cnt[2], a.nq = cnt[3], a.nmu = cnt[4];
+        a.p = bufs[0], a.i = bufs[1], a.x = bufs[2], a.q = bufs[3], a.mu = bufs[4];
+        err = fc_from_fclib(p, &a);
+    }
+    for (k = 0; k < 5; k++)
+        free(bufs[k]);
+    return err;
+}
+#endif
 #endif
 
 /* Siconos' text layouts of W after the header (dim nc flag m m); entries go to c. */
