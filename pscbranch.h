@@ -248,8 +248,8 @@
      one piece; or the same point again) reuses them, w included when dH/dparameter is
      unchanged too: stats.n_factor_reused counts these, and the results are exactly those of
      factoring again. Memory ~ (4 kl + 3 ku + 50) N, or (3 kl + 2 ku + 50) N with
-     problem.band_lean (one copy of A, reused only at the same y), plus the memo of
-     Algorithm 2.2 (at most 8 MB, below).
+     problem.band_lean (one copy of A, reused only at the same y), plus the memos of
+     Algorithm 2.2 (at most 12 MB, below).
    PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
      in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
      solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
@@ -336,6 +336,17 @@
      of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
      min(256, max(32, 2^19 / (N+1))) tangents are kept (the oldest give way). Branch sets are
      those of the full run; spans later than the first mostly revisit regions, so n_pc falls.
+   - Jacobian memo (analytic dH, dense or banded backend; always on: it changes no result).
+     The tangent at a sample point is the kernel of dH there, and on a piecewise-linear H
+     every point of a piece has the same dH, bit for bit. So the sample points' dH are hashed
+     (two independent 64-bit hashes of every entry) and a dH seen before in the call gives its
+     tangent without a factorisation (stats.n_tangent_reused; as many entries as the memo of
+     tried tangents). A remembered tangent only decides skips (tried before, screened, the
+     previous direction's region); one that goes on to a trial is recomputed from the same dH,
+     because the rounding of a different bordering row can steer a sweep on degenerate
+     problems elsewhere. bench_branching: same branches and n_pc, Algorithm 2.2's
+     factorisations 1.2-2.4 times fewer; the block, whose sample points mostly fall in pieces
+     of their own (many contact nodes change state at y0), 1.5% fewer.
    - Screened trials (branch_no_screen = 0). Near y0 the pieces are, to first order, cones
      with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
      lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
@@ -919,6 +930,9 @@ typedef struct psb_stats {
     long n_rejected;    /* rejected trials */
     long n_switches;    /* successful tangent switches */
     long n_tangents;    /* tangents computed on their own (not inside a corrector) */
+    long n_tangent_reused; /* Algorithm 2.2's sample tangents taken from its Jacobian memo: dH
+                              bit-identical to one whose tangent was computed in the same call
+                              (piecewise-linear H), no factorisation (manual, section 6) */
 } psb_stats;
 
 /* ---- the solver: caller-owned state, all memory set up at init ------------------------ */
@@ -929,6 +943,9 @@ typedef struct psb_solver {
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
+    int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
+    unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
+    double *jmemo_t_;             /* the unit tangent of each entry's dH */
     int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
     const double *path_ts_; /* with path_on_: the found branches' tangents (path_nts_) and the */
     int path_nts_, path_own_; /* trial's own known_ entry, for the cut (psb__try_tangent) */
@@ -1681,9 +1698,10 @@ enum {
     PSB__V_EV_Y, PSB__V_EV_T, PSB__V_EV_N, /* psb_evolve_step: path couple, Newton's solution */
     PSB__NVEC
 };
-/* Entries of each of psb_find_branches' two stores, the tangents tried (memo_) and the
-   directions whose trial is known (known_): the block M800 fills 200-220 of each in 10
-   spans; both are held to 8 MB together (more only at the floor of 32 entries, N > 16000) */
+/* Entries of each of psb_find_branches' stores, the tangents tried (memo_), the directions
+   whose trial is known (known_) and the Jacobian memo (jmemo_t_, analytic dH only): the block
+   M800 fills 200-220 of the first two in 10 spans; the three are held to 12 MB together (more
+   only at the floor of 32 entries, N > 16000) */
 static int psb__memo_capacity(int n)
 {
     int cap = (int)((1L << 19) / ((long)n + 1));
@@ -1904,6 +1922,15 @@ static const char *psb__check_problem(const psb_problem *p, psb_result *code)
     return NULL;
 }
 
+/* Whether Algorithm 2.2 keeps a Jacobian memo (psb__sample_tangent): an analytic dH in the
+   library's own storage, whose bits repeat wherever H is linear. Difference quotients carry
+   the point's rounding, and a user backend forms dH itself. */
+static int psb__jmemo_usable(const psb_problem *p)
+{
+    return (p->linear == PSB_LINEAR_DENSE && p->jacobian) ||
+           (p->linear == PSB_LINEAR_BANDED && p->band_jacobian);
+}
+
 /* Carves the solver's arrays out of memory (when s is not NULL) and returns the bytes needed,
    so that the size query and the layout cannot disagree. */
 static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
@@ -1926,6 +1953,12 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
     PSB__TAKE(memo_, (size_t)psb__memo_capacity(p->n) * np1);
     PSB__TAKE(known_, (size_t)psb__memo_capacity(p->n) * np1);
     PSB__TAKE(path_, (size_t)PSB__PATH_MAX * np1);
+    if (psb__jmemo_usable(p)) {
+        size_t cap = (size_t)psb__memo_capacity(p->n);
+        PSB__TAKE(jmemo_t_, cap * np1);
+        if (s) s->jmemo_key_ = (unsigned long long *)(void *)(base + off);
+        off += 2 * cap; /* the keys: 8 bytes each, as a double */
+    }
     if (p->linear == PSB_LINEAR_DENSE) {
         PSB__TAKE(jac_, n * np1);
         PSB__TAKE(mat_, np1 * np1);
@@ -2839,14 +2872,12 @@ static psb_result psb__kernel_qr(psb_solver *s, double *t)
 }
 
 /* Unit tangent at y oriented by ref (both n+1); y's Jacobian is evaluated here. */
-static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref, double *t)
+/* psb__tangent's work once dH(y) is formed (psb__jacobian). */
+static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, double *t)
 {
     int np1 = s->np1_, i, attempt;
     double rcond = 0, *row = s->rhs_ + np1, *x = s->rhs_;
     psb_result r;
-    s->stats.n_tangents++;
-    r = psb__jacobian(s, y, NULL);
-    if (r != PSB_SUCCESS) return r;
     /* bordered with ref; if that is singular (ref orthogonal to the kernel), the dense backend
        asks QR of dH^T, the others border with e_param, then with a fixed generic row */
     for (attempt = 0; attempt < 3; attempt++) {
@@ -2878,6 +2909,15 @@ static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref
     psb__copy(t, x, np1);
     s->n_ok_++;
     return PSB_SUCCESS;
+}
+
+static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref, double *t)
+{
+    psb_result r;
+    s->stats.n_tangents++;
+    r = psb__jacobian(s, y, NULL);
+    if (r != PSB_SUCCESS) return r;
+    return psb__tangent_from_jacobian(s, ref, t);
 }
 
 static int psb__is_fatal(psb_result r)
@@ -4363,13 +4403,89 @@ static double psb__gauss(unsigned long long *st)
    the pieces, with odds ~ step / branch_h, and near the end point H is small, so the rounding
    error of the quotients, ~ eps |H| / step, stays small too. (An explicit branch_h of 5e-7 with
    steps of 1.5e-8 found 1 of the 16 branch sets of the k = 4 crossing kinks.) */
-static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t)
+/* Two independent 64-bit hashes of the n doubles at a (their bits), into key[0] and key[1]. */
+static void psb__hash_doubles(const double *a, size_t n, unsigned long long *key)
+{
+    size_t i;
+    for (i = 0; i < n; i++) {
+        unsigned long long x;
+        memcpy(&x, a + i, sizeof x);
+        key[0] = (key[0] ^ x) * 0x100000001b3ull; /* FNV-1a's prime, a word at a time */
+        key[0] ^= key[0] >> 29;
+        key[1] += x + 0x9e3779b97f4a7c15ull; /* splitmix64's finaliser on a running sum */
+        key[1] = (key[1] ^ (key[1] >> 30)) * 0xbf58476d1ce4e5b9ull;
+        key[1] = (key[1] ^ (key[1] >> 27)) * 0x94d049bb133111ebull;
+        key[1] ^= key[1] >> 31;
+    }
+}
+
+/* The tangent at a sample point pt of Algorithm 2.2 (oriented by ref). Difference steps there
+   stay below branch_h / 1000 (section 1).
+   Jacobian memo (analytic dH, dense or banded storage): the unit kernel of dH is a function of
+   dH alone, and on a piecewise-linear H every sample point of a piece has the same dH, bit for
+   bit. So dH is hashed (two independent 64-bit hashes of all its entries, dH/dparameter
+   included; a false match needs both to collide) and a dH seen before in this call gives its
+   tangent again, oriented by ref, without a factorisation (stats.n_tangent_reused; from_memo
+   set, when not NULL; NULL: no look-up). A reused tangent differs from a recomputed one by
+   rounding (the bordering row differs), which on degenerate problems (crossing kinks, whose
+   sample points can fall on piece boundaries) can steer a sweep elsewhere: so a reused tangent
+   only decides skips (a tangent tried before, a trial whose outcome is known, the region of
+   the previous direction), and a tangent that goes on to be used is recomputed from the same
+   dH (psb__sample_refresh). Idle spans and screened trials on piecewise-linear problems then
+   cost Jacobian evaluations only, and the sweep is the one without the memo. */
+static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t,
+                                      int *from_memo)
 {
     psb_result r;
-    s->fd_cap_ = 1e-3 * s->opt.branch_h;
-    r = psb__tangent(s, pt, ref, t);
-    s->fd_cap_ = 0;
-    return r;
+    unsigned long long key[2] = {0xcbf29ce484222325ull, 0};
+    int m, stored, np1 = s->np1_;
+    if (from_memo) *from_memo = 0;
+    if (!s->jmemo_t_) {
+        s->fd_cap_ = 1e-3 * s->opt.branch_h;
+        r = psb__tangent(s, pt, ref, t);
+        s->fd_cap_ = 0;
+        return r;
+    }
+    s->stats.n_tangents++;
+    r = psb__jacobian(s, pt, NULL);
+    if (r != PSB_SUCCESS) return r;
+    if (s->prob.linear == PSB_LINEAR_DENSE) {
+        psb__hash_doubles(s->jac_, (size_t)s->n_ * (size_t)np1, key);
+    } else {
+        psb__hash_doubles(s->band_, (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->n_, key);
+        psb__hash_doubles(s->dparam_, (size_t)s->n_, key);
+    }
+    stored = s->jmemo_n_ < s->memo_cap_ ? s->jmemo_n_ : s->memo_cap_;
+    for (m = 0; m < stored && from_memo; m++)
+        if (s->jmemo_key_[2 * m] == key[0] && s->jmemo_key_[2 * m + 1] == key[1]) {
+            const double *tm = s->jmemo_t_ + (size_t)m * (size_t)np1;
+            double dot = psb__dot_w(s, tm, ref);
+            int i;
+            /* ref (nearly) orthogonal to the tangent: the orientation is the fallback's
+               (psb__tangent_from_jacobian), not a sign of the dot product */
+            if (fabs(dot) <= 1.4901161193847656e-08 * psb__norm_w(s, ref)) break;
+            for (i = 0; i < np1; i++) t[i] = dot < 0 ? -tm[i] : tm[i];
+            s->stats.n_tangent_reused++;
+            s->n_ok_++;
+            *from_memo = 1;
+            return PSB_SUCCESS;
+        }
+    r = psb__tangent_from_jacobian(s, ref, t);
+    if (r != PSB_SUCCESS || (from_memo && m < stored)) return r;
+    m = s->jmemo_n_ % s->memo_cap_;
+    s->jmemo_key_[2 * m] = key[0];
+    s->jmemo_key_[2 * m + 1] = key[1];
+    psb__copy(s->jmemo_t_ + (size_t)m * (size_t)np1, t, np1);
+    s->jmemo_n_++;
+    return PSB_SUCCESS;
+}
+
+/* The tangent of the dH that psb__sample_tangent just took from its memo, computed afresh
+   (with ref's bordering, as without the memo). */
+static psb_result psb__sample_refresh(psb_solver *s, const double *ref, double *t)
+{
+    s->stats.n_tangents++;
+    return psb__tangent_from_jacobian(s, ref, t);
 }
 
 /* Whether t is within c_diff of a tangent tried before in this call (the memo). */
@@ -4428,7 +4544,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                                    int max_branches, double *ys, double *ts,
                                    psb_branch_report *rep, int *overflow)
 {
-    int np1 = s->np1_, k, sign, iters, cut;
+    int np1 = s->np1_, k, sign, iters, cut, from_memo;
     double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
     double *pk = PSB__VEC(s, PSB__V_BR_S), *kx = PSB__VEC(s, PSB__V_BR_K);
     psb_result r;
@@ -4447,7 +4563,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (!s->opt.branch_no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
-            r = psb__sample_tangent(s, pk, tb, kx);
+            r = psb__sample_tangent(s, pk, tb, kx, &from_memo);
             if (psb__is_fatal(r)) return r;
             /* no tangent at p (singular there): the trial along tb as printed */
             if (r == PSB_SUCCESS) {
@@ -4455,6 +4571,12 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                     rep->n_screened++;
                     continue;
                 }
+                if (from_memo) {
+                    r = psb__sample_refresh(s, tb, kx);
+                    if (psb__is_fatal(r)) return r;
+                }
+            }
+            if (r == PSB_SUCCESS) {
                 s->path_own_ = s->known_n_ % s->memo_cap_;
                 psb__store_add(s, s->known_, &s->known_n_, kx);
                 psb__copy(tb, kx, np1);
@@ -4518,7 +4640,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
                              int max_branches, double *ys, double *ts, psb_branch_report *rep,
                              int *overflow)
 {
-    int np1 = s->np1_, i, k;
+    int np1 = s->np1_, i, k, from_memo;
     double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
     double *tprev = PSB__VEC(s, PSB__V_BR_TP), *pt = PSB__VEC(s, PSB__V_BR_P);
     double h = s->opt.branch_h, *q = PSB__VEC(s, PSB__V_BR_Q);
@@ -4539,7 +4661,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
         rep->n_tangents++;
-        r = psb__sample_tangent(s, pt, v, tt);
+        r = psb__sample_tangent(s, pt, v, tt, &from_memo);
         if (psb__is_fatal(r)) return r;
         if (r != PSB_SUCCESS) {
             psb__note_fault(s, r);
@@ -4547,6 +4669,16 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         }
         /* Step 4: a tangent seen at the previous direction belongs to the same region */
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
+        /* a tangent tried before is skipped by psb__try_tangent; one that will be tried is
+           the recomputed one (psb__sample_tangent) */
+        if (from_memo && (s->opt.branch_no_memo || !psb__memo_seen(s, tt))) {
+            r = psb__sample_refresh(s, v, tt);
+            if (psb__is_fatal(r)) return r;
+            if (r != PSB_SUCCESS) {
+                psb__note_fault(s, r);
+                continue;
+            }
+        }
         psb__copy(tprev, tt, np1);
         r = psb__try_tangent(s, y0, tt, max_branches, ys, ts, rep, overflow);
         if (r != PSB_SUCCESS) return r;
@@ -4631,6 +4763,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
     s->memo_n_ = 0;
     s->known_n_ = 0;
+    s->jmemo_n_ = 0;
     memset(s->pairs_done_, 0, sizeof s->pairs_done_);
     psb__faults_reset(s);
 
@@ -4638,7 +4771,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
     psb__axpy_to(pt, yc, s->opt.branch_h, tc, np1);
     rep->n_tangents++;
-    r = psb__sample_tangent(s, pt, tc, t2);
+    r = psb__sample_tangent(s, pt, tc, t2, NULL);
     if (r != PSB_SUCCESS) return r;
     psb__copy(ys, yc, np1);
     psb__copy(ts, t1, np1);
@@ -4684,7 +4817,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                     pt[k] = yc[k] + s->opt.branch_h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
-                r = psb__sample_tangent(s, pt, global ? prev : centre, t2);
+                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL);
                 if (psb__is_fatal(r)) return r;
                 if (r != PSB_SUCCESS) {
                     psb__note_fault(s, r);
@@ -4929,6 +5062,7 @@ static psb_stats psb__stats_since(const psb_solver *s, const psb_stats *before)
     d.n_rejected -= before->n_rejected;
     d.n_switches -= before->n_switches;
     d.n_tangents -= before->n_tangents;
+    d.n_tangent_reused -= before->n_tangent_reused;
     return d;
 }
 

@@ -9,7 +9,8 @@
    Configurations: the defaults; the defaults with the Jacobian left to forward differences;
    Algorithm 2.2 as printed (Remark 2.3(ii) restarts, the printed sweep, every direction tried).
    A run is complete when every ray, and nothing else, is found (tangents matching to 1e-6).
-   Columns: runs, complete runs, runs with a spurious branch, mean n_pc, mean factorisations.
+   Columns: runs, complete runs, runs with a spurious branch, mean n_pc, mean factorisations
+   of the whole run (trace, Algorithm 2.1, Algorithm 2.2) and of Algorithm 2.2 alone.
    Usage: bench_branching [--csv FILE] [--quick] */
 #define PSCBRANCH_IMPLEMENTATION
 #include "../pscbranch.h"
@@ -23,19 +24,21 @@ enum { CFG_DEFAULTS, CFG_FD, CFG_PRINTED };
 static const char *const cfg_name[] = {"defaults", "finite differences", "as printed"};
 
 typedef struct {
-    long runs, complete, spurious, failed, n_pc, n_factor;
+    long runs, complete, spurious, failed, n_pc, n_factor, n_factor_22;
 } tally;
 
 /* One run entering along ray `incoming`, added to *t. */
-static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int cfg, tally *t)
+static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int cfg, tally *tl)
 {
     static double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
     int matched;
-    double y[PL_MAX_N + 1];
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1];
+    long before;
     psb_problem prob;
     psb_options o;
     psb_solver s;
     psb_branch_report br;
+    psb_result r;
     memset(&o, 0, sizeof o);
     if (cfg == CFG_PRINTED) {
         o.restart = PSB_RESTART_PAPER;
@@ -44,30 +47,41 @@ static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int
         o.branch_no_screen = 1;
     }
     psb_problem_init(&prob, p->n, pl_residual, cfg == CFG_FD ? NULL : pl_jacobian, p);
-    t->runs++;
-    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) { t->failed++; return; }
-    if (pl_branch_from_ray(&s, rays, incoming, y, ys, ts, &br)) {
-        t->failed++;
+    tl->runs++;
+    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) { tl->failed++; return; }
+    /* pl_branch_from_ray's steps, to count Algorithm 2.2's factorisations apart */
+    pl_start_on_ray(p->n + 1, rays, incoming, y, t);
+    r = pl_trace_to_kink(&s, y, t, NULL);
+    if ((r != PSB_STOPPED && r != PSB_NONSMOOTH_END) || psb_locate_end(&s, y, t, NULL) != PSB_SUCCESS) {
+        tl->failed++;
         psb_solver_free(&s);
         return;
     }
+    before = s.stats.n_factor;
+    if (psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, &br) != PSB_SUCCESS) {
+        tl->failed++;
+        psb_solver_free(&s);
+        return;
+    }
+    tl->n_factor_22 += s.stats.n_factor - before;
     matched = pl_match_rays(ts, br.n_branches, rays, n_rays, p->n + 1, 1e-6);
-    t->complete += matched == n_rays && br.n_branches == n_rays;
-    t->spurious += br.n_branches > matched;
-    t->n_pc += br.n_pc;
-    t->n_factor += s.stats.n_factor;
+    tl->complete += matched == n_rays && br.n_branches == n_rays;
+    tl->spurious += br.n_branches > matched;
+    tl->n_pc += br.n_pc;
+    tl->n_factor += s.stats.n_factor;
     psb_solver_free(&s);
 }
 
 static void report(FILE *csv, const char *family, int n, double rays, int cfg, const tally *t)
 {
-    printf("  %-15s %3d %6.1f  %-19s %5ld %9ld %9ld %7ld %8.1f %10.0f\n", family, n, rays, cfg_name[cfg],
-           t->runs, t->complete, t->spurious, t->failed, (double)t->n_pc / (double)t->runs,
-           (double)t->n_factor / (double)t->runs);
+    printf("  %-15s %3d %6.1f  %-19s %5ld %9ld %9ld %7ld %8.1f %10.0f %10.0f\n", family, n, rays,
+           cfg_name[cfg], t->runs, t->complete, t->spurious, t->failed,
+           (double)t->n_pc / (double)t->runs, (double)t->n_factor / (double)t->runs,
+           (double)t->n_factor_22 / (double)t->runs);
     if (csv)
-        fprintf(csv, "%s,%d,%.2f,%s,%ld,%ld,%ld,%ld,%.2f,%.1f\n", family, n, rays, cfg_name[cfg], t->runs,
-                t->complete, t->spurious, t->failed, (double)t->n_pc / (double)t->runs,
-                (double)t->n_factor / (double)t->runs);
+        fprintf(csv, "%s,%d,%.2f,%s,%ld,%ld,%ld,%ld,%.2f,%.1f,%.1f\n", family, n, rays, cfg_name[cfg],
+                t->runs, t->complete, t->spurious, t->failed, (double)t->n_pc / (double)t->runs,
+                (double)t->n_factor / (double)t->runs, (double)t->n_factor_22 / (double)t->runs);
 }
 
 int main(int argc, char **argv)
@@ -88,12 +102,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_branching: cannot write %s\n", csv_path);
         return 1;
     }
-    if (csv) fprintf(csv, "family,n,mean_rays,config,runs,complete,spurious,failed,mean_n_pc,mean_factorisations\n");
+    if (csv) fprintf(csv, "family,n,mean_rays,config,runs,complete,spurious,failed,mean_n_pc,mean_factorisations,mean_factorisations_alg22\n");
     n_problems = quick ? 10 : 40;
     printf("bench_branching: Algorithm 2.2 on piecewise-linear problems with known branch sets\n"
            "(n_dir 20, n_span 15, every ray entered in turn)\n\n");
-    printf("  %-15s %3s %6s  %-19s %5s %9s %9s %7s %8s %10s\n", "family", "N", "rays", "configuration",
-           "runs", "complete", "spurious", "failed", "n_pc", "factorised");
+    printf("  %-15s %3s %6s  %-19s %5s %9s %9s %7s %8s %10s %10s\n", "family", "N", "rays",
+           "configuration", "runs", "complete", "spurious", "failed", "n_pc", "factorised", "in 2.2");
     for (k = 2; k <= (quick ? 4 : 5); k++) {
         pl_problem p;
         int n_rays = pl_crossing_kinks(&p, k, rays);

@@ -882,7 +882,7 @@ static void test_screen_equivalence(void)
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
-            if (psb__sample_tangent(&s, pred, x, k) != PSB_SUCCESS) continue;
+            if (psb__sample_tangent(&s, pred, x, k, NULL) != PSB_SUCCESS) continue;
             ray_x = trial_ray(&s, y0, x, 1, rays, n_rays);
             n_path = s.path_n_;
             memcpy(path, s.path_, (size_t)n_path * np1 * sizeof(double));
@@ -938,7 +938,7 @@ static void test_cut_claim(void)
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
-            if (psb__sample_tangent(&s, pred, x, k) != PSB_SUCCESS) continue;
+            if (psb__sample_tangent(&s, pred, x, k, NULL) != PSB_SUCCESS) continue;
             ray[made] = trial_ray(&s, y0, k, 1, rays, n_rays); /* nothing known: never cut */
             n_path[made] = s.path_n_;
             memcpy(paths + (size_t)made * PSB__PATH_MAX * np1, s.path_, (size_t)s.path_n_ * np1 * sizeof(double));
@@ -993,6 +993,71 @@ static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, in
     CHECK(psb_norm_w(&s, y) < (fd == 2 ? 1e-4 : fd ? 1e-5 : 1e-9));
     psb_solver_free(&s);
     return pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-6) == n_rays && br.n_branches == n_rays;
+}
+
+/* pl_jacobian with the zero entries' signs drawn from a call counter: the same values (and the
+   same arithmetic: -0 and +0 add, multiply and pivot alike) in bits that rarely repeat, so
+   Algorithm 2.2's Jacobian memo (psb__sample_tangent) seldom matches */
+static int pl_jacobian_zero_signs(const double *y, double *jac, int ldjac, void *user)
+{
+    static unsigned long calls; /* test-only state; the library has none */
+    pl_problem *p = user;
+    int i, j, bit = 0, rc = pl_jacobian(y, jac, ldjac, user);
+    calls++;
+    for (j = 0; j <= p->n; j++)
+        for (i = 0; i < p->n; i++)
+            if (jac[i + j * ldjac] == 0) {
+                jac[i + j * ldjac] = (calls >> bit % 32) & 1 ? -0.0 : 0.0;
+                bit++;
+            }
+    return rc;
+}
+
+/* Algorithm 2.2's Jacobian memo: on a piecewise-linear H sample points of one piece share dH
+   bit for bit, and their tangent is taken from the memo without a factorisation; a tangent that
+   goes on to be used is recomputed, so the sweep is the one without the memo: the same branches
+   and n_pc, the same tangents, from every entry, with fewer factorisations. */
+static void test_jacobian_memo(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], ys[2][PL_MAX_RAYS * (PL_MAX_N + 1)];
+    double ts[2][PL_MAX_RAYS * (PL_MAX_N + 1)], y[PL_MAX_N + 1];
+    unsigned long long st = 11;
+    pl_problem p;
+    int family, a, inc, v, i;
+    for (family = 0; family < 2; family++) {
+        a = family == 0 ? pl_crossing_kinks(&p, 3, rays) : pl_random_lcp(&p, 5, &st, 1, rays);
+        CHECK(a >= 3);
+        for (inc = 0; inc < a; inc++) {
+            psb_branch_report br[2];
+            long reused[2], factor22[2];
+            for (v = 0; v < 2; v++) {
+                psb_problem prob;
+                psb_solver s;
+                long before_factor, before_reused;
+                psb_problem_init(&prob, p.n, pl_residual, v ? pl_jacobian_zero_signs : pl_jacobian, &p);
+                CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+                pl_start_on_ray(p.n + 1, rays, inc, y, ts[v]);
+                {
+                    psb_result rt = pl_trace_to_kink(&s, y, ts[v], NULL);
+                    CHECK(rt == PSB_STOPPED || rt == PSB_NONSMOOTH_END);
+                }
+                CHECK(psb_locate_end(&s, y, ts[v], NULL) == PSB_SUCCESS);
+                before_factor = s.stats.n_factor;
+                before_reused = s.stats.n_tangent_reused;
+                CHECK(psb_find_branches(&s, y, ts[v], PL_MAX_RAYS, ys[v], ts[v], &br[v]) == PSB_SUCCESS);
+                factor22[v] = s.stats.n_factor - before_factor;
+                reused[v] = s.stats.n_tangent_reused - before_reused;
+                psb_solver_free(&s);
+            }
+            CHECK(br[0].n_branches == a && br[1].n_branches == a);
+            CHECK(pl_match_rays(ts[0], br[0].n_branches, rays, a, p.n + 1, 1e-6) == a);
+            CHECK(br[0].n_pc == br[1].n_pc && br[0].n_span == br[1].n_span);
+            for (i = 0; i < a * (p.n + 1); i++) CHECK(ts[0][i] == ts[1][i] && ys[0][i] == ys[1][i]);
+            /* without the memo every sample tangent costs a factorisation */
+            CHECK(reused[0] > reused[1] && factor22[0] < br[0].n_tangents);
+            CHECK(factor22[1] > factor22[0]);
+        }
+    }
 }
 
 /* H_i = min(x_i, g - x_i), i = 1..k: k kinks crossing at the origin, 2^k rays (x in {0, 1}^k,
@@ -1469,6 +1534,7 @@ int main(void)
     test_screen_equivalence();
     test_cut_claim();
     test_crossing_kinks();
+    test_jacobian_memo();
     test_curved_kinks();
     test_fd_branching();
     test_branch_budgets();
