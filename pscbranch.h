@@ -336,17 +336,25 @@
      of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
      min(256, max(32, 2^19 / (N+1))) tangents are kept (the oldest give way). Branch sets are
      those of the full run; spans later than the first mostly revisit regions, so n_pc falls.
-   - Jacobian memo (analytic dH, dense or banded backend; always on: it changes no result).
-     The tangent at a sample point is the kernel of dH there, and on a piecewise-linear H
-     every point of a piece has the same dH, bit for bit. So the sample points' dH are hashed
-     (two independent 64-bit hashes of every entry) and a dH seen before in the call gives its
-     tangent without a factorisation (stats.n_tangent_reused; as many entries as the memo of
-     tried tangents). A remembered tangent only decides skips (tried before, screened, the
-     previous direction's region); one that goes on to a trial is recomputed from the same dH,
-     because the rounding of a different bordering row can steer a sweep on degenerate
-     problems elsewhere. bench_branching: same branches and n_pc, Algorithm 2.2's
-     factorisations 1.2-2.4 times fewer; the block, whose sample points mostly fall in pieces
-     of their own (many contact nodes change state at y0), 1.5% fewer.
+   - Jacobian memo (analytic dH, dense or banded backend). The tangent at a sample point is
+     the kernel of dH there, and on a piecewise-linear H every point of a piece has the same
+     dH, bit for bit. So the sample points' dH are hashed (two independent 64-bit hashes of
+     every entry) and a dH seen before in the call gives its tangent without a factorisation
+     (stats.n_tangent_reused; as many entries as the memo of tried tangents). A remembered
+     tangent only decides skips (tried before, screened, the previous direction's region);
+     one that goes on to a trial is recomputed from the same dH, because the rounding of a
+     different bordering row can steer a sweep elsewhere on degenerate problems.
+   - Conic stop (with screening, analytic dH). A trial step that fails (no convergence, the
+     jump or cosine test, a turn) is retried with h_dec times the step down to
+     branch_trial_h_min. Where the pieces its corrector met are cones with apex y0, a smaller
+     step is the same run scaled and fails alike; so at each iterate y the trial checks that
+     H is affine through y0 there (H(y) = H(y0) + dH(y) (y - y0) to rounding and 10^-6 of the
+     step, y0 being a kink only to Algorithm 2.1's precision) and that dH is the same, bit for
+     bit, at the point of the segment [y0, y] at distance branch_h from y0 (polyhedral pieces:
+     the segment lies in y's piece), one more Jacobian per iteration; when every iterate
+     passes, the trial ends there. Both: bench_branching, same branches and n_pc, Algorithm
+     2.2's factorisations 6-11 times fewer; the block's trials end by the cut already and its
+     sample points fall in pieces of their own (many contact nodes change state at y0): 1.5%.
    - Screened trials (branch_no_screen = 0). Near y0 the pieces are, to first order, cones
      with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
      lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
@@ -944,7 +952,13 @@ typedef struct psb_solver {
     /* private */
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
     int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
-    unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
+    unsigned long long *jmemo_key_; /* per entry (memo_cap_ of them): two 64-bit hashes of dH,
+                                       and 1 when dH was met within branch_h of y0 */
+    const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
+                                conic test, see psb__try_tangent); NULL otherwise */
+    int conic_ok_;           /* every iterate of the last corrector run passed that test */
+    int conic_h0_ok_;        /* psb_find_branches holds H(y0) for it */
+    unsigned long long conic_key_[2]; /* the hash of dH at the iterate under test */
     double *jmemo_t_;             /* the unit tangent of each entry's dH */
     int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
     const double *path_ts_; /* with path_on_: the found branches' tangents (path_nts_) and the */
@@ -1696,6 +1710,7 @@ enum {
     PSB__V_SP_Y, PSB__V_SP_T, PSB__V_SP_K, PSB__V_SP_YA, PSB__V_SP_TA, PSB__V_SP_YB, PSB__V_SP_TB,
     PSB__V_SP_YE, PSB__V_SP_TE, PSB__V_SP_B1, PSB__V_SP_B2, PSB__V_SP_C1, PSB__V_SP_C2, /* special points */
     PSB__V_EV_Y, PSB__V_EV_T, PSB__V_EV_N, /* psb_evolve_step: path couple, Newton's solution */
+    PSB__V_BR_H0, PSB__V_BR_JD, PSB__V_BR_JS, /* Algorithm 2.2's trials: H(y0); psb__conic_at */
     PSB__NVEC
 };
 /* Entries of each of psb_find_branches' stores, the tangents tried (memo_), the directions
@@ -1957,7 +1972,7 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
         size_t cap = (size_t)psb__memo_capacity(p->n);
         PSB__TAKE(jmemo_t_, cap * np1);
         if (s) s->jmemo_key_ = (unsigned long long *)(void *)(base + off);
-        off += 2 * cap; /* the keys: 8 bytes each, as a double */
+        off += 3 * cap; /* the keys: 8 bytes each, as a double */
     }
     if (p->linear == PSB_LINEAR_DENSE) {
         PSB__TAKE(jac_, n * np1);
@@ -2928,6 +2943,57 @@ static int psb__is_fatal(psb_result r)
 
 static int psb__trial_known(const psb_solver *s, const double *x, const double *ts, int n_ts,
                             const double *done, int own);
+static void psb__jmemo_key(const psb_solver *s, unsigned long long *key);
+static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key);
+
+/* The conic test of Algorithm 2.2's trials (psb__try_tangent), first half, at a corrector
+   iterate y whose dH(y) was just formed and H(y) is in res_: H is affine through y0 there,
+   H(y) = H(y0) + dH(y) (y - y0), up to rounding
+   (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| + |H(y0)|, row by row) and
+   10^-6 of the step's own scale, max_i (|dH| |y - y0|)_i: y0 lies within Algorithm 2.1's
+   precision of the kink, not on it, and its pieces' affine maps meet there to that order.
+   dH(y)'s hash goes to conic_key_ for the second half (psb__correct_run): dH is the same, bit
+   for bit, at the point of the segment from y0 to y at distance branch_h from y0. Pieces of a
+   piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
+   the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
+   the same H scaled: the same run. */
+static int psb__conic_at(psb_solver *s, const double *y)
+{
+    int n = s->n_, np1 = s->np1_, i, j;
+    const double *y0 = s->conic_y0_, *h0 = PSB__VEC(s, PSB__V_BR_H0);
+    double *diff = PSB__VEC(s, PSB__V_BR_JD), *round = PSB__VEC(s, PSB__V_BR_JS), step = 0;
+    psb__jmemo_key(s, s->conic_key_);
+    for (i = 0; i < n; i++) {
+        double sum = 0, size = 0, scale = fabs(s->res_[i]) + fabs(h0[i]);
+        if (s->prob.linear == PSB_LINEAR_DENSE) {
+            for (j = 0; j < np1; j++) {
+                double a = s->jac_[(size_t)i + (size_t)j * (size_t)n];
+                sum += a * (y[j] - y0[j]);
+                size += fabs(a * (y[j] - y0[j]));
+                scale += fabs(a) * (fabs(y[j]) + fabs(y0[j]));
+            }
+        } else {
+            int kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
+            int lo = i - kl > 0 ? i - kl : 0, hi = i + ku < n - 1 ? i + ku : n - 1;
+            for (j = lo; j <= hi; j++) { /* state column j is y component j, or j + 1 past p */
+                int c = j < p ? j : j + 1;
+                double a = s->band_[PSB_BAND_INDEX(ku, ld, i, j)];
+                sum += a * (y[c] - y0[c]);
+                size += fabs(a * (y[c] - y0[c]));
+                scale += fabs(a) * (fabs(y[c]) + fabs(y0[c]));
+            }
+            sum += s->dparam_[i] * (y[p] - y0[p]);
+            size += fabs(s->dparam_[i] * (y[p] - y0[p]));
+            scale += fabs(s->dparam_[i]) * (fabs(y[p]) + fabs(y0[p]));
+        }
+        diff[i] = fabs(s->res_[i] - h0[i] - sum);
+        round[i] = 1024 * DBL_EPSILON * scale;
+        if (size > step) step = size;
+    }
+    for (i = 0; i < n; i++)
+        if (!(diff[i] <= round[i] + 1e-6 * step)) return 0;
+    return 1;
+}
 
 /* Moore-Penrose corrector on internal copies; (y, t) replaced only on convergence. With
    path_on_ (Algorithm 2.2's trials) it records its tangents and stops as soon as one is a
@@ -2943,11 +3009,13 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "zero tangent");
     r = psb__residual(s, yc, s->res_);
     if (r != PSB_SUCCESS) return r;
+    s->conic_ok_ = s->conic_y0_ != NULL;
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res;
         s->stats.n_newton++;
         r = psb__jacobian(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
+        if (s->conic_ok_) s->conic_ok_ = psb__conic_at(s, yc);
         for (i = 0; i < np1; i++) row[i] = s->w_[i] * tc[i];
         r = psb__factor_bordered(s, row, NULL);
         if (r != PSB_SUCCESS) return r;
@@ -2958,6 +3026,12 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         s->rhs_[np1 + n] = 1;
         r = psb__solve_factored(s, s->rhs_, 2);
         if (r != PSB_SUCCESS) return r;
+        if (s->conic_ok_) { /* the point branch_h from y0 towards this iterate */
+            double dist = psb__dist_w(s, yc, s->conic_y0_), *pe = PSB__VEC(s, PSB__V_BR_JS);
+            s->conic_ok_ = dist > s->opt.branch_h;
+            for (i = 0; i < np1 && s->conic_ok_; i++)
+                pe[i] = s->conic_y0_[i] + s->opt.branch_h / dist * (yc[i] - s->conic_y0_[i]);
+        }
         for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
         psb__copy(tc, s->rhs_ + np1, np1);
         if (!psb__normalize_w(s, tc)) {
@@ -2972,6 +3046,13 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
         corr = psb__norm_w(s, s->rhs_);
+        if (s->conic_ok_) { /* psb__conic_at's second half */
+            unsigned long long key[2] = {0, 0};
+            r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_JS), NULL);
+            if (psb__is_fatal(r)) return r;
+            if (r == PSB_SUCCESS) psb__jmemo_key(s, key);
+            s->conic_ok_ = r == PSB_SUCCESS && key[0] == s->conic_key_[0] && key[1] == s->conic_key_[1];
+        }
         r = psb__residual(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
         res = psb__norm2(s->res_, n);
@@ -3075,6 +3156,12 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
         s->stats.n_rejected++;
         /* a cut trial: a smaller step is the same trial scaled down */
         if (s->last_fail_ == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
+        /* so is one that failed for the curve's sake on H conic about y0 (psb__try_tangent) */
+        if (s->conic_y0_ && s->conic_ok_ &&
+            (s->last_fail_ == PSB__FAIL_CONVERGE || s->last_fail_ == PSB__FAIL_COSINE ||
+             s->last_fail_ == PSB__FAIL_TURN))
+            return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial step failed on pieces conic about "
+                                                         "the point: smaller steps repeat it");
         hh *= s->opt.h_dec;
     }
     /* a trial that failed because of a fault might have converged: the steps did not run out
@@ -4433,12 +4520,34 @@ static void psb__hash_doubles(const double *a, size_t n, unsigned long long *key
    the previous direction), and a tangent that goes on to be used is recomputed from the same
    dH (psb__sample_refresh). Idle spans and screened trials on piecewise-linear problems then
    cost Jacobian evaluations only, and the sweep is the one without the memo. */
+/* Hashes the dH just formed (psb__jacobian) into key[2]. */
+static void psb__jmemo_key(const psb_solver *s, unsigned long long *key)
+{
+    key[0] = 0xcbf29ce484222325ull;
+    key[1] = 0;
+    if (s->prob.linear == PSB_LINEAR_DENSE) {
+        psb__hash_doubles(s->jac_, (size_t)s->n_ * (size_t)s->np1_, key);
+    } else {
+        psb__hash_doubles(s->band_, (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->n_, key);
+        psb__hash_doubles(s->dparam_, (size_t)s->n_, key);
+    }
+}
+
+/* The Jacobian memo's entry with this key, or -1. */
+static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
+{
+    int m, stored = s->jmemo_n_ < s->memo_cap_ ? s->jmemo_n_ : s->memo_cap_;
+    for (m = 0; m < stored; m++)
+        if (s->jmemo_key_[3 * m] == key[0] && s->jmemo_key_[3 * m + 1] == key[1]) return m;
+    return -1;
+}
+
 static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t,
-                                      int *from_memo)
+                                      int near, int *from_memo)
 {
     psb_result r;
-    unsigned long long key[2] = {0xcbf29ce484222325ull, 0};
-    int m, stored, np1 = s->np1_;
+    unsigned long long key[2];
+    int m, np1 = s->np1_;
     if (from_memo) *from_memo = 0;
     if (!s->jmemo_t_) {
         s->fd_cap_ = 1e-3 * s->opt.branch_h;
@@ -4449,32 +4558,29 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
     s->stats.n_tangents++;
     r = psb__jacobian(s, pt, NULL);
     if (r != PSB_SUCCESS) return r;
-    if (s->prob.linear == PSB_LINEAR_DENSE) {
-        psb__hash_doubles(s->jac_, (size_t)s->n_ * (size_t)np1, key);
-    } else {
-        psb__hash_doubles(s->band_, (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->n_, key);
-        psb__hash_doubles(s->dparam_, (size_t)s->n_, key);
-    }
-    stored = s->jmemo_n_ < s->memo_cap_ ? s->jmemo_n_ : s->memo_cap_;
-    for (m = 0; m < stored && from_memo; m++)
-        if (s->jmemo_key_[2 * m] == key[0] && s->jmemo_key_[2 * m + 1] == key[1]) {
-            const double *tm = s->jmemo_t_ + (size_t)m * (size_t)np1;
-            double dot = psb__dot_w(s, tm, ref);
-            int i;
-            /* ref (nearly) orthogonal to the tangent: the orientation is the fallback's
-               (psb__tangent_from_jacobian), not a sign of the dot product */
-            if (fabs(dot) <= 1.4901161193847656e-08 * psb__norm_w(s, ref)) break;
+    psb__jmemo_key(s, key);
+    m = psb__jmemo_find(s, key);
+    if (m >= 0) {
+        const double *tm = s->jmemo_t_ + (size_t)m * (size_t)np1;
+        double dot = psb__dot_w(s, tm, ref);
+        int i;
+        if (near) s->jmemo_key_[3 * m + 2] = 1;
+        /* ref (nearly) orthogonal to the tangent: the orientation is the fallback's
+           (psb__tangent_from_jacobian), not a sign of the dot product */
+        if (from_memo && fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, ref)) {
             for (i = 0; i < np1; i++) t[i] = dot < 0 ? -tm[i] : tm[i];
             s->stats.n_tangent_reused++;
             s->n_ok_++;
             *from_memo = 1;
             return PSB_SUCCESS;
         }
+    }
     r = psb__tangent_from_jacobian(s, ref, t);
-    if (r != PSB_SUCCESS || (from_memo && m < stored)) return r;
+    if (r != PSB_SUCCESS || m >= 0) return r;
     m = s->jmemo_n_ % s->memo_cap_;
-    s->jmemo_key_[2 * m] = key[0];
-    s->jmemo_key_[2 * m + 1] = key[1];
+    s->jmemo_key_[3 * m] = key[0];
+    s->jmemo_key_[3 * m + 1] = key[1];
+    s->jmemo_key_[3 * m + 2] = (unsigned long long)(near != 0);
     psb__copy(s->jmemo_t_ + (size_t)m * (size_t)np1, t, np1);
     s->jmemo_n_++;
     return PSB_SUCCESS;
@@ -4563,7 +4669,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (!s->opt.branch_no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
-            r = psb__sample_tangent(s, pk, tb, kx, &from_memo);
+            r = psb__sample_tangent(s, pk, tb, kx, 0, &from_memo);
             if (psb__is_fatal(r)) return r;
             /* no tangent at p (singular there): the trial along tb as printed */
             if (r == PSB_SUCCESS) {
@@ -4590,8 +4696,10 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         s->path_on_ = !s->opt.branch_no_screen && !psb__fd_jacobian(&s->prob);
         s->path_ts_ = ts;
         s->path_nts_ = rep->n_branches;
+        s->conic_y0_ = s->path_on_ && s->conic_h0_ok_ ? y0 : NULL;
         r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
         s->path_on_ = 0;
+        s->conic_y0_ = NULL;
         if (psb__is_fatal(r)) return r;
         if (psb__note_fault(s, r)) continue;
         /* cut at iteration i: the trial is then a trial along k_i scaled up, whose outcome is
@@ -4661,7 +4769,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
         rep->n_tangents++;
-        r = psb__sample_tangent(s, pt, v, tt, &from_memo);
+        r = psb__sample_tangent(s, pt, v, tt, 1, &from_memo);
         if (psb__is_fatal(r)) return r;
         if (r != PSB_SUCCESS) {
             psb__note_fault(s, r);
@@ -4759,6 +4867,13 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     psb__copy(tc, t0, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
     psb__branch_h(s, yc);
+    /* H(y0) for the trials' conic test (psb__conic_at); the test is off without it */
+    s->conic_h0_ok_ = 0;
+    if (s->jmemo_t_ && !s->opt.branch_no_screen) {
+        r = psb__residual(s, yc, PSB__VEC(s, PSB__V_BR_H0));
+        if (psb__is_fatal(r)) return r;
+        s->conic_h0_ok_ = r == PSB_SUCCESS;
+    }
     seed = s->opt.seed;
     for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
     s->memo_n_ = 0;
@@ -4771,7 +4886,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
     psb__axpy_to(pt, yc, s->opt.branch_h, tc, np1);
     rep->n_tangents++;
-    r = psb__sample_tangent(s, pt, tc, t2, NULL);
+    r = psb__sample_tangent(s, pt, tc, t2, 1, NULL);
     if (r != PSB_SUCCESS) return r;
     psb__copy(ys, yc, np1);
     psb__copy(ts, t1, np1);
@@ -4817,7 +4932,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                     pt[k] = yc[k] + s->opt.branch_h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
-                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL);
+                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, 1, NULL);
                 if (psb__is_fatal(r)) return r;
                 if (r != PSB_SUCCESS) {
                     psb__note_fault(s, r);

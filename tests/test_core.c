@@ -882,7 +882,7 @@ static void test_screen_equivalence(void)
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
-            if (psb__sample_tangent(&s, pred, x, k, NULL) != PSB_SUCCESS) continue;
+            if (psb__sample_tangent(&s, pred, x, k, 0, NULL) != PSB_SUCCESS) continue;
             ray_x = trial_ray(&s, y0, x, 1, rays, n_rays);
             n_path = s.path_n_;
             memcpy(path, s.path_, (size_t)n_path * np1 * sizeof(double));
@@ -938,7 +938,7 @@ static void test_cut_claim(void)
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
-            if (psb__sample_tangent(&s, pred, x, k, NULL) != PSB_SUCCESS) continue;
+            if (psb__sample_tangent(&s, pred, x, k, 0, NULL) != PSB_SUCCESS) continue;
             ray[made] = trial_ray(&s, y0, k, 1, rays, n_rays); /* nothing known: never cut */
             n_path[made] = s.path_n_;
             memcpy(paths + (size_t)made * PSB__PATH_MAX * np1, s.path_, (size_t)s.path_n_ * np1 * sizeof(double));
@@ -1015,8 +1015,11 @@ static int pl_jacobian_zero_signs(const double *y, double *jac, int ldjac, void 
 
 /* Algorithm 2.2's Jacobian memo: on a piecewise-linear H sample points of one piece share dH
    bit for bit, and their tangent is taken from the memo without a factorisation; a tangent that
-   goes on to be used is recomputed, so the sweep is the one without the memo: the same branches
-   and n_pc, the same tangents, from every entry, with fewer factorisations. */
+   goes on to be used is recomputed, so the sweep is the one without the memo. And a trial step
+   that fails on pieces conic about y0 (psb__conic_at, which compares dH's bits along the
+   segment from y0) is not retried with smaller steps, which would repeat it scaled. With the
+   zero signs drawn per call neither applies (the bits differ): the same branches and n_pc,
+   the same tangents, from every entry, with fewer factorisations and rejected steps. */
 static void test_jacobian_memo(void)
 {
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], ys[2][PL_MAX_RAYS * (PL_MAX_N + 1)];
@@ -1024,16 +1027,18 @@ static void test_jacobian_memo(void)
     unsigned long long st = 11;
     pl_problem p;
     int family, a, inc, v, i;
+    long rejected_all[2];
     for (family = 0; family < 2; family++) {
+        rejected_all[0] = rejected_all[1] = 0;
         a = family == 0 ? pl_crossing_kinks(&p, 3, rays) : pl_random_lcp(&p, 5, &st, 1, rays);
         CHECK(a >= 3);
         for (inc = 0; inc < a; inc++) {
             psb_branch_report br[2];
-            long reused[2], factor22[2];
+            long reused[2], factor22[2], rejected22[2];
             for (v = 0; v < 2; v++) {
                 psb_problem prob;
                 psb_solver s;
-                long before_factor, before_reused;
+                long before_factor, before_reused, before_rejected;
                 psb_problem_init(&prob, p.n, pl_residual, v ? pl_jacobian_zero_signs : pl_jacobian, &p);
                 CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
                 pl_start_on_ray(p.n + 1, rays, inc, y, ts[v]);
@@ -1044,9 +1049,11 @@ static void test_jacobian_memo(void)
                 CHECK(psb_locate_end(&s, y, ts[v], NULL) == PSB_SUCCESS);
                 before_factor = s.stats.n_factor;
                 before_reused = s.stats.n_tangent_reused;
+                before_rejected = s.stats.n_rejected;
                 CHECK(psb_find_branches(&s, y, ts[v], PL_MAX_RAYS, ys[v], ts[v], &br[v]) == PSB_SUCCESS);
                 factor22[v] = s.stats.n_factor - before_factor;
                 reused[v] = s.stats.n_tangent_reused - before_reused;
+                rejected22[v] = s.stats.n_rejected - before_rejected;
                 psb_solver_free(&s);
             }
             CHECK(br[0].n_branches == a && br[1].n_branches == a);
@@ -1056,7 +1063,12 @@ static void test_jacobian_memo(void)
             /* without the memo every sample tangent costs a factorisation */
             CHECK(reused[0] > reused[1] && factor22[0] < br[0].n_tangents);
             CHECK(factor22[1] > factor22[0]);
+            CHECK(rejected22[0] <= rejected22[1]);
+            rejected_all[0] += rejected22[0];
+            rejected_all[1] += rejected22[1];
         }
+        /* a failed trial stops at its first step instead of shrinking to h_min */
+        CHECK(2 * rejected_all[0] < rejected_all[1]);
     }
 }
 
