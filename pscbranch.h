@@ -790,7 +790,7 @@ typedef enum psb_linear {
 typedef struct psb_problem {
     int n;                    /* N, the number of equations; y has N+1 components */
     psb_residual_fn residual; /* required */
-    psb_jacobian_fn jacobian; /* dense: optional, NULL means finite differences (psb_options) */
+    psb_jacobian_fn jacobian; /* dense: optional, NULL means finite differences (fd_step) */
     void *user;               /* passed to every callback */
     int param_index;          /* component of y that is the load parameter, 0..N
                                  (psb_problem_init sets N, the last component) */
@@ -802,6 +802,12 @@ typedef struct psb_problem {
                                  doubles less; its factors are then reused only at the same y,
                                  not whenever dH/dx repeats (piecewise-linear H) [0] */
     psb_linear_solver solver; /* user: factor and solve, both required */
+    /* finite-difference Jacobian (dense jacobian or banded band_jacobian NULL): column j steps
+       fd_step * max(1, |y_j|), forward differences unless fd_central; the solver's copy
+       (s->prob) holds the resolved step */
+    double fd_step;           /* [sqrt(DBL_EPSILON) ~ 1.49e-8; 6.06e-6 ~ cbrt(DBL_EPSILON) if
+                                 central]; 0 < fd_step < 1 */
+    int fd_central;           /* 0: forward (n+1 residuals per Jacobian), 1: central (2(n+1)) [0] */
 } psb_problem;
 
 /* Zeroes *p (dense backend), fills it and sets param_index to n (the last component). */
@@ -818,9 +824,9 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
 typedef enum psb_restart { PSB_RESTART_MIXED = 0, PSB_RESTART_PAPER = 1, PSB_RESTART_GLOBAL = 2 } psb_restart;
 
 /* ---- options: every field's zero value means "the default in brackets" ------------------ */
-/* Upper limits of the options' counts (psb_solver_init returns PSB_ERR_OPTIONS above them) */
+/* Upper limits of the options' counts (PSB_ERR_OPTIONS above them) */
 #define PSB_MAX_ITER_LIMIT 1000   /* max_iter, iter_threshold */
-#define PSB_MAX_DIR_LIMIT 10000   /* n_dir */
+#define PSB_MAX_DIR_LIMIT 10000   /* n_dir, switch_n_dir */
 #define PSB_MAX_SPAN_LIMIT 10000  /* n_span, n_span_max */
 typedef struct psb_options {
     /* weighted inner product <a,b>_w = sum_i w_i a_i b_i, used for every norm, cosine and
@@ -844,67 +850,68 @@ typedef struct psb_options {
     double switch_delta_min; /* [h_min] */
     double switch_delta_max; /* [h_init] */
     int switch_no_sweep;     /* 1: when nothing lies straight ahead, stop instead of sweeping
-                                n_dir directions around the kink [0] */
+                                switch_n_dir directions around the kink [0] */
+    int switch_n_dir;        /* directions of that sweep [20]; <= PSB_MAX_DIR_LIMIT */
 
-    /* finite-difference Jacobian (when problem.jacobian is NULL): column j uses the step
-       fd_step * max(1, |y_j|), forward differences unless fd_central */
-    double fd_step; /* [sqrt(DBL_EPSILON) ~ 1.49e-8; 6.06e-6 ~ cbrt(DBL_EPSILON) if central] */
-    int fd_central; /* 0: forward (n+1 residuals per Jacobian), 1: central (2(n+1)) [0] */
+    /* tangents: two are one branch when their cosine exceeds c_diff (the tangent switch, kink
+       tests, and Algorithms 2.1 and 2.2 alike) */
+    double c_diff;         /* [0.99999] */
+    unsigned long long seed; /* seed of the random spans of Algorithm 2.2, of the random border
+                                of psb_trace's detectors (user backend) [0 is a valid seed] */
+} psb_options;
 
-    /* branching: Algorithm 2.1 (end point) and 2.2 (branches) of Ligursky-Renard */
-    double c_diff;        /* cosine above which two tangents are the same branch [0.99999] */
-    double branch_h;      /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
-                             10^4 difference steps at the point, see section 1; a value
-                             set here stands, and Algorithm 2.2 then takes its sample
-                             tangents with difference steps below branch_h / 1000] */
-    double branch_h_fd_steps; /* finite differences, branch_h left at 0: branch_h is this
-                             many difference steps at each branching point [1e4]; resolved
-                             (psb_options_resolve_for) to 0 when not used, while branch_h
-                             then stays 0, meaning "follows the point" */
-    double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
-    double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
-    int n_dir;            /* directions per span of two tangents [20] */
-    int n_span;           /* selections of the two spanning tangents [15]; with the memo on,
-                             a span whose every tangent was tried before does not count,
-                             and after such a span of known branches a random one comes next
-                             (2 n_span such spans in a row, or 4 n_span in all, end it);
-                             left at 0 (memo on), at least 15 counted spans, and on while
-                             fewer than 3 times the span of the last new branch, up to 60
-                             (8 n_span in all) */
+/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by the value
+   a solver uses, so a log or a test can show it; given back to psb_solver_init it means the
+   same. Does not validate. */
+PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt);
+
+/* ---- branching options: Algorithms 2.1 and 2.2, psb_branch_point_switch ------------------ */
+/* Given to psb_locate_end, psb_find_branches and psb_branch_point_switch (NULL: defaults) and
+   in psb_explore_options.branch; every zero field takes the default in brackets (manual,
+   section 5). "h_min", "h_init" in brackets are psb_options', the continuation's. */
+typedef struct psb_branch_options {
+    int as_printed;       /* 1: Algorithm 2.2 exactly as printed, as far as a switch below
+                             departs from it: paper_sweep = no_memo = no_screen = 1 and
+                             restart = PSB_RESTART_PAPER (so a fixed length of n_span spans);
+                             the other fields keep their meaning [0] */
+    double h;             /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
+                             h_fd_steps difference steps at each branching point (manual,
+                             section 1); a value set here stands, and Algorithm 2.2 then takes
+                             its sample tangents with difference steps below h / 1000] */
+    double h_fd_steps;    /* finite differences, h left at 0: h is this many difference steps
+                             at the point [1e4]; resolved to 0 when not used, while h then
+                             stays 0, meaning "follows the point" */
+    double h_min;         /* precision of Algorithm 2.1 [h / 2^14] */
+    double h_init;        /* first step of each trial predictor-corrector step of 2.2, and the
+                             radius of psb_branch_point_switch's sphere [h_init] */
+    double trial_h_min;   /* trial steps of Algorithm 2.2 give up below this step [h_min];
+                             e.g. h_init / 16 bounds each trial to 5 correctors */
+    int n_dir;            /* directions per span of two tangents (psb_branch_point_switch:
+                             2 n_dir angles on its circle) [20] */
+    int n_span;           /* counted spans (selections of the two spanning tangents) [15]; with
+                             the memo on, a span whose every tangent was tried before does not
+                             count, and after such a span of known branches a random one comes
+                             next (2 n_span such spans in a row, or 4 n_span in all, end it) */
     int n_span_max;       /* counted spans at most when the sweep adapts its length [60 when
                              n_span is left at 0 and the memo is on, else n_span]: n_span <
                              n_span_max adapts (n_span counted spans at least, then on while
                              fewer than 3 times the span of the last new branch; 2 n_span_max
                              or 4 n_span spans in all, idle ones included); n_span_max =
                              n_span is a fixed length */
-    double branch_trial_h_min; /* trial steps of Algorithm 2.2 give up below this step [h_min];
-                                  e.g. branch_h_init / 16 bounds each trial to 5 correctors */
-    int branch_patience;  /* stop after this many spans in a row found no new branch
-                             [0: never, run all n_span] */
-    long branch_max_pc;   /* stop the sweep when n_pc reaches this budget [0: no budget] */
-    int branch_no_memo;   /* 1: try every direction whose region is new to its sweep, as
+    int patience;         /* stop after this many counted spans in a row found no new branch
+                             [0: never] */
+    long max_pc;          /* stop the sweep when n_pc reaches this budget [0: no budget] */
+    int no_memo;          /* 1: try every direction whose region is new to its sweep, as
                              printed; 0: skip one whose tangent was tried already [0] */
-    int branch_no_screen; /* 1: each trial along the sampled tangent, as printed; 0: along
-                             the tangent at its predictor point, skipped when that one's
-                             trial is known (see section 6) [0] */
+    int no_screen;        /* 1: each trial along the sampled tangent, as printed; 0: along the
+                             tangent at its predictor point, skipped when that one's trial is
+                             known (manual, section 6) [0] */
     int paper_sweep;      /* 1: directions v = sin(a) t~1 + cos(a) t~2 exactly as printed;
                              0: t~2 is first made w-orthogonal to t~1, so that the directions
                              spread evenly over the plane [0] */
     int restart;          /* how random spans are drawn once the pairs of known branches are
                              used up [PSB_RESTART_MIXED]: see psb_restart */
-    unsigned long long seed; /* seed of the generator of the random spans [0 is a valid seed] */
-} psb_options;
-
-/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by what a
-   solver of problem p uses (p may be NULL: a problem with an analytic Jacobian), so a log or
-   a test can show it; given back to psb_solver_init it means the same. Adaptive values say so:
-   n_span < n_span_max (the sweep's length adapts between them), and, with finite differences
-   and branch_h left at 0, branch_h = branch_h_min = 0 with branch_h_fd_steps > 0 (they follow
-   each branching point; s->opt.branch_h shows the last value). Does not validate. */
-PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const psb_problem *p);
-/* psb_options_resolve_for(opt, NULL): the values for an analytic Jacobian (0.9.0 and before
-   reported n_span 15 without n_span_max, and branch_h = h_min also for finite differences) */
-PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt);
+} psb_branch_options;
 
 /* ---- counters ---------------------------------------------------------------------------- */
 typedef struct psb_stats {
@@ -923,8 +930,11 @@ typedef struct psb_stats {
 
 /* ---- the solver: caller-owned state, all memory set up at init ------------------------ */
 typedef struct psb_solver {
-    psb_problem prob;
+    psb_problem prob; /* fd_step resolved */
     psb_options opt;  /* resolved */
+    psb_branch_options branch; /* what the latest branching call used, resolved (before any:
+                                  the defaults); with finite differences and h left at 0, h
+                                  and h_min are the values at that call's point */
     psb_stats stats;  /* cumulative; zero it whenever you like */
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
@@ -955,6 +965,16 @@ typedef struct psb_solver {
     long n_ok_;      /* tangents and corrector runs of the current algorithm that succeeded */
     unsigned ready_; /* PSB__READY between a successful init and psb_solver_free */
 } psb_solver;
+
+/* Returns *bo (or all defaults when bo is NULL) with every zero field replaced by what the
+   branching calls use on solver s (s NULL or not initialised: psb_options' defaults and an
+   analytic Jacobian), and as_printed's switches set. Adaptive values say so: n_span <
+   n_span_max (the sweep's length adapts between them), and with finite differences and h
+   left at 0, h = 0 (h_min too unless set) with h_fd_steps > 0 (they follow each branching
+   point; s->branch shows the last values). Given back to a branching call it means the same.
+   Does not validate (the branching calls do: PSB_ERR_OPTIONS). */
+PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_options *bo,
+                                                            const psb_solver *s);
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
    invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n (band_lean: (3 kl + 2 ku + 3) n);
@@ -1137,7 +1157,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
 /* ---- branching at a nonsmooth point ---------------------------------------------------- */
 
 /* Algorithm 2.1: from the last couple (y, t) (in/out) of a branch ending at a nonsmooth point,
-   halves h from branch_h down to branch_h_min, moving y towards the end point whenever a
+   halves h from bo->h down to bo->h_min (bo: psb_branch_options, NULL for defaults), moving y towards the end point whenever a
    correction of y + h t converges with a tangent within c_diff of t (and trying the same h
    again after each such move, see section 6). On return y approximates
    the end point, t (unit) points out of the branch's region, *precision (may be NULL) is the
@@ -1145,8 +1165,10 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
    PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed because of a
    fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end point lies
    within 1000 moves or, with finite differences, no branch tangent could be computed 4 to 64
-   branch_h behind it, PSB_ERR_CALLBACK ... */
-PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision);
+   h behind it, PSB_ERR_OPTIONS (bo; psb_solver_message names the field), PSB_ERR_CALLBACK ...
+   s->branch holds the resolved options used (unchanged by PSB_ERR_NULL or _OPTIONS). */
+PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
+                                        const psb_branch_options *bo, double *precision);
 
 typedef struct psb_branch_report {
     int n_branches;   /* found, input branch included */
@@ -1173,36 +1195,40 @@ typedef struct psb_branch_report {
                                 solver.factor failed whatever the bordering row */
 } psb_branch_report;
 
-/* Algorithm 2.2 with the restarts of Section 3: n_span spans of two tangents, each swept in
-   n_dir directions (with the memo, spans that try nothing new do not count: section 6).
+/* Algorithm 2.2 with the restarts of Section 3: bo->n_span spans of two tangents, each swept in
+   bo->n_dir directions (with the memo, spans that try nothing new do not count: section 6);
+   bo NULL: defaults; s->branch the resolved options used.
    (y0, t0) is Algorithm 2.1's output. Branch k (k < max_branches) is the
    couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented away from the point; branch 0 is
    the incoming branch (y0, -t0). rep may be NULL. Same seed, same result, bit for bit.
    Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure: PSB_ERR_CALLBACK_FAILED /
    _NONFINITE / _SINGULAR when a trial or sample tangent failed because of a fault (the set may
-   be incomplete; rep->n_failed* count them), PSB_ERR_CALLBACK, ... After a failure ys, ts hold
+   be incomplete; rep->n_failed* count them), PSB_ERR_OPTIONS (bo), PSB_ERR_CALLBACK, ... After a failure ys, ts hold
    the rep->n_branches branches found until then and rep is written; y0, t0 are inputs only. */
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
-                                           int max_branches, double *ys, double *ts,
-                                           psb_branch_report *rep);
+                                           const psb_branch_options *bo, int max_branches,
+                                           double *ys, double *ts, psb_branch_report *rep);
 
 /* Branches through a smooth branch point located by psb_trace (y, t, kernel of a
    PSB_SPECIAL_BRANCH point): every branch's couple (ys[k*(n+1) ...], ts[k*(n+1) ...],
-   k < max_branches) on the sphere of radius branch_h_init around y, ts oriented away from
+   k < max_branches) on the sphere of radius bo->h_init around y (bo NULL: defaults; of bo it
+   uses h_init and n_dir), ts oriented away from
    the point; k = 0 is the traced curve backwards (-t), k = 1 forwards (+t), k >= 2 the new
    ones (where more than two curves cross, all of them: in the plane of t and kernel, and in
    a kernel of up to 5 dimensions). rep as psb_find_branches' (n_branches; n_pc counts the
    sphere corrections, n_tangents the kernel's dimension besides t, n_span the radii tried).
    Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
    PSB_ERR_NULL, PSB_ERR_SIZE (max_branches < 1), PSB_ERR_NONFINITE (y, t or kernel; or a
-   callback's NaN/Inf), PSB_ERR_INPUT (t zero, kernel zero or parallel to t), and, as
+   callback's NaN/Inf), PSB_ERR_INPUT (t zero, kernel zero or parallel to t), PSB_ERR_OPTIONS
+   (bo), and, as
    psb_find_branches, PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a sphere trial or
    the kernel's computation failed because of a fault (a branch may be missing; rep->n_failed*
    count them), PSB_ERR_CALLBACK. After a failure ys, ts hold the rep->n_branches couples
    found until then and rep is written; y, t, kernel are inputs only. */
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
-                                                 const double *kernel, int max_branches,
-                                                 double *ys, double *ts, psb_branch_report *rep);
+                                                 const double *kernel, const psb_branch_options *bo,
+                                                 int max_branches, double *ys, double *ts,
+                                                 psb_branch_report *rep);
 /* ---- quasi-static evolution: one time step through folds (manual, section 6) ------------- */
 
 /* How psb_evolve_step solves its step. */
@@ -1338,6 +1364,8 @@ typedef struct psb_explore_options {
                                 events when n_events > 0], locate_tol, events); the explorer
                                 sets on_point, point_user, detect_loop (1), locate_kinks
                                 (branch_at_kinks) and stop_at (0) itself */
+    psb_branch_options branch; /* Algorithms 2.1, 2.2 and psb_branch_point_switch at every
+                                  branching point (zero fields: defaults) */
     int no_detect;     /* 1: no detectors (nodes only where traces end, and at kinks with
                           branch_at_kinks) [0] */
     const double *box_min, *box_max; /* optional (n+1 each): a trace ends at its first point
@@ -1353,10 +1381,11 @@ typedef struct psb_explore_options {
                             (diagram.n_kinks_plain). Finds bifurcations the detectors' tests
                             cannot see, at the price of Algorithm 2.2 at each kink [0] */
     int kink_spans;    /* branch_at_kinks: Algorithm 2.2 first looks at a kink with this many
-                          spans, and sweeps in full (the solver's n_span) only where that found
+                          spans, and sweeps in full (branch.n_span) only where that found
                           more than two branches [0: in full at once] */
     double node_tol;   /* two branching points within node_tol + 4 (their precisions) of each
-                          other, ||.||_w, are one node [16 branch_h] */
+                          other, ||.||_w, are one node [16 branch.h, resolved; with finite
+                          differences and branch.h left at 0: 0] */
     psb_explore_point_fn on_point; /* optional */
     void *point_user;
 } psb_explore_options;
@@ -1410,8 +1439,8 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    Returns PSB_SUCCESS (the queue emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a
    node ran out: what fits is kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points
    reached first), PSB_STOPPED (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE
-   (d->n differs from the problem's), PSB_ERR_OPTIONS (NaN bounds or node_tol, negative budgets,
-   box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or box), PSB_ERR_NONFINITE,
+   (d->n differs from the problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN
+   bounds or node_tol, negative budgets, box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or box), PSB_ERR_NONFINITE,
    PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is kept). A trace or a
    branching that fails otherwise ends its edge (PSB_EDGE_FAILURE, d->n_failed) and exploring
    goes on; once the queue is done (or a budget or capacity ran out) the call returns the
@@ -1744,11 +1773,6 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
     p->param_index = n;
 }
 
-PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
-{
-    return psb_options_resolve_for(opt, NULL);
-}
-
 /* Whether the library forms dH by finite differences (no analytic Jacobian callback). */
 static int psb__fd_jacobian(const psb_problem *p)
 {
@@ -1759,15 +1783,9 @@ static int psb__fd_jacobian(const psb_problem *p)
     }
 }
 
-/* Fields that depend on the problem: branch_h (finite differences: follows the point) and
-   with it branch_h_min; without a problem, those of an analytic Jacobian. Fields that mean
-   "adaptive" resolve to the values the adaptation uses, with a field saying it adapts (n_span
-   and n_span_max, branch_h = 0 and branch_h_fd_steps), so that a resolved set given back to
-   psb_solver_init means the same as the set it came from. */
-PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const psb_problem *p)
+PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
 {
     psb_options o;
-    int fd = p && psb__fd_jacobian(p);
     if (opt) o = *opt;
     else memset(&o, 0, sizeof o);
     if (o.kappa == 0) o.kappa = 1.0;
@@ -1783,22 +1801,40 @@ PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const 
     if (o.c_min == 0) o.c_min = 0.9;
     if (o.switch_delta_min == 0) o.switch_delta_min = o.h_min;
     if (o.switch_delta_max == 0) o.switch_delta_max = o.h_init;
-    if (o.fd_step == 0) o.fd_step = o.fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
+    if (o.switch_n_dir == 0) o.switch_n_dir = 20;
     if (o.c_diff == 0) o.c_diff = 0.99999;
-    if (o.branch_h == 0 && fd) {
-        if (o.branch_h_fd_steps == 0) o.branch_h_fd_steps = 1e4; /* branch_h follows the point */
-    } else {
-        if (o.branch_h == 0) o.branch_h = o.h_min;
-        if (o.branch_h_min == 0) o.branch_h_min = o.branch_h / 16384.0;
-        o.branch_h_fd_steps = 0; /* not used */
-    }
-    if (o.branch_h_init == 0) o.branch_h_init = o.h_init;
-    if (o.n_dir == 0) o.n_dir = 20;
-    if (o.n_span_max == 0)
-        o.n_span_max = o.n_span == 0 && !o.branch_no_memo ? 60 : o.n_span ? o.n_span : 15;
-    if (o.n_span == 0) o.n_span = 15;
-    if (o.branch_trial_h_min == 0) o.branch_trial_h_min = o.h_min;
     return o;
+}
+
+/* Fields that depend on the problem (h, finite differences: follows the point, and with it
+   h_min) and on the continuation's options (h_min, h_init). Fields that mean "adaptive"
+   resolve to the values the adaptation uses, with a field saying it adapts (n_span and
+   n_span_max, h = 0 and h_fd_steps), so that a resolved set given back means the same. */
+PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_options *bo,
+                                                            const psb_solver *s)
+{
+    psb_branch_options b;
+    int ready = s && s->ready_ == PSB__READY, fd = ready && psb__fd_jacobian(&s->prob);
+    double h_min = ready ? s->opt.h_min : 1e-6, h_init = ready ? s->opt.h_init : 1e-2;
+    if (bo) b = *bo;
+    else memset(&b, 0, sizeof b);
+    if (b.as_printed == 1) { /* the switches whose zero departs from the printed algorithm */
+        b.paper_sweep = b.no_memo = b.no_screen = 1;
+        if (b.restart == PSB_RESTART_MIXED) b.restart = PSB_RESTART_PAPER;
+    }
+    if (b.h == 0 && fd) {
+        if (b.h_fd_steps == 0) b.h_fd_steps = 1e4; /* h follows the point */
+    } else {
+        if (b.h == 0) b.h = h_min;
+        if (b.h_min == 0) b.h_min = b.h / 16384.0;
+        b.h_fd_steps = 0; /* not used */
+    }
+    if (b.h_init == 0) b.h_init = h_init;
+    if (b.n_dir == 0) b.n_dir = 20;
+    if (b.n_span_max == 0) b.n_span_max = b.n_span == 0 && !b.no_memo ? 60 : b.n_span ? b.n_span : 15;
+    if (b.n_span == 0) b.n_span = 15;
+    if (b.trial_h_min == 0) b.trial_h_min = h_min;
+    return b;
 }
 
 static int psb__finite(double x) { return x - x == 0; }
@@ -1850,26 +1886,36 @@ static const char *psb__check_options(const psb_options *o, int np1)
     if (!PSB__POS(o->switch_delta_min) || !PSB__POS(o->switch_delta_max) ||
         !(o->switch_delta_min <= o->switch_delta_max))
         return "switch_delta_min, switch_delta_max: need 0 < switch_delta_min <= switch_delta_max < inf";
-    if (!(o->fd_step > 0) || !(o->fd_step < 1)) return "fd_step must lie in (0, 1)";
+    if (o->switch_n_dir < 1 || o->switch_n_dir > PSB_MAX_DIR_LIMIT)
+        return "switch_n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
     if (!(o->c_diff > 0 && o->c_diff < 1)) return "c_diff must lie in (0, 1)";
-    if (!PSB__POS(o->branch_h_init)) return "branch_h_init must be positive and finite";
-    if (o->branch_h == 0 && o->branch_h_fd_steps != 0) { /* follows the point (finite differences) */
-        if (!(o->branch_h_fd_steps >= 1 && o->branch_h_fd_steps <= 1e8))
-            return "branch_h_fd_steps must lie in [1, 1e8]";
-        if (o->branch_h_min != 0 && !PSB__POS(o->branch_h_min))
-            return "branch_h_min must be positive and finite";
-    } else if (!PSB__POS(o->branch_h) || !PSB__POS(o->branch_h_min) || !(o->branch_h_min < o->branch_h)) {
-        return "branch_h, branch_h_min: need 0 < branch_h_min < branch_h < inf";
+    return NULL;
+}
+
+/* Checks resolved branching options the same way; the message names the field. */
+static const char *psb__check_branch(const psb_branch_options *b)
+{
+    if (b->as_printed != 0 && b->as_printed != 1) return "branch options: as_printed must be 0 or 1";
+    if (b->as_printed && b->restart != PSB_RESTART_PAPER)
+        return "branch options: as_printed = 1 draws random spans as printed (restart PSB_RESTART_PAPER)";
+    if (!PSB__POS(b->h_init)) return "branch options: h_init must be positive and finite";
+    if (b->h == 0 && b->h_fd_steps != 0) { /* follows the point (finite differences) */
+        if (!(b->h_fd_steps >= 1 && b->h_fd_steps <= 1e8)) return "branch options: h_fd_steps must lie in [1, 1e8]";
+        if (b->h_min != 0 && !PSB__POS(b->h_min)) return "branch options: h_min must be positive and finite";
+    } else if (!PSB__POS(b->h) || !PSB__POS(b->h_min) || !(b->h_min < b->h)) {
+        return "branch options: h, h_min: need 0 < h_min < h < inf";
     }
-    if (o->n_dir < 1 || o->n_dir > PSB_MAX_DIR_LIMIT) return "n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
-    if (o->n_span < 1 || o->n_span > PSB_MAX_SPAN_LIMIT) return "n_span must lie in [1, PSB_MAX_SPAN_LIMIT = 10000]";
-    if (o->n_span_max < o->n_span || o->n_span_max > PSB_MAX_SPAN_LIMIT)
-        return "n_span_max must lie in [n_span, PSB_MAX_SPAN_LIMIT = 10000]";
-    if (!PSB__POS(o->branch_trial_h_min)) return "branch_trial_h_min must be positive and finite";
-    if (o->branch_patience < 0) return "branch_patience must be >= 0";
-    if (o->branch_max_pc < 0) return "branch_max_pc must be >= 0";
-    if (o->restart < PSB_RESTART_MIXED || o->restart > PSB_RESTART_GLOBAL)
-        return "restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
+    if (b->n_dir < 1 || b->n_dir > PSB_MAX_DIR_LIMIT)
+        return "branch options: n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
+    if (b->n_span < 1 || b->n_span > PSB_MAX_SPAN_LIMIT)
+        return "branch options: n_span must lie in [1, PSB_MAX_SPAN_LIMIT = 10000]";
+    if (b->n_span_max < b->n_span || b->n_span_max > PSB_MAX_SPAN_LIMIT)
+        return "branch options: n_span_max must lie in [n_span, PSB_MAX_SPAN_LIMIT = 10000]";
+    if (!PSB__POS(b->trial_h_min)) return "branch options: trial_h_min must be positive and finite";
+    if (b->patience < 0) return "branch options: patience must be >= 0";
+    if (b->max_pc < 0) return "branch options: max_pc must be >= 0";
+    if (b->restart < PSB_RESTART_MIXED || b->restart > PSB_RESTART_GLOBAL)
+        return "branch options: restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
 #undef PSB__POS
     return NULL;
 }
@@ -1974,13 +2020,13 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     if (bad) return psb__fail(s, code, bad);
     if (bytes < psb__layout(p, NULL, NULL))
         return psb__fail(s, PSB_ERR_NOMEM, "memory block smaller than psb_solver_memory_size(p)");
-    s->opt = psb_options_resolve_for(opt, p);
-    /* finite differences: branch_h follows the difference steps at each point (psb__branch_h) */
-    s->branch_h_auto_ = s->opt.branch_h == 0;
-    s->branch_h_min_auto_ = s->opt.branch_h_min == 0;
+    s->opt = psb_options_resolve(opt);
     bad = psb__check_options(&s->opt, p->n + 1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->prob = *p;
+    if (s->prob.fd_step == 0) s->prob.fd_step = p->fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
+    if (!(s->prob.fd_step > 0) || !(s->prob.fd_step < 1))
+        return psb__fail(s, PSB_ERR_OPTIONS, "problem.fd_step must lie in (0, 1)");
     s->n_ = p->n;
     s->np1_ = p->n + 1;
     s->ldlu_ = 2 * p->kl + p->ku + 1;
@@ -1993,6 +2039,7 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
     s->opt.weights = NULL; /* copied: the caller's array need not outlive init */
     s->ready_ = PSB__READY;
+    s->branch = psb_branch_options_resolve(NULL, s);
     return PSB_SUCCESS;
 }
 
@@ -2178,7 +2225,7 @@ static psb_result psb__residual(psb_solver *s, const double *y, double *out)
    weighted norm when that is set. */
 static double psb__fd_step(const psb_solver *s, int j, double x)
 {
-    double step = s->opt.fd_step * (fabs(x) > 1 ? fabs(x) : 1.0);
+    double step = s->prob.fd_step * (fabs(x) > 1 ? fabs(x) : 1.0);
     if (s->fd_cap_ > 0 && step * sqrt(s->w_[j]) > s->fd_cap_) step = s->fd_cap_ / sqrt(s->w_[j]);
     return step;
 }
@@ -2202,7 +2249,7 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
     }
     {
         double *yp = PSB__VEC(s, PSB__V_FD);
-        if (!s->opt.fd_central && !h_at_y) {
+        if (!s->prob.fd_central && !h_at_y) {
             r = psb__residual(s, y, s->res2_);
             if (r != PSB_SUCCESS) return r;
             h_at_y = s->res2_;
@@ -2216,7 +2263,7 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
             yp[j] = y[j] + hp;
             r = psb__residual(s, yp, col);
             if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
-            if (s->opt.fd_central) {
+            if (s->prob.fd_central) {
                 /* res2_, not res_: callers hold H(y) in res_ across this call */
                 yp[j] = y[j] - hp;
                 hm = hp;
@@ -3256,8 +3303,8 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
                 for (k = 0; k < np1; k++) q[k] -= c * t1[k];
                 if (!psb__normalize_w(s, q)) continue;
             }
-            for (i = 1; i < s->opt.n_dir; i++) { /* i = 0 is straight ahead: done above */
-                double alpha = 6.283185307179586 * i / s->opt.n_dir;
+            for (i = 1; i < s->opt.switch_n_dir; i++) { /* i = 0 is straight ahead: done above */
+                double alpha = 6.283185307179586 * i / s->opt.switch_n_dir;
                 for (k = 0; k < np1; k++) dir[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
                 psb__axpy_to(probe, y, delta, dir, np1);
                 psb__copy(PSB__VEC(s, PSB__V_SW_C), dir, np1);
@@ -4207,8 +4254,8 @@ done:
     return rep->end;
 }
 
-/* Sets opt.branch_h (and branch_h_min) for Algorithms 2.1-2.2 at y. With finite differences
-   and branch_h left to its default: 10^4 times the largest difference step at y measured in
+/* Sets s->branch.h (and h_min) for Algorithms 2.1-2.2 at y. With finite differences and h
+   left to its default: 10^4 times the largest difference step at y measured in
    the weighted norm, max_j fd_step max(1, |y_j|) sqrt(w_j), within [h_min, branch_h_init / 8]
    (trial points must lie farther than branch_h). Tangents are sampled at y + branch_h v; a
    quotient there mixes pieces when a piece boundary lies within a difference step, with odds
@@ -4221,16 +4268,31 @@ static void psb__branch_h(psb_solver *s, const double *y)
     double step = 0, h;
     if (!s->branch_h_auto_) return;
     for (j = 0; j < s->np1_; j++) {
-        double sj = s->opt.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
+        double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
         if (sj > step) step = sj;
     }
-    h = s->opt.branch_h_fd_steps * step;
-    if (h > s->opt.branch_h_init / 8) h = s->opt.branch_h_init / 8;
-    s->opt.branch_h = h > s->opt.h_min ? h : s->opt.h_min;
-    if (s->branch_h_min_auto_) s->opt.branch_h_min = s->opt.branch_h / 16384.0;
+    h = s->branch.h_fd_steps * step;
+    if (h > s->branch.h_init / 8) h = s->branch.h_init / 8;
+    s->branch.h = h > s->opt.h_min ? h : s->opt.h_min;
+    if (s->branch_h_min_auto_) s->branch.h_min = s->branch.h / 16384.0;
 }
 
-PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision)
+/* Resolves and checks the branching options of a call into s->branch (left as it was when
+   they are bad). */
+static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
+{
+    psb_branch_options b = psb_branch_options_resolve(bo, s);
+    const char *bad = psb__check_branch(&b);
+    if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    s->branch = b;
+    /* finite differences and h left at 0: h follows the difference steps at each point */
+    s->branch_h_auto_ = b.h == 0;
+    s->branch_h_min_auto_ = b.h_min == 0;
+    return PSB_SUCCESS;
+}
+
+/* Algorithm 2.1 with the options in s->branch (psb_locate_end, psb_explore). */
+static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *precision)
 {
     int np1, last_fault = 0;
     long advances = 0;
@@ -4251,7 +4313,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
     /* Steps 1-5, except that after a successful move the same h is tried again before it is
        halved: the paper's version moves at most h in all, so it cannot reach an end point
        farther than h (the last step of a continuation can stop up to h_min / h_dec away). */
-    h = s->opt.branch_h;
+    h = s->branch.h;
     psb__faults_reset(s);
     do {
         int moved = 0;
@@ -4288,7 +4350,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
                 if (++advances > 1000) return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "no end point within 1000 steps of branch_h");
             }
         } while (moved);
-    } while (h >= s->opt.branch_h_min);
+    } while (h >= s->branch.h_min);
     if (last_fault) return psb__faults_code(s, "Algorithm 2.1");
     if (psb__fd_jacobian(&s->prob)) {
         /* the entering tangent too may come from quotients mixing the pieces (the last couple
@@ -4302,7 +4364,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
         static const double backs[5] = {16, 32, 8, 64, 4};
         int i, k, repaired = 0;
         for (k = 0; k < 5 && !repaired; k++) {
-            double behind = 0, back = backs[k] * s->opt.branch_h;
+            double behind = 0, back = backs[k] * s->branch.h;
             psb__axpy_to(yt, yc, -back, tc, np1);
             psb__copy(tt, tc, np1);
             s->stats.n_pc_steps++;
@@ -4366,7 +4428,7 @@ static double psb__gauss(unsigned long long *st)
 static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t)
 {
     psb_result r;
-    s->fd_cap_ = 1e-3 * s->opt.branch_h;
+    s->fd_cap_ = 1e-3 * s->branch.h;
     r = psb__tangent(s, pt, ref, t);
     s->fd_cap_ = 0;
     return r;
@@ -4434,17 +4496,17 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     psb_result r;
     /* the trials from y0 along +-tt depend on y0 and tt alone: a tangent within c_diff of one
        tried before in this call (any span) repeats its trials and their verdict */
-    if (!s->opt.branch_no_memo && psb__memo_seen(s, tt)) {
+    if (!s->branch.no_memo && psb__memo_seen(s, tt)) {
         rep->n_memo++;
         return PSB_SUCCESS;
     }
     for (sign = 1; sign >= -1; sign -= 2) {
-        double hh = s->opt.branch_h_init, dotp;
+        double hh = s->branch.h_init, dotp;
         int j, is_new = 1;
         s->path_own_ = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
-        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
-        if (!s->opt.branch_no_screen) {
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
+        if (!s->branch.no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
             r = psb__sample_tangent(s, pk, tb, kx);
@@ -4465,10 +4527,10 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         /* not with finite differences: the corrector's quotients (steps not held below
            branch_h / 1000 as at sample points) can mix the pieces at its iterates, and
            recorded their paths cost complete sets (random LCPs, N = 8: 196 of 236, not 214) */
-        s->path_on_ = !s->opt.branch_no_screen && !psb__fd_jacobian(&s->prob);
+        s->path_on_ = !s->branch.no_screen && !psb__fd_jacobian(&s->prob);
         s->path_ts_ = ts;
         s->path_nts_ = rep->n_branches;
-        r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
+        r = psb__try_step_from(s, yb, tb, &hh, s->branch.trial_h_min, &iters, y0);
         s->path_on_ = 0;
         if (psb__is_fatal(r)) return r;
         if (psb__note_fault(s, r)) continue;
@@ -4491,7 +4553,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (cut) continue;
         /* a point closer to y0 than the sampling distance h tells nothing reliable about the
            branches: pieces that touch the end point are active there */
-        if (psb__dist_w(s, yb, y0) < s->opt.branch_h) continue;
+        if (psb__dist_w(s, yb, y0) < s->branch.h) continue;
         /* Step 5(i): orient away from the point */
         dotp = 0;
         for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
@@ -4509,7 +4571,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
         rep->n_branches++;
     }
-    if (!s->opt.branch_no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
+    if (!s->branch.no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
     return PSB_SUCCESS;
 }
 
@@ -4521,10 +4583,10 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
     int np1 = s->np1_, i, k;
     double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
     double *tprev = PSB__VEC(s, PSB__V_BR_TP), *pt = PSB__VEC(s, PSB__V_BR_P);
-    double h = s->opt.branch_h, *q = PSB__VEC(s, PSB__V_BR_Q);
+    double h = s->branch.h, *q = PSB__VEC(s, PSB__V_BR_Q);
     psb_result r;
     psb__copy(q, t2, np1);
-    if (!s->opt.paper_sweep) {
+    if (!s->branch.paper_sweep) {
         /* t2 made w-orthogonal to t1: the same plane, but the n_dir directions spread evenly
            over it even when t1 and t2 are nearly parallel (then the printed combination
            bunches them around +-t1 and +-t2 and misses the regions in between) */
@@ -4533,8 +4595,8 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (!psb__normalize_w(s, q)) return PSB_SUCCESS; /* t2 parallel to t1: no plane */
         for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
-    for (i = 0; i < s->opt.n_dir; i++) {
-        double alpha = 6.283185307179586 * i / s->opt.n_dir;
+    for (i = 0; i < s->branch.n_dir; i++) {
+        double alpha = 6.283185307179586 * i / s->branch.n_dir;
         for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
@@ -4550,7 +4612,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         psb__copy(tprev, tt, np1);
         r = psb__try_tangent(s, y0, tt, max_branches, ys, ts, rep, overflow);
         if (r != PSB_SUCCESS) return r;
-        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
     }
     return PSB_SUCCESS;
 }
@@ -4571,7 +4633,7 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
             double c;
             if (s->pairs_done_[bit / 64] >> (bit % 64) & 1u) continue;
             c = fabs(psb__cos_w(s, ts + (size_t)i * (size_t)np1, ts + (size_t)j * (size_t)np1));
-            if (!s->opt.paper_sweep) c = 1 - c;
+            if (!s->branch.paper_sweep) c = 1 - c;
             if (c > best) {
                 best = c;
                 *pi = i;
@@ -4593,16 +4655,16 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
 static const double *psb__restart_centre(const psb_solver *s, const double *ts, int n_br, int n_rand,
                                          const double *prev, double *t1)
 {
-    if (s->opt.restart == PSB_RESTART_GLOBAL || (s->opt.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
+    if (s->branch.restart == PSB_RESTART_GLOBAL || (s->branch.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
         return NULL;
-    if (s->opt.restart == PSB_RESTART_PAPER) return prev;
+    if (s->branch.restart == PSB_RESTART_PAPER) return prev;
     psb__copy(t1, ts + (size_t)(n_rand / 2 % n_br) * (size_t)s->np1_, s->np1_);
     return t1;
 }
 
-PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
-                                           int max_branches, double *ys, double *ts,
-                                           psb_branch_report *rep)
+/* Algorithm 2.2 with the options in s->branch (psb_find_branches, psb_explore). */
+static psb_result psb__find_branches(psb_solver *s, const double *y0, const double *t0,
+                                     int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
     int np1, k, span, overflow = 0, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
@@ -4636,7 +4698,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
-    psb__axpy_to(pt, yc, s->opt.branch_h, tc, np1);
+    psb__axpy_to(pt, yc, s->branch.h, tc, np1);
     rep->n_tangents++;
     r = psb__sample_tangent(s, pt, tc, t2);
     if (r != PSB_SUCCESS) return r;
@@ -4658,10 +4720,10 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
        twice as many counted spans without a new branch as it took to find the last one, up
        to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
        keep trickling in, and how long they took to come tells how long to wait). */
-    extend = s->opt.n_span_max > s->opt.n_span;
-    spans_in_all = 4 * s->opt.n_span > 2 * s->opt.n_span_max ? 4 * s->opt.n_span : 2 * s->opt.n_span_max;
-    for (span = 0; (rep->n_span < s->opt.n_span ||
-                    (extend && rep->n_span < s->opt.n_span_max && rep->n_span < 3 * rep->span_last_new)) &&
+    extend = s->branch.n_span_max > s->branch.n_span;
+    spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
+    for (span = 0; (rep->n_span < s->branch.n_span ||
+                    (extend && rep->n_span < s->branch.n_span_max && rep->n_span < 3 * rep->span_last_new)) &&
                    span - idle_pair_spans < spans_in_all; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
@@ -4681,7 +4743,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 centre = psb__restart_centre(s, ts, rep->n_branches, rep->n_rand, prev, t1);
                 global = !centre;
                 for (k = 0; k < np1; k++)
-                    pt[k] = yc[k] + s->opt.branch_h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
+                    pt[k] = yc[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
                 r = psb__sample_tangent(s, pt, global ? prev : centre, t2);
@@ -4694,7 +4756,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 /* a tangent tried before: the plane through it and t~1 likely revisits swept
                    ground (on a piecewise-linear H it is two piece directions); the random
                    direction itself spans a fresh one */
-                if (global && !s->opt.branch_no_memo && psb__memo_seen(s, t2)) psb__copy(t2, rnd, np1);
+                if (global && !s->branch.no_memo && psb__memo_seen(s, t2)) psb__copy(t2, rnd, np1);
             }
         }
         r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
@@ -4703,15 +4765,15 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
             break;
         }
         pair_stale = pair_span && rep->n_pc == pc_before;
-        if (rep->n_pc == pc_before && !s->opt.branch_no_memo) {
+        if (rep->n_pc == pc_before && !s->branch.no_memo) {
             rep->n_span_idle++;
             if (pair_span) idle_pair_spans++;
-            else if (++idle_spans_in_a_row >= 2 * s->opt.n_span) break;
+            else if (++idle_spans_in_a_row >= 2 * s->branch.n_span) break;
             continue;
         }
         idle_spans_in_a_row = 0;
         rep->n_span++;
-        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) break;
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) break;
         if (rep->n_branches > found_before) {
             rep->span_last_new = rep->n_span;
             rep->n_pc_last_new = rep->n_pc;
@@ -4719,7 +4781,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
         }
         /* adaptive end: spans in a row that brought no new branch */
         idle = rep->n_branches > found_before ? 0 : idle + 1;
-        if (s->opt.branch_patience && idle >= s->opt.branch_patience) break;
+        if (s->branch.patience && idle >= s->branch.patience) break;
     }
     rep->n_failed_callback = s->faults_[0];
     rep->n_failed_nonfinite = s->faults_[1];
@@ -4835,7 +4897,7 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
                                     int kdim, double r, int max_branches, double *ys, double *ts,
                                     psb_branch_report *rep, int *overflow)
 {
-    int np1 = s->np1_, n_trial = 2 * s->opt.n_dir, i, j, m;
+    int np1 = s->np1_, n_trial = 2 * s->branch.n_dir, i, j, m;
     double *v = PSB__VEC(s, PSB__V_BR_TT);
     psb_result res;
     for (i = 0; i < n_trial; i++) {
@@ -4859,9 +4921,10 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
     return PSB_SUCCESS;
 }
 
-PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
-                                                 const double *kernel, int max_branches,
-                                                 double *ys, double *ts, psb_branch_report *rep)
+/* The switch with the options in s->branch (psb_branch_point_switch, psb_explore). */
+static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const double *t,
+                                           const double *kernel, int max_branches, double *ys,
+                                           double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
     int np1, i, overflow = 0, kdim;
@@ -4888,11 +4951,11 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     seed = s->opt.seed;
     for (i = 0; i < 4; i++) s->rng_[i] = psb__splitmix(&seed);
     psb__faults_reset(s);
-    kdim = psb__kernel_dirs(s, yc, tc, s->opt.branch_h_init, kc);
+    kdim = psb__kernel_dirs(s, yc, tc, s->branch.h_init, kc);
     rep->n_tangents = kdim;
     /* a simple branch point has four half-branches; fewer at branch_h_init (a radius beyond
        the branches' curvature, or crossings too close for Newton's basins) -> a smaller one */
-    for (r = s->opt.branch_h_init, i = 0; i < 3; i++, r *= 0.125) {
+    for (r = s->branch.h_init, i = 0; i < 3; i++, r *= 0.125) {
         psb_branch_report attempt;
         memset(&attempt, 0, sizeof attempt);
         overflow = 0;
@@ -4912,6 +4975,39 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     if (res != PSB_SUCCESS) return res;
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+}
+
+/* ---- the branching calls: their options resolved into s->branch, then the algorithm ---- */
+
+PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
+                                        const psb_branch_options *bo, double *precision)
+{
+    psb_result r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__locate_end(s, y, t, precision) : r;
+}
+
+PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
+                                           const psb_branch_options *bo, int max_branches,
+                                           double *ys, double *ts, psb_branch_report *rep)
+{
+    psb_result r;
+    if (rep) memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y0, t0);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__find_branches(s, y0, t0, max_branches, ys, ts, rep) : r;
+}
+
+PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
+                                                 const double *kernel, const psb_branch_options *bo,
+                                                 int max_branches, double *ys, double *ts,
+                                                 psb_branch_report *rep)
+{
+    psb_result r;
+    if (rep) memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__branch_point_switch(s, y, t, kernel, max_branches, ys, ts, rep) : r;
 }
 
 /* ==== quasi-static evolution ============================================================== */
@@ -5313,7 +5409,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     *resume = 0;
     psb__copy(before, y, np1);
     if (kind != PSB_NODE_BRANCH) {
-        r = psb_locate_end(s, y, t, &precision);
+        r = psb__locate_end(s, y, t, &precision);
         if (r < 0) {
             ed->result = r;
             psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
@@ -5337,20 +5433,20 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     }
     nd = d->nodes + d->n_nodes; /* filled in place, counted once it is a node */
     if (kind == PSB_NODE_BRANCH && x->has_kernel)
-        r = psb_branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
-                                    nd->ts, &br);
-    else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->opt.n_span) {
+        r = psb__branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
+                                     nd->ts, &br);
+    else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->branch.n_span) {
         /* a short look first: an ordinary kink is told by it; else the full sweep (reseeded:
            the same result as without the look) */
-        int n_span = s->opt.n_span, n_span_max = s->opt.n_span_max;
-        s->opt.n_span = s->opt.n_span_max = x->eo->kink_spans;
-        r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
-        s->opt.n_span = n_span;
-        s->opt.n_span_max = n_span_max;
+        int n_span = s->branch.n_span, n_span_max = s->branch.n_span_max;
+        s->branch.n_span = s->branch.n_span_max = x->eo->kink_spans;
+        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        s->branch.n_span = n_span;
+        s->branch.n_span_max = n_span_max;
         if (r >= 0 && br.n_branches > 2)
-            r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+            r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     } else {
-        r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     }
     d->n_branchings++;
     if (r < 0) {
@@ -5634,6 +5730,8 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     p = s->prob.param_index;
     bad = psb__check_explore(eo, np1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    r = psb__branch_begin(s, &eo->branch);
+    if (r != PSB_SUCCESS) return r;
     if (eo->trace.param_min < eo->trace.param_max &&
         (y[p] < eo->trace.param_min || y[p] > eo->trace.param_max))
         return psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
@@ -5648,7 +5746,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     x.s = s;
     x.d = d;
     x.eo = eo;
-    x.node_tol = eo->node_tol > 0 ? eo->node_tol : 16 * s->opt.branch_h;
+    x.node_tol = eo->node_tol > 0 ? eo->node_tol : 16 * s->branch.h;
     max_traces = eo->max_traces > 0 ? eo->max_traces : -1;
 
     /* the start node: its directions are the first branches of the queue */

@@ -33,20 +33,15 @@ static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int
     int matched;
     double y[PL_MAX_N + 1];
     psb_problem prob;
-    psb_options o;
     psb_solver s;
+    psb_branch_options bo;
     psb_branch_report br;
-    memset(&o, 0, sizeof o);
-    if (cfg == CFG_PRINTED) {
-        o.restart = PSB_RESTART_PAPER;
-        o.paper_sweep = 1;
-        o.branch_no_memo = 1;
-        o.branch_no_screen = 1;
-    }
+    memset(&bo, 0, sizeof bo);
+    bo.as_printed = cfg == CFG_PRINTED;
     psb_problem_init(&prob, p->n, pl_residual, cfg == CFG_FD ? NULL : pl_jacobian, p);
     t->runs++;
-    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) { t->failed++; return; }
-    if (pl_branch_from_ray(&s, rays, incoming, y, ys, ts, &br)) {
+    if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) { t->failed++; return; }
+    if (pl_branch_from_ray(&s, rays, incoming, &bo, y, ys, ts, &br)) {
         t->failed++;
         psb_solver_free(&s);
         return;
