@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* pscbranch.h - v0.10.0 - piecewise-smooth continuation and numerical branching - MIT license
+/* pscbranch.h - v0.11.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
    folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
@@ -29,9 +29,10 @@
      for (int i = 0; i < 3; i++) t[i] = -t[i];          // ... turned towards smaller g
      psb_trace_options to = {0};  to.locate_kinks = 1;  to.on_point = stop_at_kink;
      psb_trace(&s, y, t, &to, NULL);                    // stops just before the first kink
-     psb_locate_end(&s, y, t, NULL);                    // Algorithm 2.1
+     psb_branch_options bo = {0};  bo.h = 5e-7;         // branching's options (NULL: defaults)
+     psb_locate_end(&s, y, t, &bo, NULL);               // Algorithm 2.1
      psb_branch_report rep;
-     psb_find_branches(&s, y, t, 8, ys, ts, &rep);      // Algorithm 2.2: rep.n_branches couples
+     psb_find_branches(&s, y, t, &bo, 8, ys, ts, &rep); // Algorithm 2.2: rep.n_branches couples
      psb_solver_free(&s);                               // (ys + k*3, ts + k*3), branch 0 incoming
    examples/01_branching.c is this program in full.
 
@@ -52,14 +53,14 @@
    Jacobian callback returns the gradient of a selection that is active at y (the B-Jacobian
    element of the piece y lies on); with finite differences (jacobian = NULL) a step that crosses
    a kink mixes pieces, so give an analytic selection gradient when branching at kinks. Without
-   one, branch_h defaults, at each call of Algorithm 2.1 or 2.2, to 10^4 difference steps at
-   the point, 10^4 max_j fd_step max(1, |y_j|) sqrt(w_j) within [h_min, branch_h_init / 8]
-   (1.5e-4 near the origin with forward differences; s->opt.branch_h shows the last value;
-   central differences reach the cap), so that the sample points of Algorithm 2.2 seldom lie
-   within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more when
-   the branch runs close to a piece boundary), keeps the tangent it entered with while it
-   moves, and returns the branch's tangent 16 branch_h back; the tangents Algorithm 2.2 samples
-   at y0 + branch_h v use difference steps below branch_h / 1000. The branch sets then come out
+   one, the h of Algorithms 2.1 and 2.2 (psb_branch_options.h) defaults, at each call, to 10^4
+   difference steps at the point, 10^4 max_j fd_step max(1, |y_j|) sqrt(w_j) within [h_min,
+   h_init / 8] (1.5e-4 near the origin with forward differences; s->branch.h shows the last
+   value; central differences reach the cap), so that the sample points of Algorithm 2.2 seldom
+   lie within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more
+   when the branch runs close to a piece boundary), keeps the tangent it entered with while it
+   moves, and returns the branch's tangent 16 h back; the tangents Algorithm 2.2 samples at
+   y0 + h v use difference steps below h / 1000. The branch sets then come out
    about as with the analytic Jacobian (docs/branching-notes.md).
    A kink is a point where a curve passes from one piece to another with a different tangent; a
    nonsmooth point (bifurcation) is one where more than two smooth branches meet. Algorithms 2.1
@@ -69,7 +70,8 @@
 
    2. THE API AT A GLANCE (every function validates its arguments and returns psb_result)
    ----------------------
-   psb_problem_init, psb_options_resolve(_for)    describe the problem; see resolved options
+   psb_problem_init, psb_options_resolve    describe the problem; see the resolved options
+   psb_branch_options_resolve   the branching options a call will use (s->branch: the last)
    psb_solver_init / _init_with_memory / _free    caller-owned state; all memory at init
    psb_solver_memory_size(problem)                bytes for _init_with_memory
    psb_solve_at_param   Newton on H(y) = 0 with the parameter held fixed (a starting point)
@@ -151,9 +153,19 @@
                             NaN trace bounds
    After a failure psb_solver_message(s) holds a one-line diagnostic.
 
-   5. OPTIONS AND DEFAULTS (psb_options; every zero field takes the default in brackets)
+   5. OPTIONS AND DEFAULTS (every zero field takes the default in brackets)
    -----------------------
-   Every real must be finite (NaN and Inf give PSB_ERR_OPTIONS, the message names the field).
+   Four groups, each where it is used: the problem (how dH is formed and factored), psb_options
+   (the continuation, given once to psb_solver_init), psb_trace_options (each trace), and
+   psb_branch_options (each call of Algorithm 2.1, 2.2 or the branch point switch; inside
+   psb_explore_options as .branch). Every real must be finite (NaN and Inf give
+   PSB_ERR_OPTIONS, the message names the field); psb_options_resolve and
+   psb_branch_options_resolve show the values used.
+   psb_problem, linear algebra: linear [PSB_LINEAR_DENSE], kl, ku, band_lean, solver (section
+   6), and the finite-difference Jacobian when no Jacobian callback is given:
+   fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
+                                    column j steps fd_step * max(1, |y_j|), 0 < fd_step < 1
+   psb_options, the continuation (psb_solver_init; s->opt holds them resolved):
    kappa [1], weights [NULL]        the weighted inner product (section 1)
    h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 0 < h_min <= h_init <= h_max
    h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
@@ -167,56 +179,69 @@
    c_min [0.9]                      least cosine between the tangents before and after a step
    switch_delta_min [h_min], switch_delta_max [h_init]   probe distances of the tangent switch
    switch_no_sweep [0]              1: no sweep around a kink when nothing lies straight ahead
-   fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
-                                    finite differences: column j steps fd_step * max(1, |y_j|)
-   c_diff [0.99999]                 cosine above which two tangents are one branch
-   branch_h [h_min; with finite differences 10^4 steps, see section 1]
-   branch_h_fd_steps [1e4]          those steps (resolved: 0 when not used)
+   switch_n_dir [20]                directions of that sweep (<= PSB_MAX_DIR_LIMIT, 10000)
+   c_diff [0.99999]                 cosine above which two tangents are one branch (the switch,
+                                    the kink test, Algorithms 2.1 and 2.2)
+   seed [0]                         the generator of the random spans of Algorithm 2.2
+                                    (xoshiro256**), and of psb_trace's random borders
+   psb_trace_options (per call): param_min, param_max (bounds, none when min >= max),
+   max_steps [10000], no_switch, detect_loop, locate_kinks, on_point; detect [0: no detector;
+   a PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4, EVENTS 8, ALL 15], stop_at [0; bit
+   1u << PSB_SPECIAL_*: stop on that special point's couple, PSB_STOPPED], locate_tol [1e-10,
+   ||.||_w along the curve], n_events, event, event_user, event_work (3 n_events doubles of
+   the caller's) (section 6).
+   psb_branch_options (per call, NULL: all defaults; checked at the call, which leaves its
+   inputs and s->branch as they were on PSB_ERR_OPTIONS; s->branch: the values the last call
+   used; h_min and h_init in brackets are psb_options'):
+   as_printed [0]                   1: Algorithm 2.2 as printed: sets paper_sweep, no_memo,
+                                    no_screen and restart = PSB_RESTART_PAPER (any other
+                                    restart: PSB_ERR_OPTIONS), hence a fixed n_span; each
+                                    other field keeps its meaning. What stays the library's
+                                    (section 6): Algorithm 2.1's retry of h after a move and
+                                    its tests against the entering tangent and for a move
+                                    ahead; the trials' tests (a landing closer than h is
+                                    discarded, one on a ray from y0 is kept)
+   h [h_min; with finite differences h_fd_steps steps, see section 1]
                                     h of Algorithms 2.1 and 2.2 (the paper: the continuation's
                                     smallest step)
-   branch_h_min [branch_h / 2^14]   precision of Algorithm 2.1
-   branch_h_init [h_init]           first step of each trial step of Algorithm 2.2
+   h_fd_steps [1e4]                 those steps (resolved: 0 when not used)
+   h_min [h / 2^14]                 precision of Algorithm 2.1; 0 < h_min < h
+   h_init [h_init]                  first step of each trial step of Algorithm 2.2; the
+                                    sphere's radius of psb_branch_point_switch
    n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
                                     at 0: at least 15, then on until twice as many counted
                                     spans as the last new branch took have found nothing,
                                     up to n_span_max [60] (section 6); a value set here is
                                     kept as given (n_span_max [n_span]). n_dir, n_span,
-                                    n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000)
+                                    n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000).
+                                    Resolved, n_span < n_span_max says the length adapts
    paper_sweep [0]                  1: directions exactly as printed, pairs of found branches
                                     closest first (see section 6)
-   branch_trial_h_min [h_min]       trial steps of Algorithm 2.2 give up below this step. Near
+   trial_h_min [h_min]              trial steps of Algorithm 2.2 give up below this step. Near
                                     the point the solution set is, to first order, a cone:
                                     a trial rejected at h is rejected at h/2 as well, so
-                                    branch_h_init (one trial per direction) finds the same
+                                    h_init (one trial per direction) finds the same
                                     branches at a fraction of the cost
-   branch_patience [0], branch_max_pc [0]   adaptive end of the sweep: stop after that many
+   patience [0], max_pc [0]         adaptive end of the sweep: stop after that many
                                     spans in a row without a new branch / at that n_pc.
                                     A thin branch can wait for a late pair or a lucky
                                     random span: on the paper's block, patience 3 sometimes
                                     stops one branch short, 5 did not in the runs of
                                     docs/branching-notes.md; leave 0 where a missed branch
                                     costs more than spans
-   branch_no_memo [0]               0: a direction whose tangent is within c_diff of one
+   no_memo [0]                      0: a direction whose tangent is within c_diff of one
                                     tried earlier in the call is not tried again (its trials
                                     from y0 are the same steps; report.n_memo counts them;
                                     same branches, fewer trials); 1: as printed
-   branch_no_screen [0]             0: each trial starts along the tangent at its predictor
+   no_screen [0]                    0: each trial starts along the tangent at its predictor
                                     point y0 + h_init (+-t), and is skipped when that tangent
                                     is a found branch's or was tried (section 6; report.
                                     n_screened), and ends when a corrector iteration's tangent
                                     is (report.n_cut); 1: along +-t to the end, as printed
    restart [PSB_RESTART_MIXED]      random spans: _PAPER (as printed), _GLOBAL (uniform), or
                                     _MIXED: uniform and near found branches, alternately
-   seed [0]                         the generator of the random spans (xoshiro256**), and
-                                    of psb_trace's random borders (section 6)
-   psb_trace_options (per call; zero fields as in brackets): param_min, param_max (bounds,
-   none when min >= max), max_steps [10000], no_switch, detect_loop, locate_kinks,
-   on_point; detect [0: no detector; a PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4,
-   EVENTS 8, ALL 15], stop_at [0; bit 1u << PSB_SPECIAL_*: stop on that special point's
-   couple, PSB_STOPPED], locate_tol [1e-10, ||.||_w along the curve], n_events, event,
-   event_user, event_work (3 n_events doubles of the caller's) (section 6).
-   The paper's values for its contact examples: c_diff = 0.99999, branch_h = 5e-7,
-   branch_h_min = branch_h / 2^14, branch_h_init = 5e-4, n_dir = 20, n_span = 15.
+   The paper's values for its contact examples: c_diff = 0.99999 (psb_options); h = 5e-7,
+   h_min = h / 2^14, h_init = 5e-4, n_dir = 20, n_span = 15 (psb_branch_options).
 
    6. ALGORITHMS AND CHOICES
    -------------------------
@@ -279,8 +304,8 @@
    back along the incoming branch (cos_w(t_new, -t) < c_diff; when the point was itself just
    reached by a switch, nor along the branch before that one). If nothing lies straight ahead
    (at a sharp turn the region beyond the kink holds no branch), the plane of -t and the tangent
-   ahead is swept in n_dir directions at three probe distances, as Algorithm 2.2 does, with
-   trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). At a point
+   ahead is swept in switch_n_dir directions at three probe distances, as Algorithm 2.2 does,
+   with trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). At a point
    where more than two branches meet, the trace continues on one of them: use Algorithms 2.1
    and 2.2 to get them all. Continuation restarts at h_init.
    The tangent switch and the deduplication of branches compare tangents in the weighted norm:
@@ -296,23 +321,26 @@
    Bounds: a step that crosses a bound is replaced by Newton at the bound (psb_solve_at_param
    from the chord), so the last point lies exactly on it.
    Algorithm 2.1 as in the paper, except that after a successful move the same h is tried again
-   before it is halved: the paper's version moves at most branch_h in all and so cannot reach an
+   before it is halved: the paper's version moves at most h in all and so cannot reach an
    end point that the continuation left farther away. Step 4 also compares the new tangent with
    the one the call entered with, so turns below c_diff cannot add up, and a move must land at
    least h/2 ahead (a corrector falling back from beyond the end point onto the branch behind
    it passes the cosine test over and over). With finite differences the tangent is not
-   updated while moving and the one returned is computed 16 branch_h back: quotients within a
+   updated while moving and the one returned is computed 16 h back: quotients within a
    step of the point mix its pieces.
    Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
    deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc, with these
    choices:
+   (psb_branch_options.as_printed = 1 turns off each choice below that has a switch: the even
+   sweep, the memo and with it idle spans and the adaptive length, screening and cuts, the
+   mixed restarts.)
    - Trials. A trial that converges closer to y0 than h is discarded: there pieces that merely
      touch the end point are active, and their tangents would pass for new branches. A trial
      whose corrector converges but fails the jump or cosine test of continuation is still taken
      when the point lies, within 8 trial steps of y0, on the line through y0 along its own
      tangent (|cosine| >= c_diff): it is a point of a branch leaving y0, only not the one the
      trial pointed at (near a nonsmooth point the corrector often crosses into a neighbouring
-     piece). Trial steps give up below branch_trial_h_min: near y0 the solution set is, to
+     piece). Trial steps give up below trial_h_min: near y0 the solution set is, to
      first order, a cone, so a trial rejected at h is rejected at h/2 as well.
    - Sweep. The directions v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1
      (and of its norm): the same plane, swept evenly. As printed (paper_sweep = 1), two nearly
@@ -331,12 +359,12 @@
      y0 + h (t_j + 0.1 r), r uniformly random. When the tangent at a random direction was tried
      before, t~2 is that random direction itself: on a piecewise-linear H the tangents are the
      pieces' finitely many directions, and the plane of two of them revisits swept ground.
-   - Memo of tried tangents (branch_no_memo = 0). The trials of a direction are steps from y0
+   - Memo of tried tangents (no_memo = 0). The trials of a direction are steps from y0
      along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
      of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
      min(256, max(32, 2^19 / (N+1))) tangents are kept (the oldest give way). Branch sets are
      those of the full run; spans later than the first mostly revisit regions, so n_pc falls.
-   - Screened trials (branch_no_screen = 0). Near y0 the pieces are, to first order, cones
+   - Screened trials (no_screen = 0). Near y0 the pieces are, to first order, cones
      with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
      lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
      a trial along k, scaled, and cones scale. So the trial along x can land on no branch the
@@ -367,7 +395,7 @@
      times the span of the last new branch), up to 60 (8 n_span spans in all, idle ones
      included). Runs whose branches all came by span 5 end at 15. A value set by the caller
      is kept, so the paper's n_span means what it says.
-   - Adaptive end (branch_patience, branch_max_pc): stop after that many counted spans in a
+   - Adaptive end (patience, max_pc): stop after that many counted spans in a
      row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
      pair or a lucky random span.
    Branch sets of problems in higher dimensions than the paper's planar scenario can have
@@ -492,7 +520,7 @@
    limit points; the accepted points bit-identical.
    psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
    through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t +
-   sin a k), r = branch_h_init, 2 n_dir angles (-t first, then +t: branches 0 and 1 are the
+   sin a k), r = h_init (psb_branch_options), 2 n_dir angles (-t first, then +t: branches 0 and 1 are the
    traced curve), is corrected by Newton on the sphere ||y - y*||_w = r: each trial lands
    where a branch crosses the sphere, and two landings within r sqrt(2 (1 - c_diff)) of each
    other are one branch. A crossing does not depend on where the trial started, so curved
@@ -542,7 +570,7 @@
    added as a new branch); and a trace whose chord passes within that distance (plus 1e-3 of
    the chord) of a known node arrives there too: a piecewise-linear branch goes straight
    through a point where it has no kink, and the detectors may see nothing there (the way on
-   is made one of the node's branches if it is not). node_tol defaults to 16 branch_h.
+   is made one of the node's branches if it is not). node_tol defaults to 16 eo.branch.h.
    Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
    and outgoing branches have opposite outward signs it is silent. The block's and the
    triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
@@ -708,7 +736,7 @@
 #endif
 
 #define PSCBRANCH_VERSION_MAJOR 0
-#define PSCBRANCH_VERSION_MINOR 10
+#define PSCBRANCH_VERSION_MINOR 11
 #define PSCBRANCH_VERSION_PATCH 0
 /* "MAJOR.MINOR.PATCH", made from the three numbers above */
 #define PSB__VERSION_STR(x) #x
