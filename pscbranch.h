@@ -519,21 +519,21 @@
    (1.05x), M800 123 -> 124 (1.01x); triangle fold problem n = 64 1169 -> 1179 (1.01x), both
    limit points; the accepted points bit-identical.
    psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
-   through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t +
-   sin a k), r = h_init (psb_branch_options), 2 n_dir angles (-t first, then +t: branches 0 and 1 are the
-   traced curve), is corrected by Newton on the sphere ||y - y*||_w = r: each trial lands
+   through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t + sin a
+   k), r = h_init (psb_branch_options), 2 n_dir angles (-t first, then +t: branches 0 and 1 are
+   the traced curve), is corrected by Newton on the sphere ||y - y*||_w = r: each trial lands
    where a branch crosses the sphere, and two landings within r sqrt(2 (1 - c_diff)) of each
    other are one branch. A crossing does not depend on where the trial started, so curved
    branches are told apart as straight ones are (landing points of trial steps, anywhere from
    h_min to h away, were not: the tangents of one parabola differed by more than c_diff). With
    fewer than four branches the circle is tried again at r/8 and r/64. All crossings in the
    plane are found (four lines through a point: eight half-lines). The kernel may be larger
-   (symmetric problems: several pitchforks at one point): two steps of inverse iteration with
-   B at y* + 1e-4 r t from random vectors give up to 3 more directions, each kept while its
-   part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8
-   for the others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are
-   tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28
-   half-branches, the 26 half-parabolas with their analytic tangents).
+   (symmetric problems: several pitchforks at one point): two steps of inverse iteration with B
+   at y* + 1e-4 r t from random vectors give up to 3 more directions, each kept while its part
+   outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8 for the
+   others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are tried besides
+   the circle (three pitchforks at the origin, a kernel of dimension 4: all 28 half-branches,
+   the 26 half-parabolas with their analytic tangents).
 
    Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
    reach and returns the graph: nodes are special points, edges the branch segments between.
@@ -884,8 +884,9 @@ typedef struct psb_options {
     /* tangents: two are one branch when their cosine exceeds c_diff (the tangent switch, kink
        tests, and Algorithms 2.1 and 2.2 alike) */
     double c_diff;         /* [0.99999] */
-    unsigned long long seed; /* seed of the random spans of Algorithm 2.2, of the random border
-                                of psb_trace's detectors (user backend) [0 is a valid seed] */
+    unsigned long long seed; /* seed of every random draw: Algorithm 2.2's random spans, the
+                                branch point switch's kernel search, psb_trace's random
+                                borders (user backend) [0 is a valid seed] */
 } psb_options;
 
 /* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by the value
@@ -962,7 +963,8 @@ typedef struct psb_solver {
     psb_options opt;  /* resolved */
     psb_branch_options branch; /* what the latest branching call used, resolved (before any:
                                   the defaults); with finite differences and h left at 0, h
-                                  and h_min are the values at that call's point */
+                                  and h_min are the values at that call's point (Algorithms
+                                  2.1 and 2.2; the branch point switch uses neither) */
     psb_stats stats;  /* cumulative; zero it whenever you like */
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
@@ -1185,16 +1187,17 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
 /* ---- branching at a nonsmooth point ---------------------------------------------------- */
 
 /* Algorithm 2.1: from the last couple (y, t) (in/out) of a branch ending at a nonsmooth point,
-   halves h from bo->h down to bo->h_min (bo: psb_branch_options, NULL for defaults), moving y towards the end point whenever a
-   correction of y + h t converges with a tangent within c_diff of t (and trying the same h
-   again after each such move, see section 6). On return y approximates
-   the end point, t (unit) points out of the branch's region, *precision (may be NULL) is the
-   last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision untouched:
-   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed because of a
-   fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end point lies
-   within 1000 moves or, with finite differences, no branch tangent could be computed 4 to 64
-   h behind it, PSB_ERR_OPTIONS (bo; psb_solver_message names the field), PSB_ERR_CALLBACK ...
-   s->branch holds the resolved options used (unchanged by PSB_ERR_NULL or _OPTIONS). */
+   halves h from bo->h down to bo->h_min (bo: psb_branch_options, NULL for defaults), moving y
+   towards the end point whenever a correction of y + h t converges with a tangent within
+   c_diff of t (and trying the same h again after each such move, see section 6). On return y
+   approximates the end point, t (unit) points out of the branch's region, *precision (may be
+   NULL) is the last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision
+   untouched: PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed
+   because of a fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end
+   point lies within 1000 moves or, with finite differences, no branch tangent could be
+   computed 4 to 64 h behind it, PSB_ERR_OPTIONS (bo; psb_solver_message names the field),
+   PSB_ERR_CALLBACK ... s->branch holds the resolved options used (unchanged by PSB_ERR_NULL or
+   _OPTIONS). */
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
                                         const psb_branch_options *bo, double *precision);
 
@@ -1223,16 +1226,16 @@ typedef struct psb_branch_report {
                                 solver.factor failed whatever the bordering row */
 } psb_branch_report;
 
-/* Algorithm 2.2 with the restarts of Section 3: bo->n_span spans of two tangents, each swept in
-   bo->n_dir directions (with the memo, spans that try nothing new do not count: section 6);
-   bo NULL: defaults; s->branch the resolved options used.
-   (y0, t0) is Algorithm 2.1's output. Branch k (k < max_branches) is the
-   couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented away from the point; branch 0 is
-   the incoming branch (y0, -t0). rep may be NULL. Same seed, same result, bit for bit.
-   Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure: PSB_ERR_CALLBACK_FAILED /
-   _NONFINITE / _SINGULAR when a trial or sample tangent failed because of a fault (the set may
-   be incomplete; rep->n_failed* count them), PSB_ERR_OPTIONS (bo), PSB_ERR_CALLBACK, ... After a failure ys, ts hold
-   the rep->n_branches branches found until then and rep is written; y0, t0 are inputs only. */
+/* Algorithm 2.2 with the restarts of Section 3: bo->n_span spans of two tangents, each swept
+   in bo->n_dir directions (with the memo, spans that try nothing new do not count: section 6);
+   bo NULL: defaults; s->branch the resolved options used. (y0, t0) is Algorithm 2.1's output.
+   Branch k (k < max_branches) is the couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented
+   away from the point; branch 0 is the incoming branch (y0, -t0). rep may be NULL. Same seed,
+   same result, bit for bit. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
+   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a trial or sample tangent failed
+   because of a fault (the set may be incomplete; rep->n_failed* count them), PSB_ERR_OPTIONS
+   (bo), PSB_ERR_CALLBACK, ... After a failure ys, ts hold the rep->n_branches branches found
+   until then and rep is written; y0, t0 are inputs only. */
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            const psb_branch_options *bo, int max_branches,
                                            double *ys, double *ts, psb_branch_report *rep);
@@ -1455,27 +1458,27 @@ PSCBRANCH_DEF const char *psb_node_kind_string(psb_node_kind kind);
 PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
 
 /* The whole diagram reachable from the couple (y, t) (in, n+1 each; t need not be unit): a
-   queue of branches, first the start's directions; each is traced (psb_trace with the
-   options and detectors of eo->trace) until a bound, the box, its budget, a loop,
-   a failure or a branching point. There Algorithms 2.1 and 2.2 (nonsmooth and PC1 points) or
+   queue of branches, first the start's directions; each is traced (psb_trace with the options
+   and detectors of eo->trace) until a bound, the box, its budget, a loop, a failure or a
+   branching point. There Algorithms 2.1 and 2.2 (nonsmooth and PC1 points) or
    psb_branch_point_switch (smooth branch points) give the branches, whose new ones join the
    queue; a branching point within node_tol of a known node, or a trace's chord passing that
    close to one, arrives at that node, and the branch arrived by is marked traced, so nothing
-   is traced twice. d is reset first and holds the graph (every
-   node's and edge's index is the order it was made in). eo may be NULL. Same inputs and seed,
-   same diagram, bit for bit. No allocation; s's scratch is used (not from a point callback).
-   Returns PSB_SUCCESS (the queue emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a
-   node ran out: what fits is kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points
-   reached first), PSB_STOPPED (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE
-   (d->n differs from the problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN
-   bounds or node_tol, negative budgets, box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or box), PSB_ERR_NONFINITE,
-   PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is kept). A trace or a
-   branching that fails otherwise ends its edge (PSB_EDGE_FAILURE, d->n_failed) and exploring
-   goes on; once the queue is done (or a budget or capacity ran out) the call returns the
-   first failed edge's code (edge.result: PSB_ERR_CALLBACK_FAILED, _NONFINITE, _SINGULAR,
-   ...), not PSB_SUCCESS, since what lies beyond a failed edge is missing. On every return but PSB_ERR_NULL, _SIZE,
-   _OPTIONS, _INPUT, _NONFINITE (checked before d is reset) d holds the graph made so far;
-   y, t and eo are inputs only. */
+   is traced twice. d is reset first and holds the graph (every node's and edge's index is the
+   order it was made in). eo may be NULL. Same inputs and seed, same diagram, bit for bit. No
+   allocation; s's scratch is used (not from a point callback). Returns PSB_SUCCESS (the queue
+   emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a node ran out: what fits is
+   kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points reached first), PSB_STOPPED
+   (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE (d->n differs from the
+   problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN bounds or node_tol,
+   negative budgets, box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or
+   box), PSB_ERR_NONFINITE, PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is
+   kept). A trace or a branching that fails otherwise ends its edge (PSB_EDGE_FAILURE,
+   d->n_failed) and exploring goes on; once the queue is done (or a budget or capacity ran out)
+   the call returns the first failed edge's code (edge.result: PSB_ERR_CALLBACK_FAILED,
+   _NONFINITE, _SINGULAR, ...), not PSB_SUCCESS, since what lies beyond a failed edge is
+   missing. On every return but PSB_ERR_NULL, _SIZE, _OPTIONS, _INPUT, _NONFINITE (checked
+   before d is reset) d holds the graph made so far; y, t and eo are inputs only. */
 PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
                                      const psb_explore_options *eo, psb_diagram *d);
 
