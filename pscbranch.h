@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* pscbranch.h - v0.10.0 - piecewise-smooth continuation and numerical branching - MIT license
+/* pscbranch.h - v0.11.0 - piecewise-smooth continuation and numerical branching - MIT license
 
    Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
    folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
@@ -29,9 +29,10 @@
      for (int i = 0; i < 3; i++) t[i] = -t[i];          // ... turned towards smaller g
      psb_trace_options to = {0};  to.locate_kinks = 1;  to.on_point = stop_at_kink;
      psb_trace(&s, y, t, &to, NULL);                    // stops just before the first kink
-     psb_locate_end(&s, y, t, NULL);                    // Algorithm 2.1
+     psb_branch_options bo = {0};  bo.h = 5e-7;         // branching's options (NULL: defaults)
+     psb_locate_end(&s, y, t, &bo, NULL);               // Algorithm 2.1
      psb_branch_report rep;
-     psb_find_branches(&s, y, t, 8, ys, ts, &rep);      // Algorithm 2.2: rep.n_branches couples
+     psb_find_branches(&s, y, t, &bo, 8, ys, ts, &rep); // Algorithm 2.2: rep.n_branches couples
      psb_solver_free(&s);                               // (ys + k*3, ts + k*3), branch 0 incoming
    examples/01_branching.c is this program in full.
 
@@ -52,14 +53,14 @@
    Jacobian callback returns the gradient of a selection that is active at y (the B-Jacobian
    element of the piece y lies on); with finite differences (jacobian = NULL) a step that crosses
    a kink mixes pieces, so give an analytic selection gradient when branching at kinks. Without
-   one, branch_h defaults, at each call of Algorithm 2.1 or 2.2, to 10^4 difference steps at
-   the point, 10^4 max_j fd_step max(1, |y_j|) sqrt(w_j) within [h_min, branch_h_init / 8]
-   (1.5e-4 near the origin with forward differences; s->opt.branch_h shows the last value;
-   central differences reach the cap), so that the sample points of Algorithm 2.2 seldom lie
-   within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more when
-   the branch runs close to a piece boundary), keeps the tangent it entered with while it
-   moves, and returns the branch's tangent 16 branch_h back; the tangents Algorithm 2.2 samples
-   at y0 + branch_h v use difference steps below branch_h / 1000. The branch sets then come out
+   one, the h of Algorithms 2.1 and 2.2 (psb_branch_options.h) defaults, at each call, to 10^4
+   difference steps at the point, 10^4 max_j fd_step max(1, |y_j|) sqrt(w_j) within [h_min,
+   h_init / 8] (1.5e-4 near the origin with forward differences; s->branch.h shows the last
+   value; central differences reach the cap), so that the sample points of Algorithm 2.2 seldom
+   lie within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more
+   when the branch runs close to a piece boundary), keeps the tangent it entered with while it
+   moves, and returns the branch's tangent 16 h back; the tangents Algorithm 2.2 samples at
+   y0 + h v use difference steps below h / 1000. The branch sets then come out
    about as with the analytic Jacobian (docs/branching-notes.md).
    A kink is a point where a curve passes from one piece to another with a different tangent; a
    nonsmooth point (bifurcation) is one where more than two smooth branches meet. Algorithms 2.1
@@ -69,7 +70,8 @@
 
    2. THE API AT A GLANCE (every function validates its arguments and returns psb_result)
    ----------------------
-   psb_problem_init, psb_options_resolve(_for)    describe the problem; see resolved options
+   psb_problem_init, psb_options_resolve    describe the problem; see the resolved options
+   psb_branch_options_resolve   the branching options a call will use (s->branch: the last)
    psb_solver_init / _init_with_memory / _free    caller-owned state; all memory at init
    psb_solver_memory_size(problem)                bytes for _init_with_memory
    psb_solve_at_param   Newton on H(y) = 0 with the parameter held fixed (a starting point)
@@ -151,9 +153,19 @@
                             NaN trace bounds
    After a failure psb_solver_message(s) holds a one-line diagnostic.
 
-   5. OPTIONS AND DEFAULTS (psb_options; every zero field takes the default in brackets)
+   5. OPTIONS AND DEFAULTS (every zero field takes the default in brackets)
    -----------------------
-   Every real must be finite (NaN and Inf give PSB_ERR_OPTIONS, the message names the field).
+   Four groups, each where it is used: the problem (how dH is formed and factored), psb_options
+   (the continuation, given once to psb_solver_init), psb_trace_options (each trace), and
+   psb_branch_options (each call of Algorithm 2.1, 2.2 or the branch point switch; inside
+   psb_explore_options as .branch). Every real must be finite (NaN and Inf give
+   PSB_ERR_OPTIONS, the message names the field); psb_options_resolve and
+   psb_branch_options_resolve show the values used.
+   psb_problem, linear algebra: linear [PSB_LINEAR_DENSE], kl, ku, band_lean, solver (section
+   6), and the finite-difference Jacobian when no Jacobian callback is given:
+   fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
+                                    column j steps fd_step * max(1, |y_j|), 0 < fd_step < 1
+   psb_options, the continuation (psb_solver_init; s->opt holds them resolved):
    kappa [1], weights [NULL]        the weighted inner product (section 1)
    h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 0 < h_min <= h_init <= h_max
    h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
@@ -167,56 +179,69 @@
    c_min [0.9]                      least cosine between the tangents before and after a step
    switch_delta_min [h_min], switch_delta_max [h_init]   probe distances of the tangent switch
    switch_no_sweep [0]              1: no sweep around a kink when nothing lies straight ahead
-   fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
-                                    finite differences: column j steps fd_step * max(1, |y_j|)
-   c_diff [0.99999]                 cosine above which two tangents are one branch
-   branch_h [h_min; with finite differences 10^4 steps, see section 1]
-   branch_h_fd_steps [1e4]          those steps (resolved: 0 when not used)
+   switch_n_dir [20]                directions of that sweep (<= PSB_MAX_DIR_LIMIT, 10000)
+   c_diff [0.99999]                 cosine above which two tangents are one branch (the switch,
+                                    the kink test, Algorithms 2.1 and 2.2)
+   seed [0]                         the generator of the random spans of Algorithm 2.2
+                                    (xoshiro256**), and of psb_trace's random borders
+   psb_trace_options (per call): param_min, param_max (bounds, none when min >= max),
+   max_steps [10000], no_switch, detect_loop, locate_kinks, on_point; detect [0: no detector;
+   a PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4, EVENTS 8, ALL 15], stop_at [0; bit
+   1u << PSB_SPECIAL_*: stop on that special point's couple, PSB_STOPPED], locate_tol [1e-10,
+   ||.||_w along the curve], n_events, event, event_user, event_work (3 n_events doubles of
+   the caller's) (section 6).
+   psb_branch_options (per call, NULL: all defaults; checked at the call, which leaves its
+   inputs and s->branch as they were on PSB_ERR_OPTIONS; s->branch: the values the last call
+   used; h_min and h_init in brackets are psb_options'):
+   as_printed [0]                   1: Algorithm 2.2 as printed: sets paper_sweep, no_memo,
+                                    no_screen and restart = PSB_RESTART_PAPER (any other
+                                    restart: PSB_ERR_OPTIONS), hence a fixed n_span; each
+                                    other field keeps its meaning. What stays the library's
+                                    (section 6): Algorithm 2.1's retry of h after a move and
+                                    its tests against the entering tangent and for a move
+                                    ahead; the trials' tests (a landing closer than h is
+                                    discarded, one on a ray from y0 is kept)
+   h [h_min; with finite differences h_fd_steps steps, see section 1]
                                     h of Algorithms 2.1 and 2.2 (the paper: the continuation's
                                     smallest step)
-   branch_h_min [branch_h / 2^14]   precision of Algorithm 2.1
-   branch_h_init [h_init]           first step of each trial step of Algorithm 2.2
+   h_fd_steps [1e4]                 those steps (resolved: 0 when not used)
+   h_min [h / 2^14]                 precision of Algorithm 2.1; 0 < h_min < h
+   h_init [h_init]                  first step of each trial step of Algorithm 2.2; the
+                                    sphere's radius of psb_branch_point_switch
    n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
                                     at 0: at least 15, then on until twice as many counted
                                     spans as the last new branch took have found nothing,
                                     up to n_span_max [60] (section 6); a value set here is
                                     kept as given (n_span_max [n_span]). n_dir, n_span,
-                                    n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000)
+                                    n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000).
+                                    Resolved, n_span < n_span_max says the length adapts
    paper_sweep [0]                  1: directions exactly as printed, pairs of found branches
                                     closest first (see section 6)
-   branch_trial_h_min [h_min]       trial steps of Algorithm 2.2 give up below this step. Near
+   trial_h_min [h_min]              trial steps of Algorithm 2.2 give up below this step. Near
                                     the point the solution set is, to first order, a cone:
                                     a trial rejected at h is rejected at h/2 as well, so
-                                    branch_h_init (one trial per direction) finds the same
+                                    h_init (one trial per direction) finds the same
                                     branches at a fraction of the cost
-   branch_patience [0], branch_max_pc [0]   adaptive end of the sweep: stop after that many
+   patience [0], max_pc [0]         adaptive end of the sweep: stop after that many
                                     spans in a row without a new branch / at that n_pc.
                                     A thin branch can wait for a late pair or a lucky
                                     random span: on the paper's block, patience 3 sometimes
                                     stops one branch short, 5 did not in the runs of
                                     docs/branching-notes.md; leave 0 where a missed branch
                                     costs more than spans
-   branch_no_memo [0]               0: a direction whose tangent is within c_diff of one
+   no_memo [0]                      0: a direction whose tangent is within c_diff of one
                                     tried earlier in the call is not tried again (its trials
                                     from y0 are the same steps; report.n_memo counts them;
                                     same branches, fewer trials); 1: as printed
-   branch_no_screen [0]             0: each trial starts along the tangent at its predictor
+   no_screen [0]                    0: each trial starts along the tangent at its predictor
                                     point y0 + h_init (+-t), and is skipped when that tangent
                                     is a found branch's or was tried (section 6; report.
                                     n_screened), and ends when a corrector iteration's tangent
                                     is (report.n_cut); 1: along +-t to the end, as printed
    restart [PSB_RESTART_MIXED]      random spans: _PAPER (as printed), _GLOBAL (uniform), or
                                     _MIXED: uniform and near found branches, alternately
-   seed [0]                         the generator of the random spans (xoshiro256**), and
-                                    of psb_trace's random borders (section 6)
-   psb_trace_options (per call; zero fields as in brackets): param_min, param_max (bounds,
-   none when min >= max), max_steps [10000], no_switch, detect_loop, locate_kinks,
-   on_point; detect [0: no detector; a PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4,
-   EVENTS 8, ALL 15], stop_at [0; bit 1u << PSB_SPECIAL_*: stop on that special point's
-   couple, PSB_STOPPED], locate_tol [1e-10, ||.||_w along the curve], n_events, event,
-   event_user, event_work (3 n_events doubles of the caller's) (section 6).
-   The paper's values for its contact examples: c_diff = 0.99999, branch_h = 5e-7,
-   branch_h_min = branch_h / 2^14, branch_h_init = 5e-4, n_dir = 20, n_span = 15.
+   The paper's values for its contact examples: c_diff = 0.99999 (psb_options); h = 5e-7,
+   h_min = h / 2^14, h_init = 5e-4, n_dir = 20, n_span = 15 (psb_branch_options).
 
    6. ALGORITHMS AND CHOICES
    -------------------------
@@ -279,8 +304,8 @@
    back along the incoming branch (cos_w(t_new, -t) < c_diff; when the point was itself just
    reached by a switch, nor along the branch before that one). If nothing lies straight ahead
    (at a sharp turn the region beyond the kink holds no branch), the plane of -t and the tangent
-   ahead is swept in n_dir directions at three probe distances, as Algorithm 2.2 does, with
-   trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). At a point
+   ahead is swept in switch_n_dir directions at three probe distances, as Algorithm 2.2 does,
+   with trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). At a point
    where more than two branches meet, the trace continues on one of them: use Algorithms 2.1
    and 2.2 to get them all. Continuation restarts at h_init.
    The tangent switch and the deduplication of branches compare tangents in the weighted norm:
@@ -296,23 +321,26 @@
    Bounds: a step that crosses a bound is replaced by Newton at the bound (psb_solve_at_param
    from the chord), so the last point lies exactly on it.
    Algorithm 2.1 as in the paper, except that after a successful move the same h is tried again
-   before it is halved: the paper's version moves at most branch_h in all and so cannot reach an
+   before it is halved: the paper's version moves at most h in all and so cannot reach an
    end point that the continuation left farther away. Step 4 also compares the new tangent with
    the one the call entered with, so turns below c_diff cannot add up, and a move must land at
    least h/2 ahead (a corrector falling back from beyond the end point onto the branch behind
    it passes the cosine test over and over). With finite differences the tangent is not
-   updated while moving and the one returned is computed 16 branch_h back: quotients within a
+   updated while moving and the one returned is computed 16 h back: quotients within a
    step of the point mix its pieces.
    Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
    deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc, with these
    choices:
+   (psb_branch_options.as_printed = 1 turns off each choice below that has a switch: the even
+   sweep, the memo and with it idle spans and the adaptive length, screening and cuts, the
+   mixed restarts.)
    - Trials. A trial that converges closer to y0 than h is discarded: there pieces that merely
      touch the end point are active, and their tangents would pass for new branches. A trial
      whose corrector converges but fails the jump or cosine test of continuation is still taken
      when the point lies, within 8 trial steps of y0, on the line through y0 along its own
      tangent (|cosine| >= c_diff): it is a point of a branch leaving y0, only not the one the
      trial pointed at (near a nonsmooth point the corrector often crosses into a neighbouring
-     piece). Trial steps give up below branch_trial_h_min: near y0 the solution set is, to
+     piece). Trial steps give up below trial_h_min: near y0 the solution set is, to
      first order, a cone, so a trial rejected at h is rejected at h/2 as well.
    - Sweep. The directions v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1
      (and of its norm): the same plane, swept evenly. As printed (paper_sweep = 1), two nearly
@@ -331,7 +359,7 @@
      y0 + h (t_j + 0.1 r), r uniformly random. When the tangent at a random direction was tried
      before, t~2 is that random direction itself: on a piecewise-linear H the tangents are the
      pieces' finitely many directions, and the plane of two of them revisits swept ground.
-   - Memo of tried tangents (branch_no_memo = 0). The trials of a direction are steps from y0
+   - Memo of tried tangents (no_memo = 0). The trials of a direction are steps from y0
      along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
      of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
      min(256, max(32, 2^19 / (N+1))) tangents are kept (the oldest give way). Branch sets are
@@ -346,16 +374,16 @@
      different bordering row can steer a sweep elsewhere on degenerate problems.
    - Conic stop (with screening, analytic dH). A trial step that fails (no convergence, the
      jump or cosine test, a turn) is retried with h_dec times the step down to
-     branch_trial_h_min. Where the pieces its corrector met are cones with apex y0, a smaller
+     trial_h_min. Where the pieces its corrector met are cones with apex y0, a smaller
      step is the same run scaled and fails alike; so at each iterate y the trial checks that
      H is affine through y0 there (H(y) = H(y0) + dH(y) (y - y0) to rounding and 10^-6 of the
      step, y0 being a kink only to Algorithm 2.1's precision) and that dH is the same, bit for
-     bit, at the point of the segment [y0, y] at distance branch_h from y0 (polyhedral pieces:
+     bit, at the point of the segment [y0, y] at distance h from y0 (polyhedral pieces:
      the segment lies in y's piece), one more Jacobian per iteration; when every iterate
      passes, the trial ends there. Both: bench_branching, same branches and n_pc, Algorithm
      2.2's factorisations 6-11 times fewer; the block's trials end by the cut already and its
      sample points fall in pieces of their own (many contact nodes change state at y0): 1.5%.
-   - Screened trials (branch_no_screen = 0). Near y0 the pieces are, to first order, cones
+   - Screened trials (no_screen = 0). Near y0 the pieces are, to first order, cones
      with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
      lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
      a trial along k, scaled, and cones scale. So the trial along x can land on no branch the
@@ -386,7 +414,7 @@
      times the span of the last new branch), up to 60 (8 n_span spans in all, idle ones
      included). Runs whose branches all came by span 5 end at 15. A value set by the caller
      is kept, so the paper's n_span means what it says.
-   - Adaptive end (branch_patience, branch_max_pc): stop after that many counted spans in a
+   - Adaptive end (patience, max_pc): stop after that many counted spans in a
      row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
      pair or a lucky random span.
    Branch sets of problems in higher dimensions than the paper's planar scenario can have
@@ -510,21 +538,21 @@
    (1.05x), M800 123 -> 124 (1.01x); triangle fold problem n = 64 1169 -> 1179 (1.01x), both
    limit points; the accepted points bit-identical.
    psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
-   through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t +
-   sin a k), r = branch_h_init, 2 n_dir angles (-t first, then +t: branches 0 and 1 are the
-   traced curve), is corrected by Newton on the sphere ||y - y*||_w = r: each trial lands
+   through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t + sin a
+   k), r = h_init (psb_branch_options), 2 n_dir angles (-t first, then +t: branches 0 and 1 are
+   the traced curve), is corrected by Newton on the sphere ||y - y*||_w = r: each trial lands
    where a branch crosses the sphere, and two landings within r sqrt(2 (1 - c_diff)) of each
    other are one branch. A crossing does not depend on where the trial started, so curved
    branches are told apart as straight ones are (landing points of trial steps, anywhere from
    h_min to h away, were not: the tangents of one parabola differed by more than c_diff). With
    fewer than four branches the circle is tried again at r/8 and r/64. All crossings in the
    plane are found (four lines through a point: eight half-lines). The kernel may be larger
-   (symmetric problems: several pitchforks at one point): two steps of inverse iteration with
-   B at y* + 1e-4 r t from random vectors give up to 3 more directions, each kept while its
-   part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8
-   for the others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are
-   tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28
-   half-branches, the 26 half-parabolas with their analytic tangents).
+   (symmetric problems: several pitchforks at one point): two steps of inverse iteration with B
+   at y* + 1e-4 r t from random vectors give up to 3 more directions, each kept while its part
+   outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8 for the
+   others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are tried besides
+   the circle (three pitchforks at the origin, a kernel of dimension 4: all 28 half-branches,
+   the 26 half-parabolas with their analytic tangents).
 
    Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
    reach and returns the graph: nodes are special points, edges the branch segments between.
@@ -561,7 +589,7 @@
    added as a new branch); and a trace whose chord passes within that distance (plus 1e-3 of
    the chord) of a known node arrives there too: a piecewise-linear branch goes straight
    through a point where it has no kink, and the detectors may see nothing there (the way on
-   is made one of the node's branches if it is not). node_tol defaults to 16 branch_h.
+   is made one of the node's branches if it is not). node_tol defaults to 16 eo.branch.h.
    Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
    and outgoing branches have opposite outward signs it is silent. The block's and the
    triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
@@ -727,7 +755,7 @@
 #endif
 
 #define PSCBRANCH_VERSION_MAJOR 0
-#define PSCBRANCH_VERSION_MINOR 10
+#define PSCBRANCH_VERSION_MINOR 11
 #define PSCBRANCH_VERSION_PATCH 0
 /* "MAJOR.MINOR.PATCH", made from the three numbers above */
 #define PSB__VERSION_STR(x) #x
@@ -809,7 +837,7 @@ typedef enum psb_linear {
 typedef struct psb_problem {
     int n;                    /* N, the number of equations; y has N+1 components */
     psb_residual_fn residual; /* required */
-    psb_jacobian_fn jacobian; /* dense: optional, NULL means finite differences (psb_options) */
+    psb_jacobian_fn jacobian; /* dense: optional, NULL means finite differences (fd_step) */
     void *user;               /* passed to every callback */
     int param_index;          /* component of y that is the load parameter, 0..N
                                  (psb_problem_init sets N, the last component) */
@@ -821,6 +849,12 @@ typedef struct psb_problem {
                                  doubles less; its factors are then reused only at the same y,
                                  not whenever dH/dx repeats (piecewise-linear H) [0] */
     psb_linear_solver solver; /* user: factor and solve, both required */
+    /* finite-difference Jacobian (dense jacobian or banded band_jacobian NULL): column j steps
+       fd_step * max(1, |y_j|), forward differences unless fd_central; the solver's copy
+       (s->prob) holds the resolved step */
+    double fd_step;           /* [sqrt(DBL_EPSILON) ~ 1.49e-8; 6.06e-6 ~ cbrt(DBL_EPSILON) if
+                                 central]; 0 < fd_step < 1 */
+    int fd_central;           /* 0: forward (n+1 residuals per Jacobian), 1: central (2(n+1)) [0] */
 } psb_problem;
 
 /* Zeroes *p (dense backend), fills it and sets param_index to n (the last component). */
@@ -837,9 +871,9 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
 typedef enum psb_restart { PSB_RESTART_MIXED = 0, PSB_RESTART_PAPER = 1, PSB_RESTART_GLOBAL = 2 } psb_restart;
 
 /* ---- options: every field's zero value means "the default in brackets" ------------------ */
-/* Upper limits of the options' counts (psb_solver_init returns PSB_ERR_OPTIONS above them) */
+/* Upper limits of the options' counts (PSB_ERR_OPTIONS above them) */
 #define PSB_MAX_ITER_LIMIT 1000   /* max_iter, iter_threshold */
-#define PSB_MAX_DIR_LIMIT 10000   /* n_dir */
+#define PSB_MAX_DIR_LIMIT 10000   /* n_dir, switch_n_dir */
 #define PSB_MAX_SPAN_LIMIT 10000  /* n_span, n_span_max */
 typedef struct psb_options {
     /* weighted inner product <a,b>_w = sum_i w_i a_i b_i, used for every norm, cosine and
@@ -863,67 +897,69 @@ typedef struct psb_options {
     double switch_delta_min; /* [h_min] */
     double switch_delta_max; /* [h_init] */
     int switch_no_sweep;     /* 1: when nothing lies straight ahead, stop instead of sweeping
-                                n_dir directions around the kink [0] */
+                                switch_n_dir directions around the kink [0] */
+    int switch_n_dir;        /* directions of that sweep [20]; <= PSB_MAX_DIR_LIMIT */
 
-    /* finite-difference Jacobian (when problem.jacobian is NULL): column j uses the step
-       fd_step * max(1, |y_j|), forward differences unless fd_central */
-    double fd_step; /* [sqrt(DBL_EPSILON) ~ 1.49e-8; 6.06e-6 ~ cbrt(DBL_EPSILON) if central] */
-    int fd_central; /* 0: forward (n+1 residuals per Jacobian), 1: central (2(n+1)) [0] */
+    /* tangents: two are one branch when their cosine exceeds c_diff (the tangent switch, kink
+       tests, and Algorithms 2.1 and 2.2 alike) */
+    double c_diff;         /* [0.99999] */
+    unsigned long long seed; /* seed of every random draw: Algorithm 2.2's random spans, the
+                                branch point switch's kernel search, psb_trace's random
+                                borders (user backend) [0 is a valid seed] */
+} psb_options;
 
-    /* branching: Algorithm 2.1 (end point) and 2.2 (branches) of Ligursky-Renard */
-    double c_diff;        /* cosine above which two tangents are the same branch [0.99999] */
-    double branch_h;      /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
-                             10^4 difference steps at the point, see section 1; a value
-                             set here stands, and Algorithm 2.2 then takes its sample
-                             tangents with difference steps below branch_h / 1000] */
-    double branch_h_fd_steps; /* finite differences, branch_h left at 0: branch_h is this
-                             many difference steps at each branching point [1e4]; resolved
-                             (psb_options_resolve_for) to 0 when not used, while branch_h
-                             then stays 0, meaning "follows the point" */
-    double branch_h_min;  /* precision of Algorithm 2.1 [branch_h / 2^14] */
-    double branch_h_init; /* first step of each trial predictor-corrector step in 2.2 [h_init] */
-    int n_dir;            /* directions per span of two tangents [20] */
-    int n_span;           /* selections of the two spanning tangents [15]; with the memo on,
-                             a span whose every tangent was tried before does not count,
-                             and after such a span of known branches a random one comes next
-                             (2 n_span such spans in a row, or 4 n_span in all, end it);
-                             left at 0 (memo on), at least 15 counted spans, and on while
-                             fewer than 3 times the span of the last new branch, up to 60
-                             (8 n_span in all) */
+/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by the value
+   a solver uses, so a log or a test can show it; given back to psb_solver_init it means the
+   same. Does not validate. */
+PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt);
+
+/* ---- branching options: Algorithms 2.1 and 2.2, psb_branch_point_switch ------------------ */
+/* Given to psb_locate_end, psb_find_branches and psb_branch_point_switch (NULL: defaults) and
+   in psb_explore_options.branch; every zero field takes the default in brackets (manual,
+   section 5). "h_min", "h_init" in brackets are psb_options', the continuation's. */
+typedef struct psb_branch_options {
+    int as_printed;       /* 1: Algorithm 2.2 exactly as printed, as far as a switch below
+                             departs from it: paper_sweep = no_memo = no_screen = 1 and
+                             restart = PSB_RESTART_PAPER (so a fixed length of n_span spans);
+                             the other fields keep their meaning [0] */
+    double h;             /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
+                             h_fd_steps difference steps at each branching point (manual,
+                             section 1); a value set here stands, and Algorithm 2.2 then takes
+                             its sample tangents with difference steps below h / 1000] */
+    double h_fd_steps;    /* finite differences, h left at 0: h is this many difference steps
+                             at the point [1e4]; resolved to 0 when not used, while h then
+                             stays 0, meaning "follows the point" */
+    double h_min;         /* precision of Algorithm 2.1 [h / 2^14] */
+    double h_init;        /* first step of each trial predictor-corrector step of 2.2, and the
+                             radius of psb_branch_point_switch's sphere [h_init] */
+    double trial_h_min;   /* trial steps of Algorithm 2.2 give up below this step [h_min];
+                             e.g. h_init / 16 bounds each trial to 5 correctors */
+    int n_dir;            /* directions per span of two tangents (psb_branch_point_switch:
+                             2 n_dir angles on its circle) [20] */
+    int n_span;           /* counted spans (selections of the two spanning tangents) [15]; with
+                             the memo on, a span whose every tangent was tried before does not
+                             count, and after such a span of known branches a random one comes
+                             next (2 n_span such spans in a row, or 4 n_span in all, end it) */
     int n_span_max;       /* counted spans at most when the sweep adapts its length [60 when
                              n_span is left at 0 and the memo is on, else n_span]: n_span <
                              n_span_max adapts (n_span counted spans at least, then on while
                              fewer than 3 times the span of the last new branch; 2 n_span_max
                              or 4 n_span spans in all, idle ones included); n_span_max =
                              n_span is a fixed length */
-    double branch_trial_h_min; /* trial steps of Algorithm 2.2 give up below this step [h_min];
-                                  e.g. branch_h_init / 16 bounds each trial to 5 correctors */
-    int branch_patience;  /* stop after this many spans in a row found no new branch
-                             [0: never, run all n_span] */
-    long branch_max_pc;   /* stop the sweep when n_pc reaches this budget [0: no budget] */
-    int branch_no_memo;   /* 1: try every direction whose region is new to its sweep, as
+    int patience;         /* stop after this many counted spans in a row found no new branch
+                             [0: never] */
+    long max_pc;          /* stop the sweep when n_pc reaches this budget [0: no budget] */
+    int no_memo;          /* 1: try every direction whose region is new to its sweep, as
                              printed; 0: skip one whose tangent was tried already [0] */
-    int branch_no_screen; /* 1: each trial along the sampled tangent, as printed; 0: along
-                             the tangent at its predictor point, skipped when that one's
-                             trial is known (see section 6) [0] */
+    int no_screen;        /* 1: each trial along the sampled tangent, as printed; 0: along the
+                             tangent at its predictor point, skipped when that one's trial is
+                             known (manual, section 6) [0] */
     int paper_sweep;      /* 1: directions v = sin(a) t~1 + cos(a) t~2 exactly as printed;
                              0: t~2 is first made w-orthogonal to t~1, so that the directions
                              spread evenly over the plane [0] */
     int restart;          /* how random spans are drawn once the pairs of known branches are
                              used up [PSB_RESTART_MIXED]: see psb_restart */
-    unsigned long long seed; /* seed of the generator of the random spans [0 is a valid seed] */
-} psb_options;
-
-/* Returns *opt (or all defaults when opt is NULL) with every zero field replaced by what a
-   solver of problem p uses (p may be NULL: a problem with an analytic Jacobian), so a log or
-   a test can show it; given back to psb_solver_init it means the same. Adaptive values say so:
-   n_span < n_span_max (the sweep's length adapts between them), and, with finite differences
-   and branch_h left at 0, branch_h = branch_h_min = 0 with branch_h_fd_steps > 0 (they follow
-   each branching point; s->opt.branch_h shows the last value). Does not validate. */
-PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const psb_problem *p);
-/* psb_options_resolve_for(opt, NULL): the values for an analytic Jacobian (0.9.0 and before
-   reported n_span 15 without n_span_max, and branch_h = h_min also for finite differences) */
-PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt);
+} psb_branch_options;
 
 /* ---- counters ---------------------------------------------------------------------------- */
 typedef struct psb_stats {
@@ -945,15 +981,19 @@ typedef struct psb_stats {
 
 /* ---- the solver: caller-owned state, all memory set up at init ------------------------ */
 typedef struct psb_solver {
-    psb_problem prob;
+    psb_problem prob; /* fd_step resolved */
     psb_options opt;  /* resolved */
+    psb_branch_options branch; /* what the latest branching call used, resolved (before any:
+                                  the defaults); with finite differences and h left at 0, h
+                                  and h_min are the values at that call's point (Algorithms
+                                  2.1 and 2.2; the branch point switch uses neither) */
     psb_stats stats;  /* cumulative; zero it whenever you like */
     char message[200]; /* diagnostic of the last failure ("" when none) */
     /* private */
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
     int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
     unsigned long long *jmemo_key_; /* per entry (memo_cap_ of them): two 64-bit hashes of dH,
-                                       and 1 when dH was met within branch_h of y0 */
+                                       and 1 when dH was met within s->branch.h of y0 */
     const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
                                 conic test, see psb__try_tangent); NULL otherwise */
     int conic_ok_;           /* every iterate of the last corrector run passed that test */
@@ -986,6 +1026,16 @@ typedef struct psb_solver {
     long n_ok_;      /* tangents and corrector runs of the current algorithm that succeeded */
     unsigned ready_; /* PSB__READY between a successful init and psb_solver_free */
 } psb_solver;
+
+/* Returns *bo (or all defaults when bo is NULL) with every zero field replaced by what the
+   branching calls use on solver s (s NULL or not initialised: psb_options' defaults and an
+   analytic Jacobian), and as_printed's switches set. Adaptive values say so: n_span <
+   n_span_max (the sweep's length adapts between them), and with finite differences and h
+   left at 0, h = 0 (h_min too unless set) with h_fd_steps > 0 (they follow each branching
+   point; s->branch shows the last values). Given back to a branching call it means the same.
+   Does not validate (the branching calls do: PSB_ERR_OPTIONS). */
+PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_options *bo,
+                                                            const psb_solver *s);
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
    invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n (band_lean: (3 kl + 2 ku + 3) n);
@@ -1168,16 +1218,19 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
 /* ---- branching at a nonsmooth point ---------------------------------------------------- */
 
 /* Algorithm 2.1: from the last couple (y, t) (in/out) of a branch ending at a nonsmooth point,
-   halves h from branch_h down to branch_h_min, moving y towards the end point whenever a
-   correction of y + h t converges with a tangent within c_diff of t (and trying the same h
-   again after each such move, see section 6). On return y approximates
-   the end point, t (unit) points out of the branch's region, *precision (may be NULL) is the
-   last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision untouched:
-   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed because of a
-   fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end point lies
-   within 1000 moves or, with finite differences, no branch tangent could be computed 4 to 64
-   branch_h behind it, PSB_ERR_CALLBACK ... */
-PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision);
+   halves h from bo->h down to bo->h_min (bo: psb_branch_options, NULL for defaults), moving y
+   towards the end point whenever a correction of y + h t converges with a tangent within
+   c_diff of t (and trying the same h again after each such move, see section 6). On return y
+   approximates the end point, t (unit) points out of the branch's region, *precision (may be
+   NULL) is the last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision
+   untouched: PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed
+   because of a fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end
+   point lies within 1000 moves or, with finite differences, no branch tangent could be
+   computed 4 to 64 h behind it, PSB_ERR_OPTIONS (bo; psb_solver_message names the field),
+   PSB_ERR_CALLBACK ... s->branch holds the resolved options used (unchanged by PSB_ERR_NULL or
+   _OPTIONS). */
+PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
+                                        const psb_branch_options *bo, double *precision);
 
 typedef struct psb_branch_report {
     int n_branches;   /* found, input branch included */
@@ -1204,36 +1257,40 @@ typedef struct psb_branch_report {
                                 solver.factor failed whatever the bordering row */
 } psb_branch_report;
 
-/* Algorithm 2.2 with the restarts of Section 3: n_span spans of two tangents, each swept in
-   n_dir directions (with the memo, spans that try nothing new do not count: section 6).
-   (y0, t0) is Algorithm 2.1's output. Branch k (k < max_branches) is the
-   couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented away from the point; branch 0 is
-   the incoming branch (y0, -t0). rep may be NULL. Same seed, same result, bit for bit.
-   Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure: PSB_ERR_CALLBACK_FAILED /
-   _NONFINITE / _SINGULAR when a trial or sample tangent failed because of a fault (the set may
-   be incomplete; rep->n_failed* count them), PSB_ERR_CALLBACK, ... After a failure ys, ts hold
-   the rep->n_branches branches found until then and rep is written; y0, t0 are inputs only. */
+/* Algorithm 2.2 with the restarts of Section 3: bo->n_span spans of two tangents, each swept
+   in bo->n_dir directions (with the memo, spans that try nothing new do not count: section 6);
+   bo NULL: defaults; s->branch the resolved options used. (y0, t0) is Algorithm 2.1's output.
+   Branch k (k < max_branches) is the couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented
+   away from the point; branch 0 is the incoming branch (y0, -t0). rep may be NULL. Same seed,
+   same result, bit for bit. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
+   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a trial or sample tangent failed
+   because of a fault (the set may be incomplete; rep->n_failed* count them), PSB_ERR_OPTIONS
+   (bo), PSB_ERR_CALLBACK, ... After a failure ys, ts hold the rep->n_branches branches found
+   until then and rep is written; y0, t0 are inputs only. */
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
-                                           int max_branches, double *ys, double *ts,
-                                           psb_branch_report *rep);
+                                           const psb_branch_options *bo, int max_branches,
+                                           double *ys, double *ts, psb_branch_report *rep);
 
 /* Branches through a smooth branch point located by psb_trace (y, t, kernel of a
    PSB_SPECIAL_BRANCH point): every branch's couple (ys[k*(n+1) ...], ts[k*(n+1) ...],
-   k < max_branches) on the sphere of radius branch_h_init around y, ts oriented away from
+   k < max_branches) on the sphere of radius bo->h_init around y (bo NULL: defaults; of bo it
+   uses h_init and n_dir), ts oriented away from
    the point; k = 0 is the traced curve backwards (-t), k = 1 forwards (+t), k >= 2 the new
    ones (where more than two curves cross, all of them: in the plane of t and kernel, and in
    a kernel of up to 5 dimensions). rep as psb_find_branches' (n_branches; n_pc counts the
    sphere corrections, n_tangents the kernel's dimension besides t, n_span the radii tried).
    Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
    PSB_ERR_NULL, PSB_ERR_SIZE (max_branches < 1), PSB_ERR_NONFINITE (y, t or kernel; or a
-   callback's NaN/Inf), PSB_ERR_INPUT (t zero, kernel zero or parallel to t), and, as
+   callback's NaN/Inf), PSB_ERR_INPUT (t zero, kernel zero or parallel to t), PSB_ERR_OPTIONS
+   (bo), and, as
    psb_find_branches, PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a sphere trial or
    the kernel's computation failed because of a fault (a branch may be missing; rep->n_failed*
    count them), PSB_ERR_CALLBACK. After a failure ys, ts hold the rep->n_branches couples
    found until then and rep is written; y, t, kernel are inputs only. */
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
-                                                 const double *kernel, int max_branches,
-                                                 double *ys, double *ts, psb_branch_report *rep);
+                                                 const double *kernel, const psb_branch_options *bo,
+                                                 int max_branches, double *ys, double *ts,
+                                                 psb_branch_report *rep);
 /* ---- quasi-static evolution: one time step through folds (manual, section 6) ------------- */
 
 /* How psb_evolve_step solves its step. */
@@ -1369,6 +1426,8 @@ typedef struct psb_explore_options {
                                 events when n_events > 0], locate_tol, events); the explorer
                                 sets on_point, point_user, detect_loop (1), locate_kinks
                                 (branch_at_kinks) and stop_at (0) itself */
+    psb_branch_options branch; /* Algorithms 2.1, 2.2 and psb_branch_point_switch at every
+                                  branching point (zero fields: defaults) */
     int no_detect;     /* 1: no detectors (nodes only where traces end, and at kinks with
                           branch_at_kinks) [0] */
     const double *box_min, *box_max; /* optional (n+1 each): a trace ends at its first point
@@ -1384,10 +1443,11 @@ typedef struct psb_explore_options {
                             (diagram.n_kinks_plain). Finds bifurcations the detectors' tests
                             cannot see, at the price of Algorithm 2.2 at each kink [0] */
     int kink_spans;    /* branch_at_kinks: Algorithm 2.2 first looks at a kink with this many
-                          spans, and sweeps in full (the solver's n_span) only where that found
+                          spans, and sweeps in full (branch.n_span) only where that found
                           more than two branches [0: in full at once] */
     double node_tol;   /* two branching points within node_tol + 4 (their precisions) of each
-                          other, ||.||_w, are one node [16 branch_h] */
+                          other, ||.||_w, are one node [16 branch.h, resolved; with finite
+                          differences and branch.h left at 0: 0] */
     psb_explore_point_fn on_point; /* optional */
     void *point_user;
 } psb_explore_options;
@@ -1429,27 +1489,27 @@ PSCBRANCH_DEF const char *psb_node_kind_string(psb_node_kind kind);
 PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
 
 /* The whole diagram reachable from the couple (y, t) (in, n+1 each; t need not be unit): a
-   queue of branches, first the start's directions; each is traced (psb_trace with the
-   options and detectors of eo->trace) until a bound, the box, its budget, a loop,
-   a failure or a branching point. There Algorithms 2.1 and 2.2 (nonsmooth and PC1 points) or
+   queue of branches, first the start's directions; each is traced (psb_trace with the options
+   and detectors of eo->trace) until a bound, the box, its budget, a loop, a failure or a
+   branching point. There Algorithms 2.1 and 2.2 (nonsmooth and PC1 points) or
    psb_branch_point_switch (smooth branch points) give the branches, whose new ones join the
    queue; a branching point within node_tol of a known node, or a trace's chord passing that
    close to one, arrives at that node, and the branch arrived by is marked traced, so nothing
-   is traced twice. d is reset first and holds the graph (every
-   node's and edge's index is the order it was made in). eo may be NULL. Same inputs and seed,
-   same diagram, bit for bit. No allocation; s's scratch is used (not from a point callback).
-   Returns PSB_SUCCESS (the queue emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a
-   node ran out: what fits is kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points
-   reached first), PSB_STOPPED (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE
-   (d->n differs from the problem's), PSB_ERR_OPTIONS (NaN bounds or node_tol, negative budgets,
-   box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or box), PSB_ERR_NONFINITE,
-   PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is kept). A trace or a
-   branching that fails otherwise ends its edge (PSB_EDGE_FAILURE, d->n_failed) and exploring
-   goes on; once the queue is done (or a budget or capacity ran out) the call returns the
-   first failed edge's code (edge.result: PSB_ERR_CALLBACK_FAILED, _NONFINITE, _SINGULAR,
-   ...), not PSB_SUCCESS, since what lies beyond a failed edge is missing. On every return but PSB_ERR_NULL, _SIZE,
-   _OPTIONS, _INPUT, _NONFINITE (checked before d is reset) d holds the graph made so far;
-   y, t and eo are inputs only. */
+   is traced twice. d is reset first and holds the graph (every node's and edge's index is the
+   order it was made in). eo may be NULL. Same inputs and seed, same diagram, bit for bit. No
+   allocation; s's scratch is used (not from a point callback). Returns PSB_SUCCESS (the queue
+   emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a node ran out: what fits is
+   kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points reached first), PSB_STOPPED
+   (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE (d->n differs from the
+   problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN bounds or node_tol,
+   negative budgets, box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or
+   box), PSB_ERR_NONFINITE, PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is
+   kept). A trace or a branching that fails otherwise ends its edge (PSB_EDGE_FAILURE,
+   d->n_failed) and exploring goes on; once the queue is done (or a budget or capacity ran out)
+   the call returns the first failed edge's code (edge.result: PSB_ERR_CALLBACK_FAILED,
+   _NONFINITE, _SINGULAR, ...), not PSB_SUCCESS, since what lies beyond a failed edge is
+   missing. On every return but PSB_ERR_NULL, _SIZE, _OPTIONS, _INPUT, _NONFINITE (checked
+   before d is reset) d holds the graph made so far; y, t and eo are inputs only. */
 PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
                                      const psb_explore_options *eo, psb_diagram *d);
 
@@ -1777,11 +1837,6 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
     p->param_index = n;
 }
 
-PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
-{
-    return psb_options_resolve_for(opt, NULL);
-}
-
 /* Whether the library forms dH by finite differences (no analytic Jacobian callback). */
 static int psb__fd_jacobian(const psb_problem *p)
 {
@@ -1792,15 +1847,9 @@ static int psb__fd_jacobian(const psb_problem *p)
     }
 }
 
-/* Fields that depend on the problem: branch_h (finite differences: follows the point) and
-   with it branch_h_min; without a problem, those of an analytic Jacobian. Fields that mean
-   "adaptive" resolve to the values the adaptation uses, with a field saying it adapts (n_span
-   and n_span_max, branch_h = 0 and branch_h_fd_steps), so that a resolved set given back to
-   psb_solver_init means the same as the set it came from. */
-PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const psb_problem *p)
+PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt)
 {
     psb_options o;
-    int fd = p && psb__fd_jacobian(p);
     if (opt) o = *opt;
     else memset(&o, 0, sizeof o);
     if (o.kappa == 0) o.kappa = 1.0;
@@ -1816,22 +1865,40 @@ PSCBRANCH_DEF psb_options psb_options_resolve_for(const psb_options *opt, const 
     if (o.c_min == 0) o.c_min = 0.9;
     if (o.switch_delta_min == 0) o.switch_delta_min = o.h_min;
     if (o.switch_delta_max == 0) o.switch_delta_max = o.h_init;
-    if (o.fd_step == 0) o.fd_step = o.fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
+    if (o.switch_n_dir == 0) o.switch_n_dir = 20;
     if (o.c_diff == 0) o.c_diff = 0.99999;
-    if (o.branch_h == 0 && fd) {
-        if (o.branch_h_fd_steps == 0) o.branch_h_fd_steps = 1e4; /* branch_h follows the point */
-    } else {
-        if (o.branch_h == 0) o.branch_h = o.h_min;
-        if (o.branch_h_min == 0) o.branch_h_min = o.branch_h / 16384.0;
-        o.branch_h_fd_steps = 0; /* not used */
-    }
-    if (o.branch_h_init == 0) o.branch_h_init = o.h_init;
-    if (o.n_dir == 0) o.n_dir = 20;
-    if (o.n_span_max == 0)
-        o.n_span_max = o.n_span == 0 && !o.branch_no_memo ? 60 : o.n_span ? o.n_span : 15;
-    if (o.n_span == 0) o.n_span = 15;
-    if (o.branch_trial_h_min == 0) o.branch_trial_h_min = o.h_min;
     return o;
+}
+
+/* Fields that depend on the problem (h, finite differences: follows the point, and with it
+   h_min) and on the continuation's options (h_min, h_init). Fields that mean "adaptive"
+   resolve to the values the adaptation uses, with a field saying it adapts (n_span and
+   n_span_max, h = 0 and h_fd_steps), so that a resolved set given back means the same. */
+PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_options *bo,
+                                                            const psb_solver *s)
+{
+    psb_branch_options b;
+    int ready = s && s->ready_ == PSB__READY, fd = ready && psb__fd_jacobian(&s->prob);
+    double h_min = ready ? s->opt.h_min : 1e-6, h_init = ready ? s->opt.h_init : 1e-2;
+    if (bo) b = *bo;
+    else memset(&b, 0, sizeof b);
+    if (b.as_printed == 1) { /* the switches whose zero departs from the printed algorithm */
+        b.paper_sweep = b.no_memo = b.no_screen = 1;
+        if (b.restart == PSB_RESTART_MIXED) b.restart = PSB_RESTART_PAPER;
+    }
+    if (b.h == 0 && fd) {
+        if (b.h_fd_steps == 0) b.h_fd_steps = 1e4; /* h follows the point */
+    } else {
+        if (b.h == 0) b.h = h_min;
+        if (b.h_min == 0) b.h_min = b.h / 16384.0;
+        b.h_fd_steps = 0; /* not used */
+    }
+    if (b.h_init == 0) b.h_init = h_init;
+    if (b.n_dir == 0) b.n_dir = 20;
+    if (b.n_span_max == 0) b.n_span_max = b.n_span == 0 && !b.no_memo ? 60 : b.n_span ? b.n_span : 15;
+    if (b.n_span == 0) b.n_span = 15;
+    if (b.trial_h_min == 0) b.trial_h_min = h_min;
+    return b;
 }
 
 static int psb__finite(double x) { return x - x == 0; }
@@ -1883,26 +1950,36 @@ static const char *psb__check_options(const psb_options *o, int np1)
     if (!PSB__POS(o->switch_delta_min) || !PSB__POS(o->switch_delta_max) ||
         !(o->switch_delta_min <= o->switch_delta_max))
         return "switch_delta_min, switch_delta_max: need 0 < switch_delta_min <= switch_delta_max < inf";
-    if (!(o->fd_step > 0) || !(o->fd_step < 1)) return "fd_step must lie in (0, 1)";
+    if (o->switch_n_dir < 1 || o->switch_n_dir > PSB_MAX_DIR_LIMIT)
+        return "switch_n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
     if (!(o->c_diff > 0 && o->c_diff < 1)) return "c_diff must lie in (0, 1)";
-    if (!PSB__POS(o->branch_h_init)) return "branch_h_init must be positive and finite";
-    if (o->branch_h == 0 && o->branch_h_fd_steps != 0) { /* follows the point (finite differences) */
-        if (!(o->branch_h_fd_steps >= 1 && o->branch_h_fd_steps <= 1e8))
-            return "branch_h_fd_steps must lie in [1, 1e8]";
-        if (o->branch_h_min != 0 && !PSB__POS(o->branch_h_min))
-            return "branch_h_min must be positive and finite";
-    } else if (!PSB__POS(o->branch_h) || !PSB__POS(o->branch_h_min) || !(o->branch_h_min < o->branch_h)) {
-        return "branch_h, branch_h_min: need 0 < branch_h_min < branch_h < inf";
+    return NULL;
+}
+
+/* Checks resolved branching options the same way; the message names the field. */
+static const char *psb__check_branch(const psb_branch_options *b)
+{
+    if (b->as_printed != 0 && b->as_printed != 1) return "branch options: as_printed must be 0 or 1";
+    if (b->as_printed && b->restart != PSB_RESTART_PAPER)
+        return "branch options: as_printed = 1 draws random spans as printed (restart PSB_RESTART_PAPER)";
+    if (!PSB__POS(b->h_init)) return "branch options: h_init must be positive and finite";
+    if (b->h == 0 && b->h_fd_steps != 0) { /* follows the point (finite differences) */
+        if (!(b->h_fd_steps >= 1 && b->h_fd_steps <= 1e8)) return "branch options: h_fd_steps must lie in [1, 1e8]";
+        if (b->h_min != 0 && !PSB__POS(b->h_min)) return "branch options: h_min must be positive and finite";
+    } else if (!PSB__POS(b->h) || !PSB__POS(b->h_min) || !(b->h_min < b->h)) {
+        return "branch options: h, h_min: need 0 < h_min < h < inf";
     }
-    if (o->n_dir < 1 || o->n_dir > PSB_MAX_DIR_LIMIT) return "n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
-    if (o->n_span < 1 || o->n_span > PSB_MAX_SPAN_LIMIT) return "n_span must lie in [1, PSB_MAX_SPAN_LIMIT = 10000]";
-    if (o->n_span_max < o->n_span || o->n_span_max > PSB_MAX_SPAN_LIMIT)
-        return "n_span_max must lie in [n_span, PSB_MAX_SPAN_LIMIT = 10000]";
-    if (!PSB__POS(o->branch_trial_h_min)) return "branch_trial_h_min must be positive and finite";
-    if (o->branch_patience < 0) return "branch_patience must be >= 0";
-    if (o->branch_max_pc < 0) return "branch_max_pc must be >= 0";
-    if (o->restart < PSB_RESTART_MIXED || o->restart > PSB_RESTART_GLOBAL)
-        return "restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
+    if (b->n_dir < 1 || b->n_dir > PSB_MAX_DIR_LIMIT)
+        return "branch options: n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
+    if (b->n_span < 1 || b->n_span > PSB_MAX_SPAN_LIMIT)
+        return "branch options: n_span must lie in [1, PSB_MAX_SPAN_LIMIT = 10000]";
+    if (b->n_span_max < b->n_span || b->n_span_max > PSB_MAX_SPAN_LIMIT)
+        return "branch options: n_span_max must lie in [n_span, PSB_MAX_SPAN_LIMIT = 10000]";
+    if (!PSB__POS(b->trial_h_min)) return "branch options: trial_h_min must be positive and finite";
+    if (b->patience < 0) return "branch options: patience must be >= 0";
+    if (b->max_pc < 0) return "branch options: max_pc must be >= 0";
+    if (b->restart < PSB_RESTART_MIXED || b->restart > PSB_RESTART_GLOBAL)
+        return "branch options: restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
 #undef PSB__POS
     return NULL;
 }
@@ -2022,13 +2099,13 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     if (bad) return psb__fail(s, code, bad);
     if (bytes < psb__layout(p, NULL, NULL))
         return psb__fail(s, PSB_ERR_NOMEM, "memory block smaller than psb_solver_memory_size(p)");
-    s->opt = psb_options_resolve_for(opt, p);
-    /* finite differences: branch_h follows the difference steps at each point (psb__branch_h) */
-    s->branch_h_auto_ = s->opt.branch_h == 0;
-    s->branch_h_min_auto_ = s->opt.branch_h_min == 0;
+    s->opt = psb_options_resolve(opt);
     bad = psb__check_options(&s->opt, p->n + 1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->prob = *p;
+    if (s->prob.fd_step == 0) s->prob.fd_step = p->fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
+    if (!(s->prob.fd_step > 0) || !(s->prob.fd_step < 1))
+        return psb__fail(s, PSB_ERR_OPTIONS, "problem.fd_step must lie in (0, 1)");
     s->n_ = p->n;
     s->np1_ = p->n + 1;
     s->ldlu_ = 2 * p->kl + p->ku + 1;
@@ -2041,6 +2118,7 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
     s->opt.weights = NULL; /* copied: the caller's array need not outlive init */
     s->ready_ = PSB__READY;
+    s->branch = psb_branch_options_resolve(NULL, s);
     return PSB_SUCCESS;
 }
 
@@ -2226,7 +2304,7 @@ static psb_result psb__residual(psb_solver *s, const double *y, double *out)
    weighted norm when that is set. */
 static double psb__fd_step(const psb_solver *s, int j, double x)
 {
-    double step = s->opt.fd_step * (fabs(x) > 1 ? fabs(x) : 1.0);
+    double step = s->prob.fd_step * (fabs(x) > 1 ? fabs(x) : 1.0);
     if (s->fd_cap_ > 0 && step * sqrt(s->w_[j]) > s->fd_cap_) step = s->fd_cap_ / sqrt(s->w_[j]);
     return step;
 }
@@ -2250,7 +2328,7 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
     }
     {
         double *yp = PSB__VEC(s, PSB__V_FD);
-        if (!s->opt.fd_central && !h_at_y) {
+        if (!s->prob.fd_central && !h_at_y) {
             r = psb__residual(s, y, s->res2_);
             if (r != PSB_SUCCESS) return r;
             h_at_y = s->res2_;
@@ -2264,7 +2342,7 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
             yp[j] = y[j] + hp;
             r = psb__residual(s, yp, col);
             if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
-            if (s->opt.fd_central) {
+            if (s->prob.fd_central) {
                 /* res2_, not res_: callers hold H(y) in res_ across this call */
                 yp[j] = y[j] - hp;
                 hm = hp;
@@ -2953,7 +3031,7 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key);
    10^-6 of the step's own scale, max_i (|dH| |y - y0|)_i: y0 lies within Algorithm 2.1's
    precision of the kink, not on it, and its pieces' affine maps meet there to that order.
    dH(y)'s hash goes to conic_key_ for the second half (psb__correct_run): dH is the same, bit
-   for bit, at the point of the segment from y0 to y at distance branch_h from y0. Pieces of a
+   for bit, at the point of the segment from y0 to y at distance s->branch.h from y0. Pieces of a
    piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
    the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
    the same H scaled: the same run. */
@@ -3026,11 +3104,11 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         s->rhs_[np1 + n] = 1;
         r = psb__solve_factored(s, s->rhs_, 2);
         if (r != PSB_SUCCESS) return r;
-        if (s->conic_ok_) { /* the point branch_h from y0 towards this iterate */
+        if (s->conic_ok_) { /* the point s->branch.h from y0 towards this iterate */
             double dist = psb__dist_w(s, yc, s->conic_y0_), *pe = PSB__VEC(s, PSB__V_BR_JS);
-            s->conic_ok_ = dist > s->opt.branch_h;
+            s->conic_ok_ = dist > s->branch.h;
             for (i = 0; i < np1 && s->conic_ok_; i++)
-                pe[i] = s->conic_y0_[i] + s->opt.branch_h / dist * (yc[i] - s->conic_y0_[i]);
+                pe[i] = s->conic_y0_[i] + s->branch.h / dist * (yc[i] - s->conic_y0_[i]);
         }
         for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
         psb__copy(tc, s->rhs_ + np1, np1);
@@ -3383,8 +3461,8 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
                 for (k = 0; k < np1; k++) q[k] -= c * t1[k];
                 if (!psb__normalize_w(s, q)) continue;
             }
-            for (i = 1; i < s->opt.n_dir; i++) { /* i = 0 is straight ahead: done above */
-                double alpha = 6.283185307179586 * i / s->opt.n_dir;
+            for (i = 1; i < s->opt.switch_n_dir; i++) { /* i = 0 is straight ahead: done above */
+                double alpha = 6.283185307179586 * i / s->opt.switch_n_dir;
                 for (k = 0; k < np1; k++) dir[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
                 psb__axpy_to(probe, y, delta, dir, np1);
                 psb__copy(PSB__VEC(s, PSB__V_SW_C), dir, np1);
@@ -4334,8 +4412,8 @@ done:
     return rep->end;
 }
 
-/* Sets opt.branch_h (and branch_h_min) for Algorithms 2.1-2.2 at y. With finite differences
-   and branch_h left to its default: 10^4 times the largest difference step at y measured in
+/* Sets s->branch.h (and h_min) for Algorithms 2.1-2.2 at y. With finite differences and h
+   left to its default: 10^4 times the largest difference step at y measured in
    the weighted norm, max_j fd_step max(1, |y_j|) sqrt(w_j), within [h_min, branch_h_init / 8]
    (trial points must lie farther than branch_h). Tangents are sampled at y + branch_h v; a
    quotient there mixes pieces when a piece boundary lies within a difference step, with odds
@@ -4348,16 +4426,31 @@ static void psb__branch_h(psb_solver *s, const double *y)
     double step = 0, h;
     if (!s->branch_h_auto_) return;
     for (j = 0; j < s->np1_; j++) {
-        double sj = s->opt.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
+        double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
         if (sj > step) step = sj;
     }
-    h = s->opt.branch_h_fd_steps * step;
-    if (h > s->opt.branch_h_init / 8) h = s->opt.branch_h_init / 8;
-    s->opt.branch_h = h > s->opt.h_min ? h : s->opt.h_min;
-    if (s->branch_h_min_auto_) s->opt.branch_h_min = s->opt.branch_h / 16384.0;
+    h = s->branch.h_fd_steps * step;
+    if (h > s->branch.h_init / 8) h = s->branch.h_init / 8;
+    s->branch.h = h > s->opt.h_min ? h : s->opt.h_min;
+    if (s->branch_h_min_auto_) s->branch.h_min = s->branch.h / 16384.0;
 }
 
-PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, double *precision)
+/* Resolves and checks the branching options of a call into s->branch (left as it was when
+   they are bad). */
+static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
+{
+    psb_branch_options b = psb_branch_options_resolve(bo, s);
+    const char *bad = psb__check_branch(&b);
+    if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    s->branch = b;
+    /* finite differences and h left at 0: h follows the difference steps at each point */
+    s->branch_h_auto_ = b.h == 0;
+    s->branch_h_min_auto_ = b.h_min == 0;
+    return PSB_SUCCESS;
+}
+
+/* Algorithm 2.1 with the options in s->branch (psb_locate_end, psb_explore). */
+static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *precision)
 {
     int np1, last_fault = 0;
     long advances = 0;
@@ -4378,7 +4471,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
     /* Steps 1-5, except that after a successful move the same h is tried again before it is
        halved: the paper's version moves at most h in all, so it cannot reach an end point
        farther than h (the last step of a continuation can stop up to h_min / h_dec away). */
-    h = s->opt.branch_h;
+    h = s->branch.h;
     psb__faults_reset(s);
     do {
         int moved = 0;
@@ -4415,7 +4508,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
                 if (++advances > 1000) return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "no end point within 1000 steps of branch_h");
             }
         } while (moved);
-    } while (h >= s->opt.branch_h_min);
+    } while (h >= s->branch.h_min);
     if (last_fault) return psb__faults_code(s, "Algorithm 2.1");
     if (psb__fd_jacobian(&s->prob)) {
         /* the entering tangent too may come from quotients mixing the pieces (the last couple
@@ -4429,7 +4522,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t, dou
         static const double backs[5] = {16, 32, 8, 64, 4};
         int i, k, repaired = 0;
         for (k = 0; k < 5 && !repaired; k++) {
-            double behind = 0, back = backs[k] * s->opt.branch_h;
+            double behind = 0, back = backs[k] * s->branch.h;
             psb__axpy_to(yt, yc, -back, tc, np1);
             psb__copy(tt, tc, np1);
             s->stats.n_pc_steps++;
@@ -4550,7 +4643,7 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
     int m, np1 = s->np1_;
     if (from_memo) *from_memo = 0;
     if (!s->jmemo_t_) {
-        s->fd_cap_ = 1e-3 * s->opt.branch_h;
+        s->fd_cap_ = 1e-3 * s->branch.h;
         r = psb__tangent(s, pt, ref, t);
         s->fd_cap_ = 0;
         return r;
@@ -4656,17 +4749,17 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     psb_result r;
     /* the trials from y0 along +-tt depend on y0 and tt alone: a tangent within c_diff of one
        tried before in this call (any span) repeats its trials and their verdict */
-    if (!s->opt.branch_no_memo && psb__memo_seen(s, tt)) {
+    if (!s->branch.no_memo && psb__memo_seen(s, tt)) {
         rep->n_memo++;
         return PSB_SUCCESS;
     }
     for (sign = 1; sign >= -1; sign -= 2) {
-        double hh = s->opt.branch_h_init, dotp;
+        double hh = s->branch.h_init, dotp;
         int j, is_new = 1;
         s->path_own_ = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
-        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
-        if (!s->opt.branch_no_screen) {
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
+        if (!s->branch.no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
             r = psb__sample_tangent(s, pk, tb, kx, 0, &from_memo);
@@ -4693,11 +4786,11 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         /* not with finite differences: the corrector's quotients (steps not held below
            branch_h / 1000 as at sample points) can mix the pieces at its iterates, and
            recorded their paths cost complete sets (random LCPs, N = 8: 196 of 236, not 214) */
-        s->path_on_ = !s->opt.branch_no_screen && !psb__fd_jacobian(&s->prob);
+        s->path_on_ = !s->branch.no_screen && !psb__fd_jacobian(&s->prob);
         s->path_ts_ = ts;
         s->path_nts_ = rep->n_branches;
         s->conic_y0_ = s->path_on_ && s->conic_h0_ok_ ? y0 : NULL;
-        r = psb__try_step_from(s, yb, tb, &hh, s->opt.branch_trial_h_min, &iters, y0);
+        r = psb__try_step_from(s, yb, tb, &hh, s->branch.trial_h_min, &iters, y0);
         s->path_on_ = 0;
         s->conic_y0_ = NULL;
         if (psb__is_fatal(r)) return r;
@@ -4721,7 +4814,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (cut) continue;
         /* a point closer to y0 than the sampling distance h tells nothing reliable about the
            branches: pieces that touch the end point are active there */
-        if (psb__dist_w(s, yb, y0) < s->opt.branch_h) continue;
+        if (psb__dist_w(s, yb, y0) < s->branch.h) continue;
         /* Step 5(i): orient away from the point */
         dotp = 0;
         for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
@@ -4739,7 +4832,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
         rep->n_branches++;
     }
-    if (!s->opt.branch_no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
+    if (!s->branch.no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
     return PSB_SUCCESS;
 }
 
@@ -4751,10 +4844,10 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
     int np1 = s->np1_, i, k, from_memo;
     double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
     double *tprev = PSB__VEC(s, PSB__V_BR_TP), *pt = PSB__VEC(s, PSB__V_BR_P);
-    double h = s->opt.branch_h, *q = PSB__VEC(s, PSB__V_BR_Q);
+    double h = s->branch.h, *q = PSB__VEC(s, PSB__V_BR_Q);
     psb_result r;
     psb__copy(q, t2, np1);
-    if (!s->opt.paper_sweep) {
+    if (!s->branch.paper_sweep) {
         /* t2 made w-orthogonal to t1: the same plane, but the n_dir directions spread evenly
            over it even when t1 and t2 are nearly parallel (then the printed combination
            bunches them around +-t1 and +-t2 and misses the regions in between) */
@@ -4763,8 +4856,8 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (!psb__normalize_w(s, q)) return PSB_SUCCESS; /* t2 parallel to t1: no plane */
         for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
-    for (i = 0; i < s->opt.n_dir; i++) {
-        double alpha = 6.283185307179586 * i / s->opt.n_dir;
+    for (i = 0; i < s->branch.n_dir; i++) {
+        double alpha = 6.283185307179586 * i / s->branch.n_dir;
         for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
@@ -4779,7 +4872,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         /* a tangent tried before is skipped by psb__try_tangent; one that will be tried is
            the recomputed one (psb__sample_tangent) */
-        if (from_memo && (s->opt.branch_no_memo || !psb__memo_seen(s, tt))) {
+        if (from_memo && (s->branch.no_memo || !psb__memo_seen(s, tt))) {
             r = psb__sample_refresh(s, v, tt);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) {
@@ -4790,7 +4883,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         psb__copy(tprev, tt, np1);
         r = psb__try_tangent(s, y0, tt, max_branches, ys, ts, rep, overflow);
         if (r != PSB_SUCCESS) return r;
-        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) return PSB_SUCCESS;
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
     }
     return PSB_SUCCESS;
 }
@@ -4811,7 +4904,7 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
             double c;
             if (s->pairs_done_[bit / 64] >> (bit % 64) & 1u) continue;
             c = fabs(psb__cos_w(s, ts + (size_t)i * (size_t)np1, ts + (size_t)j * (size_t)np1));
-            if (!s->opt.paper_sweep) c = 1 - c;
+            if (!s->branch.paper_sweep) c = 1 - c;
             if (c > best) {
                 best = c;
                 *pi = i;
@@ -4833,16 +4926,16 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
 static const double *psb__restart_centre(const psb_solver *s, const double *ts, int n_br, int n_rand,
                                          const double *prev, double *t1)
 {
-    if (s->opt.restart == PSB_RESTART_GLOBAL || (s->opt.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
+    if (s->branch.restart == PSB_RESTART_GLOBAL || (s->branch.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
         return NULL;
-    if (s->opt.restart == PSB_RESTART_PAPER) return prev;
+    if (s->branch.restart == PSB_RESTART_PAPER) return prev;
     psb__copy(t1, ts + (size_t)(n_rand / 2 % n_br) * (size_t)s->np1_, s->np1_);
     return t1;
 }
 
-PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
-                                           int max_branches, double *ys, double *ts,
-                                           psb_branch_report *rep)
+/* Algorithm 2.2 with the options in s->branch (psb_find_branches, psb_explore). */
+static psb_result psb__find_branches(psb_solver *s, const double *y0, const double *t0,
+                                     int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
     int np1, k, span, overflow = 0, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
@@ -4869,7 +4962,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     psb__branch_h(s, yc);
     /* H(y0) for the trials' conic test (psb__conic_at); the test is off without it */
     s->conic_h0_ok_ = 0;
-    if (s->jmemo_t_ && !s->opt.branch_no_screen) {
+    if (s->jmemo_t_ && !s->branch.no_screen) {
         r = psb__residual(s, yc, PSB__VEC(s, PSB__V_BR_H0));
         if (psb__is_fatal(r)) return r;
         s->conic_h0_ok_ = r == PSB_SUCCESS;
@@ -4884,7 +4977,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
-    psb__axpy_to(pt, yc, s->opt.branch_h, tc, np1);
+    psb__axpy_to(pt, yc, s->branch.h, tc, np1);
     rep->n_tangents++;
     r = psb__sample_tangent(s, pt, tc, t2, 1, NULL);
     if (r != PSB_SUCCESS) return r;
@@ -4906,10 +4999,10 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
        twice as many counted spans without a new branch as it took to find the last one, up
        to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
        keep trickling in, and how long they took to come tells how long to wait). */
-    extend = s->opt.n_span_max > s->opt.n_span;
-    spans_in_all = 4 * s->opt.n_span > 2 * s->opt.n_span_max ? 4 * s->opt.n_span : 2 * s->opt.n_span_max;
-    for (span = 0; (rep->n_span < s->opt.n_span ||
-                    (extend && rep->n_span < s->opt.n_span_max && rep->n_span < 3 * rep->span_last_new)) &&
+    extend = s->branch.n_span_max > s->branch.n_span;
+    spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
+    for (span = 0; (rep->n_span < s->branch.n_span ||
+                    (extend && rep->n_span < s->branch.n_span_max && rep->n_span < 3 * rep->span_last_new)) &&
                    span - idle_pair_spans < spans_in_all; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
@@ -4929,7 +5022,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 centre = psb__restart_centre(s, ts, rep->n_branches, rep->n_rand, prev, t1);
                 global = !centre;
                 for (k = 0; k < np1; k++)
-                    pt[k] = yc[k] + s->opt.branch_h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
+                    pt[k] = yc[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
                 r = psb__sample_tangent(s, pt, global ? prev : centre, t2, 1, NULL);
@@ -4942,7 +5035,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                 /* a tangent tried before: the plane through it and t~1 likely revisits swept
                    ground (on a piecewise-linear H it is two piece directions); the random
                    direction itself spans a fresh one */
-                if (global && !s->opt.branch_no_memo && psb__memo_seen(s, t2)) psb__copy(t2, rnd, np1);
+                if (global && !s->branch.no_memo && psb__memo_seen(s, t2)) psb__copy(t2, rnd, np1);
             }
         }
         r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
@@ -4951,15 +5044,15 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
             break;
         }
         pair_stale = pair_span && rep->n_pc == pc_before;
-        if (rep->n_pc == pc_before && !s->opt.branch_no_memo) {
+        if (rep->n_pc == pc_before && !s->branch.no_memo) {
             rep->n_span_idle++;
             if (pair_span) idle_pair_spans++;
-            else if (++idle_spans_in_a_row >= 2 * s->opt.n_span) break;
+            else if (++idle_spans_in_a_row >= 2 * s->branch.n_span) break;
             continue;
         }
         idle_spans_in_a_row = 0;
         rep->n_span++;
-        if (s->opt.branch_max_pc && rep->n_pc >= s->opt.branch_max_pc) break;
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) break;
         if (rep->n_branches > found_before) {
             rep->span_last_new = rep->n_span;
             rep->n_pc_last_new = rep->n_pc;
@@ -4967,7 +5060,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
         }
         /* adaptive end: spans in a row that brought no new branch */
         idle = rep->n_branches > found_before ? 0 : idle + 1;
-        if (s->opt.branch_patience && idle >= s->opt.branch_patience) break;
+        if (s->branch.patience && idle >= s->branch.patience) break;
     }
     rep->n_failed_callback = s->faults_[0];
     rep->n_failed_nonfinite = s->faults_[1];
@@ -5083,7 +5176,7 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
                                     int kdim, double r, int max_branches, double *ys, double *ts,
                                     psb_branch_report *rep, int *overflow)
 {
-    int np1 = s->np1_, n_trial = 2 * s->opt.n_dir, i, j, m;
+    int np1 = s->np1_, n_trial = 2 * s->branch.n_dir, i, j, m;
     double *v = PSB__VEC(s, PSB__V_BR_TT);
     psb_result res;
     for (i = 0; i < n_trial; i++) {
@@ -5107,9 +5200,10 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
     return PSB_SUCCESS;
 }
 
-PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
-                                                 const double *kernel, int max_branches,
-                                                 double *ys, double *ts, psb_branch_report *rep)
+/* The switch with the options in s->branch (psb_branch_point_switch, psb_explore). */
+static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const double *t,
+                                           const double *kernel, int max_branches, double *ys,
+                                           double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
     int np1, i, overflow = 0, kdim;
@@ -5136,11 +5230,11 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     seed = s->opt.seed;
     for (i = 0; i < 4; i++) s->rng_[i] = psb__splitmix(&seed);
     psb__faults_reset(s);
-    kdim = psb__kernel_dirs(s, yc, tc, s->opt.branch_h_init, kc);
+    kdim = psb__kernel_dirs(s, yc, tc, s->branch.h_init, kc);
     rep->n_tangents = kdim;
     /* a simple branch point has four half-branches; fewer at branch_h_init (a radius beyond
        the branches' curvature, or crossings too close for Newton's basins) -> a smaller one */
-    for (r = s->opt.branch_h_init, i = 0; i < 3; i++, r *= 0.125) {
+    for (r = s->branch.h_init, i = 0; i < 3; i++, r *= 0.125) {
         psb_branch_report attempt;
         memset(&attempt, 0, sizeof attempt);
         overflow = 0;
@@ -5160,6 +5254,39 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     if (res != PSB_SUCCESS) return res;
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+}
+
+/* ---- the branching calls: their options resolved into s->branch, then the algorithm ---- */
+
+PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
+                                        const psb_branch_options *bo, double *precision)
+{
+    psb_result r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__locate_end(s, y, t, precision) : r;
+}
+
+PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
+                                           const psb_branch_options *bo, int max_branches,
+                                           double *ys, double *ts, psb_branch_report *rep)
+{
+    psb_result r;
+    if (rep) memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y0, t0);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__find_branches(s, y0, t0, max_branches, ys, ts, rep) : r;
+}
+
+PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
+                                                 const double *kernel, const psb_branch_options *bo,
+                                                 int max_branches, double *ys, double *ts,
+                                                 psb_branch_report *rep)
+{
+    psb_result r;
+    if (rep) memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__branch_point_switch(s, y, t, kernel, max_branches, ys, ts, rep) : r;
 }
 
 /* ==== quasi-static evolution ============================================================== */
@@ -5562,7 +5689,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     *resume = 0;
     psb__copy(before, y, np1);
     if (kind != PSB_NODE_BRANCH) {
-        r = psb_locate_end(s, y, t, &precision);
+        r = psb__locate_end(s, y, t, &precision);
         if (r < 0) {
             ed->result = r;
             psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
@@ -5586,20 +5713,20 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     }
     nd = d->nodes + d->n_nodes; /* filled in place, counted once it is a node */
     if (kind == PSB_NODE_BRANCH && x->has_kernel)
-        r = psb_branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
-                                    nd->ts, &br);
-    else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->opt.n_span) {
+        r = psb__branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
+                                     nd->ts, &br);
+    else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->branch.n_span) {
         /* a short look first: an ordinary kink is told by it; else the full sweep (reseeded:
            the same result as without the look) */
-        int n_span = s->opt.n_span, n_span_max = s->opt.n_span_max;
-        s->opt.n_span = s->opt.n_span_max = x->eo->kink_spans;
-        r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
-        s->opt.n_span = n_span;
-        s->opt.n_span_max = n_span_max;
+        int n_span = s->branch.n_span, n_span_max = s->branch.n_span_max;
+        s->branch.n_span = s->branch.n_span_max = x->eo->kink_spans;
+        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        s->branch.n_span = n_span;
+        s->branch.n_span_max = n_span_max;
         if (r >= 0 && br.n_branches > 2)
-            r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+            r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     } else {
-        r = psb_find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     }
     d->n_branchings++;
     if (r < 0) {
@@ -5883,6 +6010,8 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     p = s->prob.param_index;
     bad = psb__check_explore(eo, np1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    r = psb__branch_begin(s, &eo->branch);
+    if (r != PSB_SUCCESS) return r;
     if (eo->trace.param_min < eo->trace.param_max &&
         (y[p] < eo->trace.param_min || y[p] > eo->trace.param_max))
         return psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
@@ -5897,7 +6026,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     x.s = s;
     x.d = d;
     x.eo = eo;
-    x.node_tol = eo->node_tol > 0 ? eo->node_tol : 16 * s->opt.branch_h;
+    x.node_tol = eo->node_tol > 0 ? eo->node_tol : 16 * s->branch.h;
     max_traces = eo->max_traces > 0 ? eo->max_traces : -1;
 
     /* the start node: its directions are the first branches of the queue */

@@ -5,7 +5,7 @@
 #   2. the study of Tables 1-2 on the paper's M800: for input branches 1, 2, 3 and n_dir in
 #      {20, 30, 40, 50, 60, 100}, the smallest n_span that finds all six branches (one run with
 #      n_span = 40: the span of the last new branch) with its n_pc and n_rand, the same with the
-#      adaptive end (branch_patience = 3 and 6) and with Table 2's fixed n_span, beside the
+#      adaptive end (patience = 3 and 6, block --patience) and with Table 2's fixed n_span, beside the
 #      paper's figures; for the example's defaults and for the paper's sweep and inner product.
 #   3. the mesh study of Table 3: six branches on M200, M800, M3200; M12800 by Newton from the
 #      M3200 end points; relative H1 errors against M12800.
@@ -104,7 +104,7 @@ for config in defaults paper; do
     echo
     echo "  Tables 1-2 study, $config configuration${flags:+ ($flags)}, M${study_mesh} (the paper's mesh is 20x40 = M800):"
     echo "  smallest n_span finding all six branches, from one run with n_span = 40 (the span of the last new"
-    echo "  branch); the adaptive end (branch_patience = 3, and 6); n_span fixed as in Table 2; beside the paper"
+    echo "  branch); the adaptive end (patience = 3, and 6); n_span fixed as in Table 2; beside the paper"
     echo "  input  n_dir | n_span   n_pc  n_rand | paper T1 n_span  n_pc | patience 3: branches  n_pc  n_rand  spans | patience 6: branches  n_pc | T2 n_span: branches  n_pc | paper T2 n_pc"
     csv=bench/out/block_tables.csv
     for input in $inputs; do

@@ -35,30 +35,25 @@ static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int
     double y[PL_MAX_N + 1], t[PL_MAX_N + 1];
     long before;
     psb_problem prob;
-    psb_options o;
     psb_solver s;
+    psb_branch_options bo;
     psb_branch_report br;
     psb_result r;
-    memset(&o, 0, sizeof o);
-    if (cfg == CFG_PRINTED) {
-        o.restart = PSB_RESTART_PAPER;
-        o.paper_sweep = 1;
-        o.branch_no_memo = 1;
-        o.branch_no_screen = 1;
-    }
+    memset(&bo, 0, sizeof bo);
+    bo.as_printed = cfg == CFG_PRINTED;
     psb_problem_init(&prob, p->n, pl_residual, cfg == CFG_FD ? NULL : pl_jacobian, p);
     tl->runs++;
-    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) { tl->failed++; return; }
+    if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) { tl->failed++; return; }
     /* pl_branch_from_ray's steps, to count Algorithm 2.2's factorisations apart */
     pl_start_on_ray(p->n + 1, rays, incoming, y, t);
     r = pl_trace_to_kink(&s, y, t, NULL);
-    if ((r != PSB_STOPPED && r != PSB_NONSMOOTH_END) || psb_locate_end(&s, y, t, NULL) != PSB_SUCCESS) {
+    if ((r != PSB_STOPPED && r != PSB_NONSMOOTH_END) || psb_locate_end(&s, y, t, &bo, NULL) != PSB_SUCCESS) {
         tl->failed++;
         psb_solver_free(&s);
         return;
     }
     before = s.stats.n_factor;
-    if (psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, &br) != PSB_SUCCESS) {
+    if (psb_find_branches(&s, y, t, &bo, PL_MAX_RAYS, ys, ts, &br) != PSB_SUCCESS) {
         tl->failed++;
         psb_solver_free(&s);
         return;

@@ -70,6 +70,7 @@ int main(int argc, char **argv)
 {
     psb_problem problem;
     psb_options opt;
+    psb_branch_options branch;
     psb_solver solver;
     psb_trace_options trace;
     psb_trace_report trace_report;
@@ -89,14 +90,15 @@ int main(int argc, char **argv)
     if (out_dir && cli_output_dir("01_branching", out_dir)) return 1;
 
     psb_problem_init(&problem, 2, residual, jacobian, NULL); /* the load g is y[2], the last */
-    memset(&opt, 0, sizeof opt); /* zero means default; the paper's branching values: */
+    memset(&opt, 0, sizeof opt); /* zero means default; continuation: */
     opt.h_init = 5e-4;
     opt.h_min = 5e-7;
     opt.c_diff = 0.99999;
-    opt.branch_h = 5e-7;
-    opt.branch_h_init = 5e-4;
-    opt.n_dir = 20;
-    opt.n_span = 15;
+    memset(&branch, 0, sizeof branch); /* Algorithms 2.1-2.2, the paper's values: */
+    branch.h = 5e-7;
+    branch.h_init = 5e-4;
+    branch.n_dir = 20;
+    branch.n_span = 15;
     r = psb_solver_init(&solver, &problem, &opt);
     if (r < 0) {
         fprintf(stderr, "init: %s\n", psb_solver_message(&solver));
@@ -125,11 +127,11 @@ int main(int argc, char **argv)
     printf("trace      %s after %ld steps, g = %.3e\n", psb_result_string(r), trace_report.steps, y[2]);
 
     /* 3. Algorithm 2.1: close in on the end point. */
-    r = psb_locate_end(&solver, y, t, &precision);
+    r = psb_locate_end(&solver, y, t, &branch, &precision);
     printf("end point  |y|_w = %.2e (precision %.1e)\n", psb_norm_w(&solver, y), precision);
 
     /* 4. Algorithm 2.2: sweep directions spanned by two tangents, restart on other pairs. */
-    r = psb_find_branches(&solver, y, t, 8, ys, ts, &report);
+    r = psb_find_branches(&solver, y, t, &branch, 8, ys, ts, &report);
     if (r < 0) {
         fprintf(stderr, "branching: %s\n", psb_solver_message(&solver));
         return 1;

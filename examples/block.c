@@ -255,6 +255,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     eo.one_direction = 1; /* the start lies on gamma = -1 */
     eo.branch_at_kinks = 1;
     eo.kink_spans = 1; /* an ordinary kink (M800 has two) costs one span, not the sweep */
+    eo.branch = run->branch;
     if (a->out) mkdir(a->out, 0777);
     if (xo_open(&o, a->out, n, comp)) { xo_error(&o, "block"); psb_diagram_free(&d); free(yh); free(th); return 1; }
     o.diagram = &d;
@@ -315,6 +316,7 @@ int main(int argc, char **argv)
     fe_model md;
     fe_run run;
     psb_options opt;
+    psb_branch_options bo;
     double *y = NULL, *t = NULL, *w = NULL, *bw = NULL, t0, t1, tol = 1e-8;
     char spec[64];
     int n, k, ndist, input, ok, files_ok, rc = 1;
@@ -334,9 +336,11 @@ int main(int argc, char **argv)
     opt.kappa = a.kappa > 0 ? a.kappa : 1.0 / n;
     opt.h_init = 1e-2; opt.h_max = 0.2; opt.h_min = 1e-9;
     opt.tol_residual = 1e-9; opt.tol_correction = 1e-9;
-    opt.c_diff = 0.99999; opt.branch_h = 5e-7; opt.branch_h_min = 5e-7 / 16384; opt.branch_h_init = 5e-4;
-    opt.n_dir = a.ndir; opt.n_span = a.nspan; opt.seed = a.seed; opt.max_iter = a.maxiter; opt.branch_trial_h_min = a.hmin; opt.paper_sweep = a.paper_sweep; opt.branch_no_screen = a.no_screen; opt.restart = a.restart;
-    opt.branch_patience = a.patience;
+    opt.c_diff = 0.99999; opt.seed = a.seed; opt.max_iter = a.maxiter;
+    memset(&bo, 0, sizeof bo);
+    bo.h = 5e-7; bo.h_min = 5e-7 / 16384; bo.h_init = 5e-4;
+    bo.n_dir = a.ndir; bo.n_span = a.nspan; bo.trial_h_min = a.hmin; bo.paper_sweep = a.paper_sweep; bo.no_screen = a.no_screen; bo.restart = a.restart;
+    bo.patience = a.patience;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "block: out of memory\n"); goto done; }
     if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);
@@ -347,6 +351,7 @@ int main(int argc, char **argv)
                 a.dense ? "dense" : "banded", md.half_band, psb_solver_message(&run.s));
         goto done;
     }
+    run.branch = bo;
     run.prog = "block";
     run.quiet = a.quiet;
     if (a.branch_mult_weight >= 0 && a.branch_mult_weight != a.mult_weight) {
@@ -366,7 +371,7 @@ int main(int argc, char **argv)
            a.mult_weight);
     if (bw) printf("  weights of Algorithms 2.1-2.2: %g kappa for multipliers\n", a.branch_mult_weight);
     printf("  Algorithms 2.1-2.2: c_diff = %g, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
-           opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
+           opt.c_diff, bo.h, bo.h_min, bo.h_init, bo.n_dir, bo.n_span, a.seed);
     t0 = seconds();
     if (a.refine) {
         if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("block", a.refine, k); goto done; }

@@ -1576,6 +1576,7 @@ typedef struct fe_run {
     int nbr;
     fe_branch br[FE_MAX_BRANCHES];
     double *ys, *ts;      /* psb_find_branches output */
+    psb_branch_options branch;    /* options of Algorithms 2.1-2.2 (set after fe_run_init) */
     const double *branch_weights; /* inner product of Algorithms 2.1-2.2 (NULL: the run's) */
     psb_branch_report brep;
     double precision;     /* Algorithm 2.1's last h */
@@ -1869,7 +1870,7 @@ static inline psb_result fe_run_approach(fe_run *run, double *y, double *t, int 
     memcpy(t, run->tprev, sizeof(double) * (size_t)np1);
     for (pass = 0; pass < 200; pass++) {
         double d = fabs(t[n]) > 0 ? -y[n] / t[n] : -1, h;
-        if (!(d > run->s.opt.branch_h)) break;
+        if (!(d > psb_branch_options_resolve(&run->branch, &run->s).h)) break;
         h = 0.5 * d;
         if (psb_step(&run->s, y, t, &h) != PSB_SUCCESS) break;
     }
@@ -1906,8 +1907,8 @@ static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
         s = &alt;
     }
     fe_run_progress(run, "Algorithms 2.1-2.2: locating the end point and sweeping for branches");
-    r = psb_locate_end(s, y, t, &run->precision);
-    if (r >= 0) r = psb_find_branches(s, y, t, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
+    r = psb_locate_end(s, y, t, &run->branch, &run->precision);
+    if (r >= 0) r = psb_find_branches(s, y, t, &run->branch, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
     if (s == &alt) {
         fe_stats_add(&run->s.stats, &alt.stats);
         psb_solver_free(&alt);

@@ -321,10 +321,12 @@ static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
     return ok ? 0 : 1;
 }
 
-static void set_options(psb_options *opt, const args *a, const fe_model *md, double *w, int fold)
+static void set_options(psb_options *opt, psb_branch_options *bo, const args *a, const fe_model *md, double *w,
+                        int fold)
 {
     int n = md->n;
     memset(opt, 0, sizeof *opt);
+    memset(bo, 0, sizeof *bo);
     opt->kappa = a->kappa > 0 ? a->kappa : 1.0 / n;
     /* multipliers weighted kappa / r^2 for branching (see wip/fe_notes.md); the fold trace keeps
        kappa for them: with kappa / r^2 the tangent switch at the second limit point on n = 32
@@ -333,9 +335,10 @@ static void set_options(psb_options *opt, const args *a, const fe_model *md, dou
     opt->weights = w;
     opt->h_init = 1e-2; opt->h_max = 0.2; opt->h_min = 1e-9;
     opt->tol_residual = 1e-9; opt->tol_correction = 1e-9;
-    opt->c_diff = 1 - 1e-10; opt->branch_h = 5e-8; opt->branch_h_min = 5e-8 / 16384; opt->branch_h_init = 5e-4;
-    opt->branch_trial_h_min = a->hmin;
-    opt->n_dir = a->ndir; opt->n_span = a->nspan; opt->seed = a->seed;
+    opt->c_diff = 1 - 1e-10; opt->seed = a->seed;
+    bo->h = 5e-8; bo->h_min = 5e-8 / 16384; bo->h_init = 5e-4;
+    bo->trial_h_min = a->hmin;
+    bo->n_dir = a->ndir; bo->n_span = a->nspan;
 }
 
 /* Default and --load auto: H is positively homogeneous, so the fold problem's limit points give
@@ -350,6 +353,7 @@ static int choose_load(args *a)
     fe_model md;
     fe_run run;
     psb_options opt;
+    psb_branch_options bo;
     psb_trace_report rep;
     fold_state fs;
     double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y = NULL, *t = NULL, *w;
@@ -363,10 +367,11 @@ static int choose_load(args *a)
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
-    set_options(&opt, a, &md, w, 1);
+    set_options(&opt, &bo, a, &md, w, 1);
     k = init_run(&run, &md, &opt, a, &umf); /* the weights are copied at init */
     free(w);
     if (k) { fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns: %s\n", n, psb_solver_message(&run.s)); goto done; }
+    run.branch = bo;
     run.prog = "triangle";
     run.quiet = a->quiet;
     fe_run_progress(&run, "choosing the load: the fold problem on this mesh (n = %d)", a->n);
@@ -424,6 +429,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     eo.one_direction = 1; /* the start lies on the lower bound */
     eo.branch_at_kinks = !a->fold;
     eo.kink_spans = 1; /* an ordinary kink costs one span of Algorithm 2.2, not the sweep */
+    eo.branch = run->branch;
     if (a->out) mkdir(a->out, 0777);
     if (xo_open(&o, a->out, n, comp)) { xo_error(&o, "triangle"); psb_diagram_free(&d); free(ye); free(te); return 1; }
     o.diagram = &d;
@@ -495,6 +501,7 @@ int main(int argc, char **argv)
     fe_model md;
     fe_run run;
     psb_options opt;
+    psb_branch_options bo;
     double *y = NULL, *t = NULL, *rv = NULL, *w, t0, t1, tol = 1e-8, h0[2], h1[2];
     char spec[64];
     int n, k, ndist, ok, rc = 1, files_ok;
@@ -516,7 +523,7 @@ int main(int argc, char **argv)
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
-    set_options(&opt, &a, &md, w, a.fold);
+    set_options(&opt, &bo, &a, &md, w, a.fold);
     k = init_run(&run, &md, &opt, &a, &umf); /* the weights are copied at init */
     free(w);
     if (k) {
@@ -524,6 +531,7 @@ int main(int argc, char **argv)
                 psb_solver_message(&run.s));
         goto done;
     }
+    run.branch = bo;
     run.prog = "triangle";
     run.quiet = a.quiet;
     y = calloc((size_t)n + 1, sizeof(double));
@@ -559,7 +567,7 @@ int main(int argc, char **argv)
            a.mult_weight < 0 ? 1 / (md.r * md.r) : a.mult_weight);
     printf("  load h = gamma (-%g, -7.5)%s\n", a.load, a.load == 26.4 ? " (the paper's)" : "");
     printf("  Algorithms 2.1-2.2: c_diff = 1 - %.0e, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
-           1 - opt.c_diff, opt.branch_h, opt.branch_h_min, opt.branch_h_init, opt.n_dir, opt.n_span, a.seed);
+           1 - opt.c_diff, run.branch.h, run.branch.h_min, run.branch.h_init, run.branch.n_dir, run.branch.n_span, a.seed);
     r = fe_run_approach(&run, y, t, a.verbose);
     if (r < 0) { fprintf(stderr, "triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
     r = fe_run_branching(&run, y, t);

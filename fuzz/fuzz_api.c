@@ -177,19 +177,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fuzz_problem fp;
     psb_problem prob;
     psb_options o;
+    psb_branch_options bo;
     psb_solver s;
     psb_trace_options to;
     psb_trace_report tr;
     psb_branch_report br;
     double y[PL_MAX_N + 1], t[PL_MAX_N + 1], y0[PL_MAX_N + 1], t0[PL_MAX_N + 1], h;
     double ys[16 * (PL_MAX_N + 1)], ts[16 * (PL_MAX_N + 1)];
-    int n, np1, i, backend, max_branches, it;
+    int n, np1, i, backend, max_branches, it, fd_central;
+    double fd_step;
     psb_result r;
     b.p = data;
     b.n = size;
 
-    /* options: every field fuzzed */
+    /* options: every field fuzzed (in the order of 0.10.0's psb_options, so that the corpus
+       keeps its meaning; the switch's sweep takes n_dir's count, as it did then) */
     memset(&o, 0, sizeof o);
+    memset(&bo, 0, sizeof bo);
     o.kappa = rd_double(&b);
     o.h_init = rd_double(&b);
     o.h_min = rd_double(&b);
@@ -204,24 +208,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     o.switch_delta_min = rd_double(&b);
     o.switch_delta_max = rd_double(&b);
     o.switch_no_sweep = (int)(rd_u8(&b) & 1);
-    o.fd_step = rd_double(&b);
-    o.fd_central = (int)(rd_u8(&b) & 1);
+    fd_step = rd_double(&b);
+    fd_central = (int)(rd_u8(&b) & 1);
     o.c_diff = rd_double(&b);
-    o.branch_h = rd_double(&b);
-    o.branch_h_fd_steps = rd_double(&b);
-    o.branch_h_min = rd_double(&b);
-    o.branch_h_init = rd_double(&b);
-    o.n_dir = rd_int(&b);
-    o.n_span = rd_int(&b);
-    o.n_span_max = rd_int(&b);
-    o.branch_trial_h_min = rd_double(&b);
-    o.branch_patience = rd_int(&b);
-    o.branch_max_pc = rd_int(&b);
-    o.branch_no_memo = (int)(rd_u8(&b) & 1);
-    o.branch_no_screen = (int)(rd_u8(&b) & 1);
-    o.paper_sweep = (int)(rd_u8(&b) & 1);
-    o.restart = (int)(rd_u8(&b) % 4);
+    bo.h = rd_double(&b);
+    bo.h_fd_steps = rd_double(&b);
+    bo.h_min = rd_double(&b);
+    bo.h_init = rd_double(&b);
+    bo.n_dir = rd_int(&b);
+    o.switch_n_dir = bo.n_dir;
+    bo.n_span = rd_int(&b);
+    bo.n_span_max = rd_int(&b);
+    bo.trial_h_min = rd_double(&b);
+    bo.patience = rd_int(&b);
+    bo.max_pc = rd_int(&b);
+    bo.no_memo = (int)(rd_u8(&b) & 1);
+    bo.no_screen = (int)(rd_u8(&b) & 1);
+    bo.paper_sweep = (int)(rd_u8(&b) & 1);
+    bo.restart = (int)(rd_u8(&b) % 4);
     o.seed = rd_u8(&b);
+    bo.as_printed = (int)(o.seed % 3 == 2); /* no byte of its own: the seed's */
 
     /* the problem */
     memset(&fp, 0, sizeof fp);
@@ -238,6 +244,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     backend = (int)(rd_u8(&b) % 3);
     psb_problem_init(&prob, n, any_res, backend == 1 ? NULL : any_jac, &fp);
+    prob.fd_step = fd_step;
+    prob.fd_central = fd_central;
     if (backend == 2) {
         prob.linear = PSB_LINEAR_BANDED;
         fp.kl = prob.kl = (int)(rd_u8(&b) % (unsigned)n);
@@ -265,20 +273,30 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     REQUIRE(r == PSB_SUCCESS || r == PSB_ERR_OPTIONS || r == PSB_ERR_SIZE || r == PSB_ERR_NULL);
     check_failure(&s, r);
     if (r == PSB_SUCCESS) {
-        psb_options res = psb_options_resolve_for(&o, &prob);
-        REQUIRE(memcmp(&res.kappa, &s.opt.kappa, sizeof(double)) == 0 && res.n_span == s.opt.n_span &&
-                res.n_span_max == s.opt.n_span_max);
+        psb_options res = psb_options_resolve(&o);
+        psb_branch_options rb = psb_branch_options_resolve(&bo, &s);
+        REQUIRE(memcmp(&res.kappa, &s.opt.kappa, sizeof(double)) == 0 && res.switch_n_dir == s.opt.switch_n_dir);
+        /* the branching options as given: checked before any work (ys NULL is the next
+           check); when they pass, s->branch is what resolve says */
+        r = psb_find_branches(&s, y, t, &bo, 1, NULL, NULL, &br);
+        REQUIRE(r == PSB_ERR_OPTIONS || r == PSB_ERR_NULL || r == PSB_ERR_NONFINITE || r == PSB_ERR_INPUT);
+        check_failure(&s, r);
+        if (r == PSB_ERR_NULL)
+            REQUIRE(s.branch.n_span == rb.n_span && s.branch.n_span_max == rb.n_span_max &&
+                    s.branch.n_dir == rb.n_dir && s.branch.restart == rb.restart &&
+                    s.branch.h_fd_steps == rb.h_fd_steps &&
+                    memcmp(&s.branch.h_init, &rb.h_init, sizeof(double)) == 0);
     }
     psb_solver_free(&s);
     /* bounded work for the pipeline: the counts the validation allows are large on purpose */
-    if (o.n_dir > 8 || o.n_dir < 0) o.n_dir = 8;
-    if (o.n_span > 2 || o.n_span < 0) o.n_span = 2;
-    if (o.n_span_max > 3 || o.n_span_max < 0) o.n_span_max = 3;
+    if (bo.n_dir > 8 || bo.n_dir < 0) bo.n_dir = o.switch_n_dir = 8;
+    if (bo.n_span > 2 || bo.n_span < 0) bo.n_span = 2;
+    if (bo.n_span_max > 3 || bo.n_span_max < 0) bo.n_span_max = 3;
     if (o.max_iter > 20 || o.max_iter < 0) o.max_iter = 20;
-    if (o.branch_max_pc <= 0 || o.branch_max_pc > 40) o.branch_max_pc = 40;
+    if (bo.max_pc <= 0 || bo.max_pc > 40) bo.max_pc = 40;
     if (!(o.h_min >= 1e-9)) o.h_min = 0;
-    if (!(o.branch_trial_h_min >= 1e-9)) o.branch_trial_h_min = 0;
-    if (!(o.branch_h_min >= 1e-12)) o.branch_h_min = 0;
+    if (!(bo.trial_h_min >= 1e-9)) bo.trial_h_min = 0;
+    if (!(bo.h_min >= 1e-12)) bo.h_min = 0;
     to.max_steps = 60;
     if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) {
         check_failure(&s, PSB_ERR_OPTIONS);
@@ -334,7 +352,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(y0, y, sizeof y);
     memcpy(t0, t, sizeof t);
     h = -1;
-    r = psb_locate_end(&s, y, t, &h);
+    r = psb_locate_end(&s, y, t, &bo, &h);
     check_failure(&s, r);
     if (r == PSB_SUCCESS) {
         REQUIRE(all_finite(y, np1) && all_finite(t, np1) && h > 0);
@@ -344,7 +362,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     memcpy(y0, y, sizeof y);
     memcpy(t0, t, sizeof t);
-    r = psb_find_branches(&s, y, t, max_branches, ys, ts, &br);
+    r = psb_find_branches(&s, y, t, &bo, max_branches, ys, ts, &br);
     check_failure(&s, r);
     REQUIRE(memcmp(y, y0, sizeof(double) * (size_t)np1) == 0 && memcmp(t, t0, sizeof(double) * (size_t)np1) == 0);
     if (r >= 0) {
@@ -354,6 +372,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     REQUIRE(br.n_failed == br.n_failed_callback + br.n_failed_nonfinite + br.n_failed_singular);
     psb_solver_free(&s);
     REQUIRE(isnan(psb_norm_w(&s, y)));
-    REQUIRE(psb_locate_end(&s, y, t, NULL) == PSB_ERR_NULL);
+    REQUIRE(psb_locate_end(&s, y, t, NULL, NULL) == PSB_ERR_NULL);
     return 0;
 }

@@ -240,18 +240,20 @@ PL_MAYBE_UNUSED static psb_result pl_trace_to_kink(psb_solver *s, double *y, dou
 
 /* Branching entered along ray `incoming` (rays: n + 1 each) on a solver s set up for the
    problem: from half its length a trace towards the origin, stopped at the kink, Algorithm 2.1
-   (y: the end point found), Algorithm 2.2 (up to PL_MAX_RAYS branches into ys, ts, report br).
+   (y: the end point found), Algorithm 2.2 (up to PL_MAX_RAYS branches into ys, ts, report br),
+   both with the branching options bo (NULL: defaults).
    Returns 0, or the stage that failed: 1 trace, 2 Algorithm 2.1, 3 Algorithm 2.2. */
-PL_MAYBE_UNUSED static int pl_branch_from_ray(psb_solver *s, const double *rays, int incoming, double *y,
-                                              double *ys, double *ts, psb_branch_report *br)
+PL_MAYBE_UNUSED static int pl_branch_from_ray(psb_solver *s, const double *rays, int incoming,
+                                              const psb_branch_options *bo, double *y, double *ys,
+                                              double *ts, psb_branch_report *br)
 {
     double t[PL_MAX_N + 1];
     psb_result r;
     pl_start_on_ray(s->prob.n + 1, rays, incoming, y, t);
     r = pl_trace_to_kink(s, y, t, NULL);
     if (r != PSB_STOPPED && r != PSB_NONSMOOTH_END) return 1;
-    if (psb_locate_end(s, y, t, NULL) != PSB_SUCCESS) return 2;
-    return psb_find_branches(s, y, t, PL_MAX_RAYS, ys, ts, br) == PSB_SUCCESS ? 0 : 3;
+    if (psb_locate_end(s, y, t, bo, NULL) != PSB_SUCCESS) return 2;
+    return psb_find_branches(s, y, t, bo, PL_MAX_RAYS, ys, ts, br) == PSB_SUCCESS ? 0 : 3;
 }
 #endif
 #endif

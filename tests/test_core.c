@@ -131,8 +131,8 @@ static void test_circle_fd(void)
         o.kappa = 0.5;
         o.tol_residual = 1e-9;
         o.tol_correction = 1e-8;
-        o.fd_central = central;
         psb_problem_init(&p, 3, circle3_res, NULL, NULL);
+        p.fd_central = central;
         CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
         CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
         CHECK(t[3] > 0);
@@ -366,25 +366,28 @@ static void test_nonsmooth_fold(void)
 /* ---- branching on piecewise-linear problems ---------------------------------------------- */
 
 
-static void paper_options(psb_options *o)
+/* The paper's values; those of bo are the defaults the continuation's options give, set here
+   as the paper states them. */
+static void paper_options(psb_options *o, psb_branch_options *bo)
 {
     memset(o, 0, sizeof *o);
     o->h_init = 5e-4;
     o->h_min = 5e-7;
     o->h_max = 0.1;
     o->c_diff = 0.99999;
-    o->branch_h = 5e-7;
-    o->branch_h_min = 5e-7 / 16384;
-    o->branch_h_init = 5e-4;
-    o->n_dir = 20;
-    o->n_span = 15;
+    memset(bo, 0, sizeof *bo);
+    bo->h = 5e-7;
+    bo->h_min = 5e-7 / 16384;
+    bo->h_init = 5e-4;
+    bo->n_dir = 20;
+    bo->n_span = 15;
 }
 
 /* Traces the ray `incoming` to the origin, runs Algorithms 2.1 and 2.2 and counts how many
    branches match the analytic rays (direction error below 1e-8); *found gets the branches. */
 static int branch_pl(pl_problem *pp, const double *rays, int n_rays, int incoming,
-                     const psb_options *o, int *found, psb_branch_report *br, double *ys,
-                     double *ts)
+                     const psb_options *o, const psb_branch_options *bo, int *found,
+                     psb_branch_report *br, double *ys, double *ts)
 {
     int n = pp->n, np1 = n + 1;
     psb_problem prob;
@@ -397,10 +400,10 @@ static int branch_pl(pl_problem *pp, const double *rays, int n_rays, int incomin
     r = pl_trace_to_kink(&s, y, t, NULL);
     CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
     CHECK(psb_norm_w(&s, y) < 2e-6);
-    CHECK(psb_locate_end(&s, y, t, &prec) == PSB_SUCCESS);
+    CHECK(psb_locate_end(&s, y, t, bo, &prec) == PSB_SUCCESS);
     CHECK(prec < 5e-7 / 16384);
     CHECK(psb_norm_w(&s, y) < 1e-9);
-    r = psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, br);
+    r = psb_find_branches(&s, y, t, bo, PL_MAX_RAYS, ys, ts, br);
     CHECK(r == PSB_SUCCESS);
     *found = br->n_branches;
     psb_solver_free(&s);
@@ -412,19 +415,20 @@ static void check_pl(pl_problem *pp, int expect_rays, int incoming, const char *
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
     int a = pl_enumerate_rays(pp, 1.0, 1e-6, rays, PL_MAX_RAYS), b, found = 0, matched;
     psb_options o;
+    psb_branch_options bo;
     psb_branch_report br;
     CHECK(a >= 0);
     b = pl_enumerate_rays(pp, -1.0, 1e-6, rays + a * (pp->n + 1), PL_MAX_RAYS - a);
     CHECK(b >= 0);
     CHECK(a + b == expect_rays);
-    paper_options(&o);
-    matched = branch_pl(pp, rays, a + b, incoming, &o, &found, &br, ys, ts);
+    paper_options(&o, &bo);
+    matched = branch_pl(pp, rays, a + b, incoming, &o, &bo, &found, &br, ys, ts);
     if (found != expect_rays || matched != expect_rays)
         printf("  %s: %d rays, %d branches found, %d matched (n_pc %ld, n_rand %d)\n", name,
                expect_rays, found, matched, br.n_pc, br.n_rand);
     CHECK(found == expect_rays);
     CHECK(matched == expect_rays);
-    CHECK(br.n_pc > 0 && br.n_pc <= 2L * o.n_dir * o.n_span);
+    CHECK(br.n_pc > 0 && br.n_pc <= 2L * bo.n_dir * bo.n_span);
 }
 
 static unsigned long long test_rng = 0x1234567ULL;
@@ -501,6 +505,7 @@ static void check_star(int nz, int incoming, int paper_sweep)
     star_problem sp;
     psb_problem prob;
     psb_options o;
+    psb_branch_options bo;
     psb_solver s;
     psb_branch_report br;
     double rays[8 * 18], ys[16 * 18], ts[16 * 18], y[18], t[18], prec;
@@ -515,14 +520,14 @@ static void check_star(int nz, int incoming, int paper_sweep)
     n_rays = star_rays(&sp, rays);
     CHECK(n_rays == 8);
     psb_problem_init(&prob, nz + 1, star_res, star_jac, &sp);
-    paper_options(&o);
-    o.paper_sweep = paper_sweep;
+    paper_options(&o, &bo);
+    bo.paper_sweep = paper_sweep;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     pl_start_on_ray(np1, rays, incoming, y, t);
     CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
-    CHECK(psb_locate_end(&s, y, t, &prec) == PSB_SUCCESS);
+    CHECK(psb_locate_end(&s, y, t, &bo, &prec) == PSB_SUCCESS);
     CHECK(psb_norm_w(&s, y) < 1e-9);
-    CHECK(psb_find_branches(&s, y, t, 16, ys, ts, &br) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y, t, &bo, 16, ys, ts, &br) == PSB_SUCCESS);
     CHECK(br.n_branches == 8);
     CHECK(pl_match_rays(ts, br.n_branches, rays, n_rays, np1, 1e-8) == 8);
     psb_solver_free(&s);
@@ -534,30 +539,31 @@ static void test_branch_budgets(void)
     star_problem sp;
     psb_problem prob;
     psb_options o;
+    psb_branch_options bo;
     psb_solver s;
     psb_branch_report full, adaptive, budget, cap;
     double rays[8 * 2], ys[16 * 2], ts[16 * 2], y[2], t[2], y0[2], t0[2];
     memset(&sp, 0, sizeof sp);
     CHECK(star_rays(&sp, rays) == 8);
     psb_problem_init(&prob, 1, star_res, star_jac, &sp);
-    paper_options(&o);
-    o.branch_no_memo = 1; /* every direction tried, as printed: n_pc as the paper counts it */
-    o.branch_no_screen = 1;
+    paper_options(&o, &bo);
+    bo.no_memo = 1; /* every direction tried, as printed: n_pc as the paper counts it */
+    bo.no_screen = 1;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     pl_start_on_ray(2, rays, 0, y, t);
     CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+    CHECK(psb_locate_end(&s, y, t, &bo, NULL) == PSB_SUCCESS);
     memcpy(y0, y, sizeof y);
     memcpy(t0, t, sizeof t);
-    CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &full) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &full) == PSB_SUCCESS);
     CHECK(full.n_branches == 8 && full.n_span == 15);
     CHECK(full.span_last_new >= 1 && full.span_last_new <= 15);
     CHECK(full.n_pc_last_new <= full.n_pc && full.n_rand_last_new <= full.n_rand);
     psb_solver_free(&s);
 
-    o.branch_patience = 2;
+    bo.patience = 2;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-    CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &adaptive) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &adaptive) == PSB_SUCCESS);
     CHECK(adaptive.n_branches == 8);
     CHECK(adaptive.n_span < full.n_span && 2 * adaptive.n_pc <= full.n_pc);
     /* the run stopped two idle spans after the last find, which a full run saw at the same n_pc */
@@ -565,19 +571,19 @@ static void test_branch_budgets(void)
     CHECK(adaptive.n_pc_last_new == full.n_pc_last_new && adaptive.span_last_new == full.span_last_new);
     psb_solver_free(&s);
 
-    o.branch_patience = 0;
-    o.branch_max_pc = 10;
+    bo.patience = 0;
+    bo.max_pc = 10;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-    CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &budget) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &budget) == PSB_SUCCESS);
     CHECK(budget.n_pc == 10);
     psb_solver_free(&s);
 
-    o.branch_max_pc = 0;
+    bo.max_pc = 0;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-    CHECK(psb_find_branches(&s, y0, t0, 3, ys, ts, &cap) == PSB_BRANCH_CAPACITY);
+    CHECK(psb_find_branches(&s, y0, t0, &bo, 3, ys, ts, &cap) == PSB_BRANCH_CAPACITY);
     CHECK(cap.n_branches == 3);
-    CHECK(psb_find_branches(&s, y0, t0, 0, ys, ts, &cap) == PSB_ERR_SIZE);
-    CHECK(psb_find_branches(&s, y0, t0, 3, NULL, ts, &cap) == PSB_ERR_NULL);
+    CHECK(psb_find_branches(&s, y0, t0, &bo, 0, ys, ts, &cap) == PSB_ERR_SIZE);
+    CHECK(psb_find_branches(&s, y0, t0, &bo, 3, NULL, ts, &cap) == PSB_ERR_NULL);
     psb_solver_free(&s);
 
     /* the memo of tried tangents: the same eight branches in the same order, found in the
@@ -588,21 +594,21 @@ static void test_branch_budgets(void)
         psb_branch_report memo;
         double ys2[16 * 2], ts2[16 * 2];
         int k;
-        o.branch_no_memo = 0;
+        bo.no_memo = 0;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-        CHECK(psb_find_branches(&s, y0, t0, 16, ys2, ts2, &memo) == PSB_SUCCESS);
+        CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys2, ts2, &memo) == PSB_SUCCESS);
         CHECK(memo.n_branches == 8 && memo.n_memo > 0 && 4 * memo.n_pc < full.n_pc);
         /* idle: 2 n_span random spans in a row end the sweep; the 28 pairs of the 8 rays,
            one before each random span, do not count there */
-        CHECK(memo.n_span == 1 && memo.n_span_idle == 2 * o.n_span + 28 && memo.span_last_new == 1);
-        CHECK(memo.n_rand == 2 * o.n_span);
+        CHECK(memo.n_span == 1 && memo.n_span_idle == 2 * bo.n_span + 28 && memo.span_last_new == 1);
+        CHECK(memo.n_rand == 2 * bo.n_span);
         /* at most 2 n_span + 28 + 1 sweeps, and the random draws' own tangents */
-        CHECK(memo.n_tangents <= 1 + (2 * o.n_span + 28 + 1) * o.n_dir + memo.n_rand);
+        CHECK(memo.n_tangents <= 1 + (2 * bo.n_span + 28 + 1) * bo.n_dir + memo.n_rand);
         psb_solver_free(&s);
-        o.branch_no_memo = 1;
-        o.n_span = 1;
+        bo.no_memo = 1;
+        bo.n_span = 1;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-        CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &full) == PSB_SUCCESS);
+        CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &full) == PSB_SUCCESS);
         for (k = 0; k < 2 * 8; k++) CHECK(ys[k] == ys2[k] && ts[k] == ts2[k]);
         CHECK(memo.n_pc == full.n_pc && full.n_memo == 0);
         psb_solver_free(&s);
@@ -611,15 +617,15 @@ static void test_branch_budgets(void)
            a trial whose tangent there is a found ray's or was tried skipped */
         {
             psb_branch_report screened;
-            o.branch_no_memo = 0;
-            o.branch_no_screen = 0;
-            o.n_span = 15;
+            bo.no_memo = 0;
+            bo.no_screen = 0;
+            bo.n_span = 15;
             CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-            CHECK(psb_find_branches(&s, y0, t0, 16, ys, ts, &screened) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &screened) == PSB_SUCCESS);
             CHECK(screened.n_branches == 8 && pl_match_rays(ts, 8, rays, 8, 2, 1e-6) == 8);
             CHECK(screened.n_screened > 0 && screened.n_pc < memo.n_pc);
             /* one tangent per trial made or screened, beside the sweeps' */
-            CHECK(screened.n_tangents <= 1 + (2 * o.n_span + 28 + 1) * o.n_dir + screened.n_rand +
+            CHECK(screened.n_tangents <= 1 + (2 * bo.n_span + 28 + 1) * bo.n_dir + screened.n_rand +
                                             screened.n_pc + screened.n_screened);
             psb_solver_free(&s);
         }
@@ -686,12 +692,13 @@ static void test_random_lcp_batch(void)
     while (done < 40) {
         pl_problem p;
         psb_options o;
+        psb_branch_options bo;
         psb_branch_report br;
         int n_rays = pl_random_lcp(&p, 6, &st, 0, rays), found = 0, matched;
         if (!n_rays) break;
         done++;
-        paper_options(&o);
-        matched = branch_pl(&p, rays, n_rays, 0, &o, &found, &br, ys, ts);
+        paper_options(&o, &bo);
+        matched = branch_pl(&p, rays, n_rays, 0, &o, &bo, &found, &br, ys, ts);
         complete += matched == n_rays && found == n_rays;
         spurious += found > matched;
         with_cut += br.n_cut > 0;
@@ -720,15 +727,15 @@ static void test_sweep_length(void)
         for (way = 0; way < 2; way++)
             for (inc = 0; inc < n_rays; inc++) {
                 psb_problem prob;
-                psb_options o;
+                psb_branch_options bo;
                 psb_solver s;
                 psb_branch_report br;
                 int want;
-                memset(&o, 0, sizeof o);
-                o.n_span = way ? 15 : 0;
+                memset(&bo, 0, sizeof bo);
+                bo.n_span = way ? 15 : 0;
                 psb_problem_init(&prob, p.n, pl_residual, pl_jacobian, &p);
-                CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-                CHECK(pl_branch_from_ray(&s, rays, inc, y, ys, ts, &br) == 0);
+                CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+                CHECK(pl_branch_from_ray(&s, rays, inc, &bo, y, ys, ts, &br) == 0);
                 complete[way] += pl_match_rays(ts, br.n_branches, rays, n_rays, 11, 1e-6) == n_rays &&
                                  br.n_branches == n_rays;
                 if (way) {
@@ -768,8 +775,8 @@ static void test_pair_order(void)
     psb_problem_init(&prob, 4, pl_residual, pl_jacobian, NULL);
     for (way = 0; way < 2; way++) {
         memset(&o, 0, sizeof o);
-        o.paper_sweep = way;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        s.branch.paper_sweep = way; /* as a branching call with paper_sweep sets it */
         /* t_0 = e_0, t_1 = e_1, t_2 = (e_0 - 0.9 e_2) / |.|, t_3 = -(e_1 + 0.5 e_3) / |.|:
            |cos| (0,2) 0.74, (1,3) 0.89, (0,1) (1,2) (0,3) (2,3) 0 */
         memset(ts, 0, sizeof ts);
@@ -808,8 +815,8 @@ static void test_restart_centre(void)
     for (k = 0; k < 15; k++) ts[k] = k + 1;
     for (mode = PSB_RESTART_MIXED; mode <= PSB_RESTART_GLOBAL; mode++) {
         memset(&o, 0, sizeof o);
-        o.restart = mode;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        s.branch.restart = mode; /* as a branching call with this restart sets it */
         for (n_rand = 0; n_rand < 8; n_rand++) {
             const double *c;
             for (k = 0; k < 5; k++) t1[k] = keep[k] = -1 - k;
@@ -844,12 +851,12 @@ static int ray_of(const double *y, const double *rays, int n_rays, int np1)
 static int trial_ray(psb_solver *s, const double *y0, const double *dir, int record, const double *rays,
                      int n_rays)
 {
-    double y[PL_MAX_N + 1], t[PL_MAX_N + 1], h = s->opt.branch_h_init;
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1], h = s->branch.h_init;
     int np1 = s->np1_, iters, landed;
     memcpy(y, y0, (size_t)np1 * sizeof(double));
     memcpy(t, dir, (size_t)np1 * sizeof(double));
     s->path_on_ = record;
-    landed = psb__try_step_from(s, y, t, &h, s->opt.branch_trial_h_min, &iters, y0) == PSB_SUCCESS;
+    landed = psb__try_step_from(s, y, t, &h, s->branch.trial_h_min, &iters, y0) == PSB_SUCCESS;
     s->path_on_ = 0;
     return landed ? ray_of(y, rays, n_rays, np1) : -2;
 }
@@ -869,19 +876,21 @@ static void test_screen_equivalence(void)
         pl_problem p;
         psb_problem prob;
         psb_options o;
+        psb_branch_options bo;
         psb_solver s;
         int n_rays = pl_random_lcp(&p, 6, &st, 1, rays), dir, np1 = 7;
         CHECK(n_rays >= 3);
         psb_problem_init(&prob, p.n, pl_residual, pl_jacobian, &p);
-        paper_options(&o);
+        paper_options(&o, &bo);
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        s.branch = psb_branch_options_resolve(&bo, &s); /* as a branching call sets it */
         for (dir = 0; dir < 60; dir++) {
             double y0[PL_MAX_N + 1] = {0}, x[PL_MAX_N + 1], k[PL_MAX_N + 1], pred[PL_MAX_N + 1];
             double path[PSB__PATH_MAX * (PL_MAX_N + 1)];
             int i, j, ray_x, ray_k, n_path;
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
-            psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
+            psb__axpy_to(pred, y0, s.branch.h_init, x, np1);
             if (psb__sample_tangent(&s, pred, x, k, 0, NULL) != PSB_SUCCESS) continue;
             ray_x = trial_ray(&s, y0, x, 1, rays, n_rays);
             n_path = s.path_n_;
@@ -927,17 +936,19 @@ static void test_cut_claim(void)
         pl_problem p;
         psb_problem prob;
         psb_options o;
+        psb_branch_options bo;
         psb_solver s;
         int n_rays = pl_random_lcp(&p, n, &st, 1, rays);
         CHECK(n_rays >= 3);
         psb_problem_init(&prob, p.n, pl_residual, pl_jacobian, &p);
-        paper_options(&o);
+        paper_options(&o, &bo);
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        s.branch = psb_branch_options_resolve(&bo, &s); /* as a branching call sets it */
         for (a = 0; a < N_DIR; a++) {
             double y0[PL_MAX_N + 1] = {0}, x[PL_MAX_N + 1], pred[PL_MAX_N + 1], *k = ks + (size_t)made * np1;
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
-            psb__axpy_to(pred, y0, s.opt.branch_h_init, x, np1);
+            psb__axpy_to(pred, y0, s.branch.h_init, x, np1);
             if (psb__sample_tangent(&s, pred, x, k, 0, NULL) != PSB_SUCCESS) continue;
             ray[made] = trial_ray(&s, y0, k, 1, rays, n_rays); /* nothing known: never cut */
             n_path[made] = s.path_n_;
@@ -978,16 +989,16 @@ static int default_branch_run(pl_problem *pp, const double *rays, int n_rays, in
     int np1 = pp->n + 1;
     double y[PL_MAX_N + 1], ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
     psb_problem prob;
-    psb_options o;
+    psb_branch_options bo;
     psb_solver s;
     psb_branch_report br;
-    memset(&o, 0, sizeof o);
-    o.branch_h = branch_h;
-    o.n_span = n_span;
-    o.fd_central = fd == 2;
+    memset(&bo, 0, sizeof bo);
+    bo.h = branch_h;
+    bo.n_span = n_span;
     psb_problem_init(&prob, pp->n, pl_residual, fd ? NULL : pl_jacobian, pp);
-    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return 0;
-    CHECK(pl_branch_from_ray(&s, rays, incoming, y, ys, ts, &br) == 0);
+    prob.fd_central = fd == 2;
+    if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) return 0;
+    CHECK(pl_branch_from_ray(&s, rays, incoming, &bo, y, ys, ts, &br) == 0);
     /* with differences, the end ~(difference step) / (angle to the nearest piece boundary);
        central steps are 6.06e-6 */
     CHECK(psb_norm_w(&s, y) < (fd == 2 ? 1e-4 : fd ? 1e-5 : 1e-9));
@@ -1046,11 +1057,11 @@ static void test_jacobian_memo(void)
                     psb_result rt = pl_trace_to_kink(&s, y, ts[v], NULL);
                     CHECK(rt == PSB_STOPPED || rt == PSB_NONSMOOTH_END);
                 }
-                CHECK(psb_locate_end(&s, y, ts[v], NULL) == PSB_SUCCESS);
+                CHECK(psb_locate_end(&s, y, ts[v], NULL, NULL) == PSB_SUCCESS);
                 before_factor = s.stats.n_factor;
                 before_reused = s.stats.n_tangent_reused;
                 before_rejected = s.stats.n_rejected;
-                CHECK(psb_find_branches(&s, y, ts[v], PL_MAX_RAYS, ys[v], ts[v], &br[v]) == PSB_SUCCESS);
+                CHECK(psb_find_branches(&s, y, ts[v], NULL, PL_MAX_RAYS, ys[v], ts[v], &br[v]) == PSB_SUCCESS);
                 factor22[v] = s.stats.n_factor - before_factor;
                 reused[v] = s.stats.n_tangent_reused - before_reused;
                 rejected22[v] = s.stats.n_rejected - before_rejected;
@@ -1174,8 +1185,8 @@ static void test_curved_kinks(void)
                 for (i = 0; i < 5; i++) t[i] = -t[i];
             CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
             CHECK(psb_norm_w(&s, y) < 1e-5);
-            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
-            CHECK(psb_find_branches(&s, y, t, 32, ys, ts, &br) == PSB_SUCCESS);
+            CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y, t, NULL, 32, ys, ts, &br) == PSB_SUCCESS);
             for (k = 0; k < br.n_branches; k++) {
                 curved_res(ys + k * 5, h, &ck);
                 for (i = 0; i < 4; i++) solved &= fabs(h[i]) < 1e-9;
@@ -1259,27 +1270,26 @@ static void test_fd_branching(void)
            in the weighted norm */
         {
             double y[5] = {1e-4, 1e-4, 0, 0, 1e-4}, t[5] = {-1, -1, 0, 0, -1};
+            psb_branch_options bo;
             memset(&o, 0, sizeof o);
+            memset(&bo, 0, sizeof bo);
             psb_problem_init(&prob, 4, pl_residual, NULL, &p);
             CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+            CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
             CHECK(psb_norm_w(&s, y) < 1e-6);
-            CHECK(s.opt.branch_h == 1e4 * s.opt.fd_step && s.opt.branch_h_min == s.opt.branch_h / 16384);
+            CHECK(s.branch.h == 1e4 * s.prob.fd_step && s.branch.h_min == s.branch.h / 16384);
             y[1] = 50; /* not a solution: only the scale matters here */
-            psb_locate_end(&s, y, t, NULL);
-            CHECK(s.opt.branch_h == s.opt.branch_h_init / 8); /* 10^4 steps of 50 fd_step: capped */
-            psb_solver_free(&s);
-            o.branch_h = 3e-6; /* the caller's value stands */
+            psb_locate_end(&s, y, t, NULL, NULL);
+            CHECK(s.branch.h == s.branch.h_init / 8); /* 10^4 steps of 50 fd_step: capped */
+            bo.h = 3e-6; /* the caller's value stands */
             y[0] = y[1] = y[4] = 1e-4;
-            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
-            CHECK(s.opt.branch_h == 3e-6 && s.opt.branch_h_min == 3e-6 / 16384);
+            CHECK(psb_locate_end(&s, y, t, &bo, NULL) == PSB_SUCCESS);
+            CHECK(s.branch.h == 3e-6 && s.branch.h_min == 3e-6 / 16384);
             psb_solver_free(&s);
         }
-        o.branch_h = 0;
         psb_problem_init(&prob, 4, pl_residual, pl_jacobian, &p);
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-        CHECK(s.opt.branch_h == s.opt.h_min);
+        CHECK(s.branch.h == s.opt.h_min);
         psb_solver_free(&s);
     }
 
@@ -1291,26 +1301,26 @@ static void test_fd_branching(void)
     {
         shifted_pl sp;
         psb_problem prob;
-        psb_options o;
+        psb_branch_options bo;
         int i, n_ok = 0;
         a = pl_crossing_kinks(&sp.p, 3, rays);
         for (i = 0; i < 4; i++) sp.c[i] = 5 * (1 + 0.37 * i) * (i % 2 ? -1 : 1);
         CHECK(a == 8);
-        memset(&o, 0, sizeof o);
-        o.branch_h = 1000 * 1.4901161193847656e-08; /* as at the origin; the failure needs it exact */
+        memset(&bo, 0, sizeof bo);
+        bo.h = 1000 * 1.4901161193847656e-08; /* as at the origin; the failure needs it exact */
         psb_problem_init(&prob, 3, shifted_res, NULL, &sp);
         for (inc = 0; inc < a; inc++) {
             psb_solver s;
             psb_branch_report br;
             double y[4], t[4], ys[8 * 4], ts[8 * 4];
-            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
             for (i = 0; i < 4; i++) {
                 y[i] = sp.c[i] + 0.5 * rays[inc * 4 + i];
                 t[i] = -rays[inc * 4 + i];
             }
             CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
-            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
-            CHECK(psb_find_branches(&s, y, t, 8, ys, ts, &br) == PSB_SUCCESS);
+            CHECK(psb_locate_end(&s, y, t, &bo, NULL) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y, t, &bo, 8, ys, ts, &br) == PSB_SUCCESS);
             n_ok += pl_match_rays(ts, br.n_branches, rays, a, 4, 1e-6) == 8 && br.n_branches == 8;
             psb_solver_free(&s);
         }
@@ -1341,6 +1351,7 @@ static void test_determinism(void)
     pl_problem p;
     double rays[PL_MAX_RAYS * 4], ys1[PL_MAX_RAYS * 4], ts1[PL_MAX_RAYS * 4], ys2[PL_MAX_RAYS * 4], ts2[PL_MAX_RAYS * 4];
     psb_options o;
+    psb_branch_options bo;
     psb_branch_report b1, b2;
     int a, found1, found2;
     memset(&p, 0, sizeof p);
@@ -1348,13 +1359,13 @@ static void test_determinism(void)
     p.m[0] = -1; p.m[4] = -1; p.m[8] = -1;
     p.q[0] = 1; p.q[1] = 1; p.q[2] = 1;
     a = pl_enumerate_rays(&p, 1.0, 1e-6, rays, PL_MAX_RAYS);
-    paper_options(&o);
-    o.n_span = 30; /* long enough to need random spans */
+    paper_options(&o, &bo);
+    bo.n_span = 30; /* long enough to need random spans */
     o.seed = 42;
     memset(ys1, 0, sizeof ys1); memset(ts1, 0, sizeof ts1);
     memset(ys2, 0, sizeof ys2); memset(ts2, 0, sizeof ts2);
-    branch_pl(&p, rays, a, 0, &o, &found1, &b1, ys1, ts1);
-    branch_pl(&p, rays, a, 0, &o, &found2, &b2, ys2, ts2);
+    branch_pl(&p, rays, a, 0, &o, &bo, &found1, &b1, ys1, ts1);
+    branch_pl(&p, rays, a, 0, &o, &bo, &found2, &b2, ys2, ts2);
     CHECK(b1.n_rand > 0);
     CHECK(found1 == found2 && b1.n_pc == b2.n_pc && b1.n_rand == b2.n_rand);
     CHECK(memcmp(ys1, ys2, sizeof ys1) == 0 && memcmp(ts1, ts2, sizeof ts1) == 0);
@@ -1425,8 +1436,12 @@ static void test_failures(void)
     o.c_diff = 1;
     CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
     memset(&o, 0, sizeof o);
-    o.restart = 7;
+    o.switch_n_dir = -1;
     CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+    memset(&o, 0, sizeof o);
+    p.fd_step = 1; /* a problem's difference step: checked with the options */
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+    p.fd_step = 0;
     memset(&o, 0, sizeof o);
     {
         double wbad[2] = {1, -1};
@@ -1522,9 +1537,10 @@ static void test_solve_at_param(void)
 static void test_options_resolve(void)
 {
     psb_options d = psb_options_resolve(NULL);
-    CHECK(d.kappa == 1 && d.h_init == 1e-2 && d.h_min == 1e-6 && d.c_diff == 0.99999);
-    CHECK(d.n_dir == 20 && d.n_span == 15 && d.branch_h == d.h_min);
-    CHECK(d.branch_h_min == d.branch_h / 16384 && d.branch_h_init == d.h_init);
+    psb_branch_options b = psb_branch_options_resolve(NULL, NULL);
+    CHECK(d.kappa == 1 && d.h_init == 1e-2 && d.h_min == 1e-6 && d.c_diff == 0.99999 && d.switch_n_dir == 20);
+    CHECK(b.n_dir == 20 && b.n_span == 15 && b.n_span_max == 60 && b.h == d.h_min);
+    CHECK(b.h_min == b.h / 16384 && b.h_init == d.h_init && b.trial_h_min == d.h_min);
 }
 
 int main(void)

@@ -265,10 +265,10 @@ static void test_branch_point_1d(int kind, psb_linear linear)
     CHECK_NEAR(fabs(rc.k[0][0]), 1, 1e-8);   /* the kernel (1, 0) */
     CHECK_NEAR(rc.k[0][1], 0, 1e-8);
     /* the switch from the located point */
-    k = psb_branch_point_switch(&s, rc.y[0], rc.t[0], rc.k[0], 8, ys, ts, &br);
+    k = psb_branch_point_switch(&s, rc.y[0], rc.t[0], rc.k[0], NULL, 8, ys, ts, &br);
     CHECK(k == PSB_SUCCESS);
     CHECK(br.n_branches == 4);
-    r = s.opt.branch_h_init;
+    r = s.branch.h_init;
     CHECK(ts[0] < -0.0 + 1e-8 && ts[1] < -1 + 1e-8); /* branch 0: backwards along x = 0 */
     CHECK(ts[3] > 1 - 1e-8);                         /* branch 1: forwards */
     for (k = 0; k < br.n_branches && k < 8; k++) {
@@ -324,7 +324,7 @@ static void test_two_pitchforks(psb_linear linear)
         CHECK_NEAR(rc.sp[k].param, (double)k, 1e-10);
         CHECK(rc.sp[k].precision <= 1e-10);
         CHECK_NEAR(fabs(rc.k[k][axis]), 1, 1e-8);
-        CHECK(psb_branch_point_switch(&s, rc.y[k], rc.t[k], rc.k[k], 8, ys, ts, &br) == PSB_SUCCESS);
+        CHECK(psb_branch_point_switch(&s, rc.y[k], rc.t[k], rc.k[k], NULL, 8, ys, ts, &br) == PSB_SUCCESS);
         CHECK(br.n_branches == 4);
         for (b = 2; b < br.n_branches && b < 8; b++) {
             const double *yb = ys + 3 * b, *tb = ts + 3 * b;
@@ -365,7 +365,7 @@ static void test_four_lines(psb_linear linear)
     CHECK(rc.n == 1 && rc.sp[0].kind == PSB_SPECIAL_BRANCH);
     if (rc.n != 1) return;
     CHECK(fabs(rc.y[0][1]) <= 1e-10); /* a triple zero of det, located by its sign */
-    CHECK(psb_branch_point_switch(&s, rc.y[0], rc.t[0], rc.k[0], 20, ys, ts, &br) == PSB_SUCCESS);
+    CHECK(psb_branch_point_switch(&s, rc.y[0], rc.t[0], rc.k[0], NULL, 20, ys, ts, &br) == PSB_SUCCESS);
     CHECK(br.n_branches == 8);
     for (k = 0; k < br.n_branches && k < 20; k++) {
         /* on one of the lines, along it, away from the point */
@@ -412,7 +412,7 @@ static void test_three_pitchforks(psb_linear linear)
     CHECK(rc.n == 1 && rc.sp[0].kind == PSB_SPECIAL_BRANCH);
     if (rc.n != 1) return;
     CHECK(fabs(rc.y[0][3]) <= 1e-10);
-    CHECK(psb_branch_point_switch(&s, rc.y[0], rc.t[0], rc.k[0], 40, ys, ts, &br) == PSB_SUCCESS);
+    CHECK(psb_branch_point_switch(&s, rc.y[0], rc.t[0], rc.k[0], NULL, 40, ys, ts, &br) == PSB_SUCCESS);
     CHECK(br.n_branches == 28);
     CHECK(br.n_tangents == 3); /* the kernel besides t */
     for (k = 0; k < br.n_branches && k < 40; k++) {
@@ -525,7 +525,7 @@ static void test_crossing_circles(psb_linear linear)
                 CHECK(err <= 2 * rc.sp[k].precision + 1e-14); /* a true bound */
                 if (err > worst) worst = err;
                 if (rc.sp[k].kind != PSB_SPECIAL_BRANCH) continue;
-                CHECK(psb_branch_point_switch(&s, rc.y[k], rc.t[k], rc.k[k], 8, ys, ts, &br) == PSB_SUCCESS);
+                CHECK(psb_branch_point_switch(&s, rc.y[k], rc.t[k], rc.k[k], NULL, 8, ys, ts, &br) == PSB_SUCCESS);
                 CHECK(br.n_branches == 4);
                 if (br.n_branches != 4) ok_switch = 0;
                 for (b = 0; b < br.n_branches && b < 8; b++) {
@@ -534,7 +534,7 @@ static void test_crossing_circles(psb_linear linear)
                     out[0] = yb[0] - rc.y[k][0];
                     out[1] = yb[1] - rc.y[k][1];
                     CHECK(fmin(on_a, on_b) < 1e-10);
-                    CHECK_NEAR(sqrt(out[0] * out[0] + out[1] * out[1]), s.opt.branch_h_init, 1e-9);
+                    CHECK_NEAR(sqrt(out[0] * out[0] + out[1] * out[1]), s.branch.h_init, 1e-9);
                     circle_tangent(yb, on_a < on_b ? c : -c, out, ta);
                     CHECK(unit_err(tb, ta, 2) < 1e-8);
                     /* branches 0 and 1: the traced circle, backwards and forwards; 2 and 3
@@ -889,9 +889,9 @@ static void test_bad_input(void)
     to.n_events = -1;
     CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_ERR_SIZE);
     CHECK(y[0] == 1 && y[1] == 0 && t[0] == 0 && t[1] == 1);
-    CHECK(psb_branch_point_switch(&s, y, t, NULL, 4, ys, ts, NULL) == PSB_ERR_NULL);
-    CHECK(psb_branch_point_switch(&s, y, t, k, 0, ys, ts, NULL) == PSB_ERR_SIZE);
-    CHECK(psb_branch_point_switch(&s, y, t, t, 4, ys, ts, NULL) == PSB_ERR_INPUT);
+    CHECK(psb_branch_point_switch(&s, y, t, NULL, NULL, 4, ys, ts, NULL) == PSB_ERR_NULL);
+    CHECK(psb_branch_point_switch(&s, y, t, k, NULL, 0, ys, ts, NULL) == PSB_ERR_SIZE);
+    CHECK(psb_branch_point_switch(&s, y, t, t, NULL, 4, ys, ts, NULL) == PSB_ERR_INPUT);
     psb_solver_free(&s);
     setup(&s, &pr, P_CIRCLE, PSB_LINEAR_USER, NULL);
     trace_options(&to, &rc, 2, PSB_DETECT_PC1);

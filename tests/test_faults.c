@@ -214,6 +214,7 @@ static outcome pipeline(faulty *f, int backend, const double *rays, int n_rays, 
     double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
     psb_problem prob;
     psb_options o;
+    psb_branch_options bo;
     psb_solver s;
     psb_branch_report br;
     psb_trace_report tr;
@@ -221,8 +222,10 @@ static outcome pipeline(faulty *f, int backend, const double *rays, int n_rays, 
     memset(&out, 0, sizeof out);
     out.untouched = 1;
     memset(&o, 0, sizeof o);
-    o.n_span = 2; /* short runs that still find the four rays */
-    o.n_dir = 12;
+    memset(&bo, 0, sizeof bo);
+    bo.n_span = 2; /* short runs that still find the four rays */
+    bo.n_dir = 12;
+    o.switch_n_dir = 12; /* the count the switch's sweep had before 0.11.0 (then n_dir) */
     problem_for(&prob, f, backend);
     if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) {
         out.code = PSB_ERR_NOMEM;
@@ -259,7 +262,7 @@ static outcome pipeline(faulty *f, int backend, const double *rays, int n_rays, 
     out.stage = 3;
     memcpy(y_in, y, sizeof y);
     memcpy(t_in, t, sizeof t);
-    out.code = psb_locate_end(&s, y, t, NULL);
+    out.code = psb_locate_end(&s, y, t, &bo, NULL);
     if (out.code != PSB_SUCCESS) {
         out.untouched = same(y, y_in, np1) && same(t, t_in, np1);
         goto done;
@@ -267,7 +270,7 @@ static outcome pipeline(faulty *f, int backend, const double *rays, int n_rays, 
     out.stage = 4;
     memcpy(y_in, y, sizeof y);
     memcpy(t_in, t, sizeof t);
-    out.code = psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts, &br);
+    out.code = psb_find_branches(&s, y, t, &bo, PL_MAX_RAYS, ys, ts, &br);
     out.untouched = same(y, y_in, np1) && same(t, t_in, np1);
     out.n_branches = br.n_branches;
     out.n_failed = br.n_failed;
@@ -451,10 +454,10 @@ static void test_failures_reported(void)
     /* NaN from every residual: was PSB_SUCCESS from both, 1 branch and an empty message */
     psb_problem_init(&prob, 2, nan_res, pl_jacobian, &p);
     CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_NONFINITE);
+    CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_ERR_NONFINITE);
     CHECK(strstr(psb_solver_message(&s), "NaN") != NULL);
     CHECK(same(y, y0, 3) && same(t, t0, 3));
-    r = psb_find_branches(&s, y, t, 8, ys, ts, &br);
+    r = psb_find_branches(&s, y, t, NULL, 8, ys, ts, &br);
     CHECK(r == PSB_ERR_NONFINITE);
     CHECK(br.n_failed > 0 && br.n_failed == br.n_failed_nonfinite && br.n_failed_callback == 0);
     CHECK(psb_solver_message(&s)[0] != 0);
@@ -468,7 +471,7 @@ static void test_failures_reported(void)
     memcpy(y0, y, sizeof y);
     CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_SINGULAR);
     CHECK(same(y, y0, 3) && same(t, t0, 3)); /* failed before a step: untouched */
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_SINGULAR);
+    CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_ERR_SINGULAR);
     CHECK(psb_switch_tangent(&s, y, t) == PSB_ERR_SINGULAR);
     CHECK(same(y, y0, 3) && same(t, t0, 3));
     psb_solver_free(&s);
@@ -480,8 +483,8 @@ static void test_failures_reported(void)
     prob.solver.solve = never_solve;
     CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
     CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_SINGULAR);
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_SINGULAR);
-    CHECK(psb_find_branches(&s, y, t, 8, ys, ts, &br) == PSB_ERR_SINGULAR);
+    CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_ERR_SINGULAR);
+    CHECK(psb_find_branches(&s, y, t, NULL, 8, ys, ts, &br) == PSB_ERR_SINGULAR);
     psb_solver_free(&s);
 }
 
@@ -601,22 +604,38 @@ static void test_misuse(void)
     CHECK(psb_step(&s, y, t, &h) == PSB_ERR_NULL);
     CHECK(psb_switch_tangent(&s, y, t) == PSB_ERR_NULL);
     CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_NULL);
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_NULL);
-    CHECK(psb_find_branches(&s, y, t, 1, ys, ts, NULL) == PSB_ERR_NULL);
+    CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_ERR_NULL);
+    CHECK(psb_find_branches(&s, y, t, NULL, 1, ys, ts, NULL) == PSB_ERR_NULL);
     psb_solver_free(&s); /* twice: harmless */
     memset(&s, 0, sizeof s); /* never initialised */
     CHECK(psb_tangent(&s, y, NULL, t) == PSB_ERR_NULL && isnan(psb_norm_w(&s, y)));
 }
 
+/* Whether two sets of branching options are equal field by field (no memcmp: padding);
+   with skip_h, h and h_min aside (they follow the point with differences). */
+static int same_branch_options(const psb_branch_options *a, const psb_branch_options *b, int skip_h)
+{
+    return a->as_printed == b->as_printed && (skip_h || (a->h == b->h && a->h_min == b->h_min)) &&
+           a->h_fd_steps == b->h_fd_steps && a->h_init == b->h_init && a->trial_h_min == b->trial_h_min &&
+           a->n_dir == b->n_dir && a->n_span == b->n_span && a->n_span_max == b->n_span_max &&
+           a->patience == b->patience && a->max_pc == b->max_pc && a->no_memo == b->no_memo &&
+           a->no_screen == b->no_screen && a->paper_sweep == b->paper_sweep && a->restart == b->restart;
+}
+
 /* Item 2: option arithmetic. Every field NaN or Inf is rejected by name; counts have upper
-   limits that keep every product within an int and every loop bounded. */
+   limits that keep every product within an int and every loop bounded. psb_options at
+   psb_solver_init, the problem's fd_step there too, psb_branch_options at each branching
+   call, which then leaves y, t, its outputs and s->branch as they were. */
 static void test_option_limits(void)
 {
     pl_problem p;
-    double rays[PL_MAX_RAYS * 3];
+    double rays[PL_MAX_RAYS * 3], y[3] = {1e-3, 1e-3, 1e-3}, t[3] = {-1, -1, -1}, y0[3], t0[3];
+    double ys[4 * 3], ts[4 * 3], ys0[4 * 3], prec = 7;
     psb_problem prob;
     psb_solver s;
     psb_options o;
+    psb_branch_options bo, before;
+    psb_branch_report br;
     size_t k;
     static const struct {
         size_t offset;
@@ -625,12 +644,16 @@ static void test_option_limits(void)
 #define FIELD(f) {offsetof(psb_options, f), #f}
         FIELD(kappa), FIELD(h_init), FIELD(h_min), FIELD(h_max), FIELD(h_inc), FIELD(h_dec),
         FIELD(tol_residual), FIELD(tol_correction), FIELD(c_min), FIELD(switch_delta_min),
-        FIELD(switch_delta_max), FIELD(fd_step), FIELD(c_diff), FIELD(branch_h),
-        FIELD(branch_h_fd_steps), FIELD(branch_h_min), FIELD(branch_h_init), FIELD(branch_trial_h_min),
+        FIELD(switch_delta_max), FIELD(c_diff),
+#undef FIELD
+    }, bfields[] = {
+#define FIELD(f, name) {offsetof(psb_branch_options, f), name}
+        FIELD(h, "h, h_min"), FIELD(h_fd_steps, "h_fd_steps"), FIELD(h_min, "h_min"),
+        FIELD(h_init, "h_init"), FIELD(trial_h_min, "trial_h_min"),
 #undef FIELD
     };
     example_problem(&p, rays);
-    psb_problem_init(&prob, 2, pl_residual, NULL, &p); /* differences: branch_h_fd_steps counts */
+    psb_problem_init(&prob, 2, pl_residual, NULL, &p); /* differences: h_fd_steps counts */
     for (k = 0; k < sizeof fields / sizeof fields[0]; k++) {
         int inf;
         for (inf = 0; inf < 2; inf++) {
@@ -640,6 +663,11 @@ static void test_option_limits(void)
             CHECK(strstr(psb_solver_message(&s), fields[k].name) != NULL);
         }
     }
+    prob.fd_step = NAN;
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "fd_step"));
+    prob.fd_step = 1;
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "fd_step"));
+    prob.fd_step = 0;
 #define REJECTED(set, name)                                                                        \
     do {                                                                                           \
         memset(&o, 0, sizeof o);                                                                   \
@@ -647,49 +675,93 @@ static void test_option_limits(void)
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_ERR_OPTIONS);                                 \
         CHECK(strstr(psb_solver_message(&s), name) != NULL);                                       \
     } while (0)
-    REJECTED(o.n_span = 600000000, "n_span"); /* 4 n_span overflowed: PSB_SUCCESS, 1 branch */
-    REJECTED(o.n_span = PSB_MAX_SPAN_LIMIT + 1, "n_span");
-    REJECTED(o.n_span_max = PSB_MAX_SPAN_LIMIT + 1, "n_span_max");
-    REJECTED((o.n_span = 20, o.n_span_max = 19), "n_span_max");
     REJECTED(o.h_dec = 1 - 1e-12, "h_dec"); /* never finished */
-    REJECTED(o.n_dir = INT_MAX, "n_dir");
     REJECTED(o.max_iter = INT_MAX, "max_iter");
     REJECTED(o.iter_threshold = PSB_MAX_ITER_LIMIT + 1, "iter_threshold");
     REJECTED(o.h_inc = 1e300, "h_inc");
-    REJECTED(o.branch_patience = -1, "branch_patience");
-    REJECTED(o.branch_max_pc = -1, "branch_max_pc");
+    REJECTED(o.switch_n_dir = INT_MAX, "switch_n_dir");
 #undef REJECTED
     memset(&o, 0, sizeof o); /* the limits themselves are valid */
-    o.n_span = o.n_span_max = PSB_MAX_SPAN_LIMIT;
-    o.n_dir = PSB_MAX_DIR_LIMIT;
+    o.switch_n_dir = PSB_MAX_DIR_LIMIT;
     o.max_iter = o.iter_threshold = PSB_MAX_ITER_LIMIT;
     o.h_dec = 0.9;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     psb_solver_free(&s);
+
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    memcpy(y0, y, sizeof y);
+    memcpy(t0, t, sizeof t);
+    for (k = 0; k < 4 * 3; k++) ys[k] = ts[k] = ys0[k] = 7;
+    before = s.branch;
+#define BRANCH_REJECTED(set, name)                                                                 \
+    do {                                                                                           \
+        memset(&bo, 0, sizeof bo);                                                                 \
+        set;                                                                                       \
+        CHECK(psb_locate_end(&s, y, t, &bo, &prec) == PSB_ERR_OPTIONS);                           \
+        CHECK(strstr(psb_solver_message(&s), name) != NULL);                                       \
+        CHECK(psb_find_branches(&s, y, t, &bo, 4, ys, ts, &br) == PSB_ERR_OPTIONS);               \
+        CHECK(psb_branch_point_switch(&s, y, t, t, &bo, 4, ys, ts, &br) == PSB_ERR_OPTIONS);      \
+        CHECK(strstr(psb_solver_message(&s), name) != NULL && br.n_branches == 0);                 \
+        CHECK(same(y, y0, 3) && same(t, t0, 3) && same(ys, ys0, 12) && same(ts, ys0, 12) && prec == 7); \
+        CHECK(same_branch_options(&s.branch, &before, 0));                                        \
+    } while (0)
+    for (k = 0; k < sizeof bfields / sizeof bfields[0]; k++) {
+        BRANCH_REJECTED(*(double *)((char *)&bo + bfields[k].offset) = NAN, bfields[k].name);
+        BRANCH_REJECTED(*(double *)((char *)&bo + bfields[k].offset) = INFINITY, bfields[k].name);
+    }
+    BRANCH_REJECTED(bo.n_span = 600000000, "n_span"); /* 4 n_span overflowed: PSB_SUCCESS, 1 branch */
+    BRANCH_REJECTED(bo.n_span = PSB_MAX_SPAN_LIMIT + 1, "n_span");
+    BRANCH_REJECTED(bo.n_span_max = PSB_MAX_SPAN_LIMIT + 1, "n_span_max");
+    BRANCH_REJECTED((bo.n_span = 20, bo.n_span_max = 19), "n_span_max");
+    BRANCH_REJECTED(bo.n_dir = INT_MAX, "n_dir");
+    BRANCH_REJECTED(bo.n_dir = -1, "n_dir");
+    BRANCH_REJECTED(bo.patience = -1, "patience");
+    BRANCH_REJECTED(bo.max_pc = -1, "max_pc");
+    BRANCH_REJECTED(bo.restart = 7, "restart");
+    BRANCH_REJECTED((bo.h = 1e-6, bo.h_min = 1e-6), "h, h_min");
+    BRANCH_REJECTED(bo.as_printed = 2, "as_printed");
+    BRANCH_REJECTED((bo.as_printed = 1, bo.restart = PSB_RESTART_GLOBAL), "as_printed");
+#undef BRANCH_REJECTED
+    memset(&bo, 0, sizeof bo); /* the limits themselves are valid */
+    bo.n_span = bo.n_span_max = PSB_MAX_SPAN_LIMIT;
+    bo.n_dir = PSB_MAX_DIR_LIMIT;
+    bo.as_printed = 1;
+    bo.restart = PSB_RESTART_PAPER;
+    CHECK(psb_locate_end(&s, y, t, &bo, NULL) != PSB_ERR_OPTIONS);
+    CHECK(s.branch.n_span == PSB_MAX_SPAN_LIMIT && s.branch.n_dir == PSB_MAX_DIR_LIMIT && s.branch.as_printed == 1);
+    psb_solver_free(&s);
 }
 
-/* Issue 21 item 4: psb_options_resolve(_for) reports what the solver uses, and a resolved set
-   given back to psb_solver_init runs the same, bit for bit. */
+/* Issue 21 item 4: psb_branch_options_resolve reports what the branching calls use (adaptive
+   fields say so), s->branch after a call holds it (h and h_min: their values at the point
+   when they follow it), and a resolved set given back runs the same, bit for bit. */
 static void test_resolve_truthful(void)
 {
     pl_problem p;
     double rays[PL_MAX_RAYS * 3];
     psb_problem prob;
-    psb_options d = psb_options_resolve(NULL), o;
+    psb_options o;
+    psb_branch_options d = psb_branch_options_resolve(NULL, NULL), b;
     int fd, way;
     example_problem(&p, rays);
-    CHECK(d.n_span == 15 && d.n_span_max == 60 && d.branch_h == d.h_min && d.branch_h_fd_steps == 0);
+    CHECK(d.n_span == 15 && d.n_span_max == 60 && d.h == 1e-6 && d.h_min == 1e-6 / 16384 && d.h_fd_steps == 0);
+    CHECK(d.h_init == 1e-2 && d.trial_h_min == 1e-6 && d.n_dir == 20 && d.restart == PSB_RESTART_MIXED);
+    memset(&b, 0, sizeof b);
+    b.n_span = 15;
+    d = psb_branch_options_resolve(&b, NULL); /* set by the caller: a fixed length */
+    CHECK(d.n_span == 15 && d.n_span_max == 15);
+    b.n_span = 0;
+    b.no_memo = 1; /* the length adapts only with the memo */
+    d = psb_branch_options_resolve(&b, NULL);
+    CHECK(d.n_span == 15 && d.n_span_max == 15);
+    memset(&b, 0, sizeof b);
+    b.as_printed = 1; /* the printed algorithm: its four switches, and so a fixed length */
+    d = psb_branch_options_resolve(&b, NULL);
+    CHECK(d.as_printed == 1 && d.paper_sweep == 1 && d.no_memo == 1 && d.no_screen == 1);
+    CHECK(d.restart == PSB_RESTART_PAPER && d.n_span == 15 && d.n_span_max == 15);
     memset(&o, 0, sizeof o);
-    o.n_span = 15;
-    d = psb_options_resolve(&o); /* set by the caller: a fixed length */
-    CHECK(d.n_span == 15 && d.n_span_max == 15);
-    o.n_span = 0;
-    o.branch_no_memo = 1; /* the length adapts only with the memo */
-    d = psb_options_resolve(&o);
-    CHECK(d.n_span == 15 && d.n_span_max == 15);
-    psb_problem_init(&prob, 2, pl_residual, NULL, &p);
-    d = psb_options_resolve_for(NULL, &prob); /* differences: branch_h follows the point */
-    CHECK(d.branch_h == 0 && d.branch_h_min == 0 && d.branch_h_fd_steps == 1e4);
+    o.h_min = 1e-7;
+    o.h_init = 1e-3;
     for (fd = 0; fd < 2; fd++) {
         psb_branch_report br[2];
         double ts[2][PL_MAX_RAYS * 3];
@@ -697,18 +769,100 @@ static void test_resolve_truthful(void)
         for (way = 0; way < 2; way++) {
             psb_solver s;
             double y[3], t[3], ys[PL_MAX_RAYS * 3];
-            memset(&o, 0, sizeof o);
-            if (way) o = psb_options_resolve_for(&o, &prob);
             CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            /* the continuation's h_min and h_init, and the Jacobian: differences make h follow
+               the point */
+            d = psb_branch_options_resolve(NULL, &s);
+            CHECK(d.h_init == 1e-3 && d.trial_h_min == 1e-7);
+            CHECK(fd ? d.h == 0 && d.h_min == 0 && d.h_fd_steps == 1e4
+                     : d.h == 1e-7 && d.h_min == 1e-7 / 16384 && d.h_fd_steps == 0);
+            CHECK(same_branch_options(&s.branch, &d, 0)); /* before any call: the defaults */
+            memset(&b, 0, sizeof b);
+            b.n_dir = 16;
+            if (way) b = psb_branch_options_resolve(&b, &s);
+            d = psb_branch_options_resolve(&b, &s);
             pl_start_on_ray(3, rays, 0, y, t);
             CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
-            CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
-            CHECK(psb_find_branches(&s, y, t, PL_MAX_RAYS, ys, ts[way], &br[way]) == PSB_SUCCESS);
+            CHECK(psb_locate_end(&s, y, t, &b, NULL) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y, t, &b, PL_MAX_RAYS, ys, ts[way], &br[way]) == PSB_SUCCESS);
+            /* what the call used: the resolved set; with differences h and h_min at the point,
+               10^4 difference steps (1.49e-4 at this scale), within [h_min, h_init / 8] */
+            CHECK(same_branch_options(&s.branch, &d, fd) && s.branch.n_dir == 16);
+            if (fd) CHECK(s.branch.h > 1e-7 && s.branch.h <= 1e-3 / 8 && s.branch.h_min == s.branch.h / 16384);
             psb_solver_free(&s);
         }
         CHECK(br[0].n_branches == 4 && br[1].n_branches == 4 && br[0].n_pc == br[1].n_pc &&
               br[0].n_span == br[1].n_span && same(ts[0], ts[1], 4 * 3));
     }
+}
+
+/* One branching run entering along ray `incoming` with bo (NULL: defaults). */
+static int branch_run(pl_problem *pp, int fd, const double *rays, int incoming, const psb_branch_options *bo,
+                      double *ys, double *ts, psb_branch_report *br, psb_branch_options *used)
+{
+    psb_problem prob;
+    psb_solver s;
+    double y[PL_MAX_N + 1];
+    int r;
+    psb_problem_init(&prob, pp->n, pl_residual, fd ? NULL : pl_jacobian, pp);
+    if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) return -1;
+    r = pl_branch_from_ray(&s, rays, incoming, bo, y, ys, ts, br);
+    *used = s.branch;
+    psb_solver_free(&s);
+    return r;
+}
+
+/* as_printed = 1 is the four switches set one by one, bit for bit (branches, n_pc, spans);
+   and it acts: none of the library's savings (memo, screen) is made, which the defaults make.
+   A NULL bo is a zeroed one, also with differences (h following the point). Random LCPs,
+   N = 4, every ray entered. */
+static void test_as_printed_and_null(void)
+{
+    static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], ys[2][PL_MAX_RAYS * (PL_MAX_N + 1)],
+        ts[2][PL_MAX_RAYS * (PL_MAX_N + 1)];
+    unsigned long long st = 2021;
+    psb_branch_options printed, separate, zero, used[2];
+    int problem, inc, runs = 0, identical = 0, saved_default = 0, saved_printed = 0, fd;
+    memset(&printed, 0, sizeof printed);
+    printed.as_printed = 1;
+    memset(&separate, 0, sizeof separate);
+    separate.paper_sweep = separate.no_memo = separate.no_screen = 1;
+    separate.restart = PSB_RESTART_PAPER;
+    memset(&zero, 0, sizeof zero);
+    for (problem = 0; problem < 4; problem++) {
+        pl_problem p;
+        int n_rays = pl_random_lcp(&p, 4, &st, 1, rays), np1 = 5;
+        CHECK(n_rays >= 3);
+        for (inc = 0; inc < n_rays; inc++) {
+            psb_branch_report a, b, c;
+            size_t len;
+            runs++;
+            CHECK(branch_run(&p, 0, rays, inc, &printed, ys[0], ts[0], &a, &used[0]) == 0);
+            CHECK(branch_run(&p, 0, rays, inc, &separate, ys[1], ts[1], &b, &used[1]) == 0);
+            len = (size_t)a.n_branches * (size_t)np1;
+            identical += a.n_branches == b.n_branches && a.n_pc == b.n_pc && a.n_rand == b.n_rand &&
+                         a.n_span == b.n_span && a.n_tangents == b.n_tangents && same(ys[0], ys[1], (int)len) &&
+                         same(ts[0], ts[1], (int)len);
+            CHECK(used[0].as_printed == 1 && used[1].as_printed == 0);
+            used[1].as_printed = 1;
+            CHECK(same_branch_options(&used[0], &used[1], 0)); /* the same resolved switches */
+            saved_printed += a.n_memo + a.n_screened + a.n_cut > 0;
+            CHECK(branch_run(&p, 0, rays, inc, NULL, ys[1], ts[1], &c, &used[1]) == 0);
+            saved_default += c.n_memo + c.n_screened > 0;
+        }
+        for (fd = 0; fd < 2; fd++) { /* NULL and zeroed options: one run, bit for bit */
+            psb_branch_report a, b;
+            CHECK(branch_run(&p, fd, rays, 0, NULL, ys[0], ts[0], &a, &used[0]) == 0);
+            CHECK(branch_run(&p, fd, rays, 0, &zero, ys[1], ts[1], &b, &used[1]) == 0);
+            CHECK(a.n_branches == b.n_branches && a.n_pc == b.n_pc && a.n_tangents == b.n_tangents);
+            CHECK(same(ys[0], ys[1], a.n_branches * np1) && same(ts[0], ts[1], a.n_branches * np1));
+            CHECK(same_branch_options(&used[0], &used[1], 0));
+        }
+    }
+    printf("  as_printed: %d of %d runs identical to the four switches set alone; savings made in %d "
+           "runs as printed, %d with the defaults\n", identical, runs, saved_printed, saved_default);
+    CHECK(runs >= 12 && identical == runs);
+    CHECK(saved_printed == 0 && saved_default == runs);
 }
 
 /* Algorithm 2.1 with differences recomputes the incoming tangent 16 branch_h behind the end
@@ -741,10 +895,10 @@ static void test_fd_repair_failure(void)
     memcpy(y0, y, sizeof y);
     memcpy(t0, t, sizeof t);
     nan_above = 1e-3;
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_ERR_NONFINITE); /* was PSB_SUCCESS */
+    CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_ERR_NONFINITE); /* was PSB_SUCCESS */
     CHECK(same(y, y0, 3) && same(t, t0, 3));
     nan_above = HUGE_VAL;
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
+    CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
     psb_solver_free(&s);
 }
 
@@ -893,7 +1047,7 @@ static run_result scenario_switch(faulty *f, int backend, int variant)
     memcpy(y, bp_y, sizeof y);
     memcpy(t, bp_t, sizeof t);
     memcpy(k, bp_k, sizeof k);
-    out.code = psb_branch_point_switch(&s, y, t, k, 8, ys, ts, &br);
+    out.code = psb_branch_point_switch(&s, y, t, k, NULL, 8, ys, ts, &br);
     out.untouched = same(y, bp_y, 2) && same(t, bp_t, 2) && same(k, bp_k, 2);
     out.right = out.code == PSB_SUCCESS && br.n_branches == 4 && ts[1] < -0.999 && ts[3] > 0.999;
     for (j = 2; j < br.n_branches && j < 8; j++) {
@@ -955,8 +1109,7 @@ static run_result scenario_explore(faulty *f, int backend, int variant)
         f->smooth = SM_PL;
         pl_crossing_kinks(&f->p, 2, rays);
         pl_start_on_ray(3, rays, 0, y, t);
-        o.n_span = 2;
-        o.n_dir = 12;
+        o.switch_n_dir = 12; /* as n_dir set it before 0.11.0 */
     }
     np1 = f->p.n + 1;
     problem_for(&prob, f, backend);
@@ -969,6 +1122,10 @@ static run_result scenario_explore(faulty *f, int backend, int variant)
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = variant == 1;
+    if (variant > 0) {
+        eo.branch.n_span = 2;
+        eo.branch.n_dir = 12;
+    }
     eo_in = eo;
     memcpy(y_in, y, sizeof y);
     memcpy(t_in, t, sizeof t);
@@ -1190,6 +1347,8 @@ static void test_misuse_new_functions(void)
     EXPLORE_REJECTED(eo.trace.param_max = NAN, "bounds");
     EXPLORE_REJECTED(eo.state_max = NAN, "state_max");
     EXPLORE_REJECTED(eo.kink_spans = PSB_MAX_SPAN_LIMIT + 1, "kink_spans");
+    EXPLORE_REJECTED(eo.branch.n_dir = -1, "n_dir"); /* the branching options, checked up front */
+    EXPLORE_REJECTED(eo.branch.h_init = NAN, "h_init");
     EXPLORE_REJECTED(eo.trace.detect = 99, "detect");
     EXPLORE_REJECTED(eo.trace.locate_tol = NAN, "locate_tol");
     EXPLORE_REJECTED(eo.trace.n_events = 1, "event");
@@ -1206,13 +1365,13 @@ static void test_misuse_new_functions(void)
     t[1] = 1;
 
     /* the branch point switch */
-    CHECK(psb_branch_point_switch(&s, y, t, NULL, 4, ys, ts, &br) == PSB_ERR_NULL);
-    CHECK(psb_branch_point_switch(&s, y, t, k, 0, ys, ts, &br) == PSB_ERR_SIZE);
+    CHECK(psb_branch_point_switch(&s, y, t, NULL, NULL, 4, ys, ts, &br) == PSB_ERR_NULL);
+    CHECK(psb_branch_point_switch(&s, y, t, k, NULL, 0, ys, ts, &br) == PSB_ERR_SIZE);
     k[0] = NAN;
-    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_NONFINITE);
+    CHECK(psb_branch_point_switch(&s, y, t, k, NULL, 4, ys, ts, &br) == PSB_ERR_NONFINITE);
     k[0] = 0;
     k[1] = 2; /* parallel to t */
-    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_INPUT);
+    CHECK(psb_branch_point_switch(&s, y, t, k, NULL, 4, ys, ts, &br) == PSB_ERR_INPUT);
     CHECK(strstr(psb_solver_message(&s), "kernel") != NULL);
     k[0] = 1;
     k[1] = 0;
@@ -1245,7 +1404,7 @@ static void test_misuse_new_functions(void)
 
     /* a freed solver: every new entry point says so and touches nothing */
     CHECK(psb_explore(&s, y, t, NULL, &d) == PSB_ERR_NULL);
-    CHECK(psb_branch_point_switch(&s, y, t, k, 4, ys, ts, &br) == PSB_ERR_NULL);
+    CHECK(psb_branch_point_switch(&s, y, t, k, NULL, 4, ys, ts, &br) == PSB_ERR_NULL);
     CHECK(psb_evolve_step(&s, ye, 0.5, NULL, NULL) == PSB_ERR_NULL);
     CHECK(psb_trace(&s, y, t, NULL, NULL) == PSB_ERR_NULL);
     CHECK(ye[0] == -1.2 && ye[1] == -0.528 && y[0] == 0 && y[1] == -0.5 && t[0] == 0 && t[1] == 1);
@@ -1278,6 +1437,7 @@ int main(void)
     test_misuse();
     test_option_limits();
     test_resolve_truthful();
+    test_as_printed_and_null();
     test_fault_injection();
     test_fault_injection_detectors();
     test_misuse_new_functions();

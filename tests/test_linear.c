@@ -349,6 +349,7 @@ static int branches_with(psb_linear linear, pl_problem *pl, user_lu *ul, double 
 {
     psb_problem p;
     psb_options o;
+    psb_branch_options bo;
     psb_solver s;
     psb_branch_report br;
     double y[13], t[13], ys[16 * 13];
@@ -363,7 +364,8 @@ static int branches_with(psb_linear linear, pl_problem *pl, user_lu *ul, double 
     memset(&o, 0, sizeof o);
     o.h_init = 5e-4;
     o.h_min = 5e-7;
-    o.branch_h = 5e-7;
+    memset(&bo, 0, sizeof bo);
+    bo.h = 5e-7;
     CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
     /* start on the ray x = (1, 1, 0, ...), g = 1 (both -1 diagonal entries active) */
     for (i = 0; i <= n; i++) y[i] = 0;
@@ -377,8 +379,8 @@ static int branches_with(psb_linear linear, pl_problem *pl, user_lu *ul, double 
         CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
     }
     CHECK(psb_norm_w(&s, y) < 2e-6);
-    CHECK(psb_locate_end(&s, y, t, NULL) == PSB_SUCCESS);
-    CHECK(psb_find_branches(&s, y, t, 16, ys, ts, &br) == PSB_SUCCESS);
+    CHECK(psb_locate_end(&s, y, t, &bo, NULL) == PSB_SUCCESS);
+    CHECK(psb_find_branches(&s, y, t, &bo, 16, ys, ts, &br) == PSB_SUCCESS);
     *stats = s.stats;
     psb_solver_free(&s);
     return br.n_branches;

@@ -8,7 +8,8 @@
 int main(void)
 {
     psb_options o = psb_options_resolve(NULL);
-    CHECK(o.n_dir == 20);
+    psb_branch_options b = psb_branch_options_resolve(NULL, NULL);
+    CHECK(o.switch_n_dir == 20 && b.n_dir == 20);
     CHECK(psb_result_string(PSB_ERR_NULL)[0] == 'P');
     return HARNESS_END();
 }
