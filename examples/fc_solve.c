@@ -571,6 +571,12 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
         return "cannot start the HDF5 reader (fork failed)";
     }
     if (pid == 0) {
+        /* a fault ends the child by its signal, whatever handlers the parent set up (a
+           sanitizer's, a fuzzer's), so that the parent can name it */
+        static const int faults[] = {SIGFPE, SIGSEGV, SIGBUS, SIGILL, SIGABRT, SIGALRM};
+        size_t k;
+        for (k = 0; k < sizeof faults / sizeof faults[0]; k++)
+            signal(faults[k], SIG_DFL);
         close(fds[0]);
         alarm(FC_HDF5_SECONDS);
         h5_child(path, fds[1]);
