@@ -1242,9 +1242,9 @@ typedef struct psb_branch_report {
     long n_tangents;  /* tangents computed at y0 + h v, and at predictor points (screening) */
     long n_memo;      /* directions not tried because their tangent was tried before */
     long n_screened;  /* trials skipped: the tangent at their predictor point had been
-                         tried, or was a found branch's (see branch_no_screen) */
+                         tried, or was a found branch's (see no_screen) */
     long n_cut;       /* trials (counted in n_pc) ended once a corrector iteration's tangent
-                         was one of those (see branch_no_screen) */
+                         was one of those (see no_screen) */
     int span_last_new;    /* the counted span (1-based) in which the last new branch was
                              found: the smallest n_span that finds them all, all else equal */
     long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
@@ -4414,7 +4414,7 @@ done:
 
 /* Sets s->branch.h (and h_min) for Algorithms 2.1-2.2 at y. With finite differences and h
    left to its default: 10^4 times the largest difference step at y measured in
-   the weighted norm, max_j fd_step max(1, |y_j|) sqrt(w_j), within [h_min, branch_h_init / 8]
+   the weighted norm, max_j fd_step max(1, |y_j|) sqrt(w_j), within [h_min, h_init / 8 (s->branch)]
    (trial points must lie farther than branch_h). Tangents are sampled at y + branch_h v; a
    quotient there mixes pieces when a piece boundary lies within a difference step, with odds
    ~ step / branch_h per boundary and sample, and a mixed tangent the memo takes for new makes
@@ -4726,7 +4726,7 @@ static void psb__store_add(const psb_solver *s, double *store, int *count, const
    a new branch for each that converges away from y0 in a direction no known branch has.
    Skipped when tt was tried before in this call (memo). Stops before a trial when the n_pc
    budget is spent.
-   Screening (branch_no_screen = 0). Near y0 the pieces are, to first order, cones with apex
+   Screening (no_screen = 0). Near y0 the pieces are, to first order, cones with apex
    y0, H = dH_R (y - y0) on piece R. A trial along x starts at p = y0 + h x; its first
    corrector iteration, bordered by x, moves along dH(p) d = H(p), <x, d>_w = 0, to
    y0 + (h / <x, k>_w) k, k the unit kernel of dH(p) (oriented by x), and borders the next
@@ -5232,7 +5232,7 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     psb__faults_reset(s);
     kdim = psb__kernel_dirs(s, yc, tc, s->branch.h_init, kc);
     rep->n_tangents = kdim;
-    /* a simple branch point has four half-branches; fewer at branch_h_init (a radius beyond
+    /* a simple branch point has four half-branches; fewer at h_init (a radius beyond
        the branches' curvature, or crossings too close for Newton's basins) -> a smaller one */
     for (r = s->branch.h_init, i = 0; i < 3; i++, r *= 0.125) {
         psb_branch_report attempt;

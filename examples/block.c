@@ -88,7 +88,7 @@ static const char block_usage[] =
 typedef struct args {
     int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, dense, maxiter, restart, paper_sweep, patience, no_screen, explore;
     double kappa; /* < 0: 1/N */
-    double hmin;  /* smallest trial step of Algorithm 2.2 (branch_trial_h_min); h_init: one trial
+    double hmin;  /* smallest trial step of Algorithm 2.2 (psb_branch_options.trial_h_min); h_init: one trial
                      per direction, enough near a conical point (see the manual) */
     double mult_weight; /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
     double branch_mult_weight; /* the same in Algorithms 2.1-2.2 (< 0: mult_weight) */
