@@ -5,6 +5,7 @@
 #   make demo      run the main demo and draw its pictures (gnuplot, installed like the rest)
 #   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
 #   make bench     the benchmarks (bench/out/), with GetFEM side by side when python3-getfem is there
+#                  (bash bench/bench_mumps.sh --large: banded against MUMPS on 1 and 2 ranks up to M12800)
 #   make fuzz [FUZZ_SECONDS=30 | FUZZ_RUNS=N [FUZZ_SEED=1]]   every libFuzzer target in fuzz/
 #                  for a time, or for N runs from a fixed seed (clang; see fuzz/README.md)
 #   make images    the README's pictures in docs/img/ (docs/make_images.sh)
@@ -231,6 +232,7 @@ bench: $(BENCH) examples/block
 	./bench/bench_branching --csv bench/out/branching.csv
 	./bench/bench_detect --csv bench/out/detect.csv
 	bash bench/bench_block.sh
+	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh,echo "bench_mumps: no MUMPS with MPI, skipped")
 	REPEAT=1 bash bench/getfem_side_by_side.sh
 
 # MUMPS= : Open MPI leaves its own allocations (~120 kB, none of ours) at MPI_Finalize, which

@@ -28,7 +28,10 @@
        static int rank0_main(int argc, char **argv) { ... the serial program ... }
        int main(int argc, char **argv) { return psb_mumps_main(argc, argv, rank0_main); }
    then `mpirun -np 4 ./prog args` (or ./prog alone: one rank). rank0_main must return (not call
-   exit) so that the workers are released. Past one machine: list the nodes in a hostfile
+   exit) so that the workers are released. Waiting for a request, a worker sleeps 50 us between
+   polls when the implementation's file has _POSIX_C_SOURCE >= 199309L (nanosleep), and spins in
+   MPI's wait otherwise: a spinning worker takes a core from rank 0 where ranks share cores.
+   Past one machine: list the nodes in a hostfile
    (mpirun --hostfile hosts -np 16 ./prog); each rank holds its share of the factors, and MUMPS
    estimates the memory per rank after the analysis: psb_mumps_memory gives INFOG(16) (largest
    rank, MB) and INFOG(17) (all ranks), and after a factorisation the actual INFOG(18), INFOG(19).
@@ -146,6 +149,7 @@ static inline psb_linear_solver psb_mumps_solver(psb_mumps *m)
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* Requests from rank 0: {op, key (the rank-0 object's address), ICNTL(14)} */
 enum { PSB__MUMPS_INIT = 1, PSB__MUMPS_JOB = 2, PSB__MUMPS_END = 3, PSB__MUMPS_QUIT = 4 };
@@ -186,9 +190,29 @@ static void psb__mumps_create(DMUMPS_STRUC_C *id, MPI_Comm comm, double null_piv
 }
 
 #ifndef PSB_MUMPS_SEQ
-static int psb__mumps_bcast(MPI_Comm comm, long long *msg)
+/* A request from rank 0. Non-blocking, and the workers wait for it by polling every 50 us
+   asleep: MPI's own waits spin, and a worker spinning through rank 0's serial work (residuals,
+   assembly, the continuation) takes a core from it wherever ranks share cores. */
+static int psb__mumps_bcast(MPI_Comm comm, long long *msg, int root)
 {
-    return MPI_Bcast(msg, 4, MPI_LONG_LONG, 0, comm) == MPI_SUCCESS ? 0 : -1;
+    MPI_Request req;
+    int done = 0;
+    if (MPI_Ibcast(msg, 4, MPI_LONG_LONG, 0, comm, &req) != MPI_SUCCESS) return -1;
+#if defined(_POSIX_C_SOURCE) && _POSIX_C_SOURCE >= 199309L
+    if (root) return MPI_Wait(&req, MPI_STATUS_IGNORE) == MPI_SUCCESS ? 0 : -1;
+    for (;;) {
+        struct timespec ts;
+        if (MPI_Test(&req, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS) return -1;
+        if (done) return 0;
+        ts.tv_sec = 0;
+        ts.tv_nsec = 50000;
+        nanosleep(&ts, NULL);
+    }
+#else /* no nanosleep without POSIX: MPI's wait */
+    (void)root;
+    (void)done;
+    return MPI_Wait(&req, MPI_STATUS_IGNORE) == MPI_SUCCESS ? 0 : -1;
+#endif
 }
 #endif
 
@@ -205,7 +229,7 @@ static int psb__mumps_send(psb_mumps *m, int op, int job)
     msg[1] = (long long)(size_t)m;
     msg[2] = job;
     msg[3] = m->icntl14;
-    return psb__mumps_bcast(m->comm, msg);
+    return psb__mumps_bcast(m->comm, msg, 1);
 #endif
 }
 
@@ -234,6 +258,7 @@ static int psb__mumps_job(psb_mumps *m, int job)
     if (psb__mumps_send(m, PSB__MUMPS_JOB, job)) return psb__mumps_fail(m, PSB_MUMPS_ERR_MPI, "MPI_Bcast failed");
     m->id.job = job;
     PSB__MUMPS_ICNTL(m->id, 14) = m->icntl14;
+    m->id.cntl[2] = m->null_pivot_tol; /* read on rank 0; the caller may have changed it */
     dmumps_c(&m->id);
     return 0;
 }
@@ -423,7 +448,7 @@ int psb_mumps_worker(MPI_Comm comm)
     long long msg[4];
     int rc = 0;
     for (;;) {
-        if (psb__mumps_bcast(comm, msg)) { rc = PSB_MUMPS_ERR_MPI; break; }
+        if (psb__mumps_bcast(comm, msg, 0)) { rc = PSB_MUMPS_ERR_MPI; break; }
         if (msg[0] == PSB__MUMPS_QUIT) break;
         for (pp = &list; *pp && (*pp)->key != msg[1]; pp = &(*pp)->next) {}
         p = *pp;
@@ -461,7 +486,7 @@ void psb_mumps_quit(MPI_Comm comm)
 #else
     long long msg[4] = {PSB__MUMPS_QUIT, 0, 0, 0};
     int size = 1;
-    if (MPI_Comm_size(comm, &size) == MPI_SUCCESS && size > 1) (void)psb__mumps_bcast(comm, msg);
+    if (MPI_Comm_size(comm, &size) == MPI_SUCCESS && size > 1) (void)psb__mumps_bcast(comm, msg, 1);
 #endif
 }
 

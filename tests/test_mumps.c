@@ -4,6 +4,7 @@
    factorisations; argument errors; psb_tangent and Newton through the PSB_LINEAR_USER seam
    against the dense backend. Runs on one rank, under `mpirun -np 2` (rank 0 tests, rank 1 serves
    MUMPS) and built with MUMPS's sequential library (-DPSB_MUMPS_SEQ). */
+#define _POSIX_C_SOURCE 200809L /* nanosleep: the workers' idle polling */
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
 #define PSB_MUMPS_IMPLEMENTATION
