@@ -226,7 +226,10 @@ BENCH = bench/bench_linear bench/bench_branching bench/bench_detect
 bench/%: bench/%.c $(HEADER) tests/pl_problems.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
 
-bench: $(BENCH) examples/block
+bench/bench_mumps_factor: bench/bench_mumps_factor.c examples/fe_mumps.h contrib/psb_mumps.h examples/fe.h $(HEADER)
+	$(CC) $(ALL_CFLAGS) $(MPI_CFLAGS) $< -o $@ $(MUMPS_LIBS) $(LIBS)
+
+bench: $(BENCH) examples/block $(if $(filter yes,$(MUMPS)),bench/bench_mumps_factor)
 	@mkdir -p bench/out
 	./bench/bench_linear --csv bench/out/linear.csv
 	./bench/bench_branching --csv bench/out/branching.csv
@@ -325,4 +328,4 @@ fuzz-run: $(patsubst %,$(FUZZ_BUILD)/fuzz_%,$(FUZZ_NAMES))
 	done
 
 clean:
-	rm -rf build build-asan build-ubsan build-fuzz out bench/out $(EXAMPLES) $(BENCH)
+	rm -rf build build-asan build-ubsan build-fuzz out bench/out $(EXAMPLES) $(BENCH) bench/bench_mumps_factor
