@@ -268,6 +268,39 @@ static void test_codes_and_counts(void)
     free_mat(&a);
 }
 
+/* Two solver objects alive at once, interleaved: the workers tell them apart. */
+static void test_two_objects(void)
+{
+    mat a[2];
+    psb_mumps m[2];
+    double *row[2], *rhs[2], *x[2], *b[2], y0 = 0;
+    int k, i, sizes[2] = {50, 120};
+    for (k = 0; k < 2; k++) {
+        int n1 = sizes[k] + 1;
+        random_mat(&a[k], sizes[k], 2);
+        row[k] = malloc(sizeof(double) * (size_t)n1);
+        rhs[k] = malloc(sizeof(double) * (size_t)n1);
+        x[k] = malloc(sizeof(double) * (size_t)n1);
+        for (i = 0; i < n1; i++) { row[k][i] = urand(); rhs[k][i] = x[k][i] = urand(); }
+        b[k] = dense_b(&a[k], row[k]);
+        CHECK(psb_mumps_init(&m[k], MPI_COMM_WORLD, sizes[k], a[k].nnz, a[k].rows, a[k].cols, fill_mat, &a[k]) == 0);
+    }
+    CHECK(psb_mumps_factor(&m[0], &y0, row[0]) == 0);
+    CHECK(psb_mumps_factor(&m[1], &y0, row[1]) == 0);
+    CHECK(psb_mumps_solve(&m[0], x[0], 1) == 0);
+    CHECK(psb_mumps_solve(&m[1], x[1], 1) == 0);
+    for (k = 0; k < 2; k++) {
+        CHECK(backward_error(b[k], sizes[k] + 1, x[k], rhs[k]) <= 1e-13);
+        CHECK(m[k].n_analysis == 1);
+    }
+    psb_mumps_free(&m[0]);
+    memcpy(x[1], rhs[1], sizeof(double) * (size_t)(sizes[1] + 1)); /* the other still works */
+    CHECK(psb_mumps_solve(&m[1], x[1], 1) == 0);
+    CHECK(backward_error(b[1], sizes[1] + 1, x[1], rhs[1]) <= 1e-13);
+    psb_mumps_free(&m[1]);
+    for (k = 0; k < 2; k++) { free_mat(&a[k]); free(row[k]); free(rhs[k]); free(x[k]); free(b[k]); }
+}
+
 /* Through pscbranch: x_i = x_{i+1} (i < n-1), x_0^2 + g^2 = 1; at (0, ..., 0, 1) the parameter
    g has a fold and dH/dx is singular (its last row vanishes). psb_tangent and Newton with MUMPS
    against the dense backend. */
@@ -361,6 +394,7 @@ static int tests(int argc, char **argv)
     test_fold(10);
     test_fold(300);
     test_codes_and_counts();
+    test_two_objects();
     test_pscbranch();
     return HARNESS_END();
 }
