@@ -21,7 +21,7 @@
                 [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim]
                 [--start -1|1]
                 [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--no-screen] [--seed S]
-                [--dense] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
+                [--dense] [--solver banded|dense|mumps] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
                 [--expect-npc N]
    (`block --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
@@ -31,8 +31,14 @@
    --compare (up to 4) prints the relative H1 errors of a coarser file's displacements against
    this run's, branch by branch (Table 3). --expect-npc N: exit status 1 unless Algorithm 2.2's
    n_pc is N (the tests check Table 1's n_pc = 72 this way).
+   --solver mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are
+   installed): MUMPS through pscbranch's user-solver callbacks (examples/fe_mumps.h), also
+   distributed: `mpirun -np 2 examples/block --solver mumps` runs the continuation on rank 0 and
+   MUMPS's factorisations on both ranks.
    Build (from the repository root):
-     cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm */
+     cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm
+     with MUMPS: cc -std=c99 -O2 -I. -DFE_MUMPS $(pkg-config --cflags mpi-c) examples/block.c \
+       -o examples/block -ldmumps -lmumps_common $(pkg-config --libs mpi-c) -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
@@ -43,6 +49,10 @@
 #include "explore_out.h"
 
 #include "cli.h"
+#ifdef FE_MUMPS
+#define PSB_MUMPS_IMPLEMENTATION
+#include "fe_mumps.h"
+#endif
 
 /* Limits of the command line: meshes up to 2048 x 2048 elements (4.2 million nodes, well within
    fe.h's FE_MAX_NODES; the paper's finest is 80 x 160, M12800); the counts of Algorithm 2.2 to
@@ -73,7 +83,9 @@ static const char block_usage[] =
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2; 0 < W <= 1e12)\n"
     "  --branch-mult-weight W  the same for Algorithms 2.1-2.2 alone (default: --mult-weight)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
-    "  --dense               dense LAPACK instead of the banded backend\n"
+    "  --dense               dense LAPACK instead of the banded backend (--solver dense)\n"
+    "  --solver banded|dense|mumps   linear solver (default banded; mumps: a build with -DFE_MUMPS,\n"
+    "                        also under mpirun)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore), checked\n"
     "                        against a hand-driven run: one nonsmooth point, six branches\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
@@ -86,7 +98,7 @@ static const char block_usage[] =
     "  -h, --help            this help\n";
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, dense, maxiter, restart, paper_sweep, patience, no_screen, explore;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, dense, mumps, maxiter, restart, paper_sweep, patience, no_screen, explore;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (psb_branch_options.trial_h_min); h_init: one trial
                      per direction, enough near a conical point (see the manual) */
@@ -108,7 +120,8 @@ static int parse(int argc, char **argv, args *a)
     static const char *const restarts[] = {"mixed", "paper", "global", NULL};
     static const char *const dirichlet[] = {"mult", "elim", NULL};
     static const char *const sides[] = {"-1", "1", NULL};
-    int restart = 0, side = 0, elim = 0;
+    static const char *const solvers[] = {"banded", "dense", "mumps", NULL};
+    int solver = 0, restart = 0, side = 0, elim = 0;
     const char *kappa = NULL, *compare = NULL;
     cli c;
     memset(a, 0, sizeof *a);
@@ -145,6 +158,13 @@ static int parse(int argc, char **argv, args *a)
             else a->compare[a->ncompare++] = compare;
         }
         else if (cli_choice(&c, "--dirichlet", &elim, dirichlet)) a->multipliers = !elim;
+        else if (cli_choice(&c, "--solver", &solver, solvers)) {
+            a->dense = solver == 1;
+            a->mumps = solver == 2;
+#ifndef FE_MUMPS
+            if (a->mumps) cli_fail(&c, "--solver mumps needs a build with -DFE_MUMPS (see the top of block.c)");
+#endif
+        }
         else if (cli_string(&c, "--kappa", &kappa)) {
             if (strcmp(kappa, "1/N")) cli_parse_double(&c, kappa, &a->kappa, 0, 1e12, 1);
             else a->kappa = -1;
@@ -309,7 +329,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     return ok && !write_failed ? 0 : 1;
 }
 
-int main(int argc, char **argv)
+static int block_main(int argc, char **argv)
 {
     args a;
     fe_mesh mesh;
@@ -321,6 +341,10 @@ int main(int argc, char **argv)
     char spec[64];
     int n, k, ndist, input, ok, files_ok, rc = 1;
     psb_result r;
+#ifdef FE_MUMPS
+    fe_mumps fm;
+    memset(&fm, 0, sizeof fm);
+#endif
 
     memset(&mesh, 0, sizeof mesh);
     memset(&md, 0, sizeof md);
@@ -346,6 +370,19 @@ int main(int argc, char **argv)
     if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);
     fe_weights(&md, opt.kappa, a.mult_weight, w);
     opt.weights = w;
+#ifdef FE_MUMPS
+    if (a.mumps) {
+        psb_linear_solver ls = psb_mumps_solver(&fm.m);
+        if (fe_mumps_init(&fm, &md, MPI_COMM_WORLD)) {
+            fprintf(stderr, "block: MUMPS set-up failed for N = %d unknowns: %s\n", n, fm.m.message);
+            goto done;
+        }
+        if (fe_run_init_solver(&run, &md, &opt, 0, &ls)) {
+            fprintf(stderr, "block: solver set-up failed for N = %d unknowns (MUMPS): %s\n", n, psb_solver_message(&run.s));
+            goto done;
+        }
+    } else
+#endif
     if (fe_run_init(&run, &md, &opt, !a.dense)) {
         fprintf(stderr, "block: solver set-up failed for N = %d unknowns (%s, half band %d): %s\n", n,
                 a.dense ? "dense" : "banded", md.half_band, psb_solver_message(&run.s));
@@ -452,12 +489,44 @@ table:
         printf("block: FAILED (n_pc = %ld, expected %ld)\n", run.brep.n_pc, a.expect_npc);
         ok = 0;
     }
+#ifdef FE_MUMPS
+    if (a.mumps) {
+        int per_rank, total;
+        psb_mumps_memory(&fm.m, &per_rank, &total);
+        printf("  MUMPS on %d rank%s: %ld analysis, %ld factorisations, memory %d MB on the largest rank, %d MB in all\n",
+               fm.m.nprocs, fm.m.nprocs > 1 ? "s" : "", fm.m.n_analysis, fm.m.n_factor, per_rank, total);
+    }
+#endif
     if (!files_ok) fprintf(stderr, "block: FAILED (a file could not be read or written, see above)\n");
     rc = ok && files_ok ? 0 : 1;
 done: /* every exit after the model is built frees what it holds (clean under LeakSanitizer) */
     free(y); free(t); free(w); free(bw);
     fe_run_free(&run);
+#ifdef FE_MUMPS
+    fe_mumps_free(&fm);
+#endif
     fe_model_free(&md);
     fe_mesh_free(&mesh);
     return rc;
+}
+
+#ifdef FE_MUMPS
+/* --solver mumps (or --solver=mumps) among the options, before any "--" */
+static int wants_mumps(int argc, char **argv)
+{
+    int i;
+    for (i = 1; i < argc && strcmp(argv[i], "--"); i++)
+        if (!strcmp(argv[i], "--solver=mumps") || (!strcmp(argv[i], "--solver") && i + 1 < argc && !strcmp(argv[i + 1], "mumps")))
+            return 1;
+    return 0;
+}
+#endif
+
+/* MPI only for MUMPS: its start-up (~1 s) stays out of the other runs */
+int main(int argc, char **argv)
+{
+#ifdef FE_MUMPS
+    if (wants_mumps(argc, argv)) return psb_mumps_main(argc, argv, block_main);
+#endif
+    return block_main(argc, argv);
 }
