@@ -42,14 +42,14 @@ mkdir -p "$LOGS"
 if [ "$BLOCK" != 0 ]; then
     $CC -std=c99 -O2 -I. examples/block.c -o "$OUT/block_side" -llapack -lblas -lm || exit 1
 fi
-# the triangle with UMFPACK through the user-solver callbacks when libsuitesparse-dev is there
+# the triangle with UMFPACK (contrib/psb_sparse.h) when libsuitesparse-dev is there
 # (as bench/triangle_study.sh), else with the banded backend
 tri_flags=()
 if [ -n "$TRIANGLE" ]; then
     SS_INC=${SS_INC:-/usr/include/suitesparse}
     if [ -f "$SS_INC/umfpack.h" ]; then
-        $CC -std=c99 -O2 -I. -I"$SS_INC" -DFE_UMFPACK examples/triangle.c -o "$OUT/triangle_side" -lumfpack -llapack -lblas -lm || exit 1
-        tri_flags=(--sparse) tri_backend="UMFPACK (user solver)"
+        $CC -std=c99 -O2 -I. -I"$SS_INC" -DFE_SUITESPARSE examples/triangle.c -o "$OUT/triangle_side" -lumfpack -lklu -llapack -lblas -lm || exit 1
+        tri_flags=(--solver umfpack) tri_backend="UMFPACK (contrib/psb_sparse.h)"
     else
         $CC -std=c99 -O2 -I. examples/triangle.c -o "$OUT/triangle_side" -llapack -lblas -lm || exit 1
         tri_backend="banded LAPACK (no libsuitesparse-dev for the sparse build)"
