@@ -32,7 +32,7 @@
    this run's, branch by branch (Table 3). --expect-npc N: exit status 1 unless Algorithm 2.2's
    n_pc is N (the tests check Table 1's n_pc = 72 this way).
    --solver: how the bordered systems are solved (examples/fe_solvers.h); by default the banded
-   LU, and UMFPACK from 4000 unknowns (M1800 or so) in a build with SuiteSparse.
+   LU, which is faster than UMFPACK and KLU on the block's meshes up to M12800 at least.
    Build (from the repository root; `make` adds SuiteSparse when libsuitesparse-dev is there):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm
      cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE examples/block.c -o examples/block \
@@ -78,8 +78,8 @@ static const char block_usage[] =
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2; 0 < W <= 1e12)\n"
     "  --branch-mult-weight W  the same for Algorithms 2.1-2.2 alone (default: --mult-weight)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
-    "  --solver dense|banded|umfpack|klu   linear solver (default banded, umfpack from 4000 unknowns\n"
-    "                        when built with SuiteSparse)\n"
+    "  --solver dense|banded|umfpack|klu   linear solver (default banded; umfpack where it is\n"
+    "                        faster, triangle from M16384, in a build with SuiteSparse)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore), checked\n"
     "                        against a hand-driven run: one nonsmooth point, six branches\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"

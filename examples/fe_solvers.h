@@ -17,13 +17,16 @@
 enum { FE_SOLVER_DENSE, FE_SOLVER_BANDED, FE_SOLVER_UMFPACK, FE_SOLVER_KLU, FE_SOLVER_AUTO };
 static const char *const fe_solver_names[] = {"dense", "banded", "umfpack", "klu", NULL};
 
-/* The default, from bench/bench_sparse's factorisation times (reference BLAS; docs/
-   benchmarks.md, "Sparse direct solvers"): the banded LU takes ~5e-10 N kl^2 s (kl = ku = the
-   half band), UMFPACK on the bordered matrix ~3e-7 N^1.4 s, so UMFPACK where kl^2 > 600 N^0.4:
-   the triangle from M4096 on (kl ~ 2 sqrt(N)), the block (kl ~ sqrt(N)) beyond M12800. */
+/* The default. bench/bench_sparse (reference BLAS): one banded LU costs ~1e-9 N kl^2 s (kl = ku
+   = the half band), one UMFPACK factorisation of the bordered matrix ~4e-7 N^1.4 s; but whole
+   runs gain less than one factorisation does (the banded backend reuses its factors where
+   dH/dx repeats, and the triangle is piecewise linear): triangle M4096 took 23.6 s banded and
+   62.3 s with UMFPACK, whose factorisation alone was 1.25x faster. So UMFPACK only where its
+   factorisation is ~3x faster, kl^2 > 1200 N^0.4: the triangle from M16384 (3.5x), the block
+   (kl ~ sqrt(N)) not up to M51200 (docs/benchmarks.md, "Sparse direct solvers"). */
 static inline int fe_solver_sparse_wins(const fe_model *md)
 {
-    return (double)md->half_band * md->half_band > 600.0 * pow((double)md->n, 0.4);
+    return (double)md->half_band * md->half_band > 1200.0 * pow((double)md->n, 0.4);
 }
 
 /* --solver WORD for the cli loop: 1 when the current argument was it (a sparse solver in a build
