@@ -493,8 +493,9 @@ static double psb__sparse_residual(const psb_sparse *sp, const double *pb, const
     }
     for (c = 0; c < np1; c++) {
         double e = fabs(r[c]);
-        if (!(e <= rmax)) rmax = e; /* NaN sticks */
-        if (!(fabs(x[c]) <= xmax)) xmax = fabs(x[c]);
+        if (e != e || x[c] != x[c]) return e + x[c]; /* NaN */
+        if (e > rmax) rmax = e;
+        if (fabs(x[c]) > xmax) xmax = fabs(x[c]);
         if (fabs(pb[c]) > bmax) bmax = fabs(pb[c]);
     }
     if (rmax == 0) return 0;
