@@ -13,8 +13,10 @@
 #                  (find_package(pscbranch)), the docs and the examples' sources
 #   make uninstall PREFIX=... [DESTDIR=...]        removes what install put there
 #   (bash tests/packaging.sh checks install with pkg-config and CMake consumers; CI: .ci/run)
+#   make bench-large   the long benchmarks: block M12800 per backend, triangle fold studies
 # LAPACK_LIBS chooses the LAPACK/BLAS (default -llapack -lblas); HDF5= builds fc_solve without
-# HDF5 even when libhdf5-dev is installed; MUMPS= and MUMPS_SEQ= leave MUMPS out (below).
+# HDF5 even when libhdf5-dev is installed; SUITESPARSE= builds the examples without SuiteSparse;
+# MUMPS= and MUMPS_SEQ= leave MUMPS out (below).
 CC ?= cc
 CXX ?= c++
 LAPACK_LIBS ?= -llapack -lblas
@@ -32,11 +34,12 @@ DEPS = CC="$(CC)" CXX="$(CXX)" LAPACK_LIBS="$(LAPACK_LIBS)" sh tools/deps.sh
 HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
 	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_detect $(BUILD)/test_faults \
-	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic $(BUILD)/test_explore
+	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic $(BUILD)/test_explore \
+	$(SPARSE_TESTS)
 EXAMPLES = examples/01_branching examples/02_explore examples/03_pitchforks examples/fc_solve examples/block \
 	examples/triangle examples/quasistatic
 
-.PHONY: all test check demo demo-run examples bench asan ubsan fuzz fuzz-run install uninstall clean \
+.PHONY: all test check demo demo-run examples bench bench-large asan ubsan fuzz fuzz-run install uninstall clean \
 	quasistatic-demo quasistatic-demo-run images images-run
 
 all: $(TESTS) $(EXAMPLES)
@@ -154,10 +157,30 @@ $(BUILD)/test_mumps_np2: $(BUILD)/test_mumps tools/mpirun.sh
 $(BUILD)/test_mumps_seq: tests/test_mumps.c contrib/psb_mumps.h tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) $(MUMPS_SEQ_CFLAGS) -Itests tests/test_mumps.c -o $@ $(MUMPS_SEQ_LIBS) $(LIBS)
 
-examples/block: examples/block.c examples/fe_mumps.h contrib/psb_mumps.h $(HEADER) $(BUILD)/block-mumps-$(MUMPS)
-	$(CC) $(ALL_CFLAGS) $(BLOCK_CFLAGS) $< -o $@ $(BLOCK_LIBS) $(LIBS)
 
-examples/block examples/triangle: examples/fe.h examples/explore_out.h
+# The sparse direct solvers of contrib/psb_sparse.h (UMFPACK, KLU) when SuiteSparse is installed
+# (libsuitesparse-dev): block and triangle then take --solver umfpack|klu, and build/test_sparse
+# joins the suite. The library itself never depends on it. The stamp rebuilds when that changes.
+SUITESPARSE_INC ?= /usr/include/suitesparse
+SUITESPARSE ?= $(shell test -f $(SUITESPARSE_INC)/umfpack.h && test -f $(SUITESPARSE_INC)/klu.h && echo yes)
+ifeq ($(SUITESPARSE),yes)
+SS_CFLAGS = -DFE_SUITESPARSE -I$(SUITESPARSE_INC)
+SS_LIBS = -lumfpack -lklu
+SPARSE_TESTS = $(BUILD)/test_sparse
+SMOKE_SPARSE = "smoke:examples/block --solver umfpack" "smoke:examples/block --solver klu" \
+	"smoke:examples/triangle --mesh 16 --solver umfpack" "smoke:examples/triangle --mesh 16 --problem fold --solver klu"
+endif
+$(BUILD)/suitesparse-$(SUITESPARSE): | $(BUILD)
+	rm -f $(BUILD)/suitesparse-*
+	touch $@
+examples/block examples/triangle: examples/%: examples/%.c $(HEADER) examples/fe.h examples/explore_out.h \
+		examples/cli.h examples/fe_solvers.h contrib/psb_sparse.h $(BUILD)/suitesparse-$(SUITESPARSE)
+	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(if $(filter examples/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
+		$(if $(filter examples/block,$@),$(BLOCK_LIBS)) $(LIBS)
+examples/block: examples/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
+
+$(BUILD)/test_sparse: tests/test_sparse.c tests/harness.h contrib/psb_sparse.h examples/fe.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) -Itests tests/test_sparse.c -o $@ $(SS_LIBS) $(LIBS)
 examples/quasistatic: examples/fe.h
 examples/02_explore examples/03_pitchforks: examples/explore_out.h
 
@@ -179,14 +202,14 @@ SMOKE = "smoke:$(BUILD)/consumer" \
 	"smoke:examples/block --explore" \
 	"smoke:examples/triangle --mesh 16 --explore" \
 	"smoke:examples/triangle --mesh 16 --explore --problem fold" \
-	"smoke:examples/quasistatic --mesh 8 --dt 0.1" $(SMOKE_MUMPS) \
+	"smoke:examples/quasistatic --mesh 8 --dt 0.1" $(SMOKE_SPARSE) $(SMOKE_MUMPS) \
 	"smoke:bash tests/cli.sh" \
 	"smoke:bash tests/readme_program.sh"
 
 # test and demo first see to their dependencies, then run make again: its variables (HDF5) then
 # see what was just installed
 test:
-	@$(DEPS) cc cxx lapack 'hdf5?'
+	@$(DEPS) cc cxx lapack 'hdf5?' 'suitesparse?'
 	@$(MAKE) --no-print-directory check
 
 check: $(TESTS) $(EXAMPLES) $(if $(SMOKE),$(BUILD)/consumer)
@@ -229,14 +252,27 @@ bench/%: bench/%.c $(HEADER) tests/pl_problems.h
 bench/bench_mumps_factor: bench/bench_mumps_factor.c examples/fe_mumps.h contrib/psb_mumps.h examples/fe.h $(HEADER)
 	$(CC) $(ALL_CFLAGS) $(MPI_CFLAGS) $< -o $@ $(MUMPS_LIBS) $(LIBS)
 
-bench: $(BENCH) examples/block $(if $(filter yes,$(MUMPS)),bench/bench_mumps_factor)
+# the sparse solvers' factorisation times (bench_sparse) and whole runs per solver, with SuiteSparse
+bench/bench_sparse: bench/bench_sparse.c $(HEADER) examples/fe.h contrib/psb_sparse.h
+	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $(SS_CFLAGS) $< -o $@ $(SS_LIBS) $(LIBS)
+
+bench: $(BENCH) examples/block examples/triangle $(if $(SS_LIBS),bench/bench_sparse) \
+		$(if $(filter yes,$(MUMPS)),bench/bench_mumps_factor)
 	@mkdir -p bench/out
 	./bench/bench_linear --csv bench/out/linear.csv
 	./bench/bench_branching --csv bench/out/branching.csv
 	./bench/bench_detect --csv bench/out/detect.csv
+	$(if $(SS_LIBS),./bench/bench_sparse --csv bench/out/sparse.csv && bash bench/bench_solvers.sh)
 	bash bench/bench_block.sh
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh,echo "bench_mumps: no MUMPS with MPI, skipped")
 	REPEAT=1 bash bench/getfem_side_by_side.sh
+
+# the long ones (an hour or more): factorisations up to block M12800 and triangle M16384, block
+# M12800 and the triangle's M16384 fold study per solver
+bench-large: examples/block examples/triangle $(if $(SS_LIBS),bench/bench_sparse)
+	@mkdir -p bench/out
+	$(if $(SS_LIBS),./bench/bench_sparse --large --csv bench/out/sparse_large.csv && bash bench/bench_solvers.sh --large,@echo "bench-large: needs SuiteSparse (libsuitesparse-dev)")
+	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh --large,@echo "bench-large: MUMPS with MPI not found, its runs skipped")
 
 # MUMPS= : Open MPI leaves its own allocations (~120 kB, none of ours) at MPI_Finalize, which
 # LeakSanitizer reports; the sequential MUMPS build runs under AddressSanitizer instead
@@ -328,4 +364,5 @@ fuzz-run: $(patsubst %,$(FUZZ_BUILD)/fuzz_%,$(FUZZ_NAMES))
 	done
 
 clean:
-	rm -rf build build-asan build-ubsan build-fuzz out bench/out $(EXAMPLES) $(BENCH) bench/bench_mumps_factor
+	rm -rf build build-asan build-ubsan build-fuzz out bench/out $(EXAMPLES) $(BENCH) bench/bench_mumps_factor \
+		bench/bench_sparse

@@ -278,7 +278,11 @@
    PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
      in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
      solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
-     other border rows.
+     other border rows. contrib/psb_sparse.h (outside this header: it needs SuiteSparse) is
+     such a solver: UMFPACK or KLU on B itself, from the pattern of dH/dx and a callback for
+     its values; the fill-reducing ordering is computed once, every factorisation pivots over
+     all of B (exact at folds, where A alone is singular), each solution is checked by its
+     backward error. Its top comment is its manual; examples/fe_solvers.h uses it.
    PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
    scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
    Tangent. The bordered system [dH(y); (W r)^T] t = e_{N+1} (r the reference direction) is

@@ -54,14 +54,14 @@ meshes="10x20 20x40"
 [ $full -eq 1 ] && meshes="$meshes 40x80"
 [ $quick -eq 1 ] && meshes="10x20"
 for mesh in $meshes; do
-    row "$mesh" whole banded; banded_time=$secs
+    row "$mesh" whole banded --solver banded; banded_time=$secs
     if [ "$mesh" = 10x20 ]; then
-        row "$mesh" whole dense --dense
+        row "$mesh" whole dense --solver dense
     elif [ "$mesh" = 20x40 ]; then
         # a whole dense run costs ~1 h here (~0.7 s per factorisation): both backends on the
         # same short run instead (Algorithm 2.2 with 2 directions in 1 span, found branches traced)
-        row "$mesh" short banded --ndir 2 --nspan 1; banded_time=$secs
-        row "$mesh" short dense --ndir 2 --nspan 1 --dense
+        row "$mesh" short banded --ndir 2 --nspan 1 --solver banded; banded_time=$secs
+        row "$mesh" short dense --ndir 2 --nspan 1 --solver dense
     fi
 done
 

@@ -42,18 +42,17 @@ mkdir -p "$LOGS"
 if [ "$BLOCK" != 0 ]; then
     $CC -std=c99 -O2 -I. examples/block.c -o "$OUT/block_side" -llapack -lblas -lm || exit 1
 fi
-# the triangle with UMFPACK through the user-solver callbacks when libsuitesparse-dev is there
-# (as bench/triangle_study.sh), else with the banded backend
+# the triangle with the example's default solver (the banded LU up to M4096; UMFPACK from M16384
+# when libsuitesparse-dev is there: examples/fe_solvers.h)
 tri_flags=()
 if [ -n "$TRIANGLE" ]; then
     SS_INC=${SS_INC:-/usr/include/suitesparse}
     if [ -f "$SS_INC/umfpack.h" ]; then
-        $CC -std=c99 -O2 -I. -I"$SS_INC" -DFE_UMFPACK examples/triangle.c -o "$OUT/triangle_side" -lumfpack -llapack -lblas -lm || exit 1
-        tri_flags=(--sparse) tri_backend="UMFPACK (user solver)"
+        $CC -std=c99 -O2 -I. -I"$SS_INC" -DFE_SUITESPARSE examples/triangle.c -o "$OUT/triangle_side" -lumfpack -lklu -llapack -lblas -lm || exit 1
     else
         $CC -std=c99 -O2 -I. examples/triangle.c -o "$OUT/triangle_side" -llapack -lblas -lm || exit 1
-        tri_backend="banded LAPACK (no libsuitesparse-dev for the sparse build)"
     fi
+    tri_backend="its default solver"
 fi
 
 # Both sides run single-threaded: pscbranch is, GetFEM's Debian build uses sequential MUMPS; a

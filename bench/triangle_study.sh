@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Triangle studies of Section 3.3 of Ligursky & Renard on the paper's meshes, with the sparse
-# solver (examples/fe_umfpack.h, UMFPACK through pscbranch's user-solver callbacks):
+# solver (UMFPACK through contrib/psb_sparse.h and pscbranch's user-solver callbacks):
 #   (a) the three-solution intervals of Fig. 9, h = (-20 - 10 gamma, -7.5)  -> bench/out/triangle_folds.csv
 #   (b) the branches at gamma = 0 for h = gamma (-26.4, -7.5), paper's parameters, each traced
 #       to |gamma| = 1                                                       -> bench/out/triangle_branches.csv
@@ -26,11 +26,11 @@ BIN=$OUT/triangle_sparse
 CC=${CC:-cc}
 mkdir -p "$OUT" "$RUNS"
 
-# the sparse build of the example (UMFPACK through the user-solver callbacks; see the top of triangle.c)
+# the sparse build of the example (UMFPACK through contrib/psb_sparse.h; see the top of triangle.c)
 SS_INC=${SS_INC:-/usr/include/suitesparse}
 if [[ "${NOBUILD:-0}" != 1 ]]; then
-    $CC -std=c99 -Wall -Wextra -Wpedantic -Werror -O2 -I. -I"$SS_INC" -DFE_UMFPACK examples/triangle.c \
-        -o "$BIN" -lumfpack -llapack -lblas -lm
+    $CC -std=c99 -Wall -Wextra -Wpedantic -Werror -O2 -I. -I"$SS_INC" -DFE_SUITESPARSE examples/triangle.c \
+        -o "$BIN" -lumfpack -lklu -llapack -lblas -lm
 fi
 
 # BLAS_DIR=/usr/lib/x86_64-linux-gnu/openblas-serial runs UMFPACK on that directory's libblas.so.3
@@ -68,7 +68,7 @@ if [[ " $STUDIES " == *" fold "* ]]; then
     printf "  %-8s %7s  %-22s %-22s %-6s %8s %8s\n" mesh N "gamma interval" "paper" "4 dig" "CPU s" "wall s"
     for n in $MESHES; do
         d=$RUNS/fold_$n; mkdir -p "$d"
-        run "$d/log.txt" --mesh "$n" --problem fold --sparse --out "$d"
+        run "$d/log.txt" --mesh "$n" --problem fold --solver umfpack --out "$d"
         log=$d/log.txt
         N=$(sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' "$log")
         lo=$(awk -F, 'NR>1{print $2}' "$d/folds.csv" 2>/dev/null | sort -g | head -1)
@@ -94,7 +94,7 @@ if [[ " $STUDIES " == *" branch "* ]]; then
     printf "  %-8s %7s %9s %-10s %6s %7s %8s %8s %8s  %s\n" mesh N branches numbers n_pc n_rand factor. "CPU s" "wall s" status
     for n in $MESHES; do
         d=$RUNS/branch_$n; mkdir -p "$d"
-        run "$d/log.txt" --mesh "$n" --load 26.4 --sparse --out "$d" --save "$d/ends.txt"
+        run "$d/log.txt" --mesh "$n" --load 26.4 --solver umfpack --out "$d" --save "$d/ends.txt"
         log=$d/log.txt
         N=$(sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' "$log")
         nb=$(sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p' "$log")
@@ -124,7 +124,7 @@ if [[ " $STUDIES " == *" branch "* ]]; then
             d=$RUNS/refine_$n; mkdir -p "$d"
             cmp=(); for m in $MESHES; do [[ -f $RUNS/branch_$m/ends.txt ]] && cmp+=(--compare "$RUNS/branch_$m/ends.txt"); done
             for m in $REFINE; do (( m < n )) && [[ -f $RUNS/refine_$m/ends.txt ]] && cmp+=(--compare "$RUNS/refine_$m/ends.txt"); done
-            run "$d/log.txt" --mesh "$n" --load 26.4 --sparse --refine "$prev" --save "$d/ends.txt" "${cmp[@]}"
+            run "$d/log.txt" --mesh "$n" --load 26.4 --solver umfpack --refine "$prev" --save "$d/ends.txt" "${cmp[@]}"
             printf "  refined onto M%d: %s (%s s wall)\n" $((n*n)) "$(grep -o 'OK (every.*\|FAILED.*' "$d/log.txt" | head -1)" \
                 "$(sed -n 's/^wall //p' "$d/log.txt")"
             prev=$d/ends.txt; last=$n

@@ -21,7 +21,7 @@
                 [--kappa 1|1/N|V] [--mult-weight W] [--branch-mult-weight W] [--dirichlet mult|elim]
                 [--start -1|1]
                 [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--no-screen] [--seed S]
-                [--dense] [--solver banded|dense|mumps] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
+                [--solver dense|banded|umfpack|klu|mumps] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
                 [--expect-npc N]
    (`block --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
@@ -31,14 +31,17 @@
    --compare (up to 4) prints the relative H1 errors of a coarser file's displacements against
    this run's, branch by branch (Table 3). --expect-npc N: exit status 1 unless Algorithm 2.2's
    n_pc is N (the tests check Table 1's n_pc = 72 this way).
-   --solver mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are
-   installed): MUMPS through pscbranch's user-solver callbacks (examples/fe_mumps.h), also
-   distributed: `mpirun -np 2 examples/block --solver mumps` runs the continuation on rank 0 and
-   MUMPS's factorisations on both ranks.
-   Build (from the repository root):
+   --solver: how the bordered systems are solved (examples/fe_solvers.h); by default the banded
+   LU, which is faster than UMFPACK and KLU on the block's meshes up to M12800 at least. --solver
+   mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are installed):
+   MUMPS, also distributed: `mpirun -np 2 examples/block --solver mumps` runs the continuation on
+   rank 0 and MUMPS's factorisations on both ranks.
+   Build (from the repository root; `make` adds SuiteSparse and MUMPS when they are installed):
      cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm
-     with MUMPS: cc -std=c99 -O2 -I. -DFE_MUMPS $(pkg-config --cflags mpi-c) examples/block.c \
-       -o examples/block -ldmumps -lmumps_common $(pkg-config --libs mpi-c) -llapack -lblas -lm */
+     cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE examples/block.c -o examples/block \
+        -lumfpack -lklu -llapack -lblas -lm
+     with MUMPS too: add -DFE_MUMPS $(pkg-config --cflags mpi-c) and -ldmumps -lmumps_common
+        $(pkg-config --libs mpi-c) */
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
@@ -49,10 +52,7 @@
 #include "explore_out.h"
 
 #include "cli.h"
-#ifdef FE_MUMPS
-#define PSB_MUMPS_IMPLEMENTATION
-#include "fe_mumps.h"
-#endif
+#include "fe_solvers.h"
 
 /* Limits of the command line: meshes up to 2048 x 2048 elements (4.2 million nodes, well within
    fe.h's FE_MAX_NODES; the paper's finest is 80 x 160, M12800); the counts of Algorithm 2.2 to
@@ -83,9 +83,9 @@ static const char block_usage[] =
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2; 0 < W <= 1e12)\n"
     "  --branch-mult-weight W  the same for Algorithms 2.1-2.2 alone (default: --mult-weight)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
-    "  --dense               dense LAPACK instead of the banded backend (--solver dense)\n"
-    "  --solver banded|dense|mumps   linear solver (default banded; mumps: a build with -DFE_MUMPS,\n"
-    "                        also under mpirun)\n"
+    "  --solver dense|banded|umfpack|klu|mumps   linear solver (default banded; umfpack where one\n"
+    "                        factorisation is ~3x faster, in a build with SuiteSparse; mumps in a\n"
+    "                        build with MUMPS, also under mpirun)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore), checked\n"
     "                        against a hand-driven run: one nonsmooth point, six branches\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
@@ -98,7 +98,7 @@ static const char block_usage[] =
     "  -h, --help            this help\n";
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, dense, mumps, maxiter, restart, paper_sweep, patience, no_screen, explore;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, solver, maxiter, restart, paper_sweep, patience, no_screen, explore;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (psb_branch_options.trial_h_min); h_init: one trial
                      per direction, enough near a conical point (see the manual) */
@@ -120,19 +120,17 @@ static int parse(int argc, char **argv, args *a)
     static const char *const restarts[] = {"mixed", "paper", "global", NULL};
     static const char *const dirichlet[] = {"mult", "elim", NULL};
     static const char *const sides[] = {"-1", "1", NULL};
-    static const char *const solvers[] = {"banded", "dense", "mumps", NULL};
-    int solver = 0, restart = 0, side = 0, elim = 0;
+    int restart = 0, side = 0, elim = 0;
     const char *kappa = NULL, *compare = NULL;
     cli c;
     memset(a, 0, sizeof *a);
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->start = -1; a->multipliers = 1; a->maxiter = 10;
     a->restart = PSB_RESTART_MIXED; a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->branch_mult_weight = -1;
-    a->expect_npc = -1;
+    a->expect_npc = -1; a->solver = FE_SOLVER_AUTO;
     cli_init(&c, "block", argc, argv, block_usage);
     while (cli_next(&c)) {
         if (cli_flag(&c, "--verbose")) a->verbose = 1;
         else if (cli_flag(&c, "--quiet")) a->quiet = 1;
-        else if (cli_flag(&c, "--dense")) a->dense = 1;
         else if (cli_flag(&c, "--explore")) a->explore = 1;
         else if (cli_flag(&c, "--paper-sweep")) a->paper_sweep = 1;
         else if (cli_flag(&c, "--no-screen")) a->no_screen = 1;
@@ -158,13 +156,7 @@ static int parse(int argc, char **argv, args *a)
             else a->compare[a->ncompare++] = compare;
         }
         else if (cli_choice(&c, "--dirichlet", &elim, dirichlet)) a->multipliers = !elim;
-        else if (cli_choice(&c, "--solver", &solver, solvers)) {
-            a->dense = solver == 1;
-            a->mumps = solver == 2;
-#ifndef FE_MUMPS
-            if (a->mumps) cli_fail(&c, "--solver mumps needs a build with -DFE_MUMPS (see the top of block.c)");
-#endif
-        }
+        else if (fe_solver_option(&c, &a->solver)) {}
         else if (cli_string(&c, "--kappa", &kappa)) {
             if (strcmp(kappa, "1/N")) cli_parse_double(&c, kappa, &a->kappa, 0, 1e12, 1);
             else a->kappa = -1;
@@ -335,20 +327,18 @@ static int block_main(int argc, char **argv)
     fe_mesh mesh;
     fe_model md;
     fe_run run;
+    fe_solver fs;
     psb_options opt;
     psb_branch_options bo;
     double *y = NULL, *t = NULL, *w = NULL, *bw = NULL, t0, t1, tol = 1e-8;
     char spec[64];
     int n, k, ndist, input, ok, files_ok, rc = 1;
     psb_result r;
-#ifdef FE_MUMPS
-    fe_mumps fm;
-    memset(&fm, 0, sizeof fm);
-#endif
 
     memset(&mesh, 0, sizeof mesh);
     memset(&md, 0, sizeof md);
     memset(&run, 0, sizeof run);
+    memset(&fs, 0, sizeof fs);
 
     k = parse(argc, argv, &a);
     if (k != CLI_OK) return k == CLI_HELP ? 0 : 2;
@@ -370,22 +360,9 @@ static int block_main(int argc, char **argv)
     if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);
     fe_weights(&md, opt.kappa, a.mult_weight, w);
     opt.weights = w;
-#ifdef FE_MUMPS
-    if (a.mumps) {
-        psb_linear_solver ls = psb_mumps_solver(&fm.m);
-        if (fe_mumps_init(&fm, &md, MPI_COMM_WORLD)) {
-            fprintf(stderr, "block: MUMPS set-up failed for N = %d unknowns: %s\n", n, fm.m.message);
-            goto done;
-        }
-        if (fe_run_init_solver(&run, &md, &opt, 0, &ls)) {
-            fprintf(stderr, "block: solver set-up failed for N = %d unknowns (MUMPS): %s\n", n, psb_solver_message(&run.s));
-            goto done;
-        }
-    } else
-#endif
-    if (fe_run_init(&run, &md, &opt, !a.dense)) {
+    if (fe_solver_run_init(&fs, &run, &md, &opt, a.solver, "block")) {
         fprintf(stderr, "block: solver set-up failed for N = %d unknowns (%s, half band %d): %s\n", n,
-                a.dense ? "dense" : "banded", md.half_band, psb_solver_message(&run.s));
+                fe_solver_label(fs.kind), md.half_band, psb_solver_message(&run.s));
         goto done;
     }
     run.branch = bo;
@@ -401,9 +378,9 @@ static int block_main(int argc, char **argv)
     t = calloc((size_t)n + 1, sizeof(double));
     if (!y || !t) { fprintf(stderr, "block: out of memory\n"); goto done; }
 
-    printf("block: M%d (%d x %d Q1, 3x3 Gauss), N = %d unknowns (%s), %d contact nodes, half band %d\n",
+    printf("block: M%d (%d x %d Q1, 3x3 Gauss), N = %d unknowns (%s), %d contact nodes, half band %d, %s\n",
            a.nx * a.ny, a.nx, a.ny, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated",
-           md.ncontact, md.half_band);
+           md.ncontact, md.half_band, fe_solver_label(fs.kind));
     printf("  weights: kappa = %s for displacements, %g kappa for multipliers, 1 for gamma\n", a.kappa > 0 ? "given" : "1/N",
            a.mult_weight);
     if (bw) printf("  weights of Algorithms 2.1-2.2: %g kappa for multipliers\n", a.branch_mult_weight);
@@ -480,6 +457,7 @@ table:
     snprintf(spec, sizeof spec, "rect 40 80 %d %d", a.nx, a.ny);
     files_ok = fe_run_save_compare(&run, "block", spec, a.save, a.compare, a.ncompare, "Table 3");
     ok = fe_run_summary(&run, ndist, a.refine ? run.nbr : 6, t1 - t0) && ok;
+    fe_solver_report(&fs);
     if (a.out && fe_run_write_outputs(&run, a.out, "block", "mm", 5)) files_ok = 0;
     if (a.refine)
         printf("block: %s\n", ok ? "OK (every end point re-solved on its branch)" : "FAILED (an end point did not re-solve on its branch)");
@@ -489,22 +467,12 @@ table:
         printf("block: FAILED (n_pc = %ld, expected %ld)\n", run.brep.n_pc, a.expect_npc);
         ok = 0;
     }
-#ifdef FE_MUMPS
-    if (a.mumps) {
-        int per_rank, total;
-        psb_mumps_memory(&fm.m, &per_rank, &total);
-        printf("  MUMPS on %d rank%s: %ld analysis, %ld factorisations, memory %d MB on the largest rank, %d MB in all\n",
-               fm.m.nprocs, fm.m.nprocs > 1 ? "s" : "", fm.m.n_analysis, fm.m.n_factor, per_rank, total);
-    }
-#endif
     if (!files_ok) fprintf(stderr, "block: FAILED (a file could not be read or written, see above)\n");
     rc = ok && files_ok ? 0 : 1;
 done: /* every exit after the model is built frees what it holds (clean under LeakSanitizer) */
     free(y); free(t); free(w); free(bw);
     fe_run_free(&run);
-#ifdef FE_MUMPS
-    fe_mumps_free(&fm);
-#endif
+    fe_solver_free(&fs);
     fe_model_free(&md);
     fe_mesh_free(&mesh);
     return rc;

@@ -15,7 +15,7 @@
    the state part of the Jacobian is banded with a half band of about 2-4 times the nodes per mesh
    row; only the gamma column is dense. Assembly goes through fe_mat_add, which also knows the LAPACK
    general band layout, so a banded core can reuse it, and triplet / compressed-column modes for
-   sparse direct solvers (fe_sparse_pattern gives the pattern; examples/fe_umfpack.h uses it).
+   sparse direct solvers (fe_sparse: the pattern and the values of dH/dx for contrib/psb_sparse.h).
    fe_h1_rel_error compares displacements on nested P1 or Q1 meshes in the H1(Omega) norm.
 
    When pscbranch.h is included before this file, a small driver shared by the examples is
@@ -60,8 +60,8 @@ static inline int fe_gauss1d(int n, double *pts, double *wts)
    Two sparse modes (kl = FE_MAT_TRIPLET or FE_MAT_CSC, set with fe_mat_triplet / fe_mat_csc):
    triplets record the position (i, j) of every call, whatever v is, in ti/tj while nt < cap and
    count them all in nt (a pass with cap = 0 sizes the arrays); CSC adds v to a[k] where
-   rowi[colp[j] .. colp[j+1]-1] (sorted) holds i (rowperm[i] when rowperm != NULL: a row
-   permutation applied while assembling), and an entry outside the pattern sets `overflow`. Assembly calls fe_mat_add for every structural entry, zero or not, so one triplet
+   rowi[colp[j] .. colp[j+1]-1] (sorted) holds i, and an entry outside the pattern sets
+   `overflow`. Assembly calls fe_mat_add for every structural entry, zero or not, so one triplet
    pass gives a pattern valid for every y. */
 typedef struct fe_mat {
     double *a;
@@ -70,7 +70,6 @@ typedef struct fe_mat {
     int *ti, *tj;             /* triplet mode */
     long nt, cap;
     const int *colp, *rowi;   /* CSC mode */
-    const int *rowperm;       /* CSC mode, may be NULL */
 } fe_mat;
 
 enum { FE_MAT_TRIPLET = -3, FE_MAT_CSC = -2 };
@@ -82,11 +81,11 @@ static inline void fe_mat_triplet(fe_mat *m, int *ti, int *tj, long cap)
     m->ti = ti; m->tj = tj; m->cap = cap;
 }
 
-static inline void fe_mat_csc(fe_mat *m, double *a, const int *colp, const int *rowi, const int *rowperm)
+static inline void fe_mat_csc(fe_mat *m, double *a, const int *colp, const int *rowi)
 {
     memset(m, 0, sizeof *m);
     m->kl = m->ku = FE_MAT_CSC;
-    m->a = a; m->colp = colp; m->rowi = rowi; m->rowperm = rowperm;
+    m->a = a; m->colp = colp; m->rowi = rowi;
 }
 
 /* The sparse modes, out of line of the dense and band paths. */
@@ -97,7 +96,6 @@ static inline void fe_mat_add_sparse(fe_mat *m, int i, int j, double v)
         m->nt++;
     } else {
         int lo = m->colp[j], hi = m->colp[j + 1] - 1; /* binary search: columns hold ~20 rows */
-        if (m->rowperm) i = m->rowperm[i];
         while (lo <= hi) {
             int mid = lo + (hi - lo) / 2;
             if (m->rowi[mid] < i) lo = mid + 1;
@@ -848,7 +846,8 @@ static inline int fe_jacobian_dense(const fe_model *md, const double *y, double 
     fe_mat K;
     int j;
     for (j = 0; j <= md->n; j++) memset(jac + (size_t)j * ld, 0, sizeof(double) * (size_t)md->n);
-    K.a = jac; K.ld = ld; K.kl = -1; K.ku = -1; K.off = 0; K.overflow = 0;
+    memset(&K, 0, sizeof K);
+    K.a = jac; K.ld = ld; K.kl = -1; K.ku = -1;
     return fe_jacobian_parts(md, y, &K, jac + (size_t)md->n * ld);
 }
 
@@ -1004,7 +1003,7 @@ static inline int fe_triangle_model(fe_model *md, fe_mesh *mesh, int n, int mult
     return fe_model_setup(md, fe_tri_load, 1 << FE_LEFT, &c);
 }
 
-/* ---- sparse pattern of the Jacobian (for sparse direct solvers) ------------------------------ */
+/* ---- the sparse Jacobian (for the sparse direct solvers of contrib/psb_sparse.h) ------------ */
 
 static inline int fe_int_cmp(const void *a, const void *b)
 {
@@ -1014,13 +1013,11 @@ static inline int fe_int_cmp(const void *a, const void *b)
 
 /* Compressed-column pattern of the state block of the Jacobian (n x n), from one triplet pass of
    fe_jacobian_parts at y = 0 (every structural entry is added whatever its value, so it holds for
-   all y). border = 1: the bordered (n+1) x (n+1) pattern of pscbranch's B = [dH; row^T] instead,
-   with the gamma column and the border row dense (the row is a weighted tangent). Rows sorted
-   within each column. *colp (ncol + 1) and *rowi (nnz) are malloc'ed; returns nnz, or -1 out of
-   memory (or if assembly failed at y = 0). */
-static inline long fe_sparse_pattern(const fe_model *md, int border, int **colp_out, int **rowi_out)
+   all y). Rows sorted within each column. *colp (n + 1) and *rowi (nnz) are malloc'ed; returns
+   nnz, or -1 out of memory (or if assembly failed at y = 0). */
+static inline long fe_sparse_pattern(const fe_model *md, int **colp_out, int **rowi_out)
 {
-    int n = md->n, nc = n + (border ? 1 : 0), j, *cnt = NULL, *colp = NULL, *rowi = NULL, *ti = NULL, *tj = NULL, *tmp = NULL;
+    int n = md->n, j, *cnt = NULL, *colp = NULL, *rowi = NULL, *ti = NULL, *tj = NULL, *tmp = NULL;
     double *y = calloc((size_t)n + 1, sizeof(double));
     fe_mat K;
     long nt, k, nnz;
@@ -1031,7 +1028,7 @@ static inline long fe_sparse_pattern(const fe_model *md, int border, int **colp_
     nt = K.nt;
     ti = malloc(sizeof(int) * (size_t)(nt ? nt : 1));
     tj = malloc(sizeof(int) * (size_t)(nt ? nt : 1));
-    cnt = calloc((size_t)nc + 1, sizeof(int));
+    cnt = calloc((size_t)n + 1, sizeof(int));
     if (!ti || !tj || !cnt) goto fail;
     fe_mat_triplet(&K, ti, tj, nt);
     if (fe_jacobian_parts(md, y, &K, NULL) || K.nt != nt) goto fail;
@@ -1039,8 +1036,8 @@ static inline long fe_sparse_pattern(const fe_model *md, int border, int **colp_
     for (k = 0; k < nt; k++) cnt[tj[k] + 1]++;
     for (j = 0; j < n; j++) cnt[j + 1] += cnt[j];
     tmp = malloc(sizeof(int) * (size_t)(nt ? nt : 1));
-    rowi = malloc(sizeof(int) * (size_t)(nt + (border ? 2 * (long)n + 1 : 0) + 1));
-    colp = malloc(sizeof(int) * ((size_t)nc + 1));
+    rowi = malloc(sizeof(int) * (size_t)(nt ? nt : 1));
+    colp = malloc(sizeof(int) * ((size_t)n + 1));
     if (!tmp || !rowi || !colp) goto fail;
     for (k = 0; k < nt; k++) tmp[cnt[tj[k]]++] = ti[k]; /* cnt[j] ends at column j's end */
     nnz = 0;
@@ -1050,13 +1047,8 @@ static inline long fe_sparse_pattern(const fe_model *md, int border, int **colp_
         colp[j] = (int)nnz;
         for (q = start; q < end; q++)
             if (q == start || tmp[q] != tmp[q - 1]) rowi[nnz++] = tmp[q];
-        if (border) rowi[nnz++] = n; /* the border row, last in every column */
     }
-    if (border) {
-        colp[n] = (int)nnz;
-        for (j = 0; j <= n; j++) rowi[nnz++] = j; /* the gamma column, dense */
-    }
-    colp[nc] = (int)nnz;
+    colp[n] = (int)nnz;
     free(tmp);
     free(ti); free(tj); free(cnt); free(y);
     *colp_out = colp; *rowi_out = rowi;
@@ -1064,6 +1056,59 @@ static inline long fe_sparse_pattern(const fe_model *md, int border, int **colp_
 fail:
     free(ti); free(tj); free(cnt); free(y); free(colp); free(rowi); free(tmp);
     return -1;
+}
+
+/* dH/dx of a model for a sparse direct solver: its pattern, a fill callback for it, and a row
+   permutation that swaps the two equilibrium rows of each Dirichlet node (multiplier mode) with
+   its two B_D rows. Those multiplier columns have zero diagonals, which UMFPACK's symmetric
+   strategy (diagonal pivots preferred) can only pass by off-diagonal pivots that wreck its
+   ordering: triangle M16384 took 5e9 flops per factorisation; with the swap (boundary mass
+   entries on the diagonal) 2.2e8, near the 1.9e8 of the model with the Dirichlet dofs
+   eliminated (UMFPACK's unsymmetric strategy took 20x the symmetric one's time on M4096). */
+typedef struct fe_sparse {
+    const fe_model *md;
+    int *colp, *rowi;     /* n + 1, nnz */
+    long nnz;
+    int *row_perm;        /* n: row i goes to row row_perm[i] (an involution) */
+} fe_sparse;
+
+static inline void fe_sparse_free(fe_sparse *sp)
+{
+    free(sp->colp); free(sp->rowi); free(sp->row_perm);
+    memset(sp, 0, sizeof *sp);
+}
+
+/* 0, or -1 out of memory. */
+static inline int fe_sparse_init(fe_sparse *sp, const fe_model *md)
+{
+    int a, i;
+    memset(sp, 0, sizeof *sp);
+    sp->md = md;
+    sp->nnz = fe_sparse_pattern(md, &sp->colp, &sp->rowi);
+    sp->row_perm = malloc(sizeof(int) * (size_t)md->n);
+    if (sp->nnz < 0 || !sp->row_perm) { fe_sparse_free(sp); return -1; }
+    for (i = 0; i < md->n; i++) sp->row_perm[i] = i;
+    for (a = 0; a < md->mesh->nnode; a++)
+        if (md->ddof[a] >= 0 && md->udof[a] >= 0)
+            for (i = 0; i < 2; i++) {
+                sp->row_perm[md->udof[a] + i] = md->ddof[a] + i;
+                sp->row_perm[md->ddof[a] + i] = md->udof[a] + i;
+            }
+    return 0;
+}
+
+/* The values of dH/dx at y in sp's pattern (ax, zeroed by the caller) and dH/dgamma: the fill
+   callback of contrib/psb_sparse.h (user = the fe_sparse). 0; 1 an inverted element (a shorter
+   step may help); -1 an entry outside the pattern. */
+static inline int fe_sparse_fill(const double *y, double *ax, double *dparam, void *user)
+{
+    const fe_sparse *sp = (const fe_sparse *)user;
+    fe_mat K;
+    int rc;
+    fe_mat_csc(&K, ax, sp->colp, sp->rowi);
+    rc = fe_jacobian_parts(sp->md, y, &K, dparam);
+    if (rc) return 1;
+    return K.overflow ? -1 : 0;
 }
 
 /* ---- relative H1 error between nested meshes ------------------------------------------------- */
@@ -1624,7 +1669,8 @@ static inline int fe_psb_band_jacobian(const double *y, double *band, int ldband
     const fe_model *md = (const fe_model *)user;
     fe_mat K;
     int rc;
-    K.a = band; K.ld = ldband; K.kl = K.ku = K.off = md->half_band; K.overflow = 0;
+    memset(&K, 0, sizeof K);
+    K.a = band; K.ld = ldband; K.kl = K.ku = K.off = md->half_band;
     rc = fe_jacobian_parts(md, y, &K, dparam);
     return K.overflow ? -1 : rc;
 }
@@ -1665,8 +1711,8 @@ static inline int fe_run_point(const psb_point *pt, void *user)
 }
 
 /* The driver's solver and buffers for md: the banded backend (banded = 1) or the dense one, or,
-   when user != NULL, PSB_LINEAR_USER with that solver (e.g. fe_umfpack.h's), which evaluates dH
-   itself. */
+   when user != NULL, PSB_LINEAR_USER with that solver (e.g. contrib/psb_sparse.h's, see
+   fe_solvers.h), which evaluates dH itself. */
 static inline int fe_run_init_solver(fe_run *run, fe_model *md, const psb_options *opt, int banded,
                                      const psb_linear_solver *user)
 {

@@ -30,7 +30,7 @@ static inline int fe_mumps_fill(const double *y, double *v, void *user)
     fe_mumps *f = (fe_mumps *)user;
     fe_mat K;
     int rc;
-    fe_mat_csc(&K, v, f->colp, f->rowi, NULL);
+    fe_mat_csc(&K, v, f->colp, f->rowi);
     rc = fe_jacobian_parts(f->md, y, &K, v + f->nnz_state);
     if (rc) return rc > 0 ? 1 : -1; /* an inverted element: shorten the step */
     return K.overflow ? -1 : 0;
@@ -52,7 +52,7 @@ static inline int fe_mumps_init(fe_mumps *f, const fe_model *md, MPI_Comm comm)
     long k, nnz;
     memset(f, 0, sizeof *f);
     f->md = md;
-    f->nnz_state = fe_sparse_pattern(md, 0, &f->colp, &f->rowi);
+    f->nnz_state = fe_sparse_pattern(md, &f->colp, &f->rowi);
     if (f->nnz_state < 0) {
         snprintf(f->m.message, sizeof f->m.message, "out of memory for the sparsity pattern");
         return PSB_MUMPS_ERR_MEMORY;

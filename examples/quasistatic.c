@@ -101,7 +101,8 @@ static int quasi_band_jacobian(const double *y, double *band, int ldband, double
     const fe_model *md = q->md;
     int k, p, kb = md->half_band, rc;
     fe_mat K;
-    K.a = band; K.ld = ldband; K.kl = K.ku = K.off = kb; K.overflow = 0;
+    memset(&K, 0, sizeof K);
+    K.a = band; K.ld = ldband; K.kl = K.ku = K.off = kb;
     rc = fe_jacobian_parts(md, y, &K, dparam);
     if (rc || K.overflow) return rc ? rc : -1;
     for (k = 0; k < md->ncontact; k++) {

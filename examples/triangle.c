@@ -17,8 +17,9 @@
      0.56541 and 0.66665). H is piecewise linear, so the limit points are kinks: each is located
      to h_min and reported at the couple just before it.
 
-   --sparse (built with -DFE_UMFPACK): UMFPACK through pscbranch's user-solver callbacks
-     (examples/fe_umfpack.h) instead of the banded backend; the fine meshes need it.
+   --solver dense|banded|umfpack|klu: how the bordered systems are solved (examples/fe_solvers.h);
+     by default the banded LU, and UMFPACK from M16384 on in a build with SuiteSparse: the fine
+     meshes need it.
    Table 4 (branching): --save FILE writes the branches' end points at |gamma| = 1; --refine FILE
    reads such a file of a coarser nested mesh (N a multiple of its own) and re-solves each end
    point on this mesh by Newton from the interpolated coarse solution, skipping the branching;
@@ -27,13 +28,13 @@
 
    Usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
                    [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
-                   [--dense | --sparse] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
+                   [--solver dense|banded|umfpack|klu] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
    (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
-   Build (from the repository root):
+   Build (from the repository root; `make` adds SuiteSparse when libsuitesparse-dev is there):
      cc -std=c99 -O2 -I. examples/triangle.c -o examples/triangle -llapack -lblas -lm
-     cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_UMFPACK examples/triangle.c \
-        -o examples/triangle_sparse -lumfpack -llapack -lblas -lm */
+     cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE examples/triangle.c \
+        -o examples/triangle -lumfpack -lklu -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
@@ -41,11 +42,9 @@
 #include "pscbranch.h"
 #include "fe.h"
 #include "explore_out.h"
-#ifdef FE_UMFPACK
-#include "fe_umfpack.h"
-#endif
 
 #include "cli.h"
+#include "fe_solvers.h"
 
 /* Limits of the command line: n up to 2048 (2.1 million nodes, within fe.h's FE_MAX_NODES; the
    paper's finest is n = 512, M262144); the counts of Algorithm 2.2 to values that finish. */
@@ -71,10 +70,10 @@ static const char triangle_usage[] =
     "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2, 1 for fold; 0 < W <= 1e12)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
-    "  --dense               dense LAPACK instead of the banded backend\n"
+    "  --solver dense|banded|umfpack|klu   linear solver (default banded; umfpack where one\n"
+    "                        factorisation is ~3x faster, in a build with SuiteSparse)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore): the four\n"
     "                        branches, or with --problem fold the two limit points\n"
-    "  --sparse              UMFPACK (a build with -DFE_UMFPACK only)\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
     "  --refine FILE         re-solve a coarser nested mesh's end points on this mesh (needs --load; Table 4)\n"
     "  --compare FILE        relative H1 errors of a coarser file's end points (up to 4 times)\n"
@@ -84,7 +83,7 @@ static const char triangle_usage[] =
     "  -h, --help            this help\n";
 
 typedef struct args {
-    int n, fold, ndir, nspan, multipliers, verbose, quiet, dense, sparse, load_auto, explore;
+    int n, fold, ndir, nspan, multipliers, verbose, quiet, solver, load_auto, explore;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
@@ -103,20 +102,13 @@ static int parse(int argc, char **argv, args *a)
     cli c;
     memset(a, 0, sizeof *a);
     a->n = 32; a->ndir = 30; a->nspan = 10; a->multipliers = 1;
-    a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1;
+    a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->solver = FE_SOLVER_AUTO;
     cli_init(&c, "triangle", argc, argv, triangle_usage);
     while (cli_next(&c)) {
         if (cli_flag(&c, "--verbose")) a->verbose = 1;
         else if (cli_flag(&c, "--quiet")) a->quiet = 1;
-        else if (cli_flag(&c, "--dense")) a->dense = 1;
         else if (cli_flag(&c, "--explore")) a->explore = 1;
-        else if (cli_flag(&c, "--sparse")) {
-#ifdef FE_UMFPACK
-            a->sparse = 1;
-#else
-            cli_fail(&c, "--sparse needs a build with -DFE_UMFPACK (see the top of triangle.c)");
-#endif
-        }
+        else if (fe_solver_option(&c, &a->solver)) {}
         else if (cli_int(&c, "--mesh", &a->n, 2, TRI_MAX_MESH)) {}
         else if (cli_choice(&c, "--problem", &a->fold, problems)) {}
         else if (cli_int(&c, "--ndir", &a->ndir, 1, TRI_MAX_NDIR)) {}
@@ -143,52 +135,12 @@ static int parse(int argc, char **argv, args *a)
         }
         else cli_unknown(&c);
     }
-    if (c.status == CLI_OK && a->dense && a->sparse) cli_fail(&c, "--dense and --sparse exclude each other");
     if (c.status == CLI_OK && a->refine && !a->fold && !(a->load > 0))
         cli_fail(&c, "--refine needs --load H1, the load of the run that saved the end points");
     return c.status;
 }
 
 static double seconds(void) { return (double)clock() / CLOCKS_PER_SEC; }
-
-/* The driver on the banded backend (default), the dense one (--dense) or UMFPACK (--sparse);
-   *umf keeps the sparse solver's state for free_run. */
-static int init_run(fe_run *run, fe_model *md, const psb_options *opt, const args *a, void **umf)
-{
-    *umf = NULL;
-#ifdef FE_UMFPACK
-    if (a->sparse) {
-        fe_umf *u = malloc(sizeof *u);
-        psb_linear_solver ls;
-        if (!u || fe_umf_init(u, md)) { free(u); return -1; }
-        *umf = u;
-        ls = fe_umf_solver(u);
-        return fe_run_init_solver(run, md, opt, 1, &ls);
-    }
-#endif
-    return fe_run_init(run, md, opt, !a->dense);
-}
-
-static void report_umf(const void *umf)
-{
-#ifdef FE_UMFPACK
-    const fe_umf *u = (const fe_umf *)umf;
-    if (u && u->n_numeric)
-        printf("  UMFPACK: %ld symbolic, %ld numeric factorisations, %.3g flops each on average\n", u->n_symbolic,
-               u->n_numeric, u->flops / (double)u->n_numeric);
-#else
-    (void)umf;
-#endif
-}
-
-static void free_run(fe_run *run, void *umf)
-{
-    fe_run_free(run);
-#ifdef FE_UMFPACK
-    if (umf) fe_umf_free((fe_umf *)umf);
-#endif
-    free(umf);
-}
 
 /* Paper numbering: gamma < 0 is branch 2; gamma > 0 by the lower left vertex: 1 separated,
    3 stick, 4 slip. */
@@ -358,8 +310,9 @@ static int choose_load(args *a)
     fold_state fs;
     double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y = NULL, *t = NULL, *w;
     int n, ok = 0, k;
-    void *umf = NULL;
+    fe_solver fsol;
     memset(&run, 0, sizeof run);
+    memset(&fsol, 0, sizeof fsol);
     if (fe_triangle_model(&md, &mesh, a->n, a->multipliers, h0, h1)) {
         fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a->n);
         goto done;
@@ -368,7 +321,7 @@ static int choose_load(args *a)
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, &bo, a, &md, w, 1);
-    k = init_run(&run, &md, &opt, a, &umf); /* the weights are copied at init */
+    k = fe_solver_run_init(&fsol, &run, &md, &opt, a->solver, "triangle"); /* the weights are copied at init */
     free(w);
     if (k) { fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns: %s\n", n, psb_solver_message(&run.s)); goto done; }
     run.branch = bo;
@@ -401,7 +354,7 @@ static int choose_load(args *a)
     }
 done:
     free(y); free(t);
-    free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh);
+    fe_run_free(&run); fe_solver_free(&fsol); fe_model_free(&md); fe_mesh_free(&mesh);
     return ok ? 0 : -1;
 }
 
@@ -506,9 +459,10 @@ int main(int argc, char **argv)
     char spec[64];
     int n, k, ndist, ok, rc = 1, files_ok;
     psb_result r;
-    void *umf = NULL;
+    fe_solver fsol;
 
     memset(&mesh, 0, sizeof mesh);
+    memset(&fsol, 0, sizeof fsol);
     memset(&md, 0, sizeof md);
     memset(&run, 0, sizeof run);
 
@@ -524,7 +478,7 @@ int main(int argc, char **argv)
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, &bo, &a, &md, w, a.fold);
-    k = init_run(&run, &md, &opt, &a, &umf); /* the weights are copied at init */
+    k = fe_solver_run_init(&fsol, &run, &md, &opt, a.solver, "triangle"); /* the weights are copied at init */
     free(w);
     if (k) {
         fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns (half band %d): %s\n", n, md.half_band,
@@ -540,7 +494,7 @@ int main(int argc, char **argv)
     if (!y || !t || !rv) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     printf("triangle: M%d (%d subdivisions per leg, P1), N = %d unknowns (%s), %d contact nodes, half band %d, kappa = %s, %s\n",
            mesh.nelem, a.n, n, a.multipliers ? "Dirichlet multipliers" : "fixed dofs eliminated", md.ncontact,
-           md.half_band, a.kappa > 0 ? "given" : "1/N", a.sparse ? "UMFPACK (user solver)" : (a.dense ? "dense LAPACK" : "banded LAPACK"));
+           md.half_band, a.kappa > 0 ? "given" : "1/N", fe_solver_label(fsol.kind));
 
     t0 = seconds();
     if (a.refine && !a.fold) {
@@ -559,7 +513,7 @@ int main(int argc, char **argv)
     if (r != PSB_SUCCESS) { fprintf(stderr, "triangle: tangent failed: %s\n", psb_result_string(r)); goto done; }
     if (a.explore || a.fold) {
         rc = a.explore ? run_explore(&run, y, t, &a, t0) : run_fold(&run, y, t, &a, t0);
-        report_umf(umf);
+        fe_solver_report(&fsol);
         goto done;
     }
 
@@ -605,7 +559,7 @@ table:
     files_ok = !a.out || !fe_run_write_outputs(&run, a.out, "triangle", "m", 1);
     snprintf(spec, sizeof spec, "tri 1 %d", a.n);
     files_ok = fe_run_save_compare(&run, "triangle", spec, a.save, a.compare, a.ncompare, "Table 4") && files_ok;
-    report_umf(umf);
+    fe_solver_report(&fsol);
     if (a.refine)
         printf("triangle: %s\n", ok ? "OK (every end point re-solved on its branch)" : "FAILED (an end point did not re-solve on its branch)");
     else
@@ -613,6 +567,6 @@ table:
     if (!files_ok) fprintf(stderr, "triangle: FAILED (a file could not be read or written, see above)\n");
     rc = ok && files_ok ? 0 : 1;
 done: /* every exit after the model is built frees what it holds (clean under LeakSanitizer) */
-    free_run(&run, umf); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
+    fe_run_free(&run); fe_solver_free(&fsol); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
     return rc;
 }

@@ -7,7 +7,8 @@
 #   tools/deps.sh NEED...      NEED: cc (the C compiler $CC), cxx (the C++ compiler $CXX),
 #                              lapack (a program calling dgetrf_ links with $LAPACK_LIBS and
 #                              runs), gnuplot, fuzz (clang with libFuzzer: a fuzz target links
-#                              with -fsanitize=fuzzer,address,undefined); a trailing '?' marks a need optional (hdf5?): it is
+#                              with -fsanitize=fuzzer,address,undefined), suitesparse (UMFPACK and
+#                              KLU headers); a trailing '?' marks a need optional (hdf5?): it is
 #                              installed along with the others when they are, never an error.
 #
 # Environment: CC, CXX, LAPACK_LIBS as make passes them; DEPS_NO_INSTALL=1 only reports.
@@ -33,6 +34,7 @@ has_fuzz() {
     clang -fsanitize=fuzzer,address,undefined "$tmp/f.c" -o "$tmp/f" >"$tmp/log" 2>&1
 }
 has_hdf5() { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists hdf5; }
+has_suitesparse() { [ -f /usr/include/suitesparse/umfpack.h ] && [ -f /usr/include/suitesparse/klu.h ]; }
 has_lapack() {
     has_cc || return 1
     [ -n "$tmp" ] || tmp=$(mktemp -d "${TMPDIR:-/tmp}/pscbranch-deps.XXXXXX") || return 1
@@ -66,6 +68,7 @@ package_of() {
     lapack) echo "liblapack-dev libblas-dev" ;;
     gnuplot) echo gnuplot-nox ;;
     hdf5) echo "pkg-config libhdf5-dev" ;;
+    suitesparse) echo "libsuitesparse-dev" ;;
     fuzz) # libFuzzer ships with clang's runtime, packaged per clang version
         v=$(clang --version 2>/dev/null | sed -n 's/.*clang version \([0-9]*\).*/\1/p' | head -n 1)
         echo "clang libclang-rt-${v:-14}-dev" ;;
@@ -81,6 +84,7 @@ describe() {
     lapack) echo "LAPACK/BLAS (a program calling dgetrf_ linked with $LAPACK_LIBS)" ;;
     gnuplot) echo "gnuplot" ;;
     hdf5) echo "HDF5 through pkg-config" ;;
+    suitesparse) echo "SuiteSparse (UMFPACK, KLU)" ;;
     fuzz) echo "clang with libFuzzer" ;;
     esac
 }

@@ -1,0 +1,555 @@
+/* SPDX-License-Identifier: MIT */
+/* psb_sparse.h - sparse direct solvers for pscbranch's PSB_LINEAR_USER backend: UMFPACK and KLU
+   (SuiteSparse), with the symbolic analysis done once. Optional: pscbranch.h itself needs only
+   LAPACK/BLAS; this file is for programs that link SuiteSparse too.
+
+   In exactly one C file:     #define PSB_SPARSE_IMPLEMENTATION
+                              #include "contrib/psb_sparse.h"   (after or without pscbranch.h)
+   Build:                     cc -I/usr/include/suitesparse ... -lumfpack -lklu -llapack -lblas -lm
+   (Debian: apt-get install libsuitesparse-dev.) -DPSB_SPARSE_NO_UMFPACK or -DPSB_SPARSE_NO_KLU
+   leaves one backend out (and its library off the link line); -DPSB_SPARSE_STATIC makes the
+   functions static.
+
+   USE
+     You give the sparsity pattern of A = dH/dx (n x n, compressed columns: colp[n+1], rowi[nnz],
+     state column j is y component j when j < param_index, j+1 otherwise, as in pscbranch) once,
+     and a callback that fills the values at y:
+       int fill(const double *y, double *ax, double *dparam, void *user);
+         ax[k] = A(rowi[k], j) for colp[j] <= k < colp[j+1] (arrives zeroed), dparam[i] =
+         dH_i/dparameter; return 0, > 0 (recoverable: the step is rejected), < 0 (stop).
+     psb_sparse sp;
+     if (psb_sparse_init(&sp, PSB_SPARSE_UMFPACK, n, n, colp, rowi, fill, user, NULL))
+         puts(sp.message);                          // the pattern is copied: free it if you like
+     prob.linear = PSB_LINEAR_USER;
+     prob.solver = psb_sparse_solver(&sp);          // then psb_solver_init, trace, branch...
+     ...
+     psb_sparse_free(&sp);
+
+   WHAT IS FACTORED
+     The bordered matrix B = [dH(y); row^T], (n+1) x (n+1), itself, with its dense parameter
+     column and border row in the pattern (the row is a weighted tangent, the column is
+     often zero but kept, so the pattern never changes). The fill-reducing ordering is computed
+     once, by psb_sparse_init, from the pattern alone (umfpack_di_symbolic without values,
+     klu_analyze): runs are reproducible and sp.stats.n_analysis stays 1. Each factor call is a
+     numeric factorisation with pivoting over B, so B is factored exactly where A alone is
+     singular (folds, branch points): nothing is eliminated by blocks.
+     UMFPACK: umfpack_di_numeric at every factor call (threshold partial pivoting within the
+       fixed column order); solves with umfpack_di_wsolve and its iterative refinement.
+     KLU: klu_factor the first time, then klu_refactor, which keeps the previous pivot
+       sequence and skips the pivot search. A refactorisation is kept when its pivot ratio
+       (klu_rcond) passes rcond_min, otherwise B is factored again with pivoting
+       (stats.n_fallback); solves refine iteratively (at most two steps), and a solution that
+       stays inaccurate after a refactorisation (pivot growth) makes solve factor B again
+       with pivoting and solve once more (also counted in n_fallback).
+     Every solution is checked by its normwise backward error in B,
+       omega = ||b - B z|| / (||B|| ||z|| + ||b||)   (max norms);
+     when omega > 1e-10 after refinement (after a KLU refactorisation: after factoring B again
+     with pivoting) solve returns 1: the library rejects the step, never uses a bad solution.
+     A singular B (a zero pivot, or a pivot ratio min |U_ii| / max |U_ii| below rcond_min
+     [1e3 eps], or NaN/Inf in the values or the row) makes factor return 1: the library
+     rejects the step or borders with another row. Neither library prints anything here;
+     sp.stats.status keeps the last status of UMFPACK or KLU.
+
+   OPTIONS (psb_sparse_options, may be NULL; zero fields take the defaults in brackets)
+     row_perm [NULL]  a permutation of the n equations applied before factoring (row i of
+                      dH goes to row row_perm[i]); with symmetric = 1 it should put nonzeros
+                      on the diagonal: e.g. a saddle point's zero diagonal block (Dirichlet
+                      multipliers) swapped with the rows that couple to it.
+     symmetric [0]    UMFPACK: the symmetric strategy (AMD on B + B^T, diagonal pivots
+                      preferred) instead of UMFPACK's automatic choice; for a pattern that is
+                      symmetric but for a few rows (KLU always orders B + B^T)
+     rcond_min [1e3 eps]   the pivot ratio below which B is reported singular
+
+   RETURN CODES of psb_sparse_init: 0, PSB_SPARSE_ERR_MEMORY, PSB_SPARSE_ERR_INPUT (bad size,
+   pattern or permutation; sp.message says which), PSB_SPARSE_ERR_BACKEND (a backend left out
+   of this build, or its analysis failed). On failure nothing is held and sp.message is set.
+   The factor and solve callbacks follow pscbranch's contract (manual, section 6): 0, > 0
+   singular or recoverable (the fill callback's own > 0 too), < 0 stop (the fill callback's
+   < 0, out of memory, or the library rejecting its input).
+
+   No global state: each psb_sparse is independent; one may not be shared by two solvers used
+   at the same time. Indices are int (UMFPACK's and KLU's di/int interfaces): nnz + 2n + 1
+   must fit. */
+#ifndef PSB_SPARSE_H
+#define PSB_SPARSE_H
+
+#include "pscbranch.h"
+
+#ifndef PSB_SPARSE_NO_UMFPACK
+#include <umfpack.h>
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+#include <klu.h>
+#endif
+
+#ifndef PSB_SPARSE_DEF
+#ifdef PSB_SPARSE_STATIC
+#define PSB_SPARSE_DEF static
+#else
+#define PSB_SPARSE_DEF extern
+#endif
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum psb_sparse_backend { PSB_SPARSE_UMFPACK = 1, PSB_SPARSE_KLU = 2 } psb_sparse_backend;
+
+enum { PSB_SPARSE_ERR_MEMORY = -1, PSB_SPARSE_ERR_INPUT = -2, PSB_SPARSE_ERR_BACKEND = -3 };
+
+typedef int (*psb_sparse_fill_fn)(const double *y, double *ax, double *dparam, void *user);
+
+typedef struct psb_sparse_options {
+    const int *row_perm;
+    int symmetric;
+    double rcond_min;
+} psb_sparse_options;
+
+typedef struct psb_sparse_stats {
+    long n_analysis;   /* symbolic analyses: 1 after a successful init, never more */
+    long n_factor;     /* numeric factorisations with pivoting */
+    long n_refactor;   /* KLU refactorisations on the previous pivots that were kept */
+    long n_fallback;   /* KLU refactorisations discarded and done again with pivoting */
+    long n_fill;       /* fill callbacks */
+    long n_refine;     /* KLU refinement steps */
+    double flops;      /* UMFPACK: flops of every numeric factorisation, summed */
+    double rcond;      /* pivot ratio of the last factorisation */
+    double omega;      /* backward error of the last solution */
+    int status;        /* UMFPACK's or KLU's last status */
+} psb_sparse_stats;
+
+typedef struct psb_sparse {
+    int n, param_index;
+    psb_sparse_backend backend;
+    psb_sparse_stats stats;
+    const char *message;  /* why init failed ("" on success) */
+    /* internals */
+    psb_sparse_fill_fn fill_;
+    void *user_;
+    double rcond_min_;
+    int nnz_;             /* entries of A */
+    int *bp_, *bi_;       /* the pattern of P B, compressed columns in y's order */
+    int *map_;            /* entry k of A is entry map_[k] of P B */
+    int *rperm_;          /* row i of B is row rperm_[i] of P B (n + 1) */
+    double *ax_, *dparam_, *bx_;
+    double *work_;        /* solve: 8 (n + 1) */
+    int *iwork_;          /* UMFPACK's solve (n + 1) */
+    int factored_, refactored_;
+    double normb_;        /* ||B|| (max norm) */
+#ifndef PSB_SPARSE_NO_UMFPACK
+    void *umf_symbolic_, *umf_numeric_;
+    double umf_control_[UMFPACK_CONTROL], umf_info_[UMFPACK_INFO];
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+    klu_symbolic *klu_symbolic_;
+    klu_numeric *klu_numeric_;
+    klu_common klu_;
+#endif
+} psb_sparse;
+
+/* Copies the pattern, orders B once (the symbolic analysis). Returns 0 or PSB_SPARSE_ERR_*. */
+PSB_SPARSE_DEF int psb_sparse_init(psb_sparse *sp, psb_sparse_backend backend, int n, int param_index,
+                                   const int *colp, const int *rowi, psb_sparse_fill_fn fill, void *user,
+                                   const psb_sparse_options *opt);
+/* Frees what init allocated; sp is zeroed (freeing twice is harmless). */
+PSB_SPARSE_DEF void psb_sparse_free(psb_sparse *sp);
+/* The callbacks for problem.solver (problem.linear = PSB_LINEAR_USER). */
+PSB_SPARSE_DEF int psb_sparse_factor(const double *y, const double *row, void *ctx);
+PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx);
+PSB_SPARSE_DEF psb_linear_solver psb_sparse_solver(psb_sparse *sp);
+/* Whether a backend is in this build. */
+PSB_SPARSE_DEF int psb_sparse_available(psb_sparse_backend backend);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* PSB_SPARSE_H */
+
+#ifdef PSB_SPARSE_IMPLEMENTATION
+#ifndef PSB_SPARSE_IMPLEMENTED
+#define PSB_SPARSE_IMPLEMENTED
+
+#include <float.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* refinement stops below this backward error; a solution above the second is refused */
+#define PSB__SPARSE_OMEGA_GOOD (8 * DBL_EPSILON)
+#define PSB__SPARSE_OMEGA_MAX 1e-10
+
+PSB_SPARSE_DEF int psb_sparse_available(psb_sparse_backend backend)
+{
+#ifndef PSB_SPARSE_NO_UMFPACK
+    if (backend == PSB_SPARSE_UMFPACK) return 1;
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+    if (backend == PSB_SPARSE_KLU) return 1;
+#endif
+    (void)backend;
+    return 0;
+}
+
+PSB_SPARSE_DEF void psb_sparse_free(psb_sparse *sp)
+{
+    if (!sp) return;
+#ifndef PSB_SPARSE_NO_UMFPACK
+    if (sp->umf_numeric_) umfpack_di_free_numeric(&sp->umf_numeric_);
+    if (sp->umf_symbolic_) umfpack_di_free_symbolic(&sp->umf_symbolic_);
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+    if (sp->klu_numeric_) klu_free_numeric(&sp->klu_numeric_, &sp->klu_);
+    if (sp->klu_symbolic_) klu_free_symbolic(&sp->klu_symbolic_, &sp->klu_);
+#endif
+    free(sp->bp_); free(sp->bi_); free(sp->map_); free(sp->rperm_);
+    free(sp->ax_); free(sp->dparam_); free(sp->bx_); free(sp->work_); free(sp->iwork_);
+    memset(sp, 0, sizeof *sp);
+}
+
+static int psb__sparse_fail(psb_sparse *sp, int code, const char *message)
+{
+    psb_sparse_free(sp);
+    sp->message = message;
+    return code;
+}
+
+typedef struct psb__sparse_pair { int row, k; } psb__sparse_pair;
+
+static int psb__sparse_pair_cmp(const void *a, const void *b)
+{
+    int x = ((const psb__sparse_pair *)a)->row, y = ((const psb__sparse_pair *)b)->row;
+    return (x > y) - (x < y);
+}
+
+PSB_SPARSE_DEF int psb_sparse_init(psb_sparse *sp, psb_sparse_backend backend, int n, int param_index,
+                                   const int *colp, const int *rowi, psb_sparse_fill_fn fill, void *user,
+                                   const psb_sparse_options *opt)
+{
+    static const psb_sparse_options defaults = {NULL, 0, 0.0};
+    psb__sparse_pair *pairs = NULL;
+    int *seen = NULL, np1, nnz, j, c, i, q, maxcol = 0;
+    long long total;
+    size_t un;
+    if (!sp) return PSB_SPARSE_ERR_INPUT;
+    memset(sp, 0, sizeof *sp);
+    sp->message = "";
+    if (!opt) opt = &defaults;
+    if (!psb_sparse_available(backend)) return psb__sparse_fail(sp, PSB_SPARSE_ERR_BACKEND, "backend not in this build");
+    if (n < 1 || n > INT_MAX - 2 || param_index < 0 || param_index > n)
+        return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "n must be >= 1 and 0 <= param_index <= n");
+    if (!colp || !rowi || !fill) return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "colp, rowi and fill are required");
+    if (!(opt->rcond_min >= 0) || !(opt->rcond_min < 1))
+        return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "rcond_min must lie in [0, 1)");
+    if (colp[0] != 0) return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "colp[0] must be 0");
+    for (j = 0; j < n; j++) {
+        if (colp[j + 1] < colp[j]) return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "colp must not decrease");
+        if (colp[j + 1] - colp[j] > maxcol) maxcol = colp[j + 1] - colp[j];
+    }
+    nnz = colp[n];
+    total = (long long)nnz + 2LL * n + 1;
+    if (total > INT_MAX) return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "nnz + 2n + 1 exceeds INT_MAX");
+    np1 = n + 1;
+    un = (size_t)np1;
+    sp->n = n;
+    sp->param_index = param_index;
+    sp->backend = backend;
+    sp->fill_ = fill;
+    sp->user_ = user;
+    sp->nnz_ = nnz;
+    sp->rcond_min_ = opt->rcond_min > 0 ? opt->rcond_min : 1e3 * DBL_EPSILON;
+    sp->bp_ = (int *)malloc(sizeof(int) * (un + 1));
+    sp->bi_ = (int *)malloc(sizeof(int) * (size_t)total);
+    sp->map_ = (int *)malloc(sizeof(int) * (size_t)(nnz ? nnz : 1));
+    sp->rperm_ = (int *)malloc(sizeof(int) * un);
+    sp->ax_ = (double *)malloc(sizeof(double) * (size_t)(nnz ? nnz : 1));
+    sp->dparam_ = (double *)malloc(sizeof(double) * (size_t)n);
+    sp->bx_ = (double *)malloc(sizeof(double) * (size_t)total);
+    sp->work_ = (double *)malloc(sizeof(double) * 8 * un);
+    sp->iwork_ = (int *)malloc(sizeof(int) * un);
+    seen = (int *)calloc(un, sizeof(int));
+    pairs = (psb__sparse_pair *)malloc(sizeof(psb__sparse_pair) * (size_t)(maxcol ? maxcol : 1));
+    if (!sp->bp_ || !sp->bi_ || !sp->map_ || !sp->rperm_ || !sp->ax_ || !sp->dparam_ || !sp->bx_ || !sp->work_ ||
+        !sp->iwork_ || !seen || !pairs) {
+        free(seen); free(pairs);
+        return psb__sparse_fail(sp, PSB_SPARSE_ERR_MEMORY, "out of memory");
+    }
+    for (i = 0; i < n; i++) {
+        int r = opt->row_perm ? opt->row_perm[i] : i;
+        if (r < 0 || r >= n || seen[r]) {
+            free(seen); free(pairs);
+            return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "row_perm is not a permutation of 0..n-1");
+        }
+        seen[r] = 1;
+        sp->rperm_[i] = r;
+    }
+    sp->rperm_[n] = n; /* the border row stays last */
+    /* P B column by column in y's order: A's columns (rows renamed by P, sorted, the border row
+       last), the parameter column dense */
+    q = 0;
+    for (c = 0; c < np1; c++) {
+        int len;
+        sp->bp_[c] = q;
+        if (c == param_index) {
+            for (i = 0; i < np1; i++) sp->bi_[q++] = i;
+            continue;
+        }
+        j = c < param_index ? c : c - 1;
+        len = colp[j + 1] - colp[j];
+        for (i = 0; i < len; i++) {
+            int r = rowi[colp[j] + i];
+            if (r < 0 || r >= n) {
+                free(seen); free(pairs);
+                return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "a row index lies outside 0..n-1");
+            }
+            pairs[i].row = sp->rperm_[r];
+            pairs[i].k = colp[j] + i;
+        }
+        qsort(pairs, (size_t)len, sizeof *pairs, psb__sparse_pair_cmp);
+        for (i = 0; i < len; i++) {
+            if (i > 0 && pairs[i].row == pairs[i - 1].row) {
+                free(seen); free(pairs);
+                return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "a column holds a row index twice");
+            }
+            sp->map_[pairs[i].k] = q;
+            sp->bi_[q++] = pairs[i].row;
+        }
+        sp->bi_[q++] = n;
+    }
+    sp->bp_[np1] = q;
+    free(seen);
+    free(pairs);
+    /* the analysis, from the pattern alone */
+#ifndef PSB_SPARSE_NO_UMFPACK
+    if (backend == PSB_SPARSE_UMFPACK) {
+        umfpack_di_defaults(sp->umf_control_);
+        if (opt->symmetric) sp->umf_control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
+        sp->stats.status = umfpack_di_symbolic(np1, np1, sp->bp_, sp->bi_, NULL, &sp->umf_symbolic_,
+                                               sp->umf_control_, sp->umf_info_);
+        if (sp->stats.status != UMFPACK_OK) {
+            int oom = sp->stats.status == UMFPACK_ERROR_out_of_memory;
+            sp->umf_symbolic_ = NULL;
+            return psb__sparse_fail(sp, oom ? PSB_SPARSE_ERR_MEMORY : PSB_SPARSE_ERR_BACKEND,
+                                    "umfpack_di_symbolic failed");
+        }
+    }
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+    if (backend == PSB_SPARSE_KLU) {
+        klu_defaults(&sp->klu_);
+        sp->klu_symbolic_ = klu_analyze(np1, sp->bp_, sp->bi_, &sp->klu_);
+        sp->stats.status = sp->klu_.status;
+        if (!sp->klu_symbolic_)
+            return psb__sparse_fail(sp, sp->klu_.status == KLU_OUT_OF_MEMORY ? PSB_SPARSE_ERR_MEMORY : PSB_SPARSE_ERR_BACKEND,
+                                    "klu_analyze failed");
+    }
+#endif
+    sp->stats.n_analysis = 1;
+    return 0;
+}
+
+/* B at (y, row) into bx_: 0, or the fill callback's code, or 1 for NaN/Inf. */
+static int psb__sparse_assemble(psb_sparse *sp, const double *y, const double *row)
+{
+    int n = sp->n, p = sp->param_index, c, k, rc;
+    const int *bp = sp->bp_;
+    double *bx = sp->bx_;
+    memset(sp->ax_, 0, sizeof(double) * (size_t)sp->nnz_);
+    memset(sp->dparam_, 0, sizeof(double) * (size_t)n);
+    rc = sp->fill_(y, sp->ax_, sp->dparam_, sp->user_);
+    sp->stats.n_fill++;
+    if (rc) return rc;
+    for (k = 0; k < sp->nnz_; k++) {
+        if (!isfinite(sp->ax_[k])) return 1;
+        bx[sp->map_[k]] = sp->ax_[k];
+    }
+    for (k = 0; k < n; k++) {
+        if (!isfinite(sp->dparam_[k])) return 1;
+        bx[bp[p] + sp->rperm_[k]] = sp->dparam_[k];
+    }
+    for (c = 0; c <= n; c++) {
+        if (!isfinite(row[c])) return 1;
+        bx[c == p ? bp[p] + n : bp[c + 1] - 1] = row[c]; /* row n is last in every column */
+    }
+    { /* ||B|| in the max norm (row sums), for the backward error of the solutions */
+        double *rs = sp->work_, nb = 0;
+        memset(rs, 0, sizeof(double) * ((size_t)n + 1));
+        for (k = 0; k < bp[n + 1]; k++) rs[sp->bi_[k]] += fabs(bx[k]);
+        for (c = 0; c <= n; c++) if (rs[c] > nb) nb = rs[c];
+        sp->normb_ = nb;
+    }
+    return 0;
+}
+
+#ifndef PSB_SPARSE_NO_UMFPACK
+static int psb__sparse_umf_code(int status)
+{
+    if (status == UMFPACK_OK || status == UMFPACK_WARNING_determinant_underflow ||
+        status == UMFPACK_WARNING_determinant_overflow)
+        return 0;
+    if (status == UMFPACK_WARNING_singular_matrix) return 1;
+    return -1; /* out of memory, invalid matrix or argument: no smaller step helps */
+}
+#endif
+
+#ifndef PSB_SPARSE_NO_KLU
+/* KLU with pivoting: 0, 1 singular, -1 out of memory or invalid input. */
+static int psb__sparse_klu_factor(psb_sparse *sp)
+{
+    if (sp->klu_numeric_) klu_free_numeric(&sp->klu_numeric_, &sp->klu_);
+    sp->klu_numeric_ = klu_factor(sp->bp_, sp->bi_, sp->bx_, sp->klu_symbolic_, &sp->klu_);
+    sp->stats.n_factor++;
+    sp->stats.status = sp->klu_.status;
+    sp->refactored_ = 0;
+    if (!sp->klu_numeric_) return sp->klu_.status == KLU_SINGULAR ? 1 : -1;
+    klu_rcond(sp->klu_symbolic_, sp->klu_numeric_, &sp->klu_);
+    sp->stats.rcond = sp->klu_.rcond;
+    return sp->klu_.rcond >= sp->rcond_min_ ? 0 : 1; /* also NaN */
+}
+#endif
+
+PSB_SPARSE_DEF int psb_sparse_factor(const double *y, const double *row, void *ctx)
+{
+    psb_sparse *sp = (psb_sparse *)ctx;
+    int rc = -1;
+    if (!sp || !sp->bx_ || !y || !row) return -1;
+    sp->factored_ = 0;
+    rc = psb__sparse_assemble(sp, y, row);
+    if (rc) return rc;
+#ifndef PSB_SPARSE_NO_UMFPACK
+    if (sp->backend == PSB_SPARSE_UMFPACK) {
+        if (sp->umf_numeric_) umfpack_di_free_numeric(&sp->umf_numeric_);
+        sp->stats.status = umfpack_di_numeric(sp->bp_, sp->bi_, sp->bx_, sp->umf_symbolic_, &sp->umf_numeric_,
+                                              sp->umf_control_, sp->umf_info_);
+        sp->stats.n_factor++;
+        sp->stats.flops += sp->umf_info_[UMFPACK_FLOPS];
+        sp->stats.rcond = sp->umf_info_[UMFPACK_RCOND];
+        rc = psb__sparse_umf_code(sp->stats.status);
+        if (rc == 0 && !(sp->stats.rcond >= sp->rcond_min_)) rc = 1; /* also NaN */
+        if (rc && sp->umf_numeric_) umfpack_di_free_numeric(&sp->umf_numeric_);
+    }
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+    if (sp->backend == PSB_SPARSE_KLU) {
+        rc = 1;
+        if (sp->klu_numeric_) {
+            /* the pivots of the last factorisation with pivoting (a failed refactorisation
+               leaves them intact): kept unless a pivot is small; a growth that spoils the
+               solutions shows in their backward error, and solve factors again then */
+            int ok = klu_refactor(sp->bp_, sp->bi_, sp->bx_, sp->klu_symbolic_, sp->klu_numeric_, &sp->klu_);
+            sp->stats.status = sp->klu_.status;
+            if (ok && sp->klu_.status == KLU_OK && klu_rcond(sp->klu_symbolic_, sp->klu_numeric_, &sp->klu_) &&
+                sp->klu_.rcond >= sp->rcond_min_) {
+                sp->stats.n_refactor++;
+                sp->stats.rcond = sp->klu_.rcond;
+                sp->refactored_ = 1;
+                rc = 0;
+            } else {
+                sp->stats.n_fallback++;
+            }
+        }
+        if (rc) rc = psb__sparse_klu_factor(sp);
+    }
+#endif
+    sp->factored_ = rc == 0;
+    return rc;
+}
+
+/* x solves (P B) x = pb with the current factors (one right-hand side): 0 or -1. */
+static int psb__sparse_solve1(psb_sparse *sp, const double *pb, double *x)
+{
+    int np1 = sp->n + 1;
+#ifndef PSB_SPARSE_NO_UMFPACK
+    if (sp->backend == PSB_SPARSE_UMFPACK) {
+        sp->stats.status = umfpack_di_wsolve(UMFPACK_A, sp->bp_, sp->bi_, sp->bx_, x, pb, sp->umf_numeric_,
+                                             sp->umf_control_, sp->umf_info_, sp->iwork_, sp->work_ + 3 * (size_t)np1);
+        return psb__sparse_umf_code(sp->stats.status) ? -1 : 0;
+    }
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+    if (sp->backend == PSB_SPARSE_KLU) {
+        memcpy(x, pb, sizeof(double) * (size_t)np1);
+        if (!klu_solve(sp->klu_symbolic_, sp->klu_numeric_, np1, 1, x, &sp->klu_)) return -1;
+        return 0;
+    }
+#endif
+    (void)pb; (void)x; (void)np1;
+    return -1;
+}
+
+/* r = pb - (P B) x; returns the normwise backward error ||r|| / (||B|| ||x|| + ||pb||) in the
+   max norm (NaN when x is not finite). Normwise, as LU with partial pivoting guarantees: a
+   componentwise one fails rows whose terms cancel to round-off (a separated contact node's). */
+static double psb__sparse_residual(const psb_sparse *sp, const double *pb, const double *x, double *r)
+{
+    int np1 = sp->n + 1, c, q;
+    double rmax = 0, xmax = 0, bmax = 0;
+    for (c = 0; c < np1; c++) r[c] = pb[c];
+    for (c = 0; c < np1; c++) {
+        double xc = x[c];
+        if (xc == 0) continue;
+        for (q = sp->bp_[c]; q < sp->bp_[c + 1]; q++) r[sp->bi_[q]] -= sp->bx_[q] * xc;
+    }
+    for (c = 0; c < np1; c++) {
+        double e = fabs(r[c]);
+        if (e != e || x[c] != x[c]) return e + x[c]; /* NaN */
+        if (e > rmax) rmax = e;
+        if (fabs(x[c]) > xmax) xmax = fabs(x[c]);
+        if (fabs(pb[c]) > bmax) bmax = fabs(pb[c]);
+    }
+    if (rmax == 0) return 0;
+    return rmax / (sp->normb_ * xmax + bmax);
+}
+
+PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
+{
+    psb_sparse *sp = (psb_sparse *)ctx;
+    int np1, k, i;
+    double *pb, *r, *d;
+    if (!sp || !sp->factored_ || !b || nrhs < 0) return -1;
+    np1 = sp->n + 1;
+    pb = sp->work_;
+    r = pb + np1;
+    d = r + np1; /* KLU's correction; UMFPACK's workspace from 3 (n + 1) on (5 (n + 1)) */
+    for (k = 0; k < nrhs; k++) {
+        double *x = b + (size_t)k * (size_t)np1, omega;
+        int attempt, step;
+        for (i = 0; i < np1; i++) pb[sp->rperm_[i]] = x[i];
+        for (attempt = 0;; attempt++) {
+            if (psb__sparse_solve1(sp, pb, x)) return -1;
+            omega = psb__sparse_residual(sp, pb, x, r);
+            /* KLU: refinement in B (UMFPACK's solve refines by itself) */
+            for (step = 0; sp->backend == PSB_SPARSE_KLU && step < 2 && !(omega <= PSB__SPARSE_OMEGA_GOOD); step++) {
+                double prev = omega;
+                if (psb__sparse_solve1(sp, r, d)) return -1;
+                for (i = 0; i < np1; i++) d[i] += x[i];
+                omega = psb__sparse_residual(sp, pb, d, r);
+                sp->stats.n_refine++;
+                if (!(omega < prev)) { omega = prev; break; } /* x stays */
+                memcpy(x, d, sizeof(double) * (size_t)np1);
+            }
+            if (omega <= PSB__SPARSE_OMEGA_MAX || attempt > 0 || !sp->refactored_) break;
+#ifndef PSB_SPARSE_NO_KLU
+            /* a refactorisation's stale pivots: factor again with pivoting, solve again */
+            sp->stats.n_fallback++;
+            if (psb__sparse_klu_factor(sp)) { sp->factored_ = 0; return 1; }
+#endif
+        }
+        sp->stats.omega = omega;
+        if (!(omega <= PSB__SPARSE_OMEGA_MAX)) return 1;
+    }
+    return 0;
+}
+
+PSB_SPARSE_DEF psb_linear_solver psb_sparse_solver(psb_sparse *sp)
+{
+    psb_linear_solver s;
+    s.factor = psb_sparse_factor;
+    s.solve = psb_sparse_solve;
+    s.ctx = sp;
+    return s;
+}
+
+#endif /* PSB_SPARSE_IMPLEMENTED */
+#endif /* PSB_SPARSE_IMPLEMENTATION */

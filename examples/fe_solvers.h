@@ -1,0 +1,158 @@
+/* fe_solvers.h - the --solver option of the FE examples (block, triangle): how pscbranch solves
+   the bordered systems of an fe.h model.
+     dense    PSB_LINEAR_DENSE (LAPACK dgetrf on the whole matrix; small meshes only)
+     banded   PSB_LINEAR_BANDED (the header's banded LU, half band md->half_band)
+     umfpack  UMFPACK, klu  KLU: contrib/psb_sparse.h through PSB_LINEAR_USER, in a build with
+              FE_SUITESPARSE defined (the Makefile does it when libsuitesparse-dev is there)
+     mumps    MUMPS: contrib/psb_mumps.h through PSB_LINEAR_USER (examples/fe_mumps.h), in a build
+              with FE_MUMPS defined (the Makefile builds the block so when MUMPS and MPI are
+              there); the program runs under psb_mumps_main, also through mpirun
+   Without --solver: the banded LU, or UMFPACK where it is faster (fe_solver_sparse_wins).
+   Include after pscbranch.h, fe.h and cli.h. */
+#ifndef FE_SOLVERS_H
+#define FE_SOLVERS_H
+
+#ifdef FE_SUITESPARSE
+#define PSB_SPARSE_IMPLEMENTATION
+#include "contrib/psb_sparse.h"
+#endif
+#ifdef FE_MUMPS
+#define PSB_MUMPS_IMPLEMENTATION
+#include "fe_mumps.h"
+#endif
+
+enum { FE_SOLVER_DENSE, FE_SOLVER_BANDED, FE_SOLVER_UMFPACK, FE_SOLVER_KLU, FE_SOLVER_MUMPS, FE_SOLVER_AUTO };
+static const char *const fe_solver_names[] = {"dense", "banded", "umfpack", "klu", "mumps", NULL};
+
+/* The default. bench/bench_sparse (reference BLAS): one banded LU costs ~1e-9 N kl^2 s (kl = ku
+   = the half band), one UMFPACK factorisation of the bordered matrix ~4e-7 N^1.4 s; but whole
+   runs gain less than one factorisation does (the banded backend reuses its factors where
+   dH/dx repeats, and the triangle is piecewise linear): triangle M4096 took 23.6 s banded and
+   62.3 s with UMFPACK, whose factorisation alone was 1.25x faster. So UMFPACK only where its
+   factorisation is ~3x faster, kl^2 > 1200 N^0.4: the triangle from M16384 (3.5x), the block
+   (kl ~ sqrt(N)) not up to M51200 (docs/benchmarks.md, "Sparse direct solvers"). */
+static inline int fe_solver_sparse_wins(const fe_model *md)
+{
+    return (double)md->half_band * md->half_band > 1200.0 * pow((double)md->n, 0.4);
+}
+
+/* --solver WORD for the cli loop: 1 when the current argument was it (a sparse solver in a build
+   without SuiteSparse is a usage error), 0 otherwise. */
+static inline int fe_solver_option(cli *c, int *solver)
+{
+    if (!cli_choice(c, "--solver", solver, fe_solver_names)) return 0;
+#ifndef FE_SUITESPARSE
+    if (c->status == CLI_OK && (*solver == FE_SOLVER_UMFPACK || *solver == FE_SOLVER_KLU))
+        cli_fail(c, "--solver %s: this build has no SuiteSparse (install libsuitesparse-dev, then make)",
+                 fe_solver_names[*solver]);
+#endif
+#ifndef FE_MUMPS
+    if (c->status == CLI_OK && *solver == FE_SOLVER_MUMPS)
+        cli_fail(c, "--solver mumps: this build has no MUMPS (the block, with libmumps-dev and "
+                    "libopenmpi-dev installed, then make)");
+#endif
+    return 1;
+}
+
+static inline const char *fe_solver_label(int solver)
+{
+    switch (solver) {
+    case FE_SOLVER_DENSE: return "dense LAPACK";
+    case FE_SOLVER_UMFPACK: return "UMFPACK (contrib/psb_sparse.h)";
+    case FE_SOLVER_KLU: return "KLU (contrib/psb_sparse.h)";
+    case FE_SOLVER_MUMPS: return "MUMPS (contrib/psb_mumps.h)";
+    default: return "banded LU";
+    }
+}
+
+/* The state of a sparse solver beside its fe_run. */
+typedef struct fe_solver {
+    int kind;
+#ifdef FE_SUITESPARSE
+    fe_sparse pattern;
+    psb_sparse sp;
+#endif
+#ifdef FE_MUMPS
+    fe_mumps fm;
+#endif
+} fe_solver;
+
+static inline void fe_solver_free(fe_solver *fs)
+{
+#ifdef FE_SUITESPARSE
+    psb_sparse_free(&fs->sp);
+    fe_sparse_free(&fs->pattern);
+#endif
+#ifdef FE_MUMPS
+    fe_mumps_free(&fs->fm);
+#endif
+    memset(fs, 0, sizeof *fs);
+}
+
+/* fe_run_init with the solver `kind` (FE_SOLVER_AUTO: the default above). 0, or -1 with the
+   reason in psb_solver_message(&run->s) or, sparse, on stderr. */
+static inline int fe_solver_run_init(fe_solver *fs, fe_run *run, fe_model *md, const psb_options *opt, int kind,
+                                     const char *prog)
+{
+    memset(fs, 0, sizeof *fs);
+    fs->kind = kind;
+    if (kind == FE_SOLVER_AUTO) fs->kind = FE_SOLVER_BANDED;
+#ifdef FE_SUITESPARSE
+    if (kind == FE_SOLVER_AUTO && fe_solver_sparse_wins(md)) fs->kind = FE_SOLVER_UMFPACK;
+    if (fs->kind == FE_SOLVER_UMFPACK || fs->kind == FE_SOLVER_KLU) {
+        psb_sparse_options so;
+        psb_linear_solver ls;
+        int rc;
+        memset(run, 0, sizeof *run);
+        if (fe_sparse_init(&fs->pattern, md)) { fprintf(stderr, "%s: out of memory (sparse pattern)\n", prog); return -1; }
+        memset(&so, 0, sizeof so);
+        so.row_perm = fs->pattern.row_perm;
+        so.symmetric = 1; /* symmetric but for the contact rows and the border (fe_sparse) */
+        rc = psb_sparse_init(&fs->sp, fs->kind == FE_SOLVER_KLU ? PSB_SPARSE_KLU : PSB_SPARSE_UMFPACK, md->n, md->n,
+                             fs->pattern.colp, fs->pattern.rowi, fe_sparse_fill, &fs->pattern, &so);
+        if (rc) { fprintf(stderr, "%s: sparse solver set-up failed: %s\n", prog, fs->sp.message); return -1; }
+        ls = psb_sparse_solver(&fs->sp);
+        return fe_run_init_solver(run, md, opt, 0, &ls);
+    }
+#endif
+#ifdef FE_MUMPS
+    if (fs->kind == FE_SOLVER_MUMPS) {
+        psb_linear_solver ls;
+        memset(run, 0, sizeof *run);
+        if (fe_mumps_init(&fs->fm, md, MPI_COMM_WORLD)) {
+            fprintf(stderr, "%s: MUMPS set-up failed for N = %d unknowns: %s\n", prog, md->n, fs->fm.m.message);
+            return -1;
+        }
+        ls = psb_mumps_solver(&fs->fm.m);
+        return fe_run_init_solver(run, md, opt, 0, &ls);
+    }
+#endif
+    (void)prog;
+    return fe_run_init(run, md, opt, fs->kind == FE_SOLVER_BANDED);
+}
+
+/* One line on stdout with the sparse solver's counts (nothing for the others). */
+static inline void fe_solver_report(const fe_solver *fs)
+{
+#ifdef FE_SUITESPARSE
+    const psb_sparse_stats *st = &fs->sp.stats;
+    if (fs->kind == FE_SOLVER_UMFPACK && st->n_factor)
+        printf("  UMFPACK: %ld analysis, %ld numeric factorisations, %.3g flops each on average\n", st->n_analysis,
+               st->n_factor, st->flops / (double)st->n_factor);
+    else if (fs->kind == FE_SOLVER_KLU && (st->n_factor || st->n_refactor))
+        printf("  KLU: %ld analysis, %ld factorisations with pivoting, %ld refactorisations kept, %ld discarded, %ld refinement steps\n",
+               st->n_analysis, st->n_factor, st->n_refactor, st->n_fallback, st->n_refine);
+#endif
+#ifdef FE_MUMPS
+    if (fs->kind == FE_SOLVER_MUMPS) {
+        int per_rank, total;
+        psb_mumps_memory(&fs->fm.m, &per_rank, &total);
+        printf("  MUMPS on %d rank%s: %ld analysis, %ld factorisations, memory %d MB on the largest rank, %d MB in all\n",
+               fs->fm.m.nprocs, fs->fm.m.nprocs > 1 ? "s" : "", fs->fm.m.n_analysis, fs->fm.m.n_factor, per_rank,
+               total);
+    }
+#endif
+    (void)fs;
+}
+
+#endif /* FE_SOLVERS_H */

@@ -1,0 +1,368 @@
+/* Tests of contrib/psb_sparse.h (UMFPACK and KLU through PSB_LINEAR_USER), built only when
+   SuiteSparse is installed: the bordered matrix it factors is dense LAPACK's (solutions compared
+   by backward error), it stays exact at a fold (A singular, B regular), a singular B and NaN
+   give > 0, a failing fill callback's code comes back, bad patterns are refused, the analysis
+   is done once per trace, and the block (M200) and the triangle (M256) give the banded
+   backend's branches and end points to 1e-8.
+   Build: cc -std=c99 -I. -I/usr/include/suitesparse tests/test_sparse.c -o build/test_sparse
+          -lumfpack -lklu -llapack -lblas -lm */
+#define PSCBRANCH_IMPLEMENTATION
+#include "pscbranch.h"
+#include "examples/fe.h"
+#define PSB_SPARSE_IMPLEMENTATION
+#include "contrib/psb_sparse.h"
+#include "tests/harness.h"
+
+extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b, const int *ldb,
+                   int *info);
+
+static const psb_sparse_backend backends[2] = {PSB_SPARSE_UMFPACK, PSB_SPARSE_KLU};
+
+static double rnd(unsigned long long *s)
+{
+    *s ^= *s << 13; *s ^= *s >> 7; *s ^= *s << 17;
+    return 2.0 * (double)(*s >> 11) / 9007199254740992.0 - 1.0;
+}
+
+/* normwise backward error of z for the dense B (np1 x np1) and right-hand side b */
+static double backward_error(const double *B, int np1, const double *z, const double *b)
+{
+    double rmax = 0, bn = 0, zn = 0, nb = 0;
+    int i, j;
+    for (i = 0; i < np1; i++) {
+        double r = b[i], rs = 0;
+        for (j = 0; j < np1; j++) { r -= B[i + (size_t)j * np1] * z[j]; rs += fabs(B[i + (size_t)j * np1]); }
+        rmax = fmax(rmax, fabs(r));
+        nb = fmax(nb, rs);
+        bn = fmax(bn, fabs(b[i]));
+        zn = fmax(zn, fabs(z[i]));
+    }
+    return rmax / (nb * zn + bn);
+}
+
+/* ---- a small generic problem: A (n x n, CSC) tridiagonal, dparam, param_index anywhere ---- */
+typedef struct gen {
+    int n, p;             /* p: the parameter's component of y */
+    double shift;         /* A = L + shift I, L the Neumann Laplacian (singular: kernel 1) */
+    double dpar0;         /* dparam = dpar0 e_0 */
+    int fail;             /* the fill callback returns this when nonzero */
+    int nan;              /* 1: a NaN in the values */
+    int *colp, *rowi;
+} gen;
+
+static int gen_fill(const double *y, double *ax, double *dparam, void *user)
+{
+    gen *g = (gen *)user;
+    int j, q;
+    (void)y;
+    if (g->fail) return g->fail;
+    for (j = 0; j < g->n; j++)
+        for (q = g->colp[j]; q < g->colp[j + 1]; q++) {
+            int i = g->rowi[q];
+            double deg = (i == 0 || i == g->n - 1) ? 1 : 2;
+            ax[q] = i == j ? deg + g->shift : -1;
+        }
+    dparam[0] = g->dpar0;
+    if (g->nan) ax[0] = NAN;
+    return 0;
+}
+
+static void gen_init(gen *g, int n, int p)
+{
+    int j, q = 0;
+    memset(g, 0, sizeof *g);
+    g->n = n; g->p = p; g->dpar0 = 1;
+    g->colp = malloc(sizeof(int) * (n + 1));
+    g->rowi = malloc(sizeof(int) * 3 * n);
+    for (j = 0; j < n; j++) {
+        g->colp[j] = q;
+        if (j > 0) g->rowi[q++] = j - 1;
+        g->rowi[q++] = j;
+        if (j < n - 1) g->rowi[q++] = j + 1;
+    }
+    g->colp[n] = q;
+}
+
+/* dense B = [A dparam; row^T] in y's column order */
+static void gen_dense(const gen *g, const double *row, double *B)
+{
+    int n = g->n, np1 = n + 1, i, j;
+    double *ax = malloc(sizeof(double) * g->colp[n]), *dp = calloc(n, sizeof(double));
+    gen tmp = *g;
+    tmp.nan = 0; tmp.fail = 0;
+    gen_fill(NULL, ax, dp, &tmp);
+    memset(B, 0, sizeof(double) * np1 * np1);
+    for (j = 0; j < n; j++) {
+        int c = j < g->p ? j : j + 1, q;
+        for (q = g->colp[j]; q < g->colp[j + 1]; q++) B[g->rowi[q] + (size_t)c * np1] = ax[q];
+    }
+    for (i = 0; i < n; i++) B[i + (size_t)g->p * np1] = dp[i];
+    for (j = 0; j < np1; j++) B[n + (size_t)j * np1] = row[j];
+    free(ax); free(dp);
+}
+
+/* Solutions against dense LAPACK, at a regular A and at a fold (A singular, B regular), with
+   the parameter first, inside and last, and with a row permutation. */
+static void test_generic(void)
+{
+    int b, p, pass;
+    for (b = 0; b < 2; b++)
+        for (p = 0; p < 3; p++)
+            for (pass = 0; pass < 2; pass++) {
+                gen g;
+                psb_sparse sp;
+                psb_sparse_options so;
+                int n = 9, np1 = 10, i, two = 2, info, ipiv[10], perm[9], k;
+                double y[10] = {0}, row[10], B[100], z[20], rhs[20], ref[20], worst = 0, diff = 0;
+                unsigned long long s = 11 + 7 * b + 3 * p + pass;
+                gen_init(&g, n, p == 0 ? 0 : (p == 1 ? 4 : n));
+                for (i = 0; i < n; i++) perm[i] = (i * 4) % n; /* 4 coprime with 9 */
+                memset(&so, 0, sizeof so);
+                so.row_perm = pass ? perm : NULL;
+                so.symmetric = pass;
+                CHECK(psb_sparse_init(&sp, backends[b], n, g.p, g.colp, g.rowi, gen_fill, &g, &so) == 0);
+                for (k = 0; k < 3; k++) { /* regular, fold, regular again (KLU: refactorisations) */
+                    g.shift = k == 1 ? 0 : 0.3 + 0.1 * k;
+                    for (i = 0; i < np1; i++) row[i] = rnd(&s);
+                    for (i = 0; i < 2 * np1; i++) z[i] = rhs[i] = ref[i] = rnd(&s);
+                    CHECK(psb_sparse_factor(y, row, &sp) == 0);
+                    CHECK(psb_sparse_solve(z, 2, &sp) == 0);
+                    gen_dense(&g, row, B);
+                    worst = fmax(worst, fmax(backward_error(B, np1, z, rhs), backward_error(B, np1, z + np1, rhs + np1)));
+                    dgesv_(&np1, &two, B, &np1, ipiv, ref, &np1, &info);
+                    CHECK(info == 0);
+                    for (i = 0; i < 2 * np1; i++) diff = fmax(diff, fabs(z[i] - ref[i]) / (1 + fabs(ref[i])));
+                }
+                CHECK(worst <= 1e-14); /* measured <= 1.4e-15 */
+                CHECK(diff <= 1e-12); /* B is well conditioned at the fold too */
+                CHECK(sp.stats.n_analysis == 1 && sp.stats.n_fill == 3);
+                if (worst > 1e-14 || diff > 1e-12) printf("  backend %d p %d pass %d: omega %.1e diff %.1e\n", b, p, pass, worst, diff);
+                /* singular B: a zero border row; then [A 0] of rank n - 1 whatever the row */
+                for (i = 0; i < np1; i++) row[i] = 0;
+                CHECK(psb_sparse_factor(y, row, &sp) > 0);
+                CHECK(psb_sparse_solve(z, 1, &sp) < 0); /* nothing to solve with */
+                g.shift = 0; g.dpar0 = 0;
+                for (i = 0; i < np1; i++) row[i] = rnd(&s);
+                CHECK(psb_sparse_factor(y, row, &sp) > 0);
+                g.dpar0 = 1;
+                /* NaN in the values or the row: > 0; the fill callback's codes come back */
+                g.nan = 1;
+                CHECK(psb_sparse_factor(y, row, &sp) > 0);
+                g.nan = 0;
+                row[3] = NAN;
+                CHECK(psb_sparse_factor(y, row, &sp) > 0);
+                row[3] = 1;
+                g.fail = -7;
+                CHECK(psb_sparse_factor(y, row, &sp) == -7);
+                g.fail = 3;
+                CHECK(psb_sparse_factor(y, row, &sp) == 3);
+                CHECK(psb_sparse_solve(z, 1, &sp) < 0);
+                g.fail = 0;
+                g.shift = 0.5;
+                CHECK(psb_sparse_factor(y, row, &sp) == 0 && psb_sparse_solve(z, 1, &sp) == 0); /* recovers */
+                CHECK(sp.stats.n_analysis == 1);
+                psb_sparse_free(&sp);
+                psb_sparse_free(&sp); /* twice: harmless */
+                free(g.colp); free(g.rowi);
+            }
+}
+
+/* Bad input is refused with its code and a message, nothing held. */
+static void test_input(void)
+{
+    gen g;
+    psb_sparse sp;
+    psb_sparse_options so;
+    int b, perm[9], colp_bad[10], rowi_bad[27], i;
+    gen_init(&g, 9, 9);
+    for (b = 0; b < 2; b++) {
+        psb_sparse_backend be = backends[b];
+        CHECK(psb_sparse_init(&sp, be, 0, 0, g.colp, g.rowi, gen_fill, &g, NULL) == PSB_SPARSE_ERR_INPUT && sp.message[0]);
+        CHECK(psb_sparse_init(&sp, be, 9, 10, g.colp, g.rowi, gen_fill, &g, NULL) == PSB_SPARSE_ERR_INPUT);
+        CHECK(psb_sparse_init(&sp, be, 9, 9, g.colp, g.rowi, NULL, &g, NULL) == PSB_SPARSE_ERR_INPUT);
+        CHECK(psb_sparse_init(&sp, (psb_sparse_backend)7, 9, 9, g.colp, g.rowi, gen_fill, &g, NULL) == PSB_SPARSE_ERR_BACKEND);
+        memcpy(colp_bad, g.colp, sizeof colp_bad);
+        colp_bad[3] = colp_bad[2] - 1;
+        CHECK(psb_sparse_init(&sp, be, 9, 9, colp_bad, g.rowi, gen_fill, &g, NULL) == PSB_SPARSE_ERR_INPUT);
+        memcpy(rowi_bad, g.rowi, sizeof(int) * g.colp[9]);
+        rowi_bad[4] = 9;
+        CHECK(psb_sparse_init(&sp, be, 9, 9, g.colp, rowi_bad, gen_fill, &g, NULL) == PSB_SPARSE_ERR_INPUT);
+        rowi_bad[4] = rowi_bad[3]; /* a row twice in one column */
+        CHECK(psb_sparse_init(&sp, be, 9, 9, g.colp, rowi_bad, gen_fill, &g, NULL) == PSB_SPARSE_ERR_INPUT);
+        for (i = 0; i < 9; i++) perm[i] = i;
+        perm[2] = 5;
+        memset(&so, 0, sizeof so);
+        so.row_perm = perm;
+        CHECK(psb_sparse_init(&sp, be, 9, 9, g.colp, g.rowi, gen_fill, &g, &so) == PSB_SPARSE_ERR_INPUT);
+        so.row_perm = NULL;
+        so.rcond_min = 2;
+        CHECK(psb_sparse_init(&sp, be, 9, 9, g.colp, g.rowi, gen_fill, &g, &so) == PSB_SPARSE_ERR_INPUT);
+        CHECK(psb_sparse_available(be) == 1);
+    }
+    free(g.colp); free(g.rowi);
+}
+
+/* The FE models' bordered matrices: solutions against dense LAPACK by backward error. */
+static void test_fe_matrices(void)
+{
+    fe_mesh m;
+    fe_model md;
+    double h0[2] = {0, 0}, h1[2] = {-26.4, -7.5};
+    int pass, b;
+    for (pass = 0; pass < 2; pass++)
+        for (b = 0; b < 2; b++) {
+            fe_sparse fs;
+            psb_sparse sp;
+            psb_sparse_options so;
+            int n, np1, i, j, rep;
+            double *y, *row, *B, *z, *rhs, worst = 0;
+            unsigned long long s = 901 + pass + 2 * b;
+            if (pass == 0) fe_block_model(&md, &m, 4, 6, 1);
+            else fe_triangle_model(&md, &m, 6, 1, h0, h1);
+            n = md.n; np1 = n + 1;
+            CHECK(fe_sparse_init(&fs, &md) == 0);
+            memset(&so, 0, sizeof so);
+            so.row_perm = fs.row_perm;
+            so.symmetric = 1;
+            CHECK(psb_sparse_init(&sp, backends[b], n, n, fs.colp, fs.rowi, fe_sparse_fill, &fs, &so) == 0);
+            y = malloc(sizeof(double) * np1); row = malloc(sizeof(double) * np1);
+            B = malloc(sizeof(double) * np1 * np1); z = malloc(sizeof(double) * 2 * np1); rhs = malloc(sizeof(double) * 2 * np1);
+            for (rep = 0; rep < 4; rep++) {
+                for (i = 0; i < np1; i++) { y[i] = 0.01 * rnd(&s); row[i] = rnd(&s); }
+                for (i = 0; i < 2 * np1; i++) z[i] = rhs[i] = rnd(&s);
+                CHECK(psb_sparse_factor(y, row, &sp) == 0);
+                CHECK(psb_sparse_solve(z, 2, &sp) == 0);
+                fe_jacobian_dense(&md, y, B, np1); /* rows 0..n-1 of B, leading dimension n + 1 */
+                for (j = 0; j < np1; j++) B[n + (size_t)j * np1] = row[j];
+                worst = fmax(worst, fmax(backward_error(B, np1, z, rhs), backward_error(B, np1, z + np1, rhs + np1)));
+            }
+            CHECK(worst <= 1e-14);
+            CHECK(sp.stats.n_analysis == 1 && sp.stats.n_fill == 4);
+            free(y); free(row); free(B); free(z); free(rhs);
+            psb_sparse_free(&sp); fe_sparse_free(&fs); fe_model_free(&md); fe_mesh_free(&m);
+        }
+}
+
+/* ---- end to end: the examples' run (approach, Algorithms 2.1-2.2, every branch traced) ---- */
+typedef struct ends { int nbr; double *y; long analyses, fills, factor_calls; } ends;
+
+static int run_model(fe_model *md, int triangle, int backend, ends *e)
+{
+    fe_run run;
+    fe_sparse fs;
+    psb_sparse sp;
+    psb_options opt;
+    psb_branch_options bo;
+    int n = md->n, k, rc = -1;
+    double *w = malloc(sizeof(double) * (n + 1)), *y = calloc(n + 1, sizeof(double)), *t = calloc(n + 1, sizeof(double));
+    double *rv = calloc(n + 1, sizeof(double));
+    memset(&opt, 0, sizeof opt);
+    memset(&sp, 0, sizeof sp);
+    memset(&fs, 0, sizeof fs);
+    opt.kappa = 1.0 / n;
+    opt.h_init = 1e-2; opt.h_max = 0.2; opt.h_min = 1e-9;
+    opt.tol_residual = 1e-9; opt.tol_correction = 1e-9;
+    opt.c_diff = triangle ? 1 - 1e-10 : 0.99999;
+    memset(&bo, 0, sizeof bo);
+    bo.h = triangle ? 5e-8 : 5e-7;
+    bo.h_min = bo.h / 16384; bo.h_init = 5e-4;
+    bo.n_dir = triangle ? 30 : 20; bo.n_span = triangle ? 10 : 15; bo.trial_h_min = 5e-4;
+    fe_weights(md, opt.kappa, 1 / (md->r * md->r), w);
+    opt.weights = w;
+    if (backend < 0) {
+        if (fe_run_init(&run, md, &opt, 1)) goto done;
+    } else {
+        psb_sparse_options so;
+        psb_linear_solver ls;
+        memset(&so, 0, sizeof so);
+        if (fe_sparse_init(&fs, md)) goto done;
+        so.row_perm = fs.row_perm;
+        so.symmetric = 1;
+        if (psb_sparse_init(&sp, backends[backend], n, n, fs.colp, fs.rowi, fe_sparse_fill, &fs, &so)) goto done;
+        ls = psb_sparse_solver(&sp);
+        if (fe_run_init_solver(&run, md, &opt, 0, &ls)) goto done;
+    }
+    run.quiet = 1;
+    run.branch = bo;
+    y[n] = -1;
+    rv[n] = 1;
+    if (psb_solve_at_param(&run.s, y, 50) != PSB_SUCCESS || psb_tangent(&run.s, y, rv, t) != PSB_SUCCESS) goto done;
+    if (fe_run_approach(&run, y, t, 0) < 0 || fe_run_branching(&run, y, t) < 0) goto done;
+    fe_run_trace_all(&run, 1.0);
+    e->nbr = 0;
+    e->y = malloc(sizeof(double) * (size_t)run.nbr * (n + 1));
+    for (k = 0; k < run.nbr; k++)
+        if (run.br[k].end == PSB_PARAM_BOUND && run.br[k].duplicate_of < 0)
+            memcpy(e->y + (size_t)e->nbr++ * (n + 1), run.br[k].y, sizeof(double) * (n + 1));
+    e->analyses = sp.stats.n_analysis;
+    e->fills = sp.stats.n_fill;
+    e->factor_calls = run.s.stats.n_factor;
+    rc = 0;
+done:
+    fe_run_free(&run);
+    psb_sparse_free(&sp);
+    fe_sparse_free(&fs);
+    free(w); free(y); free(t); free(rv);
+    return rc;
+}
+
+/* each end point of a matched by one of b to rel (max norm, relative to the end's) */
+static double match_ends(const ends *a, const ends *b, int np1)
+{
+    double worst = 0;
+    int i, j, k;
+    for (i = 0; i < a->nbr; i++) {
+        double best = HUGE_VAL;
+        for (j = 0; j < b->nbr; j++) {
+            double d = 0, sc = 0;
+            for (k = 0; k < np1; k++) {
+                d = fmax(d, fabs(a->y[(size_t)i * np1 + k] - b->y[(size_t)j * np1 + k]));
+                sc = fmax(sc, fabs(a->y[(size_t)i * np1 + k]));
+            }
+            best = fmin(best, d / sc);
+        }
+        worst = fmax(worst, best);
+    }
+    return worst;
+}
+
+static void test_end_to_end(void)
+{
+    int prob, b;
+    for (prob = 0; prob < 2; prob++) {
+        fe_mesh m;
+        fe_model md;
+        double h0[2] = {0, 0}, h1[2] = {-24.6445, -7.5}; /* triangle M256: inside its four-branch cone */
+        ends ref, e;
+        int expected = prob ? 4 : 6;
+        if (prob == 0) fe_block_model(&md, &m, 10, 20, 1);
+        else fe_triangle_model(&md, &m, 16, 1, h0, h1);
+        memset(&ref, 0, sizeof ref);
+        CHECK(run_model(&md, prob, -1, &ref) == 0 && ref.nbr == expected);
+        for (b = 0; b < 2; b++) {
+            double d1, d2;
+            memset(&e, 0, sizeof e);
+            CHECK(run_model(&md, prob, b, &e) == 0);
+            CHECK(e.nbr == expected);
+            d1 = match_ends(&ref, &e, md.n + 1);
+            d2 = match_ends(&e, &ref, md.n + 1);
+            CHECK(d1 <= 1e-8 && d2 <= 1e-8);
+            /* one analysis for the whole run; one fill per factorisation the library asked for */
+            CHECK(e.analyses == 1 && e.fills == e.factor_calls && e.fills > 100);
+            printf("  %s M%d, %s: %d branches, end points within %.1e of the banded run's, %ld factorisations, 1 analysis\n",
+                   prob ? "triangle" : "block", m.nelem, b ? "KLU" : "UMFPACK", e.nbr, fmax(d1, d2), e.fills);
+            free(e.y);
+        }
+        free(ref.y);
+        fe_model_free(&md); fe_mesh_free(&m);
+    }
+}
+
+int main(void)
+{
+    test_input();
+    test_generic();
+    test_fe_matrices();
+    test_end_to_end();
+    return HARNESS_END();
+}
