@@ -296,6 +296,8 @@ VERSION := $(shell awk '/^\#define PSCBRANCH_VERSION_(MAJOR|MINOR|PATCH) /{v = v
 INSTALL ?= install
 DOCS = README.md LICENSE CHANGELOG.md
 EXAMPLE_SOURCES = $(wildcard examples/*.c examples/*.h)
+# the optional solvers' headers, beside the examples that include them as "contrib/..."
+CONTRIB_SOURCES = $(wildcard contrib/*.h)
 # @VAR@ in the templates (the same ones CMakeLists.txt fills in for cmake --install)
 SUBST = sed -e 's|@PSCBRANCH_VERSION@|$(VERSION)|g' -e 's|@PSCBRANCH_PREFIX@|$(PREFIX)|g' \
 	-e 's|@PSCBRANCH_INCLUDEDIR@|$(INCLUDEDIR)|g' -e 's|@PSCBRANCH_LAPACK_LIBS@|$(LAPACK_LIBS)|g'
@@ -304,7 +306,7 @@ install:
 	@case "$(PREFIX)" in /*) ;; *) echo "PREFIX must be an absolute path: $(PREFIX)" >&2; exit 1;; esac
 	@test -n "$(VERSION)" || { echo "no version in $(HEADER)" >&2; exit 1; }
 	$(INSTALL) -d "$(DESTDIR)$(INCLUDEDIR)" "$(DESTDIR)$(PKGCONFIGDIR)" "$(DESTDIR)$(CMAKEDIR)" \
-		"$(DESTDIR)$(DOCDIR)/examples"
+		"$(DESTDIR)$(DOCDIR)/examples" "$(DESTDIR)$(DOCDIR)/contrib"
 	$(INSTALL) -m 644 $(HEADER) "$(DESTDIR)$(INCLUDEDIR)/"
 	$(SUBST) pscbranch.pc.in > "$(DESTDIR)$(PKGCONFIGDIR)/pscbranch.pc"
 	$(SUBST) cmake/pscbranchConfig.cmake.in > "$(DESTDIR)$(CMAKEDIR)/pscbranchConfig.cmake"
@@ -313,6 +315,7 @@ install:
 	$(INSTALL) -m 644 $(wildcard $(DOCS)) "$(DESTDIR)$(DOCDIR)/"
 	if [ -d docs ]; then cp -R docs "$(DESTDIR)$(DOCDIR)/" && chmod -R u+w,go+rX "$(DESTDIR)$(DOCDIR)/docs"; fi
 	$(INSTALL) -m 644 $(EXAMPLE_SOURCES) "$(DESTDIR)$(DOCDIR)/examples/"
+	$(INSTALL) -m 644 $(CONTRIB_SOURCES) "$(DESTDIR)$(DOCDIR)/contrib/"
 	@echo "installed pscbranch $(VERSION) in $(DESTDIR)$(PREFIX)"
 
 CMAKE_FILES = pscbranchConfig.cmake pscbranchConfigVersion.cmake pscbranch-lapack.cmake
@@ -323,8 +326,10 @@ uninstall:
 	rm -f $(addprefix "$(DESTDIR)$(CMAKEDIR)/,$(addsuffix ",$(CMAKE_FILES)))
 	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/,$(addsuffix ",$(DOCS)))
 	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/examples/,$(addsuffix ",$(notdir $(EXAMPLE_SOURCES))))
+	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/contrib/,$(addsuffix ",$(notdir $(CONTRIB_SOURCES))))
 	rm -rf "$(DESTDIR)$(DOCDIR)/docs"
-	rmdir "$(DESTDIR)$(CMAKEDIR)" "$(DESTDIR)$(DOCDIR)/examples" "$(DESTDIR)$(DOCDIR)" 2>/dev/null || true
+	rmdir "$(DESTDIR)$(CMAKEDIR)" "$(DESTDIR)$(DOCDIR)/examples" "$(DESTDIR)$(DOCDIR)/contrib" \
+		"$(DESTDIR)$(DOCDIR)" 2>/dev/null || true
 
 # libFuzzer targets (clang, ASan + UBSan): every fuzz/fuzz_NAME.c is built into build-fuzz/ and
 # run for FUZZ_SECONDS on a scratch copy of its seed corpus fuzz/corpus/NAME/ (the runs never

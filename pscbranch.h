@@ -283,6 +283,11 @@
      its values; the fill-reducing ordering is computed once, every factorisation pivots over
      all of B (exact at folds, where A alone is singular), each solution is checked by its
      backward error. Its top comment is its manual; examples/fe_solvers.h uses it.
+     contrib/psb_mumps.h is another, for MUMPS: the pattern of dH/dy once (coordinates, the
+     parameter column included) and a callback for its values; MUMPS's analysis once per
+     solver object, a numeric factorisation per factor call, a singular or non-finite B > 0
+     (so the tangent fallbacks apply); the factorisation can spread over MPI ranks while the
+     continuation runs on rank 0 (psb_mumps_main; mpirun -np K).
    PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
    scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
    Tangent. The bordered system [dH(y); (W r)^T] t = e_{N+1} (r the reference direction) is
