@@ -382,7 +382,7 @@
      one that goes on to a trial is recomputed from the same dH, because the rounding of a
      different bordering row can steer a sweep elsewhere on degenerate problems.
    - Conic stop (with screening, analytic dH). A trial step that fails (no convergence, the
-     jump or cosine test, a turn) is retried with h_dec times the step down to
+     jump or cosine test) is retried with h_dec times the step down to
      trial_h_min. Where the pieces its corrector met are cones with apex y0, a smaller
      step is the same run scaled and fails alike; so at each iterate y the trial checks that
      H is affine through y0 there (H(y) = H(y0) + dH(y) (y - y0) to rounding and 10^-6 of the
@@ -3243,10 +3243,11 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
         s->stats.n_rejected++;
         /* a cut trial: a smaller step is the same trial scaled down */
         if (s->last_fail_ == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
-        /* so is one that failed for the curve's sake on H conic about y0 (psb__try_tangent) */
+        /* so is one that failed for the curve's sake on H conic about y0 (psb__try_tangent):
+           no convergence, or the jump or cosine test, where every iterate passed both halves of
+           psb__conic_at (a turn ends the run before its last iterate's second half) */
         if (s->conic_y0_ && s->conic_ok_ &&
-            (s->last_fail_ == PSB__FAIL_CONVERGE || s->last_fail_ == PSB__FAIL_COSINE ||
-             s->last_fail_ == PSB__FAIL_TURN))
+            (s->last_fail_ == PSB__FAIL_CONVERGE || s->last_fail_ == PSB__FAIL_COSINE))
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial step failed on pieces conic about "
                                                          "the point: smaller steps repeat it");
         hh *= s->opt.h_dec;
