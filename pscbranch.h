@@ -1004,8 +1004,7 @@ typedef struct psb_solver {
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
     int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
     long jmemo_looks_, jmemo_hits_; /* its look-ups and hits in the current call */
-    unsigned long long *jmemo_key_; /* per entry (memo_cap_ of them): two 64-bit hashes of dH,
-                                       and 1 when dH was met within s->branch.h of y0 */
+    unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
     const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
                                 conic test, see psb__try_tangent); NULL otherwise */
     int conic_ok_;           /* every iterate of the last corrector run passed that test */
@@ -2062,7 +2061,7 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
         size_t cap = (size_t)psb__memo_capacity(p->n);
         PSB__TAKE(jmemo_t_, cap * np1);
         if (s) s->jmemo_key_ = (unsigned long long *)(void *)(base + off);
-        off += 3 * cap; /* the keys: 8 bytes each, as a double */
+        off += 2 * cap; /* the keys: 8 bytes each, as a double */
     }
     if (p->linear == PSB_LINEAR_DENSE) {
         PSB__TAKE(jac_, n * np1);
@@ -4665,12 +4664,12 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
 {
     int m, stored = s->jmemo_n_ < s->memo_cap_ ? s->jmemo_n_ : s->memo_cap_;
     for (m = 0; m < stored; m++)
-        if (s->jmemo_key_[3 * m] == key[0] && s->jmemo_key_[3 * m + 1] == key[1]) return m;
+        if (s->jmemo_key_[2 * m] == key[0] && s->jmemo_key_[2 * m + 1] == key[1]) return m;
     return -1;
 }
 
 static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t,
-                                      int near, int *from_memo)
+                                      int *from_memo)
 {
     psb_result r;
     unsigned long long key[2];
@@ -4695,7 +4694,6 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
         const double *tm = s->jmemo_t_ + (size_t)m * (size_t)np1;
         double dot = psb__dot_w(s, tm, ref);
         int i;
-        if (near) s->jmemo_key_[3 * m + 2] = 1;
         /* ref (nearly) orthogonal to the tangent: the orientation is the fallback's
            (psb__tangent_from_jacobian), not a sign of the dot product */
         if (from_memo && fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, ref)) {
@@ -4709,9 +4707,8 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
     r = psb__tangent_from_jacobian(s, ref, t);
     if (r != PSB_SUCCESS || m >= 0) return r;
     m = s->jmemo_n_ % s->memo_cap_;
-    s->jmemo_key_[3 * m] = key[0];
-    s->jmemo_key_[3 * m + 1] = key[1];
-    s->jmemo_key_[3 * m + 2] = (unsigned long long)(near != 0);
+    s->jmemo_key_[2 * m] = key[0];
+    s->jmemo_key_[2 * m + 1] = key[1];
     psb__copy(s->jmemo_t_ + (size_t)m * (size_t)np1, t, np1);
     s->jmemo_n_++;
     return PSB_SUCCESS;
@@ -4800,7 +4797,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (!s->branch.no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
-            r = psb__sample_tangent(s, pk, tb, kx, 0, &from_memo);
+            r = psb__sample_tangent(s, pk, tb, kx, &from_memo);
             if (psb__is_fatal(r)) return r;
             /* no tangent at p (singular there): the trial along tb as printed */
             if (r == PSB_SUCCESS) {
@@ -4900,7 +4897,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
         rep->n_tangents++;
-        r = psb__sample_tangent(s, pt, v, tt, 1, &from_memo);
+        r = psb__sample_tangent(s, pt, v, tt, &from_memo);
         if (psb__is_fatal(r)) return r;
         if (r != PSB_SUCCESS) {
             psb__note_fault(s, r);
@@ -5018,7 +5015,7 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
     psb__axpy_to(pt, yc, s->branch.h, tc, np1);
     rep->n_tangents++;
-    r = psb__sample_tangent(s, pt, tc, t2, 1, NULL);
+    r = psb__sample_tangent(s, pt, tc, t2, NULL);
     if (r != PSB_SUCCESS) return r;
     psb__copy(ys, yc, np1);
     psb__copy(ts, t1, np1);
@@ -5064,7 +5061,7 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
                     pt[k] = yc[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
-                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, 1, NULL);
+                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL);
                 if (psb__is_fatal(r)) return r;
                 if (r != PSB_SUCCESS) {
                     psb__note_fault(s, r);

@@ -891,7 +891,7 @@ static void test_screen_equivalence(void)
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.branch.h_init, x, np1);
-            if (psb__sample_tangent(&s, pred, x, k, 0, NULL) != PSB_SUCCESS) continue;
+            if (psb__sample_tangent(&s, pred, x, k, NULL) != PSB_SUCCESS) continue;
             ray_x = trial_ray(&s, y0, x, 1, rays, n_rays);
             n_path = s.path_n_;
             memcpy(path, s.path_, (size_t)n_path * np1 * sizeof(double));
@@ -949,7 +949,7 @@ static void test_cut_claim(void)
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.branch.h_init, x, np1);
-            if (psb__sample_tangent(&s, pred, x, k, 0, NULL) != PSB_SUCCESS) continue;
+            if (psb__sample_tangent(&s, pred, x, k, NULL) != PSB_SUCCESS) continue;
             ray[made] = trial_ray(&s, y0, k, 1, rays, n_rays); /* nothing known: never cut */
             n_path[made] = s.path_n_;
             memcpy(paths + (size_t)made * PSB__PATH_MAX * np1, s.path_, (size_t)s.path_n_ * np1 * sizeof(double));
