@@ -375,25 +375,25 @@
      those of the full run; spans later than the first mostly revisit regions, so n_pc falls.
    - Jacobian memo (analytic dH, dense or banded backend). The tangent at a sample point is
      the kernel of dH there, and on a piecewise-linear H every point of a piece has the same
-     dH, bit for bit. So the sample points' dH are hashed (two independent 64-bit hashes of
-     every entry) and a dH seen before in the call gives its tangent without a factorisation
+     dH, bit for bit. So the sample points' dH are hashed (128 bits from every entry) and a
+     dH seen before in the call gives its tangent without a factorisation
      (stats.n_tangent_reused; as many entries as the memo of tried tangents; after 64
      look-ups with fewer than one hit in 8 the call stops hashing). A remembered
      tangent only decides skips (tried before, screened, the previous direction's region);
      one that goes on to a trial is recomputed from the same dH, because the rounding of a
      different bordering row can steer a sweep elsewhere on degenerate problems.
    - Conic stop (with screening, analytic dH). A trial step that fails (no convergence, the
-     jump or cosine test) is retried with h_dec times the step down to
-     trial_h_min. Where the pieces its corrector met are cones with apex y0, a smaller
-     step is the same run scaled and fails alike; so at each iterate y the trial checks that
-     H is affine through y0 there (H(y) = H(y0) + dH(y) (y - y0) to rounding and 10^-6 of the
-     step, y0 being a kink only to Algorithm 2.1's precision) and that dH is the same, bit for
-     bit, at the point of the segment [y0, y] at distance h from y0 (polyhedral pieces:
-     the segment lies in y's piece), one more Jacobian per iteration, from a trial's second
-     step on; when every iterate of that step passes, the trial ends there. Both: bench_branching, same branches and n_pc, Algorithm
-     2.2's factorisations 4.7-8.5 times fewer; the block's trials end by the cut already and
-     its sample points fall in pieces of their own (many contact nodes change state at y0):
-     the same factorisations, 0.3% more instructions.
+     jump or cosine test) is retried with h_dec times the step down to trial_h_min. Where the
+     pieces its corrector met are cones with apex y0, a smaller step is the same run scaled
+     and fails alike; so at each iterate y the trial checks that H is affine through y0 there
+     (H(y) = H(y0) + dH(y) (y - y0) to rounding and 10^-6 of the step, y0 being a kink only
+     to Algorithm 2.1's precision) and that dH is the same, bit for bit, at the point of the
+     segment [y0, y] at distance h from y0 (polyhedral pieces: the segment lies in y's
+     piece): one more Jacobian per iteration, from a trial's second step on. When every
+     iterate of that step passes, the trial ends there. Both: bench_branching, same branches
+     and n_pc, Algorithm 2.2's factorisations 4.7-8.5 times fewer; the block's trials end by
+     the cut already and its sample points fall in pieces of their own (many contact nodes
+     change state at y0): the same factorisations, 0.3% more instructions.
    - Screened trials (no_screen = 0). Near y0 the pieces are, to first order, cones
      with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
      lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
@@ -4632,20 +4632,6 @@ static void psb__hash_doubles(const double *a, size_t n, unsigned long long *key
         key[j] = z ^ (z >> 31);
     }
 }
-/* The tangent at a sample point pt of Algorithm 2.2 (oriented by ref). Difference steps there
-   stay below branch_h / 1000 (section 1).
-   Jacobian memo (analytic dH, dense or banded storage): the unit kernel of dH is a function of
-   dH alone, and on a piecewise-linear H every sample point of a piece has the same dH, bit for
-   bit. So dH is hashed (two independent 64-bit hashes of all its entries, dH/dparameter
-   included; a false match needs both to collide) and a dH seen before in this call gives its
-   tangent again, oriented by ref, without a factorisation (stats.n_tangent_reused; from_memo
-   set, when not NULL; NULL: no look-up). A reused tangent differs from a recomputed one by
-   rounding (the bordering row differs), which on degenerate problems (crossing kinks, whose
-   sample points can fall on piece boundaries) can steer a sweep elsewhere: so a reused tangent
-   only decides skips (a tangent tried before, a trial whose outcome is known, the region of
-   the previous direction), and a tangent that goes on to be used is recomputed from the same
-   dH (psb__sample_refresh). Idle spans and screened trials on piecewise-linear problems then
-   cost Jacobian evaluations only, and the sweep is the one without the memo. */
 /* Hashes the dH just formed (psb__jacobian) into key[2]. */
 static void psb__jmemo_key(const psb_solver *s, unsigned long long *key)
 {
@@ -4668,6 +4654,20 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
     return -1;
 }
 
+/* The tangent at a sample point pt of Algorithm 2.2 (oriented by ref). Difference steps there
+   stay below s->branch.h / 1000 (section 1).
+   Jacobian memo (analytic dH, dense or banded storage): the unit kernel of dH is a function of
+   dH alone, and on a piecewise-linear H every sample point of a piece has the same dH, bit for
+   bit. So dH is hashed (128 bits from all its entries, dH/dparameter included:
+   psb__hash_doubles) and a dH seen before in this call gives its tangent again, oriented by
+   ref, without a factorisation (stats.n_tangent_reused, *from_memo set; with from_memo NULL
+   the tangent is always computed, and remembered). A reused tangent differs from a recomputed
+   one by rounding (the bordering row differs), which on degenerate problems (crossing kinks,
+   whose sample points can fall on piece boundaries) can steer a sweep elsewhere: so a reused
+   tangent only decides skips (a tangent tried before, a trial whose outcome is known, the region of
+   the previous direction), and a tangent that goes on to be used is recomputed from the same
+   dH (psb__sample_refresh). Idle spans and screened trials on piecewise-linear problems then
+   cost Jacobian evaluations only, and the sweep is the one without the memo. */
 static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t,
                                       int *from_memo)
 {
