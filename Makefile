@@ -246,14 +246,14 @@ images-run: $(EXAMPLES)
 
 BENCH = bench/bench_linear bench/bench_branching bench/bench_detect
 
-bench/%: bench/%.c $(HEADER) tests/pl_problems.h
+bench/%: bench/%.c $(HEADER) tests/pl_problems.h bench/bench_time.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
 
-bench/bench_mumps_factor: bench/bench_mumps_factor.c examples/fe_mumps.h contrib/psb_mumps.h examples/fe.h $(HEADER)
+bench/bench_mumps_factor: bench/bench_mumps_factor.c bench/bench_time.h examples/fe_mumps.h contrib/psb_mumps.h examples/fe.h $(HEADER)
 	$(CC) $(ALL_CFLAGS) $(MPI_CFLAGS) $< -o $@ $(MUMPS_LIBS) $(LIBS)
 
 # the sparse solvers' factorisation times (bench_sparse) and whole runs per solver, with SuiteSparse
-bench/bench_sparse: bench/bench_sparse.c $(HEADER) examples/fe.h contrib/psb_sparse.h
+bench/bench_sparse: bench/bench_sparse.c bench/bench_time.h $(HEADER) examples/fe.h contrib/psb_sparse.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $(SS_CFLAGS) $< -o $@ $(SS_LIBS) $(LIBS)
 
 bench: $(BENCH) examples/block examples/triangle $(if $(SS_LIBS),bench/bench_sparse) \

@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include "bench_time.h"
 
 extern void dgetrf_(const int *, const int *, double *, const int *, int *, int *);
 extern void dgbtrf_(const int *, const int *, const int *, const int *, double *, const int *, int *, int *);
@@ -29,13 +30,6 @@ extern void dgbtrf_(const int *, const int *, const int *, const int *, double *
 typedef struct {
     int nx, ny, n; /* n = 2 nx ny unknowns */
 } grid;
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* -lap(u) + g sin(u) coupling the two fields: H_(2k+c) = 4 u - neighbours - g exp(0.1 u) + 0.3 v */
 static int grid_res(const double *y, double *h, void *user)
@@ -123,11 +117,11 @@ static double time_iteration(psb_linear linear, grid *gr, double min_seconds, lo
     psb_solve_at_param(&s, y0, 0);
     psb_tangent(&s, y0, NULL, t);
     memset(&s.stats, 0, sizeof s.stats);
-    t0 = now();
+    t0 = bench_now();
     do {
         for (i = 0; i <= n; i++) y[i] = y0[i] + 1e-3 * t[i] + 1e-4 * ((i * 7919) % 13 - 6);
         psb_correct(&s, y, t, NULL);
-        elapsed = now() - t0;
+        elapsed = bench_now() - t0;
     } while (elapsed < min_seconds);
     *iters = s.stats.n_newton;
     psb_solver_free(&s);
@@ -150,12 +144,12 @@ static double time_factor(psb_linear linear, grid *gr, double min_seconds, int o
         double *mat = (double *)malloc((size_t)np1 * (size_t)np1 * sizeof(double));
         grid_dense(y, jac, np1, gr);
         for (i = 0; i < np1; i++) jac[n + (size_t)i * (size_t)np1] = 1.0 / np1;
-        t0 = now();
+        t0 = bench_now();
         do {
             memcpy(mat, jac, (size_t)np1 * (size_t)np1 * sizeof(double));
             dgetrf_(&np1, &np1, mat, &np1, ipiv, &info);
             count++;
-            elapsed = now() - t0;
+            elapsed = bench_now() - t0;
         } while (elapsed < min_seconds);
         free(jac);
         free(mat);
@@ -165,7 +159,7 @@ static double time_factor(psb_linear linear, grid *gr, double min_seconds, int o
         double *dp = (double *)malloc((size_t)n * sizeof(double));
         double *w = (double *)malloc((size_t)(kl + PSB__GB_NB) * PSB__GB_NB * sizeof(double));
         grid_band(y, band, kl + ku + 1, dp, gr);
-        t0 = now();
+        t0 = bench_now();
         do {
             int j;
             for (j = 0; j < n; j++) {
@@ -175,7 +169,7 @@ static double time_factor(psb_linear linear, grid *gr, double min_seconds, int o
             if (own) info = psb__gbtrf(n, kl, ku, lu, ld, (psb__lint *)ipiv, w);
             else dgbtrf_(&n, &n, &kl, &ku, lu, &ld, ipiv, &info);
             count++;
-            elapsed = now() - t0;
+            elapsed = bench_now() - t0;
         } while (elapsed < min_seconds);
         free(band);
         free(lu);
@@ -195,7 +189,7 @@ static double time_callbacks(psb_linear linear, grid *gr, double min_seconds)
     size_t size = linear == PSB_LINEAR_DENSE ? (size_t)n * (size_t)np1 : (size_t)ld * (size_t)n;
     double *y = (double *)malloc((size_t)np1 * sizeof(double)), *h = (double *)malloc((size_t)n * sizeof(double));
     double *jac = (double *)malloc(size * sizeof(double)), *dp = (double *)malloc((size_t)n * sizeof(double));
-    double t0 = now(), elapsed;
+    double t0 = bench_now(), elapsed;
     for (i = 0; i < n; i++) y[i] = 0.1;
     y[n] = 1;
     do {
@@ -204,7 +198,7 @@ static double time_callbacks(psb_linear linear, grid *gr, double min_seconds)
         if (linear == PSB_LINEAR_DENSE) grid_dense(y, jac, n, gr);
         else grid_band(y, jac + kl, ld, dp, gr);
         count++;
-        elapsed = now() - t0;
+        elapsed = bench_now() - t0;
     } while (elapsed < min_seconds);
     free(y); free(h); free(jac); free(dp);
     return elapsed / count;

@@ -10,13 +10,7 @@
 #include "examples/fe.h"
 #define PSB_MUMPS_IMPLEMENTATION
 #include "examples/fe_mumps.h"
-
-static double wall(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
+#include "bench_time.h"
 
 static int bench(int argc, char **argv)
 {
@@ -42,16 +36,16 @@ static int bench(int argc, char **argv)
     }
     for (k = 0; k <= n; k++) { row[k] = 1.0 / (1 + k % 7); y[k] = 1e-3 * ((k * 7) % 13); b[k] = 1; }
     y[n] = -0.5; /* a sheared state: contact rows of several pieces */
-    t0 = wall();
+    t0 = bench_now();
     bad += psb_mumps_factor(&f.m, y, row) != 0;
-    t1 = wall();
+    t1 = bench_now();
     for (k = 0; k < reps; k++) {
         row[k % n] += 1e-3; /* a new border row each time, as the corrector's */
         bad += psb_mumps_factor(&f.m, y, row) != 0;
     }
-    t2 = wall();
+    t2 = bench_now();
     for (k = 0; k < reps; k++) bad += psb_mumps_solve(&f.m, b, 2) != 0;
-    t3 = wall();
+    t3 = bench_now();
     printf("M%d N=%d ranks=%d first_ms=%.1f factor_ms=%.2f solve2_ms=%.2f mflops=%.1f analyses=%ld failures=%d\n",
            nx * 2 * nx, n, f.m.nprocs, 1e3 * (t1 - t0), 1e3 * (t2 - t1) / reps, 1e3 * (t3 - t2) / reps,
            1e-6 * f.m.id.rinfog[2], f.m.n_analysis, bad);

@@ -15,13 +15,7 @@
 #include "contrib/psb_sparse.h"
 
 #include <time.h>
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "bench_time.h"
 
 /* a point near the reference configuration, different at each call k */
 static void point(double *y, int n, int k)
@@ -38,7 +32,7 @@ static double time_banded(const fe_model *md, double min_seconds)
     double *y = malloc(sizeof(double) * ((size_t)n + 1)), *lu = malloc(sizeof(double) * (size_t)ld * (size_t)n);
     double *dp = malloc(sizeof(double) * (size_t)n), *w = malloc(sizeof(double) * (size_t)(kl + PSB__GB_NB) * PSB__GB_NB);
     psb__lint *ipiv = malloc(sizeof(psb__lint) * (size_t)n);
-    double t0 = now(), elapsed;
+    double t0 = bench_now(), elapsed;
     do {
         point(y, n, count);
         memset(lu, 0, sizeof(double) * (size_t)ld * (size_t)n);
@@ -46,7 +40,7 @@ static double time_banded(const fe_model *md, double min_seconds)
         fe_psb_band_jacobian(y, lu + kl, ld, dp, (void *)md);
         psb__gbtrf(n, kl, ku, lu, ld, ipiv, w);
         count++;
-        elapsed = now() - t0;
+        elapsed = bench_now() - t0;
     } while (elapsed < min_seconds || count < 2);
     free(y); free(lu); free(dp); free(w); free(ipiv);
     return elapsed / count;
@@ -64,17 +58,17 @@ static double time_sparse(const fe_model *md, psb_sparse_backend backend, double
     if (fe_sparse_init(&fs, md)) return -1;
     so.row_perm = fs.row_perm;
     so.symmetric = 1;
-    t0 = now();
+    t0 = bench_now();
     if (psb_sparse_init(&sp, backend, n, n, fs.colp, fs.rowi, fe_sparse_fill, &fs, &so)) return -1;
-    *analysis = now() - t0;
+    *analysis = bench_now() - t0;
     for (i = 0; i <= n; i++) row[i] = 1.0 / (n + 1);
-    t0 = now();
+    t0 = bench_now();
     do {
         point(y, n, count);
         row[n] = 1 + 0.01 * count;
         if (psb_sparse_factor(y, row, &sp)) { elapsed = -1; break; }
         count++;
-        elapsed = now() - t0;
+        elapsed = bench_now() - t0;
     } while (elapsed < min_seconds || count < 2);
     *flops = sp.stats.flops / count;
     psb_sparse_free(&sp);

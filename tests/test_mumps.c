@@ -89,22 +89,6 @@ static double *dense_b(const mat *a, const double *row)
     return b;
 }
 
-/* Normwise backward error of x for B x = rhs: ||B x - rhs||_inf / (||B||_inf ||x||_inf + ||rhs||_inf). */
-static double backward_error(const double *b, int n1, const double *x, const double *rhs)
-{
-    double rmax = 0, bnorm = 0, xmax = 0, fmax_ = 0;
-    int i, j;
-    for (i = 0; i < n1; i++) {
-        double r = -rhs[i], rowsum = 0;
-        for (j = 0; j < n1; j++) { r += b[i + (size_t)j * n1] * x[j]; rowsum += fabs(b[i + (size_t)j * n1]); }
-        rmax = fmax(rmax, fabs(r));
-        bnorm = fmax(bnorm, rowsum);
-        xmax = fmax(xmax, fabs(x[i]));
-        fmax_ = fmax(fmax_, fabs(rhs[i]));
-    }
-    return rmax / (bnorm * xmax + fmax_);
-}
-
 /* MUMPS against dgetrf/dgetrs on random bordered matrices of order n+1, two right-hand sides. */
 static void test_random(int n, int extra)
 {
@@ -137,7 +121,7 @@ static void test_random(int n, int extra)
     dgetrs_("N", &n1, &two, lu, &n1, ipiv, xl, &n1, &info PSCBRANCH_STRLEN_ONE);
     /* backward stable (a threshold-pivoted LU: growth bounded by 1/CNTL(1) per step, in
        practice tiny) and, as LAPACK's, accurate to the condition number */
-    be = fmax(backward_error(b, n1, x, rhs), backward_error(b, n1, x + n1, rhs + n1));
+    be = fmax(harness_backward_error(b, n1, x, rhs), harness_backward_error(b, n1, x + n1, rhs + n1));
     CHECK(be <= 1e-13);
     for (i = 0; i < 2 * n1; i++) { diff = fmax(diff, fabs(x[i] - xl[i])); xn = fmax(xn, fabs(xl[i])); }
     CHECK(rcond > 0 && diff / xn <= 1e3 * DBL_EPSILON / rcond);
@@ -241,7 +225,7 @@ static void test_codes_and_counts(void)
             double x[61];
             memcpy(x, rhs, sizeof x);
             if (psb_mumps_factor(&m, &y0, row) != 0 || psb_mumps_solve(&m, x, 1) != 0) bad++;
-            be = backward_error(b, n1, x, rhs);
+            be = harness_backward_error(b, n1, x, rhs);
             worst = fmax(worst, be);
         }
         free(b);
@@ -290,13 +274,13 @@ static void test_two_objects(void)
     CHECK(psb_mumps_solve(&m[0], x[0], 1) == 0);
     CHECK(psb_mumps_solve(&m[1], x[1], 1) == 0);
     for (k = 0; k < 2; k++) {
-        CHECK(backward_error(b[k], sizes[k] + 1, x[k], rhs[k]) <= 1e-13);
+        CHECK(harness_backward_error(b[k], sizes[k] + 1, x[k], rhs[k]) <= 1e-13);
         CHECK(m[k].n_analysis == 1);
     }
     psb_mumps_free(&m[0]);
     memcpy(x[1], rhs[1], sizeof(double) * (size_t)(sizes[1] + 1)); /* the other still works */
     CHECK(psb_mumps_solve(&m[1], x[1], 1) == 0);
-    CHECK(backward_error(b[1], sizes[1] + 1, x[1], rhs[1]) <= 1e-13);
+    CHECK(harness_backward_error(b[1], sizes[1] + 1, x[1], rhs[1]) <= 1e-13);
     psb_mumps_free(&m[1]);
     for (k = 0; k < 2; k++) { free_mat(&a[k]); free(row[k]); free(rhs[k]); free(x[k]); free(b[k]); }
 }

@@ -24,22 +24,6 @@ static double rnd(unsigned long long *s)
     return 2.0 * (double)(*s >> 11) / 9007199254740992.0 - 1.0;
 }
 
-/* normwise backward error of z for the dense B (np1 x np1) and right-hand side b */
-static double backward_error(const double *B, int np1, const double *z, const double *b)
-{
-    double rmax = 0, bn = 0, zn = 0, nb = 0;
-    int i, j;
-    for (i = 0; i < np1; i++) {
-        double r = b[i], rs = 0;
-        for (j = 0; j < np1; j++) { r -= B[i + (size_t)j * np1] * z[j]; rs += fabs(B[i + (size_t)j * np1]); }
-        rmax = fmax(rmax, fabs(r));
-        nb = fmax(nb, rs);
-        bn = fmax(bn, fabs(b[i]));
-        zn = fmax(zn, fabs(z[i]));
-    }
-    return rmax / (nb * zn + bn);
-}
-
 /* ---- a small generic problem: A (n x n, CSC) tridiagonal, dparam, param_index anywhere ---- */
 typedef struct gen {
     int n, p;             /* p: the parameter's component of y */
@@ -128,7 +112,7 @@ static void test_generic(void)
                     CHECK(psb_sparse_factor(y, row, &sp) == 0);
                     CHECK(psb_sparse_solve(z, 2, &sp) == 0);
                     gen_dense(&g, row, B);
-                    worst = fmax(worst, fmax(backward_error(B, np1, z, rhs), backward_error(B, np1, z + np1, rhs + np1)));
+                    worst = fmax(worst, fmax(harness_backward_error(B, np1, z, rhs), harness_backward_error(B, np1, z + np1, rhs + np1)));
                     dgesv_(&np1, &two, B, &np1, ipiv, ref, &np1, &info);
                     CHECK(info == 0);
                     for (i = 0; i < 2 * np1; i++) diff = fmax(diff, fabs(z[i] - ref[i]) / (1 + fabs(ref[i])));
@@ -234,7 +218,7 @@ static void test_fe_matrices(void)
                 CHECK(psb_sparse_solve(z, 2, &sp) == 0);
                 fe_jacobian_dense(&md, y, B, np1); /* rows 0..n-1 of B, leading dimension n + 1 */
                 for (j = 0; j < np1; j++) B[n + (size_t)j * np1] = row[j];
-                worst = fmax(worst, fmax(backward_error(B, np1, z, rhs), backward_error(B, np1, z + np1, rhs + np1)));
+                worst = fmax(worst, fmax(harness_backward_error(B, np1, z, rhs), harness_backward_error(B, np1, z + np1, rhs + np1)));
             }
             CHECK(worst <= 1e-14);
             CHECK(sp.stats.n_analysis == 1 && sp.stats.n_fill == 4);
