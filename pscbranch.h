@@ -1782,7 +1782,7 @@ enum {
     PSB__V_SP_Y, PSB__V_SP_T, PSB__V_SP_K, PSB__V_SP_YA, PSB__V_SP_TA, PSB__V_SP_YB, PSB__V_SP_TB,
     PSB__V_SP_YE, PSB__V_SP_TE, PSB__V_SP_B1, PSB__V_SP_B2, PSB__V_SP_C1, PSB__V_SP_C2, /* special points */
     PSB__V_EV_Y, PSB__V_EV_T, PSB__V_EV_N, /* psb_evolve_step: path couple, Newton's solution */
-    PSB__V_BR_H0, PSB__V_BR_JD, PSB__V_BR_JS, /* Algorithm 2.2's trials: H(y0); psb__conic_at */
+    PSB__V_BR_H0, PSB__V_BR_PE, /* Algorithm 2.2's trials: H(y0); the point h from y0 (conic test) */
     PSB__NVEC
 };
 /* Entries of each of psb_find_branches' stores, the tangents tried (memo_), the directions
@@ -3051,7 +3051,7 @@ static int psb__conic_at(psb_solver *s, const double *y)
 {
     int n = s->n_, np1 = s->np1_, i, j;
     const double *y0 = s->conic_y0_, *h0 = PSB__VEC(s, PSB__V_BR_H0);
-    double *diff = PSB__VEC(s, PSB__V_BR_JD), *round = PSB__VEC(s, PSB__V_BR_JS), step = 0;
+    double excess = 0, step = 0; /* the largest row error beyond rounding, and row size */
     psb__jmemo_key(s, s->conic_key_);
     for (i = 0; i < n; i++) {
         double sum = 0, size = 0, scale = fabs(s->res_[i]) + fabs(h0[i]);
@@ -3076,13 +3076,12 @@ static int psb__conic_at(psb_solver *s, const double *y)
             size += fabs(s->dparam_[i] * (y[p] - y0[p]));
             scale += fabs(s->dparam_[i]) * (fabs(y[p]) + fabs(y0[p]));
         }
-        diff[i] = fabs(s->res_[i] - h0[i] - sum);
-        round[i] = 1024 * DBL_EPSILON * scale;
+        sum = fabs(s->res_[i] - h0[i] - sum) - 1024 * DBL_EPSILON * scale;
+        if (isnan(sum)) return 0;
+        if (sum > excess) excess = sum;
         if (size > step) step = size;
     }
-    for (i = 0; i < n; i++)
-        if (!(diff[i] <= round[i] + 1e-6 * step)) return 0;
-    return 1;
+    return excess <= 1e-6 * step;
 }
 
 /* Moore-Penrose corrector on internal copies; (y, t) replaced only on convergence. With
@@ -3117,7 +3116,7 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         r = psb__solve_factored(s, s->rhs_, 2);
         if (r != PSB_SUCCESS) return r;
         if (s->conic_ok_) { /* the point s->branch.h from y0 towards this iterate */
-            double dist = psb__dist_w(s, yc, s->conic_y0_), *pe = PSB__VEC(s, PSB__V_BR_JS);
+            double dist = psb__dist_w(s, yc, s->conic_y0_), *pe = PSB__VEC(s, PSB__V_BR_PE);
             s->conic_ok_ = dist > s->branch.h;
             for (i = 0; i < np1 && s->conic_ok_; i++)
                 pe[i] = s->conic_y0_[i] + s->branch.h / dist * (yc[i] - s->conic_y0_[i]);
@@ -3138,7 +3137,7 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         corr = psb__norm_w(s, s->rhs_);
         if (s->conic_ok_) { /* psb__conic_at's second half */
             unsigned long long key[2] = {0, 0};
-            r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_JS), NULL);
+            r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_PE), NULL);
             if (psb__is_fatal(r)) return r;
             if (r == PSB_SUCCESS) psb__jmemo_key(s, key);
             s->conic_ok_ = r == PSB_SUCCESS && key[0] == s->conic_key_[0] && key[1] == s->conic_key_[1];
@@ -4600,7 +4599,7 @@ static double psb__gauss(unsigned long long *st)
    the pieces, with odds ~ step / branch_h, and near the end point H is small, so the rounding
    error of the quotients, ~ eps |H| / step, stays small too. (An explicit branch_h of 5e-7 with
    steps of 1.5e-8 found 1 of the 16 branch sets of the k = 4 crossing kinks.) */
-/* Two independent 64-bit hashes of the n doubles at a (their bits), into key[0] and key[1]. */
+/* A 128-bit hash of the n doubles at a (their bits), into key[0] and key[1], which seed it. */
 static void psb__hash_doubles(const double *a, size_t n, unsigned long long *key)
 {
     /* four lanes, word i in lane i % 4, each a multiply-xorshift chain (a bijection of the
