@@ -281,8 +281,9 @@
      other border rows. contrib/psb_sparse.h (outside this header: it needs SuiteSparse) is
      such a solver: UMFPACK or KLU on B itself, from the pattern of dH/dx and a callback for
      its values; the fill-reducing ordering is computed once, every factorisation pivots over
-     all of B (exact at folds, where A alone is singular), each solution is checked by its
-     backward error. Its top comment is its manual; examples/fe_solvers.h uses it.
+     all of B (exact at folds, where A alone is singular), factors are kept where dH repeats
+     (a new border row by a rank-one update), each solution is checked by its backward
+     error. Its top comment is its manual; examples/fe_solvers.h uses it.
      contrib/psb_mumps.h is another, for MUMPS: the pattern of dH/dy once (coordinates, the
      parameter column included) and a callback for its values; MUMPS's analysis once per
      solver object, a numeric factorisation per factor call, a singular or non-finite B > 0

@@ -42,8 +42,8 @@ mkdir -p "$LOGS"
 if [ "$BLOCK" != 0 ]; then
     $CC -std=c99 -O2 -I. examples/block.c -o "$OUT/block_side" -llapack -lblas -lm || exit 1
 fi
-# the triangle with the example's default solver (the banded LU up to M4096; UMFPACK from M16384
-# when libsuitesparse-dev is there: examples/fe_solvers.h)
+# the triangle with the example's default solver (UMFPACK from M4096 when libsuitesparse-dev is
+# there, the banded LU otherwise: examples/fe_solvers.h)
 tri_flags=()
 if [ -n "$TRIANGLE" ]; then
     SS_INC=${SS_INC:-/usr/include/suitesparse}

@@ -33,14 +33,19 @@
      klu_analyze): runs are reproducible and sp.stats.n_analysis stays 1. Each factor call is a
      numeric factorisation with pivoting over B, so B is factored exactly where A alone is
      singular (folds, branch points): nothing is eliminated by blocks.
-     UMFPACK: umfpack_di_numeric at every factor call (threshold partial pivoting within the
-       fixed column order); solves with umfpack_di_wsolve and its iterative refinement.
+     UMFPACK: umfpack_di_numeric (threshold partial pivoting within the fixed column order);
+       solves with umfpack_di_wsolve.
      KLU: klu_factor the first time, then klu_refactor, which keeps the previous pivot
        sequence and skips the pivot search. A refactorisation is kept when its pivot ratio
        (klu_rcond) passes rcond_min, otherwise B is factored again with pivoting
-       (stats.n_fallback); solves refine iteratively (at most two steps), and a solution that
-       stays inaccurate after a refactorisation (pivot growth) makes solve factor B again
-       with pivoting and solve once more (also counted in n_fallback).
+       (stats.n_fallback).
+     Both: where dH(y) is bit-identical to the one factored last (a piecewise-linear H, a
+       point factored again with another row), the factors are kept and the new border row
+       enters by a rank-one update (Sherman-Morrison; stats.n_reuse): one more solve per
+       factorisation kept. A solution whose backward error (below) exceeds 8 eps is refined
+       in B, at most two steps (stats.n_refine); one that stays inaccurate on kept factors
+       (a KLU refactorisation's pivot growth, an update near a singular B) makes solve factor
+       B afresh with pivoting and solve once more (stats.n_fallback).
      Every solution is checked by its normwise backward error in B,
        omega = ||b - B z|| / (||B|| ||z|| + ||b||)   (max norms);
      when omega > 1e-10 after refinement (after a KLU refactorisation: after factoring B again
@@ -55,10 +60,29 @@
                       dH goes to row row_perm[i]); with symmetric = 1 it should put nonzeros
                       on the diagonal: e.g. a saddle point's zero diagonal block (Dirichlet
                       multipliers) swapped with the rows that couple to it.
-     symmetric [0]    UMFPACK: the symmetric strategy (AMD on B + B^T, diagonal pivots
-                      preferred) instead of UMFPACK's automatic choice; for a pattern that is
-                      symmetric but for a few rows (KLU always orders B + B^T)
+     symmetric [0]    UMFPACK: the symmetric strategy (fill-reducing ordering of B + B^T,
+                      diagonal pivots preferred) instead of UMFPACK's automatic choice; for a
+                      pattern that is symmetric but for a few rows (KLU always orders B + B^T)
+     ordering [PSB_SPARSE_ORDERING_BEST]   UMFPACK's fill-reducing ordering: BEST tries AMD
+                      (COLAMD for the unsymmetric strategy) and METIS's nested dissection and
+                      keeps the one with fewer flops (the analysis, once per psb_sparse_init,
+                      takes about twice as long); AMD or METIS alone. METIS is the one that
+                      scales on 2D meshes: block M12800, 4.1e8 flops against AMD's 7.7e8 (docs/
+                      benchmarks.md). Where the analysis fails with METIS (a UMFPACK built
+                      without it), it is done again with AMD; stats.ordering tells which was
+                      used. KLU orders with AMD whatever this says.
      rcond_min [1e3 eps]   the pivot ratio below which B is reported singular
+     keep [16], keep_mb [256]   factorisations kept: the current one and up to keep - 1
+                      (1..64) earlier ones with their dH, using at most keep_mb megabytes
+                      (1..1e6; the backend's factors, as it reports their size, plus nnz(A) +
+                      3 n doubles each). A factor call whose dH is bit-identical to a kept
+                      one's takes those factors (stats.n_reuse). Earlier factors are kept only
+                      once a dH has come back after others (a piecewise-linear H: Algorithm
+                      2.2's sample points and a trace revisit a few pieces), so a smooth
+                      problem never holds more than the current ones. Triangle M4096: 1045
+                      factor calls, numeric factorisations 819 with keep = 1, 608 with 16
+                      (docs/benchmarks.md). The array of kept entries (nnz(A) + 3 n doubles
+                      each) is allocated by psb_sparse_init.
 
    RETURN CODES of psb_sparse_init: 0, PSB_SPARSE_ERR_MEMORY, PSB_SPARSE_ERR_INPUT (bad size,
    pattern or permutation; sp.message says which), PSB_SPARSE_ERR_BACKEND (a backend left out
@@ -100,10 +124,19 @@ enum { PSB_SPARSE_ERR_MEMORY = -1, PSB_SPARSE_ERR_INPUT = -2, PSB_SPARSE_ERR_BAC
 
 typedef int (*psb_sparse_fill_fn)(const double *y, double *ax, double *dparam, void *user);
 
+typedef enum psb_sparse_ordering {
+    PSB_SPARSE_ORDERING_BEST = 0,
+    PSB_SPARSE_ORDERING_AMD = 1,
+    PSB_SPARSE_ORDERING_METIS = 2
+} psb_sparse_ordering;
+
 typedef struct psb_sparse_options {
     const int *row_perm;
     int symmetric;
     double rcond_min;
+    psb_sparse_ordering ordering;
+    int keep;
+    double keep_mb;
 } psb_sparse_options;
 
 typedef struct psb_sparse_stats {
@@ -112,11 +145,14 @@ typedef struct psb_sparse_stats {
     long n_refactor;   /* KLU refactorisations on the previous pivots that were kept */
     long n_fallback;   /* KLU refactorisations discarded and done again with pivoting */
     long n_fill;       /* fill callbacks */
-    long n_refine;     /* KLU refinement steps */
+    long n_refine;     /* refinement steps */
+    long n_reuse;      /* factor calls answered by kept factors: dH(y) bit-identical to theirs,
+                          only the border row new (or nothing) */
     double flops;      /* UMFPACK: flops of every numeric factorisation, summed */
     double rcond;      /* pivot ratio of the last factorisation */
     double omega;      /* backward error of the last solution */
     int status;        /* UMFPACK's or KLU's last status */
+    psb_sparse_ordering ordering; /* the ordering the analysis used (AMD or METIS) */
 } psb_sparse_stats;
 
 typedef struct psb_sparse {
@@ -137,6 +173,25 @@ typedef struct psb_sparse {
     int *iwork_;          /* UMFPACK's solve (n + 1) */
     int factored_, refactored_;
     double normb_;        /* ||B|| (max norm) */
+    /* the current factors' matrix, for their reuse: A's and dparam's values (fax_, nnz + n,
+       hash fhash_) and the border row (frow_); the current row (crow_) and its update (sm_d_ =
+       crow_ - frow_, sm_u_ solves B_f u = e_n, sm_denom_ = 1 + sm_d_.sm_u_) */
+    double *fax_, *frow_, *crow_, *sm_d_, *sm_u_, sm_denom_;
+    unsigned long long fhash_;
+    int fvalid_, sm_on_, sm_u_ok_;
+    /* earlier factors kept (keep - 1 of them), swapped with the current ones when taken */
+    struct psb__sparse_kept {
+        double *vals, *row, *u;
+        void *numeric;
+        unsigned long long hash;
+        long used;
+        int valid, u_ok, refactored;
+    } *kept_;
+    int n_kept_;
+    long clock_;
+    double keep_bytes_;   /* keep_mb in bytes */
+    unsigned long long recent_[64]; /* hashes of the last dH factored: a repeat turns keeping on */
+    int n_recent_, keeping_;
 #ifndef PSB_SPARSE_NO_UMFPACK
     void *umf_symbolic_, *umf_numeric_;
     double umf_control_[UMFPACK_CONTROL], umf_info_[UMFPACK_INFO];
@@ -194,7 +249,22 @@ PSB_SPARSE_DEF int psb_sparse_available(psb_sparse_backend backend)
 
 PSB_SPARSE_DEF void psb_sparse_free(psb_sparse *sp)
 {
+    int k;
     if (!sp) return;
+    for (k = 0; sp->kept_ && k < sp->n_kept_; k++) {
+        struct psb__sparse_kept *e = sp->kept_ + k;
+#ifndef PSB_SPARSE_NO_UMFPACK
+        if (e->numeric && sp->backend == PSB_SPARSE_UMFPACK) umfpack_di_free_numeric(&e->numeric);
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+        if (e->numeric && sp->backend == PSB_SPARSE_KLU) {
+            klu_numeric *num = (klu_numeric *)e->numeric;
+            klu_free_numeric(&num, &sp->klu_);
+        }
+#endif
+        free(e->vals); free(e->row); free(e->u);
+    }
+    free(sp->kept_);
 #ifndef PSB_SPARSE_NO_UMFPACK
     if (sp->umf_numeric_) umfpack_di_free_numeric(&sp->umf_numeric_);
     if (sp->umf_symbolic_) umfpack_di_free_symbolic(&sp->umf_symbolic_);
@@ -205,6 +275,7 @@ PSB_SPARSE_DEF void psb_sparse_free(psb_sparse *sp)
 #endif
     free(sp->bp_); free(sp->bi_); free(sp->map_); free(sp->rperm_);
     free(sp->ax_); free(sp->dparam_); free(sp->bx_); free(sp->work_); free(sp->iwork_);
+    free(sp->fax_); free(sp->frow_); free(sp->crow_); free(sp->sm_d_); free(sp->sm_u_);
     memset(sp, 0, sizeof *sp);
 }
 
@@ -227,9 +298,9 @@ PSB_SPARSE_DEF int psb_sparse_init(psb_sparse *sp, psb_sparse_backend backend, i
                                    const int *colp, const int *rowi, psb_sparse_fill_fn fill, void *user,
                                    const psb_sparse_options *opt)
 {
-    static const psb_sparse_options defaults = {NULL, 0, 0.0};
+    static const psb_sparse_options defaults = {NULL, 0, 0.0, PSB_SPARSE_ORDERING_BEST, 0, 0.0};
     psb__sparse_pair *pairs = NULL;
-    int *seen = NULL, np1, nnz, j, c, i, q, maxcol = 0;
+    int *seen = NULL, np1, nnz, j, c, i, q, k, maxcol = 0;
     long long total;
     size_t un;
     if (!sp) return PSB_SPARSE_ERR_INPUT;
@@ -242,6 +313,12 @@ PSB_SPARSE_DEF int psb_sparse_init(psb_sparse *sp, psb_sparse_backend backend, i
     if (!colp || !rowi || !fill) return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "colp, rowi and fill are required");
     if (!(opt->rcond_min >= 0) || !(opt->rcond_min < 1))
         return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "rcond_min must lie in [0, 1)");
+    if (opt->ordering != PSB_SPARSE_ORDERING_BEST && opt->ordering != PSB_SPARSE_ORDERING_AMD &&
+        opt->ordering != PSB_SPARSE_ORDERING_METIS)
+        return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "ordering must be BEST, AMD or METIS");
+    if (opt->keep < 0 || opt->keep > 64) return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "keep must lie in [0, 64]");
+    if (!(opt->keep_mb == 0 || (opt->keep_mb >= 1 && opt->keep_mb <= 1e6)))
+        return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "keep_mb must be 0 (the default) or lie in [1, 1e6]");
     if (colp[0] != 0) return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "colp[0] must be 0");
     for (j = 0; j < n; j++) {
         if (colp[j + 1] < colp[j]) return psb__sparse_fail(sp, PSB_SPARSE_ERR_INPUT, "colp must not decrease");
@@ -268,10 +345,26 @@ PSB_SPARSE_DEF int psb_sparse_init(psb_sparse *sp, psb_sparse_backend backend, i
     sp->bx_ = (double *)malloc(sizeof(double) * (size_t)total);
     sp->work_ = (double *)malloc(sizeof(double) * 8 * un);
     sp->iwork_ = (int *)malloc(sizeof(int) * un);
+    sp->fax_ = (double *)malloc(sizeof(double) * ((size_t)nnz + (size_t)n));
+    sp->frow_ = (double *)malloc(sizeof(double) * un);
+    sp->crow_ = (double *)malloc(sizeof(double) * un);
+    sp->sm_d_ = (double *)malloc(sizeof(double) * un);
+    sp->sm_u_ = (double *)malloc(sizeof(double) * un);
+    sp->n_kept_ = (opt->keep ? opt->keep : 16) - 1;
+    sp->keep_bytes_ = (opt->keep_mb > 0 ? opt->keep_mb : 256) * 1048576.0;
+    sp->kept_ = (struct psb__sparse_kept *)calloc((size_t)(sp->n_kept_ ? sp->n_kept_ : 1), sizeof *sp->kept_);
+    for (k = 0; sp->kept_ && k < sp->n_kept_; k++) {
+        struct psb__sparse_kept *e = sp->kept_ + k;
+        e->vals = (double *)malloc(sizeof(double) * ((size_t)nnz + (size_t)n));
+        e->row = (double *)malloc(sizeof(double) * un);
+        e->u = (double *)malloc(sizeof(double) * un);
+        if (!e->vals || !e->row || !e->u) break;
+    }
     seen = (int *)calloc(un, sizeof(int));
     pairs = (psb__sparse_pair *)malloc(sizeof(psb__sparse_pair) * (size_t)(maxcol ? maxcol : 1));
     if (!sp->bp_ || !sp->bi_ || !sp->map_ || !sp->rperm_ || !sp->ax_ || !sp->dparam_ || !sp->bx_ || !sp->work_ ||
-        !sp->iwork_ || !seen || !pairs) {
+        !sp->iwork_ || !sp->fax_ || !sp->frow_ || !sp->crow_ || !sp->sm_d_ || !sp->sm_u_ || !sp->kept_ ||
+        k < sp->n_kept_ || !seen || !pairs) {
         free(seen); free(pairs);
         return psb__sparse_fail(sp, PSB_SPARSE_ERR_MEMORY, "out of memory");
     }
@@ -325,8 +418,20 @@ PSB_SPARSE_DEF int psb_sparse_init(psb_sparse *sp, psb_sparse_backend backend, i
     if (backend == PSB_SPARSE_UMFPACK) {
         umfpack_di_defaults(sp->umf_control_);
         if (opt->symmetric) sp->umf_control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
+        sp->umf_control_[UMFPACK_IRSTEP] = 0; /* psb_sparse_solve refines, normwise */
+        sp->umf_control_[UMFPACK_ORDERING] = opt->ordering == PSB_SPARSE_ORDERING_AMD     ? UMFPACK_ORDERING_AMD
+                                             : opt->ordering == PSB_SPARSE_ORDERING_METIS ? UMFPACK_ORDERING_METIS
+                                                                                          : UMFPACK_ORDERING_BEST;
         sp->stats.status = umfpack_di_symbolic(np1, np1, sp->bp_, sp->bi_, NULL, &sp->umf_symbolic_,
                                                sp->umf_control_, sp->umf_info_);
+        if (sp->stats.status != UMFPACK_OK && sp->stats.status != UMFPACK_ERROR_out_of_memory &&
+            opt->ordering != PSB_SPARSE_ORDERING_AMD) {
+            sp->umf_control_[UMFPACK_ORDERING] = UMFPACK_ORDERING_AMD;
+            sp->stats.status = umfpack_di_symbolic(np1, np1, sp->bp_, sp->bi_, NULL, &sp->umf_symbolic_,
+                                                   sp->umf_control_, sp->umf_info_);
+        }
+        sp->stats.ordering = sp->umf_info_[UMFPACK_ORDERING_USED] == UMFPACK_ORDERING_METIS ? PSB_SPARSE_ORDERING_METIS
+                                                                                           : PSB_SPARSE_ORDERING_AMD;
         if (sp->stats.status != UMFPACK_OK) {
             int oom = sp->stats.status == UMFPACK_ERROR_out_of_memory;
             sp->umf_symbolic_ = NULL;
@@ -338,6 +443,7 @@ PSB_SPARSE_DEF int psb_sparse_init(psb_sparse *sp, psb_sparse_backend backend, i
 #ifndef PSB_SPARSE_NO_KLU
     if (backend == PSB_SPARSE_KLU) {
         klu_defaults(&sp->klu_);
+        sp->stats.ordering = PSB_SPARSE_ORDERING_AMD;
         sp->klu_symbolic_ = klu_analyze(np1, sp->bp_, sp->bi_, &sp->klu_);
         sp->stats.status = sp->klu_.status;
         if (!sp->klu_symbolic_)
@@ -409,14 +515,73 @@ static int psb__sparse_klu_factor(psb_sparse *sp)
 }
 #endif
 
-PSB_SPARSE_DEF int psb_sparse_factor(const double *y, const double *row, void *ctx)
+/* Remembers the matrix just factored (bx_, assembled from ax_, dparam_ and crow_). */
+static void psb__sparse_record(psb_sparse *sp)
 {
-    psb_sparse *sp = (psb_sparse *)ctx;
+    memcpy(sp->fax_, sp->ax_, sizeof(double) * (size_t)sp->nnz_);
+    memcpy(sp->fax_ + sp->nnz_, sp->dparam_, sizeof(double) * (size_t)sp->n);
+    memcpy(sp->frow_, sp->crow_, sizeof(double) * ((size_t)sp->n + 1));
+    sp->fvalid_ = 1;
+    sp->sm_on_ = sp->sm_u_ok_ = 0;
+}
+
+/* A 64-bit hash of dH's values (ax_, dparam_), to find kept factors without comparing all. */
+static unsigned long long psb__sparse_hash(const psb_sparse *sp)
+{
+    unsigned long long h = 0x9e3779b97f4a7c15ULL, b;
+    int k;
+    for (k = 0; k < sp->nnz_ + sp->n; k++) {
+        memcpy(&b, k < sp->nnz_ ? sp->ax_ + k : sp->dparam_ + (k - sp->nnz_), sizeof b);
+        h = (h ^ b) * 0x100000001b3ULL;
+        h ^= h >> 29;
+    }
+    return h;
+}
+
+/* Bytes the current factors take: the backend's numeric object and the entry's vectors. */
+static double psb__sparse_entry_bytes(const psb_sparse *sp)
+{
+    double bytes = sizeof(double) * ((double)sp->nnz_ + 3.0 * (sp->n + 1));
+#ifndef PSB_SPARSE_NO_UMFPACK
+    if (sp->backend == PSB_SPARSE_UMFPACK)
+        bytes += sp->umf_info_[UMFPACK_NUMERIC_SIZE] * sp->umf_info_[UMFPACK_SIZE_OF_UNIT];
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+    if (sp->backend == PSB_SPARSE_KLU && sp->klu_numeric_)
+        bytes += ((double)sp->klu_numeric_->lnz + sp->klu_numeric_->unz) * (sizeof(double) + sizeof(int));
+#endif
+    return bytes;
+}
+
+/* Swaps the current factors with kept entry e (either may be invalid). */
+static void psb__sparse_swap(psb_sparse *sp, struct psb__sparse_kept *e)
+{
+    double *t;
+    void *num;
+    unsigned long long h;
+    int i;
+    t = sp->fax_; sp->fax_ = e->vals; e->vals = t;
+    t = sp->frow_; sp->frow_ = e->row; e->row = t;
+    t = sp->sm_u_; sp->sm_u_ = e->u; e->u = t;
+    h = sp->fhash_; sp->fhash_ = e->hash; e->hash = h;
+    i = sp->fvalid_; sp->fvalid_ = e->valid; e->valid = i;
+    i = sp->sm_u_ok_; sp->sm_u_ok_ = e->u_ok; e->u_ok = i;
+    i = sp->refactored_; sp->refactored_ = e->refactored; e->refactored = i;
+#ifndef PSB_SPARSE_NO_UMFPACK
+    if (sp->backend == PSB_SPARSE_UMFPACK) { num = sp->umf_numeric_; sp->umf_numeric_ = e->numeric; e->numeric = num; }
+#endif
+#ifndef PSB_SPARSE_NO_KLU
+    if (sp->backend == PSB_SPARSE_KLU) { num = (void *)sp->klu_numeric_; sp->klu_numeric_ = (klu_numeric *)e->numeric; e->numeric = num; }
+#endif
+    (void)num;
+    e->used = ++sp->clock_;
+}
+
+/* A numeric factorisation with pivoting of the assembled B: 0, 1 singular, -1 failure. */
+static int psb__sparse_numeric(psb_sparse *sp)
+{
     int rc = -1;
-    if (!sp || !sp->bx_ || !y || !row) return -1;
-    sp->factored_ = 0;
-    rc = psb__sparse_assemble(sp, y, row);
-    if (rc) return rc;
+    sp->fvalid_ = sp->sm_on_ = 0;
 #ifndef PSB_SPARSE_NO_UMFPACK
     if (sp->backend == PSB_SPARSE_UMFPACK) {
         if (sp->umf_numeric_) umfpack_di_free_numeric(&sp->umf_numeric_);
@@ -431,27 +596,106 @@ PSB_SPARSE_DEF int psb_sparse_factor(const double *y, const double *row, void *c
     }
 #endif
 #ifndef PSB_SPARSE_NO_KLU
-    if (sp->backend == PSB_SPARSE_KLU) {
-        rc = 1;
-        if (sp->klu_numeric_) {
-            /* the pivots of the last factorisation with pivoting (a failed refactorisation
-               leaves them intact): kept unless a pivot is small; a growth that spoils the
-               solutions shows in their backward error, and solve factors again then */
-            int ok = klu_refactor(sp->bp_, sp->bi_, sp->bx_, sp->klu_symbolic_, sp->klu_numeric_, &sp->klu_);
-            sp->stats.status = sp->klu_.status;
-            if (ok && sp->klu_.status == KLU_OK && klu_rcond(sp->klu_symbolic_, sp->klu_numeric_, &sp->klu_) &&
-                sp->klu_.rcond >= sp->rcond_min_) {
-                sp->stats.n_refactor++;
-                sp->stats.rcond = sp->klu_.rcond;
-                sp->refactored_ = 1;
-                rc = 0;
-            } else {
-                sp->stats.n_fallback++;
-            }
+    if (sp->backend == PSB_SPARSE_KLU) rc = psb__sparse_klu_factor(sp);
+#endif
+    if (rc == 0) psb__sparse_record(sp);
+    return rc;
+}
+
+static int psb__sparse_solve1(psb_sparse *sp, const double *pb, double *x);
+
+/* dH unchanged since the factorisation at hand, only the border row: B = B_f + e_n d^T, and
+   B^{-1} b = x - u (d.x) / (1 + d.u) with x = B_f^{-1} b, u = B_f^{-1} e_n (Sherman-Morrison;
+   1 + d.u = row.u, small only where the new B is nearly singular). 0, or 1: factor B afresh. */
+static int psb__sparse_reuse(psb_sparse *sp)
+{
+    int np1 = sp->n + 1, c, same = 1;
+    double denom = 1, size = 1;
+    sp->sm_on_ = 0;
+    for (c = 0; c < np1; c++) {
+        sp->sm_d_[c] = sp->crow_[c] - sp->frow_[c];
+        same = same && sp->sm_d_[c] == 0;
+    }
+    if (same) return 0;
+    if (!sp->sm_u_ok_) {
+        double *e = sp->work_;
+        memset(e, 0, sizeof(double) * (size_t)np1);
+        e[sp->rperm_[sp->n]] = 1;
+        if (psb__sparse_solve1(sp, e, sp->sm_u_)) return 1;
+        sp->sm_u_ok_ = 1;
+    }
+    for (c = 0; c < np1; c++) {
+        denom += sp->sm_d_[c] * sp->sm_u_[c];
+        size += fabs(sp->sm_d_[c] * sp->sm_u_[c]);
+    }
+    if (!(fabs(denom) > 1e-8 * size) || !isfinite(size)) return 1; /* also NaN */
+    sp->sm_denom_ = denom;
+    sp->sm_on_ = 1;
+    return 0;
+}
+
+PSB_SPARSE_DEF int psb_sparse_factor(const double *y, const double *row, void *ctx)
+{
+    psb_sparse *sp = (psb_sparse *)ctx;
+    int rc = -1, k;
+    unsigned long long hash;
+    if (!sp || !sp->bx_ || !y || !row) return -1;
+    sp->factored_ = 0;
+    rc = psb__sparse_assemble(sp, y, row);
+    if (rc) return rc;
+    memcpy(sp->crow_, row, sizeof(double) * ((size_t)sp->n + 1));
+    hash = psb__sparse_hash(sp);
+    for (k = -1; k < sp->n_kept_; k++) {
+        /* k = -1: the current factors; then the kept ones, taken by a swap */
+        struct psb__sparse_kept *e = k < 0 ? NULL : sp->kept_ + k;
+        if (e ? !e->valid || e->hash != hash : !sp->fvalid_ || sp->fhash_ != hash) continue;
+        if (memcmp(sp->ax_, e ? e->vals : sp->fax_, sizeof(double) * (size_t)sp->nnz_) ||
+            memcmp(sp->dparam_, (e ? e->vals : sp->fax_) + sp->nnz_, sizeof(double) * (size_t)sp->n))
+            continue;
+        if (e) psb__sparse_swap(sp, e);
+        if (psb__sparse_reuse(sp)) break; /* B nearly singular: factor it afresh */
+        sp->stats.n_reuse++;
+        sp->factored_ = 1;
+        return 0;
+    }
+    sp->sm_on_ = 0;
+    /* a dH that comes back after others: keeping earlier factors pays */
+    for (k = 0; k < sp->n_recent_ && k < 64 && !sp->keeping_; k++) sp->keeping_ = sp->recent_[k] == hash;
+    sp->recent_[sp->n_recent_++ % 64] = hash;
+    if (sp->fvalid_ && sp->keeping_) {
+        /* keep the current factors: they take the place of the least recently used ones (within
+           keep_mb), whose numeric object this factorisation reuses or frees */
+        int room = (int)(sp->keep_bytes_ / psb__sparse_entry_bytes(sp));
+        struct psb__sparse_kept *old = sp->kept_;
+        if (room > sp->n_kept_) room = sp->n_kept_;
+        for (k = 1; k < room; k++)
+            if (!sp->kept_[k].valid || (old->valid && sp->kept_[k].used < old->used)) old = sp->kept_ + k;
+        if (room > 0) {
+            psb__sparse_swap(sp, old);
+            sp->fvalid_ = 0;
         }
-        if (rc) rc = psb__sparse_klu_factor(sp);
+    }
+    sp->fhash_ = hash;
+#ifndef PSB_SPARSE_NO_KLU
+    if (sp->backend == PSB_SPARSE_KLU && sp->klu_numeric_) {
+        /* the pivots of the last factorisation with pivoting (a failed refactorisation
+           leaves them intact): kept unless a pivot is small; a growth that spoils the
+           solutions shows in their backward error, and solve factors again then */
+        int ok = klu_refactor(sp->bp_, sp->bi_, sp->bx_, sp->klu_symbolic_, sp->klu_numeric_, &sp->klu_);
+        sp->stats.status = sp->klu_.status;
+        if (ok && sp->klu_.status == KLU_OK && klu_rcond(sp->klu_symbolic_, sp->klu_numeric_, &sp->klu_) &&
+            sp->klu_.rcond >= sp->rcond_min_) {
+            sp->stats.n_refactor++;
+            sp->stats.rcond = sp->klu_.rcond;
+            sp->refactored_ = 1;
+            psb__sparse_record(sp);
+            sp->factored_ = 1;
+            return 0;
+        }
+        sp->stats.n_fallback++;
     }
 #endif
+    rc = psb__sparse_numeric(sp);
     sp->factored_ = rc == 0;
     return rc;
 }
@@ -476,6 +720,20 @@ static int psb__sparse_solve1(psb_sparse *sp, const double *pb, double *x)
 #endif
     (void)pb; (void)x; (void)np1;
     return -1;
+}
+
+/* x solves (P B) x = pb for the current B: the factors' solution, updated for a new border
+   row (psb__sparse_reuse). */
+static int psb__sparse_solve_b(psb_sparse *sp, const double *pb, double *x)
+{
+    int np1 = sp->n + 1, c;
+    double dx = 0;
+    if (psb__sparse_solve1(sp, pb, x)) return -1;
+    if (!sp->sm_on_) return 0;
+    for (c = 0; c < np1; c++) dx += sp->sm_d_[c] * x[c];
+    dx /= sp->sm_denom_;
+    for (c = 0; c < np1; c++) x[c] -= dx * sp->sm_u_[c];
+    return 0;
 }
 
 /* r = pb - (P B) x; returns the normwise backward error ||r|| / (||B|| ||x|| + ||pb||) in the
@@ -517,24 +775,24 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
         int attempt, step;
         for (i = 0; i < np1; i++) pb[sp->rperm_[i]] = x[i];
         for (attempt = 0;; attempt++) {
-            if (psb__sparse_solve1(sp, pb, x)) return -1;
+            if (psb__sparse_solve_b(sp, pb, x)) return -1;
             omega = psb__sparse_residual(sp, pb, x, r);
-            /* KLU: refinement in B (UMFPACK's solve refines by itself) */
-            for (step = 0; sp->backend == PSB_SPARSE_KLU && step < 2 && !(omega <= PSB__SPARSE_OMEGA_GOOD); step++) {
+            /* refinement in B where the first solution needs it (UMFPACK's own, off here,
+               refines most solves twice: its componentwise test rarely passes) */
+            for (step = 0; step < 2 && !(omega <= PSB__SPARSE_OMEGA_GOOD); step++) {
                 double prev = omega;
-                if (psb__sparse_solve1(sp, r, d)) return -1;
+                if (psb__sparse_solve_b(sp, r, d)) return -1;
                 for (i = 0; i < np1; i++) d[i] += x[i];
                 omega = psb__sparse_residual(sp, pb, d, r);
                 sp->stats.n_refine++;
                 if (!(omega < prev)) { omega = prev; break; } /* x stays */
                 memcpy(x, d, sizeof(double) * (size_t)np1);
             }
-            if (omega <= PSB__SPARSE_OMEGA_MAX || attempt > 0 || !sp->refactored_) break;
-#ifndef PSB_SPARSE_NO_KLU
-            /* a refactorisation's stale pivots: factor again with pivoting, solve again */
+            if (omega <= PSB__SPARSE_OMEGA_MAX || attempt > 0 || !(sp->refactored_ || sp->sm_on_)) break;
+            /* kept factors (a refactorisation's stale pivots, an updated row): factor B afresh
+               with pivoting, solve again */
             sp->stats.n_fallback++;
-            if (psb__sparse_klu_factor(sp)) { sp->factored_ = 0; return 1; }
-#endif
+            if (psb__sparse_numeric(sp)) { sp->factored_ = 0; return 1; }
         }
         sp->stats.omega = omega;
         if (!(omega <= PSB__SPARSE_OMEGA_MAX)) return 1;

@@ -2232,8 +2232,9 @@ static inline int fe_run_summary(fe_run *run, int ndist, int expected, double se
     if (ndist != run->nbr) printf(", %d couples returned by psb_find_branches", run->nbr);
     printf("; time %.2f s (CPU), factorisations %ld, PC trials %ld\n", seconds, run->s.stats.n_factor,
            run->s.stats.n_pc_steps);
-    printf("  corrector iterations %ld, Jacobians %ld, factorisations reused %ld\n", run->s.stats.n_newton,
-           run->s.stats.n_jacobian, run->s.stats.n_factor_reused);
+    printf("  corrector iterations %ld, Jacobians %ld, factorisations reused %ld, sample tangents from the "
+           "Jacobian memo %ld\n", run->s.stats.n_newton, run->s.stats.n_jacobian, run->s.stats.n_factor_reused,
+           run->s.stats.n_tangent_reused);
     return ndist == expected;
 }
 

@@ -24,16 +24,16 @@
 enum { FE_SOLVER_DENSE, FE_SOLVER_BANDED, FE_SOLVER_UMFPACK, FE_SOLVER_KLU, FE_SOLVER_MUMPS, FE_SOLVER_AUTO };
 static const char *const fe_solver_names[] = {"dense", "banded", "umfpack", "klu", "mumps", NULL};
 
-/* The default. bench/bench_sparse (reference BLAS): one banded LU costs ~1e-9 N kl^2 s (kl = ku
-   = the half band), one UMFPACK factorisation of the bordered matrix ~4e-7 N^1.4 s; but whole
-   runs gain less than one factorisation does (the banded backend reuses its factors where
-   dH/dx repeats, and the triangle is piecewise linear): triangle M4096 took 23.6 s banded and
-   62.3 s with UMFPACK, whose factorisation alone was 1.25x faster. So UMFPACK only where its
-   factorisation is ~3x faster, kl^2 > 1200 N^0.4: the triangle from M16384 (3.5x), the block
-   (kl ~ sqrt(N)) not up to M51200 (docs/benchmarks.md, "Sparse direct solvers"). */
+/* The default: UMFPACK where one of its factorisations (the better of AMD and METIS, kept
+   factors where dH repeats) is about 1.3x faster than the banded LU or more, which whole runs
+   then follow (bench/bench_sparse, OpenBLAS, one thread): kl^2 > 400 N^0.4, kl = ku the half
+   band. That takes the block from M12800 (banded/UMFPACK 1.5x a factorisation, whole run 702 s
+   against 432 s CPU) and the triangle from M4096 (2.4x; 26-29 s against 14-16 s), not block
+   M3200 (0.7x) or triangle M1024 (0.6x). With reference BLAS UMFPACK gains less (block M12800
+   1.0x, triangle M4096 1.3x a factorisation): docs/benchmarks.md, "Sparse direct solvers". */
 static inline int fe_solver_sparse_wins(const fe_model *md)
 {
-    return (double)md->half_band * md->half_band > 1200.0 * pow((double)md->n, 0.4);
+    return (double)md->half_band * md->half_band > 400.0 * pow((double)md->n, 0.4);
 }
 
 /* --solver WORD for the cli loop: 1 when the current argument was it (a sparse solver in a build

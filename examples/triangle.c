@@ -18,7 +18,7 @@
      to h_min and reported at the couple just before it.
 
    --solver dense|banded|umfpack|klu: how the bordered systems are solved (examples/fe_solvers.h);
-     by default the banded LU, and UMFPACK from M16384 on in a build with SuiteSparse: the fine
+     by default the banded LU, and UMFPACK from M4096 on in a build with SuiteSparse: the fine
      meshes need it.
    Table 4 (branching): --save FILE writes the branches' end points at |gamma| = 1; --refine FILE
    reads such a file of a coarser nested mesh (N a multiple of its own) and re-solves each end
@@ -70,8 +70,8 @@ static const char triangle_usage[] =
     "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2, 1 for fold; 0 < W <= 1e12)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
-    "  --solver dense|banded|umfpack|klu   linear solver (default banded; umfpack where one\n"
-    "                        factorisation is ~3x faster, in a build with SuiteSparse)\n"
+    "  --solver dense|banded|umfpack|klu   linear solver (default banded; umfpack from M4096\n"
+    "                        (a factorisation ~1.3x faster or more), in a build with SuiteSparse)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore): the four\n"
     "                        branches, or with --problem fold the two limit points\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
