@@ -39,13 +39,15 @@
        sequence and skips the pivot search. A refactorisation is kept when its pivot ratio
        (klu_rcond) passes rcond_min, otherwise B is factored again with pivoting
        (stats.n_fallback).
-     Both: where dH(y) is bit-identical to the one factored last (a piecewise-linear H, a
-       point factored again with another row), the factors are kept and the new border row
-       enters by a rank-one update (Sherman-Morrison; stats.n_reuse): one more solve per
-       factorisation kept. A solution whose backward error (below) exceeds 8 eps is refined
-       in B, at most two steps (stats.n_refine); one that stays inaccurate on kept factors
-       (a KLU refactorisation's pivot growth, an update near a singular B) makes solve factor
-       B afresh with pivoting and solve once more (stats.n_fallback).
+     Both: where dH(y) is bit-identical to that of kept factors (a piecewise-linear H, a
+       point factored again with another row; see keep below), those factors are used and
+       the new border row enters by a rank-one update (Sherman-Morrison; stats.n_reuse). The
+       solution of B u = e_n is kept with the factors, so a tangent's right-hand side (0, s)
+       costs no solve after the first, and an update no more than that one. A solution whose
+       backward error (below) exceeds 8 eps is refined in B, at most two steps
+       (stats.n_refine); one that stays inaccurate on kept factors (a KLU refactorisation's
+       pivot growth, an update near a singular B) makes solve factor B afresh with pivoting
+       and solve once more (stats.n_fallback).
      Every solution is checked by its normwise backward error in B,
        omega = ||b - B z|| / (||B|| ||z|| + ||b||)   (max norms);
      when omega > 1e-10 after refinement (after a KLU refactorisation: after factoring B again
@@ -771,11 +773,18 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
     r = pb + np1;
     d = r + np1; /* KLU's correction; UMFPACK's workspace from 3 (n + 1) on (5 (n + 1)) */
     for (k = 0; k < nrhs; k++) {
-        double *x = b + (size_t)k * (size_t)np1, omega;
-        int attempt, step;
+        double *x = b + (size_t)k * (size_t)np1, omega, last = x[sp->n];
+        int attempt, step, tangent = last != 0;
+        /* (0, s), the tangent's right-hand side: s u, u = B_f^{-1} e_n kept with the factors */
+        for (i = 0; i < sp->n && tangent; i++) tangent = x[i] == 0;
         for (i = 0; i < np1; i++) pb[sp->rperm_[i]] = x[i];
         for (attempt = 0;; attempt++) {
-            if (psb__sparse_solve_b(sp, pb, x)) return -1;
+            if (tangent && sp->sm_u_ok_) {
+                double f = last / (sp->sm_on_ ? sp->sm_denom_ : 1); /* B^{-1} e_n = u / (1 + d.u) */
+                for (i = 0; i < np1; i++) x[i] = f * sp->sm_u_[i];
+            } else if (psb__sparse_solve_b(sp, pb, x)) {
+                return -1;
+            }
             omega = psb__sparse_residual(sp, pb, x, r);
             /* refinement in B where the first solution needs it (UMFPACK's own, off here,
                refines most solves twice: its componentwise test rarely passes) */
@@ -796,6 +805,10 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
         }
         sp->stats.omega = omega;
         if (!(omega <= PSB__SPARSE_OMEGA_MAX)) return 1;
+        if (tangent && !sp->sm_u_ok_ && !sp->sm_on_ && sp->fvalid_) {
+            for (i = 0; i < np1; i++) sp->sm_u_[i] = x[i] / last;
+            sp->sm_u_ok_ = 1;
+        }
     }
     return 0;
 }

@@ -32,7 +32,7 @@
    this run's, branch by branch (Table 3). --expect-npc N: exit status 1 unless Algorithm 2.2's
    n_pc is N (the tests check Table 1's n_pc = 72 this way).
    --solver: how the bordered systems are solved (examples/fe_solvers.h); by default the banded
-   LU, which is faster than UMFPACK and KLU on the block's meshes up to M12800 at least. --solver
+   LU, and UMFPACK from M12800 (in a build with SuiteSparse), where it is 1.6x faster. --solver
    mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are installed):
    MUMPS, also distributed: `mpirun -np 2 examples/block --solver mumps` runs the continuation on
    rank 0 and MUMPS's factorisations on both ranks.
@@ -86,6 +86,8 @@ static const char block_usage[] =
     "  --solver dense|banded|umfpack|klu|mumps   linear solver (default banded; umfpack from M12800\n"
     "                        (a factorisation ~1.3x faster or more), in a build with SuiteSparse;\n"
     "                        mumps in a build with MUMPS, also under mpirun)\n"
+    "  --keep-mb MB          memory for earlier factorisations kept by umfpack/klu (default 256;\n"
+    "                        1..1e6; contrib/psb_sparse.h)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore), checked\n"
     "                        against a hand-driven run: one nonsmooth point, six branches\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
@@ -99,6 +101,7 @@ static const char block_usage[] =
 
 typedef struct args {
     int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, solver, maxiter, restart, paper_sweep, patience, no_screen, explore;
+    double keep_mb;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (psb_branch_options.trial_h_min); h_init: one trial
                      per direction, enough near a conical point (see the manual) */
@@ -156,7 +159,7 @@ static int parse(int argc, char **argv, args *a)
             else a->compare[a->ncompare++] = compare;
         }
         else if (cli_choice(&c, "--dirichlet", &elim, dirichlet)) a->multipliers = !elim;
-        else if (fe_solver_option(&c, &a->solver)) {}
+        else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {}
         else if (cli_string(&c, "--kappa", &kappa)) {
             if (strcmp(kappa, "1/N")) cli_parse_double(&c, kappa, &a->kappa, 0, 1e12, 1);
             else a->kappa = -1;
@@ -360,7 +363,7 @@ static int block_main(int argc, char **argv)
     if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);
     fe_weights(&md, opt.kappa, a.mult_weight, w);
     opt.weights = w;
-    if (fe_solver_run_init(&fs, &run, &md, &opt, a.solver, "block")) {
+    if (fe_solver_run_init(&fs, &run, &md, &opt, a.solver, a.keep_mb, "block")) {
         fprintf(stderr, "block: solver set-up failed for N = %d unknowns (%s, half band %d): %s\n", n,
                 fe_solver_label(fs.kind), md.half_band, psb_solver_message(&run.s));
         goto done;

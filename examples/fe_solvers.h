@@ -36,10 +36,11 @@ static inline int fe_solver_sparse_wins(const fe_model *md)
     return (double)md->half_band * md->half_band > 400.0 * pow((double)md->n, 0.4);
 }
 
-/* --solver WORD for the cli loop: 1 when the current argument was it (a sparse solver in a build
-   without SuiteSparse is a usage error), 0 otherwise. */
-static inline int fe_solver_option(cli *c, int *solver)
+/* --solver WORD and --keep-mb MB for the cli loop: 1 when the current argument was one of them (a
+   sparse solver in a build without SuiteSparse is a usage error), 0 otherwise. */
+static inline int fe_solver_option(cli *c, int *solver, double *keep_mb)
 {
+    if (cli_double(c, "--keep-mb", keep_mb, 1, 1e6, 0)) return 1;
     if (!cli_choice(c, "--solver", solver, fe_solver_names)) return 0;
 #ifndef FE_SUITESPARSE
     if (c->status == CLI_OK && (*solver == FE_SOLVER_UMFPACK || *solver == FE_SOLVER_KLU))
@@ -92,7 +93,7 @@ static inline void fe_solver_free(fe_solver *fs)
 /* fe_run_init with the solver `kind` (FE_SOLVER_AUTO: the default above). 0, or -1 with the
    reason in psb_solver_message(&run->s) or, sparse, on stderr. */
 static inline int fe_solver_run_init(fe_solver *fs, fe_run *run, fe_model *md, const psb_options *opt, int kind,
-                                     const char *prog)
+                                     double keep_mb, const char *prog)
 {
     memset(fs, 0, sizeof *fs);
     fs->kind = kind;
@@ -108,6 +109,7 @@ static inline int fe_solver_run_init(fe_solver *fs, fe_run *run, fe_model *md, c
         memset(&so, 0, sizeof so);
         so.row_perm = fs->pattern.row_perm;
         so.symmetric = 1; /* symmetric but for the contact rows and the border (fe_sparse) */
+        so.keep_mb = keep_mb;
         rc = psb_sparse_init(&fs->sp, fs->kind == FE_SOLVER_KLU ? PSB_SPARSE_KLU : PSB_SPARSE_UMFPACK, md->n, md->n,
                              fs->pattern.colp, fs->pattern.rowi, fe_sparse_fill, &fs->pattern, &so);
         if (rc) { fprintf(stderr, "%s: sparse solver set-up failed: %s\n", prog, fs->sp.message); return -1; }
@@ -127,6 +129,7 @@ static inline int fe_solver_run_init(fe_solver *fs, fe_run *run, fe_model *md, c
         return fe_run_init_solver(run, md, opt, 0, &ls);
     }
 #endif
+    (void)keep_mb;
     (void)prog;
     return fe_run_init(run, md, opt, fs->kind == FE_SOLVER_BANDED);
 }
@@ -137,11 +140,14 @@ static inline void fe_solver_report(const fe_solver *fs)
 #ifdef FE_SUITESPARSE
     const psb_sparse_stats *st = &fs->sp.stats;
     if (fs->kind == FE_SOLVER_UMFPACK && st->n_factor)
-        printf("  UMFPACK: %ld analysis, %ld numeric factorisations, %.3g flops each on average\n", st->n_analysis,
-               st->n_factor, st->flops / (double)st->n_factor);
+        printf("  UMFPACK (%s): %ld analysis, %ld numeric factorisations, %.3g flops each on average, %ld calls on "
+               "kept factors, %ld refinement steps, %ld factored afresh\n",
+               st->ordering == PSB_SPARSE_ORDERING_METIS ? "METIS" : "AMD", st->n_analysis, st->n_factor,
+               st->flops / (double)st->n_factor, st->n_reuse, st->n_refine, st->n_fallback);
     else if (fs->kind == FE_SOLVER_KLU && (st->n_factor || st->n_refactor))
-        printf("  KLU: %ld analysis, %ld factorisations with pivoting, %ld refactorisations kept, %ld discarded, %ld refinement steps\n",
-               st->n_analysis, st->n_factor, st->n_refactor, st->n_fallback, st->n_refine);
+        printf("  KLU: %ld analysis, %ld factorisations with pivoting, %ld refactorisations kept, %ld discarded, %ld calls "
+               "on kept factors, %ld refinement steps\n",
+               st->n_analysis, st->n_factor, st->n_refactor, st->n_fallback, st->n_reuse, st->n_refine);
 #endif
 #ifdef FE_MUMPS
     if (fs->kind == FE_SOLVER_MUMPS) {

@@ -72,6 +72,8 @@ static const char triangle_usage[] =
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
     "  --solver dense|banded|umfpack|klu   linear solver (default banded; umfpack from M4096\n"
     "                        (a factorisation ~1.3x faster or more), in a build with SuiteSparse)\n"
+    "  --keep-mb MB          memory for earlier factorisations kept by umfpack/klu (default 256;\n"
+    "                        1..1e6; contrib/psb_sparse.h)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore): the four\n"
     "                        branches, or with --problem fold the two limit points\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
@@ -84,6 +86,7 @@ static const char triangle_usage[] =
 
 typedef struct args {
     int n, fold, ndir, nspan, multipliers, verbose, quiet, solver, load_auto, explore;
+    double keep_mb;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
@@ -108,7 +111,7 @@ static int parse(int argc, char **argv, args *a)
         if (cli_flag(&c, "--verbose")) a->verbose = 1;
         else if (cli_flag(&c, "--quiet")) a->quiet = 1;
         else if (cli_flag(&c, "--explore")) a->explore = 1;
-        else if (fe_solver_option(&c, &a->solver)) {}
+        else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {}
         else if (cli_int(&c, "--mesh", &a->n, 2, TRI_MAX_MESH)) {}
         else if (cli_choice(&c, "--problem", &a->fold, problems)) {}
         else if (cli_int(&c, "--ndir", &a->ndir, 1, TRI_MAX_NDIR)) {}
@@ -321,7 +324,7 @@ static int choose_load(args *a)
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, &bo, a, &md, w, 1);
-    k = fe_solver_run_init(&fsol, &run, &md, &opt, a->solver, "triangle"); /* the weights are copied at init */
+    k = fe_solver_run_init(&fsol, &run, &md, &opt, a->solver, a->keep_mb, "triangle"); /* the weights are copied at init */
     free(w);
     if (k) { fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns: %s\n", n, psb_solver_message(&run.s)); goto done; }
     run.branch = bo;
@@ -478,7 +481,7 @@ int main(int argc, char **argv)
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, &bo, &a, &md, w, a.fold);
-    k = fe_solver_run_init(&fsol, &run, &md, &opt, a.solver, "triangle"); /* the weights are copied at init */
+    k = fe_solver_run_init(&fsol, &run, &md, &opt, a.solver, a.keep_mb, "triangle"); /* the weights are copied at init */
     free(w);
     if (k) {
         fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns (half band %d): %s\n", n, md.half_band,

@@ -161,7 +161,7 @@ static void test_reuse(void)
     for (b = 0; b < 2; b++) {
         gen g;
         psb_sparse sp;
-        int n = 9, np1 = 10, i, two = 2, info, ipiv[10];
+        int n = 9, np1 = 10, i, two = 2, info, ipiv[10], rep;
         double y[10] = {0}, row[10], B[100], z[20], rhs[20], ref[20], worst = 0, diff = 0, u[10];
         long factors;
         unsigned long long s = 77 + b;
@@ -179,6 +179,13 @@ static void test_reuse(void)
             CHECK(psb_sparse_solve(z, 2, &sp) == 0);
             gen_dense(&g, row, B);
             worst = fmax(worst, fmax(harness_backward_error(B, np1, z, rhs), harness_backward_error(B, np1, z + np1, rhs + np1)));
+            /* the tangent's right-hand side (0, s), twice: solved, then from the kept u */
+            for (rep = 0; rep < 2; rep++) {
+                double t[10] = {0}, tr[10] = {0};
+                t[n] = tr[n] = 2.5;
+                CHECK(psb_sparse_solve(t, 1, &sp) == 0);
+                worst = fmax(worst, harness_backward_error(B, np1, t, tr));
+            }
             dgesv_(&np1, &two, B, &np1, ipiv, ref, &np1, &info);
             CHECK(info == 0);
             for (i = 0; i < 2 * np1; i++) diff = fmax(diff, fabs(z[i] - ref[i]) / (1 + fabs(ref[i])));
@@ -215,7 +222,6 @@ static void test_reuse(void)
         /* two matrices in turn: kept side by side (keep 2), or each factored again (keep 1) */
         for (k = 1; k <= 2; k++) {
             psb_sparse_options so;
-            int rep;
             memset(&so, 0, sizeof so);
             so.keep = k;
             CHECK(psb_sparse_init(&sp, backends[b], n, g.p, g.colp, g.rowi, gen_fill, &g, &so) == 0);
