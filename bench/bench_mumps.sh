@@ -54,7 +54,7 @@ run() {
     echo "$mesh,$n,$backend,$secs,$cpu,$fact,${mb%% /*},${mb##*/ },$ok" >>"$csv"
 }
 for mesh in $meshes; do
-    run "$mesh" banded "$block"; banded=$secs
+    run "$mesh" banded "$block" --solver banded; banded=$secs
     run "$mesh" "MUMPS 1 rank" "$block" --solver mumps
     run "$mesh" "MUMPS 2 ranks" sh tools/mpirun.sh 2 "$block" --solver mumps
 done
