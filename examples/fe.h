@@ -798,15 +798,12 @@ static inline int fe_residual(const fe_model *md, const double *y, double *h)
     return 0;
 }
 
-/* Jacobian of the state block into K (zeroed by the caller) and the gamma column dg (length n).
-   The state block is banded with half band md->half_band. Returns 0 or 1 (inverted element). */
-static inline int fe_jacobian_parts(const fe_model *md, const double *y, fe_mat *K, double *dg)
+/* The parts of the Jacobian other than the internal forces' (contact rows, Dirichlet
+   multipliers) added into K, and the gamma column dg (length n). */
+static inline void fe_jacobian_rest(const fe_model *md, const double *y, fe_mat *K, double *dg)
 {
     const fe_mesh *m = md->mesh;
-    int a, p, rc;
-    fe_displacements(md, y, md->work);
-    rc = fe_internal(md, md->work, NULL, K);
-    if (rc) return rc;
+    int a, p;
     for (a = 0; a < m->nnode; a++) {
         int ud = md->udof[a], cd = md->cdof[a];
         if (cd >= 0) {
@@ -837,6 +834,17 @@ static inline int fe_jacobian_parts(const fe_model *md, const double *y, fe_mat 
     }
     if (dg)
         for (p = 0; p < md->n; p++) dg[p] = -md->load1[p];
+}
+
+/* Jacobian of the state block into K (zeroed by the caller) and the gamma column dg (length n).
+   The state block is banded with half band md->half_band. Returns 0 or 1 (inverted element). */
+static inline int fe_jacobian_parts(const fe_model *md, const double *y, fe_mat *K, double *dg)
+{
+    int rc;
+    fe_displacements(md, y, md->work);
+    rc = fe_internal(md, md->work, NULL, K);
+    if (rc) return rc;
+    fe_jacobian_rest(md, y, K, dg);
     return 0;
 }
 
@@ -1070,11 +1078,12 @@ typedef struct fe_sparse {
     int *colp, *rowi;     /* n + 1, nnz */
     long nnz;
     int *row_perm;        /* n: row i goes to row row_perm[i] (an involution) */
+    double *kel;          /* Hooke's law: the internal forces' Jacobian, constant (nnz), or NULL */
 } fe_sparse;
 
 static inline void fe_sparse_free(fe_sparse *sp)
 {
-    free(sp->colp); free(sp->rowi); free(sp->row_perm);
+    free(sp->colp); free(sp->rowi); free(sp->row_perm); free(sp->kel);
     memset(sp, 0, sizeof *sp);
 }
 
@@ -1094,6 +1103,19 @@ static inline int fe_sparse_init(fe_sparse *sp, const fe_model *md)
                 sp->row_perm[md->udof[a] + i] = md->ddof[a] + i;
                 sp->row_perm[md->ddof[a] + i] = md->udof[a] + i;
             }
+    if (md->mat.law == FE_HOOKE) {
+        /* a linear law: its elements' Jacobian is the same at every y, assembled once (the same
+           sums in the same order as at each fill, so the values are bit-identical); the fill
+           adds the contact and Dirichlet rows to a copy */
+        double *u0 = calloc(2 * (size_t)md->mesh->nnode, sizeof(double));
+        fe_mat K;
+        sp->kel = calloc(sp->nnz ? (size_t)sp->nnz : 1, sizeof(double));
+        if (!u0 || !sp->kel) { free(u0); fe_sparse_free(sp); return -1; }
+        fe_mat_csc(&K, sp->kel, sp->colp, sp->rowi);
+        a = fe_internal(md, u0, NULL, &K);
+        free(u0);
+        if (a || K.overflow) { fe_sparse_free(sp); return -1; }
+    }
     return 0;
 }
 
@@ -1106,6 +1128,11 @@ static inline int fe_sparse_fill(const double *y, double *ax, double *dparam, vo
     fe_mat K;
     int rc;
     fe_mat_csc(&K, ax, sp->colp, sp->rowi);
+    if (sp->kel) {
+        memcpy(ax, sp->kel, sizeof(double) * (size_t)sp->nnz);
+        fe_jacobian_rest(sp->md, y, &K, dparam);
+        return K.overflow ? -1 : 0;
+    }
     rc = fe_jacobian_parts(sp->md, y, &K, dparam);
     if (rc) return 1;
     return K.overflow ? -1 : 0;
