@@ -72,11 +72,17 @@ static void solver_setup(const fcg_instance *in, fc_problem *p, fc_options *o)
     o->verbose = 0;
 }
 
+/* The printed name of a generated instance (name: 96 characters). */
+static void instance_name(char *name, int kind, int size, double mu, double vs, unsigned long long seed)
+{
+    static const char *names[] = {"boxes3d", "spheres3d", "boxes2d", "disks2d", "flex3d", "flex2d"};
+    sprintf(name, "%s(size %d, mu %g, vs %g, seed %llu)", names[kind], size, mu, vs, seed);
+}
+
 /* Solves a generated instance to 1e-10 and checks the solution; returns its statistics (zeros
    when the instance could not be made). */
 static fc_stats run_instance(int kind, int size, double mu, double vs, unsigned long long seed)
 {
-    static const char *names[] = {"boxes3d", "spheres3d", "boxes2d", "disks2d", "flex3d", "flex2d"};
     fcg_instance in;
     fc_problem p;
     fc_options o;
@@ -86,7 +92,7 @@ static fc_stats run_instance(int kind, int size, double mu, double vs, unsigned 
     char name[96];
     fc_stats first;
     memset(&first, 0, sizeof first);
-    sprintf(name, "%s(size %d, mu %g, vs %g, seed %llu)", names[kind], size, mu, vs, seed);
+    instance_name(name, kind, size, mu, vs, seed);
     CHECK(fcg_make(kind, size, mu, vs, seed, &in));
     if (!in.W)
         return first;
@@ -390,7 +396,6 @@ static void test_hard_set(void)
     };
     int k, iterations = 0, with_ipm = 0, solved = 0, made = 0;
     for (k = 0; k < (int)(sizeof piles / sizeof *piles); k++) {
-        static const char *names[] = {"boxes3d", "spheres3d", "boxes2d", "disks2d", "flex3d", "flex2d"};
         fcg_instance in;
         fc_problem p;
         fc_options o;
@@ -398,8 +403,7 @@ static void test_hard_set(void)
         double *r, err;
         int res;
         char name[96];
-        sprintf(name, "%s(size %d, mu %g, vs %g, seed %llu)", names[piles[k].kind], piles[k].size, piles[k].mu,
-                piles[k].vs, piles[k].seed);
+        instance_name(name, piles[k].kind, piles[k].size, piles[k].mu, piles[k].vs, piles[k].seed);
         CHECK(fcg_make(piles[k].kind, piles[k].size, piles[k].mu, piles[k].vs, piles[k].seed, &in));
         if (!in.W)
             continue;
