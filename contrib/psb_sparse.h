@@ -30,9 +30,9 @@
      column and border row in the pattern (the row is a weighted tangent, the column is
      often zero but kept, so the pattern never changes). The fill-reducing ordering is computed
      once, by psb_sparse_init, from the pattern alone (umfpack_di_symbolic without values,
-     klu_analyze): runs are reproducible and sp.stats.n_analysis stays 1. Each factor call is a
-     numeric factorisation with pivoting over B, so B is factored exactly where A alone is
-     singular (folds, branch points): nothing is eliminated by blocks.
+     klu_analyze): runs are reproducible and sp.stats.n_analysis stays 1. A factor call with a
+     new dH is a numeric factorisation with pivoting over B, so B is factored exactly where A
+     alone is singular (folds, branch points): nothing is eliminated by blocks.
      UMFPACK: umfpack_di_numeric (threshold partial pivoting within the fixed column order);
        solves with umfpack_di_wsolve.
      KLU: klu_factor the first time, then klu_refactor, which keeps the previous pivot
