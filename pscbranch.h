@@ -3329,6 +3329,9 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
         s->rhs_[n] = 0;
         r = psb__solve_factored(s, s->rhs_, 1);
         if (r != PSB_SUCCESS) return r;
+        /* zero in exact arithmetic (the border row is e_param, its right-hand side 0): an
+           iterative user solver's round-off must not move the parameter off its value */
+        s->rhs_[s->prob.param_index] = 0;
         corr = psb__norm_w(s, s->rhs_);
         /* backtracking on ||H||: full steps when they reduce it, which is the usual case */
         for (k = 0; k < 12; k++, lambda *= 0.5) {
