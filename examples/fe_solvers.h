@@ -28,7 +28,7 @@ static const char *const fe_solver_names[] = {"dense", "banded", "umfpack", "klu
    factors where dH repeats) is about 1.3x faster than the banded LU or more, which whole runs
    then follow (bench/bench_sparse, OpenBLAS, one thread): kl^2 > 400 N^0.4, kl = ku the half
    band. That takes the block from M12800 (banded/UMFPACK 1.5x a factorisation, whole run 702 s
-   against 432 s CPU) and the triangle from M4096 (2.4x; 26-29 s against 14-16 s), not block
+   against 432 s CPU) and the triangle from M4096 (2.4x; whole run 25 s against 12 s), not block
    M3200 (0.7x) or triangle M1024 (0.6x). With reference BLAS UMFPACK gains less (block M12800
    1.0x, triangle M4096 1.3x a factorisation): docs/benchmarks.md, "Sparse direct solvers". */
 static inline int fe_solver_sparse_wins(const fe_model *md)
