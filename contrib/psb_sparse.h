@@ -90,8 +90,9 @@
    pattern or permutation; sp.message says which), PSB_SPARSE_ERR_BACKEND (a backend left out
    of this build, or its analysis failed). On failure nothing is held and sp.message is set.
    The factor and solve callbacks follow pscbranch's contract (manual, section 6): 0, > 0
-   singular or recoverable (the fill callback's own > 0 too), < 0 stop (the fill callback's
-   < 0, out of memory, or the library rejecting its input).
+   singular or recoverable (the fill callback's own > 0 too; also finite values whose row sum
+   of |B| overflows), < 0 stop (the fill callback's < 0, out of memory, or the library
+   rejecting its input); sp.message says why (a static string; factor clears it).
 
    No global state: each psb_sparse is independent; one may not be shared by two solvers used
    at the same time. Indices are int (UMFPACK's and KLU's di/int interfaces): nnz + 2n + 1
@@ -161,7 +162,7 @@ typedef struct psb_sparse {
     int n, param_index;
     psb_sparse_backend backend;
     psb_sparse_stats stats;
-    const char *message;  /* why init failed ("" on success) */
+    const char *message;  /* why the last call failed ("" after a successful init or factor) */
     /* internals */
     psb_sparse_fill_fn fill_;
     void *user_;
@@ -193,7 +194,7 @@ typedef struct psb_sparse {
     long clock_;
     double keep_bytes_;   /* keep_mb in bytes */
     unsigned long long recent_[64]; /* hashes of the last dH factored: a repeat turns keeping on */
-    int n_recent_, keeping_;
+    int n_recent_, next_recent_, keeping_; /* entries filled (<= 64), the next one to write */
 #ifndef PSB_SPARSE_NO_UMFPACK
     void *umf_symbolic_, *umf_numeric_;
     double umf_control_[UMFPACK_CONTROL], umf_info_[UMFPACK_INFO];
@@ -465,19 +466,23 @@ static int psb__sparse_assemble(psb_sparse *sp, const double *y, const double *r
     double *bx = sp->bx_;
     memset(sp->ax_, 0, sizeof(double) * (size_t)sp->nnz_);
     memset(sp->dparam_, 0, sizeof(double) * (size_t)n);
+    static const char *const nonfinite = "factor: NaN or Inf in dH/dy or in the border row";
     rc = sp->fill_(y, sp->ax_, sp->dparam_, sp->user_);
     sp->stats.n_fill++;
-    if (rc) return rc;
+    if (rc) {
+        sp->message = "factor: the fill callback returned nonzero";
+        return rc;
+    }
     for (k = 0; k < sp->nnz_; k++) {
-        if (!isfinite(sp->ax_[k])) return 1;
+        if (!isfinite(sp->ax_[k])) { sp->message = nonfinite; return 1; }
         bx[sp->map_[k]] = sp->ax_[k];
     }
     for (k = 0; k < n; k++) {
-        if (!isfinite(sp->dparam_[k])) return 1;
+        if (!isfinite(sp->dparam_[k])) { sp->message = nonfinite; return 1; }
         bx[bp[p] + sp->rperm_[k]] = sp->dparam_[k];
     }
     for (c = 0; c <= n; c++) {
-        if (!isfinite(row[c])) return 1;
+        if (!isfinite(row[c])) { sp->message = nonfinite; return 1; }
         bx[c == p ? bp[p] + n : bp[c + 1] - 1] = row[c]; /* row n is last in every column */
     }
     { /* ||B|| in the max norm (row sums), for the backward error of the solutions */
@@ -486,6 +491,12 @@ static int psb__sparse_assemble(psb_sparse *sp, const double *y, const double *r
         for (k = 0; k < bp[n + 1]; k++) rs[sp->bi_[k]] += fabs(bx[k]);
         for (c = 0; c <= n; c++) if (rs[c] > nb) nb = rs[c];
         sp->normb_ = nb;
+        /* finite entries whose row sum overflows: no backward error can be measured (it would
+           read 0 and pass any solution) */
+        if (!isfinite(nb)) {
+            sp->message = "factor: a row sum of |B| overflows";
+            return 1;
+        }
     }
     return 0;
 }
@@ -601,6 +612,9 @@ static int psb__sparse_numeric(psb_sparse *sp)
     if (sp->backend == PSB_SPARSE_KLU) rc = psb__sparse_klu_factor(sp);
 #endif
     if (rc == 0) psb__sparse_record(sp);
+    else sp->message = rc > 0 ? "factor: B is singular (a zero pivot, or a pivot ratio below rcond_min)"
+                              : "factor: the backend's numeric factorisation failed (out of memory or invalid "
+                                "input; stats.status)";
     return rc;
 }
 
@@ -641,7 +655,12 @@ PSB_SPARSE_DEF int psb_sparse_factor(const double *y, const double *row, void *c
     psb_sparse *sp = (psb_sparse *)ctx;
     int rc = -1, k;
     unsigned long long hash;
-    if (!sp || !sp->bx_ || !y || !row) return -1;
+    if (!sp) return -1;
+    if (!sp->bx_ || !y || !row) {
+        sp->message = "factor: y or row is NULL, or sp is not initialised";
+        return -1;
+    }
+    sp->message = "";
     sp->factored_ = 0;
     rc = psb__sparse_assemble(sp, y, row);
     if (rc) return rc;
@@ -662,14 +681,16 @@ PSB_SPARSE_DEF int psb_sparse_factor(const double *y, const double *row, void *c
     }
     sp->sm_on_ = 0;
     /* a dH that comes back after others: keeping earlier factors pays */
-    for (k = 0; k < sp->n_recent_ && k < 64 && !sp->keeping_; k++) sp->keeping_ = sp->recent_[k] == hash;
-    sp->recent_[sp->n_recent_++ % 64] = hash;
+    for (k = 0; k < sp->n_recent_ && !sp->keeping_; k++) sp->keeping_ = sp->recent_[k] == hash;
+    sp->recent_[sp->next_recent_] = hash;
+    sp->next_recent_ = (sp->next_recent_ + 1) % 64;
+    if (sp->n_recent_ < 64) sp->n_recent_++;
     if (sp->fvalid_ && sp->keeping_) {
         /* keep the current factors: they take the place of the least recently used ones (within
            keep_mb), whose numeric object this factorisation reuses or frees */
-        int room = (int)(sp->keep_bytes_ / psb__sparse_entry_bytes(sp));
+        double fit = sp->keep_bytes_ / psb__sparse_entry_bytes(sp);
+        int room = fit >= sp->n_kept_ ? sp->n_kept_ : (int)fit;
         struct psb__sparse_kept *old = sp->kept_;
-        if (room > sp->n_kept_) room = sp->n_kept_;
         for (k = 1; k < room; k++)
             if (!sp->kept_[k].valid || (old->valid && sp->kept_[k].used < old->used)) old = sp->kept_ + k;
         if (room > 0) {
@@ -767,7 +788,12 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
     psb_sparse *sp = (psb_sparse *)ctx;
     int np1, k, i;
     double *pb, *r, *d;
-    if (!sp || !sp->factored_ || !b || nrhs < 0) return -1;
+    static const char *const failed = "solve: the backend's solve failed (stats.status)";
+    if (!sp) return -1;
+    if (!sp->factored_ || !b || nrhs < 0) {
+        sp->message = !sp->factored_ ? "solve: no factors (factor not called, or it failed)" : "solve: b is NULL or nrhs < 0";
+        return -1;
+    }
     np1 = sp->n + 1;
     pb = sp->work_;
     r = pb + np1;
@@ -783,6 +809,7 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
                 double f = last / (sp->sm_on_ ? sp->sm_denom_ : 1); /* B^{-1} e_n = u / (1 + d.u) */
                 for (i = 0; i < np1; i++) x[i] = f * sp->sm_u_[i];
             } else if (psb__sparse_solve_b(sp, pb, x)) {
+                sp->message = failed;
                 return -1;
             }
             omega = psb__sparse_residual(sp, pb, x, r);
@@ -790,7 +817,7 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
                refines most solves twice: its componentwise test rarely passes) */
             for (step = 0; step < 2 && !(omega <= PSB__SPARSE_OMEGA_GOOD); step++) {
                 double prev = omega;
-                if (psb__sparse_solve_b(sp, r, d)) return -1;
+                if (psb__sparse_solve_b(sp, r, d)) { sp->message = failed; return -1; }
                 for (i = 0; i < np1; i++) d[i] += x[i];
                 omega = psb__sparse_residual(sp, pb, d, r);
                 sp->stats.n_refine++;
@@ -804,9 +831,14 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
             if (psb__sparse_numeric(sp)) { sp->factored_ = 0; return 1; }
         }
         sp->stats.omega = omega;
-        if (!(omega <= PSB__SPARSE_OMEGA_MAX)) return 1;
+        if (!(omega <= PSB__SPARSE_OMEGA_MAX)) {
+            sp->message = "solve: solution rejected, its backward error exceeds 1e-10";
+            return 1;
+        }
         if (tangent && !sp->sm_u_ok_ && !sp->sm_on_ && sp->fvalid_) {
+            /* x = s u as later solves of (0, s) give it, bit for bit */
             for (i = 0; i < np1; i++) sp->sm_u_[i] = x[i] / last;
+            for (i = 0; i < np1; i++) x[i] = last * sp->sm_u_[i];
             sp->sm_u_ok_ = 1;
         }
     }

@@ -179,12 +179,18 @@ static void test_reuse(void)
             CHECK(psb_sparse_solve(z, 2, &sp) == 0);
             gen_dense(&g, row, B);
             worst = fmax(worst, fmax(harness_backward_error(B, np1, z, rhs), harness_backward_error(B, np1, z + np1, rhs + np1)));
-            /* the tangent's right-hand side (0, s), twice: solved, then from the kept u */
-            for (rep = 0; rep < 2; rep++) {
-                double t[10] = {0}, tr[10] = {0};
-                t[n] = tr[n] = 2.5;
-                CHECK(psb_sparse_solve(t, 1, &sp) == 0);
-                worst = fmax(worst, harness_backward_error(B, np1, t, tr));
+            /* the tangent's right-hand side (0, s), twice: solved, then from the kept u, the
+               same bits both times */
+            {
+                double t[2][10];
+                for (rep = 0; rep < 2; rep++) {
+                    double tr[10] = {0};
+                    memset(t[rep], 0, sizeof t[rep]);
+                    t[rep][n] = tr[n] = 2.5;
+                    CHECK(psb_sparse_solve(t[rep], 1, &sp) == 0);
+                    worst = fmax(worst, harness_backward_error(B, np1, t[rep], tr));
+                }
+                CHECK(memcmp(t[0], t[1], sizeof t[0]) == 0);
             }
             dgesv_(&np1, &two, B, &np1, ipiv, ref, &np1, &info);
             CHECK(info == 0);
@@ -219,11 +225,13 @@ static void test_reuse(void)
         gen_dense(&g, row, B);
         CHECK(harness_backward_error(B, np1, z, rhs) <= 1e-14);
         psb_sparse_free(&sp);
-        /* two matrices in turn: kept side by side (keep 2), or each factored again (keep 1) */
-        for (k = 1; k <= 2; k++) {
+        /* two matrices in turn: kept side by side (keep 2, also with keep_mb at its largest,
+           1e6, many times the factors), or each factored again (keep 1) */
+        for (k = 1; k <= 3; k++) {
             psb_sparse_options so;
             memset(&so, 0, sizeof so);
-            so.keep = k;
+            so.keep = k == 1 ? 1 : 2;
+            so.keep_mb = k == 3 ? 1e6 : 0;
             CHECK(psb_sparse_init(&sp, backends[b], n, g.p, g.colp, g.rowi, gen_fill, &g, &so) == 0);
             for (rep = 0; rep < 6; rep++) {
                 g.shift = rep % 2 ? 0.4 : 0.7;
@@ -235,8 +243,8 @@ static void test_reuse(void)
                 CHECK(harness_backward_error(B, np1, z, rhs) <= 1e-14);
             }
             /* keeping starts when the first matrix comes back (its third factor call) */
-            CHECK(sp.stats.n_reuse == (k == 2 ? 3 : 0));
-            CHECK(sp.stats.n_factor + sp.stats.n_refactor == (k == 2 ? 3 : 6));
+            CHECK(sp.stats.n_reuse == (k >= 2 ? 3 : 0));
+            CHECK(sp.stats.n_factor + sp.stats.n_refactor == (k >= 2 ? 3 : 6));
             psb_sparse_free(&sp);
         }
         free(g.colp); free(g.rowi);
@@ -283,6 +291,37 @@ static void test_input(void)
         CHECK(psb_sparse_init(&sp, be, 9, 9, g.colp, g.rowi, gen_fill, &g, &so) == PSB_SPARSE_ERR_INPUT);
         so.keep = 0;
         CHECK(psb_sparse_available(be) == 1);
+        /* factor and solve: each failure its code and a message */
+        CHECK(psb_sparse_init(&sp, be, 9, 9, g.colp, g.rowi, gen_fill, &g, NULL) == 0);
+        {
+            double y[10] = {0}, row[10] = {0}, z[10] = {0};
+            g.shift = 0.5;
+            row[9] = 1;
+            z[9] = 1;
+            CHECK(psb_sparse_solve(z, 1, &sp) == -1 && sp.message[0]); /* before any factor */
+            CHECK(psb_sparse_factor(NULL, row, &sp) == -1 && sp.message[0]);
+            g.fail = 3;
+            CHECK(psb_sparse_factor(y, row, &sp) == 3 && sp.message[0]);
+            g.fail = 0;
+            /* finite entries whose row sum overflows: no backward error to measure, refused */
+            row[0] = row[9] = 1e308;
+            CHECK(psb_sparse_factor(y, row, &sp) == 1 && sp.message[0]);
+            CHECK(psb_sparse_solve(z, 1, &sp) == -1);
+            row[0] = 0;
+            row[9] = 1;
+            CHECK(psb_sparse_factor(y, row, &sp) == 0 && !sp.message[0]);
+            CHECK(psb_sparse_solve(z, 1, &sp) == 0);
+            CHECK(psb_sparse_solve(z, -1, &sp) == -1 && sp.message[0]);
+            /* the ring of recent matrices stays within its 64 entries (it wrapped an int after
+               2^31 factor calls) */
+            for (i = 0; i < 200; i++) {
+                g.shift = 1.5 + i;
+                CHECK(psb_sparse_factor(y, row, &sp) == 0);
+            }
+            CHECK(sp.n_recent_ == 64 && sp.next_recent_ == 201 % 64);
+            g.shift = 0;
+        }
+        psb_sparse_free(&sp);
     }
     free(g.colp); free(g.rowi);
 }
