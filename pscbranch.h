@@ -551,19 +551,21 @@
    limit points; the accepted points bit-identical.
    psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
    through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t + sin a
-   k), r = h_init (psb_branch_options), 2 n_dir angles (-t first, then +t: branches 0 and 1 are
-   the traced curve), is corrected by Newton on the sphere ||y - y*||_w = r: each trial lands
-   where a branch crosses the sphere, and two landings within r sqrt(2 (1 - c_diff)) of each
-   other are one branch. A crossing does not depend on where the trial started, so curved
-   branches are told apart as straight ones are (landing points of trial steps, anywhere from
-   h_min to h away, were not: the tangents of one parabola differed by more than c_diff). With
-   fewer than four branches the circle is tried again at r/8 and r/64. All crossings in the
-   plane are found (four lines through a point: eight half-lines). The kernel may be larger
-   (symmetric problems: several pitchforks at one point): two steps of inverse iteration with B
-   at y* + 1e-4 r t from random vectors give up to 3 more directions, each kept while its part
-   outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector of B, ~1e-8 for the
-   others); with kdim of them, 2 n_dir kdim^2 random directions of the kernel are tried besides
-   the circle (three pitchforks at the origin, a kernel of dimension 4: all 28 half-branches,
+   k), r = h_init (psb_branch_options), 2 n_dir angles (-t first, then +t: branches 0 and 1
+   are the traced curve, a failed one kept as (y*, -t or +t)), is corrected by Newton on the
+   sphere ||y - y*||_w = r: each trial lands where a branch crosses the sphere, and two
+   landings within r sqrt(2 (1 - c_diff)) of each other are one branch. A crossing does not
+   depend on where the trial started, so curved branches are told apart as straight ones are
+   (landing points of trial steps, anywhere from h_min to h away, were not: the tangents of
+   one parabola differed by more than c_diff). With fewer than four branches, or -t or +t not
+   landing, the circle is tried again at r/8 and r/64; -t and +t landing at none of the three
+   is PSB_ERR_NO_CONVERGENCE (y* is not on the traced curve, or h_init is far too large). All
+   crossings in the plane are found (four lines through a point: eight half-lines). The kernel
+   may be larger (symmetric problems: several pitchforks at one point): two steps of inverse
+   iteration with B at y* + 1e-4 r t from random vectors give up to 3 more directions, each
+   kept while its part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector
+   of B, ~1e-8 for the others); with kdim of them, 2 n_dir kdim^2 random directions of the
+   kernel are tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28 half-branches,
    the 26 half-parabolas with their analytic tangents).
 
    Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
@@ -1295,10 +1297,10 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
    Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
    PSB_ERR_NULL, PSB_ERR_SIZE (max_branches < 1), PSB_ERR_NONFINITE (y, t or kernel; or a
    callback's NaN/Inf), PSB_ERR_INPUT (t zero, kernel zero or parallel to t), PSB_ERR_OPTIONS
-   (bo), and, as
-   psb_find_branches, PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a sphere trial or
-   the kernel's computation failed because of a fault (a branch may be missing; rep->n_failed*
-   count them), PSB_ERR_CALLBACK. After a failure ys, ts hold the rep->n_branches couples
+   (bo), PSB_ERR_NO_CONVERGENCE (the traced curve, -t and +t, crosses none of the spheres: y is
+   not on it), and, as psb_find_branches, PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR
+   when a sphere trial or the kernel's computation failed because of a fault (a branch may be
+   missing; rep->n_failed* count them), PSB_ERR_CALLBACK. After a failure ys, ts hold the rep->n_branches couples
    found until then and rep is written; y, t, kernel are inputs only. */
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
                                                  const double *kernel, const psb_branch_options *bo,
@@ -2188,12 +2190,24 @@ PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const doubl
     return psb__dot_w(s, a, b);
 }
 
-static double psb__norm_w(const psb_solver *s, const double *a) { return sqrt(psb__dot_w(s, a, a)); }
+/* ||a||_w; scaled by max |a_i| where the sum of squares leaves [1e-290, 1e290] (a direction
+   given as 1e200 t or 1e-170 t is a direction, not an overflow or a zero) */
+static double psb__norm_w(const psb_solver *s, const double *a)
+{
+    double sum = psb__dot_w(s, a, a), big = 0, scaled = 0;
+    int i;
+    if (sum >= 1e-290 && sum <= 1e290) return sqrt(sum);
+    for (i = 0; i < s->np1_; i++)
+        if (fabs(a[i]) > big) big = fabs(a[i]);
+    if (!(big > 0) || !psb__finite(big)) return sqrt(sum); /* zero, or NaN/Inf */
+    for (i = 0; i < s->np1_; i++) scaled += s->w_[i] * (a[i] / big) * (a[i] / big);
+    return big * sqrt(scaled);
+}
 
 PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a)
 {
     if (!s || s->ready_ != PSB__READY || !s->w_ || !a) return NAN;
-    return sqrt(psb__dot_w(s, a, a));
+    return psb__norm_w(s, a);
 }
 
 /* ||a - b||_w, formed from the differences (not from dot products, which cancel for close points) */
@@ -3292,7 +3306,11 @@ static psb_result psb__check_couple(psb_solver *s, const void *y, const void *t)
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
     if (!psb__all_finite((const double *)y, s->np1_) || !psb__all_finite((const double *)t, s->np1_))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or t contains NaN or Inf");
-    if (!(psb__norm_w(s, (const double *)t) > 0)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    {
+        double nt = psb__norm_w(s, (const double *)t);
+        if (!(nt > 0)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+        if (!psb__finite(nt)) return psb__fail(s, PSB_ERR_INPUT, "t's weighted norm overflows");
+    }
     return PSB_SUCCESS;
 }
 
@@ -5126,11 +5144,11 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
 
 #define PSB__KERNEL_MAX 4 /* kernel directions besides t that psb_branch_point_switch sweeps */
 
-/* One trial from y* + r v (v unit); a new crossing is stored (*overflow when no room). keep
-   (the traced curve's trials, -t and +t): a failed trial stores the couple (y*, v), so that
-   branches 0 and 1 stay the traced curve. */
+/* One trial from y* + r v (v unit); a new crossing is stored (*overflow when no room). landed
+   (the traced curve's trials, -t and +t; else NULL): counts the trials that land, and a
+   failed one stores the couple (y*, v), so that branches 0 and 1 stay the traced curve. */
 static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double *v, double r,
-                                    int keep, int max_branches, double *ys, double *ts,
+                                    int *landed, int max_branches, double *ys, double *ts,
                                     psb_branch_report *rep, int *overflow)
 {
     int np1 = s->np1_, j, m;
@@ -5143,11 +5161,12 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
     if (psb__is_fatal(res)) return res;
     if (res != PSB_SUCCESS) {
         psb__note_fault(s, res); /* a trial lost to a fault may be a branch lost */
-        if (!keep) return PSB_SUCCESS;
+        if (!landed) return PSB_SUCCESS;
         psb__copy(yb, y, np1);
         psb__copy(tb, v, np1);
     } else {
         double same = r * sqrt(2 * (1 - s->opt.c_diff));
+        if (landed) (*landed)++;
         for (j = 0; j < rep->n_branches; j++)
             if (psb__dist_w(s, yb, ys + (size_t)j * (size_t)np1) <= same) return PSB_SUCCESS;
     }
@@ -5209,20 +5228,22 @@ static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, dou
     return kdim;
 }
 
-/* The trials at radius r: the circle of t and ks[0] (2 n_dir angles, -t first, then +t), and
-   with a larger kernel (kdim > 1) 2 n_dir kdim^2 random directions in it. */
+/* The trials at radius r: the circle of t and ks[0] (2 n_dir angles, -t first, then +t, then
+   the others in order), and with a larger kernel (kdim > 1) 2 n_dir kdim^2 random directions
+   in it. *traced: how many of the -t and +t trials landed. */
 static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double *t, const double *ks,
                                     int kdim, double r, int max_branches, double *ys, double *ts,
-                                    psb_branch_report *rep, int *overflow)
+                                    psb_branch_report *rep, int *overflow, int *traced)
 {
     int np1 = s->np1_, n_trial = 2 * s->branch.n_dir, i, j, m;
     double *v = PSB__VEC(s, PSB__V_BR_TT);
     psb_result res;
+    *traced = 0;
     for (i = 0; i < n_trial; i++) {
-        int step = i == 0 ? n_trial / 2 : i == n_trial / 2 ? 0 : i;
+        int step = i == 0 ? n_trial / 2 : i == 1 ? 0 : i <= n_trial / 2 ? i - 1 : i;
         double a = 6.283185307179586 * step / n_trial;
         for (m = 0; m < np1; m++) v[m] = cos(a) * t[m] + sin(a) * ks[m];
-        res = psb__sphere_trial(s, y, v, r, i < 2, max_branches, ys, ts, rep, overflow);
+        res = psb__sphere_trial(s, y, v, r, i < 2 ? traced : NULL, max_branches, ys, ts, rep, overflow);
         if (res != PSB_SUCCESS) return res;
     }
     for (i = 0; kdim > 1 && i < n_trial * kdim * kdim; i++) {
@@ -5233,7 +5254,7 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
             for (m = 0; m < np1; m++) v[m] += g * ks[(size_t)j * (size_t)np1 + (size_t)m];
         }
         if (!psb__normalize_w(s, v)) continue;
-        res = psb__sphere_trial(s, y, v, r, 0, max_branches, ys, ts, rep, overflow);
+        res = psb__sphere_trial(s, y, v, r, NULL, max_branches, ys, ts, rep, overflow);
         if (res != PSB_SUCCESS) return res;
     }
     return PSB_SUCCESS;
@@ -5245,7 +5266,7 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
                                            double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
-    int np1, i, overflow = 0, kdim;
+    int np1, i, overflow = 0, kdim, traced = 0;
     unsigned long long seed;
     double *yc, *tc, *kc, c, r;
     psb_result res;
@@ -5271,19 +5292,20 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     psb__faults_reset(s);
     kdim = psb__kernel_dirs(s, yc, tc, s->branch.h_init, kc);
     rep->n_tangents = kdim;
-    /* a simple branch point has four half-branches; fewer at h_init (a radius beyond
-       the branches' curvature, or crossings too close for Newton's basins) -> a smaller one */
+    /* a simple branch point has four half-branches, two of them the traced curve; fewer at
+       h_init (a radius beyond the branches' curvature, or crossings too close for Newton's
+       basins) -> a smaller one */
     for (r = s->branch.h_init, i = 0; i < 3; i++, r *= 0.125) {
         psb_branch_report attempt;
         memset(&attempt, 0, sizeof attempt);
         overflow = 0;
-        res = psb__sphere_sweep(s, yc, tc, kc, kdim, r, max_branches, ys, ts, &attempt, &overflow);
+        res = psb__sphere_sweep(s, yc, tc, kc, kdim, r, max_branches, ys, ts, &attempt, &overflow, &traced);
         attempt.n_pc += rep->n_pc;
         attempt.n_tangents = kdim;
         *rep = attempt;
         rep->n_span = i + 1;
         if (res != PSB_SUCCESS) return res;
-        if (rep->n_branches >= 4 || overflow) break;
+        if ((rep->n_branches >= 4 && traced == 2) || overflow) break;
     }
     rep->n_failed_callback = s->faults_[0];
     rep->n_failed_nonfinite = s->faults_[1];
@@ -5291,6 +5313,13 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
     res = psb__faults_code(s, "psb_branch_point_switch");
     if (res != PSB_SUCCESS) return res;
+    /* the traced curve passes through a branch point: found in neither direction at any
+       radius, y is not on it (or h_init lies far beyond its curvature) */
+    if (!traced) {
+        rep->n_branches = 0; /* the kept (y*, -+t) are no crossings */
+        return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "psb_branch_point_switch: the traced curve crosses none of "
+                                                     "the spheres around y (y not on it, or h_init too large)");
+    }
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
@@ -5762,7 +5791,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
         s->branch.n_span = n_span;
         s->branch.n_span_max = n_span_max;
-        if (r >= 0 && br.n_branches > 2)
+        if (r >= 0 && (br.n_branches > 2 || r == PSB_BRANCH_CAPACITY))
             r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     } else {
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
@@ -5775,7 +5804,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     }
     if (r == PSB_BRANCH_CAPACITY) d->truncated = 1;
     nb = br.n_branches < d->max_branches ? br.n_branches : d->max_branches;
-    if (kink && nb == 2) { /* an ordinary kink: go on along the other branch */
+    if (kink && nb == 2 && r != PSB_BRANCH_CAPACITY) { /* an ordinary kink: the other branch */
         ed->length += psb__dist_w(s, y, nd->ys + np1);
         psb__copy(y, nd->ys + np1, np1);
         psb__copy(t, nd->ts + np1, np1);
@@ -6172,7 +6201,8 @@ PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
                 psb_edge_end_string(ed->end), (int)ed->result, ed->n_points, ed->length);
     }
     fprintf(f, "\n  ]\n}\n");
-    return ferror(f) ? PSB_ERR_INPUT : PSB_SUCCESS;
+    /* flushed first: a write the stream still buffers fails only then (a full disk) */
+    return fflush(f) || ferror(f) ? PSB_ERR_INPUT : PSB_SUCCESS;
 }
 
 PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes, FILE *edges)
@@ -6194,7 +6224,7 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
             psb__write_vec(nodes, nd->y, np1, ",");
             fprintf(nodes, "\n");
         }
-        if (ferror(nodes)) return PSB_ERR_INPUT;
+        if (fflush(nodes) || ferror(nodes)) return PSB_ERR_INPUT;
     }
     if (edges) {
         fprintf(edges, "id,from,from_branch,to,to_branch,end,result,points,length\n");
@@ -6204,7 +6234,7 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
                     ed->to_branch, psb_edge_end_string(ed->end), (int)ed->result, ed->n_points,
                     ed->length);
         }
-        if (ferror(edges)) return PSB_ERR_INPUT;
+        if (fflush(edges) || ferror(edges)) return PSB_ERR_INPUT;
     }
     return PSB_SUCCESS;
 }

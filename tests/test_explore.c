@@ -769,6 +769,99 @@ static void test_output(void)
     psb_solver_free(&s);
 }
 
+/* Regressions of an audit (2026-11-26): a crossing point whose branches do not fit is still a
+   PC1 node, not an ordinary kink passed; a direction of any scale is a direction; a write that
+   fails only when flushed is a failure; psb_branch_point_switch's branch 1 is +t, and a point
+   off the traced curve is a failure, not two made-up branches. */
+static int trans_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] * (y[0] + 0.3 * y[1]);
+    return 0;
+}
+
+static int trans_jac(const double *y, double *j, int ld, void *u)
+{
+    (void)u;
+    j[0] = 2 * y[0] + 0.3 * y[1];
+    j[ld] = 0.3 * y[0];
+    return 0;
+}
+
+static void test_audit_regressions(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[3], t[3], ts2[2];
+    static const double scale[2] = {1e200, 1e-170};
+    pl_problem pp;
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_explore_options eo;
+    psb_diagram d;
+    int i, pc1, n_nodes, n_edges;
+    FILE *full;
+    pl_crossing_kinks(&pp, 2, rays);
+    psb_problem_init(&prob, 2, pl_residual, pl_jacobian, &pp);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    pl_start_on_ray(3, rays, 0, y, t);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    CHECK(psb_diagram_init(&d, 2, 16, 16, 2) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_BRANCH_CAPACITY && d.truncated);
+    for (i = 0, pc1 = 0; i < d.n_nodes; i++) pc1 += d.nodes[i].kind == PSB_NODE_PC1;
+    CHECK(pc1 == 1 && d.n_kinks_plain == 0);
+    psb_diagram_free(&d);
+    CHECK(psb_diagram_init(&d, 2, 16, 16, 8) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+    n_nodes = d.n_nodes;
+    n_edges = d.n_edges;
+    /* a full disk shows when the stream is flushed */
+    full = fopen("/dev/full", "w");
+    if (full) {
+        CHECK(psb_diagram_write_json(&d, full) == PSB_ERR_INPUT);
+        fclose(full);
+    }
+    full = fopen("/dev/full", "w");
+    if (full) {
+        CHECK(psb_diagram_write_csv(&d, full, NULL) == PSB_ERR_INPUT);
+        fclose(full);
+    }
+    for (i = 0; i < 2; i++) {
+        double tt[3];
+        int k;
+        for (k = 0; k < 3; k++) tt[k] = scale[i] * t[k];
+        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_SUCCESS);
+        CHECK(d.n_nodes == n_nodes && d.n_edges == n_edges && d.n_failed == 0);
+        for (k = 0; k < 3; k++) CHECK_NEAR(d.nodes[0].ts[k], t[k] / psb_norm_w(&s, t), 1e-15);
+    }
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+    /* a transcritical point, x (x + 0.3 l) = 0 at 0: branches 0 and 1 are the traced l axis */
+    psb_problem_init(&prob, 1, trans_res, trans_jac, NULL);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    {
+        double y0[2] = {0, 0}, t0[2] = {0, 1}, k0[2] = {-1, 0}, off[2] = {5, 0}, ys[16], ts[16];
+        psb_branch_report br;
+        CHECK(psb_branch_point_switch(&s, y0, t0, k0, NULL, 8, ys, ts, &br) == PSB_SUCCESS && br.n_branches == 4);
+        CHECK_NEAR(ts[1], -1, 1e-12);
+        CHECK_NEAR(ts[2], 0, 1e-12);
+        CHECK_NEAR(ts[3], 1, 1e-12);
+        /* the crossing line x = -0.3 l: landed on it, tangents along it */
+        for (i = 2; i < 4; i++) {
+            CHECK_NEAR(ys[2 * i] / ys[2 * i + 1], -0.3, 1e-12);
+            CHECK_NEAR(ts[2 * i] / ts[2 * i + 1], -0.3, 1e-8);
+        }
+        CHECK(psb_branch_point_switch(&s, off, t0, k0, NULL, 8, ys, ts, &br) == PSB_ERR_NO_CONVERGENCE);
+        CHECK(br.n_branches == 0 && psb_solver_message(&s)[0]);
+        ts2[0] = 0;
+        ts2[1] = 1e-170; /* a tiny t is a direction too */
+        CHECK(psb_branch_point_switch(&s, y0, ts2, k0, NULL, 8, ys, ts, &br) == PSB_SUCCESS && br.n_branches == 4);
+    }
+    psb_solver_free(&s);
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -781,6 +874,7 @@ int main(void)
     test_capacity_and_budgets();
     test_bad_input();
     test_callback_failure();
+    test_audit_regressions();
     test_determinism();
     test_output();
     return HARNESS_END();
