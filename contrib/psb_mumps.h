@@ -15,7 +15,9 @@
    numbering, the parameter column included; coordinate form, 0-based, duplicates allowed and
    summed) and a callback that fills the values of that pattern at y; the border row is added
    dense. The pattern never changes, so MUMPS's analysis (ordering, symbolic factorisation,
-   JOB=1) runs once per solver object, at the first factorisation; each psb_mumps_factor is a
+   JOB=1) runs once per solver object, at the first factorisation, from the pattern alone (no
+   value-based matching, ICNTL(6) = 0: results do not depend on which B came first); each
+   psb_mumps_factor is a
    numeric factorisation (JOB=2) and each psb_mumps_solve a solve (JOB=3, any nrhs, in place).
    The bordering is exact at folds: B is factored as a whole, so a singular dH/dx with a regular B
    is no special case.
@@ -39,9 +41,11 @@
    vectors of n, and its share of the factors.
 
    RESULTS (every function): 0 success; PSB_MUMPS_SINGULAR (> 0) when B is singular (MUMPS found
-   a null pivot: |pivot| <= null_pivot_tol x max |scaled B|, or its own INFOG(1) = -10), holds a
-   NaN or an infinity, or the fill callback returned > 0: pscbranch then rejects the step or
-   borders with another row; < 0 a failure named by the PSB_MUMPS_ERR_* codes, with a message in
+   a null pivot: |pivot| <= null_pivot_tol x max |scaled B|, or its own INFOG(1) = -10, or -6
+   for a structurally singular pattern; or a solution grows past ||b|| / (||B|| null_pivot_tol),
+   an exactly singular B whose last pivot is rounding noise), holds a NaN or an infinity or a
+   row sum of |B| that overflows, or the fill callback returned > 0: pscbranch then rejects the
+   step or borders with another row; < 0 a failure named by the PSB_MUMPS_ERR_* codes, with a message in
    m->message (INFOG(1), INFOG(2) of MUMPS in m->infog1, m->infog2). The functions never print,
    never abort, and MUMPS's own printing is switched off (ICNTL(1..4)). A factorisation whose
    workspace estimate falls short (INFOG(1) = -8, -9, ...) is retried with ICNTL(14) doubled, up
@@ -85,10 +89,12 @@ typedef struct psb_mumps {
     double *a;                  /* B's values in that order */
     psb_mumps_fill_fn fill;
     void *user;
-    double null_pivot_tol;      /* CNTL(3): relative null-pivot threshold [1e3 eps] */
+    double null_pivot_tol;      /* CNTL(3): relative null-pivot threshold [1e3 eps], in [0, 1);
+                                   a solution growing past 1 / null_pivot_tol is refused too */
+    double normb;               /* ||B|| (max row sum) of the last factorisation */
     int live;                   /* the MUMPS instances exist on every rank */
     int analysed, factored;
-    int icntl14;                /* workspace margin in percent (raised on a shortfall) */
+    int icntl14;                /* workspace margin in percent, 0..1e6 [20] (raised on a shortfall) */
     int infog1, infog2;         /* MUMPS's INFOG(1), INFOG(2) of the last call */
     long n_analysis, n_factor, n_solve, n_retry; /* counts of JOB=1, 2 (successful or not), 3,
                                                    and of retried factorisations */
@@ -164,6 +170,11 @@ static void psb__mumps_settings(DMUMPS_STRUC_C *id, double null_pivot_tol)
     PSB__MUMPS_ICNTL(*id, 3) = -1; /* global information */
     PSB__MUMPS_ICNTL(*id, 4) = 0;  /* print level */
     PSB__MUMPS_ICNTL(*id, 24) = 1; /* null pivot detection: a singular B is reported, not solved */
+    /* no maximum-transversal matching: it reads the values, so the analysis (done once) would
+       depend on the first B factored, and later results on the object's history (the same B
+       factored or not, bit for bit, and a regular B found singular); the pivoting of each
+       factorisation handles B's zero diagonal entries */
+    PSB__MUMPS_ICNTL(*id, 6) = 0;
     id->cntl[2] = null_pivot_tol;  /* CNTL(3) > 0: relative to max |preprocessed B| */
 }
 
@@ -247,7 +258,7 @@ static int psb__mumps_status(psb_mumps *m, const char *job)
     if (m->infog1 >= 0) return 0;
     snprintf(m->message, sizeof m->message, "MUMPS %s failed: INFOG(1) = %d, INFOG(2) = %d", job, m->infog1,
              m->infog2);
-    if (m->infog1 == -10) return PSB_MUMPS_SINGULAR;
+    if (m->infog1 == -10 || m->infog1 == -6) return PSB_MUMPS_SINGULAR; /* numerically, structurally */
     if (m->infog1 == -13) return PSB_MUMPS_ERR_MEMORY;
     return PSB_MUMPS_ERR_MUMPS;
 }
@@ -345,8 +356,13 @@ int psb_mumps_factor(psb_mumps *m, const double *y, const double *row)
 {
     long long k, total;
     int rc, tries;
-    if (!m || !m->live || !y || !row) return PSB_MUMPS_ERR_ARG;
+    double *rowsum;
+    if (!m) return PSB_MUMPS_ERR_ARG;
     m->factored = 0;
+    if (!m->live || !y || !row)
+        return psb__mumps_fail(m, PSB_MUMPS_ERR_ARG, "factor: y or row is NULL, or m is not initialised");
+    if (!(m->null_pivot_tol >= 0 && m->null_pivot_tol < 1) || m->icntl14 < 0 || m->icntl14 > 1000000)
+        return psb__mumps_fail(m, PSB_MUMPS_ERR_ARG, "factor: null_pivot_tol must lie in [0, 1), icntl14 in [0, 1e6]");
     total = m->nnz_user + m->n + 1;
     memset(m->a, 0, sizeof(double) * (size_t)m->nnz_user);
     rc = m->fill(y, m->a, m->user);
@@ -355,7 +371,16 @@ int psb_mumps_factor(psb_mumps *m, const double *y, const double *row)
     memcpy(m->a + m->nnz_user, row, sizeof(double) * ((size_t)m->n + 1));
     for (k = 0; k < total; k++) /* MUMPS would factor a NaN without complaint */
         if (!isfinite(m->a[k])) return psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "B holds a NaN or an infinity");
+    /* ||B||, for the growth test of the solutions (duplicates bound it from above) */
+    rowsum = (double *)calloc((size_t)m->n + 1, sizeof(double));
+    if (!rowsum) return psb__mumps_fail(m, PSB_MUMPS_ERR_MEMORY, "out of memory");
+    for (k = 0; k < total; k++) rowsum[m->irn[k] - 1] += fabs(m->a[k]);
+    m->normb = 0;
+    for (k = 0; k <= m->n; k++) if (rowsum[k] > m->normb) m->normb = rowsum[k];
+    free(rowsum);
+    if (!isfinite(m->normb)) return psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "a row sum of |B| overflows");
     if (!m->analysed) {
+        /* a failed analysis (a structurally singular pattern: -6) is tried again next time */
         if ((rc = psb__mumps_job(m, 1)) != 0) return rc;
         m->n_analysis++;
         if ((rc = psb__mumps_status(m, "analysis (JOB=1)")) != 0) return rc;
@@ -369,7 +394,7 @@ int psb_mumps_factor(psb_mumps *m, const double *y, const double *row)
         if (rc == PSB_MUMPS_ERR_MUMPS && tries < 4 &&
             (m->infog1 == -8 || m->infog1 == -9 || m->infog1 == -14 || m->infog1 == -15 || m->infog1 == -17 ||
              m->infog1 == -20)) {
-            m->icntl14 *= 2;
+            m->icntl14 = m->icntl14 ? 2 * m->icntl14 : 20;
             m->n_retry++;
             continue;
         }
@@ -386,20 +411,51 @@ int psb_mumps_factor(psb_mumps *m, const double *y, const double *row)
 int psb_mumps_solve(psb_mumps *m, double *b, int nrhs)
 {
     long long k, len;
-    int rc;
-    if (!m || !m->live || !b || nrhs < 1) return PSB_MUMPS_ERR_ARG;
+    int rc, j;
+    double *bmax;
+    if (!m) return PSB_MUMPS_ERR_ARG;
+    if (!m->live || (!b && nrhs > 0) || nrhs < 0)
+        return psb__mumps_fail(m, PSB_MUMPS_ERR_ARG, "solve: b is NULL, nrhs < 0, or m is not initialised");
     if (!m->factored) return psb__mumps_fail(m, PSB_MUMPS_ERR_STATE, "solve before a successful factorisation");
+    if (nrhs == 0) {
+        m->message[0] = '\0';
+        return PSB_MUMPS_OK;
+    }
+    /* each right-hand side's size, for the growth test below */
+    bmax = (double *)calloc((size_t)nrhs, sizeof(double));
+    if (!bmax) return psb__mumps_fail(m, PSB_MUMPS_ERR_MEMORY, "out of memory");
+    for (j = 0; j < nrhs; j++)
+        for (k = 0; k <= m->n; k++) {
+            double v = fabs(b[(size_t)j * ((size_t)m->n + 1) + (size_t)k]);
+            if (v > bmax[j]) bmax[j] = v;
+        }
     m->id.rhs = b;
     m->id.nrhs = nrhs;
     m->id.lrhs = m->n + 1;
     rc = psb__mumps_job(m, 3);
     m->id.rhs = NULL;
-    if (rc) return rc;
-    m->n_solve++;
-    if ((rc = psb__mumps_status(m, "solve (JOB=3)")) != 0) return rc;
+    if (!rc) {
+        m->n_solve++;
+        rc = psb__mumps_status(m, "solve (JOB=3)");
+    }
     len = (long long)nrhs * (m->n + 1);
-    for (k = 0; k < len; k++)
-        if (!isfinite(b[k])) return psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "the solution is not finite");
+    for (k = 0; k < len && !rc; k++)
+        if (!isfinite(b[k])) rc = psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "the solution is not finite");
+    /* ||B|| ||x|| / ||b|| bounds cond(B) from below: past 1 / null_pivot_tol, B is singular to
+       working precision, though its pivots passed (an exactly singular B whose last pivot is
+       rounding noise) */
+    for (j = 0; j < nrhs && !rc; j++) {
+        double xmax = 0;
+        for (k = 0; k <= m->n; k++) {
+            double v = fabs(b[(size_t)j * ((size_t)m->n + 1) + (size_t)k]);
+            if (v > xmax) xmax = v;
+        }
+        if (m->normb * xmax * m->null_pivot_tol > bmax[j])
+            rc = psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "B is singular to working precision (the solution grew past "
+                                                        "||b|| / (||B|| null_pivot_tol))");
+    }
+    free(bmax);
+    if (rc) return rc;
     m->message[0] = '\0';
     return PSB_MUMPS_OK;
 }

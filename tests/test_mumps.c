@@ -252,6 +252,98 @@ static void test_codes_and_counts(void)
     free_mat(&a);
 }
 
+/* Regressions of an audit (2026-11-26): argument errors carry a message and drop the factors;
+   nrhs 0 is nothing to do; bad options are refused; the analysis reads the pattern alone, so
+   a B gives the same bits whatever was factored first; an exactly singular B is never solved,
+   and a structurally singular one is singular (> 0), not a failure. */
+static void test_audit(void)
+{
+    mat a, z;
+    psb_mumps m, m2;
+    int n = 30, n1 = 31, i, t, solved = 0, n_sing = 0;
+    long long k, q;
+    double row[31], x1[31], x2[31], rhs[31], y0 = 0, *saved;
+    random_mat(&a, n, 3);
+    for (i = 0; i < n1; i++) {
+        row[i] = urand();
+        rhs[i] = urand();
+    }
+    CHECK(psb_mumps_init(&m, MPI_COMM_WORLD, n, a.nnz, a.rows, a.cols, fill_mat, &a) == 0);
+    CHECK(psb_mumps_factor(&m, &y0, row) == 0);
+    CHECK(psb_mumps_factor(&m, &y0, NULL) == PSB_MUMPS_ERR_ARG && m.message[0]);
+    memcpy(x1, rhs, sizeof x1);
+    CHECK(psb_mumps_solve(&m, x1, 1) == PSB_MUMPS_ERR_STATE); /* the failed call dropped the factors */
+    CHECK(psb_mumps_factor(&m, &y0, row) == 0);
+    CHECK(psb_mumps_solve(&m, x1, 0) == 0);
+    CHECK(psb_mumps_solve(&m, x1, -1) == PSB_MUMPS_ERR_ARG && m.message[0]);
+    m.null_pivot_tol = -1;
+    CHECK(psb_mumps_factor(&m, &y0, row) == PSB_MUMPS_ERR_ARG && m.message[0]);
+    m.null_pivot_tol = NAN;
+    CHECK(psb_mumps_factor(&m, &y0, row) == PSB_MUMPS_ERR_ARG);
+    m.null_pivot_tol = 1e3 * DBL_EPSILON;
+    m.icntl14 = -100;
+    CHECK(psb_mumps_factor(&m, &y0, row) == PSB_MUMPS_ERR_ARG);
+    m.icntl14 = 20;
+    CHECK(psb_mumps_factor(&m, &y0, row) == 0 && psb_mumps_solve(&m, x1, 1) == 0);
+    /* another object whose first B has values spread over 1e-6..1e6: the same B afterwards,
+       the same bits */
+    saved = malloc(sizeof(double) * (size_t)a.nnz);
+    memcpy(saved, a.vals, sizeof(double) * (size_t)a.nnz);
+    for (k = 0; k < a.nnz; k++) a.vals[k] *= pow(10, 6 * urand());
+    CHECK(psb_mumps_init(&m2, MPI_COMM_WORLD, n, a.nnz, a.rows, a.cols, fill_mat, &a) == 0);
+    psb_mumps_factor(&m2, &y0, row);
+    memcpy(a.vals, saved, sizeof(double) * (size_t)a.nnz);
+    memcpy(x2, rhs, sizeof x2);
+    CHECK(psb_mumps_factor(&m2, &y0, row) == 0 && psb_mumps_solve(&m2, x2, 1) == 0);
+    CHECK(memcmp(x1, x2, sizeof x1) == 0);
+    psb_mumps_free(&m2);
+    psb_mumps_free(&m);
+    free(saved);
+    /* exactly singular B: integer entries, dH's last row the sum of its first two */
+    for (t = 0; t < 100; t++) {
+        int N = 60, N1 = 61, j;
+        static int rr[61 * 60], cc[61 * 60];
+        static double vv[61 * 60], D[61 * 60], brow[61], b[61];
+        mat e;
+        for (i = 0; i < N; i++)
+            for (j = 0; j <= N; j++) D[i * N1 + j] = (i == j || j == N || urand() < -0.9) ? round(100 * urand()) : 0;
+        for (j = 0; j <= N; j++) D[(N - 1) * N1 + j] = D[j] + D[N1 + j];
+        for (q = 0, i = 0; i < N; i++)
+            for (j = 0; j <= N; j++)
+                if (D[i * N1 + j] != 0 || i == j) { rr[q] = i; cc[q] = j; vv[q++] = D[i * N1 + j]; }
+        for (j = 0; j <= N; j++) brow[j] = round(100 * urand());
+        memset(&e, 0, sizeof e);
+        e.n = N; e.nnz = q; e.rows = rr; e.cols = cc; e.vals = vv; e.scale = 1; e.nan_at = -1;
+        CHECK(psb_mumps_init(&m, MPI_COMM_WORLD, N, q, rr, cc, fill_mat, &e) == 0);
+        i = psb_mumps_factor(&m, &y0, brow);
+        CHECK(i >= 0);
+        if (i == 0) {
+            for (j = 0; j <= N; j++) b[j] = urand();
+            i = psb_mumps_solve(&m, b, 1);
+            CHECK(i >= 0);
+            solved += i == 0;
+        }
+        n_sing += i > 0;
+        psb_mumps_free(&m);
+    }
+    CHECK(solved == 0 && n_sing == 100);
+    /* dH's first row empty: B structurally singular */
+    memset(&z, 0, sizeof z);
+    z = a;
+    z.rows = malloc(sizeof(int) * (size_t)a.nnz);
+    z.cols = malloc(sizeof(int) * (size_t)a.nnz);
+    z.vals = malloc(sizeof(double) * (size_t)a.nnz);
+    for (q = 0, k = 0; k < a.nnz; k++)
+        if (a.rows[k] != 0) { z.rows[q] = a.rows[k]; z.cols[q] = a.cols[k]; z.vals[q++] = a.vals[k]; }
+    z.nnz = q;
+    CHECK(psb_mumps_init(&m, MPI_COMM_WORLD, n, z.nnz, z.rows, z.cols, fill_mat, &z) == 0);
+    i = psb_mumps_factor(&m, &y0, row);
+    CHECK(i == PSB_MUMPS_SINGULAR);
+    psb_mumps_free(&m);
+    free_mat(&z);
+    free_mat(&a);
+}
+
 /* Two solver objects alive at once, interleaved: the workers tell them apart. */
 static void test_two_objects(void)
 {
@@ -378,6 +470,7 @@ static int tests(int argc, char **argv)
     test_fold(10);
     test_fold(300);
     test_codes_and_counts();
+    test_audit();
     test_two_objects();
     test_pscbranch();
     return HARNESS_END();
