@@ -565,8 +565,8 @@
    iteration with B at y* + 1e-4 r t from random vectors give up to 3 more directions, each
    kept while its part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector
    of B, ~1e-8 for the others); with kdim of them, 2 n_dir kdim^2 random directions of the
-   kernel are tried besides the circle (three pitchforks at the origin, a kernel of dimension 4: all 28 half-branches,
-   the 26 half-parabolas with their analytic tangents).
+   kernel are tried besides the circle (three pitchforks at the origin, a kernel of dimension
+   4: all 28 half-branches, the 26 half-parabolas with their analytic tangents).
 
    Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
    reach and returns the graph: nodes are special points, edges the branch segments between.
@@ -1300,8 +1300,8 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
    (bo), PSB_ERR_NO_CONVERGENCE (the traced curve, -t and +t, crosses none of the spheres: y is
    not on it), and, as psb_find_branches, PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR
    when a sphere trial or the kernel's computation failed because of a fault (a branch may be
-   missing; rep->n_failed* count them), PSB_ERR_CALLBACK. After a failure ys, ts hold the rep->n_branches couples
-   found until then and rep is written; y, t, kernel are inputs only. */
+   missing; rep->n_failed* count them), PSB_ERR_CALLBACK. After a failure ys, ts hold the
+   rep->n_branches couples found until then and rep is written; y, t, kernel are inputs only. */
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
                                                  const double *kernel, const psb_branch_options *bo,
                                                  int max_branches, double *ys, double *ts,
