@@ -173,7 +173,12 @@
                                     1 <= h_inc <= 100, 0 < h_dec <= 0.9 (bounded shrinking)
    max_iter [10]                    corrector iterations per trial; max_iter, iter_threshold
                                     <= PSB_MAX_ITER_LIMIT (1000)
-   tol_residual [1e-10]             ||H(y)||_2 at convergence
+   tol_residual [1e-10]             ||H(y)||_2 at convergence. Absolute: where H's terms are
+                                    far from 1, set it to ~1e-10 times their size (terms of
+                                    1e6: rounding alone exceeds 1e-10, the corrector fails and
+                                    a trace reads that as an end point; terms of 1e-6: points
+                                    near y0 that solve nothing pass, and Algorithm 2.2 takes
+                                    them for branches)
    tol_correction [1e-10]           distance to the solution at convergence, ||.||_w: the last
                                     correction or its contraction estimate (section 6)
    c_min [0.9]                      least cosine between the tangents before and after a step
