@@ -295,7 +295,16 @@ static void test_audit(void)
     memcpy(a.vals, saved, sizeof(double) * (size_t)a.nnz);
     memcpy(x2, rhs, sizeof x2);
     CHECK(psb_mumps_factor(&m2, &y0, row) == 0 && psb_mumps_solve(&m2, x2, 1) == 0);
-    CHECK(memcmp(x1, x2, sizeof x1) == 0);
+    if (m2.nprocs == 1) { /* bit for bit on one rank; on several, MUMPS's scheduling may reorder sums */
+        CHECK(memcmp(x1, x2, sizeof x1) == 0);
+    } else {
+        double d = 0, xm = 0;
+        for (i = 0; i < n1; i++) {
+            d = fmax(d, fabs(x1[i] - x2[i]));
+            xm = fmax(xm, fabs(x1[i]));
+        }
+        CHECK(d <= 1e-12 * xm);
+    }
     psb_mumps_free(&m2);
     psb_mumps_free(&m);
     free(saved);
