@@ -464,9 +464,9 @@ static int psb__sparse_assemble(psb_sparse *sp, const double *y, const double *r
     int n = sp->n, p = sp->param_index, c, k, rc;
     const int *bp = sp->bp_;
     double *bx = sp->bx_;
+    static const char *const nonfinite = "factor: NaN or Inf in dH/dy or in the border row";
     memset(sp->ax_, 0, sizeof(double) * (size_t)sp->nnz_);
     memset(sp->dparam_, 0, sizeof(double) * (size_t)n);
-    static const char *const nonfinite = "factor: NaN or Inf in dH/dy or in the border row";
     rc = sp->fill_(y, sp->ax_, sp->dparam_, sp->user_);
     sp->stats.n_fill++;
     if (rc) {
