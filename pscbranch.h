@@ -873,7 +873,8 @@ typedef struct psb_problem {
        (s->prob) holds the resolved step */
     double fd_step;           /* [sqrt(DBL_EPSILON) ~ 1.49e-8; 6.06e-6 ~ cbrt(DBL_EPSILON) if
                                  central]; 0 < fd_step < 1 */
-    int fd_central;           /* 0: forward (n+1 residuals per Jacobian), 1: central (2(n+1)) [0] */
+    int fd_central;           /* 0: forward (n+1 residuals per Jacobian), 1: central (2(n+1));
+                                 banded: kl+ku+2 and 2(kl+ku+2) [0] */
 } psb_problem;
 
 /* Zeroes *p (dense backend), fills it and sets param_index to n (the last component). */
@@ -2485,38 +2486,51 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
         return r;
     }
     /* finite differences, Curtis-Powell-Reid: state columns j = g, g + ld, g + 2 ld, ... touch
-       disjoint rows, so one residual serves the whole group */
+       disjoint rows, so one residual serves the whole group (two when central) */
     {
-        double *yp = PSB__VEC(s, PSB__V_FD), *hp = s->fdh_, *steps = s->bx_;
-        if (!h_at_y) {
+        double *yp = PSB__VEC(s, PSB__V_FD), *hp = s->fdh_, *steps = s->bx_, scale;
+        const double *base;
+        int central = s->prob.fd_central;
+        if (!h_at_y && !central) {
             r = psb__residual(s, y, s->res2_);
             if (r != PSB_SUCCESS) return r;
             h_at_y = s->res2_;
         }
         for (g = 0; g <= ld; g++) {
-            psb__copy(yp, y, s->np1_);
-            if (g < ld) {
-                for (j = g; j < n; j += ld) {
-                    int c = psb__ycol(s, j);
-                    volatile double probe = y[c] + psb__fd_step(s, c, y[c]);
-                    steps[j] = probe - y[c];
-                    yp[c] = y[c] + steps[j];
+            int side;
+            /* side 1: y + steps into hp; side -1 (central): y - steps into res2_ (not res_:
+               callers hold H(y) there across this call) */
+            for (side = 1; side >= (central ? -1 : 1); side -= 2) {
+                psb__copy(yp, y, s->np1_);
+                if (g < ld) {
+                    for (j = g; j < n; j += ld) {
+                        int c = psb__ycol(s, j);
+                        if (side > 0) {
+                            volatile double probe = y[c] + psb__fd_step(s, c, y[c]);
+                            steps[j] = probe - y[c];
+                        }
+                        yp[c] = y[c] + side * steps[j];
+                    }
+                } else {
+                    if (side > 0) {
+                        volatile double probe = y[p] + psb__fd_step(s, p, y[p]);
+                        steps[0] = probe - y[p];
+                    }
+                    yp[p] = y[p] + side * steps[0];
                 }
-            } else {
-                volatile double probe = y[p] + psb__fd_step(s, p, y[p]);
-                steps[0] = probe - y[p];
-                yp[p] = y[p] + steps[0];
+                r = psb__residual(s, yp, side > 0 ? hp : s->res2_);
+                if (r != PSB_SUCCESS) return r;
             }
-            r = psb__residual(s, yp, hp);
-            if (r != PSB_SUCCESS) return r;
+            base = central ? s->res2_ : h_at_y;
+            scale = central ? 2 : 1;
             if (g < ld) {
                 for (j = g; j < n; j += ld) {
                     int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
                     for (i = lo; i <= hi; i++)
-                        s->band_[PSB_BAND_INDEX(ku, ld, i, j)] = (hp[i] - h_at_y[i]) / steps[j];
+                        s->band_[PSB_BAND_INDEX(ku, ld, i, j)] = (hp[i] - base[i]) / (scale * steps[j]);
                 }
             } else {
-                for (i = 0; i < n; i++) s->dparam_[i] = (hp[i] - h_at_y[i]) / steps[0];
+                for (i = 0; i < n; i++) s->dparam_[i] = (hp[i] - base[i]) / (scale * steps[0]);
             }
         }
     }

@@ -433,6 +433,55 @@ static void test_backends_agree(void)
         }
 }
 
+/* Central differences with the banded backend (it used forward quotients with the central
+   step whatever fd_central said): H_i = exp(3 x_i) - x_{i-1} - g, kl = 1, ku = 0. */
+static int expchain_res(const double *y, double *h, void *user)
+{
+    int i;
+    (void)user;
+    for (i = 0; i < 3; i++) h[i] = exp(3 * y[i]) - (i ? y[i - 1] : 0) - y[3];
+    return 0;
+}
+
+static void test_banded_fd_central(void)
+{
+    double t[2][2][4];
+    int central, banded, i;
+    for (central = 0; central < 2; central++)
+        for (banded = 0; banded < 2; banded++) {
+            psb_problem p;
+            psb_solver s;
+            double y[4] = {0.5, 0.2, 0.1, 2};
+            psb_problem_init(&p, 3, expchain_res, NULL, NULL);
+            p.fd_central = central;
+            if (banded) {
+                p.linear = PSB_LINEAR_BANDED;
+                p.kl = 1;
+                p.ku = 0;
+            }
+            CHECK(psb_solver_init(&s, &p, NULL) == PSB_SUCCESS);
+            CHECK(psb_tangent(&s, y, NULL, t[central][banded]) == PSB_SUCCESS);
+            psb_solver_free(&s);
+        }
+    /* the exact tangent: dH/dx lower bidiagonal, diag 3 exp(3 x_i), subdiagonal -1; dH/dg = -1 */
+    {
+        double y[3] = {0.5, 0.2, 0.1}, d[3], ex[4], nrm = 0;
+        for (i = 0; i < 3; i++) d[i] = 3 * exp(3 * y[i]);
+        ex[3] = 1;
+        ex[0] = 1 / d[0];
+        ex[1] = (1 + ex[0]) / d[1];
+        ex[2] = (1 + ex[1]) / d[2];
+        for (i = 0; i < 4; i++) nrm += ex[i] * ex[i];
+        for (i = 0; i < 4; i++) {
+            double e = ex[i] / sqrt(nrm);
+            CHECK_NEAR(fabs(t[1][1][i]), e, 1e-9);  /* central: O(step^2) */
+            CHECK_NEAR(fabs(t[1][0][i]), e, 1e-9);
+            CHECK_NEAR(t[1][1][i], t[1][0][i], 1e-14); /* banded = dense, both ways */
+            CHECK_NEAR(t[0][1][i], t[0][0][i], 1e-14);
+        }
+    }
+}
+
 static void test_user_failures(void)
 {
     pl_problem pl;
@@ -772,6 +821,7 @@ int main(void)
     test_factor_reuse();
     test_singular_block();
     test_backends_agree();
+    test_banded_fd_central();
     test_user_failures();
     test_band_nonfinite();
     test_memory();
