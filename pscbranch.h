@@ -2498,25 +2498,24 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
         }
         for (g = 0; g <= ld; g++) {
             int side;
+            if (g < ld) {
+                for (j = g; j < n; j += ld) {
+                    int c = psb__ycol(s, j);
+                    volatile double probe = y[c] + psb__fd_step(s, c, y[c]);
+                    steps[j] = probe - y[c];
+                }
+            } else {
+                volatile double probe = y[p] + psb__fd_step(s, p, y[p]);
+                steps[0] = probe - y[p];
+            }
             /* side 1: y + steps into hp; side -1 (central): y - steps into res2_ (not res_:
                callers hold H(y) there across this call) */
             for (side = 1; side >= (central ? -1 : 1); side -= 2) {
                 psb__copy(yp, y, s->np1_);
                 if (g < ld) {
-                    for (j = g; j < n; j += ld) {
-                        int c = psb__ycol(s, j);
-                        if (side > 0) {
-                            volatile double probe = y[c] + psb__fd_step(s, c, y[c]);
-                            steps[j] = probe - y[c];
-                        }
-                        yp[c] = y[c] + side * steps[j];
-                    }
+                    for (j = g; j < n; j += ld) yp[psb__ycol(s, j)] += side * steps[j];
                 } else {
-                    if (side > 0) {
-                        volatile double probe = y[p] + psb__fd_step(s, p, y[p]);
-                        steps[0] = probe - y[p];
-                    }
-                    yp[p] = y[p] + side * steps[0];
+                    yp[p] += side * steps[0];
                 }
                 r = psb__residual(s, yp, side > 0 ? hp : s->res2_);
                 if (r != PSB_SUCCESS) return r;
@@ -6180,6 +6179,10 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
 }
 
 #ifdef PSCBRANCH_STDIO
+/* Whether writing to f failed; flushed first: a write the stream still buffers fails only
+   then (a full disk). */
+static int psb__write_failed(FILE *f) { return fflush(f) != 0 || ferror(f); }
+
 static void psb__write_vec(FILE *f, const double *v, int np1, const char *sep)
 {
     int i;
@@ -6220,8 +6223,7 @@ PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
                 psb_edge_end_string(ed->end), (int)ed->result, ed->n_points, ed->length);
     }
     fprintf(f, "\n  ]\n}\n");
-    /* flushed first: a write the stream still buffers fails only then (a full disk) */
-    return fflush(f) || ferror(f) ? PSB_ERR_INPUT : PSB_SUCCESS;
+    return psb__write_failed(f) ? PSB_ERR_INPUT : PSB_SUCCESS;
 }
 
 PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes, FILE *edges)
@@ -6243,7 +6245,7 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
             psb__write_vec(nodes, nd->y, np1, ",");
             fprintf(nodes, "\n");
         }
-        if (fflush(nodes) || ferror(nodes)) return PSB_ERR_INPUT;
+        if (psb__write_failed(nodes)) return PSB_ERR_INPUT;
     }
     if (edges) {
         fprintf(edges, "id,from,from_branch,to,to_branch,end,result,points,length\n");
@@ -6253,7 +6255,7 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
                     ed->to_branch, psb_edge_end_string(ed->end), (int)ed->result, ed->n_points,
                     ed->length);
         }
-        if (fflush(edges) || ferror(edges)) return PSB_ERR_INPUT;
+        if (psb__write_failed(edges)) return PSB_ERR_INPUT;
     }
     return PSB_SUCCESS;
 }
