@@ -16,8 +16,8 @@
    8 n^2 bytes, 1.2 GB at the limit; larger components are refused with a message).
    Prints `FILE contacts=N iterations=K residual=R time=Ts newton=A sweeps=B ipm=C` (K = A + B
    + C, C the interior-point iterations), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at the returned
-   r with u recomputed as W r + q, or the absolute |F_nat(r)| when |q| < 1e-12 (then the line
-   says `residual(abs)=`), then `FILE: solved: ...` with the conditions checked, or `FILE: no
+   r with u recomputed as W r + q, or the absolute |F_nat(r)| when q = 0 (then the line says
+   `residual(abs)=`), then `FILE: solved: ...` with the conditions checked, or `FILE: no
    solution found: why`. --maxit caps the Newton iterations (default 2000) and 20x that the
    NSGS sweeps, per run (see Method). Exits 1 if a problem is not solved, 2 on read errors.
 
@@ -33,7 +33,9 @@
    A problem is proved infeasible without solving when some contact has q_N < 0 and no reaction
    in the cones can raise its u_N (W_cN,eN + mu_e |W_cN,eT| <= 0 for every contact e).
 
-   Method (fc_solve below): W is stored block-sparse (rigid multibody W = H^T M^-1 H has a few
+   Method (fc_solve below): q and r are scaled by the power of two that brings max |q_i| into
+   [1/2, 1) (a problem (W, a q) has the solutions a r), so no answer depends on q's units. W is
+   stored block-sparse (rigid multibody W = H^T M^-1 H has a few
    blocks per row) and split into its coupled components (contacts linked by non-zero blocks),
    each solved on its own: a block-decoupled problem costs the sum of its parts. NSGS sweeps
    (local closed forms, else a 3x3 / 2x2 nonsmooth Newton per contact) make cheap global
@@ -76,6 +78,8 @@
 #define FC_MAX_CONTACTS 1000000
 #define FC_MAX_NNZ 33554432L
 #define FC_MAX_COUPLED 12288
+/* W is rescaled for the solver when its scale is outside [2^-FC_W_BAND, 2^FC_W_BAND] (fc_solve) */
+#define FC_W_BAND 8
 
 /* A problem u = W r + q. W is either dense (W: m x m column-major, as in-memory callers such as
    the tests build it) or, when W is NULL, in compressed sparse columns (Wp[m + 1], Wi, Wx: as
@@ -891,7 +895,8 @@ enum {
 typedef struct {
     int newton, sweeps; /* Newton iterations, NSGS sweeps */
     int ipm;            /* interior-point iterations (restarts) */
-    int absres;         /* 1: err is the absolute |F_nat| (|q| ~ 0) */
+    int absres;         /* 1: err is the absolute |F_nat| (q = 0) */
+    int rho_exp;        /* err is eq. (15) with rho = 2^-rho_exp (0, or W's scale: fc_accept) */
     double err;         /* eq. (15) error at the returned r */
     int verdict;        /* FC_SOLVED, ... */
     int contact;        /* the contact the verdict is about, or -1 */
@@ -2074,7 +2079,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
         for (i = 0; i < m; i++)
             qn += p->q[i] * p->q[i];
         qn = sqrt(qn);
-        st->absres = qn < 1e-12;
+        st->absres = qn < 1e-12; /* q is scaled to max |q_i| in [1/2, 1) (fc_solve) */
         if (st->absres)
             qn = 0.0;
         /* rho ~ 1/W_aa makes rho W ~ 1 per contact (1/max diag when W_aa ~ 0: such a contact's
@@ -2468,10 +2473,10 @@ done:
 }
 
 /* The acceptance test at the returned r (tol = o->tol, eps the machine epsilon, s = |q|, or 1
-   when |q| < 1e-12 and the error is absolute); with u = W r + q and F_nat of eq. (15), r is
-   accepted iff
+   when q = 0 and the error is absolute); with u = W r + q and F_nat of eq. (15), r is accepted iff
      (a) |F_nat(r)| <= tol s                        (the eq. (15) error),
-     (b) 4 eps (|r| + || (1 + mu) (|W| |r| + |q|) ||) <= tol s  (the rounding bound of (a),
+     (b) 4 eps (|r| + || (1 + mu) (|W| |r| + |q|) ||) + m DBL_MIN eps <= tol s  (the rounding
+         bound of (a),
          of u and of uhat = u + mu |u_T| e_N, by contact: a diverging |r| fails here, F_nat then
          rounding to anything; so does a huge mu, which amplifies u_T's rounding),
      (c) u_N >= -((1 + mu) tol s + 4 eps (|W| |r| + |q|)_N) at every contact (feasibility),
@@ -2479,19 +2484,23 @@ done:
    Exact arithmetic makes (a) imply (c) and (d) (r - F in K and uhat - F in K*); they are
    checked because rounding can hide them when |r| is huge, which (b) also catches. Sets
    st->err, floor, rnorm, absres, verdict, contact, value. Returns 0 if out of memory. */
-static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const double *r,
-                     fc_stats *st)
+static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const double *r_given,
+                     int rho_exp, fc_stats *st)
 {
     int m = p->m, d = p->dim, c, k, a, b;
     double *u = malloc((size_t)m * sizeof(double)), *wr = malloc((size_t)m * sizeof(double));
+    double *r = malloc((size_t)m * sizeof(double));
     double qn = 0.0, rn = 0.0, wn = 0.0, s, eps = 4.0 * DBL_EPSILON, worst_u = 0.0, worst_k = 0.0;
     int cu = -1, ck = -1;
-    if (!u || !wr) {
+    if (!u || !wr || !r) {
         free(u);
         free(wr);
+        free(r);
         return 0;
     }
-    bsr_matvec(S, p->q, r, u);
+    bsr_matvec(S, p->q, r_given, u);
+    for (a = 0; a < m; a++) /* r scaled by 1/rho: |F_rho(r)| / (rho |q|) = |F_1(r / rho)| / |q| */
+        r[a] = ldexp(r_given[a], rho_exp);
     for (c = 0; c < S->nc; c++) { /* wr = |W| |r| */
         for (a = 0; a < d; a++)
             wr[c * d + a] = 0.0;
@@ -2499,18 +2508,20 @@ static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const dou
             for (b = 0; b < d; b++)
                 for (a = 0; a < d; a++)
                     wr[c * d + a] += fabs(S->bv[(size_t)k * S->dd + a + d * b]) *
-                                     fabs(r[S->ci[k] * d + b]);
+                                     fabs(r_given[S->ci[k] * d + b]);
     }
     for (a = 0; a < m; a++) { /* wn: the rounding scale of uhat = u + mu |u_T| e_N */
         qn = hypot(qn, p->q[a]);
         rn = hypot(rn, r[a]);
         wn = hypot(wn, (1.0 + p->mu[a / d]) * (wr[a] + fabs(p->q[a])));
     }
-    st->absres = qn < 1e-12;
+    st->absres = qn == 0.0;
+    st->rho_exp = rho_exp;
     s = st->absres ? 1.0 : qn;
     st->err = nat_err(p, r, u, st->absres ? 0.0 : qn);
     st->rnorm = rn;
-    st->floor = eps * (rn + wn) / s;
+    /* m DBL_MIN eps: the absolute rounding of subnormal results (|q| near DBL_MIN) */
+    st->floor = (eps * (rn + wn) + m * (DBL_MIN * DBL_EPSILON)) / s;
     for (c = 0; c < p->nc; c++) {
         const double *rc = r + c * d, *uc = u + c * d;
         double mu = p->mu[c], rt = d == 3 ? hypot(rc[1], rc[2]) : fabs(rc[1]);
@@ -2544,7 +2555,27 @@ static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const dou
     }
     free(u);
     free(wr);
+    free(r);
     return 1;
+}
+
+/* The binary exponent e of W's scale: 2^(e-1) <= max |W_ii| < 2^e, or of max |W_ij| when W's
+   diagonal is zero (0 when W = 0). */
+static int fc_w_exponent(const fc_bsr *S)
+{
+    double wdiag = 0.0, wall = 0.0;
+    int c, a, e = 0;
+    size_t k;
+    for (c = 0; c < S->nc; c++)
+        for (a = 0; S->dg[c] >= 0 && a < S->d; a++) {
+            double x = fabs(S->bv[(size_t)S->dg[c] * S->dd + a * (S->d + 1)]);
+            wdiag = x > wdiag ? x : wdiag;
+        }
+    for (k = 0; k < (size_t)S->nnz * S->dd; k++)
+        wall = fabs(S->bv[k]) > wall ? fabs(S->bv[k]) : wall;
+    if (wdiag > 0.0 || wall > 0.0)
+        (void)frexp(wdiag > 0.0 ? wdiag : wall, &e);
+    return e;
 }
 
 /* Solves p from the reaction r (in/out; zeros are a fine start; non-finite entries are reset to
@@ -2555,22 +2586,70 @@ static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const dou
 static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stats *st)
 {
     fc_bsr S;
-    int rc, i;
+    fc_problem unit = *p;
+    double *qr = malloc(2 * (size_t)p->m * sizeof(double)), qmax = 0.0;
+    int rc, i, e = 0, w_exp, w_shift;
+    size_t k;
     memset(st, 0, sizeof *st);
     st->err = HUGE_VAL;
     st->contact = -1;
     for (i = 0; i < p->m; i++)
         if (!isfinite(r[i]))
             r[i] = 0.0;
-    if (!bsr_build(p, &S)) {
+    if (!qr || !bsr_build(p, &S)) {
+        free(qr);
         bsr_free(&S);
         st->verdict = FC_NO_MEMORY;
         return -1;
     }
+    /* (a W, b q) has the solutions (b / a) r (u = W r + q and the cones are positively
+       homogeneous), so the components are solved with q scaled by the power of two 2^-e that
+       brings max |q_i| into [1/2, 1), and W by 2^-w_shift when its scale 2^w_exp
+       (fc_w_exponent) is outside [2^-FC_W_BAND, 2^FC_W_BAND] (inside, eq. (15) at rho = 1
+       resolves the solver's progress and results are as they always were): exact unless
+       something over- or underflows, and no threshold inside the solver then depends on the
+       units (with |q| = 1e-13 judged absolutely, r = 0 was accepted where r_N = 1e-13 solves; with
+       W ~ 1e-11, a compliance in SI units, the solver stalled at rounding level). fc_accept
+       judges the unscaled r against the problem as given. */
+    for (i = 0; i < p->m; i++)
+        qmax = fabs(p->q[i]) > qmax ? fabs(p->q[i]) : qmax;
+    if (qmax > 0.0)
+        (void)frexp(qmax, &e);
+    w_exp = fc_w_exponent(&S);
+    w_shift = abs(w_exp) > FC_W_BAND ? w_exp : 0;
+    unit.q = qr;
+    for (i = 0; i < p->m; i++) {
+        qr[i] = ldexp(p->q[i], -e);
+        qr[p->m + i] = ldexp(r[i], w_shift - e);
+    }
     i = fc_certify_infeasible(p, &S);
-    rc = i >= 0 ? 1 : fc_solve_components(p, &S, o, r, st);
-    if (rc >= 0 && !fc_accept(p, &S, o->tol, r, st))
+    if (w_shift != 0)
+        for (k = 0; k < (size_t)S.nnz * S.dd; k++)
+            S.bv[k] = ldexp(S.bv[k], -w_shift);
+    rc = i >= 0 ? 1 : fc_solve_components(&unit, &S, o, qr + p->m, st);
+    if (i < 0)
+        for (k = 0; k < (size_t)p->m; k++)
+            r[k] = ldexp(qr[p->m + k], e - w_shift);
+    free(qr);
+    if (w_shift != 0) { /* W as given, for fc_accept */
+        bsr_free(&S);
+        if (!bsr_build(p, &S))
+            rc = -1;
+    }
+    if (rc >= 0 && !fc_accept(p, &S, o->tol, r, 0, st))
         rc = -1;
+    /* At rho = 1, eq. (15) mixes r's units with u's: when |r| >> |q| (W's entries tiny, as a
+       compliance in SI units is) it cannot resolve u, and a solution fails the rounding bound.
+       Then the same test runs with rho = 2^-e, W's scale (e: the exponent of W's largest
+       diagonal entry, or of its largest entry), the residual of the problem rescaled to W ~ 1;
+       a diverging r still fails it. */
+    if (rc >= 0 && i < 0 && st->verdict != FC_SOLVED) {
+        fc_stats st_w = *st;
+        if (w_exp != 0 && !fc_accept(p, &S, o->tol, r, w_exp, &st_w))
+            rc = -1;
+        else if (w_exp != 0 && st_w.verdict == FC_SOLVED)
+            *st = st_w;
+    }
     if (i >= 0) {
         st->verdict = FC_INFEASIBLE;
         st->contact = i;
@@ -2588,8 +2667,14 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
     const char *s = st->absres ? "" : " |q|";
     switch (st->verdict) {
     case FC_SOLVED:
-        snprintf(buf, n, "solved: residual %.3e <= tol %.1e, rounding bound %.1e <= tol, "
-                         "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, st->floor, s);
+        if (st->rho_exp != 0)
+            snprintf(buf, n, "solved: residual %.3e <= tol %.1e with rho = 2^%d (W's scale; at "
+                             "rho = 1 rounding cannot resolve u), rounding bound %.1e <= tol, "
+                             "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, -st->rho_exp,
+                     st->floor, s);
+        else
+            snprintf(buf, n, "solved: residual %.3e <= tol %.1e, rounding bound %.1e <= tol, "
+                             "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, st->floor, s);
         break;
     case FC_MISSED:
         snprintf(buf, n, "no solution found: residual %.3e > tol %.1e (the solver stalled)",

@@ -608,12 +608,12 @@ static void test_infeasible(void)
         memset(&st, 0, sizeof st);
         CHECK(bsr_build(&p, &S));
         CHECK(fc_solve_components(&p, &S, &o, r, &st) >= 0);
-        CHECK(fc_accept(&p, &S, o.tol, r, &st));
+        CHECK(fc_accept(&p, &S, o.tol, r, 0, &st));
         printf("  infeasible reproducer without the proof: |r| = %.3e err %.3e floor %.1e "
                "verdict %d\n", st.rnorm, st.err, st.floor, st.verdict);
         CHECK(st.verdict != FC_SOLVED);
         r[0] = 1.3e96, r[1] = -0.5, r[2] = 0.0; /* u_T = 0; err = 0 by rounding alone */
-        CHECK(fc_accept(&p, &S, o.tol, r, &st));
+        CHECK(fc_accept(&p, &S, o.tol, r, 0, &st));
         CHECK(st.err < 1e-10);
         CHECK(st.verdict == FC_DIVERGED);
         bsr_free(&S);
@@ -911,6 +911,77 @@ static void test_huge_mu(void)
     fc_free(&p);
 }
 
+/* A problem (W, q) scaled to (a W, b q) has the solutions (b / a) r, and fc_solve's answer must
+   not depend on the units: |q| = 1e-13 was judged absolutely (r = 0 accepted where r_N = 1e-13
+   solves), and W ~ 1e-11 (a compliance in SI units) made |r| ~ 1e11 |q|, beyond what eq. (15)
+   at rho = 1 resolves. Each scaled answer, mapped back, must solve the unscaled problem. */
+static void test_scale_invariance(void)
+{
+    static const double scales[][2] = {/* a (W), b (q) */
+                                       {1.0, 1e-13}, {1.0, 1e-300}, {1.0, 1e150}, {1e-11, 1.0},
+                                       {1e-11, 1e-3}, {1e-20, 1e-13}, {1e8, 1e-8}, {1e-200, 1.0}};
+    fcg_instance in;
+    fc_problem p, ps;
+    fc_options o;
+    fc_stats st;
+    double W1[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, q1[3] = {-1e-13, 0.0, 0.0}, mu1 = 0.5, r1[3];
+    size_t k;
+    int i;
+    /* the reproducer: one contact, W = I, q = (-1e-13, 0, 0): r = (1e-13, 0, 0) */
+    p.dim = 3, p.nc = 1, p.m = 3, p.W = W1, p.Wp = p.Wi = NULL, p.Wx = NULL, p.q = q1, p.mu = &mu1;
+    o.tol = 1e-10, o.maxit = 1000, o.verbose = 0;
+    for (k = 0; k < 2; k++) {
+        double a = k ? 1e-20 : 1.0;
+        for (i = 0; i < 3; i++)
+            W1[4 * i] = a;
+        memset(r1, 0, sizeof r1);
+        CHECK(fc_solve(&p, &o, r1, &st) == 0 && !st.absres);
+        CHECK_NEAR(r1[0] * a / 1e-13, 1.0, 1e-12);
+        CHECK(fabs(r1[1]) + fabs(r1[2]) <= 1e-12 * r1[0]);
+        {   /* and r = 0 is not accepted */
+            fc_bsr S;
+            CHECK(bsr_build(&p, &S));
+            memset(r1, 0, sizeof r1);
+            CHECK(fc_accept(&p, &S, o.tol, r1, 0, &st) && st.verdict != FC_SOLVED);
+            bsr_free(&S);
+        }
+    }
+    CHECK(fcg_make(FCG_FLEX3D, 12, 0.3, 1.0, 51, &in));
+    if (!in.W)
+        return;
+    solver_setup(&in, &p, &o);
+    ps = p;
+    ps.W = malloc((size_t)p.m * p.m * sizeof(double));
+    ps.q = malloc((size_t)p.m * sizeof(double));
+    {
+        double *r = calloc((size_t)p.m, sizeof(double)), *back = malloc((size_t)p.m * sizeof(double));
+        CHECK(ps.W && ps.q && r && back);
+        for (k = 0; ps.W && ps.q && r && back && k < sizeof scales / sizeof scales[0]; k++) {
+            double a = scales[k][0], b = scales[k][1];
+            int res;
+            for (i = 0; i < p.m * p.m; i++)
+                ps.W[i] = a * p.W[i];
+            for (i = 0; i < p.m; i++) {
+                ps.q[i] = b * p.q[i];
+                r[i] = 0.0;
+            }
+            res = fc_solve(&ps, &o, r, &st);
+            for (i = 0; i < p.m; i++)
+                back[i] = r[i] * (a / b);
+            printf("  W x %g, q x %g: verdict %d, rho = 2^%d, err %.2e, unscaled err %.2e\n", a, b,
+                   st.verdict, -st.rho_exp, st.err, dense_error(&p, back));
+            CHECK(res == 0);
+            CHECK(dense_error(&p, back) <= 1e-9);
+            check_solution(&p, back, 1e-9, "scaled back");
+        }
+        free(r);
+        free(back);
+    }
+    free(ps.W);
+    free(ps.q);
+    fcg_free(&in);
+}
+
 int main(void)
 {
     test_malformed();
@@ -918,6 +989,7 @@ int main(void)
     test_fclib_validation();
     test_dense_layout();
     test_infeasible();
+    test_scale_invariance();
     test_decoupled_large();
     test_coupled_limit();
     test_huge_mu();
