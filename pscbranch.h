@@ -320,7 +320,11 @@
    reached by a switch, nor along the branch before that one). If nothing lies straight ahead
    (at a sharp turn the region beyond the kink holds no branch), the plane of -t and the tangent
    ahead is swept in switch_n_dir directions at three probe distances, as Algorithm 2.2 does,
-   with trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). At a point
+   with trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). If that
+   finds nothing, both are repeated with any direction that differs from t beyond a tangent's
+   rounding (cosine < 1 - 1e-12): steps also fail at kinks that turn by less than acos(c_diff)
+   when a thin wedge of other pieces lies straight ahead (the corrector cycles between them),
+   and such a kink is no end point. At a point
    where more than two branches meet, the trace continues on one of them: use Algorithms 2.1
    and 2.2 to get them all. Continuation restarts at h_init.
    The tangent switch and the deduplication of branches compare tangents in the weighted norm:
@@ -1120,7 +1124,8 @@ PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h
 /* Simple tangent switch at a couple (y, t) where steps fail (a kink ahead): computes the
    tangent t~ at y + delta t for delta = switch_delta_min, 2 delta, ... <= switch_delta_max and,
    once t~ differs from t (cosine < c_diff), tries steps from y along +t~ then -t~, accepting a
-   new couple that does not go back along the incoming branch.
+   new couple that does not go back along the incoming branch; then the sweep, then both again
+   for any t~ that differs from t beyond rounding (section 6).
    Returns PSB_SUCCESS (y, t updated), PSB_NONSMOOTH_END (nothing found; y, t untouched), or
    a failure (y, t untouched), also when a probe or trial failed because of a fault (section 3). */
 PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t);
@@ -3482,22 +3487,22 @@ static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const dou
     return PSB_NONSMOOTH_END;
 }
 
-/* t_before (may be NULL): the tangent before the previous kink when (y, t) was itself reached
-   by a switch with no regular step since: a continuation that reverses it goes back too. */
-static psb_result psb__switch(psb_solver *s, double *y, double *t, const double *t_before)
+/* One pass of the tangent switch: directions whose cosine with t is below c_sw (|cosine| in
+   the sweep). PSB_SUCCESS, PSB_NONSMOOTH_END (faults noted), or a fatal code. */
+static psb_result psb__switch_pass(psb_solver *s, double *y, double *t, const double *t_before,
+                                   double c_sw)
 {
     int np1 = s->np1_, i, k, pass;
     double *dir = PSB__VEC(s, PSB__V_SW_D), *probe = PSB__VEC(s, PSB__V_SW_P);
     double *t1 = PSB__VEC(s, PSB__V_SW_A), *q = PSB__VEC(s, PSB__V_SW_B), delta;
     psb_result r;
-    psb__faults_reset(s);
     /* the simple tangent switch: probe straight ahead */
     for (delta = s->opt.switch_delta_min; delta <= s->opt.switch_delta_max; delta *= 2) {
         psb__axpy_to(probe, y, delta, t, np1);
         r = psb__tangent(s, probe, t, dir);
         if (psb__is_fatal(r)) return r;
         psb__note_fault(s, r);
-        if (r != PSB_SUCCESS || psb__cos_w(s, dir, t) >= s->opt.c_diff) continue;
+        if (r != PSB_SUCCESS || psb__cos_w(s, dir, t) >= c_sw) continue;
         r = psb__switch_try(s, y, t, t_before, dir, s->opt.h_min);
         if (r != PSB_NONSMOOTH_END) return r;
     }
@@ -3525,13 +3530,31 @@ static psb_result psb__switch(psb_solver *s, double *y, double *t, const double 
                 r = psb__tangent(s, probe, PSB__VEC(s, PSB__V_SW_C), dir);
                 if (psb__is_fatal(r)) return r;
                 psb__note_fault(s, r);
-                if (r != PSB_SUCCESS || fabs(psb__cos_w(s, dir, t)) >= s->opt.c_diff) continue;
+                if (r != PSB_SUCCESS || fabs(psb__cos_w(s, dir, t)) >= c_sw) continue;
                 /* steps much shorter than the probe distance see only the kink itself */
                 r = psb__switch_try(s, y, t, t_before, dir, fmax(s->opt.h_min, delta / 64));
                 if (r != PSB_NONSMOOTH_END) return r;
             }
         }
     }
+    return PSB_NONSMOOTH_END;
+}
+
+/* t_before (may be NULL): the tangent before the previous kink when (y, t) was itself reached
+   by a switch with no regular step since: a continuation that reverses it goes back too. */
+static psb_result psb__switch(psb_solver *s, double *y, double *t, const double *t_before)
+{
+    psb_result r;
+    psb__faults_reset(s);
+    r = psb__switch_pass(s, y, t, t_before, s->opt.c_diff);
+    /* Steps fail at a kink whose turn is below acos(c_diff) too: where a thin wedge of other
+       selections lies straight ahead, the corrector cycles between them. The probes' tangents
+       then differ from t by less than c_diff, and the pass above tries none of them. Before
+       calling the point an end, try every direction that differs from t at all (beyond the
+       rounding of a tangent). */
+    if (r == PSB_NONSMOOTH_END && s->opt.c_diff < 1 - 1e-12)
+        r = psb__switch_pass(s, y, t, t_before, 1 - 1e-12);
+    if (r != PSB_NONSMOOTH_END) return r;
     /* nothing found: an end point only if no probe or trial failed because of a fault */
     r = psb__faults_code(s, "tangent switch");
     if (r != PSB_SUCCESS) return r;

@@ -329,6 +329,88 @@ static void test_sharp_turn(int no_sweep)
     psb_solver_free(&s);
 }
 
+/* A fold that is a kink of small turn (below acos(c_diff) = 4.5e-3 rad) where ordinary steps
+   fail: H is positively homogeneous about the origin, linear on seven sectors; the curve comes
+   in along t1 = (-cos(a/2), sin(a/2)) and leaves along t2 = (-cos(a/2), -sin(a/2)) (a fold in
+   y[1]). Between them lies a thin wedge of two sectors whose zero lines each point into the
+   other, so the corrector cycles between them at every h and the steps fail; the tangent switch
+   then saw only tangents within c_diff of t and ended the trace there (0.10.0). Local angle phi
+   is measured from t1's direction. */
+typedef struct {
+    double ang[8], gx[7], gy[7], psi;
+} wedge_kink;
+static void wedge_setup(wedge_kink *w, double turn)
+{
+    double k = turn / 2.7e-3, pi = 3.141592653589793;
+    double a[8] = {-pi / 2, -1e-3 * k, 1e-3 * k, 2.5e-3 * k, turn, pi / 2, pi, 1.5 * pi};
+    double v[8] = {-1, -3e-3 * k, -1e-3 * k, -3e-3 * k, 0, 1, 0, -1};
+    int i;
+    for (i = 0; i < 8; i++) w->ang[i] = a[i];
+    for (i = 0; i < 7; i++) { /* g . (cos a_i, sin a_i) = v_i at both rays of the sector */
+        double c0 = cos(a[i]), s0 = sin(a[i]), c1 = cos(a[i + 1]), s1 = sin(a[i + 1]);
+        double det = c0 * s1 - s0 * c1;
+        w->gx[i] = (v[i] * s1 - v[i + 1] * s0) / det;
+        w->gy[i] = (c0 * v[i + 1] - c1 * v[i]) / det;
+    }
+    w->psi = pi - turn / 2; /* the world angle of t1 */
+}
+static void wedge_grad(const wedge_kink *w, const double *y, double g[2])
+{
+    double lx = cos(w->psi) * y[0] + sin(w->psi) * y[1], ly = -sin(w->psi) * y[0] + cos(w->psi) * y[1];
+    double phi = atan2(ly, lx);
+    int i = 0;
+    if (phi < -3.141592653589793 / 2) phi += 2 * 3.141592653589793;
+    while (i < 6 && phi > w->ang[i + 1]) i++;
+    g[0] = w->gx[i] * cos(w->psi) - w->gy[i] * sin(w->psi);
+    g[1] = w->gx[i] * sin(w->psi) + w->gy[i] * cos(w->psi);
+}
+static int wedge_res(const double *y, double *h, void *u)
+{
+    double g[2];
+    wedge_grad((const wedge_kink *)u, y, g);
+    h[0] = g[0] * y[0] + g[1] * y[1];
+    return 0;
+}
+static int wedge_jac(const double *y, double *j, int ld, void *u)
+{
+    double g[2];
+    wedge_grad((const wedge_kink *)u, y, g);
+    j[0] = g[0];
+    j[ld] = g[1];
+    return 0;
+}
+
+static void test_small_turn_fold_kink(double turn, int paper)
+{
+    wedge_kink w;
+    psb_problem p;
+    psb_options o;
+    psb_solver s;
+    psb_trace_options to;
+    psb_trace_report rep;
+    double y[2], t[2], len;
+    psb_result r;
+    wedge_setup(&w, turn);
+    memset(&o, 0, sizeof o);
+    if (paper) o.h_init = 5e-4, o.h_min = 5e-7;
+    psb_problem_init(&p, 1, wedge_res, wedge_jac, &w);
+    CHECK(psb_solver_init(&s, &p, &o) == PSB_SUCCESS);
+    y[0] = -0.5 * cos(w.psi), y[1] = -0.5 * sin(w.psi); /* 0.5 before the kink, towards it */
+    t[0] = cos(w.psi), t[1] = sin(w.psi);
+    memset(&to, 0, sizeof to);
+    to.max_steps = paper ? 3000 : 200;
+    r = psb_trace(&s, y, t, &to, &rep);
+    printf("  small-turn fold-kink, turn %.1e%s: %s, %d switches, |y| %.3e\n", turn,
+           paper ? " (paper's h)" : "", psb_result_string(r), rep.n_switches, hypot(y[0], y[1]));
+    CHECK(r == PSB_STEP_BUDGET);
+    CHECK(rep.n_switches >= 1);
+    /* out along t2 (world angle psi + turn), well past the kink */
+    len = hypot(y[0], y[1]);
+    CHECK(len > 0.1);
+    CHECK(fabs(y[0] / len - cos(w.psi + turn)) + fabs(y[1] / len - sin(w.psi + turn)) < 1e-9);
+    psb_solver_free(&s);
+}
+
 /* V-shaped nonsmooth fold: g = 1 - |x1|, x2 = 2 x1; g rises to 1 at x1 = 0, then falls */
 static int vfold_res(const double *y, double *h, void *u)
 {
@@ -1554,6 +1636,10 @@ int main(void)
     test_nonsmooth_fold();
     test_sharp_turn(1);
     test_sharp_turn(0);
+    test_small_turn_fold_kink(2.7e-3, 0);
+    test_small_turn_fold_kink(2.7e-3, 1);
+    test_small_turn_fold_kink(1e-3, 1);
+    test_small_turn_fold_kink(1e-2, 0); /* above acos(c_diff): the first pass */
     test_pl_branching();
     test_random_lcp_batch();
     test_sweep_length();
