@@ -27,9 +27,11 @@
    rounding bound) at every contact and (d) r is in K to (1 + mu) tol s. Exact arithmetic makes
    (a) imply (c) and (d); at a huge |r| rounding does not (issue 20: r_N = 1.3e96 gave an error
    of 9.5e-11 on a problem without solution), so a diverging r fails (b) and is reported as such.
-   (b) also fails when |r| > ~1e5 |q| at tol 1e-10 on a feasible but badly scaled problem: the
-   eq. (15) residual (rho = 1) computes r - P_K(r - uhat), which cannot resolve uhat below
-   eps |r|; such a problem needs W (or r) rescaled, and is reported as not solved.
+   (b) also fails when |r| > ~1e5 |q| at tol 1e-10 on a feasible problem whose W is tiny (a
+   compliance in SI units): the eq. (15) residual (rho = 1) computes r - P_K(r - uhat), which
+   cannot resolve uhat below eps |r|. Then (a)-(d) are checked again with rho = 1 / W's scale
+   (the power of two nearest its largest diagonal entry), which is eq. (15) for the problem
+   rescaled to W ~ 1; the verdict names that rho. A diverging r fails both.
    A problem is proved infeasible without solving when some contact has q_N < 0 and no reaction
    in the cones can raise its u_N (W_cN,eN + mu_e |W_cN,eT| <= 0 for every contact e).
 
