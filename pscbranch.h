@@ -1521,7 +1521,11 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    psb_branch_point_switch (smooth branch points) give the branches, whose new ones join the
    queue; a branching point within node_tol of a known node, or a trace's chord passing that
    close to one, arrives at that node, and the branch arrived by is marked traced, so nothing
-   is traced twice. d is reset first and holds the graph (every node's and edge's index is the
+   is traced twice (a trace passing a known node adds the way on as a branch of it when the
+   branch is new, taken from its first point past the node). A branch whose couple from
+   Algorithm 2.2 lies beyond a parameter bound (its node is within a branching radius of the
+   bound) ends on the bound: an edge of no points to a bound node, Newton's solution at the
+   bound from the chord. d is reset first and holds the graph (every node's and edge's index is the
    order it was made in). eo may be NULL. Same inputs and seed, same diagram, bit for bit. No
    allocation; s's scratch is used (not from a point callback). Returns PSB_SUCCESS (the queue
    emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a node ran out: what fits is
@@ -5979,7 +5983,7 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
     psb_edge *ed;
     psb_trace_options to = x->eo->trace;
     psb_trace_report rep;
-    int np1 = s->np1_, e, resume;
+    int np1 = s->np1_, e, resume, p = s->prob.param_index, i;
     double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
     psb_result r;
     if (d->n_edges == d->max_edges) {
@@ -5996,6 +6000,23 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
     psb__copy(y, nf->ys + (size_t)k * (size_t)np1, np1);
     psb__copy(t, nf->ts + (size_t)k * (size_t)np1, np1);
     ed->length = psb__dist_w(s, nf->y, y);
+    if (to.param_min < to.param_max && (!(y[p] >= to.param_min) || !(y[p] <= to.param_max))) {
+        /* The branching landed beyond a bound (the node lies within a branching radius of it):
+           the branch ends on the bound, at Newton's solution there from the chord. */
+        double b = y[p] < to.param_min ? to.param_min : to.param_max;
+        double a = (b - nf->y[p]) / (y[p] - nf->y[p]);
+        for (i = 0; i < np1; i++) y[i] = nf->y[i] + a * (y[i] - nf->y[i]);
+        y[p] = b;
+        r = psb_solve_at_param(s, y, 0);
+        ed->result = r == PSB_SUCCESS ? PSB_PARAM_BOUND : r;
+        ed->length = psb__dist_w(s, nf->y, y);
+        if (r == PSB_SUCCESS) {
+            psb__explore_end(x, e, PSB_EDGE_BOUND, PSB_NODE_BOUND, y);
+            return PSB_SUCCESS;
+        }
+        psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
+        return psb__is_fatal(r) ? r : PSB_SUCCESS;
+    }
     to.on_point = psb__explore_point;
     to.point_user = x;
     to.detect_loop = 1;
@@ -6044,12 +6065,15 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
             double c = psb__cos_w(s, t, nd->ts + (size_t)kb * (size_t)np1);
             if (c > best_cos) { best_cos = c; best = kb; }
         }
-        if (best < 0 || (best_cos < s->opt.c_diff && best_cos < s->opt.c_min)) {
+        /* only from a point past the node: a tangent at the node itself (a trace landing on a
+           PC1 point) is some piece's and need not point along any branch */
+        if ((best < 0 || (best_cos < s->opt.c_diff && best_cos < s->opt.c_min)) &&
+            psb__dist_w(s, y, nd->y) > x->node_tol + 4 * nd->precision) {
             if (nd->n_branches == d->max_branches) {
                 d->truncated = 1;
             } else {
                 kb = nd->n_branches++;
-                psb__copy(nd->ys + (size_t)kb * (size_t)np1, nd->y, np1);
+                psb__copy(nd->ys + (size_t)kb * (size_t)np1, y, np1);
                 psb__copy(nd->ts + (size_t)kb * (size_t)np1, t, np1);
                 nd->branch_edge[kb] = -1;
             }

@@ -862,6 +862,100 @@ static void test_audit_regressions(void)
     psb_solver_free(&s);
 }
 
+/* H_i = min(x_i, (M x + phi(g) (1, 1))_i), M = [-1 2; 2 -1], y = (x1, x2, g). With phi = g
+   (examples/02_explore.c) one PC1 point at the origin, where x = 0, x = phi (1, 0) and
+   x = phi (0, 1) (g > 0) and x = -phi (1, 1) (g < 0) meet. With the tent phi = min(g, 1 - g)
+   a second PC1 point at g = 1 joins the first by the three curves x = 0, phi (1, 0) and
+   phi (0, 1); x = -phi (1, 1) leaves each towards its bound. */
+static int tent_phi;
+static double tent_value(double g) { return tent_phi ? (g < 1 - g ? g : 1 - g) : g; }
+static int tent_residual(const double *y, double *h, void *u)
+{
+    int i;
+    (void)u;
+    for (i = 0; i < 2; i++) {
+        double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + tent_value(y[2]);
+        h[i] = y[i] <= w ? y[i] : w;
+    }
+    return 0;
+}
+static int tent_jacobian(const double *y, double *jac, int ld, void *u)
+{
+    int i, j;
+    (void)u;
+    for (i = 0; i < 2; i++) {
+        double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + tent_value(y[2]);
+        for (j = 0; j < 3; j++) jac[i + j * ld] = 0;
+        if (y[i] <= w) {
+            jac[i + i * ld] = 1;
+        } else {
+            jac[i] = i ? 2 : -1;
+            jac[i + ld] = i ? -1 : 2;
+            jac[i + 2 * ld] = tent_phi && y[2] > 0.5 ? -1 : 1;
+        }
+    }
+    return 0;
+}
+
+/* Explores from (0.5, 0.5, -0.5) in g in [-1, g_max]; counts nodes by kind and checks every
+   node solves H and every bound node lies on the bound. */
+static void explore_tent(int tent, double g_max, int want_pc1, int want_bound, int want_edges)
+{
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    double y[3] = {0.5, 0.5, -0.5}, t[3] = {-1, -1, 1};
+    int i, n_pc1 = 0, n_bound = 0, n_other = 0, ok_nodes = 1;
+    psb_result r;
+    tent_phi = tent;
+    psb_problem_init(&prob, 2, tent_residual, tent_jacobian, NULL);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 2, 32, 32, 8) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = g_max;
+    r = psb_explore(&s, y, t, &eo, &d);
+    for (i = 0; i < d.n_nodes; i++) {
+        const psb_node *nd = d.nodes + i;
+        double h[2];
+        tent_residual(nd->y, h, NULL);
+        ok_nodes &= fabs(h[0]) + fabs(h[1]) <= 1e-10;
+        if (nd->kind == PSB_NODE_PC1 || nd->kind == PSB_NODE_NONSMOOTH) {
+            n_pc1++;
+            ok_nodes &= nd->n_branches == 4;
+        } else if (nd->kind == PSB_NODE_BOUND) {
+            n_bound++;
+            ok_nodes &= nd->y[2] == -1 || nd->y[2] == g_max;
+        } else if (nd->kind != PSB_NODE_START) {
+            n_other++;
+        }
+    }
+    printf("  %s, g <= %g: %s, %d nodes (%d PC1, %d bound, %d other), %d edges\n",
+           tent ? "two PC1 points" : "one PC1 point", g_max, psb_result_string(r), d.n_nodes, n_pc1,
+           n_bound, n_other, d.n_edges);
+    CHECK(r == PSB_SUCCESS && d.n_failed == 0 && d.n_queued == 0 && !d.truncated);
+    CHECK(n_pc1 == want_pc1 && n_bound == want_bound && n_other == 0);
+    CHECK(d.n_edges == want_edges);
+    CHECK(ok_nodes);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+/* Found by an audit (0.11.0): a trace that landed exactly on a known PC1 point added the
+   tangent there (some piece's, pointing nowhere) as a new branch, so the curves between the
+   two points were traced three times, with spurious folds (9 nodes, 10 edges for 5 and 6);
+   a branch point within a branching radius of a bound made Algorithm 2.2's branches start
+   beyond it, and psb_explore failed (PSB_ERR_INPUT) instead of ending them on the bound. */
+static void test_pc1_points_and_bounds(void)
+{
+    explore_tent(1, 2.0, 2, 2, 6);
+    explore_tent(0, 0.01, 1, 4, 5);
+    explore_tent(0, 2.0, 1, 4, 5);
+    explore_tent(1, 1.0005, 2, 2, 6);
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -875,6 +969,7 @@ int main(void)
     test_bad_input();
     test_callback_failure();
     test_audit_regressions();
+    test_pc1_points_and_bounds();
     test_determinism();
     test_output();
     return HARNESS_END();
