@@ -5983,7 +5983,7 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
     psb_edge *ed;
     psb_trace_options to = x->eo->trace;
     psb_trace_report rep;
-    int np1 = s->np1_, e, resume, p = s->prob.param_index, i;
+    int np1 = s->np1_, e, resume, p = s->prob.param_index;
     double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
     psb_result r;
     if (d->n_edges == d->max_edges) {
@@ -6003,11 +6003,7 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
     if (to.param_min < to.param_max && (!(y[p] >= to.param_min) || !(y[p] <= to.param_max))) {
         /* The branching landed beyond a bound (the node lies within a branching radius of it):
            the branch ends on the bound, at Newton's solution there from the chord. */
-        double b = y[p] < to.param_min ? to.param_min : to.param_max;
-        double a = (b - nf->y[p]) / (y[p] - nf->y[p]);
-        for (i = 0; i < np1; i++) y[i] = nf->y[i] + a * (y[i] - nf->y[i]);
-        y[p] = b;
-        r = psb_solve_at_param(s, y, 0);
+        r = psb__land_on_bound(s, nf->y, y, y[p] < to.param_min ? to.param_min : to.param_max);
         ed->result = r == PSB_SUCCESS ? PSB_PARAM_BOUND : r;
         ed->length = psb__dist_w(s, nf->y, y);
         if (r == PSB_SUCCESS) {

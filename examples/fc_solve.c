@@ -2645,11 +2645,11 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
        Then the same test runs with rho = 2^-e, W's scale (e: the exponent of W's largest
        diagonal entry, or of its largest entry), the residual of the problem rescaled to W ~ 1;
        a diverging r still fails it. */
-    if (rc >= 0 && i < 0 && st->verdict != FC_SOLVED) {
+    if (rc >= 0 && i < 0 && st->verdict != FC_SOLVED && w_exp != 0) {
         fc_stats st_w = *st;
-        if (w_exp != 0 && !fc_accept(p, &S, o->tol, r, w_exp, &st_w))
+        if (!fc_accept(p, &S, o->tol, r, w_exp, &st_w))
             rc = -1;
-        else if (w_exp != 0 && st_w.verdict == FC_SOLVED)
+        else if (st_w.verdict == FC_SOLVED)
             *st = st_w;
     }
     if (i >= 0) {
