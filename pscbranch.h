@@ -336,7 +336,11 @@
    before the kink.
    Kinks (locate_kinks): a smooth turn halves with the step, a kink does not. After a step whose
    tangents differ by more than c_diff, a half step tells the two apart; a kink is then located
-   by bisection to h_min and reported (the trace continues past it unless told to stop).
+   by bisection to h_min and, with an analytic dH, confirmed by a step of 2 h_min across it,
+   which turns by the whole angle at a kink and next to nothing on a smooth curve (where the
+   curvature grows from near 0 across the step, the half step turns by only 1/4 of the whole
+   and looks like a kink); then it is reported (the trace continues past it unless told to
+   stop).
    Bounds: a step that crosses a bound is replaced by Newton at the bound (psb_solve_at_param
    from the chord), so the last point lies exactly on it.
    Algorithm 2.1 as in the paper, except that after a successful move the same h is tried again
@@ -361,6 +365,15 @@
      trial pointed at (near a nonsmooth point the corrector often crosses into a neighbouring
      piece). Trial steps give up below trial_h_min: near y0 the solution set is, to
      first order, a cone, so a trial rejected at h is rejected at h/2 as well.
+   - Curved branches. A trial lands anywhere from h to h_init away from y0, and over that
+     distance a branch of curvature kappa turns its tangent by kappa h_init, beyond c_diff's
+     angle for kappa > 0.5 at the defaults: the tangent test alone takes the incoming branch,
+     met again, for a new one. So a landing point whose tangent misses a found branch's by
+     less than c_diff's angle plus 4 (a + a_j), a and a_j how far each point's chord from
+     y0 leaves its tangent (kappa d / 2 at distance d; 0 on straight branches, which skip
+     this), is compared where the branches cross the sphere through it around y0: Newton on
+     that sphere from y0 along the found branch's chord lands on the found branch's crossing,
+     the landing point itself when the two are one (within c_diff's angle seen from y0).
    - Sweep. The directions v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1
      (and of its norm): the same plane, swept evenly. As printed (paper_sweep = 1), two nearly
      parallel spanning tangents bunch the n_dir directions around them and leave most of the
@@ -1525,7 +1538,9 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    branch is new, taken from its first point past the node). A branch whose couple from
    Algorithm 2.2 lies beyond a parameter bound (its node is within a branching radius of the
    bound) ends on the bound: an edge of no points to a bound node, Newton's solution at the
-   bound from the chord. d is reset first and holds the graph (every node's and edge's index is the
+   bound from the chord. A fold an edge meets within node_tol of the branching node it leaves
+   or ends at is that node (difference quotients mix the pieces there and can flip the
+   tangent's parameter component) and gets no node of its own. d is reset first and holds the graph (every node's and edge's index is the
    order it was made in). eo may be NULL. Same inputs and seed, same diagram, bit for bit. No
    allocation; s's scratch is used (not from a point callback). Returns PSB_SUCCESS (the queue
    emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a node ran out: what fits is
@@ -3692,6 +3707,21 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
         }
         hs = half;
     }
+    /* Confirmed across it: a kink turns a step of 2 h_min from ya by about theta, a smooth
+       turn by theta 2 h_min / h. The half-step test alone calls a smooth turn a kink where
+       the curvature grows from near 0 across the step (then the half step turns by 1/4 of
+       the whole), and a located "kink" on a smooth branch stops a trace before nothing.
+       Not with difference quotients: next to a kink they mix its pieces, the step's tangent
+       is off by as much, and the test then passes kinks by (random LCPs, N = 10: 2 of 254
+       entries more ended short of their branching point) */
+    if (!psb__fd_jacobian(&s->prob)) {
+        psb__copy(yt, ya, np1);
+        psb__copy(tt, ta, np1);
+        trial = 2 * s->opt.h_min;
+        r = psb__try_step(s, yt, tt, &trial, trial, &iters);
+        if (psb__is_fatal(r) || psb__is_fault(r)) return r;
+        if (r == PSB_SUCCESS && psb__angle_w(s, ta, tt) < 0.25 * theta) return 0;
+    }
     s->message[0] = 0;
     return 1;
 }
@@ -4823,6 +4853,48 @@ static void psb__store_add(const psb_solver *s, double *store, int *count, const
     (*count)++;
 }
 
+/* Step 5(ii) on a curved branch: whether the landing point yb (tangent tb there) lies on
+   found branch j although tb and ts_j differ by more than c_diff. Over a distance d a branch
+   of curvature kappa turns its tangent by kappa d, and the chord from y0 leaves the tangent at
+   its far end by about kappa d / 2 =: a. Tangents taken at different distances from y0 can so
+   differ by up to 2 (a_b + a_j), and the trial's landing point lies anywhere from h to h_init
+   away: c_diff alone makes two branches of one. Within 4 (a_b + a_j) beyond c_diff's angle
+   the crossings of the sphere ||y - y0||_w = d = ||yb - y0||_w decide, as in
+   psb_branch_point_switch: Newton on it from y0 + d u_j (u_j the chord to ys_j, ts_j when
+   ys_j = y0) lands where branch j crosses it, which is yb when they are one branch (within
+   d sqrt(2 (1 - c_diff))). Straight branches (chord along the tangent) skip the test, so
+   piecewise-linear problems keep their results and cost. Returns 1 (same), 0, or a fatal
+   code (< 0). */
+static int psb__same_curved_branch(psb_solver *s, const double *y0, const double *yb, const double *tb,
+                                   const double *ysj, const double *tsj)
+{
+    int np1 = s->np1_, k;
+    double *z = PSB__VEC(s, PSB__V_BR_S), d = psb__dist_w(s, yb, y0), dj = psb__dist_w(s, ysj, y0);
+    double a_b, a_j = 0, gap, turn = acos(s->opt.c_diff);
+    psb_result r;
+    if (!(d > 0)) return 0;
+    for (k = 0; k < np1; k++) z[k] = (yb[k] - y0[k]) / d;
+    a_b = acos(fmin(1, fabs(psb__cos_w(s, z, tb))));
+    if (dj > 0.5 * s->branch.h) {
+        for (k = 0; k < np1; k++) z[k] = (ysj[k] - y0[k]) / dj;
+        a_j = acos(fmin(1, fabs(psb__cos_w(s, z, tsj))));
+    } else {
+        psb__copy(z, tsj, np1);
+        psb__normalize_w(s, z);
+    }
+    gap = acos(fmax(-1, fmin(1, psb__cos_w(s, tb, tsj))));
+    if (!(gap <= turn + 4 * (a_b + a_j))) return 0;
+    for (k = 0; k < np1; k++) z[k] = y0[k] + d * z[k];
+    r = psb__newton_on(s, z, NULL, y0, NULL, d);
+    if (psb__is_fatal(r)) return r;
+    if (r != PSB_SUCCESS) {
+        /* a fault leaves the verdict open: the reported set may hold one branch twice */
+        if (r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE) psb__note_fault(s, r);
+        return 0;
+    }
+    return psb__dist_w(s, z, yb) <= d * sqrt(2 * (1 - s->opt.c_diff));
+}
+
 /* Steps 5-7 of Algorithm 2.2 for the tangent tt: trial steps from y0 along +tt and -tt, and
    a new branch for each that converges away from y0 in a direction no known branch has.
    Skipped when tt was tried before in this call (memo). Stops before a trial when the n_pc
@@ -4924,6 +4996,12 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         /* Step 5(ii): a new branch unless it is within c_diff of a known one */
         for (j = 0; j < rep->n_branches; j++)
             if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
+        for (j = 0; j < rep->n_branches && is_new; j++) {
+            int same = psb__same_curved_branch(s, y0, yb, tb, ys + (size_t)j * (size_t)np1,
+                                               ts + (size_t)j * (size_t)np1);
+            if (same < 0) return (psb_result)same;
+            is_new = !same;
+        }
         if (!is_new) continue;
         if (rep->n_branches >= max_branches) {
             *overflow = 1;
@@ -5972,10 +6050,8 @@ static int psb__explore_point(const psb_point *pt, void *user)
     return 0;
 }
 
-/* Traces branch k of node `from` as a new edge, to its end. Returns PSB_SUCCESS (the edge
-   ended, however), PSB_BRANCH_CAPACITY (edges or nodes ran out), PSB_STEP_BUDGET (the point
-   budget), PSB_STOPPED, or a fatal failure. */
-static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
+/* Traces branch k of node `from` as a new edge, to its end (psb__explore_edge). */
+static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
 {
     psb_solver *s = x->s;
     psb_diagram *d = x->d;
@@ -6117,6 +6193,41 @@ static const char *psb__check_explore(const psb_explore_options *eo, int np1)
     for (i = 0; eo->box_min && i < np1; i++)
         if (!(eo->box_min[i] <= eo->box_max[i])) return "need box_min <= box_max (no NaN)";
     return NULL;
+}
+
+static int psb__is_branching_node(psb_node_kind kind)
+{
+    return kind == PSB_NODE_NONSMOOTH || kind == PSB_NODE_BRANCH || kind == PSB_NODE_PC1;
+}
+
+/* Traces branch k of node `from` as a new edge, to its end. Returns PSB_SUCCESS (the edge
+   ended, however), PSB_BRANCH_CAPACITY (edges or nodes ran out), PSB_STEP_BUDGET (the point
+   budget), PSB_STOPPED, or a fatal failure.
+   A fold the edge met within tolerance of the branching node it leaves or ends at is that
+   node, not a fold of the edge, and is dropped: with difference quotients the tangent's
+   parameter component can change sign within a step of a nonsmooth point, where the pieces
+   mix (an analytic dH reports none there), and a turn at the node itself is the node's. */
+static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
+{
+    psb_diagram *d = x->d;
+    int first = d->n_nodes, e = d->n_edges, j, i;
+    psb_result r = psb__explore_edge_trace(x, from, k);
+    if (d->n_edges == e) return r; /* no edge: capacity */
+    for (j = d->n_nodes - 1; j >= first; j--) {
+        psb_node *nd = d->nodes + j, moved;
+        const psb_edge *ed = d->edges + e;
+        int at_to = ed->to >= 0 && ed->to != j && psb__is_branching_node(d->nodes[ed->to].kind);
+        if (nd->kind != PSB_NODE_FOLD || nd->edge != e) continue;
+        if (!(psb__is_branching_node(d->nodes[from].kind) && psb__explore_near(x, d->nodes + from, nd->y, nd->precision)) &&
+            !(at_to && psb__explore_near(x, d->nodes + ed->to, nd->y, nd->precision)))
+            continue;
+        /* the later nodes move down; the node's storage moves to the free end */
+        moved = *nd;
+        for (i = j; i < d->n_nodes - 1; i++) d->nodes[i] = d->nodes[i + 1];
+        d->nodes[--d->n_nodes] = moved;
+        if (d->edges[e].to > j) d->edges[e].to--;
+    }
+    return r;
 }
 
 PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,

@@ -866,9 +866,18 @@ static void test_audit_regressions(void)
    (examples/02_explore.c) one PC1 point at the origin, where x = 0, x = phi (1, 0) and
    x = phi (0, 1) (g > 0) and x = -phi (1, 1) (g < 0) meet. With the tent phi = min(g, 1 - g)
    a second PC1 point at g = 1 joins the first by the three curves x = 0, phi (1, 0) and
-   phi (0, 1); x = -phi (1, 1) leaves each towards its bound. */
+   phi (0, 1); x = -phi (1, 1) leaves each towards its bound. The parabola phi = g (1 - g)
+   gives the same diagram with curved branches. */
+enum { TENT_LINEAR, TENT_TENT, TENT_PARABOLA };
 static int tent_phi;
-static double tent_value(double g) { return tent_phi ? (g < 1 - g ? g : 1 - g) : g; }
+static double tent_value(double g)
+{
+    return tent_phi == TENT_TENT ? (g < 1 - g ? g : 1 - g) : tent_phi == TENT_PARABOLA ? g * (1 - g) : g;
+}
+static double tent_slope(double g)
+{
+    return tent_phi == TENT_TENT ? (g > 0.5 ? -1 : 1) : tent_phi == TENT_PARABOLA ? 1 - 2 * g : 1;
+}
 static int tent_residual(const double *y, double *h, void *u)
 {
     int i;
@@ -891,26 +900,32 @@ static int tent_jacobian(const double *y, double *jac, int ld, void *u)
         } else {
             jac[i] = i ? 2 : -1;
             jac[i + ld] = i ? -1 : 2;
-            jac[i + 2 * ld] = tent_phi && y[2] > 0.5 ? -1 : 1;
+            jac[i + 2 * ld] = tent_slope(y[2]);
         }
     }
     return 0;
 }
 
-/* Explores from (0.5, 0.5, -0.5) in g in [-1, g_max]; counts nodes by kind and checks every
-   node solves H and every bound node lies on the bound. */
-static void explore_tent(int tent, double g_max, int want_pc1, int want_bound, int want_edges)
+/* Explores from x = -phi(-1/2) (1, 1), g = -1/2, in g in [-1, g_max] (fd: difference
+   quotients for dH); counts nodes by kind and checks every node solves H and every bound
+   node lies on the bound. */
+static void explore_tent(int phi, int fd, double g_max, int want_pc1, int want_bound, int want_edges)
 {
+    static const char *const names[] = {"one PC1 point", "two PC1 points", "two PC1 points, curved"};
     psb_problem prob;
     psb_options o = pl_options();
     psb_solver s;
     psb_diagram d;
     psb_explore_options eo;
-    double y[3] = {0.5, 0.5, -0.5}, t[3] = {-1, -1, 1};
+    double y[3], t[3];
     int i, n_pc1 = 0, n_bound = 0, n_other = 0, ok_nodes = 1;
     psb_result r;
-    tent_phi = tent;
-    psb_problem_init(&prob, 2, tent_residual, tent_jacobian, NULL);
+    tent_phi = phi;
+    y[0] = y[1] = -tent_value(-0.5);
+    y[2] = -0.5;
+    t[0] = t[1] = -tent_slope(-0.5);
+    t[2] = 1;
+    psb_problem_init(&prob, 2, tent_residual, fd ? NULL : tent_jacobian, NULL);
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     CHECK(psb_diagram_init(&d, 2, 32, 32, 8) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
@@ -932,9 +947,9 @@ static void explore_tent(int tent, double g_max, int want_pc1, int want_bound, i
             n_other++;
         }
     }
-    printf("  %s, g <= %g: %s, %d nodes (%d PC1, %d bound, %d other), %d edges\n",
-           tent ? "two PC1 points" : "one PC1 point", g_max, psb_result_string(r), d.n_nodes, n_pc1,
-           n_bound, n_other, d.n_edges);
+    printf("  %s%s, g <= %g: %s, %d nodes (%d PC1, %d bound, %d other), %d edges\n", names[phi],
+           fd ? ", differences" : "", g_max, psb_result_string(r), d.n_nodes, n_pc1, n_bound, n_other,
+           d.n_edges);
     CHECK(r == PSB_SUCCESS && d.n_failed == 0 && d.n_queued == 0 && !d.truncated);
     CHECK(n_pc1 == want_pc1 && n_bound == want_bound && n_other == 0);
     CHECK(d.n_edges == want_edges);
@@ -947,13 +962,21 @@ static void explore_tent(int tent, double g_max, int want_pc1, int want_bound, i
    tangent there (some piece's, pointing nowhere) as a new branch, so the curves between the
    two points were traced three times, with spurious folds (9 nodes, 10 edges for 5 and 6);
    a branch point within a branching radius of a bound made Algorithm 2.2's branches start
-   beyond it, and psb_explore failed (PSB_ERR_INPUT) instead of ending them on the bound. */
+   beyond it, and psb_explore failed (PSB_ERR_INPUT) instead of ending them on the bound.
+   Also (0.11.0): on curved branches Algorithm 2.2 took the incoming branch, met again by a
+   trial at distance h, for a new one (its tangent there had turned by more than c_diff's
+   angle), and traced it twice (7 nodes, 6 edges for 6 and 5; 8 and 7 for 5 and 6); with
+   difference quotients a fold node appeared next to each PC1 point a branch arrived at. */
 static void test_pc1_points_and_bounds(void)
 {
-    explore_tent(1, 2.0, 2, 2, 6);
-    explore_tent(0, 0.01, 1, 4, 5);
-    explore_tent(0, 2.0, 1, 4, 5);
-    explore_tent(1, 1.0005, 2, 2, 6);
+    explore_tent(TENT_TENT, 0, 2.0, 2, 2, 6);
+    explore_tent(TENT_LINEAR, 0, 0.01, 1, 4, 5);
+    explore_tent(TENT_LINEAR, 0, 2.0, 1, 4, 5);
+    explore_tent(TENT_TENT, 0, 1.0005, 2, 2, 6);
+    explore_tent(TENT_PARABOLA, 0, 0.5, 1, 4, 5);
+    explore_tent(TENT_PARABOLA, 0, 2.0, 2, 2, 6);
+    explore_tent(TENT_TENT, 1, 2.0, 2, 2, 6);
+    explore_tent(TENT_PARABOLA, 1, 2.0, 2, 2, 6);
 }
 
 int main(void)
