@@ -173,12 +173,13 @@
                                     1 <= h_inc <= 100, 0 < h_dec <= 0.9 (bounded shrinking)
    max_iter [10]                    corrector iterations per trial; max_iter, iter_threshold
                                     <= PSB_MAX_ITER_LIMIT (1000)
-   tol_residual [1e-10]             ||H(y)||_2 at convergence. Absolute: where H's terms are
-                                    far from 1, set it to ~1e-10 times their size (terms of
-                                    1e6: rounding alone exceeds 1e-10, the corrector fails and
-                                    a trace reads that as an end point; terms of 1e-6: points
-                                    near y0 that solve nothing pass, and Algorithm 2.2 takes
-                                    them for branches)
+   tol_residual [1e-10]             ||H(y)||_2 at convergence. Absolute; where H's rounding
+                                    lies above it (terms of 1e6 and more) a point is also
+                                    converged once the correction is below tol_correction and
+                                    ||H|| stops falling (section 6), so large units need no
+                                    setting. Where H's terms are far below 1, set it to ~1e-10
+                                    times their size (terms of 1e-6: points near y0 that solve
+                                    nothing pass, and Algorithm 2.2 takes them for branches)
    tol_correction [1e-10]           distance to the solution at convergence, ||.||_w: the last
                                     correction or its contraction estimate (section 6)
    c_min [0.9]                      least cosine between the tangents before and after a step
@@ -309,7 +310,10 @@
    to the solution is below tol_correction: ||dy||_w <= tol_correction, or, from the second
    iteration on, the contraction theta = ||dy_k|| / ||dy_k-1|| <= 1/2 bounds what is left,
    theta ||dy_k|| / (1 - theta) <= tol_correction (Newton's usual a-posteriori estimate; it
-   spares the iteration that only confirms a correction of 1e-8 shrank to 1e-15). A trial is
+   spares the iteration that only confirms a correction of 1e-8 shrank to 1e-15); or when
+   ||dy||_w <= tol_correction and ||H|| fell by less than half in the iteration: it is H's
+   rounding, above tol_residual where H's terms are large (the same test ends the Newton
+   solves of Algorithm 2.1, the detectors and psb_solve_at_param). A trial is
    accepted when it converged within max_iter, the corrected point lies within h of the
    prediction (a longer jump landed on another part of the curve), and cos_w(t_new, t) >=
    c_min; otherwise h *= h_dec until h < h_min.
@@ -3141,6 +3145,16 @@ static int psb__conic_at(psb_solver *s, const double *y)
     return excess <= 1e-6 * step;
 }
 
+/* Whether Newton has reached what H's rounding allows though ||H|| > tol_residual: the last
+   correction is below tol_correction (the point lies that close to the solution) and the
+   residual no longer falls by half, i.e. it is rounding. tol_residual is absolute, and terms
+   of size S carry rounding ~ eps S: past S ~ 1e5 the corrector could never converge, and
+   traces ended at smooth points (an LCP scaled by 1e8: a wrong diagram, success reported). */
+static int psb__at_rounding(const psb_solver *s, double corr, double res, double res_before)
+{
+    return corr <= s->opt.tol_correction && res >= 0.5 * res_before;
+}
+
 /* Moore-Penrose corrector on internal copies; (y, t) replaced only on convergence. With
    path_on_ (Algorithm 2.2's trials) it records its tangents and stops as soon as one is a
    tangent whose trial's outcome is known (the cut, see psb__try_tangent; last_fail_
@@ -3148,13 +3162,14 @@ static int psb__conic_at(psb_solver *s, const double *y)
 static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *iterations)
 {
     int n = s->n_, np1 = s->np1_, it, i;
-    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_, corr_prev = 0;
+    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_, corr_prev = 0, res_prev;
     psb_result r;
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "zero tangent");
     r = psb__residual(s, yc, s->res_);
     if (r != PSB_SUCCESS) return r;
+    res_prev = psb__norm2(s->res_, n);
     s->conic_ok_ = s->conic_y0_ != NULL && s->conic_armed_;
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res;
@@ -3202,14 +3217,16 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         r = psb__residual(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
         res = psb__norm2(s->res_, n);
-        if (res <= s->opt.tol_residual &&
-            (corr <= s->opt.tol_correction ||
-             (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) {
+        if ((res <= s->opt.tol_residual &&
+             (corr <= s->opt.tol_correction ||
+              (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) ||
+            psb__at_rounding(s, corr, res, res_prev)) {
             psb__copy(y, yc, np1);
             psb__copy(t, tc, np1);
             return PSB_SUCCESS;
         }
         corr_prev = corr;
+        res_prev = res;
     }
     s->last_fail_ = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector did not converge in max_iter iterations");
@@ -3379,7 +3396,7 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
     if (r != PSB_SUCCESS) return r;
     res = psb__norm2(s->res_, n);
     for (it = 1; it <= max_iter; it++) {
-        double corr, lambda = 1;
+        double corr, lambda = 1, res_before = res;
         s->stats.n_newton++;
         r = psb__jacobian(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
@@ -3409,7 +3426,8 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
         if (r != PSB_SUCCESS) return r;
         psb__copy(yc, yt, np1);
         memcpy(s->res_, s->res2_, (size_t)n * sizeof(double));
-        if (res <= s->opt.tol_residual && lambda * corr <= s->opt.tol_correction) {
+        if ((res <= s->opt.tol_residual || psb__at_rounding(s, lambda * corr, res, res_before)) &&
+            lambda * corr <= s->opt.tol_correction) {
             psb__copy(y, yc, np1);
             return PSB_SUCCESS;
         }
@@ -3836,11 +3854,12 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
                                  const double *dir, double value)
 {
     int n = s->n_, np1 = s->np1_, it, i;
-    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->work_;
+    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->work_, res_prev;
     psb_result r;
     psb__copy(yc, y, np1);
     r = psb__residual(s, yc, s->res_);
     if (r != PSB_SUCCESS) return r;
+    res_prev = psb__norm2(s->res_, n);
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res, g = 0;
         s->stats.n_newton++;
@@ -3868,7 +3887,8 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
         /* not on the contraction estimate: the tangent and the test function come from the
            factors at the iterate before the last correction, which must be as small as the
            location's precision */
-        if (res <= s->opt.tol_residual && corr <= s->opt.tol_correction) {
+        if ((res <= s->opt.tol_residual || psb__at_rounding(s, corr, res, res_prev)) &&
+            corr <= s->opt.tol_correction) {
             if (t) {
                 psb__copy(t, s->rhs_ + np1, np1);
                 if (!psb__normalize_w(s, t)) {
@@ -3879,6 +3899,7 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
             psb__copy(y, yc, np1);
             return PSB_SUCCESS;
         }
+        res_prev = res;
     }
     s->last_fail_ = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Newton on the constrained system did not converge");

@@ -870,6 +870,7 @@ static void test_audit_regressions(void)
    gives the same diagram with curved branches. */
 enum { TENT_LINEAR, TENT_TENT, TENT_PARABOLA };
 static int tent_phi;
+static double tent_scale = 1; /* H's units: both H and dH are multiplied by it */
 static double tent_value(double g)
 {
     return tent_phi == TENT_TENT ? (g < 1 - g ? g : 1 - g) : tent_phi == TENT_PARABOLA ? g * (1 - g) : g;
@@ -884,7 +885,7 @@ static int tent_residual(const double *y, double *h, void *u)
     (void)u;
     for (i = 0; i < 2; i++) {
         double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + tent_value(y[2]);
-        h[i] = y[i] <= w ? y[i] : w;
+        h[i] = tent_scale * (y[i] <= w ? y[i] : w);
     }
     return 0;
 }
@@ -896,11 +897,11 @@ static int tent_jacobian(const double *y, double *jac, int ld, void *u)
         double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + tent_value(y[2]);
         for (j = 0; j < 3; j++) jac[i + j * ld] = 0;
         if (y[i] <= w) {
-            jac[i + i * ld] = 1;
+            jac[i + i * ld] = tent_scale;
         } else {
-            jac[i] = i ? 2 : -1;
-            jac[i + ld] = i ? -1 : 2;
-            jac[i + 2 * ld] = tent_slope(y[2]);
+            jac[i] = tent_scale * (i ? 2 : -1);
+            jac[i + ld] = tent_scale * (i ? -1 : 2);
+            jac[i + 2 * ld] = tent_scale * tent_slope(y[2]);
         }
     }
     return 0;
@@ -936,7 +937,7 @@ static void explore_tent(int phi, int fd, double g_max, int want_pc1, int want_b
         const psb_node *nd = d.nodes + i;
         double h[2];
         tent_residual(nd->y, h, NULL);
-        ok_nodes &= fabs(h[0]) + fabs(h[1]) <= 1e-10;
+        ok_nodes &= fabs(h[0]) + fabs(h[1]) <= 1e-10 * tent_scale;
         if (nd->kind == PSB_NODE_PC1 || nd->kind == PSB_NODE_NONSMOOTH) {
             n_pc1++;
             ok_nodes &= nd->n_branches == 4;
@@ -947,8 +948,8 @@ static void explore_tent(int phi, int fd, double g_max, int want_pc1, int want_b
             n_other++;
         }
     }
-    printf("  %s%s, g <= %g: %s, %d nodes (%d PC1, %d bound, %d other), %d edges\n", names[phi],
-           fd ? ", differences" : "", g_max, psb_result_string(r), d.n_nodes, n_pc1, n_bound, n_other,
+    printf("  %s%s, H in units of %g, g <= %g: %s, %d nodes (%d PC1, %d bound, %d other), %d edges\n",
+           names[phi], fd ? ", differences" : "", tent_scale, g_max, psb_result_string(r), d.n_nodes, n_pc1, n_bound, n_other,
            d.n_edges);
     CHECK(r == PSB_SUCCESS && d.n_failed == 0 && d.n_queued == 0 && !d.truncated);
     CHECK(n_pc1 == want_pc1 && n_bound == want_bound && n_other == 0);
@@ -977,6 +978,15 @@ static void test_pc1_points_and_bounds(void)
     explore_tent(TENT_PARABOLA, 0, 2.0, 2, 2, 6);
     explore_tent(TENT_TENT, 1, 2.0, 2, 2, 6);
     explore_tent(TENT_PARABOLA, 1, 2.0, 2, 2, 6);
+    /* H in large units (the defaults' absolute tol_residual lies below its rounding): the
+       corrector never converged, traces ended at smooth points, and psb_explore reported
+       success with 4 nodes and 5 edges (1e8) or 6 and 7 (1e12) */
+    for (tent_scale = 1e8; tent_scale <= 1e12; tent_scale *= 1e4) {
+        explore_tent(TENT_TENT, 0, 2.0, 2, 2, 6);
+        explore_tent(TENT_PARABOLA, 0, 2.0, 2, 2, 6);
+        explore_tent(TENT_TENT, 1, 2.0, 2, 2, 6);
+    }
+    tent_scale = 1;
 }
 
 int main(void)
