@@ -48,7 +48,11 @@
    tangent t, dH(y) t = 0, ||t||_w = 1, whose sign is the direction of travel.
    Weighted inner product <a,b>_w = sum_i w_i a_i b_i, with w_i = kappa for the state and 1 for the
    parameter (or options.weights). Every norm, cosine and normalisation uses it: predictor,
-   corrector, acceptance cosine, Algorithms 2.1 and 2.2, loop detection.
+   corrector, acceptance cosine, Algorithms 2.1 and 2.2, loop detection. Step sizes and
+   tol_correction are lengths in it, so y in units far from 1 wants weights 1/u_i^2, u_i the
+   size of component i (a diagram in units of 1e-8 or 1e8 then comes out as in units of 1),
+   and with differences, whose steps are fd_step max(1, |y_j|), components far below 1 want
+   fd_step times their size; H's units need nothing (see tol_residual).
    H is PC^1: continuous, and near every point equal to one of finitely many C^1 selections. The
    Jacobian callback returns the gradient of a selection that is active at y (the B-Jacobian
    element of the piece y lies on); with finite differences (jacobian = NULL) a step that crosses
@@ -629,7 +633,8 @@
    added as a new branch); and a trace whose chord passes within that distance (plus 1e-3 of
    the chord) of a known node arrives there too: a piecewise-linear branch goes straight
    through a point where it has no kink, and the detectors may see nothing there (the way on
-   is made one of the node's branches if it is not). node_tol defaults to 16 eo.branch.h.
+   is made one of the node's branches if it is not). node_tol defaults to 16 eo.branch.h
+   (with differences and h following the point, to 16 times h at the node).
    Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
    and outgoing branches have opposite outward signs it is silent. The block's and the
    triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
@@ -1490,7 +1495,7 @@ typedef struct psb_explore_options {
                           more than two branches [0: in full at once] */
     double node_tol;   /* two branching points within node_tol + 4 (their precisions) of each
                           other, ||.||_w, are one node [16 branch.h, resolved; with finite
-                          differences and branch.h left at 0: 0] */
+                          differences and branch.h left at 0: 16 times h at the node] */
     psb_explore_point_fn on_point; /* optional */
     void *point_user;
 } psb_explore_options;
@@ -4554,18 +4559,23 @@ done:
    ~ step / branch_h per boundary and sample, and a mixed tangent the memo takes for new makes
    an idle span count. The crossing kinks and a curved variant (k = 4, every entry): 10^3
    steps left 1 and 7 of the 16 entries incomplete, 10^4 none. */
-static void psb__branch_h(psb_solver *s, const double *y)
+static double psb__auto_branch_h(const psb_solver *s, const double *y)
 {
     int j;
     double step = 0, h;
-    if (!s->branch_h_auto_) return;
     for (j = 0; j < s->np1_; j++) {
         double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
         if (sj > step) step = sj;
     }
     h = s->branch.h_fd_steps * step;
     if (h > s->branch.h_init / 8) h = s->branch.h_init / 8;
-    s->branch.h = h > s->opt.h_min ? h : s->opt.h_min;
+    return h > s->opt.h_min ? h : s->opt.h_min;
+}
+
+static void psb__branch_h(psb_solver *s, const double *y)
+{
+    if (!s->branch_h_auto_) return;
+    s->branch.h = psb__auto_branch_h(s, y);
     if (s->branch_h_min_auto_) s->branch.h_min = s->branch.h / 16384.0;
 }
 
@@ -5807,11 +5817,20 @@ typedef struct psb__explorer {
 
 #define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->np1_)
 
+/* node_tol at node nd: as set or resolved; with differences and h following the point, 16
+   times h at the node (Algorithm 2.1 stops about a difference step short of the point, often
+   10 times beyond its precision bound: with 0, a loop's PC1 points became two nodes each and
+   every edge was traced twice). */
+static double psb__explore_tol(const psb__explorer *x, const psb_node *nd)
+{
+    return x->node_tol > 0 || !x->s->branch_h_auto_ ? x->node_tol : 16 * psb__auto_branch_h(x->s, nd->y);
+}
+
 /* Whether y is within tolerance of node nd (precision: y's own location error). */
 static int psb__explore_near(const psb__explorer *x, const psb_node *nd, const double *y,
                              double precision)
 {
-    return psb__dist_w(x->s, y, nd->y) <= x->node_tol + 4 * (precision + nd->precision);
+    return psb__dist_w(x->s, y, nd->y) <= psb__explore_tol(x, nd) + 4 * (precision + nd->precision);
 }
 
 /* A new node of the given kind at y, or -1 when the nodes are used up. */
@@ -6012,7 +6031,7 @@ static int psb__explore_passed(const psb__explorer *x, const double *prev, const
             double di = prev[i] + a * (pt->y[i] - prev[i]) - nd->y[i];
             dist2 += s->w_[i] * di * di;
         }
-        tol = x->node_tol + 4 * nd->precision + 1e-3 * pt->h;
+        tol = psb__explore_tol(x, nd) + 4 * nd->precision + 1e-3 * pt->h;
         if (dist2 <= tol * tol) return j;
     }
     return -1;
@@ -6161,7 +6180,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
         /* only from a point past the node: a tangent at the node itself (a trace landing on a
            PC1 point) is some piece's and need not point along any branch */
         if ((best < 0 || (best_cos < s->opt.c_diff && best_cos < s->opt.c_min)) &&
-            psb__dist_w(s, y, nd->y) > x->node_tol + 4 * nd->precision) {
+            psb__dist_w(s, y, nd->y) > psb__explore_tol(x, nd) + 4 * nd->precision) {
             if (nd->n_branches == d->max_branches) {
                 d->truncated = 1;
             } else {

@@ -871,6 +871,7 @@ static void test_audit_regressions(void)
 enum { TENT_LINEAR, TENT_TENT, TENT_PARABOLA };
 static int tent_phi;
 static double tent_scale = 1; /* H's units: both H and dH are multiplied by it */
+static double tent_unit = 1;  /* y's units: H is evaluated at y / tent_unit */
 static double tent_value(double g)
 {
     return tent_phi == TENT_TENT ? (g < 1 - g ? g : 1 - g) : tent_phi == TENT_PARABOLA ? g * (1 - g) : g;
@@ -879,37 +880,41 @@ static double tent_slope(double g)
 {
     return tent_phi == TENT_TENT ? (g > 0.5 ? -1 : 1) : tent_phi == TENT_PARABOLA ? 1 - 2 * g : 1;
 }
-static int tent_residual(const double *y, double *h, void *u)
+static int tent_residual(const double *yu, double *h, void *u)
 {
     int i;
+    double y[3];
     (void)u;
+    for (i = 0; i < 3; i++) y[i] = yu[i] / tent_unit;
     for (i = 0; i < 2; i++) {
         double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + tent_value(y[2]);
         h[i] = tent_scale * (y[i] <= w ? y[i] : w);
     }
     return 0;
 }
-static int tent_jacobian(const double *y, double *jac, int ld, void *u)
+static int tent_jacobian(const double *yu, double *jac, int ld, void *u)
 {
     int i, j;
+    double y[3], sc = tent_scale / tent_unit;
     (void)u;
+    for (i = 0; i < 3; i++) y[i] = yu[i] / tent_unit;
     for (i = 0; i < 2; i++) {
         double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + tent_value(y[2]);
         for (j = 0; j < 3; j++) jac[i + j * ld] = 0;
         if (y[i] <= w) {
-            jac[i + i * ld] = tent_scale;
+            jac[i + i * ld] = sc;
         } else {
-            jac[i] = tent_scale * (i ? 2 : -1);
-            jac[i + ld] = tent_scale * (i ? -1 : 2);
-            jac[i + 2 * ld] = tent_scale * tent_slope(y[2]);
+            jac[i] = sc * (i ? 2 : -1);
+            jac[i + ld] = sc * (i ? -1 : 2);
+            jac[i + 2 * ld] = sc * tent_slope(y[2]);
         }
     }
     return 0;
 }
 
 /* Explores from x = -phi(-1/2) (1, 1), g = -1/2, in g in [-1, g_max] (fd: difference
-   quotients for dH); counts nodes by kind and checks every node solves H and every bound
-   node lies on the bound. */
+   quotients for dH; y in units of tent_unit, with weights 1 / tent_unit^2); counts nodes by
+   kind and checks every node solves H and every bound node lies on the bound. */
 static void explore_tent(int phi, int fd, double g_max, int want_pc1, int want_bound, int want_edges)
 {
     static const char *const names[] = {"one PC1 point", "two PC1 points", "two PC1 points, curved"};
@@ -918,20 +923,22 @@ static void explore_tent(int phi, int fd, double g_max, int want_pc1, int want_b
     psb_solver s;
     psb_diagram d;
     psb_explore_options eo;
-    double y[3], t[3];
+    double y[3], t[3], w[3], u = tent_unit;
     int i, n_pc1 = 0, n_bound = 0, n_other = 0, ok_nodes = 1;
     psb_result r;
     tent_phi = phi;
-    y[0] = y[1] = -tent_value(-0.5);
-    y[2] = -0.5;
+    y[0] = y[1] = -tent_value(-0.5) * u;
+    y[2] = -0.5 * u;
     t[0] = t[1] = -tent_slope(-0.5);
     t[2] = 1;
+    w[0] = w[1] = w[2] = 1 / (u * u);
+    if (u != 1) o.weights = w;
     psb_problem_init(&prob, 2, tent_residual, fd ? NULL : tent_jacobian, NULL);
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     CHECK(psb_diagram_init(&d, 2, 32, 32, 8) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
-    eo.trace.param_min = -1;
-    eo.trace.param_max = g_max;
+    eo.trace.param_min = -u;
+    eo.trace.param_max = g_max * u;
     r = psb_explore(&s, y, t, &eo, &d);
     for (i = 0; i < d.n_nodes; i++) {
         const psb_node *nd = d.nodes + i;
@@ -943,13 +950,13 @@ static void explore_tent(int phi, int fd, double g_max, int want_pc1, int want_b
             ok_nodes &= nd->n_branches == 4;
         } else if (nd->kind == PSB_NODE_BOUND) {
             n_bound++;
-            ok_nodes &= nd->y[2] == -1 || nd->y[2] == g_max;
+            ok_nodes &= nd->y[2] == -u || nd->y[2] == g_max * u;
         } else if (nd->kind != PSB_NODE_START) {
             n_other++;
         }
     }
-    printf("  %s%s, H in units of %g, g <= %g: %s, %d nodes (%d PC1, %d bound, %d other), %d edges\n",
-           names[phi], fd ? ", differences" : "", tent_scale, g_max, psb_result_string(r), d.n_nodes, n_pc1, n_bound, n_other,
+    printf("  %s%s, H in units of %g, y of %g, g <= %g: %s, %d nodes (%d PC1, %d bound, %d other), %d edges\n",
+           names[phi], fd ? ", differences" : "", tent_scale, u, g_max, psb_result_string(r), d.n_nodes, n_pc1, n_bound, n_other,
            d.n_edges);
     CHECK(r == PSB_SUCCESS && d.n_failed == 0 && d.n_queued == 0 && !d.truncated);
     CHECK(n_pc1 == want_pc1 && n_bound == want_bound && n_other == 0);
@@ -987,6 +994,97 @@ static void test_pc1_points_and_bounds(void)
         explore_tent(TENT_TENT, 1, 2.0, 2, 2, 6);
     }
     tent_scale = 1;
+    /* y in units far from 1, with the weights the manual asks for (section 1) */
+    for (tent_unit = 1e-8; tent_unit <= 1e8; tent_unit *= 1e16) {
+        explore_tent(TENT_TENT, 0, 2.0, 2, 2, 6);
+        explore_tent(TENT_PARABOLA, 0, 2.0, 2, 2, 6);
+    }
+    tent_unit = 1;
+}
+
+/* A loop through two PC1 points: y = (s, x1, x2, g), H1 = s^2 + g^2 - 1, H2,3 = min(x_i,
+   (M x + (s - c) (1, 1))_i) with M as above. For s < c one curve x = (c - s) (1, 1), for s > c
+   three, x = 0, (s - c) (1, 0), (s - c) (0, 1): PC1 points at (s, g) = (c, +-sqrt(1 - c^2)) with
+   four branches each, joined by the left arc (two edges from a start on it) and the three
+   right arcs; folds in g where s = 0 (two on the left arc for c > 0, two on each right arc for
+   c < 0). With differences node_tol resolved to 0, below Algorithm 2.1's location error there
+   (4e-8): each PC1 point became two nodes and every edge was traced twice (11 nodes, 10
+   edges for 5 and 5). */
+static double loop_c;
+static int loop_residual(const double *y, double *h, void *u)
+{
+    int i;
+    (void)u;
+    h[0] = y[0] * y[0] + y[3] * y[3] - 1;
+    for (i = 0; i < 2; i++) {
+        double w = (i ? 2 * y[1] - y[2] : -y[1] + 2 * y[2]) + y[0] - loop_c;
+        h[i + 1] = y[i + 1] <= w ? y[i + 1] : w;
+    }
+    return 0;
+}
+static int loop_jacobian(const double *y, double *jac, int ld, void *u)
+{
+    int i, j;
+    (void)u;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 4; j++) jac[i + j * ld] = 0;
+    jac[0] = 2 * y[0];
+    jac[3 * ld] = 2 * y[3];
+    for (i = 0; i < 2; i++) {
+        double w = (i ? 2 * y[1] - y[2] : -y[1] + 2 * y[2]) + y[0] - loop_c;
+        if (y[i + 1] <= w) {
+            jac[i + 1 + (i + 1) * ld] = 1;
+        } else {
+            jac[i + 1] = 1;
+            jac[i + 1 + ld] = i ? 2 : -1;
+            jac[i + 1 + 2 * ld] = i ? -1 : 2;
+        }
+    }
+    return 0;
+}
+
+static void test_loop_through_pc1_points(void)
+{
+    int fd, k;
+    for (k = 0; k < 2; k++)
+        for (fd = 0; fd <= 1; fd++) {
+            psb_problem prob;
+            psb_solver s;
+            psb_diagram d;
+            double y[4], t[4] = {0, 0, 0, 1};
+            int i, n_pc1 = 0, n_fold = 0, n_other = 0, ok = 1;
+            psb_result r;
+            loop_c = k ? -0.5 : 0.5;
+            y[0] = -1;
+            y[1] = y[2] = loop_c + 1;
+            y[3] = 0;
+            psb_problem_init(&prob, 3, loop_residual, fd ? NULL : loop_jacobian, NULL);
+            CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+            CHECK(psb_diagram_init(&d, 3, 32, 32, 8) == PSB_SUCCESS);
+            r = psb_explore(&s, y, t, NULL, &d);
+            for (i = 0; i < d.n_nodes; i++) {
+                const psb_node *nd = d.nodes + i;
+                double h[3];
+                loop_residual(nd->y, h, NULL);
+                ok &= fabs(h[0]) + fabs(h[1]) + fabs(h[2]) <= 1e-8;
+                if (nd->kind == PSB_NODE_PC1 || nd->kind == PSB_NODE_NONSMOOTH) {
+                    n_pc1++;
+                    ok &= nd->n_branches == 4 && fabs(nd->y[0] - loop_c) <= 1e-6;
+                } else if (nd->kind == PSB_NODE_FOLD) {
+                    n_fold++;
+                    ok &= fabs(fabs(nd->y[3]) - 1) <= 1e-6;
+                } else if (nd->kind != PSB_NODE_START) {
+                    n_other++;
+                }
+            }
+            printf("  loop through two PC1 points, c = %g%s: %s, %d nodes (%d PC1, %d folds), %d edges\n",
+                   loop_c, fd ? ", differences" : "", psb_result_string(r), d.n_nodes, n_pc1, n_fold, d.n_edges);
+            CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated);
+            CHECK(n_pc1 == 2 && n_fold == (k ? 6 : 2) && n_other == 0 && d.n_edges == 5);
+            CHECK(ok);
+            psb_diagram_free(&d);
+            psb_solver_free(&s);
+        }
 }
 
 int main(void)
@@ -1003,6 +1101,7 @@ int main(void)
     test_callback_failure();
     test_audit_regressions();
     test_pc1_points_and_bounds();
+    test_loop_through_pc1_points();
     test_determinism();
     test_output();
     return HARNESS_END();
