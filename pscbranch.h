@@ -4884,6 +4884,15 @@ static void psb__store_add(const psb_solver *s, double *store, int *count, const
     (*count)++;
 }
 
+/* The faults counted so far into a branching report. */
+static void psb__report_faults(const psb_solver *s, psb_branch_report *rep)
+{
+    rep->n_failed_callback = s->faults_[0];
+    rep->n_failed_nonfinite = s->faults_[1];
+    rep->n_failed_singular = s->faults_[2];
+    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+}
+
 /* Step 5(ii) on a curved branch: whether the landing point yb (tangent tb there) lies on
    found branch j although tb and ts_j differ by more than c_diff. Over a distance d a branch
    of curvature kappa turns its tangent by kappa d, and the chord from y0 leaves the tangent at
@@ -5191,7 +5200,10 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
     psb__axpy_to(pt, yc, s->branch.h, tc, np1);
     rep->n_tangents++;
     r = psb__sample_tangent(s, pt, tc, t2, NULL);
-    if (r != PSB_SUCCESS) return r;
+    if (r != PSB_SUCCESS) {
+        if (psb__note_fault(s, r)) psb__report_faults(s, rep); /* n_failed > 0 on every fault */
+        return r;
+    }
     psb__copy(ys, yc, np1);
     psb__copy(ts, t1, np1);
     rep->n_branches = 1;
@@ -5273,10 +5285,7 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         idle = rep->n_branches > found_before ? 0 : idle + 1;
         if (s->branch.patience && idle >= s->branch.patience) break;
     }
-    rep->n_failed_callback = s->faults_[0];
-    rep->n_failed_nonfinite = s->faults_[1];
-    rep->n_failed_singular = s->faults_[2];
-    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+    psb__report_faults(s, rep);
     if (fatal != PSB_SUCCESS) return fatal; /* psb__is_fatal in a sweep */
     /* a trial that failed because of a fault might have found a branch: the set is not known
        to be complete */
@@ -5461,10 +5470,7 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
         if (res != PSB_SUCCESS) return res;
         if ((rep->n_branches >= 4 && traced == 2) || overflow) break;
     }
-    rep->n_failed_callback = s->faults_[0];
-    rep->n_failed_nonfinite = s->faults_[1];
-    rep->n_failed_singular = s->faults_[2];
-    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+    psb__report_faults(s, rep);
     res = psb__faults_code(s, "psb_branch_point_switch");
     if (res != PSB_SUCCESS) return res;
     /* the traced curve passes through a branch point: found in neither direction at any
@@ -5866,6 +5872,24 @@ static void psb__explore_end(psb__explorer *x, int e, psb_edge_end end, psb_node
     if (end == PSB_EDGE_FAILURE) x->d->n_failed++;
 }
 
+/* The cosine between the chords from node nd to y and to its branch kb's couple (the
+   couple's tangent where it lies at the node itself); -2 when y is at the node. */
+static double psb__explore_chord_cos(const psb__explorer *x, const psb_node *nd, int kb, const double *y)
+{
+    const psb_solver *s = x->s;
+    int np1 = s->np1_, i;
+    const double *ys = nd->ys + (size_t)kb * (size_t)np1, *ts = nd->ts + (size_t)kb * (size_t)np1;
+    double dot = 0, na = 0, nb = 0;
+    int at_node = psb__dist_w(s, ys, nd->y) <= psb__explore_tol(x, nd);
+    for (i = 0; i < np1; i++) {
+        double a = y[i] - nd->y[i], b = at_node ? ts[i] : ys[i] - nd->y[i];
+        dot += s->w_[i] * a * b;
+        na += s->w_[i] * a * a;
+        nb += s->w_[i] * b * b;
+    }
+    return na > 0 && nb > 0 ? dot / sqrt(na * nb) : -2;
+}
+
 /* Edge e arrived at node j along the branch whose tangent away from j is -t: marks that
    branch traced (the best match by cosine, taken at c_diff, else at c_min), or adds it. */
 static void psb__explore_arrive(psb__explorer *x, int e, int j, const double *t)
@@ -6173,8 +6197,15 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
         double best_cos = -2;
         ed->length -= psb__dist_w(s, y, nd->y);
         psb__explore_arrive(x, e, x->stop_node, t);
+        /* by its tangent or by its chord from the node, whichever matches better: the tangent
+           alone misses on a curved branch (the node's couples lie elsewhere on it), and with
+           differences it is off near the node, where the quotients mix the pieces (a single
+           failed residual call made a trace turn back at a node there and add the branch
+           it came by as a new one) */
         for (kb = 0; kb < nd->n_branches; kb++) {
             double c = psb__cos_w(s, t, nd->ts + (size_t)kb * (size_t)np1);
+            double c_chord = psb__explore_chord_cos(x, nd, kb, y);
+            if (c_chord > c) c = c_chord;
             if (c > best_cos) { best_cos = c; best = kb; }
         }
         /* only from a point past the node: a tangent at the node itself (a trace landing on a

@@ -1376,6 +1376,40 @@ static void test_curved_lcps(void)
     CHECK(complete >= total - 2);
 }
 
+/* Algorithm 2.2's first sample tangent (Step 1) failing because of the Jacobian callback: the
+   call fails with its code and rep->n_failed counts it (it read 0 before 0.11.0 there, though
+   the manual ties a failure to n_failed > 0). */
+static long step1_jac_calls;
+static int step1_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    if (++step1_jac_calls == 1) return 1;
+    return pl_jacobian(y, jac, ld, user);
+}
+
+static void test_step1_fault_counted(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4], ys[32 * 4], ts[32 * 4];
+    pl_problem p;
+    psb_problem prob;
+    psb_solver s;
+    psb_branch_report br;
+    int n_rays = pl_crossing_kinks(&p, 3, rays);
+    psb_problem_init(&prob, 3, pl_residual, pl_jacobian, &p);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    pl_start_on_ray(4, rays, 0, y, t);
+    CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
+    CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
+    psb_solver_free(&s);
+    psb_problem_init(&prob, 3, pl_residual, step1_jacobian, &p);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    step1_jac_calls = 0;
+    CHECK(psb_find_branches(&s, y, t, NULL, 32, ys, ts, &br) == PSB_ERR_CALLBACK_FAILED);
+    CHECK(br.n_failed == 1 && br.n_failed_callback == 1 && step1_jac_calls == 1);
+    CHECK(psb_find_branches(&s, y, t, NULL, 32, ys, ts, &br) == PSB_SUCCESS && br.n_branches == n_rays);
+    CHECK(br.n_failed == 0);
+    psb_solver_free(&s);
+}
+
 /* Branching with the Jacobian left to finite differences (forward, the defaults otherwise).
    Within fd_step of the end point the difference quotients mix the pieces meeting there, so
    Algorithm 2.1 stops ~fd_step short, and tangents computed there are off by up to
@@ -1744,6 +1778,7 @@ int main(void)
     test_jacobian_memo();
     test_curved_kinks();
     test_curved_lcps();
+    test_step1_fault_counted();
     test_fd_branching();
     test_branch_budgets();
     test_determinism();

@@ -880,11 +880,13 @@ static double tent_slope(double g)
 {
     return tent_phi == TENT_TENT ? (g > 0.5 ? -1 : 1) : tent_phi == TENT_PARABOLA ? 1 - 2 * g : 1;
 }
+static long tent_calls, tent_fail_at; /* a fault: the residual's call tent_fail_at returns 1 */
 static int tent_residual(const double *yu, double *h, void *u)
 {
     int i;
     double y[3];
     (void)u;
+    if (++tent_calls == tent_fail_at) return 1;
     for (i = 0; i < 3; i++) y[i] = yu[i] / tent_unit;
     for (i = 0; i < 2; i++) {
         double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + tent_value(y[2]);
@@ -1002,6 +1004,70 @@ static void test_pc1_points_and_bounds(void)
     tent_unit = 1;
 }
 
+/* The curved two-PC1-point diagram with differences, a residual call failing once at call
+   k, every third k: a run that succeeds must give the clean diagram, one that fails
+   PSB_ERR_CALLBACK_FAILED. A single fault made a trace turn back at a known node, and the
+   way on, matched to the node's branches by its difference tangent alone, was added as a
+   fifth branch (success, 7 edges for 6). */
+static psb_result explore_tent_counts(long fail_at, int *kinds, int *n_edges)
+{
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    double y[3], t[3];
+    int i;
+    psb_result r;
+    tent_phi = TENT_PARABOLA;
+    y[0] = y[1] = -tent_value(-0.5);
+    y[2] = -0.5;
+    t[0] = t[1] = -tent_slope(-0.5);
+    t[2] = 1;
+    psb_problem_init(&prob, 2, tent_residual, NULL, NULL);
+    if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) return PSB_ERR_NOMEM;
+    if (psb_diagram_init(&d, 2, 32, 32, 8) != PSB_SUCCESS) {
+        psb_solver_free(&s);
+        return PSB_ERR_NOMEM;
+    }
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 2;
+    tent_calls = 0;
+    tent_fail_at = fail_at;
+    r = psb_explore(&s, y, t, &eo, &d);
+    tent_fail_at = 0;
+    for (i = 0; i < 10; i++) kinds[i] = 0;
+    for (i = 0; i < d.n_nodes; i++) kinds[d.nodes[i].kind < 10 ? d.nodes[i].kind : 9]++;
+    *n_edges = d.n_edges;
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+    return r;
+}
+
+static void test_single_faults_curved_fd(void)
+{
+    int clean[10], kinds[10], clean_edges, n_edges, runs = 0, failed = 0, wrong = 0, bad_code = 0;
+    long k, total;
+    psb_result r = explore_tent_counts(0, clean, &clean_edges);
+    total = tent_calls;
+    CHECK(r == PSB_SUCCESS && clean_edges == 6 && clean[PSB_NODE_PC1] + clean[PSB_NODE_NONSMOOTH] == 2);
+    for (k = 1; k <= total; k += 3) {
+        runs++;
+        r = explore_tent_counts(k, kinds, &n_edges);
+        if (r < 0) {
+            failed++;
+            bad_code += r != PSB_ERR_CALLBACK_FAILED;
+        } else if (n_edges != clean_edges || memcmp(kinds, clean, sizeof clean) != 0) {
+            wrong++;
+            printf("  WRONG: a residual failing once at call %ld: %s, %d edges\n", k, psb_result_string(r), n_edges);
+        }
+    }
+    printf("  single faults, curved diagram with differences: %ld calls clean, %d runs, %d failed, %d wrong "
+           "successes, %d other codes\n", total, runs, failed, wrong, bad_code);
+    CHECK(wrong == 0 && bad_code == 0 && failed > 0 && failed < runs);
+}
+
 /* A loop through two PC1 points: y = (s, x1, x2, g), H1 = s^2 + g^2 - 1, H2,3 = min(x_i,
    (M x + (s - c) (1, 1))_i) with M as above. For s < c one curve x = (c - s) (1, 1), for s > c
    three, x = 0, (s - c) (1, 0), (s - c) (0, 1): PC1 points at (s, g) = (c, +-sqrt(1 - c^2)) with
@@ -1102,6 +1168,7 @@ int main(void)
     test_audit_regressions();
     test_pc1_points_and_bounds();
     test_loop_through_pc1_points();
+    test_single_faults_curved_fd();
     test_determinism();
     test_output();
     return HARNESS_END();
