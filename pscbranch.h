@@ -1549,8 +1549,8 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    bound) ends on the bound: an edge of no points to a bound node, Newton's solution at the
    bound from the chord. A fold an edge meets within node_tol of the branching node it leaves
    or ends at is that node (difference quotients mix the pieces there and can flip the
-   tangent's parameter component) and gets no node of its own. d is reset first and holds the graph (every node's and edge's index is the
-   order it was made in). eo may be NULL. Same inputs and seed, same diagram, bit for bit. No
+   tangent's parameter component) and gets no node of its own. d is reset first and holds
+   the graph (every node's and edge's index is the order it was made in). eo may be NULL. Same inputs and seed, same diagram, bit for bit. No
    allocation; s's scratch is used (not from a point callback). Returns PSB_SUCCESS (the queue
    emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a node ran out: what fits is
    kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points reached first), PSB_STOPPED
@@ -6288,8 +6288,9 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
         psb_node *nd = d->nodes + j, moved;
         const psb_edge *ed = d->edges + e;
         int at_to = ed->to >= 0 && ed->to != j && psb__is_branching_node(d->nodes[ed->to].kind);
+        int at_from = psb__is_branching_node(d->nodes[from].kind);
         if (nd->kind != PSB_NODE_FOLD || nd->edge != e) continue;
-        if (!(psb__is_branching_node(d->nodes[from].kind) && psb__explore_near(x, d->nodes + from, nd->y, nd->precision)) &&
+        if (!(at_from && psb__explore_near(x, d->nodes + from, nd->y, nd->precision)) &&
             !(at_to && psb__explore_near(x, d->nodes + ed->to, nd->y, nd->precision)))
             continue;
         /* the later nodes move down; the node's storage moves to the free end */
