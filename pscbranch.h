@@ -4928,20 +4928,20 @@ static int psb__same_curved_branch(psb_solver *s, const double *y0, const double
 {
     int np1 = s->np1_, k;
     double *z = PSB__VEC(s, PSB__V_BR_S), d = psb__dist_w(s, yb, y0), dj = psb__dist_w(s, ysj, y0);
-    double a_b, a_j = 0, gap, turn = acos(s->opt.c_diff);
+    double a_b, a_j = 0;
     psb_result r;
     if (!(d > 0)) return 0;
+    /* tb and ts_j point away from y0, as the chords do */
     for (k = 0; k < np1; k++) z[k] = (yb[k] - y0[k]) / d;
-    a_b = acos(fmin(1, fabs(psb__cos_w(s, z, tb))));
+    a_b = psb__angle_w(s, z, tb);
     if (dj > 0.5 * s->branch.h) {
         for (k = 0; k < np1; k++) z[k] = (ysj[k] - y0[k]) / dj;
-        a_j = acos(fmin(1, fabs(psb__cos_w(s, z, tsj))));
+        a_j = psb__angle_w(s, z, tsj);
     } else {
         psb__copy(z, tsj, np1);
         psb__normalize_w(s, z);
     }
-    gap = acos(fmax(-1, fmin(1, psb__cos_w(s, tb, tsj))));
-    if (!(gap <= turn + 4 * (a_b + a_j))) return 0;
+    if (!(psb__angle_w(s, tb, tsj) <= acos(s->opt.c_diff) + 4 * (a_b + a_j))) return 0;
     for (k = 0; k < np1; k++) z[k] = y0[k] + d * z[k];
     r = psb__newton_on(s, z, NULL, y0, NULL, d);
     if (psb__is_fatal(r)) return r;
@@ -6299,14 +6299,13 @@ static int psb__is_branching_node(psb_node_kind kind)
 static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
 {
     psb_diagram *d = x->d;
-    int first = d->n_nodes, e = d->n_edges, j, i;
+    int first = d->n_nodes, e = d->n_edges, j, i, at_from = psb__is_branching_node(d->nodes[from].kind);
     psb_result r = psb__explore_edge_trace(x, from, k);
     if (d->n_edges == e) return r; /* no edge: capacity */
     for (j = d->n_nodes - 1; j >= first; j--) {
         psb_node *nd = d->nodes + j, moved;
         const psb_edge *ed = d->edges + e;
         int at_to = ed->to >= 0 && ed->to != j && psb__is_branching_node(d->nodes[ed->to].kind);
-        int at_from = psb__is_branching_node(d->nodes[from].kind);
         if (nd->kind != PSB_NODE_FOLD || nd->edge != e) continue;
         if (!(at_from && psb__explore_near(x, d->nodes + from, nd->y, nd->precision)) &&
             !(at_to && psb__explore_near(x, d->nodes + ed->to, nd->y, nd->precision)))
