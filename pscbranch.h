@@ -169,6 +169,8 @@
    6), and the finite-difference Jacobian when no Jacobian callback is given:
    fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
                                     column j steps fd_step * max(1, |y_j|), 0 < fd_step < 1
+   piece [NULL]                     the smooth piece at y (psb_piece_fn): Algorithm 2.2's
+                                    piece memo (section 6)
    psb_options, the continuation (psb_solver_init; s->opt holds them resolved):
    kappa [1], weights [NULL]        the weighted inner product (section 1)
    h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 0 < h_min <= h_init <= h_max
@@ -220,8 +222,9 @@
                                     sphere's radius of psb_branch_point_switch
    n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
                                     at 0: at least 15, then on until twice as many counted
-                                    spans as the last new branch took have found nothing,
-                                    up to n_span_max [60] (section 6); a value set here is
+                                    spans as the last new branch took have found nothing
+                                    and the count is even, up to n_span_max [60] (section
+                                    6, "Sweep length", "An odd count"); a value set here is
                                     kept as given (n_span_max [n_span]). n_dir, n_span,
                                     n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000).
                                     Resolved, n_span < n_span_max says the length adapts
@@ -426,6 +429,21 @@
      and n_pc, Algorithm 2.2's factorisations 4.7-8.5 times fewer; the block's trials end by
      the cut already and its sample points fall in pieces of their own (many contact nodes
      change state at y0): the same factorisations, 0.3% more instructions.
+   - Piece memo (problem.piece set; any Jacobian and backend). The tangent at a sample point
+     is that of its piece's dH, and you can often name the piece cheaply where the library
+     cannot see it: on a contact problem, the contact nodes' pieces (the helpers' *piece
+     outputs). A sample point whose piece was met before in the call takes that point's
+     tangent, with no Jacobian and no factorisation, for the skips alone (as the Jacobian
+     memo's); a tangent that goes on to a trial is computed at its own point. On a piece
+     where H is smooth but not linear, the two points lie within 2 h_init of each other, so
+     their tangents differ by about the curvature times that, which must stay well below
+     c_diff's angle (4.5e-3 rad by default): for a hyperelastic block, with h_init 5e-4
+     relative to unit-size curves, by orders of magnitude. Two points with one id must lie in
+     one C1 piece of H (else a skip can be wrong); giving different ids to one piece only
+     costs factorisations. A return > 0 (piece not known) computes the tangent. The block
+     (examples/fe.h's fe_psb_piece): the same branches and n_pc; M200 1072 -> 795
+     factorisations, M800 1253 -> 1015 (at y0 every contact node is at its vertex, and the
+     sample points spread over hundreds of combinations of their pieces).
    - Screened trials (no_screen = 0). Near y0 the pieces are, to first order, cones
      with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
      lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
@@ -457,6 +475,15 @@
      times the span of the last new branch), up to 60 (8 n_span spans in all, idle ones
      included). Runs whose branches all came by span 5 end at 15. A value set by the caller
      is kept, so the paper's n_span means what it says.
+   - An odd count. Near y0 the branches cross a small sphere around it where H, restricted to
+     the sphere (dimension N, into R^N), vanishes; where they cross it transversally (each
+     branch inside a piece whose dH has rank N), that map's zeros come in even number, as a
+     map of a closed manifold into R^N has mod-2 degree 0. So with the length adapting an
+     odd count keeps the sweep going to n_span_max: random LCPs (bench_branching), complete
+     sets N = 8 232 -> 234 of 236, N = 10 230 -> 244 of 254, at 5% more n_pc; of the
+     incomplete runs before, 22 of 28 had an odd count, none of the complete ones. An odd
+     count returned (report.n_branches, psb_diagram.n_odd) most likely misses a branch,
+     unless one runs along a piece boundary or y0 is not a regular point of its pieces.
    - Adaptive end (patience, max_pc): stop after that many counted spans in a
      row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
      pair or a lucky random span.
@@ -648,7 +675,7 @@
    driven run's 1070 (1.02x), the same six end points to 1.3e-14; triangle M1024, the four
    branches; crossing kinks k = 2-4 and random complementarity problems N = 3-4, every ray
    once (tests/test_explore.c: 24 of 24 random ones complete). kink_spans = 1 looks at a kink
-   with one span first and sweeps in full only where it found more than two branches: block
+   with one span first and sweeps in full only where it found other than two branches: block
    M800, whose branches pass two ordinary kinks, 2756 -> 1573 factorisations (1.26x the hand-
    driven run's 1250; M200 1.15x, the look costing ~105 at the point itself). The look can
    miss a point whose first span (the incoming branch and the tangent beyond) meets no third
@@ -657,12 +684,16 @@
    Budgets and capacities: max_traces, max_points and a point callback returning nonzero stop
    exploring (PSB_STEP_BUDGET, PSB_STOPPED); nodes, edges or branches at a node running out
    give PSB_BRANCH_CAPACITY (d.truncated) after tracing what fits; d.n_queued counts the
-   branches left. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
+   branches left. d.n_odd counts the branching nodes left with an odd number of branches
+   ("An odd count", above): the call still returns PSB_SUCCESS, since a branch along a piece
+   boundary can make a count odd, but such a node most likely misses a branch; raise
+   branch.n_dir or n_span_max. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
    doubles, set up once; psb_explore allocates nothing and uses the solver's scratch (so not
    from a point callback of psb_trace). Same inputs and seed, the same graph bit for bit.
    Output (PSCBRANCH_STDIO). psb_diagram_write_json writes
      {"format": "pscbranch-diagram", "version": 1, "n": N, "param_index": p,
       "complete": true when no branch was left and nothing was cut,
+      "odd_nodes": d.n_odd (branching nodes with an odd number of branches, section 6),
       "nodes": [{"id", "kind" (psb_node_kind_string), "param", "precision", "edge", "event",
                  "direction", "y": [N+1], "branches": [{"edge" (-1: untraced), "y", "t"}]}],
       "edges": [{"id", "from", "from_branch", "to" (-1: no room), "to_branch",
@@ -849,6 +880,11 @@ typedef int (*psb_residual_fn)(const double *y, double *h, void *user);
 /* dH/dy at y: an n x (n+1) column-major matrix with leading dimension ldjac >= n; entry (i, j)
    is jac[i + j*ldjac]. Fill every entry of the n x (n+1) block. Same return convention. */
 typedef int (*psb_jacobian_fn)(const double *y, double *jac, int ldjac, void *user);
+/* The smooth piece of H that y lies in (optional, psb_problem.piece): write to *id a value that
+   is the same for two points only if one C1 function gives H near both, e.g. a hash of the
+   contact helpers' piece indices over the contact nodes (psb_ac2d_node's *piece). Return 0, > 0
+   when the piece is not known at y (the tangent is then computed), < 0 to stop at once. */
+typedef int (*psb_piece_fn)(const double *y, unsigned long long *id, void *user);
 
 /* Banded problems (linear = PSB_LINEAR_BANDED): A = dH/dx, the n x n Jacobian with respect to
    the state x (y without its parameter component: state column j is y component j when
@@ -902,6 +938,9 @@ typedef struct psb_problem {
                                  central]; 0 < fd_step < 1 */
     int fd_central;           /* 0: forward (n+1 residuals per Jacobian), 1: central (2(n+1));
                                  banded: kl+ku+2 and 2(kl+ku+2) [0] */
+    psb_piece_fn piece;       /* optional [NULL]: lets Algorithm 2.2 take a sample point's
+                                 tangent from an earlier sample point of the same piece instead
+                                 of a factorisation (manual, section 6, "Piece memo") */
 } psb_problem;
 
 /* Zeroes *p (dense backend), fills it and sets param_index to n (the last component). */
@@ -990,7 +1029,8 @@ typedef struct psb_branch_options {
     int n_span_max;       /* counted spans at most when the sweep adapts its length [60 when
                              n_span is left at 0 and the memo is on, else n_span]: n_span <
                              n_span_max adapts (n_span counted spans at least, then on while
-                             fewer than 3 times the span of the last new branch; 2 n_span_max
+                             fewer than 3 times the span of the last new branch or while the
+                             count of branches is odd; 2 n_span_max
                              or 4 n_span spans in all, idle ones included); n_span_max =
                              n_span is a fixed length */
     int patience;         /* stop after this many counted spans in a row found no new branch
@@ -1021,9 +1061,10 @@ typedef struct psb_stats {
     long n_rejected;    /* rejected trials */
     long n_switches;    /* successful tangent switches */
     long n_tangents;    /* tangents computed on their own (not inside a corrector) */
-    long n_tangent_reused; /* Algorithm 2.2's sample tangents taken from its Jacobian memo: dH
-                              bit-identical to one whose tangent was computed in the same call
-                              (piecewise-linear H), no factorisation (manual, section 6) */
+    long n_tangent_reused; /* Algorithm 2.2's sample tangents taken from its Jacobian memo (dH
+                              bit-identical to one whose tangent was computed in the same call:
+                              piecewise-linear H) or its piece memo (problem.piece), no
+                              factorisation (manual, section 6) */
 } psb_stats;
 
 /* ---- the solver: caller-owned state, all memory set up at init ------------------------ */
@@ -1039,6 +1080,8 @@ typedef struct psb_solver {
     /* private */
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
     int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
+    int jmemo_dh_;                /* its keys may hash dH (psb__jmemo_usable); else piece ids */
+    int piece_reused_;            /* the last sample tangent came from a piece id's entry */
     long jmemo_looks_, jmemo_hits_; /* its look-ups and hits in the current call */
     unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
     const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
@@ -1513,6 +1556,9 @@ typedef struct psb_diagram {
     int n_kinks_plain;      /* branch_at_kinks: kinks found ordinary (two branches) */
     int n_queued;           /* branches left untraced (budget, capacity or a stop) */
     int n_failed;           /* edges that ended in a failure */
+    int n_odd;              /* branching nodes with an odd number of branches: where the pieces
+                               are transversal branches come in pairs, so such a node most
+                               likely misses one (manual section 6, "An odd count") */
     int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node) */
     /* private */
     double *work_;
@@ -2100,7 +2146,7 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
     PSB__TAKE(memo_, (size_t)psb__memo_capacity(p->n) * np1);
     PSB__TAKE(known_, (size_t)psb__memo_capacity(p->n) * np1);
     PSB__TAKE(path_, (size_t)PSB__PATH_MAX * np1);
-    if (psb__jmemo_usable(p)) {
+    if (psb__jmemo_usable(p) || p->piece) {
         size_t cap = (size_t)psb__memo_capacity(p->n);
         PSB__TAKE(jmemo_t_, cap * np1);
         if (s) s->jmemo_key_ = (unsigned long long *)(void *)(base + off);
@@ -2165,6 +2211,7 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     s->np1_ = p->n + 1;
     s->ldlu_ = 2 * p->kl + p->ku + 1;
     s->memo_cap_ = psb__memo_capacity(p->n);
+    s->jmemo_dh_ = psb__jmemo_usable(p);
     psb__layout(p, s, memory);
     s->band_ = s->bandpair_[0];
     if (p->band_lean) s->bandpair_[1] = NULL;
@@ -4812,26 +4859,42 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
    tangent only decides skips (a tangent tried before, a trial whose outcome is known, the region of
    the previous direction), and a tangent that goes on to be used is recomputed from the same
    dH (psb__sample_refresh). Idle spans and screened trials on piecewise-linear problems then
-   cost Jacobian evaluations only, and the sweep is the one without the memo. */
+   cost Jacobian evaluations only, and the sweep is the one without the memo.
+   Piece memo (problem.piece set, any Jacobian and backend): the key is the piece's id, and
+   neither dH nor its factors are formed on a hit. Where H is smooth but not linear within a
+   piece (the block), two sample points of one piece near y0 have tangents a turn of about
+   curvature times their distance apart (at most 2 h_init), far below c_diff's angle on
+   problems where Algorithm 2.2 can tell branches apart at all; the skips it decides are
+   those of the tangent at the first point, and a tangent that goes on to be used is computed
+   at its own point. */
 static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t,
                                       int *from_memo)
 {
     psb_result r;
     unsigned long long key[2];
-    int m, np1 = s->np1_;
+    int m, np1 = s->np1_, by_piece = s->prob.piece != NULL;
     if (from_memo) *from_memo = 0;
+    s->piece_reused_ = 0;
+    if (by_piece) {
+        int rc = s->prob.piece(pt, key, s->prob.user);
+        if (rc < 0) return psb__callback_code(s, rc, "piece callback returned a negative value");
+        key[1] = 0x9e3779b97f4a7c15ull; /* never a dH hash: those memos are not mixed */
+        by_piece = rc == 0;
+    }
     /* a memo that rarely hits (sample points mostly in pieces of their own, as on the block)
        costs a hash per tangent for nothing: after 64 look-ups, it needs a hit in 8 */
-    if (!s->jmemo_t_ || (s->jmemo_looks_ >= 64 && 8 * s->jmemo_hits_ < s->jmemo_looks_)) {
+    if (!by_piece && (!s->jmemo_dh_ || (s->jmemo_looks_ >= 64 && 8 * s->jmemo_hits_ < s->jmemo_looks_))) {
         s->fd_cap_ = 1e-3 * s->branch.h;
         r = psb__tangent(s, pt, ref, t);
         s->fd_cap_ = 0;
         return r;
     }
-    s->stats.n_tangents++;
-    r = psb__jacobian(s, pt, NULL);
-    if (r != PSB_SUCCESS) return r;
-    psb__jmemo_key(s, key);
+    if (!by_piece) {
+        s->stats.n_tangents++;
+        r = psb__jacobian(s, pt, NULL);
+        if (r != PSB_SUCCESS) return r;
+        psb__jmemo_key(s, key);
+    }
     m = psb__jmemo_find(s, key);
     s->jmemo_looks_++;
     s->jmemo_hits_ += m >= 0;
@@ -4846,10 +4909,17 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
             s->stats.n_tangent_reused++;
             s->n_ok_++;
             *from_memo = 1;
+            s->piece_reused_ = by_piece;
             return PSB_SUCCESS;
         }
     }
-    r = psb__tangent_from_jacobian(s, ref, t);
+    if (by_piece) {
+        s->fd_cap_ = 1e-3 * s->branch.h;
+        r = psb__tangent(s, pt, ref, t);
+        s->fd_cap_ = 0;
+    } else {
+        r = psb__tangent_from_jacobian(s, ref, t);
+    }
     if (r != PSB_SUCCESS || m >= 0) return r;
     m = s->jmemo_n_ % s->memo_cap_;
     s->jmemo_key_[2 * m] = key[0];
@@ -4859,10 +4929,19 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
     return PSB_SUCCESS;
 }
 
-/* The tangent of the dH that psb__sample_tangent just took from its memo, computed afresh
-   (with ref's bordering, as without the memo). */
-static psb_result psb__sample_refresh(psb_solver *s, const double *ref, double *t)
+/* The tangent at the sample point pt that psb__sample_tangent just took from its memo,
+   computed afresh (with ref's bordering, as without the memo): from the dH formed there, or,
+   when a piece id gave it, at pt itself. */
+static psb_result psb__sample_refresh(psb_solver *s, const double *pt, const double *ref, double *t)
 {
+    psb_result r;
+    if (s->piece_reused_) {
+        s->piece_reused_ = 0;
+        s->fd_cap_ = 1e-3 * s->branch.h;
+        r = psb__tangent(s, pt, ref, t);
+        s->fd_cap_ = 0;
+        return r;
+    }
     s->stats.n_tangents++;
     return psb__tangent_from_jacobian(s, ref, t);
 }
@@ -5002,7 +5081,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                     continue;
                 }
                 if (from_memo) {
-                    r = psb__sample_refresh(s, tb, kx);
+                    r = psb__sample_refresh(s, pk, tb, kx);
                     if (psb__is_fatal(r)) return r;
                 }
             }
@@ -5110,7 +5189,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         /* a tangent tried before is skipped by psb__try_tangent; one that will be tried is
            the recomputed one (psb__sample_tangent) */
         if (from_memo && (s->branch.no_memo || !psb__memo_seen(s, tt))) {
-            r = psb__sample_refresh(s, v, tt);
+            r = psb__sample_refresh(s, pt, v, tt);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) {
                 psb__note_fault(s, r);
@@ -5199,7 +5278,7 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
     psb__branch_h(s, yc);
     /* H(y0) for the trials' conic test (psb__conic_at); the test is off without it */
     s->conic_h0_ok_ = 0;
-    if (s->jmemo_t_ && !s->branch.no_screen) {
+    if (s->jmemo_dh_ && !s->branch.no_screen) {
         r = psb__residual(s, yc, PSB__VEC(s, PSB__V_BR_H0));
         if (psb__is_fatal(r)) return r;
         s->conic_h0_ok_ = r == PSB_SUCCESS;
@@ -5239,11 +5318,14 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
        n_span left at its default (memo on): the sweep goes on past n_span until it has gone
        twice as many counted spans without a new branch as it took to find the last one, up
        to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
-       keep trickling in, and how long they took to come tells how long to wait). */
+       keep trickling in, and how long they took to come tells how long to wait); while the
+       count is odd it goes on to n_span_max (section 6, "An odd count": where the pieces are
+       transversal the branches come in pairs, so one is missing). */
     extend = s->branch.n_span_max > s->branch.n_span;
     spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
     for (span = 0; (rep->n_span < s->branch.n_span ||
-                    (extend && rep->n_span < s->branch.n_span_max && rep->n_span < 3 * rep->span_last_new)) &&
+                    (extend && rep->n_span < s->branch.n_span_max &&
+                     (rep->n_span < 3 * rep->span_last_new || rep->n_branches % 2 != 0))) &&
                    span - idle_pair_spans < spans_in_all; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
@@ -5996,7 +6078,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
         s->branch.n_span = n_span;
         s->branch.n_span_max = n_span_max;
-        if (r >= 0 && (br.n_branches > 2 || r == PSB_BRANCH_CAPACITY))
+        if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY))
             r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     } else {
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
@@ -6018,6 +6100,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         return PSB_SUCCESS;
     }
     psb__explore_add_node(x, kind, y, precision, -1);
+    if (nb % 2 != 0 && r != PSB_BRANCH_CAPACITY) d->n_odd++;
     nd->n_branches = nb;
     nd->branch_edge[0] = e;
     for (k = 1; k < nb; k++) nd->branch_edge[k] = -1;
@@ -6349,7 +6432,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
             return psb__fail(s, PSB_ERR_INPUT, "start point outside the box");
     d->n_nodes = d->n_edges = 0;
     d->n_points = 0;
-    d->n_branchings = d->n_kinks_plain = d->n_queued = d->n_failed = d->truncated = 0;
+    d->n_branchings = d->n_kinks_plain = d->n_queued = d->n_failed = d->n_odd = d->truncated = 0;
     d->param_index = p;
     memset(&x, 0, sizeof x);
     x.s = s;
@@ -6438,8 +6521,8 @@ PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
     if (!d || !f || !d->nodes) return PSB_ERR_NULL;
     np1 = d->n + 1;
     fprintf(f, "{\n  \"format\": \"pscbranch-diagram\",\n  \"version\": 1,\n  \"n\": %d,\n"
-               "  \"param_index\": %d,\n  \"complete\": %s,\n  \"nodes\": [",
-            d->n, d->param_index, d->n_queued || d->truncated ? "false" : "true");
+               "  \"param_index\": %d,\n  \"complete\": %s,\n  \"odd_nodes\": %d,\n  \"nodes\": [",
+            d->n, d->param_index, d->n_queued || d->truncated ? "false" : "true", d->n_odd);
     for (i = 0; i < d->n_nodes; i++) {
         const psb_node *nd = d->nodes + i;
         fprintf(f, "%s\n    {\"id\": %d, \"kind\": \"%s\", \"param\": %.17g, \"precision\": %.17g, "

@@ -78,6 +78,7 @@ static const char block_usage[] =
     "  --restart mixed|paper|global   restarts of Algorithm 2.2 (default mixed)\n"
     "  --paper-sweep         the paper's sweep (Table 1's spans and n_pc)\n"
     "  --no-screen           each trial along its sampled tangent, as printed\n"
+    "  --no-piece-memo       every sample tangent of Algorithm 2.2 factorised (no psb_problem.piece)\n"
     "  --seed S              random seed, 0..2^64-1 (default 0)\n"
     "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2; 0 < W <= 1e12)\n"
@@ -100,7 +101,7 @@ static const char block_usage[] =
     "  -h, --help            this help\n";
 
 typedef struct args {
-    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, solver, maxiter, restart, paper_sweep, patience, no_screen, explore;
+    int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, solver, maxiter, restart, paper_sweep, patience, no_screen, explore, no_piece_memo;
     double keep_mb;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (psb_branch_options.trial_h_min); h_init: one trial
@@ -137,6 +138,7 @@ static int parse(int argc, char **argv, args *a)
         else if (cli_flag(&c, "--explore")) a->explore = 1;
         else if (cli_flag(&c, "--paper-sweep")) a->paper_sweep = 1;
         else if (cli_flag(&c, "--no-screen")) a->no_screen = 1;
+        else if (cli_flag(&c, "--no-piece-memo")) a->no_piece_memo = 1;
         else if (cli_pair(&c, "--mesh", &a->nx, &a->ny, 2, BLOCK_MAX_MESH)) {}
         else if (cli_int(&c, "--ndir", &a->ndir, 1, BLOCK_MAX_NDIR)) {}
         else if (cli_int(&c, "--nspan", &a->nspan, 1, BLOCK_MAX_NSPAN)) {}
@@ -348,6 +350,7 @@ static int block_main(int argc, char **argv)
     if (a.out && cli_output_dir("block", a.out)) return 1;
     if (!a.quiet) fprintf(stderr, "block: building the %d x %d mesh and its model\n", a.nx, a.ny);
     if (fe_block_model(&md, &mesh, a.nx, a.ny, a.multipliers)) { fprintf(stderr, "block: out of memory building the %d x %d mesh\n", a.nx, a.ny); goto done; }
+    md.no_piece_ids = a.no_piece_memo;
     n = md.n;
     memset(&opt, 0, sizeof opt);
     opt.kappa = a.kappa > 0 ? a.kappa : 1.0 / n;

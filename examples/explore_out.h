@@ -121,6 +121,8 @@ static void xo_print(const psb_diagram *d, int comp)
         printf("  %4d  %4d -> %-4d %-8s %6ld  %.6f\n", i, e->from, e->to, psb_edge_end_string(e->end), e->n_points,
                e->length);
     }
+    if (d->n_odd)
+        printf("  %d branching node(s) with an odd number of branches: most likely one is missing there\n", d->n_odd);
 }
 
 /* Closes points.csv and writes DIR/diagram.json, nodes.csv, edges.csv, marks.csv (kind,

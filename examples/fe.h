@@ -381,6 +381,7 @@ typedef struct fe_model {
     int multipliers;     /* 1: lambda_D as in eq. (2); 0: eliminate the fixed dofs */
     int contact_tag;     /* edges lying on the foundation; Dirichlet nodes are left out */
     double r, friction;
+    int no_piece_ids;    /* 1: the solver gets no psb_problem.piece (--no-piece-memo) */
     /* derived by fe_model_setup */
     int n;               /* state size; gamma is y[n] */
     int *udof;           /* nnode: index of u1 (u2 = u1 + 1) or -1 if eliminated */
@@ -747,16 +748,43 @@ static inline int fe_internal(const fe_model *md, const double *u, double *f, fe
     return 0;
 }
 
-/* Contact quantities of contact node a: u_n = u . nu = -u2, u_t = u . tau = u1. */
-static inline void fe_node_contact(const fe_model *md, const double *y, int a, double res[2], double jac[8])
+/* Contact quantities of contact node a: u_n = u . nu = -u2, u_t = u . tau = u1. Returns the
+   smooth piece of the node's rows in use (which fixes their Jacobian), -1 for non-finite y. */
+static inline int fe_node_contact(const fe_model *md, const double *y, int a, double res[2], double jac[8])
 {
     int ud = md->udof[a], cd = md->cdof[a];
 #ifdef FE_USE_PSB_CONTACT
     /* the library's contact helper (pscbranch.h + its contact part included before this file) */
-    psb_ac2d_node(-y[ud + 1], y[ud], y[cd], y[cd + 1], md->r, md->friction, 0.0, PSB_PIECE_DEFAULT, res, jac, NULL);
+    int piece;
+    if (psb_ac2d_node(-y[ud + 1], y[ud], y[cd], y[cd + 1], md->r, md->friction, 0.0, PSB_PIECE_DEFAULT,
+                      res, jac, &piece) != PSB_SUCCESS)
+        return -1;
+    /* separated (F s = 0): the interval [0, 0]'s lower and upper ends are one function, 0 */
+    if (piece % 2 == PSB_HALF_OUT && piece / 2 == PSB_IVL_UPPER) piece = PSB_AC2D_PIECE(PSB_HALF_OUT, PSB_IVL_LOWER);
+    return piece;
 #else
-    fe_contact_node(-y[ud + 1], y[ud], y[cd], y[cd + 1], md->r, md->friction, res, jac);
+    return fe_contact_node(-y[ud + 1], y[ud], y[cd], y[cd + 1], md->r, md->friction, res, jac);
 #endif
+}
+
+/* The smooth piece of H at y (psb_problem.piece): the bulk is smooth, so the contact nodes'
+   pieces fix it; a 64-bit hash of them (splitmix64 steps), or 1 (not known) for non-finite y. */
+static inline int fe_psb_piece(const double *y, unsigned long long *id, void *user)
+{
+    const fe_model *md = (const fe_model *)user;
+    unsigned long long z = 0x853c49e6748fea9bull;
+    int k;
+    for (k = 0; k < md->ncontact; k++) {
+        double res[2];
+        int piece = fe_node_contact(md, y, md->cnode[k], res, NULL);
+        if (piece < 0) return 1;
+        z += 0x9e3779b97f4a7c15ull * (unsigned long long)(piece + 1);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        z ^= z >> 31;
+    }
+    *id = z;
+    return 0;
 }
 
 /* Residual H(y) of eq. (2): rows in the unknown numbering. Returns 0 or 1 (inverted element). */
@@ -1750,6 +1778,7 @@ static inline int fe_run_init_solver(fe_run *run, fe_model *md, const psb_option
     run->cur = -1;
     run->kink_tol = 1e-4;
     psb_problem_init(&run->prob, md->n, fe_psb_residual, fe_psb_jacobian, md);
+    if (!md->no_piece_ids) run->prob.piece = fe_psb_piece;
     if (user) {
         run->prob.linear = PSB_LINEAR_USER;
         run->prob.solver = *user;
@@ -2260,7 +2289,7 @@ static inline int fe_run_summary(fe_run *run, int ndist, int expected, double se
     printf("; time %.2f s (CPU), factorisations %ld, PC trials %ld\n", seconds, run->s.stats.n_factor,
            run->s.stats.n_pc_steps);
     printf("  corrector iterations %ld, Jacobians %ld, factorisations reused %ld, sample tangents from the "
-           "Jacobian memo %ld\n", run->s.stats.n_newton, run->s.stats.n_jacobian, run->s.stats.n_factor_reused,
+           "memos %ld\n", run->s.stats.n_newton, run->s.stats.n_jacobian, run->s.stats.n_factor_reused,
            run->s.stats.n_tangent_reused);
     return ndist == expected;
 }

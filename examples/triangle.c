@@ -76,6 +76,7 @@ static const char triangle_usage[] =
     "                        1..1e6; contrib/psb_sparse.h)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore): the four\n"
     "                        branches, or with --problem fold the two limit points\n"
+    "  --no-piece-memo       every sample tangent of Algorithm 2.2 factorised (no psb_problem.piece)\n"
     "  --save FILE           write the branches' end points at |gamma| = 1\n"
     "  --refine FILE         re-solve a coarser nested mesh's end points on this mesh (needs --load; Table 4)\n"
     "  --compare FILE        relative H1 errors of a coarser file's end points (up to 4 times)\n"
@@ -85,7 +86,7 @@ static const char triangle_usage[] =
     "  -h, --help            this help\n";
 
 typedef struct args {
-    int n, fold, ndir, nspan, multipliers, verbose, quiet, solver, load_auto, explore;
+    int n, fold, ndir, nspan, multipliers, verbose, quiet, solver, load_auto, explore, no_piece_memo;
     double keep_mb;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
@@ -111,6 +112,7 @@ static int parse(int argc, char **argv, args *a)
         if (cli_flag(&c, "--verbose")) a->verbose = 1;
         else if (cli_flag(&c, "--quiet")) a->quiet = 1;
         else if (cli_flag(&c, "--explore")) a->explore = 1;
+        else if (cli_flag(&c, "--no-piece-memo")) a->no_piece_memo = 1;
         else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {}
         else if (cli_int(&c, "--mesh", &a->n, 2, TRI_MAX_MESH)) {}
         else if (cli_choice(&c, "--problem", &a->fold, problems)) {}
@@ -320,6 +322,7 @@ static int choose_load(args *a)
         fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a->n);
         goto done;
     }
+    md.no_piece_ids = a->no_piece_memo;
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
@@ -477,6 +480,7 @@ int main(int argc, char **argv)
     else { h0[0] = 0; h0[1] = 0; h1[0] = -a.load; h1[1] = -7.5; }
     if (!a.quiet) fprintf(stderr, "triangle: building the mesh with n = %d and its model\n", a.n);
     if (fe_triangle_model(&md, &mesh, a.n, a.multipliers, h0, h1)) { fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a.n); goto done; }
+    md.no_piece_ids = a.no_piece_memo;
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }

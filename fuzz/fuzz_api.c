@@ -3,7 +3,8 @@
    The bytes choose a psb_options (each field its default, an interesting value such as 0, -1,
    NaN, Inf, 1e-300, INT_MAX, or raw bits), a small problem (a piecewise-linear complementarity
    problem of tests/pl_problems.h or a polynomial family, n = 1..4, with the dense, dense
-   finite-difference or banded backend), a start couple and trace bounds, then run the
+   finite-difference or banded backend, with or without a piece callback), a start couple and
+   trace bounds, then run the
    quick-start pipeline and the single operations, and a few contact helpers. It checks what
    the manual promises: no crash (sanitizers), no success with a non-finite output, a message
    after every failure, inputs untouched on failure, branch counts within capacity.
@@ -112,6 +113,24 @@ static int any_jac(const double *y, double *jac, int ld, void *u)
 {
     const fuzz_problem *f = (const fuzz_problem *)u;
     return f->kind ? poly_jac(y, jac, ld, u) : pl_jacobian(y, jac, ld, (void *)&f->pl);
+}
+
+/* psb_problem.piece: the PL problem's selection (which argument of each min is active), the
+   polynomial's sign pattern (no true piece: wrong ids must give wrong skips, nothing worse);
+   a[0] near its ends makes it fail (< 0: stop) or not know (> 0) */
+static int any_piece(const double *y, unsigned long long *id, void *u)
+{
+    const fuzz_problem *f = (const fuzz_problem *)u;
+    int n = f->pl.n, i, j;
+    if (f->a[0] >= 3.5) return -1;
+    if (f->a[0] <= -3.5) return 1;
+    *id = 0;
+    for (i = 0; i < n; i++) {
+        double w = f->pl.q[i] * y[n];
+        for (j = 0; j < n; j++) w += f->pl.m[i + j * n] * y[j];
+        *id = 3 * *id + (unsigned long long)(f->kind ? (y[i] > 0) + 2 * (y[i] < 0) : y[i] <= w);
+    }
+    return 0;
 }
 
 /* the band of the dense Jacobian (entries outside it are dropped: a different problem, still
@@ -246,6 +265,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     psb_problem_init(&prob, n, any_res, backend == 1 ? NULL : any_jac, &fp);
     prob.fd_step = fd_step;
     prob.fd_central = fd_central;
+    prob.piece = (o.seed / 3) % 2 ? any_piece : NULL; /* no byte of its own: the seed's */
     if (backend == 2) {
         prob.linear = PSB_LINEAR_BANDED;
         fp.kl = prob.kl = (int)(rd_u8(&b) % (unsigned)n);

@@ -1376,6 +1376,177 @@ static void test_curved_lcps(void)
     CHECK(complete >= total - 2);
 }
 
+/* The piece memo (problem.piece) on those curved LCPs: the piece of H o Phi at y is the set of
+   rows where z_i <= (M z + q g)_i, z = Phi(y), smooth but not linear within a piece. With it
+   Algorithm 2.2 finds the same rays with fewer factorisations; an id that is never known (> 0)
+   gives the run without it bit for bit; a negative return stops the call with
+   PSB_ERR_CALLBACK and leaves y0, t0 as they were. */
+typedef struct {
+    curved_lcp c;
+    int mode;   /* 0: the piece, 1: never known, 2: fail (-1) at call fail_at */
+    long calls, fail_at;
+} piece_lcp;
+
+static int piece_lcp_piece(const double *y, unsigned long long *id, void *user)
+{
+    piece_lcp *pc = (piece_lcp *)user;
+    const pl_problem *p = &pc->c.p;
+    double z[PL_MAX_N + 1];
+    int i, j, n = p->n;
+    pc->calls++;
+    if (pc->mode == 1) return 1;
+    if (pc->mode == 2 && pc->calls >= pc->fail_at) return -1;
+    curved_lcp_map(&pc->c, y, z);
+    *id = 0;
+    for (i = 0; i < n; i++) {
+        double w = p->q[i] * z[n];
+        for (j = 0; j < n; j++) w += p->m[i + j * n] * z[j];
+        if (z[i] <= w) *id |= 1ull << i;
+    }
+    return 0;
+}
+
+static int piece_lcp_res(const double *y, double *h, void *user)
+{
+    return curved_lcp_res(y, h, &((piece_lcp *)user)->c);
+}
+
+static int piece_lcp_jac(const double *y, double *jac, int ld, void *user)
+{
+    return curved_lcp_jac(y, jac, ld, &((piece_lcp *)user)->c);
+}
+
+static void test_piece_memo(void)
+{
+    unsigned long long st = 78;
+    enum { NB = PL_MAX_RAYS * (PL_MAX_N + 1) };
+    double rays[NB], ys[3][NB], ts[3][NB], dirs[NB];
+    long fac[3] = {0, 0, 0}, reused[3] = {0, 0, 0};
+    int trial, total = 16, fd, complete[2][3] = {{0, 0, 0}, {0, 0, 0}}, extra[2][3] = {{0, 0, 0}, {0, 0, 0}}, same = 1;
+    for (fd = 0; fd < 2; fd++)
+        for (trial = 0; trial < total; trial++) {
+            piece_lcp pc;
+            psb_problem prob;
+            psb_solver s;
+            psb_branch_report br[3];
+            double y[PL_MAX_N + 1], t[PL_MAX_N + 1], z[PL_MAX_N + 1], y0[PL_MAX_N + 1], t0[PL_MAX_N + 1];
+            int n = 3 + trial % 2, np1 = n + 1, n_rays = pl_random_lcp(&pc.c.p, n, &st, 1, rays), i, k, run;
+            double len = 0;
+            pc.c.eps = 1;
+            pc.mode = 0;
+            pc.calls = 0;
+            psb_problem_init(&prob, n, piece_lcp_res, fd ? NULL : piece_lcp_jac, &pc);
+            CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+            for (i = 0; i < np1; i++) len += rays[i] * rays[i];
+            for (i = 0; i < np1; i++) z[i] = 0.5 * rays[i] / sqrt(len);
+            y[n] = z[n];
+            for (i = n - 1; i >= 0; i--) y[i] = z[i] - y[i + 1] * y[i + 1];
+            CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+            if (t[n] * y[n] > 0)
+                for (i = 0; i < np1; i++) t[i] = -t[i];
+            CHECK(pl_trace_to_kink(&s, y, t, NULL) != PSB_ERR_CALLBACK);
+            CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
+            psb_solver_free(&s);
+            /* run 0: no piece callback; 1: the pieces; 2: an id never known */
+            for (run = 0; run < 3; run++) {
+                int matched;
+                prob.piece = run ? piece_lcp_piece : NULL;
+                pc.mode = run == 2;
+                CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+                CHECK(psb_find_branches(&s, y, t, NULL, PL_MAX_RAYS, ys[run], ts[run], &br[run]) == PSB_SUCCESS);
+                if (!fd) {
+                    fac[run] += s.stats.n_factor;
+                    reused[run] += s.stats.n_tangent_reused;
+                }
+                /* each branch's direction from y0 (branch 0, the incoming one, by its tangent:
+                   with differences taken 16 h back on the curve, so a looser match) */
+                for (k = 0; k < br[run].n_branches; k++) {
+                    double norm = 0;
+                    if (k == 0) psb__copy(z, ts[run], np1);
+                    else curved_lcp_map(&pc.c, ys[run] + k * np1, z);
+                    for (i = 0; i < np1; i++) norm += z[i] * z[i];
+                    for (i = 0; i < np1; i++) dirs[k * np1 + i] = z[i] / sqrt(norm);
+                }
+                matched = pl_match_rays(dirs, br[run].n_branches, rays, n_rays, np1, fd ? 1e-2 : 1e-3);
+                complete[fd][run] += matched == n_rays && br[run].n_branches == n_rays;
+                extra[fd][run] += br[run].n_branches - matched;
+                psb_solver_free(&s);
+            }
+            same &= br[2].n_branches == br[0].n_branches && br[2].n_pc == br[0].n_pc &&
+                    memcmp(ys[2], ys[0], sizeof(double) * (size_t)(br[0].n_branches * np1)) == 0 &&
+                    memcmp(ts[2], ts[0], sizeof(double) * (size_t)(br[0].n_branches * np1)) == 0;
+            /* a failing piece callback: PSB_ERR_CALLBACK at once, y and t untouched */
+            if (trial < 4 && !fd) {
+                psb_result r;
+                prob.piece = piece_lcp_piece;
+                pc.mode = 2;
+                pc.calls = 0;
+                pc.fail_at = 1 + 3 * trial;
+                psb__copy(y0, y, np1);
+                psb__copy(t0, t, np1);
+                CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+                r = psb_find_branches(&s, y, t, NULL, PL_MAX_RAYS, ys[0], ts[0], &br[0]);
+                CHECK(r == PSB_ERR_CALLBACK && s.message[0] != 0 && pc.calls == pc.fail_at);
+                CHECK(memcmp(y0, y, sizeof y0) == 0 && memcmp(t0, t, sizeof t0) == 0);
+                psb_solver_free(&s);
+            }
+        }
+    printf("  piece memo, curved random LCPs: complete %d / %d / %d of %d (none, pieces, never known),"
+           " differences %d / %d / %d, extra branches %d / %d / %d; factorisations %ld -> %ld,"
+           " tangents reused %ld -> %ld\n", complete[0][0], complete[0][1], complete[0][2], total,
+           complete[1][0], complete[1][1], complete[1][2], extra[1][0], extra[1][1], extra[1][2],
+           fac[0], fac[1], reused[0], reused[1]);
+    CHECK(extra[0][0] == 0 && extra[0][1] == 0 && extra[1][1] <= extra[1][0]);
+    CHECK(same);
+    CHECK(complete[0][1] >= complete[0][0] && complete[0][1] >= total - 1);
+    CHECK(complete[1][1] >= complete[1][0] - 1);
+    CHECK(reused[1] > 2 * reused[0] && 10 * fac[1] < 9 * fac[0]);
+}
+
+/* An odd count keeps an adaptive sweep going (manual section 6, "An odd count"): random LCPs
+   with N = 10 (bench_branching's problems 10, 28 and 33 of seed 787) entered along rays where
+   the sweep of 0.10.0 stopped with one ray of six missing (5 branches, n_span 15-21); now all
+   six. Every set returned with an odd count ran to n_span_max; with n_span fixed the sweep
+   keeps its length. */
+static void test_odd_count_sweeps_on(void)
+{
+    static const int cases[][2] = {{10, 3}, {10, 4}, {10, 5}, {28, 2}, {33, 0}};
+    enum { NB = PL_MAX_RAYS * (PL_MAX_N + 1) };
+    double rays[NB], ys[NB], ts[NB];
+    unsigned long long st = 787;
+    int problem, c = 0, complete = 0, odd_short = 0, fixed_ok = 1;
+    for (problem = 0; problem <= 33 && c < 5; problem++) {
+        pl_problem p;
+        int n_rays = pl_random_lcp(&p, 10, &st, 1, rays);
+        CHECK(n_rays > 0);
+        for (; c < 5 && cases[c][0] == problem; c++) {
+            double y[PL_MAX_N + 1], t[PL_MAX_N + 1];
+            psb_problem prob;
+            psb_solver s;
+            psb_branch_options bo;
+            psb_branch_report br;
+            psb_result r;
+            psb_problem_init(&prob, 10, pl_residual, pl_jacobian, &p);
+            CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+            pl_start_on_ray(11, rays, cases[c][1], y, t);
+            r = pl_trace_to_kink(&s, y, t, NULL);
+            CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
+            CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
+            CHECK(psb_find_branches(&s, y, t, NULL, PL_MAX_RAYS, ys, ts, &br) == PSB_SUCCESS);
+            complete += br.n_branches == n_rays && pl_match_rays(ts, br.n_branches, rays, n_rays, 11, 1e-6) == n_rays;
+            odd_short += br.n_branches % 2 != 0 && br.n_span < s.branch.n_span_max;
+            /* n_span set: 15 spans, odd or not */
+            memset(&bo, 0, sizeof bo);
+            bo.n_span = 15;
+            CHECK(psb_find_branches(&s, y, t, &bo, PL_MAX_RAYS, ys, ts, &br) == PSB_SUCCESS);
+            fixed_ok &= br.n_span == 15;
+            psb_solver_free(&s);
+        }
+    }
+    printf("  odd counts sweep on: %d of 5 runs complete (before: 0)\n", complete);
+    CHECK(c == 5 && complete == 5 && odd_short == 0 && fixed_ok);
+}
+
 /* Algorithm 2.2's first sample tangent (Step 1) failing because of the Jacobian callback: the
    call fails with its code and rep->n_failed counts it (it read 0 before 0.11.0 there, though
    the manual ties a failure to n_failed > 0). */
@@ -1778,6 +1949,8 @@ int main(void)
     test_jacobian_memo();
     test_curved_kinks();
     test_curved_lcps();
+    test_piece_memo();
+    test_odd_count_sweeps_on();
     test_step1_fault_counted();
     test_fd_branching();
     test_branch_budgets();

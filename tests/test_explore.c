@@ -747,7 +747,8 @@ static void test_output(void)
     rewind(f);
     len = fread(buf, 1, sizeof buf - 1, f);
     buf[len] = 0;
-    CHECK(strstr(buf, "\"format\": \"pscbranch-diagram\"") && strstr(buf, "\"complete\": true"));
+    CHECK(strstr(buf, "\"format\": \"pscbranch-diagram\"") && strstr(buf, "\"complete\": true") &&
+          strstr(buf, "\"odd_nodes\": 0"));
     for (p = buf; (p = strstr(p, "\"end\": \"bound\"")) != NULL; p++) lines++;
     CHECK(lines == 8);
     for (p = buf; (p = strstr(p, "\"kind\": \"pc1\"")) != NULL; p++) pc1++;
@@ -1109,6 +1110,51 @@ static int loop_jacobian(const double *y, double *jac, int ld, void *u)
     return 0;
 }
 
+/* psb_diagram.n_odd: a random LCP (N = 10, bench_branching's problem 10 of seed 787, six rays)
+   explored from ray 3. With n_span fixed at 15 the sweep at the origin misses a ray: five
+   branches, an odd count, flagged; left to adapt it sweeps on while odd and finds all six. */
+static void test_odd_node_flagged(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[PL_MAX_N + 1], t[PL_MAX_N + 1];
+    unsigned long long st = 787;
+    pl_problem pp;
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    int problem, n_rays = 0, fixed, i;
+    for (problem = 0; problem <= 10; problem++) n_rays = pl_random_lcp(&pp, 10, &st, 1, rays);
+    CHECK(n_rays == 6);
+    psb_problem_init(&prob, 10, pl_residual, pl_jacobian, &pp);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 10, 2 * PL_MAX_RAYS, 2 * PL_MAX_RAYS, MAXB) == PSB_SUCCESS);
+    for (fixed = 1; fixed >= 0; fixed--) {
+        int branching = -1, nodes_odd = 0;
+        pl_start_on_ray(11, rays, 3, y, t);
+        memset(&eo, 0, sizeof eo);
+        eo.trace.param_min = -1;
+        eo.trace.param_max = 1;
+        eo.branch_at_kinks = 1;
+        eo.branch.n_span = fixed ? 15 : 0;
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        for (i = 0; i < d.n_nodes; i++)
+            if (d.nodes[i].kind == PSB_NODE_NONSMOOTH || d.nodes[i].kind == PSB_NODE_PC1) {
+                branching = i;
+                nodes_odd += d.nodes[i].n_branches % 2;
+            }
+        CHECK(branching >= 0 && d.n_odd == nodes_odd);
+        if (branching < 0) continue;
+        printf("  odd node: n_span %s, %d branches at the origin, n_odd %d\n", fixed ? "15" : "adaptive",
+               d.nodes[branching].n_branches, d.n_odd);
+        if (fixed) CHECK(d.nodes[branching].n_branches == 5 && d.n_odd == 1);
+        else CHECK(d.nodes[branching].n_branches == 6 && d.n_odd == 0 &&
+                   pl_match_rays(d.nodes[branching].ts, 6, rays, 6, 11, 1e-8) == 6);
+    }
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
 static void test_loop_through_pc1_points(void)
 {
     int fd, k;
@@ -1168,6 +1214,7 @@ int main(void)
     test_audit_regressions();
     test_pc1_points_and_bounds();
     test_loop_through_pc1_points();
+    test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();
     test_output();
