@@ -442,8 +442,9 @@
      one C1 piece of H (else a skip can be wrong); giving different ids to one piece only
      costs factorisations. A return > 0 (piece not known) computes the tangent. The block
      (examples/fe.h's fe_psb_piece): the same branches and n_pc; M200 1072 -> 795
-     factorisations, M800 1253 -> 1015 (at y0 every contact node is at its vertex, and the
-     sample points spread over hundreds of combinations of their pieces).
+     factorisations, M800 1253 -> 1015, M12800 2323 -> 2235 (at y0 every contact node is at
+     its vertex, and the sample points spread over ever more combinations of their pieces as
+     the mesh refines).
    - Screened trials (no_screen = 0). Near y0 the pieces are, to first order, cones
      with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
      lands on the ray along k, the tangent at p, with k as its next bordering row: the start of

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench_block.sh - the block example of Section 3.2 as a benchmark (run by `make bench`).
 #   1. dense against banded on M200 (and banded on M800; M3200 with --full): seconds,
-#      factorisations, n_pc, speed-up.
+#      factorisations, n_pc, speed-up; banded also without the piece memo (run "nopiece").
 #   2. the study of Tables 1-2 on the paper's M800: for input branches 1, 2, 3 and n_dir in
 #      {20, 30, 40, 50, 60, 100}, the smallest n_span that finds all six branches (one run with
 #      n_span = 40: the span of the last new branch) with its n_pc and n_rand, the same with the
@@ -55,6 +55,8 @@ meshes="10x20 20x40"
 [ $quick -eq 1 ] && meshes="10x20"
 for mesh in $meshes; do
     row "$mesh" whole banded --solver banded; banded_time=$secs
+    # the same without psb_problem.piece (Algorithm 2.2's piece memo off)
+    row "$mesh" nopiece banded --solver banded --no-piece-memo
     if [ "$mesh" = 10x20 ]; then
         row "$mesh" whole dense --solver dense
     elif [ "$mesh" = 20x40 ]; then

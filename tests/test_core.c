@@ -1423,6 +1423,7 @@ static void test_piece_memo(void)
     double rays[NB], ys[3][NB], ts[3][NB], dirs[NB];
     long fac[3] = {0, 0, 0}, reused[3] = {0, 0, 0};
     int trial, total = 16, fd, complete[2][3] = {{0, 0, 0}, {0, 0, 0}}, extra[2][3] = {{0, 0, 0}, {0, 0, 0}}, same = 1;
+    int far = 0;
     for (fd = 0; fd < 2; fd++)
         for (trial = 0; trial < total; trial++) {
             piece_lcp pc;
@@ -1447,6 +1448,14 @@ static void test_piece_memo(void)
             CHECK(pl_trace_to_kink(&s, y, t, NULL) != PSB_ERR_CALLBACK);
             CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
             psb_solver_free(&s);
+            /* with differences pl_trace_to_kink's stop (a sign change of the selection) can
+               come early on a curved branch, and Algorithm 2.1 follows a branch only while it
+               turns by less than c_diff's angle: those starts are not at the point */
+            if (psb__norm2(y, np1) > 1e-6) {
+                CHECK(fd);
+                far += fd;
+                continue;
+            }
             /* run 0: no piece callback; 1: the pieces; 2: an id never known */
             for (run = 0; run < 3; run++) {
                 int matched;
@@ -1492,14 +1501,13 @@ static void test_piece_memo(void)
             }
         }
     printf("  piece memo, curved random LCPs: complete %d / %d / %d of %d (none, pieces, never known),"
-           " differences %d / %d / %d, extra branches %d / %d / %d; factorisations %ld -> %ld,"
-           " tangents reused %ld -> %ld\n", complete[0][0], complete[0][1], complete[0][2], total,
-           complete[1][0], complete[1][1], complete[1][2], extra[1][0], extra[1][1], extra[1][2],
-           fac[0], fac[1], reused[0], reused[1]);
-    CHECK(extra[0][0] == 0 && extra[0][1] == 0 && extra[1][1] <= extra[1][0]);
+           " differences %d / %d / %d of %d; factorisations %ld -> %ld, tangents reused %ld -> %ld\n",
+           complete[0][0], complete[0][1], complete[0][2], total, complete[1][0], complete[1][1],
+           complete[1][2], total - far, fac[0], fac[1], reused[0], reused[1]);
+    CHECK(extra[0][0] == 0 && extra[0][1] == 0 && extra[1][1] == 0 && far <= 4);
     CHECK(same);
     CHECK(complete[0][1] >= complete[0][0] && complete[0][1] >= total - 1);
-    CHECK(complete[1][1] >= complete[1][0] - 1);
+    CHECK(complete[1][1] >= complete[1][0] - 1 && complete[1][1] >= total - far - 1);
     CHECK(reused[1] > 2 * reused[0] && 10 * fac[1] < 9 * fac[0]);
 }
 
