@@ -1318,8 +1318,10 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
    NULL) is the last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision
    untouched: PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed
    because of a fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end
-   point lies within 1000 moves or, with finite differences, no branch tangent could be
-   computed 4 to 64 h behind it, PSB_ERR_OPTIONS (bo; psb_solver_message names the field),
+   point lies within 1000 moves, when the branch goes on smoothly where its tangent has turned
+   by more than c_diff's angle since t (analytic dH: y lay farther up a curved branch than
+   that turn allows; start nearer to the end point) or, with finite differences, no branch
+   tangent could be computed 4 to 64 h behind it, PSB_ERR_OPTIONS (bo; psb_solver_message names the field),
    PSB_ERR_CALLBACK ... s->branch holds the resolved options used (unchanged by PSB_ERR_NULL or
    _OPTIONS). */
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
@@ -4662,7 +4664,7 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
 /* Algorithm 2.1 with the options in s->branch (psb_locate_end, psb_explore). */
 static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *precision)
 {
-    int np1, last_fault = 0;
+    int np1, last_fault = 0, turned_only = 0;
     long advances = 0;
     double h, *yc, *tc, *yt, *tt, *tin;
     psb_result r = psb__check_couple(s, y, t);
@@ -4701,14 +4703,17 @@ static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *p
                corrector may fall back from beyond the end point onto the branch behind it
                (with finite differences, whose tangents there mix the pieces, that passed the
                cosine test over and over without moving) */
-            moved = r == PSB_SUCCESS && psb__cos_w(s, tt, tc) >= s->opt.c_diff &&
-                    psb__cos_w(s, tt, tin) >= s->opt.c_diff;
+            moved = r == PSB_SUCCESS && psb__cos_w(s, tt, tc) >= s->opt.c_diff;
             if (moved) {
                 double ahead = 0;
                 int i;
                 for (i = 0; i < np1; i++) ahead += s->w_[i] * (yt[i] - yc[i]) * tc[i];
                 moved = ahead >= 0.5 * h;
             }
+            /* a step that fails the entering tangent's test alone: the branch goes on,
+               smoothly here, but has turned since y */
+            turned_only = moved && psb__cos_w(s, tt, tin) < s->opt.c_diff;
+            moved = moved && !turned_only;
             if (moved) {
                 psb__copy(yc, yt, np1);
                 /* a finite-difference Jacobian within fd_step of the end point mixes the
@@ -4720,6 +4725,13 @@ static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *p
         } while (moved);
     } while (h >= s->branch.h_min);
     if (last_fault) return psb__faults_code(s, "Algorithm 2.1");
+    /* the last step, of h_min, went on along the branch (its tangent within c_diff of the
+       one before): no end point here, the branch only turned by more than c_diff's angle
+       since y. Where that turn is a curvature (y farther from the end point than the branch
+       is straight) the point found is a smooth one; reported, not passed off as an end */
+    if (turned_only)
+        return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Algorithm 2.1: the branch goes on smoothly where it has "
+                         "turned by acos(c_diff) since y (start nearer to the end point)");
     if (psb__fd_jacobian(&s->prob)) {
         /* the entering tangent too may come from quotients mixing the pieces (the last couple
            of a trace lies within h_min of the end point): take the branch's tangent 16
@@ -4847,6 +4859,16 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
     return -1;
 }
 
+/* The tangent at sample point pt, formed there (difference steps below s->branch.h / 1000). */
+static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const double *ref, double *t)
+{
+    psb_result r;
+    s->fd_cap_ = 1e-3 * s->branch.h;
+    r = psb__tangent(s, pt, ref, t);
+    s->fd_cap_ = 0;
+    return r;
+}
+
 /* The tangent at a sample point pt of Algorithm 2.2 (oriented by ref). Difference steps there
    stay below s->branch.h / 1000 (section 1).
    Jacobian memo (analytic dH, dense or banded storage): the unit kernel of dH is a function of
@@ -4884,12 +4906,8 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
     }
     /* a memo that rarely hits (sample points mostly in pieces of their own, as on the block)
        costs a hash per tangent for nothing: after 64 look-ups, it needs a hit in 8 */
-    if (!by_piece && (!s->jmemo_dh_ || (s->jmemo_looks_ >= 64 && 8 * s->jmemo_hits_ < s->jmemo_looks_))) {
-        s->fd_cap_ = 1e-3 * s->branch.h;
-        r = psb__tangent(s, pt, ref, t);
-        s->fd_cap_ = 0;
-        return r;
-    }
+    if (!by_piece && (!s->jmemo_dh_ || (s->jmemo_looks_ >= 64 && 8 * s->jmemo_hits_ < s->jmemo_looks_)))
+        return psb__sample_tangent_at(s, pt, ref, t);
     if (!by_piece) {
         s->stats.n_tangents++;
         r = psb__jacobian(s, pt, NULL);
@@ -4914,13 +4932,7 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
             return PSB_SUCCESS;
         }
     }
-    if (by_piece) {
-        s->fd_cap_ = 1e-3 * s->branch.h;
-        r = psb__tangent(s, pt, ref, t);
-        s->fd_cap_ = 0;
-    } else {
-        r = psb__tangent_from_jacobian(s, ref, t);
-    }
+    r = by_piece ? psb__sample_tangent_at(s, pt, ref, t) : psb__tangent_from_jacobian(s, ref, t);
     if (r != PSB_SUCCESS || m >= 0) return r;
     m = s->jmemo_n_ % s->memo_cap_;
     s->jmemo_key_[2 * m] = key[0];
@@ -4935,13 +4947,9 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
    when a piece id gave it, at pt itself. */
 static psb_result psb__sample_refresh(psb_solver *s, const double *pt, const double *ref, double *t)
 {
-    psb_result r;
     if (s->piece_reused_) {
         s->piece_reused_ = 0;
-        s->fd_cap_ = 1e-3 * s->branch.h;
-        r = psb__tangent(s, pt, ref, t);
-        s->fd_cap_ = 0;
-        return r;
+        return psb__sample_tangent_at(s, pt, ref, t);
     }
     s->stats.n_tangents++;
     return psb__tangent_from_jacobian(s, ref, t);

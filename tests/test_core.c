@@ -1376,6 +1376,50 @@ static void test_curved_lcps(void)
     CHECK(complete >= total - 2);
 }
 
+/* Algorithm 2.1 started up a tightly curved branch (Phi with eps = 50): it follows the branch
+   while its tangent stays within c_diff of the one it started with, so where the branch turns
+   by more than that before the end point it stops at a smooth point. That must not come back
+   as an end point (before 0.11.0: PSB_SUCCESS 1.4e-4 short of the origin in 7 of these 16
+   runs). Now either the end point (the origin) or PSB_ERR_NO_CONVERGENCE with y and t as they
+   were. */
+static void test_locate_end_far_on_curve(void)
+{
+    unsigned long long st = 79;
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int trial, total = 16, reached = 0, refused = 0, wrong = 0;
+    for (trial = 0; trial < total; trial++) {
+        curved_lcp c;
+        psb_problem prob;
+        psb_solver s;
+        double y[PL_MAX_N + 1], t[PL_MAX_N + 1], z[PL_MAX_N + 1], y0[PL_MAX_N + 1], t0[PL_MAX_N + 1];
+        int n = 3 + trial % 2, np1 = n + 1, i;
+        double len = 0, dist = trial < 8 ? 2e-4 : 2e-5;
+        psb_result r;
+        CHECK(pl_random_lcp(&c.p, n, &st, 1, rays) >= 3);
+        c.eps = 50;
+        psb_problem_init(&prob, n, curved_lcp_res, curved_lcp_jac, &c);
+        CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+        for (i = 0; i < np1; i++) len += rays[i] * rays[i];
+        for (i = 0; i < np1; i++) z[i] = dist * rays[i] / sqrt(len);
+        y[n] = z[n];
+        for (i = n - 1; i >= 0; i--) y[i] = z[i] - c.eps * y[i + 1] * y[i + 1];
+        CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
+        if (t[n] * y[n] > 0)
+            for (i = 0; i < np1; i++) t[i] = -t[i];
+        psb__copy(y0, y, np1);
+        psb__copy(t0, t, np1);
+        r = psb_locate_end(&s, y, t, NULL, NULL);
+        if (r == PSB_SUCCESS && psb_norm_w(&s, y) < 1e-9) reached++;
+        else if (r == PSB_ERR_NO_CONVERGENCE && s.message[0] && memcmp(y, y0, sizeof(double) * (size_t)np1) == 0 &&
+                 memcmp(t, t0, sizeof(double) * (size_t)np1) == 0) refused++;
+        else wrong++;
+        psb_solver_free(&s);
+    }
+    printf("  Algorithm 2.1 from 2e-4 and 2e-5 up tightly curved branches: %d reached the point, %d refused,"
+           " %d wrong (before: 9, 0, 7)\n", reached, refused, wrong);
+    CHECK(wrong == 0 && reached >= 8);
+}
+
 /* The piece memo (problem.piece) on those curved LCPs: the piece of H o Phi at y is the set of
    rows where z_i <= (M z + q g)_i, z = Phi(y), smooth but not linear within a piece. With it
    Algorithm 2.2 finds the same rays with fewer factorisations; an id that is never known (> 0)
@@ -1957,6 +2001,7 @@ int main(void)
     test_jacobian_memo();
     test_curved_kinks();
     test_curved_lcps();
+    test_locate_end_far_on_curve();
     test_piece_memo();
     test_odd_count_sweeps_on();
     test_step1_fault_counted();
