@@ -1313,15 +1313,15 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
 /* Algorithm 2.1: from the last couple (y, t) (in/out) of a branch ending at a nonsmooth point,
    halves h from bo->h down to bo->h_min (bo: psb_branch_options, NULL for defaults), moving y
    towards the end point whenever a correction of y + h t converges with a tangent within
-   c_diff of t (and trying the same h again after each such move, see section 6). On return y
+   c_diff of t (and trying the same h again after each such move, see section 6; where the
+   branch only curved by more than c_diff's angle since t, it follows on from there with the
+   tangent there: analytic dH). On return y
    approximates the end point, t (unit) points out of the branch's region, *precision (may be
    NULL) is the last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision
    untouched: PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed
    because of a fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end
-   point lies within 1000 moves, when the branch goes on smoothly where its tangent has turned
-   by more than c_diff's angle since t (analytic dH: y lay farther up a curved branch than
-   that turn allows; start nearer to the end point) or, with finite differences, no branch
-   tangent could be computed 4 to 64 h behind it, PSB_ERR_OPTIONS (bo; psb_solver_message names the field),
+   point lies within 1000 moves or, with finite differences, no branch tangent could be
+   computed 4 to 64 h behind it, PSB_ERR_OPTIONS (bo; psb_solver_message names the field),
    PSB_ERR_CALLBACK ... s->branch holds the resolved options used (unchanged by PSB_ERR_NULL or
    _OPTIONS). */
 PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
@@ -4685,6 +4685,7 @@ static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *p
        farther than h (the last step of a continuation can stop up to h_min / h_dec away). */
     h = s->branch.h;
     psb__faults_reset(s);
+follow:
     do {
         int moved = 0;
         h *= 0.5;
@@ -4727,11 +4728,14 @@ static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *p
     if (last_fault) return psb__faults_code(s, "Algorithm 2.1");
     /* the last step, of h_min, went on along the branch (its tangent within c_diff of the
        one before): no end point here, the branch only turned by more than c_diff's angle
-       since y. Where that turn is a curvature (y farther from the end point than the branch
-       is straight) the point found is a smooth one; reported, not passed off as an end */
-    if (turned_only)
-        return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Algorithm 2.1: the branch goes on smoothly where it has "
-                         "turned by acos(c_diff) since y (start nearer to the end point)");
+       since y, a curvature where y lay farther up a curved branch than it stays straight.
+       Follow it from here with the tangent here (the 1000 moves bound it all) */
+    if (turned_only) {
+        psb__copy(tin, tc, np1);
+        h = s->branch.h;
+        turned_only = 0;
+        goto follow;
+    }
     if (psb__fd_jacobian(&s->prob)) {
         /* the entering tangent too may come from quotients mixing the pieces (the last couple
            of a trace lies within h_min of the end point): take the branch's tangent 16
