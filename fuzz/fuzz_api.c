@@ -4,10 +4,10 @@
    NaN, Inf, 1e-300, INT_MAX, or raw bits), a small problem (a piecewise-linear complementarity
    problem of tests/pl_problems.h or a polynomial family, n = 1..4, with the dense, dense
    finite-difference or banded backend, with or without a piece callback), a start couple and
-   trace bounds, then run the
-   quick-start pipeline and the single operations, and a few contact helpers. It checks what
-   the manual promises: no crash (sanitizers), no success with a non-finite output, a message
-   after every failure, inputs untouched on failure, branch counts within capacity.
+   trace bounds, then run the quick-start pipeline and the single operations, and a few
+   contact helpers. It checks what the manual promises: no crash (sanitizers), no success with
+   a non-finite output, a message after every failure, inputs untouched on failure, branch
+   counts within capacity.
    Build: clang -g -O1 -fsanitize=fuzzer,address,undefined -I. -Itests fuzz/fuzz_api.c
           -llapack -lblas -lm
    Run:   ./fuzz_api fuzz/corpus/api -max_total_time=60 */

@@ -1117,13 +1117,13 @@ static void test_odd_node_flagged(void)
 {
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[PL_MAX_N + 1], t[PL_MAX_N + 1];
     unsigned long long st = 787;
-    pl_problem pp;
-    psb_problem prob;
-    psb_options o = pl_options();
-    psb_solver s;
-    psb_diagram d;
-    psb_explore_options eo;
     int problem, n_rays = 0, fixed, i;
+    psb_options o = pl_options();
+    psb_explore_options eo;
+    psb_diagram d;
+    psb_problem prob;
+    psb_solver s;
+    pl_problem pp;
     for (problem = 0; problem <= 10; problem++) n_rays = pl_random_lcp(&pp, 10, &st, 1, rays);
     CHECK(n_rays == 6);
     psb_problem_init(&prob, 10, pl_residual, pl_jacobian, &pp);
