@@ -1539,7 +1539,7 @@ static void test_piece_memo(void)
                 CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
                 r = psb_find_branches(&s, y, t, NULL, PL_MAX_RAYS, ys[0], ts[0], &br[0]);
                 CHECK(r == PSB_ERR_CALLBACK && s.message[0] != 0 && pc.calls == pc.fail_at);
-                CHECK(memcmp(y0, y, sizeof y0) == 0 && memcmp(t0, t, sizeof t0) == 0);
+                CHECK(memcmp(y0, y, sizeof(double) * (size_t)np1) == 0 && memcmp(t0, t, sizeof(double) * (size_t)np1) == 0);
                 psb_solver_free(&s);
             }
         }
