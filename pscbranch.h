@@ -437,14 +437,13 @@
      memo's); a tangent that goes on to a trial is computed at its own point. On a piece
      where H is smooth but not linear, the two points lie within 2 h_init of each other, so
      their tangents differ by about the curvature times that, which must stay well below
-     c_diff's angle (4.5e-3 rad by default): for a hyperelastic block, with h_init 5e-4
-     relative to unit-size curves, by orders of magnitude. Two points with one id must lie in
-     one C1 piece of H (else a skip can be wrong); giving different ids to one piece only
-     costs factorisations. A return > 0 (piece not known) computes the tangent. The block
-     (examples/fe.h's fe_psb_piece): the same branches and n_pc; M200 1072 -> 795
-     factorisations, M800 1253 -> 1015, M12800 2323 -> 2235 (at y0 every contact node is at
-     its vertex, and the sample points spread over ever more combinations of their pieces as
-     the mesh refines).
+     c_diff's angle (4.5e-3 rad by default). Two points with one id must lie in one C1 piece
+     of H (else a skip can be wrong); giving different ids to one piece only costs
+     factorisations. A return > 0 (piece not known) computes the tangent. The hyperelastic
+     block (examples/fe.h's fe_psb_piece): the same spans, n_pc and branches in the 36
+     settings of Tables 1-2 with and without it; M200 1072 -> 795 factorisations, M800
+     1253 -> 1015, M12800 2323 -> 2235 (at y0 every contact node is at its vertex, and the
+     sample points spread over ever more combinations of their pieces as the mesh refines).
    - Screened trials (no_screen = 0). Near y0 the pieces are, to first order, cones
      with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
      lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
