@@ -1081,7 +1081,6 @@ typedef struct psb_solver {
     int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
     int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
     int jmemo_dh_;                /* its keys may hash dH (psb__jmemo_usable); else piece ids */
-    int piece_reused_;            /* the last sample tangent came from a piece id's entry */
     long jmemo_looks_, jmemo_hits_; /* its look-ups and hits in the current call */
     unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
     const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
@@ -4878,7 +4877,8 @@ static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const 
    dH alone, and on a piecewise-linear H every sample point of a piece has the same dH, bit for
    bit. So dH is hashed (128 bits from all its entries, dH/dparameter included:
    psb__hash_doubles) and a dH seen before in this call gives its tangent again, oriented by
-   ref, without a factorisation (stats.n_tangent_reused, *from_memo set; with from_memo NULL
+   ref, without a factorisation (stats.n_tangent_reused, *from_memo set: 1, or 2 when a piece
+   id gave it; with from_memo NULL
    the tangent is always computed, and remembered). A reused tangent differs from a recomputed
    one by rounding (the bordering row differs), which on degenerate problems (crossing kinks,
    whose sample points can fall on piece boundaries) can steer a sweep elsewhere: so a reused
@@ -4900,7 +4900,6 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
     unsigned long long key[2];
     int m, np1 = s->np1_, by_piece = s->prob.piece != NULL;
     if (from_memo) *from_memo = 0;
-    s->piece_reused_ = 0;
     if (by_piece) {
         int rc = s->prob.piece(pt, key, s->prob.user);
         if (rc < 0) return psb__callback_code(s, rc, "piece callback returned a negative value");
@@ -4930,8 +4929,7 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
             for (i = 0; i < np1; i++) t[i] = dot < 0 ? -tm[i] : tm[i];
             s->stats.n_tangent_reused++;
             s->n_ok_++;
-            *from_memo = 1;
-            s->piece_reused_ = by_piece;
+            *from_memo = by_piece ? 2 : 1;
             return PSB_SUCCESS;
         }
     }
@@ -4945,15 +4943,13 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
     return PSB_SUCCESS;
 }
 
-/* The tangent at the sample point pt that psb__sample_tangent just took from its memo,
-   computed afresh (with ref's bordering, as without the memo): from the dH formed there, or,
-   when a piece id gave it, at pt itself. */
-static psb_result psb__sample_refresh(psb_solver *s, const double *pt, const double *ref, double *t)
+/* The tangent at the sample point pt that psb__sample_tangent just took from its memo
+   (from_memo, its output), computed afresh (with ref's bordering, as without the memo): from
+   the dH formed there, or, when a piece id gave it (2), at pt itself. */
+static psb_result psb__sample_refresh(psb_solver *s, int from_memo, const double *pt, const double *ref,
+                                      double *t)
 {
-    if (s->piece_reused_) {
-        s->piece_reused_ = 0;
-        return psb__sample_tangent_at(s, pt, ref, t);
-    }
+    if (from_memo == 2) return psb__sample_tangent_at(s, pt, ref, t);
     s->stats.n_tangents++;
     return psb__tangent_from_jacobian(s, ref, t);
 }
@@ -5093,7 +5089,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                     continue;
                 }
                 if (from_memo) {
-                    r = psb__sample_refresh(s, pk, tb, kx);
+                    r = psb__sample_refresh(s, from_memo, pk, tb, kx);
                     if (psb__is_fatal(r)) return r;
                 }
             }
@@ -5201,7 +5197,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         /* a tangent tried before is skipped by psb__try_tangent; one that will be tried is
            the recomputed one (psb__sample_tangent) */
         if (from_memo && (s->branch.no_memo || !psb__memo_seen(s, tt))) {
-            r = psb__sample_refresh(s, pt, v, tt);
+            r = psb__sample_refresh(s, from_memo, pt, v, tt);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) {
                 psb__note_fault(s, r);

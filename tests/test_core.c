@@ -1322,6 +1322,23 @@ static int curved_lcp_jac(const double *y, double *jac, int ld, void *user)
     return 0;
 }
 
+/* (y, t) at distance dist along ray (np1 values) through Phi^-1 (back substitution), t the
+   unit tangent there heading for the origin: the parameter, Phi's last component, goes to 0. */
+static psb_result curved_lcp_start(const curved_lcp *c, const double *ray, double dist, psb_solver *s,
+                                   double *y, double *t)
+{
+    double len = 0;
+    int i, n = c->p.n;
+    psb_result r;
+    for (i = 0; i <= n; i++) len += ray[i] * ray[i];
+    y[n] = dist * ray[n] / sqrt(len);
+    for (i = n - 1; i >= 0; i--) y[i] = dist * ray[i] / sqrt(len) - c->eps * y[i + 1] * y[i + 1];
+    r = psb_tangent(s, y, NULL, t);
+    if (r == PSB_SUCCESS && t[n] * y[n] > 0)
+        for (i = 0; i <= n; i++) t[i] = -t[i];
+    return r;
+}
+
 static void test_curved_lcps(void)
 {
     unsigned long long st = 77;
@@ -1337,21 +1354,12 @@ static void test_curved_lcps(void)
         double y[PL_MAX_N + 1], t[PL_MAX_N + 1], z[PL_MAX_N + 1];
         psb_result r;
         int n = 3 + trial % 2, np1 = n + 1, n_rays = pl_random_lcp(&c.p, n, &st, 1, rays), i, k, matched;
-        double len = 0;
         CHECK(n_rays >= 3);
         c.eps = 1;
         memset(&o, 0, sizeof o);
         psb_problem_init(&prob, n, curved_lcp_res, curved_lcp_jac, &c);
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-        /* at distance 1/2 along ray 0 through Phi^-1 (back substitution), heading for the
-           origin: the parameter, Phi's last component, goes to 0 */
-        for (i = 0; i < np1; i++) len += rays[i] * rays[i];
-        for (i = 0; i < np1; i++) z[i] = 0.5 * rays[i] / sqrt(len);
-        y[n] = z[n];
-        for (i = n - 1; i >= 0; i--) y[i] = z[i] - c.eps * y[i + 1] * y[i + 1];
-        CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
-        if (t[n] * y[n] > 0)
-            for (i = 0; i < np1; i++) t[i] = -t[i];
+        CHECK(curved_lcp_start(&c, rays, 0.5, &s, y, t) == PSB_SUCCESS);
         r = pl_trace_to_kink(&s, y, t, NULL);
         CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
         CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
@@ -1390,21 +1398,14 @@ static void test_locate_end_far_on_curve(void)
         curved_lcp c;
         psb_problem prob;
         psb_solver s;
-        double y[PL_MAX_N + 1], t[PL_MAX_N + 1], z[PL_MAX_N + 1], y0[PL_MAX_N + 1], t0[PL_MAX_N + 1];
-        int n = 3 + trial % 2, np1 = n + 1, i;
-        double len = 0, dist = trial < 8 ? 2e-4 : 2e-5;
+        double y[PL_MAX_N + 1], t[PL_MAX_N + 1], y0[PL_MAX_N + 1], t0[PL_MAX_N + 1];
+        int n = 3 + trial % 2, np1 = n + 1;
         psb_result r;
         CHECK(pl_random_lcp(&c.p, n, &st, 1, rays) >= 3);
         c.eps = 50;
         psb_problem_init(&prob, n, curved_lcp_res, curved_lcp_jac, &c);
         CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
-        for (i = 0; i < np1; i++) len += rays[i] * rays[i];
-        for (i = 0; i < np1; i++) z[i] = dist * rays[i] / sqrt(len);
-        y[n] = z[n];
-        for (i = n - 1; i >= 0; i--) y[i] = z[i] - c.eps * y[i + 1] * y[i + 1];
-        CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
-        if (t[n] * y[n] > 0)
-            for (i = 0; i < np1; i++) t[i] = -t[i];
+        CHECK(curved_lcp_start(&c, rays, trial < 8 ? 2e-4 : 2e-5, &s, y, t) == PSB_SUCCESS);
         psb__copy(y0, y, np1);
         psb__copy(t0, t, np1);
         r = psb_locate_end(&s, y, t, NULL, NULL);
@@ -1475,19 +1476,12 @@ static void test_piece_memo(void)
             psb_branch_report br[3];
             double y[PL_MAX_N + 1], t[PL_MAX_N + 1], z[PL_MAX_N + 1], y0[PL_MAX_N + 1], t0[PL_MAX_N + 1];
             int n = 3 + trial % 2, np1 = n + 1, n_rays = pl_random_lcp(&pc.c.p, n, &st, 1, rays), i, k, run;
-            double len = 0;
             pc.c.eps = 1;
             pc.mode = 0;
             pc.calls = 0;
             psb_problem_init(&prob, n, piece_lcp_res, fd ? NULL : piece_lcp_jac, &pc);
             CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
-            for (i = 0; i < np1; i++) len += rays[i] * rays[i];
-            for (i = 0; i < np1; i++) z[i] = 0.5 * rays[i] / sqrt(len);
-            y[n] = z[n];
-            for (i = n - 1; i >= 0; i--) y[i] = z[i] - y[i + 1] * y[i + 1];
-            CHECK(psb_tangent(&s, y, NULL, t) == PSB_SUCCESS);
-            if (t[n] * y[n] > 0)
-                for (i = 0; i < np1; i++) t[i] = -t[i];
+            CHECK(curved_lcp_start(&pc.c, rays, 0.5, &s, y, t) == PSB_SUCCESS);
             CHECK(pl_trace_to_kink(&s, y, t, NULL) != PSB_ERR_CALLBACK);
             CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
             psb_solver_free(&s);
