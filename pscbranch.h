@@ -63,7 +63,8 @@
    value; central differences reach the cap), so that the sample points of Algorithm 2.2 seldom
    lie within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more
    when the branch runs close to a piece boundary), keeps the tangent it entered with while it
-   moves, and returns the branch's tangent 16 h back; the tangents Algorithm 2.2 samples at
+   moves (and tells a smooth turn from the end point by chords, section 6), and returns the
+   branch's tangent 16 h back; the tangents Algorithm 2.2 samples at
    y0 + h v use difference steps below h / 1000. The branch sets then come out
    about as with the analytic Jacobian (docs/branching-notes.md).
    A kink is a point where a curve passes from one piece to another with a different tangent; a
@@ -172,7 +173,8 @@
    piece [NULL]                     the smooth piece at y (psb_piece_fn): Algorithm 2.2's
                                     piece memo (section 6)
    psb_options, the continuation (psb_solver_init; s->opt holds them resolved):
-   kappa [1], weights [NULL]        the weighted inner product (section 1)
+   kappa [1], weights [NULL]        the weighted inner product (section 1); each in
+                                    [1e-290, 1e290]
    h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 0 < h_min <= h_init <= h_max
    h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
                                     corrector iterations; shrink after a rejected trial;
@@ -362,7 +364,13 @@
    least h/2 ahead (a corrector falling back from beyond the end point onto the branch behind
    it passes the cosine test over and over). With finite differences the tangent is not
    updated while moving and the one returned is computed 16 h back: quotients within a
-   step of the point mix its pieces.
+   step of the point mix its pieces. Where the moves stall, two chords through the point
+   (from corrected points 256 h_min behind and ahead, then 64 h_min, farther where
+   tol_correction asks it; not from quotients) tell
+   an end point, where they differ by the kink's angle, from a smooth point where the branch
+   turned by more than c_diff's angle since the start, where they agree to half of it: from
+   there it follows on along the chord (curved random LCPs, starts 2e-5 to 2e-3 up the
+   branch: 38 of 64 returned a smooth point as the end point before, none now).
    Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
    deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc, with these
    choices:
@@ -617,7 +625,14 @@
    (landing points of trial steps, anywhere from h_min to h away, were not: the tangents of
    one parabola differed by more than c_diff). With fewer than four branches, or -t or +t not
    landing, the circle is tried again at r/8 and r/64; -t and +t landing at none of the three
-   is PSB_ERR_NO_CONVERGENCE (y* is not on the traced curve, or h_init is far too large). All
+   is PSB_ERR_NO_CONVERGENCE (y* is not on the traced curve, or h_init is far too large). The
+   branches are traced from their crossings outwards, so each new one is first walked back
+   towards y* (psb_trace with no_switch and locate_kinks, steps of r/8 to r/4, to within r/64
+   of y*): a kink on the way, such as a PC1 point of a contact branch, brings the sweep again
+   at a quarter of its distance (up to 3 times), so that the branch's trace meets it (a PC1
+   point 0.02 from a transcritical point, r = 0.05: psb_explore found neither it nor its
+   branches before 0.11.0; the walks cost 03_pitchforks 9% more factorisations).
+   All
    crossings in the plane are found (four lines through a point: eight half-lines). The kernel
    may be larger (symmetric problems: several pitchforks at one point): two steps of inverse
    iteration with B at y* + 1e-4 r t from random vectors give up to 3 more directions, each
@@ -1313,7 +1328,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
    towards the end point whenever a correction of y + h t converges with a tangent within
    c_diff of t (and trying the same h again after each such move, see section 6; where the
    branch only curved by more than c_diff's angle since t, it follows on from there with the
-   tangent there: analytic dH). On return y
+   tangent there, or with finite differences along a chord there). On return y
    approximates the end point, t (unit) points out of the branch's region, *precision (may be
    NULL) is the last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision
    untouched: PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed
@@ -1370,7 +1385,8 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
    uses h_init and n_dir), ts oriented away from
    the point; k = 0 is the traced curve backwards (-t), k = 1 forwards (+t), k >= 2 the new
    ones (where more than two curves cross, all of them: in the plane of t and kernel, and in
-   a kernel of up to 5 dimensions). rep as psb_find_branches' (n_branches; n_pc counts the
+   a kernel of up to 5 dimensions); the radius is smaller where a kink lies between the point
+   and a crossing (section 6). rep as psb_find_branches' (n_branches; n_pc counts the
    sphere corrections, n_tangents the kernel's dimension besides t, n_span the radii tried).
    Same seed, same result. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
    PSB_ERR_NULL, PSB_ERR_SIZE (max_branches < 1), PSB_ERR_NONFINITE (y, t or kernel; or a
@@ -2034,10 +2050,14 @@ static const char *psb__check_options(const psb_options *o, int np1)
 {
     int i;
 #define PSB__POS(x) ((x) > 0 && psb__finite(x)) /* false for NaN and Inf */
-    if (!PSB__POS(o->kappa)) return "kappa must be positive and finite";
+    /* a weight far from the normal range takes its precision with it: w t^2 formed for a
+       scaled t (psb__norm_w) underflows, and a subnormal w = 5e-324 normalised t to a norm
+       of 1.008 (fuzz_api) */
+#define PSB__WEIGHT_OK(x) ((x) >= 1e-290 && (x) <= 1e290)
+    if (!PSB__WEIGHT_OK(o->kappa)) return "kappa must lie in [1e-290, 1e290]";
     if (o->weights)
         for (i = 0; i < np1; i++)
-            if (!PSB__POS(o->weights[i])) return "weights must be positive and finite";
+            if (!PSB__WEIGHT_OK(o->weights[i])) return "weights must lie in [1e-290, 1e290]";
     if (!PSB__POS(o->h_min) || !PSB__POS(o->h_init) || !PSB__POS(o->h_max) ||
         !(o->h_min <= o->h_init) || !(o->h_init <= o->h_max))
         return "h_min, h_init, h_max: need 0 < h_min <= h_init <= h_max < inf";
@@ -2083,6 +2103,7 @@ static const char *psb__check_branch(const psb_branch_options *b)
     if (b->restart < PSB_RESTART_MIXED || b->restart > PSB_RESTART_GLOBAL)
         return "branch options: restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
 #undef PSB__POS
+#undef PSB__WEIGHT_OK
     return NULL;
 }
 
@@ -4201,14 +4222,20 @@ static psb_result psb__branch_directions(psb_solver *s, const double *y0, const 
     int np1 = s->np1_, i, k, it;
     double *ys = PSB__VEC(s, PSB__V_SP_Y), *ts = PSB__VEC(s, PSB__V_SP_T), *ks = PSB__VEC(s, PSB__V_SP_K);
     double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
-    double *tsum = PSB__VEC(s, PSB__V_SP_TA), sstar = 0, delta, c;
+    double *tsum = PSB__VEC(s, PSB__V_SP_TA), *kb = PSB__VEC(s, PSB__V_SP_TB), sstar = 0, delta, c;
     psb_result r = PSB_ERR_SINGULAR;
     for (i = 0; i < np1; i++) sstar += s->w_[i] * t0[i] * (ys[i] - y0[i]);
     delta = fmin(1e-5 * span, 0.25 * fmin(sstar, span - sstar));
     memset(tsum, 0, (size_t)np1 * sizeof(double));
     for (k = -1; k <= 1 && delta > 0; k += 2) {
-        psb__axpy_to(ye, ys, k * delta / psb_dot_w(s, t0, ts), ts, np1);
-        r = psb__newton_on(s, ye, te, y0, t0, sstar + k * delta);
+        /* twice with the user backend: its factor or solve reports any failure as singular,
+           which next to a branch point passes for the geometry's (psb__sp_fault), so a passing
+           failure would drop the kernel and with it the switch (psb__locate_kink likewise) */
+        for (it = 0; it < (s->prob.linear == PSB_LINEAR_USER ? 2 : 1); it++) {
+            psb__axpy_to(ye, ys, k * delta / psb_dot_w(s, t0, ts), ts, np1);
+            r = psb__newton_on(s, ye, te, y0, t0, sstar + k * delta);
+            if (r != PSB_ERR_SINGULAR) break;
+        }
         if (r != PSB_SUCCESS) return r;
         for (i = 0; i < np1; i++) tsum[i] += te[i];
     }
@@ -4217,7 +4244,12 @@ static psb_result psb__branch_directions(psb_solver *s, const double *y0, const 
     psb__normalize_w(s, ts);
     for (i = 0; i < np1; i++) ks[i] = psb__gauss(s->rng_);
     for (it = 0; it < 2; it++) {
+        psb__copy(kb, ks, np1);
         r = psb__solve_factored(s, ks, 1);
+        if (r == PSB_ERR_SINGULAR && s->prob.linear == PSB_LINEAR_USER) {
+            psb__copy(ks, kb, np1);
+            r = psb__solve_factored(s, ks, 1);
+        }
         if (r != PSB_SUCCESS) return r;
         if (!psb__normalize_w(s, ks)) break;
     }
@@ -4659,6 +4691,56 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
     return PSB_SUCCESS;
 }
 
+/* Algorithm 2.1 with finite differences keeps its entering tangent tin, so where it stalls at
+   yc it cannot tell an end point from a smooth point where the branch has turned by more than
+   c_diff's angle a since the start (a start far up a curved branch). Chords can, as they need
+   no difference quotients: from yc, points corrected delta behind and delta ahead along tin
+   give two chords that differ by about the curvature times delta on a smooth branch and by
+   nearly the kink's angle (a or more) at an end point. A smooth point is one where they agree
+   to a / 2, at delta = max(256 h_min, 4 d) or, for an end point ahead of yc within that,
+   max(64 h_min, d): yc lies within h_min of an end point, so a kink turns the chords by 0.97
+   of its angle or more, and d = 32 tol_correction / a keeps the chords' own error (4
+   tol_correction / delta at most) below a / 8. Scales beyond branch.h are not tried (then
+   the stall is the end point, as before). Returns 1 with the point ahead in ya and the chord
+   to it in ta (follow on from there: a tangent from quotients there may mix pieces), 0 for an
+   end point (or no point ahead or behind), or a failure (fatal, or a fault at a chord's
+   point). */
+static int psb__fd_smooth_stall(psb_solver *s, const double *yc, const double *tin, double *ya, double *ta)
+{
+    int np1 = s->np1_, side, scale, i;
+    double *yb = PSB__VEC(s, PSB__V_BR_P), *tb = PSB__VEC(s, PSB__V_BR_Q), *ub = PSB__VEC(s, PSB__V_BR_V);
+    double d = 32 * s->opt.tol_correction / sqrt(2 * (1 - s->opt.c_diff)), agree = 1 - 0.25 * (1 - s->opt.c_diff);
+    for (scale = 0; scale < 2; scale++) {
+        double delta = scale ? fmax(64 * s->branch.h_min, d) : fmax(256 * s->branch.h_min, 4 * d), along;
+        int converged = 1;
+        psb_result r;
+        if (delta > s->branch.h) continue;
+        for (side = -1; side <= 1 && converged; side += 2) {
+            double *yp = side < 0 ? yb : ya, *tp = side < 0 ? tb : ta;
+            psb__axpy_to(yp, yc, side * delta, tin, np1);
+            psb__copy(tp, tin, np1);
+            s->stats.n_pc_steps++;
+            r = psb__correct(s, yp, tp, NULL);
+            if (psb__is_fatal(r)) return r;
+            if (r != PSB_SUCCESS && psb__correct_fault(s, r)) { /* the test cannot tell: no success */
+                psb__note_fault(s, r);
+                return psb__faults_code(s, "Algorithm 2.1, the chords through the end point");
+            }
+            along = 0;
+            for (i = 0; i < np1; i++) along += s->w_[i] * (yp[i] - yc[i]) * tin[i];
+            converged = r == PSB_SUCCESS && side * along >= 0.5 * delta;
+        }
+        if (!converged) continue;
+        for (i = 0; i < np1; i++) ub[i] = yc[i] - yb[i];
+        for (i = 0; i < np1; i++) tb[i] = ya[i] - yc[i];
+        if (psb__cos_w(s, ub, tb) >= agree) {
+            psb__copy(ta, tb, np1);
+            return psb__normalize_w(s, ta);
+        }
+    }
+    return 0;
+}
+
 /* Algorithm 2.1 with the options in s->branch (psb_locate_end, psb_explore). */
 static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *precision)
 {
@@ -4724,6 +4806,18 @@ follow:
         } while (moved);
     } while (h >= s->branch.h_min);
     if (last_fault) return psb__faults_code(s, "Algorithm 2.1");
+    if (psb__fd_jacobian(&s->prob)) {
+        int smooth = psb__fd_smooth_stall(s, yc, tin, yt, tt);
+        if (smooth < 0) return (psb_result)smooth;
+        if (smooth) {
+            if (++advances > 1000) return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "no end point within 1000 steps of branch_h");
+            psb__copy(yc, yt, np1);
+            psb__copy(tc, tt, np1);
+            psb__copy(tin, tt, np1);
+            h = s->branch.h;
+            goto follow;
+        }
+    }
     /* the last step, of h_min, went on along the branch (its tangent within c_diff of the
        one before): no end point here, the branch only turned by more than c_diff's angle
        since y, a curvature where y lay farther up a curved branch than it stays straight.
@@ -5531,15 +5625,84 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
     return PSB_SUCCESS;
 }
 
+/* psb__switch_inner_kink's stop: the walk back from a crossing has come within r / 64 of the
+   branch point y0 along the chord u (or passed it), or met a kink (kink set). */
+typedef struct psb__inner_walk {
+    const psb_solver *s;
+    const double *y0, *u;
+    double stop;
+    int kink;
+} psb__inner_walk;
+
+static int psb__inner_walk_point(const psb_point *pt, void *user)
+{
+    psb__inner_walk *w = (psb__inner_walk *)user;
+    double along = 0;
+    int i;
+    if (pt->flags & PSB_POINT_KINK) return w->kink = 1;
+    for (i = 0; i < w->s->np1_; i++) along += w->s->w_[i] * (pt->y[i] - w->y0[i]) * w->u[i];
+    return along <= w->stop;
+}
+
+/* The distance from the branch point y0 to a kink between it and the crossing (ysk, tsk) of
+   the sphere of radius r, or r when the branch runs smoothly from r / 64 to r (or the walk
+   cannot tell); < 0 a fatal code. The walk back from the crossing (steps of r / 8, up to
+   r / 4) stops at the first kink, passed (locate_kinks) or not (no_switch): the branches
+   leaving a smooth branch point are traced from their crossings outwards, so a kink, a PC1
+   point among them, closer than the radius would never be met. */
+static double psb__switch_inner_kink(psb_solver *s, const double *y0, double r, const double *ysk,
+                                     const double *tsk)
+{
+    int np1 = s->np1_, i;
+    double *y = PSB__VEC(s, PSB__V_BR_Y), *t = PSB__VEC(s, PSB__V_BR_T), *u = PSB__VEC(s, PSB__V_BR_S);
+    double d = psb__dist_w(s, ysk, y0), h_init = s->opt.h_init, h_max = s->opt.h_max;
+    psb_trace_options to;
+    psb_trace_report tr;
+    psb__inner_walk walk;
+    psb_result res;
+    long faults[4], n_ok = s->n_ok_;
+    if (!(d > 0.5 * r)) return r;
+    memcpy(faults, s->faults_, sizeof faults);
+    for (i = 0; i < np1; i++) u[i] = (ysk[i] - y0[i]) / d;
+    psb__copy(y, ysk, np1);
+    for (i = 0; i < np1; i++) t[i] = -tsk[i];
+    memset(&to, 0, sizeof to);
+    to.no_switch = 1;
+    to.locate_kinks = 1;
+    to.max_steps = 64;
+    to.on_point = psb__inner_walk_point;
+    to.point_user = &walk;
+    walk.s = s;
+    walk.y0 = y0;
+    walk.u = u;
+    walk.stop = r / 64;
+    walk.kink = 0;
+    s->opt.h_max = fmax(fmin(h_max, r / 4), s->opt.h_min);
+    s->opt.h_init = fmax(fmin(h_init, r / 8), s->opt.h_min);
+    res = psb_trace(s, y, t, &to, &tr);
+    s->opt.h_init = h_init;
+    s->opt.h_max = h_max;
+    if (psb__is_fatal(res)) return res;
+    /* the sweep's own fault accounting, plus a fault of the walk's: a kink it missed for it
+       may be a branch lost */
+    memcpy(s->faults_, faults, sizeof faults);
+    s->n_ok_ = n_ok;
+    if (res == PSB_ERR_CALLBACK_FAILED || res == PSB_ERR_NONFINITE) psb__note_fault(s, res);
+    s->message[0] = 0;
+    if (res != PSB_NONSMOOTH_END && !walk.kink) return r;
+    d = psb__dist_w(s, y, y0);
+    return d < r ? d : r;
+}
+
 /* The switch with the options in s->branch (psb_branch_point_switch, psb_explore). */
 static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const double *t,
                                            const double *kernel, int max_branches, double *ys,
                                            double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
-    int np1, i, overflow = 0, kdim, traced = 0;
+    int np1, i, overflow = 0, kdim, traced = 0, round, tried = 0;
     unsigned long long seed;
-    double *yc, *tc, *kc, c, r;
+    double *yc, *tc, *kc, c, r = 0, r0, kink_at;
     psb_result res;
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
@@ -5565,18 +5728,32 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     rep->n_tangents = kdim;
     /* a simple branch point has four half-branches, two of them the traced curve; fewer at
        h_init (a radius beyond the branches' curvature, or crossings too close for Newton's
-       basins) -> a smaller one */
-    for (r = s->branch.h_init, i = 0; i < 3; i++, r *= 0.125) {
-        psb_branch_report attempt;
-        memset(&attempt, 0, sizeof attempt);
-        overflow = 0;
-        res = psb__sphere_sweep(s, yc, tc, kc, kdim, r, max_branches, ys, ts, &attempt, &overflow, &traced);
-        attempt.n_pc += rep->n_pc;
-        attempt.n_tangents = kdim;
-        *rep = attempt;
-        rep->n_span = i + 1;
-        if (res != PSB_SUCCESS) return res;
-        if ((rep->n_branches >= 4 && traced == 2) || overflow) break;
+       basins) -> a smaller one. A kink between y and a crossing (psb__switch_inner_kink) ->
+       a radius within it, so that the trace from the crossing meets the kink */
+    r0 = s->branch.h_init;
+    for (round = 0; round < 3; round++) {
+        for (r = r0, i = 0; i < 3; i++, r *= 0.125) {
+            psb_branch_report attempt;
+            memset(&attempt, 0, sizeof attempt);
+            overflow = 0;
+            res = psb__sphere_sweep(s, yc, tc, kc, kdim, r, max_branches, ys, ts, &attempt, &overflow, &traced);
+            attempt.n_pc += rep->n_pc;
+            attempt.n_tangents = kdim;
+            *rep = attempt;
+            rep->n_span = ++tried;
+            if (res != PSB_SUCCESS) return res;
+            if ((rep->n_branches >= 4 && traced == 2) || overflow) break;
+        }
+        if (i == 3) r *= 8; /* the radius of the last sweep */
+        kink_at = r;
+        /* from 1: branch 0 is the traced curve behind y, which the trace came along */
+        for (i = 1; i < rep->n_branches && i < max_branches; i++) {
+            double d = psb__switch_inner_kink(s, yc, r, ys + (size_t)i * (size_t)np1, ts + (size_t)i * (size_t)np1);
+            if (d < 0) return (psb_result)d;
+            if (d < kink_at) kink_at = d;
+        }
+        if (kink_at >= r) break;
+        r0 = 0.25 * kink_at;
     }
     psb__report_faults(s, rep);
     res = psb__faults_code(s, "psb_branch_point_switch");

@@ -1420,6 +1420,43 @@ static void test_locate_end_far_on_curve(void)
     CHECK(wrong == 0 && reached == total);
 }
 
+/* The same with finite differences, which keep the entering tangent, so that a stall could not
+   tell the end point from a smooth point past c_diff's turn: before 0.11.0 PSB_SUCCESS far
+   short of the origin in 38 of these 64 runs (reference BLAS), now in none. The end point is
+   exact to the chords' reach, 256 h_min (within ~100 difference steps of the point quotients
+   mix its pieces); a refusal must leave y and t as they were. */
+static void test_locate_end_far_on_curve_fd(void)
+{
+    static const double starts[4] = {2e-3, 1e-3, 2e-4, 2e-5};
+    unsigned long long st = 79;
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int trial, total = 64, reached = 0, refused = 0, wrong = 0;
+    for (trial = 0; trial < total; trial++) {
+        curved_lcp c;
+        psb_problem prob;
+        psb_solver s;
+        double y[PL_MAX_N + 1], t[PL_MAX_N + 1], y0[PL_MAX_N + 1], t0[PL_MAX_N + 1];
+        int n = 3 + trial % 2, np1 = n + 1;
+        psb_result r;
+        CHECK(pl_random_lcp(&c.p, n, &st, 1, rays) >= 3);
+        c.eps = trial < total / 2 ? 10 : 50;
+        psb_problem_init(&prob, n, curved_lcp_res, NULL, &c);
+        CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+        CHECK(curved_lcp_start(&c, rays, starts[trial % 4], &s, y, t) == PSB_SUCCESS);
+        psb__copy(y0, y, np1);
+        psb__copy(t0, t, np1);
+        r = psb_locate_end(&s, y, t, NULL, NULL);
+        if (r == PSB_SUCCESS && psb_norm_w(&s, y) <= 256 * s.branch.h_min) reached++;
+        else if (r < 0 && s.message[0] && memcmp(y, y0, sizeof(double) * (size_t)np1) == 0 &&
+                 memcmp(t, t0, sizeof(double) * (size_t)np1) == 0) refused++;
+        else wrong++;
+        psb_solver_free(&s);
+    }
+    printf("  Algorithm 2.1 with differences from 2e-3 to 2e-5 up curved branches: %d reached the point,"
+           " %d refused, %d wrong (before: 26, 0, 38)\n", reached, refused, wrong);
+    CHECK(wrong == 0 && reached >= total - 4);
+}
+
 /* The piece memo (problem.piece) on those curved LCPs: the piece of H o Phi at y is the set of
    rows where z_i <= (M z + q g)_i, z = Phi(y), smooth but not linear within a piece. With it
    Algorithm 2.2 finds the same rays with fewer factorisations; an id that is never known (> 0)
@@ -1486,8 +1523,9 @@ static void test_piece_memo(void)
             CHECK(psb_locate_end(&s, y, t, NULL, NULL) == PSB_SUCCESS);
             psb_solver_free(&s);
             /* with differences pl_trace_to_kink's stop (a sign change of the selection) can
-               come early on a curved branch, and Algorithm 2.1 follows a branch only while it
-               turns by less than c_diff's angle: those starts are not at the point */
+               come early on a curved branch; Algorithm 2.1 follows on from there by chords
+               (before, only while it turned by less than c_diff's angle: 4 of the 16 starts
+               were not at the point, reference BLAS; now none) */
             if (psb__norm2(y, np1) > 1e-6) {
                 CHECK(fd);
                 far += fd;
@@ -1541,7 +1579,7 @@ static void test_piece_memo(void)
            " differences %d / %d / %d of %d; factorisations %ld -> %ld, tangents reused %ld -> %ld\n",
            complete[0][0], complete[0][1], complete[0][2], total, complete[1][0], complete[1][1],
            complete[1][2], total - far, fac[0], fac[1], reused[0], reused[1]);
-    CHECK(extra[0][0] == 0 && extra[0][1] == 0 && extra[1][1] == 0 && far <= total / 2);
+    CHECK(extra[0][0] == 0 && extra[0][1] == 0 && extra[1][1] == 0 && far <= 2);
     CHECK(same);
     CHECK(complete[0][1] >= complete[0][0] && complete[0][1] >= total - 1);
     CHECK(complete[1][1] >= complete[1][0] - 1 && complete[1][1] >= total - far - 1);
@@ -1870,10 +1908,18 @@ static void test_failures(void)
     p.fd_step = 0;
     memset(&o, 0, sizeof o);
     {
-        double wbad[2] = {1, -1};
+        /* a subnormal weight normalised tangents to a norm of 1.008 (fuzz_api) */
+        double wbad[2] = {1, -1}, wsub[2] = {4.9e-324, 1}, whuge[2] = {1, 1e300};
         o.weights = wbad;
         CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+        o.weights = wsub;
+        CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+        o.weights = whuge;
+        CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
         o.weights = NULL;
+        o.kappa = 1e-300;
+        CHECK(psb_solver_init(&s, &p, &o) == PSB_ERR_OPTIONS);
+        o.kappa = 0;
     }
     CHECK(psb_solver_init_with_memory(&s, &p, &o, mem, sizeof mem) == PSB_ERR_NOMEM);
     p.n = 0;
@@ -1996,6 +2042,7 @@ int main(void)
     test_curved_kinks();
     test_curved_lcps();
     test_locate_end_far_on_curve();
+    test_locate_end_far_on_curve_fd();
     test_piece_memo();
     test_odd_count_sweeps_on();
     test_step1_fault_counted();

@@ -1201,6 +1201,95 @@ static void test_loop_through_pc1_points(void)
         }
 }
 
+/* A transcritical branch point with a PC1 point on two of its branches, y = (x1, x2, z, g):
+   H_1,2 = min(x_i, (M x + (g - c + z)(1, 1))_i), M = [-1 2; 2 -1]; H_3 = z (g - z). The
+   branches z = 0 and z = g cross at g = 0, x = c (1, 1); the LCP's load is g - c on z = 0
+   and 2 g - c on z = g, so each has a PC1 point with 4 branches (x = 0, at g = c and c / 2),
+   and g in [-1, 2] holds 12 nodes (start, branch point, 2 PC1, 8 bounds) and 11 edges. The
+   switch lands its crossings h_init = 0.05 from the branch point and the traces go outwards
+   from there: before 0.11.0 PC1 points closer than that were never met (c = 0.02: 6 nodes, 5
+   edges, success). */
+static double tc_c;
+
+static int tc_residual(const double *y, double *h, void *user)
+{
+    int i;
+    (void)user;
+    for (i = 0; i < 2; i++) {
+        double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + y[3] - tc_c + y[2];
+        h[i] = y[i] <= w ? y[i] : w;
+    }
+    h[2] = y[2] * (y[3] - y[2]);
+    return 0;
+}
+
+static int tc_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    int i, j;
+    (void)user;
+    for (j = 0; j < 4; j++)
+        for (i = 0; i < 3; i++) jac[i + j * ld] = 0;
+    for (i = 0; i < 2; i++) {
+        double w = (i ? 2 * y[0] - y[1] : -y[0] + 2 * y[1]) + y[3] - tc_c + y[2];
+        if (y[i] <= w) {
+            jac[i + i * ld] = 1;
+        } else {
+            jac[i] = i ? 2 : -1;
+            jac[i + ld] = i ? -1 : 2;
+            jac[i + 2 * ld] = jac[i + 3 * ld] = 1;
+        }
+    }
+    jac[2 + 2 * ld] = y[3] - 2 * y[2];
+    jac[2 + 3 * ld] = y[2];
+    return 0;
+}
+
+static void test_pc1_near_branch_point(void)
+{
+    static const double cs[5] = {0.5, 0.04, 0.02, 0.005, 0.002};
+    int run;
+    /* with differences node_tol is 16 h ~ 2.4e-3: the two PC1 points of c = 0.002, 1.7e-3
+       apart, are one node there */
+    for (run = 0; run < 9; run++) {
+        int fd = run >= 5, k = run % 5;
+        psb_problem prob;
+        psb_options o = pl_options();
+        psb_solver s;
+        psb_diagram d;
+        psb_explore_options eo;
+        double y[4], t[4] = {-1, -1, 0, 1};
+        int i, kinds[10] = {0}, pc1_ok = 0;
+        psb_result r;
+        tc_c = cs[k];
+        y[0] = y[1] = 0.5 + tc_c;
+        y[2] = 0;
+        y[3] = -0.5;
+        psb_problem_init(&prob, 3, tc_residual, fd ? NULL : tc_jacobian, NULL);
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(&d, 3, 64, 64, 16) == PSB_SUCCESS);
+        memset(&eo, 0, sizeof eo);
+        eo.trace.param_min = -1;
+        eo.trace.param_max = 2;
+        r = psb_explore(&s, y, t, &eo, &d);
+        for (i = 0; i < d.n_nodes; i++) {
+            const psb_node *nd = d.nodes + i;
+            kinds[nd->kind < 10 ? nd->kind : 9]++;
+            /* (0, 0, 0, c) and (0, 0, c / 2, c / 2), 4 branches each */
+            if (nd->kind == PSB_NODE_PC1 || nd->kind == PSB_NODE_NONSMOOTH)
+                pc1_ok += nd->n_branches == 4 && fabs(nd->y[0]) + fabs(nd->y[1]) <= 1e-6 &&
+                          (fabs(nd->y[2]) + fabs(nd->y[3] - tc_c) <= 1e-6 ||
+                           fabs(nd->y[2] - tc_c / 2) + fabs(nd->y[3] - tc_c / 2) <= 1e-6);
+        }
+        printf("  transcritical point with PC1 points at g = %g and %g%s: %s, %d nodes (%d PC1 right), %d edges\n",
+               tc_c, tc_c / 2, fd ? ", differences" : "", psb_result_string(r), d.n_nodes, pc1_ok, d.n_edges);
+        CHECK(r == PSB_SUCCESS && !d.truncated && d.n_queued == 0);
+        CHECK(d.n_nodes == 12 && d.n_edges == 11 && kinds[PSB_NODE_BRANCH] == 1 && kinds[PSB_NODE_BOUND] == 8);
+        CHECK(pc1_ok == 2);
+        psb_diagram_free(&d);
+        psb_solver_free(&s);
+    }
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -1216,6 +1305,7 @@ int main(void)
     test_audit_regressions();
     test_pc1_points_and_bounds();
     test_loop_through_pc1_points();
+    test_pc1_near_branch_point();
     test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();
