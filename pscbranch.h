@@ -5669,7 +5669,7 @@ static double psb__switch_inner_kink(psb_solver *s, const double *y0, double r, 
     memset(&to, 0, sizeof to);
     to.no_switch = 1;
     to.locate_kinks = 1;
-    to.max_steps = 64;
+    to.max_steps = 256; /* about 5 steps; more only where h_max < r / 4 */
     to.on_point = psb__inner_walk_point;
     to.point_user = &walk;
     walk.s = s;
@@ -5678,7 +5678,7 @@ static double psb__switch_inner_kink(psb_solver *s, const double *y0, double r, 
     walk.stop = r / 64;
     walk.kink = 0;
     s->opt.h_max = fmax(fmin(h_max, r / 4), s->opt.h_min);
-    s->opt.h_init = fmax(fmin(h_init, r / 8), s->opt.h_min);
+    s->opt.h_init = fmax(fmin(r / 8, s->opt.h_max), s->opt.h_min);
     res = psb_trace(s, y, t, &to, &tr);
     s->opt.h_init = h_init;
     s->opt.h_max = h_max;
