@@ -631,8 +631,7 @@
    of y*): a kink on the way, such as a PC1 point of a contact branch, brings the sweep again
    at a quarter of its distance (up to 3 times), so that the branch's trace meets it (a PC1
    point 0.02 from a transcritical point, r = 0.05: psb_explore found neither it nor its
-   branches before 0.11.0; the walks cost 03_pitchforks 9% more factorisations).
-   All
+   branches before 0.11.0; the walks cost 03_pitchforks 9% more factorisations). All
    crossings in the plane are found (four lines through a point: eight half-lines). The kernel
    may be larger (symmetric problems: several pitchforks at one point): two steps of inverse
    iteration with B at y* + 1e-4 r t from random vectors give up to 3 more directions, each
