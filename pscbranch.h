@@ -3295,6 +3295,9 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
              (corr <= s->opt.tol_correction ||
               (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) ||
             psb__at_rounding(s, corr, res, res_prev)) {
+            /* a residual that vanishes at an overflowed iterate (steps of ~1e300, fuzz_api) is
+               no solution */
+            if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "corrector iterate overflowed");
             psb__copy(y, yc, np1);
             psb__copy(t, tc, np1);
             return PSB_SUCCESS;
@@ -3502,6 +3505,7 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
         memcpy(s->res_, s->res2_, (size_t)n * sizeof(double));
         if ((res <= s->opt.tol_residual || psb__at_rounding(s, lambda * corr, res, res_before)) &&
             lambda * corr <= s->opt.tol_correction) {
+            if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "Newton iterate overflowed");
             psb__copy(y, yc, np1);
             return PSB_SUCCESS;
         }
@@ -3980,6 +3984,7 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
            location's precision */
         if ((res <= s->opt.tol_residual || psb__at_rounding(s, corr, res, res_prev)) &&
             corr <= s->opt.tol_correction) {
+            if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "Newton iterate overflowed");
             if (t) {
                 psb__copy(t, s->rhs_ + np1, np1);
                 if (!psb__normalize_w(s, t)) {

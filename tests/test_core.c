@@ -1384,6 +1384,44 @@ static void test_curved_lcps(void)
     CHECK(complete >= total - 2);
 }
 
+/* H(x, g) = x: every point of the g axis is a solution, so the corrector "converges" at once
+   wherever Algorithm 2.1's steps of ~1e306 carry it, -inf included: before 0.11.0
+   PSB_SUCCESS with y = (0, -inf) (fuzz_api). An iterate that overflowed is no solution. */
+static int axis_res(const double *y, double *h, void *user)
+{
+    (void)user;
+    h[0] = y[0];
+    return 0;
+}
+
+static int axis_jac(const double *y, double *jac, int ld, void *user)
+{
+    (void)y;
+    (void)ld;
+    (void)user;
+    jac[0] = 1;
+    jac[1] = 0;
+    return 0;
+}
+
+static void test_overflowing_steps(void)
+{
+    psb_problem p;
+    psb_solver s;
+    psb_branch_options bo;
+    double y[2] = {0, 0}, t[2] = {0, -1}, precision = -1;
+    psb_result r;
+    psb_problem_init(&p, 1, axis_res, axis_jac, NULL);
+    CHECK(psb_solver_init(&s, &p, NULL) == PSB_SUCCESS);
+    memset(&bo, 0, sizeof bo);
+    bo.h = 1e306;
+    bo.h_min = 1e302;
+    r = psb_locate_end(&s, y, t, &bo, &precision);
+    CHECK(r == PSB_ERR_NONFINITE && s.message[0] != 0);
+    CHECK(y[0] == 0 && y[1] == 0 && t[0] == 0 && t[1] == -1 && precision == -1);
+    psb_solver_free(&s);
+}
+
 /* Algorithm 2.1 from `dist` up a branch of a curved LCP, counts[0..2] += reached the point
    (within 1e-9, or with differences within the chords' reach, 256 h_min), refused (a code and
    a message, y and t as they were), wrong (anything else). Trial k has N = 3 + k % 2, eps[k %
@@ -2026,6 +2064,7 @@ int main(void)
     test_curved_kinks();
     test_curved_lcps();
     test_locate_end_far_on_curve();
+    test_overflowing_steps();
     test_piece_memo();
     test_odd_count_sweeps_on();
     test_step1_fault_counted();
