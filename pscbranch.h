@@ -366,11 +366,11 @@
    updated while moving and the one returned is computed 16 h back: quotients within a
    step of the point mix its pieces. Where the moves stall, two chords through the point
    (from corrected points 256 h_min behind and ahead, then 64 h_min, farther where
-   tol_correction asks it; not from quotients) tell
-   an end point, where they differ by the kink's angle, from a smooth point where the branch
-   turned by more than c_diff's angle since the start, where they agree to half of it: from
-   there it follows on along the chord (curved random LCPs, starts 2e-5 to 2e-3 up the
-   branch: 38 of 64 returned a smooth point as the end point before, none now).
+   tol_correction asks it; not from quotients) tell an end point, where they differ by the
+   kink's angle, from a smooth point where the branch turned by more than c_diff's angle
+   since the start, where they agree to half of it: from there it follows on along the chord
+   (curved random LCPs, starts 2e-5 to 2e-3 up the branch: 38 of 64 returned a smooth point
+   as the end point before, none now).
    Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
    deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc, with these
    choices:
