@@ -175,7 +175,11 @@
    psb_options, the continuation (psb_solver_init; s->opt holds them resolved):
    kappa [1], weights [NULL]        the weighted inner product (section 1); each in
                                     [1e-290, 1e290]
-   h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 0 < h_min <= h_init <= h_max
+   h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 1e-290 <= h_min <= h_init <= h_max.
+                                    Every length and tolerance here and in psb_branch_options
+                                    is at least 1e-290 (with subnormal ones the lengths formed
+                                    from them lose their digits and Algorithm 2.1 reported a
+                                    precision of 0, fuzz_api)
    h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
                                     corrector iterations; shrink after a rejected trial;
                                     1 <= h_inc <= 100, 0 < h_dec <= 0.9 (bounded shrinking)
@@ -219,9 +223,11 @@
                                     h of Algorithms 2.1 and 2.2 (the paper: the continuation's
                                     smallest step)
    h_fd_steps [1e4]                 those steps (resolved: 0 when not used)
-   h_min [h / 2^14]                 precision of Algorithm 2.1; 0 < h_min < h
-   h_init [h_init]                  first step of each trial step of Algorithm 2.2; the
-                                    sphere's radius of psb_branch_point_switch
+   h_min [h / 2^14]                 precision of Algorithm 2.1; 1e-290 <= h_min < h
+   h_init [h_init]                  first step of each trial step of Algorithm 2.2 (made
+                                    smaller where a branch shows a kink within it: section
+                                    6, "Kinks within h_init"); the sphere's radius of
+                                    psb_branch_point_switch
    n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
                                     at 0: at least 15, then on until twice as many counted
                                     spans as the last new branch took have found nothing
@@ -469,6 +475,30 @@
      that found branch, or repeats a trial made before, which found no branch that is not
      known by now; having spent i iterations, it can do no better. It stops there (counted in
      n_pc and in report.n_cut), and its k_j, j <= i, are remembered.
+   - The memo's cut (with the Jacobian or piece memo). k_i is the tangent of dH at the
+     iterate, and the memo may hold it: before factorising, the trial looks the iterate's
+     piece id up (or, with no id there, dH's hash once dH is formed); a held tangent that would
+     be screened cuts the trial with no factorisation (report.n_cut_memo), and the corrector
+     stores each tangent it computes. A dH hash is exact. A piece id gives a tangent from
+     another point of the piece: the first 4 held tangents met at trial iterates are compared
+     with those computed there, and a piece's tangent cuts only while every such pair in the
+     call lies within an eighth of c_diff's angle (on curved pieces a wrong verdict lost a
+     branch: curved random LCPs, which now keep their sets; the block: 0 of 390 verdicts
+     differ). The same branches; Algorithm 2.2's factorisations: the block M800, inputs 1-3,
+     627-639 -> 496-509 (0.9.0: 865-876), n_pc the same (in 4 of 12 Tables 1-2 settings 1-3
+     apart: near c_diff's angle a piece's tangent can decide otherwise); bench_branching 3-9%
+     fewer, n_pc the same.
+   - Kinks within h_init. The trials and their screen take the pieces for cones with apex y0
+     out to h_init. Where another kink lies closer, a trial lands beyond it, on that point's
+     branches, and the screen skips real trials. A branch leaving y0 runs along its chord from
+     y0 (a curved one turns from it by curvature x distance / 2), so a found branch whose
+     tangent turns from its chord by more than 0.05 rad shows it: the run is made again with
+     h_init / 16, up to 3 times while h_init stays above 8 h (s->branch keeps the caller's
+     h_init). An audit's piecewise-affine systems with kinks 1e-3 to 1e-1 apart (psb_explore,
+     200 of them, 25 set aside): exact diagrams 94 -> 112 of 175, wrong ones without a sign
+     9 -> 2, with n_odd > 0 71 -> 60 (a branch missed with no turn to show is not caught:
+     where kinks lie closer than h_init, set a smaller h_init); the block's and the paper's
+     examples never turn so far (the same runs).
    - Idle spans (memo on). A span all of whose tangents were tried before (or whose trials
      were all screened) tries nothing; it costs n_dir tangents and does not count against
      n_span (report.n_span_idle): on problems whose pairs of branches span planes that meet
@@ -1096,6 +1126,10 @@ typedef struct psb_solver {
     int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
     int jmemo_dh_;                /* its keys may hash dH (psb__jmemo_usable); else piece ids */
     long jmemo_looks_, jmemo_hits_; /* its look-ups and hits in the current call */
+    long memo_cuts_;              /* trials cut by psb__path_memo_cut, in all */
+    int pmemo_checks_, pmemo_check_on_; /* piece memo against a trial's own tangents: pairs */
+    double pmemo_drift_;          /* compared in the current call, the largest angle between */
+                                  /* them; a pair pending in BR_MT (psb__path_memo_cut) */
     unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
     const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
                                 conic test, see psb__try_tangent); NULL otherwise */
@@ -1352,6 +1386,8 @@ typedef struct psb_branch_report {
                          tried, or was a found branch's (see no_screen) */
     long n_cut;       /* trials (counted in n_pc) ended once a corrector iteration's tangent
                          was one of those (see no_screen) */
+    long n_cut_memo;  /* of those, trials ended before that iteration's factorisation: the
+                         memo held the tangent (section 6, "The memo's cut") */
     int span_last_new;    /* the counted span (1-based) in which the last new branch was
                              found: the smallest n_span that finds them all, all else equal */
     long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
@@ -1888,6 +1924,7 @@ enum {
     PSB__V_SP_YE, PSB__V_SP_TE, PSB__V_SP_B1, PSB__V_SP_B2, PSB__V_SP_C1, PSB__V_SP_C2, /* special points */
     PSB__V_EV_Y, PSB__V_EV_T, PSB__V_EV_N, /* psb_evolve_step: path couple, Newton's solution */
     PSB__V_BR_H0, PSB__V_BR_PE, /* Algorithm 2.2's trials: H(y0); the point h from y0 (conic test) */
+    PSB__V_BR_MT, /* a trial's memo tangent (psb__path_memo_cut) */
     PSB__NVEC
 };
 /* Entries of each of psb_find_branches' stores, the tangents tried (memo_), the directions
@@ -2048,29 +2085,30 @@ static psb_result psb__fail(psb_solver *s, psb_result code, const char *what)
 static const char *psb__check_options(const psb_options *o, int np1)
 {
     int i;
-#define PSB__POS(x) ((x) > 0 && psb__finite(x)) /* false for NaN and Inf */
     /* a weight far from the normal range takes its precision with it: w t^2 formed for a
        scaled t (psb__norm_w) underflows, and a subnormal w = 5e-324 normalised t to a norm
        of 1.008 (fuzz_api) */
 #define PSB__WEIGHT_OK(x) ((x) >= 1e-290 && (x) <= 1e290)
+    /* lengths and tolerances: normal numbers with room below them (section 5) */
+#define PSB__LEN(x) ((x) >= 1e-290 && psb__finite(x)) /* false for NaN and Inf */
     if (!PSB__WEIGHT_OK(o->kappa)) return "kappa must lie in [1e-290, 1e290]";
     if (o->weights)
         for (i = 0; i < np1; i++)
             if (!PSB__WEIGHT_OK(o->weights[i])) return "weights must lie in [1e-290, 1e290]";
-    if (!PSB__POS(o->h_min) || !PSB__POS(o->h_init) || !PSB__POS(o->h_max) ||
+    if (!PSB__LEN(o->h_min) || !PSB__LEN(o->h_init) || !PSB__LEN(o->h_max) ||
         !(o->h_min <= o->h_init) || !(o->h_init <= o->h_max))
-        return "h_min, h_init, h_max: need 0 < h_min <= h_init <= h_max < inf";
+        return "h_min, h_init, h_max: need 1e-290 <= h_min <= h_init <= h_max < inf";
     if (!(o->h_inc >= 1 && o->h_inc <= 100)) return "h_inc must lie in [1, 100]";
     if (!(o->h_dec > 0 && o->h_dec <= 0.9)) return "h_dec must lie in (0, 0.9]";
     if (o->max_iter < 1 || o->max_iter > PSB_MAX_ITER_LIMIT) return "max_iter must lie in [1, PSB_MAX_ITER_LIMIT = 1000]";
     if (o->iter_threshold < 1 || o->iter_threshold > PSB_MAX_ITER_LIMIT)
         return "iter_threshold must lie in [1, PSB_MAX_ITER_LIMIT = 1000]";
-    if (!PSB__POS(o->tol_residual)) return "tol_residual must be positive and finite";
-    if (!PSB__POS(o->tol_correction)) return "tol_correction must be positive and finite";
+    if (!PSB__LEN(o->tol_residual)) return "tol_residual must be finite and >= 1e-290";
+    if (!PSB__LEN(o->tol_correction)) return "tol_correction must be finite and >= 1e-290";
     if (!(o->c_min > -1 && o->c_min < 1)) return "c_min must lie in (-1, 1)";
-    if (!PSB__POS(o->switch_delta_min) || !PSB__POS(o->switch_delta_max) ||
+    if (!PSB__LEN(o->switch_delta_min) || !PSB__LEN(o->switch_delta_max) ||
         !(o->switch_delta_min <= o->switch_delta_max))
-        return "switch_delta_min, switch_delta_max: need 0 < switch_delta_min <= switch_delta_max < inf";
+        return "switch_delta_min, switch_delta_max: need 1e-290 <= switch_delta_min <= switch_delta_max < inf";
     if (o->switch_n_dir < 1 || o->switch_n_dir > PSB_MAX_DIR_LIMIT)
         return "switch_n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
     if (!(o->c_diff > 0 && o->c_diff < 1)) return "c_diff must lie in (0, 1)";
@@ -2083,12 +2121,12 @@ static const char *psb__check_branch(const psb_branch_options *b)
     if (b->as_printed != 0 && b->as_printed != 1) return "branch options: as_printed must be 0 or 1";
     if (b->as_printed && b->restart != PSB_RESTART_PAPER)
         return "branch options: as_printed = 1 draws random spans as printed (restart PSB_RESTART_PAPER)";
-    if (!PSB__POS(b->h_init)) return "branch options: h_init must be positive and finite";
+    if (!PSB__LEN(b->h_init)) return "branch options: h_init must be finite and >= 1e-290";
     if (b->h == 0 && b->h_fd_steps != 0) { /* follows the point (finite differences) */
         if (!(b->h_fd_steps >= 1 && b->h_fd_steps <= 1e8)) return "branch options: h_fd_steps must lie in [1, 1e8]";
-        if (b->h_min != 0 && !PSB__POS(b->h_min)) return "branch options: h_min must be positive and finite";
-    } else if (!PSB__POS(b->h) || !PSB__POS(b->h_min) || !(b->h_min < b->h)) {
-        return "branch options: h, h_min: need 0 < h_min < h < inf";
+        if (b->h_min != 0 && !PSB__LEN(b->h_min)) return "branch options: h_min must be finite and >= 1e-290";
+    } else if (!PSB__LEN(b->h) || !PSB__LEN(b->h_min) || !(b->h_min < b->h)) {
+        return "branch options: h, h_min: need 1e-290 <= h_min < h < inf (h_min defaults to h / 16384)";
     }
     if (b->n_dir < 1 || b->n_dir > PSB_MAX_DIR_LIMIT)
         return "branch options: n_dir must lie in [1, PSB_MAX_DIR_LIMIT = 10000]";
@@ -2096,13 +2134,13 @@ static const char *psb__check_branch(const psb_branch_options *b)
         return "branch options: n_span must lie in [1, PSB_MAX_SPAN_LIMIT = 10000]";
     if (b->n_span_max < b->n_span || b->n_span_max > PSB_MAX_SPAN_LIMIT)
         return "branch options: n_span_max must lie in [n_span, PSB_MAX_SPAN_LIMIT = 10000]";
-    if (!PSB__POS(b->trial_h_min)) return "branch options: trial_h_min must be positive and finite";
+    if (!PSB__LEN(b->trial_h_min)) return "branch options: trial_h_min must be finite and >= 1e-290";
     if (b->patience < 0) return "branch options: patience must be >= 0";
     if (b->max_pc < 0) return "branch options: max_pc must be >= 0";
     if (b->restart < PSB_RESTART_MIXED || b->restart > PSB_RESTART_GLOBAL)
         return "branch options: restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
-#undef PSB__POS
 #undef PSB__WEIGHT_OK
+#undef PSB__LEN
     return NULL;
 }
 
@@ -3170,6 +3208,67 @@ static int psb__trial_known(const psb_solver *s, const double *x, const double *
                             const double *done, int own);
 static void psb__jmemo_key(const psb_solver *s, unsigned long long *key);
 static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key);
+static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t);
+static int psb__jmemo_hashing(const psb_solver *s);
+static double psb__angle_w(const psb_solver *s, const double *a, const double *b);
+static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known);
+
+/* Whether a piece's tangent may decide (psb__path_memo_cut): the memo's pieces checked that
+   many times and found nearly linear. */
+static int psb__pmemo_trusted(const psb_solver *s, int checks)
+{
+    return s->pmemo_checks_ >= checks && s->pmemo_drift_ <= acos(s->opt.c_diff) / 8;
+}
+
+/* The memo's cut of an Algorithm 2.2 trial (path_on_) at its corrector iterate y, bordered by
+   t: the tangent this iteration would compute is the unit kernel of dH(y), oriented by t, and
+   Algorithm 2.2's memo (psb__sample_tangent) may hold it already, keyed by y's piece id
+   (before dH is formed, dh_formed 0; *by_piece set when the callback gave one) or by dH's
+   hash (dh_formed 1, dH just formed, *by_piece as the first call left it). If that
+   tangent's trial is known, the corrector's cut (psb__correct_run) applies without the
+   factorisation. As with sample tangents, the memo's tangent only decides this skip.
+   A dH hash gives the tangent of the same dH. A piece id gives one from another point of the
+   piece, which is the tangent here only where H is nearly linear across the piece (the block:
+   no cut decided otherwise in 390 checked); on a curved piece the wrong verdict can cost a
+   branch (curved random LCPs). So a piece's tangent decides a cut only after the memo has met
+   4 tangents computed at trial iterates of pieces it held, and found them all within an
+   eighth of c_diff's angle of its own (pmemo_drift_, measured by the corrector).
+   key gets the key under which the corrector stores the tangent it computes (zero when there
+   is none or the memo holds it).
+   Returns 1 (cut), 0, or a fatal or fault code from the piece callback (< 0). */
+static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t, int dh_formed,
+                              unsigned long long *key, int *by_piece)
+{
+    int m, i, np1 = s->np1_;
+    double *x = PSB__VEC(s, PSB__V_BR_MT), dot;
+    const double *tm;
+    if (!dh_formed) {
+        psb_result r;
+        key[0] = key[1] = 0;
+        *by_piece = 0;
+        if (!s->prob.piece) return 0;
+        r = psb__piece_key(s, y, key, by_piece);
+        if (r != PSB_SUCCESS) return r;
+        if (!*by_piece) return 0;
+    } else {
+        if (*by_piece || !psb__jmemo_hashing(s)) return 0;
+        psb__jmemo_key(s, key);
+    }
+    m = psb__jmemo_find(s, key);
+    s->jmemo_looks_++;
+    s->jmemo_hits_ += m >= 0;
+    if (m < 0) return 0;
+    key[0] = key[1] = 0; /* held already: nothing to store */
+    tm = s->jmemo_t_ + (size_t)m * (size_t)np1;
+    dot = psb__dot_w(s, tm, t);
+    if (!(fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, t))) return 0;
+    for (i = 0; i < np1; i++) x[i] = dot < 0 ? -tm[i] : tm[i];
+    if (*by_piece && !psb__pmemo_trusted(s, 4)) {
+        s->pmemo_check_on_ = 1; /* no cut yet: the corrector compares its tangent with x */
+        return 0;
+    }
+    return psb__trial_known(s, x, s->path_ts_, s->path_nts_, NULL, s->path_own_);
+}
 
 /* The conic test of Algorithm 2.2's trials (psb__try_tangent), first half, at a corrector
    iterate y whose dH(y) was just formed and H(y) is in res_: H is affine through y0 there,
@@ -3247,9 +3346,23 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
     s->conic_ok_ = s->conic_y0_ != NULL && s->conic_armed_;
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res;
+        unsigned long long key[2] = {0, 0};
+        int cut = 0, by_piece = 0;
         s->stats.n_newton++;
-        r = psb__jacobian(s, yc, s->res_);
-        if (r != PSB_SUCCESS) return r;
+        s->pmemo_check_on_ = 0;
+        if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, 0, key, &by_piece);
+        if (cut == 0) {
+            r = psb__jacobian(s, yc, s->res_);
+            if (r != PSB_SUCCESS) return r;
+            if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, 1, key, &by_piece);
+        }
+        if (cut < 0) return (psb_result)cut;
+        if (cut) {
+            *iterations = it;
+            s->memo_cuts_++;
+            s->last_fail_ = PSB__FAIL_KNOWN;
+            return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
+        }
         if (s->conic_ok_) s->conic_ok_ = psb__conic_at(s, yc);
         for (i = 0; i < np1; i++) row[i] = s->w_[i] * tc[i];
         r = psb__factor_bordered(s, row, NULL);
@@ -3275,6 +3388,13 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         }
         if (s->path_on_ && s->path_n_ < PSB__PATH_MAX)
             psb__copy(s->path_ + (size_t)s->path_n_++ * (size_t)np1, tc, np1);
+        if ((key[0] || key[1]) && (!by_piece || psb__pmemo_trusted(s, 0))) psb__jmemo_store(s, key, tc);
+        if (s->pmemo_check_on_) {
+            double drift = psb__angle_w(s, tc, PSB__VEC(s, PSB__V_BR_MT));
+            s->pmemo_check_on_ = 0;
+            s->pmemo_checks_++;
+            if (!(drift <= s->pmemo_drift_)) s->pmemo_drift_ = drift; /* NaN: never cuts */
+        }
         *iterations = it;
         if (s->path_on_ && psb__trial_known(s, tc, s->path_ts_, s->path_nts_, NULL, s->path_own_)) {
             s->last_fail_ = PSB__FAIL_KNOWN;
@@ -4959,6 +5079,36 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
     return -1;
 }
 
+/* Stores the unit tangent t under key (the oldest entry makes room when the memo is full). */
+static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t)
+{
+    int m = s->jmemo_n_ % s->memo_cap_;
+    s->jmemo_key_[2 * m] = key[0];
+    s->jmemo_key_[2 * m + 1] = key[1];
+    psb__copy(s->jmemo_t_ + (size_t)m * (size_t)s->np1_, t, s->np1_);
+    s->jmemo_n_++;
+}
+
+/* Whether the memo keys by dH's hash: it can (analytic dH, dense or banded), and it pays. A
+   memo that rarely hits (sample points mostly in pieces of their own, as on the block) costs a
+   hash per tangent for nothing: after 64 look-ups in a call, it needs a hit in 8. */
+static int psb__jmemo_hashing(const psb_solver *s)
+{
+    return s->jmemo_dh_ && !(s->jmemo_looks_ >= 64 && 8 * s->jmemo_hits_ < s->jmemo_looks_);
+}
+
+/* The memo's key of the piece at y (problem.piece, set), *known 0 when the callback knows no
+   id there (> 0). */
+static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known)
+{
+    int rc = s->prob.piece(y, key, s->prob.user);
+    if (rc < 0) return psb__callback_code(s, rc, "piece callback returned a negative value");
+    key[1] = 0x9e3779b97f4a7c15ull; /* never a dH hash: those memos are not mixed */
+    *known = rc == 0;
+    if (!*known) key[0] = key[1] = 0;
+    return PSB_SUCCESS;
+}
+
 /* The tangent at sample point pt, formed there (difference steps below s->branch.h / 1000). */
 static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const double *ref, double *t)
 {
@@ -4999,15 +5149,10 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
     int m, np1 = s->np1_, by_piece = s->prob.piece != NULL;
     if (from_memo) *from_memo = 0;
     if (by_piece) {
-        int rc = s->prob.piece(pt, key, s->prob.user);
-        if (rc < 0) return psb__callback_code(s, rc, "piece callback returned a negative value");
-        key[1] = 0x9e3779b97f4a7c15ull; /* never a dH hash: those memos are not mixed */
-        by_piece = rc == 0;
+        r = psb__piece_key(s, pt, key, &by_piece);
+        if (r != PSB_SUCCESS) return r;
     }
-    /* a memo that rarely hits (sample points mostly in pieces of their own, as on the block)
-       costs a hash per tangent for nothing: after 64 look-ups, it needs a hit in 8 */
-    if (!by_piece && (!s->jmemo_dh_ || (s->jmemo_looks_ >= 64 && 8 * s->jmemo_hits_ < s->jmemo_looks_)))
-        return psb__sample_tangent_at(s, pt, ref, t);
+    if (!by_piece && !psb__jmemo_hashing(s)) return psb__sample_tangent_at(s, pt, ref, t);
     if (!by_piece) {
         s->stats.n_tangents++;
         r = psb__jacobian(s, pt, NULL);
@@ -5032,13 +5177,8 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
         }
     }
     r = by_piece ? psb__sample_tangent_at(s, pt, ref, t) : psb__tangent_from_jacobian(s, ref, t);
-    if (r != PSB_SUCCESS || m >= 0) return r;
-    m = s->jmemo_n_ % s->memo_cap_;
-    s->jmemo_key_[2 * m] = key[0];
-    s->jmemo_key_[2 * m + 1] = key[1];
-    psb__copy(s->jmemo_t_ + (size_t)m * (size_t)np1, t, np1);
-    s->jmemo_n_++;
-    return PSB_SUCCESS;
+    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, key, t);
+    return r;
 }
 
 /* The tangent at the sample point pt that psb__sample_tangent just took from its memo
@@ -5160,6 +5300,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                                    psb_branch_report *rep, int *overflow)
 {
     int np1 = s->np1_, k, sign, iters, cut, from_memo;
+    long memo_cuts;
     double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
     double *pk = PSB__VEC(s, PSB__V_BR_S), *kx = PSB__VEC(s, PSB__V_BR_K);
     psb_result r;
@@ -5206,7 +5347,9 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         s->path_ts_ = ts;
         s->path_nts_ = rep->n_branches;
         s->conic_y0_ = s->path_on_ && s->conic_h0_ok_ ? y0 : NULL;
+        memo_cuts = s->memo_cuts_;
         r = psb__try_step_from(s, yb, tb, &hh, s->branch.trial_h_min, &iters, y0);
+        rep->n_cut_memo += s->memo_cuts_ - memo_cuts;
         s->path_on_ = 0;
         s->conic_y0_ = NULL;
         if (psb__is_fatal(r)) return r;
@@ -5355,9 +5498,9 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
     return t1;
 }
 
-/* Algorithm 2.2 with the options in s->branch (psb_find_branches, psb_explore). */
-static psb_result psb__find_branches(psb_solver *s, const double *y0, const double *t0,
-                                     int max_branches, double *ys, double *ts, psb_branch_report *rep)
+/* One run of Algorithm 2.2 with the options in s->branch (psb__find_branches). */
+static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const double *t0,
+                                          int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
     int np1, k, span, overflow = 0, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
@@ -5395,6 +5538,8 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
     s->known_n_ = 0;
     s->jmemo_n_ = 0;
     s->jmemo_looks_ = s->jmemo_hits_ = 0;
+    s->pmemo_checks_ = s->pmemo_check_on_ = 0;
+    s->pmemo_drift_ = 0;
     memset(s->pairs_done_, 0, sizeof s->pairs_done_);
     psb__faults_reset(s);
 
@@ -5499,6 +5644,50 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
     if (r != PSB_SUCCESS) return r;
     s->message[0] = 0;
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+}
+
+/* The largest angle between a found branch's tangent and its chord from y0 (landing points at
+   least h away), 0 when there is none. */
+static double psb__chord_turn(psb_solver *s, const double *y0, const double *ys, const double *ts, int n_br)
+{
+    int k, i, np1 = s->np1_;
+    double worst = 0, *c = PSB__VEC(s, PSB__V_BR_MT);
+    for (k = 1; k < n_br; k++) {
+        double d = psb__dist_w(s, ys + (size_t)k * (size_t)np1, y0), a;
+        if (!(d >= s->branch.h)) continue;
+        for (i = 0; i < np1; i++) c[i] = (ys[(size_t)k * (size_t)np1 + (size_t)i] - y0[i]) / d;
+        a = psb__angle_w(s, c, ts + (size_t)k * (size_t)np1);
+        if (a > worst) worst = a;
+    }
+    return worst;
+}
+
+/* Algorithm 2.2 with the options in s->branch (psb_find_branches, psb_explore). Its trials
+   and their screening take the pieces for cones with apex y0 out to h_init. Where another
+   kink lies closer, a trial's landing point lies beyond it, and the branch's chord from y0
+   turns away from its tangent there by about the kink's angle (on a straight branch not at
+   all, on a curved one by curvature x distance / 2): trials reach other points' branches and
+   the screen skips real ones (kinks 1e-3 apart, h_init 1e-2: 2 of 4 branches, or 4 for 2).
+   So when a found branch's chord turns by more than PSB__CHORD_TURN from its tangent, the
+   run is made again with h_init / 16, up to 3 times (h_init stays above 8 h). */
+#define PSB__CHORD_TURN 0.05
+static psb_result psb__find_branches(psb_solver *s, const double *y0, const double *t0,
+                                     int max_branches, double *ys, double *ts, psb_branch_report *rep)
+{
+    double h_init = s->branch.h_init;
+    int round;
+    psb_branch_report local;
+    psb_result r = PSB_SUCCESS;
+    if (!rep) rep = &local;
+    for (round = 0; round < 4; round++) {
+        r = psb__find_branches_once(s, y0, t0, max_branches, ys, ts, rep);
+        if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h ||
+            psb__chord_turn(s, y0, ys, ts, rep->n_branches) <= PSB__CHORD_TURN)
+            break;
+        s->branch.h_init /= 16;
+    }
+    s->branch.h_init = h_init;
+    return r;
 }
 
 /* ---- switching at a smooth branch point ----------------------------------------------------
@@ -6108,6 +6297,8 @@ typedef struct psb__explorer {
     double stop_precision;
     long points;
     double length;
+    int away;      /* the edge has been farther than away_r from its origin node: a return to */
+    double away_r; /* the origin is an arrival there, not the edge's own start */
 } psb__explorer;
 
 #define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->np1_)
@@ -6299,13 +6490,50 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     return r == PSB_BRANCH_CAPACITY ? r : PSB_SUCCESS;
 }
 
+/* Whether a trace at the edge's origin with tangent t comes back along the branch it left by
+   (a turn back: after a fault, say), not round a loop into another of the origin's branches. */
+static int psb__explore_turned_back(const psb__explorer *x, const double *t)
+{
+    const psb_node *nf = x->d->nodes + x->from;
+    int k, own = x->d->edges[x->edge].from_branch, best = -1;
+    double best_cos = -2;
+    for (k = 0; k < nf->n_branches; k++) { /* the branch it arrives by, as psb__explore_arrive */
+        double c = -psb__cos_w(x->s, t, nf->ts + (size_t)k * (size_t)x->s->np1_);
+        if (c > best_cos) {
+            best_cos = c;
+            best = k;
+        }
+    }
+    return best == own;
+}
+
+/* A kink or branching point (y, t) at the edge's origin node: the edge's own start, which it
+   leaves (0), or, once the edge has been away (a loop back into its origin through the point,
+   not along the branch it left by), an arrival there that stops the trace (1). Else -1. An
+   arrival must lie within the origin's tolerance itself: a point located only roughly (its
+   precision 0.02 after a fault, 0.02 from the start) is near enough to be the start, not to be
+   come back to. */
+static int psb__explore_at_origin(psb__explorer *x, const double *y, const double *t, double precision)
+{
+    int np1 = x->s->np1_;
+    const psb_node *nf = x->d->nodes + x->from;
+    if (!psb__explore_near(x, nf, y, precision)) return -1;
+    if (!x->away || psb__explore_turned_back(x, t) || !psb__explore_near(x, nf, y, 0)) return 0;
+    psb__copy(PSB__XVEC(x, PSB__X_SY), y, np1);
+    psb__copy(PSB__XVEC(x, PSB__X_ST), t, np1);
+    x->stop_node = x->from;
+    x->stop = PSB__XS_NODE;
+    return 1;
+}
+
 /* A special point reported by a trace: folds and events become nodes on the edge; a branch
    or PC1 point (other than the one the edge leaves) stops the trace for the branching. */
 static int psb__explore_special(psb__explorer *x, const psb_special *sp)
 {
     int np1 = x->s->np1_, j;
     if (sp->kind == PSB_SPECIAL_BRANCH || sp->kind == PSB_SPECIAL_PC1) {
-        if (psb__explore_near(x, x->d->nodes + x->from, sp->y, sp->precision)) return 0;
+        int at = psb__explore_at_origin(x, sp->y, sp->t, sp->precision);
+        if (at >= 0) return at;
         psb__copy(PSB__XVEC(x, PSB__X_SY), sp->y, np1);
         psb__copy(PSB__XVEC(x, PSB__X_ST), sp->t, np1);
         x->has_kernel = sp->kernel != NULL;
@@ -6324,10 +6552,11 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
     return 0;
 }
 
-/* The branching node (not the edge's own start on its first step) that the chord from prev to
-   the accepted point passes within tolerance of, or -1: a trace going straight through a known
-   point (a piecewise-linear branch meets no kink there, and the detectors may see nothing)
-   arrives at it. The chord stands for the curve to within 1e-3 of its length. */
+/* The branching node, or the edge's own origin once the edge has been away from it (x->away;
+   a loop, whatever the origin's kind, not a turn back), that the chord from prev to the accepted point passes
+   within tolerance of, or -1: a trace going straight through a known point (a piecewise-linear
+   branch meets no kink there, and the detectors may see nothing) arrives at it. The chord
+   stands for the curve to within 1e-3 of its length. */
 static int psb__explore_passed(const psb__explorer *x, const double *prev, const psb_point *pt)
 {
     const psb_solver *s = x->s;
@@ -6336,8 +6565,9 @@ static int psb__explore_passed(const psb__explorer *x, const double *prev, const
     for (j = 0; j < x->d->n_nodes; j++) {
         const psb_node *nd = x->d->nodes + j;
         double proj = 0, dist2 = 0, a, tol;
-        if (nd->kind != PSB_NODE_NONSMOOTH && nd->kind != PSB_NODE_BRANCH && nd->kind != PSB_NODE_PC1) continue;
-        if (j == x->from && pt->index == 1) continue;
+        if (j == x->from ? !x->away || psb__explore_turned_back(x, pt->t)
+                         : nd->kind != PSB_NODE_NONSMOOTH && nd->kind != PSB_NODE_BRANCH && nd->kind != PSB_NODE_PC1)
+            continue;
         for (i = 0; i < np1; i++) proj += s->w_[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
         a = seg2 > 0 ? proj / seg2 : 0;
         a = a < 0 ? 0 : (a > 1 ? 1 : a);
@@ -6358,7 +6588,8 @@ static int psb__explore_point(const psb_point *pt, void *user)
     const psb_explore_options *eo = x->eo;
     int np1 = s->np1_, i;
     if (pt->flags & PSB_POINT_KINK) {
-        if (psb__explore_near(x, x->d->nodes + x->from, pt->y, 0)) return 0;
+        int at = psb__explore_at_origin(x, pt->y, pt->t, 0);
+        if (at >= 0) return at;
         psb__copy(PSB__XVEC(x, PSB__X_SY), pt->y, np1);
         psb__copy(PSB__XVEC(x, PSB__X_ST), pt->t, np1);
         x->stop = PSB__XS_KINK;
@@ -6378,6 +6609,7 @@ static int psb__explore_point(const psb_point *pt, void *user)
             return 1;
         }
     }
+    if (!x->away && psb__dist_w(s, pt->y, x->d->nodes[x->from].y) > x->away_r) x->away = 1;
     psb__copy(PSB__XVEC(x, PSB__X_PREV), pt->y, np1);
     if (eo->on_point && eo->on_point(x->edge, pt, eo->point_user)) {
         x->stop = PSB__XS_USER;
@@ -6404,6 +6636,8 @@ static int psb__explore_point(const psb_point *pt, void *user)
     return 0;
 }
 
+static int psb__is_branching_node(psb_node_kind kind);
+
 /* Traces branch k of node `from` as a new edge, to its end (psb__explore_edge). */
 static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
 {
@@ -6414,6 +6648,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     psb_trace_options to = x->eo->trace;
     psb_trace_report rep;
     int np1 = s->np1_, e, resume, p = s->prob.param_index;
+    long steps_left;
     double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
     psb_result r;
     if (d->n_edges == d->max_edges) {
@@ -6455,11 +6690,23 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     if (x->eo->no_detect) to.detect = 0;
     x->edge = e;
     x->from = from;
+    /* away: twice the start's distance from the origin, at least its tolerance beyond */
+    x->away = 0;
+    x->away_r = 2 * ed->length + psb__explore_tol(x, nf) + 4 * nf->precision;
+    /* max_steps bounds the edge, also across the ordinary kinks it resumes at (a closed curve
+       of such arcs never closes within one trace: its detect_loop starts at each kink) */
+    steps_left = to.max_steps > 0 ? to.max_steps : 10000;
     for (;;) {
         x->stop = PSB__XS_NONE;
         x->points = 0;
         x->length = 0;
+        if (steps_left <= 0) {
+            r = PSB_STEP_BUDGET;
+            break;
+        }
+        to.max_steps = steps_left;
         r = psb_trace(s, y, t, &to, &rep);
+        steps_left -= rep.steps;
         ed->n_points += x->points;
         ed->length += x->length;
         ed->result = r;
@@ -6485,6 +6732,11 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
         psb_node *nd = d->nodes + x->stop_node;
         int kb, best = -1;
         double best_cos = -2;
+        if (x->stop_node == from && !psb__is_branching_node(nf->kind)) {
+            /* back through its start (the resumes kept psb_trace's detect_loop from seeing it) */
+            r = PSB_LOOP_CLOSED;
+            break;
+        }
         ed->length -= psb__dist_w(s, y, nd->y);
         psb__explore_arrive(x, e, x->stop_node, t);
         /* by its tangent or by its chord from the node, whichever matches better: the tangent

@@ -450,9 +450,9 @@ static int block_main(int argc, char **argv)
         if (input < 0) goto done;
     }
 
-    printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld, cut = %ld\n",
+    printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld, cut = %ld (by the memo %ld)\n",
            input, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_span_idle, run.brep.n_tangents,
-           run.brep.n_screened, run.brep.n_cut);
+           run.brep.n_screened, run.brep.n_cut, run.brep.n_cut_memo);
     printf("  last new branch in span %d (a run with n_span = %d: n_pc = %ld, n_rand = %d)\n",
            run.brep.span_last_new, run.brep.span_last_new, run.brep.n_pc_last_new, run.brep.n_rand_last_new);
 table:

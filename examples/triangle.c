@@ -555,9 +555,9 @@ int main(int argc, char **argv)
         printf(" branch %d %.1e%s", run.br[k].number, d / m, k + 1 < run.nbr ? "," : "");
     }
     printf("\n");
-    printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld, cut = %ld\n",
+    printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld, cut = %ld (by the memo %ld)\n",
            run.br[0].number, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_span_idle, run.brep.n_tangents,
-           run.brep.n_screened, run.brep.n_cut);
+           run.brep.n_screened, run.brep.n_cut, run.brep.n_cut_memo);
 table:
     printf("\n  branch  gamma   state                           contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
     ok = 1;

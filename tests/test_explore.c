@@ -1290,6 +1290,145 @@ static void test_pc1_near_branch_point(void)
     }
 }
 
+/* H_i(y) = min(A_i y + a_i, B_i y + b_i), i < n (rows of n + 1, row-major), from an audit
+   against diagrams enumerated over all 2^n pieces (y = (x, g), g last). */
+typedef struct {
+    int n;
+    const double *A, *a, *B, *b;
+} minaff;
+
+static double minaff_row(const double *M, const double *c, int i, int n, const double *y)
+{
+    double v = c[i];
+    int j;
+    for (j = 0; j <= n; j++) v += M[i * (n + 1) + j] * y[j];
+    return v;
+}
+
+static int minaff_res(const double *y, double *h, void *u)
+{
+    const minaff *m = (const minaff *)u;
+    int i;
+    for (i = 0; i < m->n; i++) {
+        double p = minaff_row(m->A, m->a, i, m->n, y), q = minaff_row(m->B, m->b, i, m->n, y);
+        h[i] = p <= q ? p : q;
+    }
+    return 0;
+}
+
+static int minaff_jac(const double *y, double *jac, int ld, void *u)
+{
+    const minaff *m = (const minaff *)u;
+    int i, j;
+    for (i = 0; i < m->n; i++) {
+        const double *row = minaff_row(m->A, m->a, i, m->n, y) <= minaff_row(m->B, m->b, i, m->n, y) ? m->A : m->B;
+        for (j = 0; j <= m->n; j++) jac[i + j * ld] = row[i * (m->n + 1) + j];
+    }
+    return 0;
+}
+
+/* Explores m from 0.37 of the way from sa to sb with branch_at_kinks, g in [gmin, gmax] and
+   the states in [-box, box]; a guard of 50000 points. */
+static psb_result minaff_explore(minaff *m, const double *sa, const double *sb, double gmin, double gmax,
+                                 double box, int branch_at_kinks, psb_diagram *d)
+{
+    psb_problem prob;
+    psb_solver s;
+    psb_explore_options eo;
+    double y[8], t[8], bmin[8], bmax[8];
+    int j, n = m->n;
+    psb_result r;
+    psb_problem_init(&prob, n, minaff_res, minaff_jac, m);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(d, n, 256, 512, 64) == PSB_SUCCESS);
+    for (j = 0; j <= n; j++) {
+        y[j] = sa[j] + 0.37 * (sb[j] - sa[j]);
+        t[j] = sb[j] - sa[j];
+        bmin[j] = j < n ? -box : -1e300;
+        bmax[j] = j < n ? box : 1e300;
+    }
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = gmin;
+    eo.trace.param_max = gmax;
+    eo.box_min = bmin;
+    eo.box_max = bmax;
+    eo.branch_at_kinks = branch_at_kinks;
+    eo.max_points = 50000;
+    r = psb_explore(&s, y, t, &eo, d);
+    psb_solver_free(&s);
+    return r;
+}
+
+/* An LCP in R^3 whose solution curve through the start is a closed polygon of ordinary kinks
+   (|g| < 2, |x| < 10). With branch_at_kinks each arc ended at a kink and the edge resumed
+   there with a fresh psb_trace, whose loop test starts at the kink and whose step budget was
+   its own: psb_explore never returned (here: the guard's 50000 points, PSB_STEP_BUDGET). One
+   loop edge, through its 4 kinks. */
+static void test_closed_polygon_of_kinks(void)
+{
+    static const double A[] = {1, 0, 0, 0, 1, 0}, a[] = {0, 0};
+    static const double B[] = {-0.6172990353535478, -0.41120912889142569, -0.86555012761490879,
+                               -0.23231039474276211, -0.025193816166330922, 0.97124324172017751};
+    static const double b[] = {0.64714974797153224, 0.24949447906997535};
+    static const double sa[] = {0, 0, -0.25688155999736323}, sb[] = {0, 0, 0.74767448738619458};
+    minaff m = {2, A, a, B, b};
+    int bak;
+    for (bak = 0; bak < 2; bak++) {
+        psb_diagram d;
+        psb_result r = minaff_explore(&m, sa, sb, -2, 2, 10, bak, &d);
+        printf("  closed polygon of kinks, branch_at_kinks %d: %s, %d nodes, %d edges, %d ordinary kinks, %ld points\n",
+               bak, psb_result_string(r), d.n_nodes, d.n_edges, d.n_kinks_plain, d.n_points);
+        CHECK(r == PSB_SUCCESS && d.n_edges == 1 && d.edges[0].end == PSB_EDGE_LOOP && d.n_queued == 0);
+        CHECK(d.edges[0].from == 0 && d.edges[0].to == 0 && d.n_points < 1000);
+        CHECK(d.n_kinks_plain == (bak ? 4 : 0));
+        psb_diagram_free(&d);
+    }
+}
+
+/* N = 5 pieces of two affine maps: the point V has 4 branches, two of which form a closed
+   loop from V back to V, one leads to the start's side and one to the bound g = -0.7 at W.
+   The edge round the loop came back into V at a kink, which the explorer took for the edge's
+   own start and passed through, on to the bound: 7 edges instead of 6, W twice
+   (PSB_SUCCESS). */
+static void test_loop_back_into_its_node(void)
+{
+    static const double A[] = {-1.5767794316010368, -0.22573905115024548, -1.1858928404667377, 1.6135848049901418, 2.1404220231168454, 0.39968436727040141,
+                               -0.68441529577716553, -0.19493976367179186, -0.35122362415291875, -0.056454459240780686, 0.46983165514158176, -0.13977818154128557,
+                               0.18959767822844598, -1.1439614417040449, 0.1217700014638915, -0.22137487031173508, 0.18108149470853172, -0.38868451303555795,
+                               0.48565007841655072, -0.42410077458275874, 0.20112207918259545, -0.24440197928333085, -0.47866583090735437, -0.17232662813171118,
+                               0.021956749197048403, -0.44838139647771907, 0.20147081105141096, -0.094272999087363529, -0.50383499153358435, -0.42567502846236754};
+    static const double a[] = {2.8236505544873616, 0.35909159861058826, -0.099572909487104594, -0.49162668082348876, -0.089615760397445648};
+    static const double B[] = {-0.52805641285784688, 0.32574642421229233, -0.61455665536640225, 0.047681689243283643, 0.089534039659020112, -0.2378928091377753,
+                               1.4241100753073814, -0.53290733112299993, 1.6377182703717743, -0.39451403331895463, 0.21193218357652366, 0.28115602919135113,
+                               0.92189596646534666, 0.59345063537716791, 0.77890278820410042, -0.78853258679741389, 0.47057266684957488, -0.44798728167821311,
+                               -0.29466643747119675, -0.445943866381392, -0.94253165666979588, 0.10417516537268623, 1.3327542998801911, -1.8256310399456006,
+                               0.034370930713604676, 0.67954842155587147, -1.3915038185705757, -0.069015129367949568, 0.52274961858505165, -1.1842316839846565};
+    static const double b[] = {0.22497589641160795, -0.70812624572544614, -0.88167987077645571, 0.95585758739014937, 0.15227924925926847};
+    static const double sa[] = {0.71195822585715818, 0.33404086423295587, -0.26676519495335194, -1.0701692561194229, -0.029600778579193743, -0.37987806994520512};
+    static const double sb[] = {0.50930074185773988, 0.17881195882523676, -0.08277567215219872, -1.0994525234780879, -0.14218409561215439, -6.3837823915946501e-16};
+    static const double v[] = {0.3397378624266707, 0.016702193242518495, -0.15832316539591451, -1.1845239167605031, -0.26232972326051801, 0.28730096250465231};
+    static const double w[] = {-0.05282508034417091, 0.21005936868023589, 0.62998694134852173, -0.43628267952133515, -0.52731203337836785, -0.7};
+    minaff m = {5, A, a, B, b};
+    psb_diagram d;
+    int i, j, at_v = -1, at_w = 0, self = 0;
+    psb_result r = minaff_explore(&m, sa, sb, -0.7, 0.98730096250464761, 3.1845239167605079, 1, &d);
+    for (i = 0; i < d.n_nodes; i++) {
+        double dv = 0, dw = 0;
+        for (j = 0; j < 6; j++) {
+            dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
+            dw += (d.nodes[i].y[j] - w[j]) * (d.nodes[i].y[j] - w[j]);
+        }
+        if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
+        at_w += sqrt(dw) < 1e-9;
+    }
+    for (i = 0; i < d.n_edges; i++) self += at_v >= 0 && d.edges[i].from == at_v && d.edges[i].to == at_v;
+    printf("  a loop back into its own node: %s, %d nodes, %d edges, V with 4 branches %s, %d loop edge at V, W %d time(s)\n",
+           psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", self, at_w);
+    CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated);
+    CHECK(d.n_edges == 6 && at_v >= 0 && self == 1 && at_w == 1);
+    psb_diagram_free(&d);
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -1306,6 +1445,8 @@ int main(void)
     test_pc1_points_and_bounds();
     test_loop_through_pc1_points();
     test_pc1_near_branch_point();
+    test_closed_polygon_of_kinks();
+    test_loop_back_into_its_node();
     test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();
