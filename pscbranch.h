@@ -492,13 +492,19 @@
      out to h_init. Where another kink lies closer, a trial lands beyond it, on that point's
      branches, and the screen skips real trials. A branch leaving y0 runs along its chord from
      y0 (a curved one turns from it by curvature x distance / 2), so a found branch whose
-     tangent turns from its chord by more than 0.05 rad shows it: the run is made again with
-     h_init / 16, up to 3 times while h_init stays above 8 h (s->branch keeps the caller's
-     h_init). An audit's piecewise-affine systems with kinks 1e-3 to 1e-1 apart (psb_explore,
-     200 of them, 25 set aside): exact diagrams 94 -> 112 of 175, wrong ones without a sign
-     9 -> 2, with n_odd > 0 71 -> 60 (a branch missed with no turn to show is not caught:
-     where kinks lie closer than h_init, set a smaller h_init); the block's and the paper's
-     examples never turn so far (the same runs).
+     tangent turns from its chord by more than 0.05 rad shows it; and an odd count (above)
+     most likely misses a branch, which may have ended at the nearby kink with no turn to
+     show. Either way the run is made again with h_init / 16, up to 3 times while h_init stays
+     above 8 h (s->branch keeps the caller's h_init, the report is the last run's); an odd
+     count that the smaller h_init kept ends it (on cones the run is the same, scaled). An
+     audit's piecewise-affine systems with kinks 1e-3 to 1e-1 apart (psb_explore, 175
+     compared; with this rule and two fixes to psb_explore's loops): exact diagrams 90 -> 156,
+     wrong with n_odd > 0 70 -> 9, wrong with no sign 9 -> 8; the same scaled by 1e-6 and 1e6
+     (92): 50 -> 84, 39 -> 3, 2 -> 3. Where kinks lie
+     closer than h_init, a smaller h_init is still the surer setting. The block and the
+     examples never turn so far nor end odd (the same runs); bench_branching: the same sets,
+     and where a count stays odd one more run (random LCPs N = 10: 1566 -> 1648
+     factorisations in Algorithm 2.2; the as-printed rows 11-21% more).
    - Idle spans (memo on). A span all of whose tangents were tried before (or whose trials
      were all screened) tries nothing; it costs n_dir tangents and does not count against
      n_span (report.n_span_idle): on problems whose pairs of branches span planes that meet
@@ -1404,8 +1410,9 @@ typedef struct psb_branch_report {
    in bo->n_dir directions (with the memo, spans that try nothing new do not count: section 6);
    bo NULL: defaults; s->branch the resolved options used. (y0, t0) is Algorithm 2.1's output.
    Branch k (k < max_branches) is the couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented
-   away from the point; branch 0 is the incoming branch (y0, -t0). rep may be NULL. Same seed,
-   same result, bit for bit. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
+   away from the point; branch 0 is the incoming branch (y0, -t0). rep may be NULL. Where a
+   kink lies within h_init the run is made again with a smaller h_init (section 6, "Kinks
+   within h_init"; rep is the last run's). Same seed, same result, bit for bit. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
    PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a trial or sample tangent failed
    because of a fault (the set may be incomplete; rep->n_failed* count them), PSB_ERR_OPTIONS
    (bo), PSB_ERR_CALLBACK, ... After a failure ys, ts hold the rep->n_branches branches found
@@ -5668,22 +5675,28 @@ static double psb__chord_turn(psb_solver *s, const double *y0, const double *ys,
    turns away from its tangent there by about the kink's angle (on a straight branch not at
    all, on a curved one by curvature x distance / 2): trials reach other points' branches and
    the screen skips real ones (kinks 1e-3 apart, h_init 1e-2: 2 of 4 branches, or 4 for 2).
-   So when a found branch's chord turns by more than PSB__CHORD_TURN from its tangent, the
-   run is made again with h_init / 16, up to 3 times (h_init stays above 8 h). */
+   So when a found branch's chord turns by more than PSB__CHORD_TURN from its tangent, or the
+   count is odd (manual, "An odd count"; a branch that ended at a nearby kink's tells no turn),
+   the run is made again with h_init / 16, up to 3 times (h_init stays above 8 h); an odd count
+   that the smaller h_init kept ends it. */
 #define PSB__CHORD_TURN 0.05
 static psb_result psb__find_branches(psb_solver *s, const double *y0, const double *t0,
                                      int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
     double h_init = s->branch.h_init;
-    int round;
+    int round, before = -1;
     psb_branch_report local;
     psb_result r = PSB_SUCCESS;
     if (!rep) rep = &local;
     for (round = 0; round < 4; round++) {
+        int turned;
         r = psb__find_branches_once(s, y0, t0, max_branches, ys, ts, rep);
-        if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h ||
-            psb__chord_turn(s, y0, ys, ts, rep->n_branches) <= PSB__CHORD_TURN)
-            break;
+        if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h) break;
+        turned = psb__chord_turn(s, y0, ys, ts, rep->n_branches) > PSB__CHORD_TURN;
+        /* an odd count that a smaller h_init kept is no kink's doing: on cones the run
+           is the same, scaled */
+        if (!turned && (rep->n_branches % 2 == 0 || rep->n_branches == before)) break;
+        before = rep->n_branches;
         s->branch.h_init /= 16;
     }
     s->branch.h_init = h_init;
