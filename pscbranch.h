@@ -500,11 +500,11 @@
      audit's piecewise-affine systems with kinks 1e-3 to 1e-1 apart (psb_explore, 175
      compared; with this rule and two fixes to psb_explore's loops): exact diagrams 90 -> 156,
      wrong with n_odd > 0 70 -> 9, wrong with no sign 9 -> 8; the same scaled by 1e-6 and 1e6
-     (92): 50 -> 84, 39 -> 3, 2 -> 3. Where kinks lie
-     closer than h_init, a smaller h_init is still the surer setting. The block and the
-     examples never turn so far nor end odd (the same runs); bench_branching: the same sets,
-     and where a count stays odd one more run (random LCPs N = 10: 1566 -> 1648
-     factorisations in Algorithm 2.2; the as-printed rows 11-21% more).
+     (92): 50 -> 84, 39 -> 3, 2 -> 3. Where kinks lie closer than h_init, a smaller h_init
+     is still the surer setting. The block and the examples never turn so far nor end odd
+     (the same runs); bench_branching: the same sets, and where a count stays odd one more
+     run (random LCPs N = 10: 1566 -> 1648 factorisations in Algorithm 2.2; the as-printed
+     rows 11-21% more).
    - Idle spans (memo on). A span all of whose tangents were tried before (or whose trials
      were all screened) tries nothing; it costs n_dir tangents and does not count against
      n_span (report.n_span_idle): on problems whose pairs of branches span planes that meet
@@ -1412,8 +1412,8 @@ typedef struct psb_branch_report {
    Branch k (k < max_branches) is the couple ys[k*(n+1) ...], ts[k*(n+1) ...] with ts oriented
    away from the point; branch 0 is the incoming branch (y0, -t0). rep may be NULL. Where a
    kink lies within h_init the run is made again with a smaller h_init (section 6, "Kinks
-   within h_init"; rep is the last run's). Same seed, same result, bit for bit. Returns PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure:
-   PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a trial or sample tangent failed
+   within h_init"; rep is the last run's). Same seed, same result, bit for bit. Returns
+   PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure: PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a trial or sample tangent failed
    because of a fault (the set may be incomplete; rep->n_failed* count them), PSB_ERR_OPTIONS
    (bo), PSB_ERR_CALLBACK, ... After a failure ys, ts hold the rep->n_branches branches found
    until then and rep is written; y0, t0 are inputs only. */
@@ -6566,10 +6566,10 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
 }
 
 /* The branching node, or the edge's own origin once the edge has been away from it (x->away;
-   a loop, whatever the origin's kind, not a turn back), that the chord from prev to the accepted point passes
-   within tolerance of, or -1: a trace going straight through a known point (a piecewise-linear
-   branch meets no kink there, and the detectors may see nothing) arrives at it. The chord
-   stands for the curve to within 1e-3 of its length. */
+   a loop, whatever the origin's kind, not a turn back), that the chord from prev to the
+   accepted point passes within tolerance of, or -1: a trace going straight through a known
+   point (a piecewise-linear branch meets no kink there, and the detectors may see nothing)
+   arrives at it. The chord stands for the curve to within 1e-3 of its length. */
 static int psb__explore_passed(const psb__explorer *x, const double *prev, const psb_point *pt)
 {
     const psb_solver *s = x->s;
@@ -6714,7 +6714,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
         x->points = 0;
         x->length = 0;
         if (steps_left <= 0) {
-            r = PSB_STEP_BUDGET;
+            r = ed->result = PSB_STEP_BUDGET;
             break;
         }
         to.max_steps = steps_left;
