@@ -1142,7 +1142,6 @@ typedef struct psb_solver {
     int conic_ok_;           /* every iterate of the last corrector run passed that test */
     int conic_armed_;        /* the test runs: a step of the trial was rejected already */
     int conic_h0_ok_;        /* psb_find_branches holds H(y0) for it */
-    unsigned long long conic_key_[2]; /* the hash of dH at the iterate under test */
     double *jmemo_t_;             /* the unit tangent of each entry's dH */
     int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
     const double *path_ts_; /* with path_on_: the found branches' tangents (path_nts_) and the */
@@ -3217,6 +3216,7 @@ static void psb__jmemo_key(const psb_solver *s, unsigned long long *key);
 static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key);
 static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t);
 static int psb__jmemo_hashing(const psb_solver *s);
+static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const double *ref, double *t, int *m);
 static double psb__angle_w(const psb_solver *s, const double *a, const double *b);
 static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known);
 
@@ -3230,8 +3230,8 @@ static int psb__pmemo_trusted(const psb_solver *s, int checks)
 /* The memo's cut of an Algorithm 2.2 trial (path_on_) at its corrector iterate y, bordered by
    t: the tangent this iteration would compute is the unit kernel of dH(y), oriented by t, and
    Algorithm 2.2's memo (psb__sample_tangent) may hold it already, keyed by y's piece id
-   (before dH is formed, dh_formed 0; *by_piece set when the callback gave one) or by dH's
-   hash (dh_formed 1, dH just formed, *by_piece as the first call left it). If that
+   (before dH is formed, dh_key NULL; *by_piece set when the callback gave one) or by dH's
+   hash (dh_key, of the dH just formed; *by_piece as the first call left it). If that
    tangent's trial is known, the corrector's cut (psb__correct_run) applies without the
    factorisation. As with sample tangents, the memo's tangent only decides this skip.
    A dH hash gives the tangent of the same dH. A piece id gives one from another point of the
@@ -3243,13 +3243,12 @@ static int psb__pmemo_trusted(const psb_solver *s, int checks)
    key gets the key under which the corrector stores the tangent it computes (zero when there
    is none or the memo holds it).
    Returns 1 (cut), 0, or a fatal or fault code from the piece callback (< 0). */
-static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t, int dh_formed,
-                              unsigned long long *key, int *by_piece)
+static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t,
+                              const unsigned long long *dh_key, unsigned long long *key, int *by_piece)
 {
-    int m, i, np1 = s->np1_;
-    double *x = PSB__VEC(s, PSB__V_BR_MT), dot;
-    const double *tm;
-    if (!dh_formed) {
+    int m, got;
+    double *x = PSB__VEC(s, PSB__V_BR_MT);
+    if (!dh_key) {
         psb_result r;
         key[0] = key[1] = 0;
         *by_piece = 0;
@@ -3259,17 +3258,12 @@ static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t, i
         if (!*by_piece) return 0;
     } else {
         if (*by_piece || !psb__jmemo_hashing(s)) return 0;
-        psb__jmemo_key(s, key);
+        key[0] = dh_key[0];
+        key[1] = dh_key[1];
     }
-    m = psb__jmemo_find(s, key);
-    s->jmemo_looks_++;
-    s->jmemo_hits_ += m >= 0;
-    if (m < 0) return 0;
-    key[0] = key[1] = 0; /* held already: nothing to store */
-    tm = s->jmemo_t_ + (size_t)m * (size_t)np1;
-    dot = psb__dot_w(s, tm, t);
-    if (!(fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, t))) return 0;
-    for (i = 0; i < np1; i++) x[i] = dot < 0 ? -tm[i] : tm[i];
+    got = psb__jmemo_get(s, key, t, x, &m);
+    if (m >= 0) key[0] = key[1] = 0; /* held already: nothing to store */
+    if (!got) return 0;
     if (*by_piece && !psb__pmemo_trusted(s, 4)) {
         s->pmemo_check_on_ = 1; /* no cut yet: the corrector compares its tangent with x */
         return 0;
@@ -3283,7 +3277,7 @@ static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t, i
    (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| + |H(y0)|, row by row) and
    10^-6 of the step's own scale, max_i (|dH| |y - y0|)_i: y0 lies within Algorithm 2.1's
    precision of the kink, not on it, and its pieces' affine maps meet there to that order.
-   dH(y)'s hash goes to conic_key_ for the second half (psb__correct_run): dH is the same, bit
+   The second half (psb__correct_run, with dH(y)'s hash): dH is the same, bit
    for bit, at the point of the segment from y0 to y at distance s->branch.h from y0. Pieces of a
    piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
    the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
@@ -3293,7 +3287,6 @@ static int psb__conic_at(psb_solver *s, const double *y)
     int n = s->n_, np1 = s->np1_, i, j;
     const double *y0 = s->conic_y0_, *h0 = PSB__VEC(s, PSB__V_BR_H0);
     double excess = 0, step = 0; /* the largest row error beyond rounding, and row size */
-    psb__jmemo_key(s, s->conic_key_);
     for (i = 0; i < n; i++) {
         double sum = 0, size = 0, scale = fabs(s->res_[i]) + fabs(h0[i]);
         if (s->prob.linear == PSB_LINEAR_DENSE) {
@@ -3353,15 +3346,16 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
     s->conic_ok_ = s->conic_y0_ != NULL && s->conic_armed_;
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res;
-        unsigned long long key[2] = {0, 0};
+        unsigned long long store_key[2] = {0, 0}, dh_key[2] = {0, 0}; /* dH's hash: once */
         int cut = 0, by_piece = 0;
         s->stats.n_newton++;
         s->pmemo_check_on_ = 0;
-        if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, 0, key, &by_piece);
+        if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, NULL, store_key, &by_piece);
         if (cut == 0) {
             r = psb__jacobian(s, yc, s->res_);
             if (r != PSB_SUCCESS) return r;
-            if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, 1, key, &by_piece);
+            if (s->conic_ok_ || (s->path_on_ && !by_piece && psb__jmemo_hashing(s))) psb__jmemo_key(s, dh_key);
+            if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, dh_key, store_key, &by_piece);
         }
         if (cut < 0) return (psb_result)cut;
         if (cut) {
@@ -3395,7 +3389,8 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         }
         if (s->path_on_ && s->path_n_ < PSB__PATH_MAX)
             psb__copy(s->path_ + (size_t)s->path_n_++ * (size_t)np1, tc, np1);
-        if ((key[0] || key[1]) && (!by_piece || psb__pmemo_trusted(s, 0))) psb__jmemo_store(s, key, tc);
+        if ((store_key[0] || store_key[1]) && (!by_piece || psb__pmemo_trusted(s, 0)))
+            psb__jmemo_store(s, store_key, tc);
         if (s->pmemo_check_on_) {
             double drift = psb__angle_w(s, tc, PSB__VEC(s, PSB__V_BR_MT));
             s->pmemo_check_on_ = 0;
@@ -3413,7 +3408,7 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
             r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_PE), NULL);
             if (psb__is_fatal(r)) return r;
             if (r == PSB_SUCCESS) psb__jmemo_key(s, key);
-            s->conic_ok_ = r == PSB_SUCCESS && key[0] == s->conic_key_[0] && key[1] == s->conic_key_[1];
+            s->conic_ok_ = r == PSB_SUCCESS && key[0] == dh_key[0] && key[1] == dh_key[1];
         }
         r = psb__residual(s, yc, s->res_);
         if (r != PSB_SUCCESS) return r;
@@ -5086,6 +5081,26 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
     return -1;
 }
 
+/* A look-up in the memo (counted for psb__jmemo_hashing): *m the entry under key or -1; 1 with
+   its tangent oriented by ref in t, 0 when there is none or ref is (nearly) orthogonal to it
+   (then the orientation is the computed tangent's, psb__tangent_from_jacobian, not a sign of
+   the dot product). */
+static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const double *ref, double *t, int *m)
+{
+    int i, np1 = s->np1_;
+    const double *tm;
+    double dot;
+    *m = psb__jmemo_find(s, key);
+    s->jmemo_looks_++;
+    s->jmemo_hits_ += *m >= 0;
+    if (*m < 0) return 0;
+    tm = s->jmemo_t_ + (size_t)*m * (size_t)np1;
+    dot = psb__dot_w(s, tm, ref);
+    if (!(fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, ref))) return 0;
+    for (i = 0; i < np1; i++) t[i] = dot < 0 ? -tm[i] : tm[i];
+    return 1;
+}
+
 /* Stores the unit tangent t under key (the oldest entry makes room when the memo is full). */
 static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t)
 {
@@ -5153,7 +5168,7 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
 {
     psb_result r;
     unsigned long long key[2];
-    int m, np1 = s->np1_, by_piece = s->prob.piece != NULL;
+    int m, by_piece = s->prob.piece != NULL;
     if (from_memo) *from_memo = 0;
     if (by_piece) {
         r = psb__piece_key(s, pt, key, &by_piece);
@@ -5166,22 +5181,11 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
         if (r != PSB_SUCCESS) return r;
         psb__jmemo_key(s, key);
     }
-    m = psb__jmemo_find(s, key);
-    s->jmemo_looks_++;
-    s->jmemo_hits_ += m >= 0;
-    if (m >= 0) {
-        const double *tm = s->jmemo_t_ + (size_t)m * (size_t)np1;
-        double dot = psb__dot_w(s, tm, ref);
-        int i;
-        /* ref (nearly) orthogonal to the tangent: the orientation is the fallback's
-           (psb__tangent_from_jacobian), not a sign of the dot product */
-        if (from_memo && fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, ref)) {
-            for (i = 0; i < np1; i++) t[i] = dot < 0 ? -tm[i] : tm[i];
-            s->stats.n_tangent_reused++;
-            s->n_ok_++;
-            *from_memo = by_piece ? 2 : 1;
-            return PSB_SUCCESS;
-        }
+    if (psb__jmemo_get(s, key, ref, t, &m) && from_memo) {
+        s->stats.n_tangent_reused++;
+        s->n_ok_++;
+        *from_memo = by_piece ? 2 : 1;
+        return PSB_SUCCESS;
     }
     r = by_piece ? psb__sample_tangent_at(s, pt, ref, t) : psb__tangent_from_jacobian(s, ref, t);
     if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, key, t);
@@ -5243,6 +5247,16 @@ static void psb__report_faults(const psb_solver *s, psb_branch_report *rep)
     rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
 }
 
+/* The angle between t and the chord from y0 to y (at distance d > 0), whose unit vector goes
+   to c. */
+static double psb__chord_angle(const psb_solver *s, const double *y0, const double *y, double d,
+                               const double *t, double *c)
+{
+    int k;
+    for (k = 0; k < s->np1_; k++) c[k] = (y[k] - y0[k]) / d;
+    return psb__angle_w(s, c, t);
+}
+
 /* Step 5(ii) on a curved branch: whether the landing point yb (tangent tb there) lies on
    found branch j although tb and ts_j differ by more than c_diff. Over a distance d a branch
    of curvature kappa turns its tangent by kappa d, and the chord from y0 leaves the tangent at
@@ -5264,11 +5278,9 @@ static int psb__same_curved_branch(psb_solver *s, const double *y0, const double
     psb_result r;
     if (!(d > 0)) return 0;
     /* tb and ts_j point away from y0, as the chords do */
-    for (k = 0; k < np1; k++) z[k] = (yb[k] - y0[k]) / d;
-    a_b = psb__angle_w(s, z, tb);
+    a_b = psb__chord_angle(s, y0, yb, d, tb, z);
     if (dj > 0.5 * s->branch.h) {
-        for (k = 0; k < np1; k++) z[k] = (ysj[k] - y0[k]) / dj;
-        a_j = psb__angle_w(s, z, tsj);
+        a_j = psb__chord_angle(s, y0, ysj, dj, tsj, z);
     } else {
         psb__copy(z, tsj, np1);
         psb__normalize_w(s, z);
@@ -5657,13 +5669,13 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
    least h away), 0 when there is none. */
 static double psb__chord_turn(psb_solver *s, const double *y0, const double *ys, const double *ts, int n_br)
 {
-    int k, i, np1 = s->np1_;
+    int k, np1 = s->np1_;
     double worst = 0, *c = PSB__VEC(s, PSB__V_BR_MT);
     for (k = 1; k < n_br; k++) {
-        double d = psb__dist_w(s, ys + (size_t)k * (size_t)np1, y0), a;
+        const double *y = ys + (size_t)k * (size_t)np1;
+        double d = psb__dist_w(s, y, y0), a;
         if (!(d >= s->branch.h)) continue;
-        for (i = 0; i < np1; i++) c[i] = (ys[(size_t)k * (size_t)np1 + (size_t)i] - y0[i]) / d;
-        a = psb__angle_w(s, c, ts + (size_t)k * (size_t)np1);
+        a = psb__chord_angle(s, y0, y, d, ts + (size_t)k * (size_t)np1, c);
         if (a > worst) worst = a;
     }
     return worst;
@@ -6385,20 +6397,31 @@ static double psb__explore_chord_cos(const psb__explorer *x, const psb_node *nd,
 
 /* Edge e arrived at node j along the branch whose tangent away from j is -t: marks that
    branch traced (the best match by cosine, taken at c_diff, else at c_min), or adds it. */
+/* The branch of nd that a trace arriving with tangent t comes in by (its outward tangent the
+   closest to -t; -1 when nd has none), *best_cos that cosine. */
+static int psb__explore_arrival_branch(const psb__explorer *x, const psb_node *nd, const double *t,
+                                       double *best_cos)
+{
+    int k, best = -1;
+    *best_cos = -2;
+    for (k = 0; k < nd->n_branches; k++) {
+        double c = -psb__cos_w(x->s, t, nd->ts + (size_t)k * (size_t)x->s->np1_);
+        if (c > *best_cos) {
+            *best_cos = c;
+            best = k;
+        }
+    }
+    return best;
+}
+
 static void psb__explore_arrive(psb__explorer *x, int e, int j, const double *t)
 {
     psb_solver *s = x->s;
     psb_node *nd = x->d->nodes + j;
     psb_edge *ed = x->d->edges + e;
-    int np1 = s->np1_, k, best = -1;
-    double best_cos = -2;
-    for (k = 0; k < nd->n_branches; k++) {
-        double c = -psb__cos_w(s, t, nd->ts + (size_t)k * (size_t)np1);
-        if (c > best_cos) {
-            best_cos = c;
-            best = k;
-        }
-    }
+    int np1 = s->np1_, k;
+    double best_cos;
+    int best = psb__explore_arrival_branch(x, nd, t, &best_cos);
     if (best >= 0 && best_cos < s->opt.c_diff && best_cos < s->opt.c_min) best = -1;
     if (best < 0 && nd->n_branches < x->d->max_branches) {
         best = nd->n_branches++;
@@ -6507,17 +6530,9 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
    (a turn back: after a fault, say), not round a loop into another of the origin's branches. */
 static int psb__explore_turned_back(const psb__explorer *x, const double *t)
 {
-    const psb_node *nf = x->d->nodes + x->from;
-    int k, own = x->d->edges[x->edge].from_branch, best = -1;
-    double best_cos = -2;
-    for (k = 0; k < nf->n_branches; k++) { /* the branch it arrives by, as psb__explore_arrive */
-        double c = -psb__cos_w(x->s, t, nf->ts + (size_t)k * (size_t)x->s->np1_);
-        if (c > best_cos) {
-            best_cos = c;
-            best = k;
-        }
-    }
-    return best == own;
+    double best_cos;
+    return psb__explore_arrival_branch(x, x->d->nodes + x->from, t, &best_cos) ==
+           x->d->edges[x->edge].from_branch;
 }
 
 /* A kink or branching point (y, t) at the edge's origin node: the edge's own start, which it
