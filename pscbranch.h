@@ -491,8 +491,14 @@
    - Kinks within h_init. The trials and their screen take the pieces for cones with apex y0
      out to h_init. Where another kink lies closer, a trial lands beyond it, on that point's
      branches, and the screen skips real trials. A branch leaving y0 runs along its chord from
-     y0 (a curved one turns from it by curvature x distance / 2), so a found branch whose
-     tangent turns from its chord by more than 0.05 rad shows it; and an odd count (above)
+     y0 (a curved one turns from it by curvature x distance / 2), so a landing point whose
+     tangent turns from its chord by more than 0.05 rad shows it. So does a point where a
+     trial meets H off the cones: at a trial's iterate within 2 h_init of y0, or at its
+     screening point (dH hashed there, one residual more), H(y0) differs from H's affine map
+     at that point, H(y) + dH(y) (y0 - y), by more than 0.05 of the step's own terms
+     (|dH| |y - y0|, row by row; curvature x distance / 2 on smooth pieces, as for the chord).
+     Trials cut or screened land nowhere, and on loops of pieces shorter than h_init every
+     trial of the missing branches was cut. And an odd count (above)
      most likely misses a branch, which may have ended at the nearby kink with no turn to
      show. Either way the run is made again with h_init / 16, up to 3 times while h_init stays
      above 8 h (s->branch keeps the caller's h_init, the report is the last run's); an odd
@@ -500,7 +506,10 @@
      audit's piecewise-affine systems with kinks 1e-3 to 1e-1 apart (psb_explore, 175
      compared; with this rule and two fixes to psb_explore's loops): exact diagrams 90 -> 156,
      wrong with n_odd > 0 70 -> 9, wrong with no sign 9 -> 8; the same scaled by 1e-6 and 1e6
-     (92): 50 -> 84, 39 -> 3, 2 -> 3. Where kinks lie closer than h_init, a smaller h_init
+     (92): 50 -> 84, 39 -> 3, 2 -> 3. With the off-cone test (and psb_explore's edges away
+     from their origin once past a kink): 169, 4, 2 of the 175; 1017, 30, 14 of 1062 over six
+     such sets (917, 62, 78 without them); scaled, two sets (182): 173, 7, 1 (160, 8, 12).
+     Where kinks lie closer than h_init, a smaller h_init
      is still the surer setting. The block and the examples never turn so far nor end odd
      (the same runs); bench_branching: the same sets, and where a count stays odd one more
      run (random LCPs N = 10: 1566 -> 1648 factorisations in Algorithm 2.2; the as-printed
@@ -1136,6 +1145,9 @@ typedef struct psb_solver {
     int pmemo_checks_, pmemo_check_on_; /* piece memo against a trial's own tangents: pairs */
     double pmemo_drift_;          /* compared in the current call, the largest angle between */
                                   /* them; a pair pending in BR_MT (psb__path_memo_cut) */
+    double cone_defect_;          /* Algorithm 2.2's run: how far its trials saw H depart from
+                                     cones about y0 (psb__find_branches) */
+    const double *cone_probe_;    /* y0 while a trial's screening point is sampled, else NULL */
     unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
     const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
                                 conic test, see psb__try_tangent); NULL otherwise */
@@ -3271,6 +3283,11 @@ static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t,
     return psb__trial_known(s, x, s->path_ts_, s->path_nts_, NULL, s->path_own_);
 }
 
+/* How far from cones about y0 Algorithm 2.2's trials may see H before the run is made again
+   with a smaller h_init (psb__find_branches): a landing point's chord from y0 against its
+   tangent (radians), or an iterate's psb__conic_excess. */
+#define PSB__CHORD_TURN 0.05
+
 /* The conic test of Algorithm 2.2's trials (psb__try_tangent), first half, at a corrector
    iterate y whose dH(y) was just formed and H(y) is in res_: H is affine through y0 there,
    H(y) = H(y0) + dH(y) (y - y0), up to rounding
@@ -3282,10 +3299,10 @@ static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t,
    piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
    the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
    the same H scaled: the same run. */
-static int psb__conic_at(psb_solver *s, const double *y)
+static double psb__conic_excess(const psb_solver *s, const double *y0, const double *y)
 {
     int n = s->n_, np1 = s->np1_, i, j;
-    const double *y0 = s->conic_y0_, *h0 = PSB__VEC(s, PSB__V_BR_H0);
+    const double *h0 = PSB__VEC(s, PSB__V_BR_H0);
     double excess = 0, step = 0; /* the largest row error beyond rounding, and row size */
     for (i = 0; i < n; i++) {
         double sum = 0, size = 0, scale = fabs(s->res_[i]) + fabs(h0[i]);
@@ -3311,11 +3328,11 @@ static int psb__conic_at(psb_solver *s, const double *y)
             scale += fabs(s->dparam_[i]) * (fabs(y[p]) + fabs(y0[p]));
         }
         sum = fabs(s->res_[i] - h0[i] - sum) - 1024 * DBL_EPSILON * scale;
-        if (isnan(sum)) return 0;
+        if (isnan(sum)) return HUGE_VAL;
         if (sum > excess) excess = sum;
         if (size > step) step = size;
     }
-    return excess <= 1e-6 * step;
+    return step > 0 ? excess / step : excess > 0 ? HUGE_VAL : 0;
 }
 
 /* Whether Newton has reached what H's rounding allows though ||H|| > tol_residual: the last
@@ -3355,6 +3372,13 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
             r = psb__jacobian(s, yc, s->res_);
             if (r != PSB_SUCCESS) return r;
             if (s->conic_ok_ || (s->path_on_ && !by_piece && psb__jmemo_hashing(s))) psb__jmemo_key(s, dh_key);
+            if (s->conic_y0_) { /* before the memo's cut, which the test may void */
+                double excess = psb__conic_excess(s, s->conic_y0_, yc);
+                if (s->conic_ok_) s->conic_ok_ = excess <= 1e-6;
+                if (excess > s->cone_defect_ && excess < HUGE_VAL && /* HUGE_VAL: no scale */
+                    psb__dist_w(s, yc, s->conic_y0_) <= 2 * s->branch.h_init)
+                    s->cone_defect_ = excess;
+            }
             if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, dh_key, store_key, &by_piece);
         }
         if (cut < 0) return (psb_result)cut;
@@ -3364,7 +3388,6 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
             s->last_fail_ = PSB__FAIL_KNOWN;
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
-        if (s->conic_ok_) s->conic_ok_ = psb__conic_at(s, yc);
         for (i = 0; i < np1; i++) row[i] = s->w_[i] * tc[i];
         r = psb__factor_bordered(s, row, NULL);
         if (r != PSB_SUCCESS) return r;
@@ -3403,7 +3426,7 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
         corr = psb__norm_w(s, s->rhs_);
-        if (s->conic_ok_) { /* psb__conic_at's second half */
+        if (s->conic_ok_) { /* psb__conic_excess's second half */
             unsigned long long key[2] = {0, 0};
             r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_PE), NULL);
             if (psb__is_fatal(r)) return r;
@@ -3521,7 +3544,7 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
         if (s->last_fail_ == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
         /* so is one that failed for the curve's sake on H conic about y0 (psb__try_tangent):
            no convergence, or the jump or cosine test, where every iterate passed both halves of
-           psb__conic_at (a turn ends the run before its last iterate's second half) */
+           psb__conic_excess (a turn ends the run before its last iterate's second half) */
         if (s->conic_y0_ && s->conic_ok_ &&
             (s->last_fail_ == PSB__FAIL_CONVERGE || s->last_fail_ == PSB__FAIL_COSINE))
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial step failed on pieces conic about "
@@ -5141,6 +5164,31 @@ static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const 
     return r;
 }
 
+/* Records psb__conic_excess at p, the screening point of an Algorithm 2.2 trial from
+   s->cone_probe_ (y0), in cone_defect_; dH(p) was just formed (psb__sample_tangent). The
+   screen takes the tangent at p for the trial's, which holds on cones about y0 alone, and p
+   may lie beyond a kink that the trial's own iterates never meet (kinks 2e-3 from y0,
+   h_init 1e-2: 2 of 4 branches, every trial cut). Only while a rerun could still follow
+   (psb__find_branches): H(y0) is held, the evidence is not in yet and h_init / 16 stays above
+   8 h. It costs H(p). Returns PSB_SUCCESS or a fatal code; a fault is noted. */
+static psb_result psb__probe_cone(psb_solver *s, const double *p)
+{
+    double excess;
+    psb_result r;
+    if (!s->cone_probe_ || !s->conic_h0_ok_ || s->cone_defect_ > PSB__CHORD_TURN ||
+        s->branch.h_init / 16 < 8 * s->branch.h)
+        return PSB_SUCCESS;
+    r = psb__residual(s, p, s->res_);
+    if (r != PSB_SUCCESS) {
+        if (psb__is_fatal(r)) return r;
+        psb__note_fault(s, r);
+        return PSB_SUCCESS;
+    }
+    excess = psb__conic_excess(s, s->cone_probe_, p);
+    if (excess > s->cone_defect_ && excess < HUGE_VAL) s->cone_defect_ = excess;
+    return PSB_SUCCESS;
+}
+
 /* The tangent at a sample point pt of Algorithm 2.2 (oriented by ref). Difference steps there
    stay below s->branch.h / 1000 (section 1).
    Jacobian memo (analytic dH, dense or banded storage): the unit kernel of dH is a function of
@@ -5180,6 +5228,8 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
         r = psb__jacobian(s, pt, NULL);
         if (r != PSB_SUCCESS) return r;
         psb__jmemo_key(s, key);
+        r = psb__probe_cone(s, pt);
+        if (r != PSB_SUCCESS) return r;
     }
     if (psb__jmemo_get(s, key, ref, t, &m) && from_memo) {
         s->stats.n_tangent_reused++;
@@ -5338,7 +5388,9 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (!s->branch.no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
+            s->cone_probe_ = y0;
             r = psb__sample_tangent(s, pk, tb, kx, &from_memo);
+            s->cone_probe_ = NULL;
             if (psb__is_fatal(r)) return r;
             /* no tangent at p (singular there): the trial along tb as printed */
             if (r == PSB_SUCCESS) {
@@ -5398,6 +5450,10 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
         if (dotp < 0)
             for (k = 0; k < np1; k++) tb[k] = -tb[k];
+        {
+            double turn = psb__chord_angle(s, y0, yb, psb__dist_w(s, yb, y0), tb, pk);
+            if (turn > s->cone_defect_) s->cone_defect_ = turn;
+        }
         /* Step 5(ii): a new branch unless it is within c_diff of a known one */
         for (j = 0; j < rep->n_branches; j++)
             if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
@@ -5544,7 +5600,7 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     psb__copy(tc, t0, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
     psb__branch_h(s, yc);
-    /* H(y0) for the trials' conic test (psb__conic_at); the test is off without it */
+    /* H(y0) for the trials' conic test (psb__conic_excess); the test is off without it */
     s->conic_h0_ok_ = 0;
     if (s->jmemo_dh_ && !s->branch.no_screen) {
         r = psb__residual(s, yc, PSB__VEC(s, PSB__V_BR_H0));
@@ -5559,6 +5615,7 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     s->jmemo_looks_ = s->jmemo_hits_ = 0;
     s->pmemo_checks_ = s->pmemo_check_on_ = 0;
     s->pmemo_drift_ = 0;
+    s->cone_defect_ = 0;
     memset(s->pairs_done_, 0, sizeof s->pairs_done_);
     psb__faults_reset(s);
 
@@ -5665,33 +5722,17 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
 
-/* The largest angle between a found branch's tangent and its chord from y0 (landing points at
-   least h away), 0 when there is none. */
-static double psb__chord_turn(psb_solver *s, const double *y0, const double *ys, const double *ts, int n_br)
-{
-    int k, np1 = s->np1_;
-    double worst = 0, *c = PSB__VEC(s, PSB__V_BR_MT);
-    for (k = 1; k < n_br; k++) {
-        const double *y = ys + (size_t)k * (size_t)np1;
-        double d = psb__dist_w(s, y, y0), a;
-        if (!(d >= s->branch.h)) continue;
-        a = psb__chord_angle(s, y0, y, d, ts + (size_t)k * (size_t)np1, c);
-        if (a > worst) worst = a;
-    }
-    return worst;
-}
-
 /* Algorithm 2.2 with the options in s->branch (psb_find_branches, psb_explore). Its trials
    and their screening take the pieces for cones with apex y0 out to h_init. Where another
    kink lies closer, a trial's landing point lies beyond it, and the branch's chord from y0
    turns away from its tangent there by about the kink's angle (on a straight branch not at
    all, on a curved one by curvature x distance / 2): trials reach other points' branches and
    the screen skips real ones (kinks 1e-3 apart, h_init 1e-2: 2 of 4 branches, or 4 for 2).
-   So when a found branch's chord turns by more than PSB__CHORD_TURN from its tangent, or the
+   So when a landing point's chord turns by more than PSB__CHORD_TURN from its tangent, or a
+   trial's iterate or screening point finds H that far from conic (cone_defect_), or the
    count is odd (manual, "An odd count"; a branch that ended at a nearby kink's tells no turn),
    the run is made again with h_init / 16, up to 3 times (h_init stays above 8 h); an odd count
    that the smaller h_init kept ends it. */
-#define PSB__CHORD_TURN 0.05
 static psb_result psb__find_branches(psb_solver *s, const double *y0, const double *t0,
                                      int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
@@ -5704,7 +5745,7 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         int turned;
         r = psb__find_branches_once(s, y0, t0, max_branches, ys, ts, rep);
         if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h) break;
-        turned = psb__chord_turn(s, y0, ys, ts, rep->n_branches) > PSB__CHORD_TURN;
+        turned = s->cone_defect_ > PSB__CHORD_TURN;
         /* an odd count that a smaller h_init kept is no kink's doing: on cones the run
            is the same, scaled */
         if (!turned && (rep->n_branches % 2 == 0 || rep->n_branches == before)) break;
@@ -6322,8 +6363,8 @@ typedef struct psb__explorer {
     double stop_precision;
     long points;
     double length;
-    int away;      /* the edge has been farther than away_r from its origin node: a return to */
-    double away_r; /* the origin is an arrival there, not the edge's own start */
+    int away;      /* the edge has been farther than away_r from its origin node, or past a */
+    double away_r; /* kink: a return to the origin is an arrival there, not the edge's start */
 } psb__explorer;
 
 #define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->np1_)
@@ -6637,7 +6678,10 @@ static int psb__explore_point(const psb_point *pt, void *user)
             return 1;
         }
     }
-    if (!x->away && psb__dist_w(s, pt->y, x->d->nodes[x->from].y) > x->away_r) x->away = 1;
+    /* away once past a kink, too: a loop of pieces can stay within away_r of its origin */
+    if (!x->away && ((pt->flags & PSB_POINT_SWITCH) ||
+                     psb__dist_w(s, pt->y, x->d->nodes[x->from].y) > x->away_r))
+        x->away = 1;
     psb__copy(PSB__XVEC(x, PSB__X_PREV), pt->y, np1);
     if (eo->on_point && eo->on_point(x->edge, pt, eo->point_user)) {
         x->stop = PSB__XS_USER;
@@ -6744,7 +6788,10 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
             psb__copy(y, PSB__XVEC(x, PSB__X_SY), np1);
             psb__copy(t, PSB__XVEC(x, PSB__X_ST), np1);
             r = psb__explore_branching(x, e, y, t, x->stop == PSB__XS_KINK, &resume);
-            if (resume) continue;
+            if (resume) {
+                x->away = 1; /* past an ordinary kink (see psb__explore_point) */
+                continue;
+            }
             return r;
         }
         if (x->stop == PSB__XS_NONE && r == PSB_NONSMOOTH_END) {

@@ -1429,6 +1429,138 @@ static void test_loop_back_into_its_node(void)
     psb_diagram_free(&d);
 }
 
+/* N = 4 pieces of two affine maps: the point V has 4 branches, two of which leave it by
+   segments 2.0e-3 and 2.4e-3 long and close a loop 5.2e-3 long back into V; the others lead
+   to the start's side (and the box) and to the bound g = GMAX. Algorithm 2.2's trials, 1e-2
+   long, reach past the loop's kinks, where the pieces are no longer cones about V: their
+   screen and cuts took the loop's branches for known ones, V passed for an ordinary kink and
+   the diagram lost the loop and V (3 nodes, 2 edges, PSB_SUCCESS). A trial that meets H off
+   the cones now makes Algorithm 2.2 look again with h_init / 16. */
+static void test_loop_shorter_than_h_init(void)
+{
+    static const double A[] = {-1.0580186162253775, 0.33693882300849948, -0.62960667520862645, 0.76231778729903754, -0.60172522575788545,
+                               -1.0749387336483729, -0.70119800340831562, -0.65960999558587263, 0.24077540404952086, -1.1818059251910624,
+                               -0.13799374028889544, 0.30514480208870531, -0.1124235755683792, 0.5385431382339162, 1.2735978394348626,
+                               0.50872508510040482, -0.36660467693729182, -0.079534642715007209, -0.83295183048086741, -0.68761467799659737};
+    static const double a[] = {0.62931619344822098, 0.63573385624120404, 0.2470879948391522, -0.33940760338989096};
+    static const double B[] = {0.68956925386427104, 0.2152122279247598, -0.98990207692308596, -0.078392722480785104, 0.54626988575028868,
+                               0.43911342872752657, 0.22578605800312757, -0.75746016972502084, 0.048254626978884496, 0.71558630768862574,
+                               0.33635936327598176, 0.51999533496978301, 0.35488020958863387, -0.1085852174401245, 0.29212115512286496,
+                               0.40564894341209989, 0.0025857371720652, -0.58424707362170669, -0.22694976458364313, -0.25271732680843656};
+    static const double b[] = {0.21851122553724533, 0.21400743388923837, -0.3427071032980456, 0.070853027547719979};
+    static const double sa[] = {-1.573204509637419, 2.3629802418120622, -0.10053055808233191, -2.4936012333892283, 0.11493292216498367};
+    static const double sb[] = {0.092084226871695762, 0.24177555544428878, 0.3765397470046507, -0.49360123338924383, 8.0144224590128488e-16};
+    static const double v[] = {0.092084226871709862, 0.24177555544427182, 0.37653974700465453, -0.49360123338922618, 6.5225602696727947e-16};
+    static const double w[] = {-0.84959370157717451, 0.5102467818068448, -0.089666767029247141, -1.7506748476381413, 0.70133060227522925};
+    minaff m = {4, A, a, B, b};
+    psb_diagram d;
+    int i, j, at_v = -1, at_w = 0, self = 0;
+    psb_result r = minaff_explore(&m, sa, sb, -0.7, w[4], 2.4936012333892283, 1, &d);
+    for (i = 0; i < d.n_nodes; i++) {
+        double dv = 0, dw = 0;
+        for (j = 0; j < 5; j++) {
+            dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
+            dw += (d.nodes[i].y[j] - w[j]) * (d.nodes[i].y[j] - w[j]);
+        }
+        if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
+        at_w += sqrt(dw) < 1e-9 && d.nodes[i].kind == PSB_NODE_BOUND;
+    }
+    for (i = 0; i < d.n_edges; i++) self += at_v >= 0 && d.edges[i].from == at_v && d.edges[i].to == at_v;
+    printf("  a loop shorter than h_init: %s, %d nodes, %d edges, V with 4 branches %s, %d loop edge at V, W %d time(s)\n",
+           psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", self, at_w);
+    CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
+    CHECK(d.n_edges == 4 && at_v >= 0 && self == 1 && at_w == 1);
+    psb_diagram_free(&d);
+}
+
+/* N = 3 pieces of two affine maps: V has 4 branches, two of them (3.1e-3 and 5.5e-3 long)
+   kinking on into other pieces, both shorter than Algorithm 2.2's trials (1e-2). The screen
+   takes the tangent at a trial's first point, y0 + h_init t, for the trial's; there, past the
+   kinks, lay the pieces the short branches lead into, whose trials were then cut as known:
+   V passed for an ordinary kink (3 nodes, 2 edges, PSB_SUCCESS). The screening point's H off
+   the cones about V now makes Algorithm 2.2 look again with h_init / 16. */
+static void test_short_branches_at_a_kink(void)
+{
+    static const double A[] = {-0.74872668967396583, -0.95615364996268315, -0.92791990374619859, -0.63301932008920792,
+                               -0.25737186206838336, -1.3489074525825178, -0.018326553593499217, -0.85121468929075317,
+                               0.085825617518523495, -0.26966460101914458, 0.0079294266856260176, 0.015556412388436549};
+    static const double a[] = {0.51688766885880233, 0.078685707167585661, -0.073943429884152173};
+    static const double B[] = {0.60276720785222704, 0.19520558622795969, -0.9755376013926168, -0.44597916915308494,
+                               0.16390509667391756, 0.63321924415859532, -0.25248347749899497, 0.41190387665748529,
+                               0.17589668855735463, -1.6634824483758699, 0.60259146810541964, -1.6094500424180822};
+    static const double b[] = {-0.27290274280969967, -0.037241741600332362, -0.28362297659356084};
+    static const double sa[] = {1.6416016277494669, 0.19349201115008033, -0.4893933737744065, -0.7};
+    static const double sb[] = {0.64434721859879152, -0.066037553635301574, 0.10517045321014609, -1.8596235662471372e-15};
+    static const double v[] = {0.64434721859879152, -0.066037553635301574, 0.10517045321014609, -1.8596235662471372e-15};
+    static const double ends[2][4] = {{1.2265515197631713, -0.76426704673325685, -0.12365439475231441, 0.701453962014843},
+                                      {1.3373167658342773, 0.10650315306312153, -0.15423415336107305, -0.7}};
+    minaff m = {3, A, a, B, b};
+    psb_diagram d;
+    int i, j, k, at_v = -1, at_end[2] = {0, 0};
+    psb_result r = minaff_explore(&m, sa, sb, -0.7, 0.701453962014843, 2.6443472185987895, 1, &d);
+    for (i = 0; i < d.n_nodes; i++) {
+        double dv = 0;
+        for (j = 0; j < 4; j++) dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
+        if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
+        for (k = 0; k < 2; k++) {
+            double de = 0;
+            for (j = 0; j < 4; j++) de += (d.nodes[i].y[j] - ends[k][j]) * (d.nodes[i].y[j] - ends[k][j]);
+            at_end[k] += sqrt(de) < 1e-9 && d.nodes[i].kind == PSB_NODE_BOUND;
+        }
+    }
+    printf("  short branches at a kink: %s, %d nodes, %d edges, V with 4 branches %s, ends %d %d\n",
+           psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", at_end[0], at_end[1]);
+    CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
+    CHECK(d.n_edges == 5 && at_v >= 0 && at_end[0] == 1 && at_end[1] == 1);
+    psb_diagram_free(&d);
+}
+
+/* N = 3 pieces of two affine maps: V has 4 branches; two of them close a loop of 4 pieces,
+   0.049 long, back into V, the others lead to the bound g = -0.7 at W1 (the start's side)
+   and W2. The edges round the loop start about h_init from V and never get twice as far, so
+   coming back into V they passed it for their own start and went on along another branch:
+   both loop edges ended at W1 and W2, 5 edges for 4 (PSB_SUCCESS). Past a kink an edge is
+   away from its origin whatever its distance. */
+static void test_small_loop_of_pieces(void)
+{
+    static const double A[] = {-0.042330358793379097, 0.77159551508990887, -1.2986064642253798, -0.33380691616406505,
+                               -0.93055128067973691, 0.19567901771120194, -1.9029695966383917, 0.46064686965365675,
+                               0.2279432457971905, 0.1035922109147811, 0.11277287317565143, -0.33942198308379967};
+    static const double a[] = {0.10625082895733298, 0.54232564875324485, -0.089585365220550647};
+    static const double B[] = {-0.0022278294453475719, -0.0080092348845486362, 0.19904793359380668, 0.042799296396849665,
+                               -0.18416324081929714, -0.11214827271371353, 0.47943573872365747, 0.48448983186766115,
+                               -0.022145468508074195, -0.32254915661674477, -0.3571165555337012, -0.45894573371127312};
+    static const double b[] = {-0.045299081429570218, -0.056907594906734076, 0.18379265807214554};
+    static const double sa[] = {-1.0549274735685887, 0.34617413872240194, 0.50182835182202301, -0.7};
+    static const double sb[] = {0.14917925217089351, 0.27492810177187232, 0.24031091526555701, 1.3183898417423734e-16};
+    static const double v[] = {0.14917925217089273, 0.27492810177187327, 0.24031091526555748, -1.0755285551056204e-16};
+    static const double ends[2][4] = {{-1.0549274735685887, 0.34617413872240194, 0.50182835182202301, -0.7},
+                                      {-1.1737879432323668, 0.79274016539126513, 0.77103981759504259, -0.7}};
+    minaff m = {3, A, a, B, b};
+    int bak;
+    for (bak = 0; bak < 2; bak++) {
+        psb_diagram d;
+        int i, j, k, at_v = -1, self = 0, at_end[2] = {0, 0};
+        psb_result r = minaff_explore(&m, sa, sb, -0.7, 0.70144333900774503, 2.2915053154256873, bak, &d);
+        for (i = 0; i < d.n_nodes; i++) {
+            double dv = 0;
+            for (j = 0; j < 4; j++) dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
+            if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
+            for (k = 0; k < 2; k++) {
+                double de = 0;
+                for (j = 0; j < 4; j++) de += (d.nodes[i].y[j] - ends[k][j]) * (d.nodes[i].y[j] - ends[k][j]);
+                at_end[k] += sqrt(de) < 1e-9 && d.nodes[i].kind == PSB_NODE_BOUND;
+            }
+        }
+        for (i = 0; i < d.n_edges; i++) self += at_v >= 0 && d.edges[i].from == at_v && d.edges[i].to == at_v;
+        printf("  a small loop of pieces, branch_at_kinks %d: %s, %d nodes, %d edges, V with 4 branches %s, %d loop edge, ends %d %d\n",
+               bak, psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", self, at_end[0], at_end[1]);
+        CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
+        CHECK(d.n_edges == 4 && at_v >= 0 && self == 1 && at_end[0] == 1 && at_end[1] == 1);
+        psb_diagram_free(&d);
+    }
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -1447,6 +1579,9 @@ int main(void)
     test_pc1_near_branch_point();
     test_closed_polygon_of_kinks();
     test_loop_back_into_its_node();
+    test_loop_shorter_than_h_init();
+    test_short_branches_at_a_kink();
+    test_small_loop_of_pieces();
     test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();
