@@ -496,7 +496,10 @@
      trial meets H off the cones: at a trial's iterate within 2 h_init of y0, or at its
      screening point (dH hashed there, one residual more), H(y0) differs from H's affine map
      at that point, H(y) + dH(y) (y0 - y), by more than 0.05 of the step's own terms
-     (|dH| |y - y0|, row by row; curvature x distance / 2 on smooth pieces, as for the chord).
+     (|dH| |y - y0|, row by row; curvature x distance / 2 on smooth pieces, as for the chord);
+     where some landing point's chord runs straight along its tangent (H piecewise linear),
+     by more than 8 times that landing's turn, at least 1e-3 (a kink a from y0 shows about
+     a / h_init times its angle).
      Trials cut or screened land nowhere, and on loops of pieces shorter than h_init every
      trial of the missing branches was cut. And an odd count (above)
      most likely misses a branch, which may have ended at the nearby kink with no turn to
@@ -507,7 +510,7 @@
      compared; with this rule and two fixes to psb_explore's loops): exact diagrams 90 -> 156,
      wrong with n_odd > 0 70 -> 9, wrong with no sign 9 -> 8; the same scaled by 1e-6 and 1e6
      (92): 50 -> 84, 39 -> 3, 2 -> 3. With the off-cone test (and psb_explore's edges away
-     from their origin once past a kink): 169, 4, 2 of the 175; 1017, 30, 14 of 1062 over six
+     from their origin once past a kink): 169, 4, 2 of the 175; 1021, 30, 10 of 1062 over six
      such sets (917, 62, 78 without them); scaled, two sets (182): 173, 7, 1 (160, 8, 12).
      Where kinks lie closer than h_init, a smaller h_init
      is still the surer setting. The block and the examples never turn so far nor end odd
@@ -1146,7 +1149,9 @@ typedef struct psb_solver {
     double pmemo_drift_;          /* compared in the current call, the largest angle between */
                                   /* them; a pair pending in BR_MT (psb__path_memo_cut) */
     double cone_defect_;          /* Algorithm 2.2's run: how far its trials saw H depart from
-                                     cones about y0 (psb__find_branches) */
+                                     cones about y0 (psb__conic_excess, largest) */
+    double chord_turn_max_, chord_turn_min_; /* and its landing points' chords from y0 against
+                                     their tangents (psb__find_branches) */
     const double *cone_probe_;    /* y0 while a trial's screening point is sampled, else NULL */
     unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
     const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
@@ -5452,7 +5457,8 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
             for (k = 0; k < np1; k++) tb[k] = -tb[k];
         {
             double turn = psb__chord_angle(s, y0, yb, psb__dist_w(s, yb, y0), tb, pk);
-            if (turn > s->cone_defect_) s->cone_defect_ = turn;
+            if (turn > s->chord_turn_max_) s->chord_turn_max_ = turn;
+            if (turn < s->chord_turn_min_) s->chord_turn_min_ = turn;
         }
         /* Step 5(ii): a new branch unless it is within c_diff of a known one */
         for (j = 0; j < rep->n_branches; j++)
@@ -5616,6 +5622,8 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     s->pmemo_checks_ = s->pmemo_check_on_ = 0;
     s->pmemo_drift_ = 0;
     s->cone_defect_ = 0;
+    s->chord_turn_max_ = 0;
+    s->chord_turn_min_ = HUGE_VAL;
     memset(s->pairs_done_, 0, sizeof s->pairs_done_);
     psb__faults_reset(s);
 
@@ -5722,6 +5730,19 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
 
+/* How far from conic (psb__conic_excess) H may look at a trial's point before Algorithm
+   2.2 looks again with a smaller h_init. On smooth pieces the excess at distance d is about
+   curvature x d / 2, as a landing point's chord turn is, so PSB__CHORD_TURN for both. Where
+   some landing point's chord runs straight along its tangent (a piecewise-linear H), the
+   pieces bend nowhere and an excess tells a kink: a kink at distance a from y0 shows about
+   a / h_init times its angle (2e-2 to 3e-2 for a loop 1.3e-3 from y0 at h_init 1e-2, 4 of
+   its branches lost). There 8 times the straightest landing's turn, at least 1e-3. */
+static double psb__cone_tolerance(const psb_solver *s)
+{
+    double tol = 8 * s->chord_turn_min_;
+    return tol < 1e-3 ? 1e-3 : tol > PSB__CHORD_TURN ? PSB__CHORD_TURN : tol;
+}
+
 /* Algorithm 2.2 with the options in s->branch (psb_find_branches, psb_explore). Its trials
    and their screening take the pieces for cones with apex y0 out to h_init. Where another
    kink lies closer, a trial's landing point lies beyond it, and the branch's chord from y0
@@ -5745,7 +5766,7 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         int turned;
         r = psb__find_branches_once(s, y0, t0, max_branches, ys, ts, rep);
         if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h) break;
-        turned = s->cone_defect_ > PSB__CHORD_TURN;
+        turned = s->chord_turn_max_ > PSB__CHORD_TURN || s->cone_defect_ > psb__cone_tolerance(s);
         /* an odd count that a smaller h_init kept is no kink's doing: on cones the run
            is the same, scaled */
         if (!turned && (rep->n_branches % 2 == 0 || rep->n_branches == before)) break;

@@ -1561,6 +1561,49 @@ static void test_small_loop_of_pieces(void)
     }
 }
 
+/* N = 3 pieces of two affine maps: V has 4 branches, two of which close a loop of 4 pieces
+   2.7e-3 long, all of it within 1.4e-3 of V, a tenth of Algorithm 2.2's trial length. At the
+   trials' points H misses the cones about V by 2e-2 to 3.4e-2 of the step, below the 0.05 a
+   curved branch may show, and V passed for an ordinary kink (3 nodes, 2 edges, PSB_SUCCESS).
+   The landing points' chords run straight along their tangents here, so H is piecewise
+   linear and 1e-3 is the tolerance. */
+static void test_loop_within_a_tenth_of_h_init(void)
+{
+    static const double A[] = {-1.2656140116972248, -0.80495031951650775, -0.44919717608959131, 0.66914552982858955,
+                               -0.20335129785749545, 0.1120674918212845, 0.12213534163127926, 0.64553723576223043,
+                               1.4485849149196368, 0.94415280806852597, 0.84121345427008654, 0.12953122601717593};
+    static const double a[] = {-1.2574938131617697, 0.15394853344834314, 2.0010488672041329};
+    static const double B[] = {-2.0624257205959342, -0.40056584847740856, 0.78304115520296902, -0.37022806470000247,
+                               -1.4148165587653565, 0.9026787069237644, 0.3951156621502171, -0.24367609706862703,
+                               1.5505049488429312, 0.070095816770879033, -1.4225183738104545, 0.37021932422224468};
+    static const double b[] = {0.63163283991105645, 0.30676009010064537, -1.9236922250016337};
+    static const double sa[] = {-0.32387292321803596, -0.098844723480519606, -1.7101420651514561, 0.00021308279719968459};
+    static const double sb[] = {-0.42523748186307431, -0.097143425900394889, -1.6452869119390412, 0.70021308279719996};
+    static const double v[] = {-0.3238729232180364, -0.098844723480519425, -1.7101420651514565, 0.00021308279720050338};
+    static const double ends[2][4] = {{-0.42523748186307431, -0.097143425900394889, -1.6452869119390412, 0.70021308279719996},
+                                      {-0.42116586023051322, -0.095764593462313669, -1.6338574611298078, 0.70021308279719996}};
+    minaff m = {3, A, a, B, b};
+    psb_diagram d;
+    int i, j, k, at_v = -1, self = 0, at_end[2] = {0, 0};
+    psb_result r = minaff_explore(&m, sa, sb, -0.7, 0.70021308279719996, 3.7106973146661471, 1, &d);
+    for (i = 0; i < d.n_nodes; i++) {
+        double dv = 0;
+        for (j = 0; j < 4; j++) dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
+        if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
+        for (k = 0; k < 2; k++) {
+            double de = 0;
+            for (j = 0; j < 4; j++) de += (d.nodes[i].y[j] - ends[k][j]) * (d.nodes[i].y[j] - ends[k][j]);
+            at_end[k] += sqrt(de) < 1e-9 && d.nodes[i].kind == PSB_NODE_BOUND;
+        }
+    }
+    for (i = 0; i < d.n_edges; i++) self += at_v >= 0 && d.edges[i].from == at_v && d.edges[i].to == at_v;
+    printf("  a loop within a tenth of h_init: %s, %d nodes, %d edges, V with 4 branches %s, %d loop edge, ends %d %d\n",
+           psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", self, at_end[0], at_end[1]);
+    CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
+    CHECK(d.n_edges == 4 && at_v >= 0 && self == 1 && at_end[0] == 1 && at_end[1] == 1);
+    psb_diagram_free(&d);
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -1582,6 +1625,7 @@ int main(void)
     test_loop_shorter_than_h_init();
     test_short_branches_at_a_kink();
     test_small_loop_of_pieces();
+    test_loop_within_a_tenth_of_h_init();
     test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();
