@@ -1359,6 +1359,31 @@ static psb_result minaff_explore(minaff *m, const double *sa, const double *sb, 
     return r;
 }
 
+/* Diagram d of an N = n problem against its known shape: the node within 1e-6 of v with
+   n_branches branches (returned, -1 when there is none), the edges from it back to it
+   (*self), and for each of the n_ends points ends (n + 1 each) the bound nodes within 1e-9
+   of it (at_end). */
+static int minaff_shape(const psb_diagram *d, int n, const double *v, int n_branches, const double *ends,
+                        int n_ends, int *self, int *at_end)
+{
+    int i, j, k, at_v = -1;
+    for (k = 0; k < n_ends; k++) at_end[k] = 0;
+    for (i = 0; i < d->n_nodes; i++) {
+        double dv = 0;
+        for (j = 0; j <= n && v; j++) dv += (d->nodes[i].y[j] - v[j]) * (d->nodes[i].y[j] - v[j]);
+        if (v && sqrt(dv) < 1e-6 && d->nodes[i].n_branches == n_branches) at_v = i;
+        for (k = 0; k < n_ends; k++) {
+            double de = 0;
+            for (j = 0; j <= n; j++)
+                de += (d->nodes[i].y[j] - ends[k * (n + 1) + j]) * (d->nodes[i].y[j] - ends[k * (n + 1) + j]);
+            at_end[k] += sqrt(de) < 1e-9 && d->nodes[i].kind == PSB_NODE_BOUND;
+        }
+    }
+    *self = 0;
+    for (i = 0; i < d->n_edges; i++) *self += at_v >= 0 && d->edges[i].from == at_v && d->edges[i].to == at_v;
+    return at_v;
+}
+
 /* An LCP in R^3 whose solution curve through the start is a closed polygon of ordinary kinks
    (|g| < 2, |x| < 10). With branch_at_kinks each arc ended at a kink and the edge resumed
    there with a fresh psb_trace, whose loop test starts at the kink and whose step budget was
@@ -1454,18 +1479,9 @@ static void test_loop_shorter_than_h_init(void)
     static const double w[] = {-0.84959370157717451, 0.5102467818068448, -0.089666767029247141, -1.7506748476381413, 0.70133060227522925};
     minaff m = {4, A, a, B, b};
     psb_diagram d;
-    int i, j, at_v = -1, at_w = 0, self = 0;
+    int at_v, self, at_w;
     psb_result r = minaff_explore(&m, sa, sb, -0.7, w[4], 2.4936012333892283, 1, &d);
-    for (i = 0; i < d.n_nodes; i++) {
-        double dv = 0, dw = 0;
-        for (j = 0; j < 5; j++) {
-            dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
-            dw += (d.nodes[i].y[j] - w[j]) * (d.nodes[i].y[j] - w[j]);
-        }
-        if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
-        at_w += sqrt(dw) < 1e-9 && d.nodes[i].kind == PSB_NODE_BOUND;
-    }
-    for (i = 0; i < d.n_edges; i++) self += at_v >= 0 && d.edges[i].from == at_v && d.edges[i].to == at_v;
+    at_v = minaff_shape(&d, 4, v, 4, w, 1, &self, &at_w);
     printf("  a loop shorter than h_init: %s, %d nodes, %d edges, V with 4 branches %s, %d loop edge at V, W %d time(s)\n",
            psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", self, at_w);
     CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
@@ -1496,22 +1512,13 @@ static void test_short_branches_at_a_kink(void)
                                       {1.3373167658342773, 0.10650315306312153, -0.15423415336107305, -0.7}};
     minaff m = {3, A, a, B, b};
     psb_diagram d;
-    int i, j, k, at_v = -1, at_end[2] = {0, 0};
+    int at_v, self, at_end[2];
     psb_result r = minaff_explore(&m, sa, sb, -0.7, 0.701453962014843, 2.6443472185987895, 1, &d);
-    for (i = 0; i < d.n_nodes; i++) {
-        double dv = 0;
-        for (j = 0; j < 4; j++) dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
-        if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
-        for (k = 0; k < 2; k++) {
-            double de = 0;
-            for (j = 0; j < 4; j++) de += (d.nodes[i].y[j] - ends[k][j]) * (d.nodes[i].y[j] - ends[k][j]);
-            at_end[k] += sqrt(de) < 1e-9 && d.nodes[i].kind == PSB_NODE_BOUND;
-        }
-    }
+    at_v = minaff_shape(&d, 3, v, 4, ends[0], 2, &self, at_end);
     printf("  short branches at a kink: %s, %d nodes, %d edges, V with 4 branches %s, ends %d %d\n",
            psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", at_end[0], at_end[1]);
     CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
-    CHECK(d.n_edges == 5 && at_v >= 0 && at_end[0] == 1 && at_end[1] == 1);
+    CHECK(d.n_edges == 5 && at_v >= 0 && self == 0 && at_end[0] == 1 && at_end[1] == 1);
     psb_diagram_free(&d);
 }
 
@@ -1540,19 +1547,9 @@ static void test_small_loop_of_pieces(void)
     int bak;
     for (bak = 0; bak < 2; bak++) {
         psb_diagram d;
-        int i, j, k, at_v = -1, self = 0, at_end[2] = {0, 0};
+        int at_v, self, at_end[2];
         psb_result r = minaff_explore(&m, sa, sb, -0.7, 0.70144333900774503, 2.2915053154256873, bak, &d);
-        for (i = 0; i < d.n_nodes; i++) {
-            double dv = 0;
-            for (j = 0; j < 4; j++) dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
-            if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
-            for (k = 0; k < 2; k++) {
-                double de = 0;
-                for (j = 0; j < 4; j++) de += (d.nodes[i].y[j] - ends[k][j]) * (d.nodes[i].y[j] - ends[k][j]);
-                at_end[k] += sqrt(de) < 1e-9 && d.nodes[i].kind == PSB_NODE_BOUND;
-            }
-        }
-        for (i = 0; i < d.n_edges; i++) self += at_v >= 0 && d.edges[i].from == at_v && d.edges[i].to == at_v;
+        at_v = minaff_shape(&d, 3, v, 4, ends[0], 2, &self, at_end);
         printf("  a small loop of pieces, branch_at_kinks %d: %s, %d nodes, %d edges, V with 4 branches %s, %d loop edge, ends %d %d\n",
                bak, psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", self, at_end[0], at_end[1]);
         CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
@@ -1584,23 +1581,50 @@ static void test_loop_within_a_tenth_of_h_init(void)
                                       {-0.42116586023051322, -0.095764593462313669, -1.6338574611298078, 0.70021308279719996}};
     minaff m = {3, A, a, B, b};
     psb_diagram d;
-    int i, j, k, at_v = -1, self = 0, at_end[2] = {0, 0};
+    int at_v, self, at_end[2];
     psb_result r = minaff_explore(&m, sa, sb, -0.7, 0.70021308279719996, 3.7106973146661471, 1, &d);
-    for (i = 0; i < d.n_nodes; i++) {
-        double dv = 0;
-        for (j = 0; j < 4; j++) dv += (d.nodes[i].y[j] - v[j]) * (d.nodes[i].y[j] - v[j]);
-        if (sqrt(dv) < 1e-6 && d.nodes[i].n_branches == 4) at_v = i;
-        for (k = 0; k < 2; k++) {
-            double de = 0;
-            for (j = 0; j < 4; j++) de += (d.nodes[i].y[j] - ends[k][j]) * (d.nodes[i].y[j] - ends[k][j]);
-            at_end[k] += sqrt(de) < 1e-9 && d.nodes[i].kind == PSB_NODE_BOUND;
-        }
-    }
-    for (i = 0; i < d.n_edges; i++) self += at_v >= 0 && d.edges[i].from == at_v && d.edges[i].to == at_v;
+    at_v = minaff_shape(&d, 3, v, 4, ends[0], 2, &self, at_end);
     printf("  a loop within a tenth of h_init: %s, %d nodes, %d edges, V with 4 branches %s, %d loop edge, ends %d %d\n",
            psb_result_string(r), d.n_nodes, d.n_edges, at_v >= 0 ? "found" : "missing", self, at_end[0], at_end[1]);
     CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
     CHECK(d.n_edges == 4 && at_v >= 0 && self == 1 && at_end[0] == 1 && at_end[1] == 1);
+    psb_diagram_free(&d);
+}
+
+/* N = 6 pieces of two affine maps: two nodes of 4 branches 0.015 apart, four branches ending
+   on the bound g = GMAX. One edge passed an ordinary kink within h_init of the bound, and the
+   way on, Algorithm 2.2's landing point, lay beyond it: the resumed trace refused its start
+   (PSB_ERR_INPUT, an edge lost). The edge now ends on the bound, as a branch landing beyond
+   one does at a node. */
+static void test_kink_next_to_a_bound(void)
+{
+    static const double A[] = {-0.96952278347135601, -0.72902880833999995, 0.06983080901843014, -0.039728202715020755, -0.36894651449175075, -0.18091809057938163, 1.5029337771388058,
+                               0.56364111585748189, -0.0019130983807754444, 0.35975060556814875, 1.2613661900950965, -1.4784269649615041, 0.67893482919487602, 1.0068406353870114,
+                               0.79274584685528604, 1.7368156218893309, 0.22997133071811132, 1.830861938621174, -1.857358393807548, 0.16136007129303487, 0.46704820160939176,
+                               0.55832622119869102, 1.1880087266657973, -0.26387097494558676, 0.14373701942413497, -1.0560951716616664, 0.40483823452387857, 0.49927484472874228,
+                               -0.57742505218374562, 0.24394842097921865, -0.33548561283337824, -1.2543041597915052, 1.2489437288089971, 0.043211177941361853, 0.38251244121778283,
+                               0.12077380144611105, 0.97427401659671364, -0.53953244670902445, 0.62221043529897735, -0.40988405139660461, -0.054734210772703074, 1.3129215836330053};
+    static const double a[] = {0.89765671355779231, 0.13403300131966023, 0.95450192265496725, 0.48478776900638315, -0.3405720333167585, 0.54491704822222065};
+    static const double B[] = {-0.83925419163465242, 0.31106789683275338, -0.39268007642609404, -0.69813212802916003, 0.43305346810947748, 0.6457464026113966, -1.1826065491761448,
+                               -0.3645869319304072, 0.22065771984910038, -0.18382117567513789, -0.19312290278894689, 0.25895883435379374, -0.050412846856270621, -0.049839787958245174,
+                               0.0971102819723038, 0.32825318854854824, 0.24790325330928994, -0.04155586277633215, -0.14507594417742725, 0.069751176792903408, -0.62704526401139271,
+                               0.95188284670248136, 0.67293052439388323, -0.98216122994431054, -1.1195834941034009, -0.0098412144327128526, -0.58422316443669087, -0.12010339407369636,
+                               1.2819081170733264, -0.42612744377358525, 0.21165497482009454, 1.619552745305286, -0.84988885846464113, 0.84637830009011739, 0.85946792561557039,
+                               1.9193990794921205, 1.3908716427933843, -0.10455679115615543, -0.17951336441674237, 0.077472006306641542, -1.05475664634498, 0.22096018530528516};
+    static const double b[] = {0.079046975890738835, 0.19502107335282665, 0.030867350048590994, 0.20358647566311133, -1.0465464769134578, -0.33705310854987691};
+    static const double sa[] = {0.69908424210671827, -0.22843282006109411, 0.21382688436312303, 0.086928738576493872, 0.76395041570222677, 0.60923365363498061, 0.00073396610116610583};
+    static const double sb[] = {0.6984874021935974, -0.20486785105186511, 0.26459306177307207, 0.081883213678298733, 0.79301003086973254, 0.63205188978041082, 0.016578579345165823};
+    static const double ends[4][7] = {{0.94331167132897287, 0.69862894860380798, 1.6843447468093327, -1.5173173618815059, 0.68897536828558337, 2.6076889771959957, 0.71480181837092449}, {0.82262277426994612, 0.8171708896735338, -0.17515265389476387, 0.18643393238217609, 0.33111899996194621, 2.4146890434390316, 0.7148018183709246}, {0.54900897814756444, 0.57086777198726824, 0.27566231362625671, -0.15460814368821968, 0.060008744747944154, 1.5854288489725001, 0.71480181837092449}, {0.65377395556675277, 0.19772813642030496, 0.9515262451602664, -0.7656891157057748, 0.50437652457997872, 1.3536726075514516, 0.71480181837092449}};
+    minaff m = {6, A, a, B, b};
+    psb_diagram d;
+    int i, self, n_bound = 0, at_end[4];
+    psb_result r = minaff_explore(&m, sa, sb, -0.7, 0.71480181837092449, 2.7673910692602859, 1, &d);
+    minaff_shape(&d, 6, NULL, 0, ends[0], 4, &self, at_end);
+    for (i = 0; i < d.n_nodes; i++) n_bound += d.nodes[i].kind == PSB_NODE_BOUND;
+    printf("  a kink next to a bound: %s, %d nodes, %d edges, %d failed, ends %d %d %d %d of %d at the bound\n",
+           psb_result_string(r), d.n_nodes, d.n_edges, d.n_failed, at_end[0], at_end[1], at_end[2], at_end[3], n_bound);
+    CHECK(r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0);
+    CHECK(d.n_edges == 7 && n_bound == 4 && at_end[0] == 1 && at_end[1] == 1 && at_end[2] == 1 && at_end[3] == 1);
     psb_diagram_free(&d);
 }
 
@@ -1626,6 +1650,7 @@ int main(void)
     test_short_branches_at_a_kink();
     test_small_loop_of_pieces();
     test_loop_within_a_tenth_of_h_init();
+    test_kink_next_to_a_bound();
     test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();
