@@ -499,11 +499,10 @@
      (|dH| |y - y0|, row by row; curvature x distance / 2 on smooth pieces, as for the chord);
      where some landing point's chord runs straight along its tangent (H piecewise linear),
      by more than 8 times that landing's turn, at least 1e-3 (a kink a from y0 shows about
-     a / h_init times its angle).
-     Trials cut or screened land nowhere, and on loops of pieces shorter than h_init every
-     trial of the missing branches was cut. And an odd count (above)
-     most likely misses a branch, which may have ended at the nearby kink with no turn to
-     show. Either way the run is made again with h_init / 16, up to 3 times while h_init stays
+     a / h_init times its angle). Trials cut or screened land nowhere, and on loops of pieces
+     shorter than h_init every trial of the missing branches was cut. And an odd count
+     (above) most likely misses a branch, which may have ended at the nearby kink with no
+     turn to show. Either way the run is made again with h_init / 16, up to 3 times while h_init stays
      above 8 h (s->branch keeps the caller's h_init, the report is the last run's); an odd
      count that the smaller h_init kept ends it (on cones the run is the same, scaled). An
      audit's piecewise-affine systems with kinks 1e-3 to 1e-1 apart (psb_explore, 175
@@ -3294,13 +3293,14 @@ static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t,
    tangent (radians), or an iterate's psb__conic_excess. */
 #define PSB__CHORD_TURN 0.05
 
-/* The conic test of Algorithm 2.2's trials (psb__try_tangent), first half, at a corrector
-   iterate y whose dH(y) was just formed and H(y) is in res_: H is affine through y0 there,
-   H(y) = H(y0) + dH(y) (y - y0), up to rounding
-   (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| + |H(y0)|, row by row) and
-   10^-6 of the step's own scale, max_i (|dH| |y - y0|)_i: y0 lies within Algorithm 2.1's
-   precision of the kink, not on it, and its pieces' affine maps meet there to that order.
-   The second half (psb__correct_run, with dH(y)'s hash): dH is the same, bit
+/* How far H is from affine through y0 at a point y of an Algorithm 2.2 trial whose dH(y) was
+   just formed and H(y) is in res_: the largest row error of H(y) = H(y0) + dH(y) (y - y0)
+   beyond rounding (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| +
+   |H(y0)|), relative to the step's own scale max_i (|dH| |y - y0|)_i; HUGE_VAL for NaN, or
+   for an error where the step has no scale. The conic test of the trials
+   (psb__try_tangent), first half, asks at most 10^-6: y0 lies within Algorithm 2.1's
+   precision of the kink, not on it, and its pieces' affine maps meet there to that order;
+   Algorithm 2.2's rerun asks more (psb__cone_tolerance). The conic test's second half (psb__correct_run, with dH(y)'s hash): dH is the same, bit
    for bit, at the point of the segment from y0 to y at distance s->branch.h from y0. Pieces of a
    piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
    the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
@@ -6440,6 +6440,34 @@ static void psb__explore_end(psb__explorer *x, int e, psb_edge_end end, psb_node
     if (end == PSB_EDGE_FAILURE) x->d->n_failed++;
 }
 
+/* Whether y's parameter lies outside the traces' bounds (when they are set). */
+static int psb__explore_beyond_bound(const psb__explorer *x, const double *y)
+{
+    const psb_trace_options *to = &x->eo->trace;
+    int p = x->s->prob.param_index;
+    return to->param_min < to->param_max && (!(y[p] >= to->param_min) || !(y[p] <= to->param_max));
+}
+
+/* Ends edge e on the parameter bound between y0 (inside) and y (beyond it), at Newton's
+   solution there from the chord (into y), adding its distance from y0 to the edge's length. A
+   failure there ends the edge as one. Returns PSB_SUCCESS or a fatal code. */
+static psb_result psb__explore_end_on_bound(psb__explorer *x, int e, const double *y0, double *y)
+{
+    psb_solver *s = x->s;
+    psb_edge *ed = x->d->edges + e;
+    const psb_trace_options *to = &x->eo->trace;
+    psb_result r = psb__land_on_bound(s, y0, y, y[s->prob.param_index] < to->param_min ? to->param_min
+                                                                                      : to->param_max);
+    ed->result = r == PSB_SUCCESS ? PSB_PARAM_BOUND : r;
+    ed->length += psb__dist_w(s, y0, y);
+    if (r == PSB_SUCCESS) {
+        psb__explore_end(x, e, PSB_EDGE_BOUND, PSB_NODE_BOUND, y);
+        return PSB_SUCCESS;
+    }
+    psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
+    return psb__is_fatal(r) ? r : PSB_SUCCESS;
+}
+
 /* The cosine between the chords from node nd to y and to its branch kb's couple (the
    couple's tangent where it lies at the node itself); -2 when y is at the node. */
 static double psb__explore_chord_cos(const psb__explorer *x, const psb_node *nd, int kb, const double *y)
@@ -6571,24 +6599,14 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     if (r == PSB_BRANCH_CAPACITY) d->truncated = 1;
     nb = br.n_branches < d->max_branches ? br.n_branches : d->max_branches;
     if (kink && nb == 2 && r != PSB_BRANCH_CAPACITY) { /* an ordinary kink: the other branch */
-        const psb_trace_options *to = &x->eo->trace;
         const double *y1 = nd->ys + np1;
-        int p = s->prob.param_index;
         d->n_kinks_plain++;
-        if (to->param_min < to->param_max && (!(y1[p] >= to->param_min) || !(y1[p] <= to->param_max))) {
+        if (psb__explore_beyond_bound(x, y1)) {
             /* the way on landed beyond a bound (the kink lies within h_init of it): the
                edge ends on the bound, as a branch of a node there does (psb__explore_edge_trace) */
             psb__copy(before, y, np1);
             psb__copy(y, y1, np1);
-            r = psb__land_on_bound(s, before, y, y1[p] < to->param_min ? to->param_min : to->param_max);
-            ed->result = r == PSB_SUCCESS ? PSB_PARAM_BOUND : r;
-            ed->length += psb__dist_w(s, before, y);
-            if (r == PSB_SUCCESS) {
-                psb__explore_end(x, e, PSB_EDGE_BOUND, PSB_NODE_BOUND, y);
-                return PSB_SUCCESS;
-            }
-            psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
-            return psb__is_fatal(r) ? r : PSB_SUCCESS;
+            return psb__explore_end_on_bound(x, e, before, y);
         }
         ed->length += psb__dist_w(s, y, y1);
         psb__copy(y, y1, np1);
@@ -6759,7 +6777,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     psb_edge *ed;
     psb_trace_options to = x->eo->trace;
     psb_trace_report rep;
-    int np1 = s->np1_, e, resume, p = s->prob.param_index;
+    int np1 = s->np1_, e, resume;
     long steps_left;
     double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
     psb_result r;
@@ -6776,20 +6794,10 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     nf->branch_edge[k] = e;
     psb__copy(y, nf->ys + (size_t)k * (size_t)np1, np1);
     psb__copy(t, nf->ts + (size_t)k * (size_t)np1, np1);
+    /* The branching landed beyond a bound (the node lies within a branching radius of it):
+       the branch ends on the bound. */
+    if (psb__explore_beyond_bound(x, y)) return psb__explore_end_on_bound(x, e, nf->y, y);
     ed->length = psb__dist_w(s, nf->y, y);
-    if (to.param_min < to.param_max && (!(y[p] >= to.param_min) || !(y[p] <= to.param_max))) {
-        /* The branching landed beyond a bound (the node lies within a branching radius of it):
-           the branch ends on the bound, at Newton's solution there from the chord. */
-        r = psb__land_on_bound(s, nf->y, y, y[p] < to.param_min ? to.param_min : to.param_max);
-        ed->result = r == PSB_SUCCESS ? PSB_PARAM_BOUND : r;
-        ed->length = psb__dist_w(s, nf->y, y);
-        if (r == PSB_SUCCESS) {
-            psb__explore_end(x, e, PSB_EDGE_BOUND, PSB_NODE_BOUND, y);
-            return PSB_SUCCESS;
-        }
-        psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
-        return psb__is_fatal(r) ? r : PSB_SUCCESS;
-    }
     to.on_point = psb__explore_point;
     to.point_user = x;
     to.detect_loop = 1;
