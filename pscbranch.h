@@ -488,34 +488,33 @@
      627-639 -> 496-509 (0.9.0: 865-876), n_pc the same (in 4 of 12 Tables 1-2 settings 1-3
      apart: near c_diff's angle a piece's tangent can decide otherwise); bench_branching 3-9%
      fewer, n_pc the same.
-   - Kinks within h_init. The trials and their screen take the pieces for cones with apex y0
-     out to h_init. Where another kink lies closer, a trial lands beyond it, on that point's
+   - Kinks within h_init. The trials and their screen take the pieces for cones with apex y0 out
+     to h_init. Where another kink lies closer, a trial lands beyond it, on that point's
      branches, and the screen skips real trials. A branch leaving y0 runs along its chord from
      y0 (a curved one turns from it by curvature x distance / 2), so a landing point whose
-     tangent turns from its chord by more than 0.05 rad shows it. So does a point where a
-     trial meets H off the cones: at a trial's iterate within 2 h_init of y0, or at its
-     screening point (dH hashed there, one residual more), H(y0) differs from H's affine map
-     at that point, H(y) + dH(y) (y0 - y), by more than 0.05 of the step's own terms
-     (|dH| |y - y0|, row by row; curvature x distance / 2 on smooth pieces, as for the chord);
-     where some landing point's chord runs straight along its tangent (H piecewise linear),
-     by more than 8 times that landing's turn, at least 1e-3 (a kink a from y0 shows about
-     a / h_init times its angle). Trials cut or screened land nowhere, and on loops of pieces
-     shorter than h_init every trial of the missing branches was cut. And an odd count
-     (above) most likely misses a branch, which may have ended at the nearby kink with no
-     turn to show. Either way the run is made again with h_init / 16, up to 3 times while h_init stays
-     above 8 h (s->branch keeps the caller's h_init, the report is the last run's); an odd
-     count that the smaller h_init kept ends it (on cones the run is the same, scaled). An
-     audit's piecewise-affine systems with kinks 1e-3 to 1e-1 apart (psb_explore, 175
-     compared; with this rule and two fixes to psb_explore's loops): exact diagrams 90 -> 156,
-     wrong with n_odd > 0 70 -> 9, wrong with no sign 9 -> 8; the same scaled by 1e-6 and 1e6
-     (92): 50 -> 84, 39 -> 3, 2 -> 3. With the off-cone test (and psb_explore's edges away
-     from their origin once past a kink): 169, 4, 2 of the 175; 1022, 30, 10 of 1062 over six
-     such sets (917, 62, 78 without them); scaled, two sets (182): 173, 7, 1 (160, 8, 12).
-     Where kinks lie closer than h_init, a smaller h_init
-     is still the surer setting. The block and the examples never turn so far nor end odd
-     (the same runs); bench_branching: the same sets, and where a count stays odd one more
-     run (random LCPs N = 10: 1566 -> 1648 factorisations in Algorithm 2.2; the as-printed
-     rows 11-21% more).
+     tangent turns from its chord by more than 0.05 rad shows it. So does a point where a trial
+     meets H off the cones: at a trial's iterate within 2 h_init of y0, or at its screening
+     point (dH hashed there, one residual more), H(y0) differs from H's affine map at that
+     point, H(y) + dH(y) (y0 - y), by more than 0.05 of the step's own terms (|dH| |y - y0|, row
+     by row; curvature x distance / 2 on smooth pieces, as for the chord); where some landing
+     point's chord runs straight along its tangent (H piecewise linear), by more than 8 times
+     that landing's turn, at least 1e-3 (a kink a from y0 shows about a / h_init times its
+     angle). Trials cut or screened land nowhere, and on loops of pieces shorter than h_init
+     every trial of the missing branches was cut. And an odd count (above) most likely misses a
+     branch, which may have ended at the nearby kink with no turn to show. Either way the run is
+     made again with h_init / 16, up to 3 times while h_init stays above 8 h (s->branch keeps
+     the caller's h_init, the report is the last run's); an odd count that the smaller h_init
+     kept ends it (on cones the run is the same, scaled). An audit's piecewise-affine systems
+     with kinks 1e-3 to 1e-1 apart (psb_explore, 175 compared; with this rule and two fixes to
+     psb_explore's loops): exact diagrams 90 -> 156, wrong with n_odd > 0 70 -> 9, wrong with no
+     sign 9 -> 8; the same scaled by 1e-6 and 1e6 (92): 50 -> 84, 39 -> 3, 2 -> 3. With the
+     off-cone test (and psb_explore's edges away from their origin once past a kink): 169, 4, 2
+     of the 175; 1022, 30, 10 of 1062 over six such sets (917, 62, 78 without them); scaled, two
+     sets (182): 173, 7, 1 (160, 8, 12). Where kinks lie closer than h_init, a smaller h_init is
+     still the surer setting. The block and the examples never turn so far nor end odd (the same
+     runs); bench_branching: the same sets, and where a count stays odd one more run (random
+     LCPs N = 10: 1566 -> 1648 factorisations in Algorithm 2.2; the as-printed rows 11-21%
+     more).
    - Idle spans (memo on). A span all of whose tangents were tried before (or whose trials
      were all screened) tries nothing; it costs n_dir tangents and does not count against
      n_span (report.n_span_idle): on problems whose pairs of branches span planes that meet
@@ -3300,8 +3299,9 @@ static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t,
    for an error where the step has no scale. The conic test of the trials
    (psb__try_tangent), first half, asks at most 10^-6: y0 lies within Algorithm 2.1's
    precision of the kink, not on it, and its pieces' affine maps meet there to that order;
-   Algorithm 2.2's rerun asks more (psb__cone_tolerance). The conic test's second half (psb__correct_run, with dH(y)'s hash): dH is the same, bit
-   for bit, at the point of the segment from y0 to y at distance s->branch.h from y0. Pieces of a
+   Algorithm 2.2's rerun asks more (psb__cone_tolerance). The conic test's second half
+   (psb__correct_run, with dH(y)'s hash): dH is the same, bit for bit, at the point of the
+   segment from y0 to y at distance s->branch.h from y0. Pieces of a
    piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
    the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
    the same H scaled: the same run. */

@@ -1363,8 +1363,8 @@ static psb_result minaff_explore(minaff *m, const double *sa, const double *sb, 
    n_branches branches (returned, -1 when there is none), the edges from it back to it
    (*self), and for each of the n_ends points ends (n + 1 each) the bound nodes within 1e-9
    of it (at_end). */
-static int minaff_shape(const psb_diagram *d, int n, const double *v, int n_branches, const double *ends,
-                        int n_ends, int *self, int *at_end)
+static int minaff_shape(const psb_diagram *d, int n, const double *v, int n_branches,
+                        const double *ends, int n_ends, int *self, int *at_end)
 {
     int i, j, k, at_v = -1;
     for (k = 0; k < n_ends; k++) at_end[k] = 0;
@@ -1373,14 +1373,15 @@ static int minaff_shape(const psb_diagram *d, int n, const double *v, int n_bran
         for (j = 0; j <= n && v; j++) dv += (d->nodes[i].y[j] - v[j]) * (d->nodes[i].y[j] - v[j]);
         if (v && sqrt(dv) < 1e-6 && d->nodes[i].n_branches == n_branches) at_v = i;
         for (k = 0; k < n_ends; k++) {
+            const double *end = ends + k * (n + 1);
             double de = 0;
-            for (j = 0; j <= n; j++)
-                de += (d->nodes[i].y[j] - ends[k * (n + 1) + j]) * (d->nodes[i].y[j] - ends[k * (n + 1) + j]);
+            for (j = 0; j <= n; j++) de += (d->nodes[i].y[j] - end[j]) * (d->nodes[i].y[j] - end[j]);
             at_end[k] += sqrt(de) < 1e-9 && d->nodes[i].kind == PSB_NODE_BOUND;
         }
     }
     *self = 0;
-    for (i = 0; i < d->n_edges; i++) *self += at_v >= 0 && d->edges[i].from == at_v && d->edges[i].to == at_v;
+    for (i = 0; i < d->n_edges; i++)
+        *self += at_v >= 0 && d->edges[i].from == at_v && d->edges[i].to == at_v;
     return at_v;
 }
 
