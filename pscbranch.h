@@ -5736,8 +5736,8 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
    curvature x d / 2, as a landing point's chord turn is, so PSB__CHORD_TURN for both. Where
    some landing point's chord runs straight along its tangent (a piecewise-linear H), the
    pieces bend nowhere and an excess tells a kink: a kink at distance a from y0 shows about
-   a / h_init times its angle (2e-2 to 3e-2 for a loop 1.3e-3 from y0 at h_init 1e-2, 4 of
-   its branches lost). There 8 times the straightest landing's turn, at least 1e-3. */
+   a / h_init times its angle (1.9e-2 to 3.4e-2 for a loop within 1.4e-3 of y0 at h_init
+   1e-2: 2 of 4 branches lost). There 8 times the straightest landing's turn, at least 1e-3. */
 static double psb__cone_tolerance(const psb_solver *s)
 {
     double tol = 8 * s->chord_turn_min_;

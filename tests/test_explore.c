@@ -1561,7 +1561,7 @@ static void test_small_loop_of_pieces(void)
 
 /* N = 3 pieces of two affine maps: V has 4 branches, two of which close a loop of 4 pieces
    2.7e-3 long, all of it within 1.4e-3 of V, a tenth of Algorithm 2.2's trial length. At the
-   trials' points H misses the cones about V by 2e-2 to 3.4e-2 of the step, below the 0.05 a
+   trials' points H misses the cones about V by 1.9e-2 to 3.4e-2 of the step, below the 0.05 a
    curved branch may show, and V passed for an ordinary kink (3 nodes, 2 edges, PSB_SUCCESS).
    The landing points' chords run straight along their tangents here, so H is piecewise
    linear and 1e-3 is the tolerance. */
@@ -1592,7 +1592,7 @@ static void test_loop_within_a_tenth_of_h_init(void)
     psb_diagram_free(&d);
 }
 
-/* N = 6 pieces of two affine maps: two nodes of 4 branches 0.015 apart, four branches ending
+/* N = 6 pieces of two affine maps: two nodes of 4 branches 0.047 apart, four branches ending
    on the bound g = GMAX. One edge passed an ordinary kink within h_init of the bound, and the
    way on, Algorithm 2.2's landing point, lay beyond it: the resumed trace refused its start
    (PSB_ERR_INPUT, an edge lost). The edge now ends on the bound, as a branch landing beyond
