@@ -3292,6 +3292,21 @@ static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t,
    tangent (radians), or an iterate's psb__conic_excess. */
 #define PSB__CHORD_TURN 0.05
 
+/* Whether Algorithm 2.2's run still watches for H off the cones about y0 (cone_defect_): H(y0)
+   is held, the evidence is not in yet, and a rerun could still follow (h_init / 16 stays above
+   8 h, psb__find_branches). */
+static int psb__cone_watched(const psb_solver *s)
+{
+    return s->conic_h0_ok_ && s->cone_defect_ <= PSB__CHORD_TURN &&
+           s->branch.h_init / 16 >= 8 * s->branch.h;
+}
+
+/* Records an excess of psb__conic_excess in cone_defect_ (HUGE_VAL, no scale, tells nothing). */
+static void psb__note_cone_excess(psb_solver *s, double excess)
+{
+    if (excess > s->cone_defect_ && excess < HUGE_VAL) s->cone_defect_ = excess;
+}
+
 /* How far H is from affine through y0 at a point y of an Algorithm 2.2 trial whose dH(y) was
    just formed and H(y) is in res_: the largest row error of H(y) = H(y0) + dH(y) (y - y0)
    beyond rounding (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| +
@@ -3379,11 +3394,13 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
             if (r != PSB_SUCCESS) return r;
             if (s->conic_ok_ || (s->path_on_ && !by_piece && psb__jmemo_hashing(s))) psb__jmemo_key(s, dh_key);
             if (s->conic_y0_) { /* before the memo's cut, which the test may void */
-                double excess = psb__conic_excess(s, s->conic_y0_, yc);
-                if (s->conic_ok_) s->conic_ok_ = excess <= 1e-6;
-                if (excess > s->cone_defect_ && excess < HUGE_VAL && /* HUGE_VAL: no scale */
-                    psb__dist_w(s, yc, s->conic_y0_) <= 2 * s->branch.h_init)
-                    s->cone_defect_ = excess;
+                int watch = psb__cone_watched(s) &&
+                            psb__dist_w(s, yc, s->conic_y0_) <= 2 * s->branch.h_init;
+                if (s->conic_ok_ || watch) {
+                    double excess = psb__conic_excess(s, s->conic_y0_, yc);
+                    if (s->conic_ok_) s->conic_ok_ = excess <= 1e-6;
+                    if (watch) psb__note_cone_excess(s, excess);
+                }
             }
             if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, dh_key, store_key, &by_piece);
         }
@@ -5174,24 +5191,19 @@ static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const 
    s->cone_probe_ (y0), in cone_defect_; dH(p) was just formed (psb__sample_tangent). The
    screen takes the tangent at p for the trial's, which holds on cones about y0 alone, and p
    may lie beyond a kink that the trial's own iterates never meet (kinks 2e-3 from y0,
-   h_init 1e-2: 2 of 4 branches, every trial cut). Only while a rerun could still follow
-   (psb__find_branches): H(y0) is held, the evidence is not in yet and h_init / 16 stays above
-   8 h. It costs H(p). Returns PSB_SUCCESS or a fatal code; a fault is noted. */
+   h_init 1e-2: 2 of 4 branches, every trial cut). Only while the run watches
+   (psb__cone_watched). It costs H(p). Returns PSB_SUCCESS or a fatal code; a fault is noted. */
 static psb_result psb__probe_cone(psb_solver *s, const double *p)
 {
-    double excess;
     psb_result r;
-    if (!s->cone_probe_ || !s->conic_h0_ok_ || s->cone_defect_ > PSB__CHORD_TURN ||
-        s->branch.h_init / 16 < 8 * s->branch.h)
-        return PSB_SUCCESS;
+    if (!s->cone_probe_ || !psb__cone_watched(s)) return PSB_SUCCESS;
     r = psb__residual(s, p, s->res_);
     if (r != PSB_SUCCESS) {
         if (psb__is_fatal(r)) return r;
         psb__note_fault(s, r);
         return PSB_SUCCESS;
     }
-    excess = psb__conic_excess(s, s->cone_probe_, p);
-    if (excess > s->cone_defect_ && excess < HUGE_VAL) s->cone_defect_ = excess;
+    psb__note_cone_excess(s, psb__conic_excess(s, s->cone_probe_, p));
     return PSB_SUCCESS;
 }
 
@@ -5386,7 +5398,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         return PSB_SUCCESS;
     }
     for (sign = 1; sign >= -1; sign -= 2) {
-        double hh = s->branch.h_init, dotp;
+        double hh = s->branch.h_init, dotp, dist, turn;
         int j, is_new = 1;
         s->path_own_ = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
@@ -5450,17 +5462,16 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (cut) continue;
         /* a point closer to y0 than the sampling distance h tells nothing reliable about the
            branches: pieces that touch the end point are active there */
-        if (psb__dist_w(s, yb, y0) < s->branch.h) continue;
+        dist = psb__dist_w(s, yb, y0);
+        if (dist < s->branch.h) continue;
         /* Step 5(i): orient away from the point */
         dotp = 0;
         for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
         if (dotp < 0)
             for (k = 0; k < np1; k++) tb[k] = -tb[k];
-        {
-            double turn = psb__chord_angle(s, y0, yb, psb__dist_w(s, yb, y0), tb, pk);
-            if (turn > s->chord_turn_max_) s->chord_turn_max_ = turn;
-            if (turn < s->chord_turn_min_) s->chord_turn_min_ = turn;
-        }
+        turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
+        if (turn > s->chord_turn_max_) s->chord_turn_max_ = turn;
+        if (turn < s->chord_turn_min_) s->chord_turn_min_ = turn;
         /* Step 5(ii): a new branch unless it is within c_diff of a known one */
         for (j = 0; j < rep->n_branches; j++)
             if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
