@@ -331,7 +331,9 @@
    solves of Algorithm 2.1, the detectors and psb_solve_at_param). A trial is
    accepted when it converged within max_iter, the corrected point lies within h of the
    prediction (a longer jump landed on another part of the curve), and cos_w(t_new, t) >=
-   c_min; otherwise h *= h_dec until h < h_min.
+   c_min; otherwise h *= h_dec until h < h_min. An iterate farther than 4 h from the
+   prediction ends the trial at once (at kinks the corrector otherwise hops between the far
+   kernels of pieces until max_iter).
    Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
    switch_delta_max: t~ = tangent at y + delta t; once cos_w(t~, t) < c_diff, try steps from y
    along +t~ then -t~ (from h_init down to h_min) and accept the first couple that does not go
@@ -1156,6 +1158,8 @@ typedef struct psb_solver {
                                 conic test, see psb__try_tangent); NULL otherwise */
     int conic_ok_;           /* every iterate of the last corrector run passed that test */
     int conic_armed_;        /* the test runs: a step of the trial was rejected already */
+    double corr_reach_;      /* > 0: the corrector gives up once an iterate lies farther than
+                                this from its start (psb__try_step_from) */
     int conic_h0_ok_;        /* psb_find_branches holds H(y0) for it */
     double *jmemo_t_;             /* the unit tangent of each entry's dH */
     int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
@@ -3429,6 +3433,11 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         }
         for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
         psb__copy(tc, s->rhs_ + np1, np1);
+        if (s->corr_reach_ > 0 && !(psb__dist_w(s, yc, y) <= s->corr_reach_)) {
+            *iterations = it;
+            s->last_fail_ = PSB__FAIL_CONVERGE;
+            return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector iterate left the step's reach");
+        }
         if (!psb__normalize_w(s, tc)) {
             s->last_fail_ = PSB__FAIL_SINGULAR;
             return psb__fail(s, PSB_ERR_SINGULAR, "corrector tangent vanished");
@@ -3540,7 +3549,14 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
         psb__copy(tt, t, np1);
         s->stats.n_pc_steps++;
         s->path_n_ = 0; /* the path of this step alone */
+        /* a step is accepted within hh of its prediction: an iterate 4 hh away is lost (at
+           a kink the corrector hops between pieces' far kernels until max_iter; PL contact,
+           5 nodes: the trace to a branch point 10406 -> 2548 factorisations, the same trials
+           and outcomes). Not for Algorithm 2.2's trials, which accept a landing anywhere on a
+           ray from ray_from */
+        s->corr_reach_ = ray_from ? 0 : 4 * hh;
         r = psb__correct(s, yt, tt, iters);
+        s->corr_reach_ = 0;
         if (psb__is_fatal(r)) return r;
         if (r == PSB_SUCCESS) {
             /* a corrector that travelled farther than the step jumped to another part of the

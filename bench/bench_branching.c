@@ -5,7 +5,9 @@
    Algorithm 2.2):
      crossing kinks  H_i = min(x_i, g - x_i), i = 1..k: 2^k rays (x in {0, 1}^k, g > 0);
      random LCPs     min(x, M x + q g) = 0, M and q standard normal (seeded), kept with 3 or more
-                     strictly complementary rays, no two within c_diff of each other.
+                     strictly complementary rays, no two within c_diff of each other;
+     contact systems 1-5 nodes with Coulomb friction, no gap, load g f (pl_random_contact),
+                     kept alike, 20 per size (5 with --quick, sizes 1, 3, 5).
    Configurations: the defaults; the defaults with the Jacobian left to forward differences;
    Algorithm 2.2 as printed (Remark 2.3(ii) restarts, the printed sweep, every direction tried).
    A run is complete when every ray, and nothing else, is found (tangents matching to 1e-6).
@@ -27,8 +29,10 @@ typedef struct {
     long runs, complete, spurious, failed, n_pc, n_factor, n_factor_22;
 } tally;
 
-/* One run entering along ray `incoming`, added to *t. */
-static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int cfg, tally *tl)
+/* One run entering along ray `incoming` of the problem (n, residual, jacobian, user), added
+   to *t. */
+static void run(int n, psb_residual_fn residual, psb_jacobian_fn jacobian, void *user,
+                const double *rays, int n_rays, int incoming, int cfg, tally *tl)
 {
     static double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
     int matched;
@@ -41,11 +45,11 @@ static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int
     psb_result r;
     memset(&bo, 0, sizeof bo);
     bo.as_printed = cfg == CFG_PRINTED;
-    psb_problem_init(&prob, p->n, pl_residual, cfg == CFG_FD ? NULL : pl_jacobian, p);
+    psb_problem_init(&prob, n, residual, cfg == CFG_FD ? NULL : jacobian, user);
     tl->runs++;
     if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) { tl->failed++; return; }
     /* pl_branch_from_ray's steps, to count Algorithm 2.2's factorisations apart */
-    pl_start_on_ray(p->n + 1, rays, incoming, y, t);
+    pl_start_on_ray(n + 1, rays, incoming, y, t);
     r = pl_trace_to_kink(&s, y, t, NULL);
     if ((r != PSB_STOPPED && r != PSB_NONSMOOTH_END) || psb_locate_end(&s, y, t, &bo, NULL) != PSB_SUCCESS) {
         tl->failed++;
@@ -59,7 +63,7 @@ static void run(pl_problem *p, const double *rays, int n_rays, int incoming, int
         return;
     }
     tl->n_factor_22 += s.stats.n_factor - before;
-    matched = pl_match_rays(ts, br.n_branches, rays, n_rays, p->n + 1, 1e-6);
+    matched = pl_match_rays(ts, br.n_branches, rays, n_rays, n + 1, 1e-6);
     tl->complete += matched == n_rays && br.n_branches == n_rays;
     tl->spurious += br.n_branches > matched;
     tl->n_pc += br.n_pc;
@@ -109,7 +113,7 @@ int main(int argc, char **argv)
         for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
             tally t;
             memset(&t, 0, sizeof t);
-            for (i = 0; i < n_rays; i++) run(&p, rays, n_rays, i, cfg, &t);
+            for (i = 0; i < n_rays; i++) run(k, pl_residual, pl_jacobian, &p, rays, n_rays, i, cfg, &t);
             report(csv, "crossing kinks", k, n_rays, cfg, &t);
         }
     }
@@ -125,9 +129,26 @@ int main(int argc, char **argv)
                 int n_rays = pl_random_lcp(&p, k, &st, 1, rays);
                 if (!n_rays) break;
                 ray_total += n_rays;
-                for (i = 0; i < n_rays; i++) run(&p, rays, n_rays, i, cfg, &t);
+                for (i = 0; i < n_rays; i++) run(k, pl_residual, pl_jacobian, &p, rays, n_rays, i, cfg, &t);
             }
             report(csv, "random LCPs", k, (double)ray_total / done, cfg, &t);
+        }
+    for (k = 1; k <= PL_CONTACT_MAX_NODES; k += quick ? 2 : 1)
+        for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
+            unsigned long long st = 555 + (unsigned long long)k;
+            int done;
+            long ray_total = 0;
+            tally t;
+            memset(&t, 0, sizeof t);
+            for (done = 0; done < n_problems / 2; done++) {
+                pl_contact p;
+                int n_rays = pl_random_contact(&p, k, &st, rays);
+                if (!n_rays) break;
+                ray_total += n_rays;
+                for (i = 0; i < n_rays; i++)
+                    run(4 * k, pl_contact_residual, pl_contact_jacobian, &p, rays, n_rays, i, cfg, &t);
+            }
+            report(csv, "contact systems", 4 * k, (double)ray_total / done, cfg, &t);
         }
     if (csv) fclose(csv);
     return 0;

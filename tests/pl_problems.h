@@ -17,7 +17,7 @@
 #define PL_MAYBE_UNUSED
 #endif
 
-#define PL_MAX_N 12
+#define PL_MAX_N 20 /* the contact systems' 4 x 5 */
 #define PL_MAX_RAYS 64
 
 typedef struct pl_problem {
@@ -139,16 +139,215 @@ PL_MAYBE_UNUSED static int pl_crossing_kinks(pl_problem *p, int k, double *rays)
     return pl_enumerate_rays(p, 1.0, 1e-6, rays, PL_MAX_RAYS);
 }
 
-/* Standard normal deviate from a local LCG (Box-Muller), so that each user of these problems
-   draws its own reproducible sequence. */
+/* Uniform deviate in [0, 1) from a local LCG, so that each user of these problems draws its
+   own reproducible sequence. */
+PL_MAYBE_UNUSED static double pl_uniform(unsigned long long *st)
+{
+    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(*st >> 11) / 9007199254740992.0;
+}
+
+/* Standard normal deviate (Box-Muller on two of pl_uniform's). */
 PL_MAYBE_UNUSED static double pl_normal(unsigned long long *st)
 {
-    double u, v;
-    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
-    u = (double)(*st >> 11) / 9007199254740992.0 + 1e-300;
-    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
-    v = (double)(*st >> 11) / 9007199254740992.0;
+    double u = pl_uniform(st) + 1e-300, v = pl_uniform(st);
     return sqrt(-2 * log(u)) * cos(6.283185307179586 * v);
+}
+
+/* Whether two of the rays (n_rays, np1 each) have a cosine above c. */
+PL_MAYBE_UNUSED static int pl_rays_close(const double *rays, int n_rays, int np1, double c)
+{
+    int j1, j2, i;
+    for (j1 = 0; j1 < n_rays; j1++)
+        for (j2 = j1 + 1; j2 < n_rays; j2++) {
+            double cs = 0, n1 = 0, n2 = 0;
+            for (i = 0; i < np1; i++) {
+                cs += rays[j1 * np1 + i] * rays[j2 * np1 + i];
+                n1 += rays[j1 * np1 + i] * rays[j1 * np1 + i];
+                n2 += rays[j2 * np1 + i] * rays[j2 * np1 + i];
+            }
+            if (cs > c * sqrt(n1 * n2)) return 1;
+        }
+    return 0;
+}
+
+/* Frictional contact systems, positively homogeneous: m nodes of a linear body in 2D against a
+   rigid plane with no gap, load g f, Coulomb friction, the law in Alart-Curnier form (r = 1).
+   y = (u, lambda, g), u = (u_n, u_t) per node (u_n < 0 opens the gap), lambda the contact
+   forces alike (lambda_n <= 0 presses), N = 4 m:
+     K u - g f - lambda = 0                                   (2 m rows)
+     lambda_n - min(x_n, 0),  x_n = lambda_n - u_n             (per node)
+     lambda_t - clamp(x_t, mu s, -mu s),  s = min(x_n, 0),  x_t = lambda_t - u_t.
+   Each node is apart (x_n > 0), sticks (mu s < x_t < -mu s) or slips one way or the other;
+   on each of the 4^m combinations H is linear, so the solutions are rays from the origin, one
+   per combination whose kernel (both signs of g) lies inside its own region. K is made
+   non-symmetric (friction then allows several states under one load, as on the block). */
+#define PL_CONTACT_MAX_NODES 5
+
+typedef struct pl_contact {
+    int m;
+    double k[4 * PL_CONTACT_MAX_NODES * PL_CONTACT_MAX_NODES]; /* column-major 2m x 2m */
+    double f[2 * PL_CONTACT_MAX_NODES];
+    double mu[PL_CONTACT_MAX_NODES];
+} pl_contact;
+
+enum { PL_APART, PL_STICK, PL_SLIP_LOW, PL_SLIP_UP };
+
+/* Node c's state at y, and how far y is from the region's boundary (the smallest of the
+   defining inequalities' margins, scaled by |y|): the enumeration rejects rays nearer than
+   its margin, whose region a sweep could not sample. */
+PL_MAYBE_UNUSED static int pl_contact_state(const pl_contact *p, const double *y, int c, double *margin)
+{
+    int m2 = 2 * p->m;
+    double xn = y[m2 + 2 * c] - y[2 * c], xt = y[m2 + 2 * c + 1] - y[2 * c + 1], s, lo, hi;
+    if (xn > 0) {
+        *margin = xn;
+        return PL_APART;
+    }
+    s = xn;
+    lo = p->mu[c] * s;
+    hi = -p->mu[c] * s;
+    *margin = -xn;
+    if (xt <= lo) {
+        if (lo - xt < *margin) *margin = lo - xt;
+        return PL_SLIP_LOW;
+    }
+    if (xt >= hi) {
+        if (xt - hi < *margin) *margin = xt - hi;
+        return PL_SLIP_UP;
+    }
+    if (xt - lo < *margin) *margin = xt - lo;
+    if (hi - xt < *margin) *margin = hi - xt;
+    return PL_STICK;
+}
+
+/* Row r of node c's two rows of dH in state st (row: N + 1 entries, stride ld). */
+PL_MAYBE_UNUSED static void pl_contact_rows(const pl_contact *p, int c, int st, double *jac, int ld)
+{
+    int m2 = 2 * p->m, un = 2 * c, ut = un + 1, ln = m2 + un, lt = ln + 1, rn = m2 + un, rt = rn + 1;
+    double mu = p->mu[c];
+    if (st == PL_APART) {
+        jac[rn + ln * ld] = 1;
+        jac[rt + lt * ld] = 1;
+        return;
+    }
+    jac[rn + un * ld] = 1; /* lambda_n - x_n = u_n */
+    if (st == PL_STICK) {
+        jac[rt + ut * ld] = 1; /* lambda_t - x_t = u_t */
+    } else {
+        double sg = st == PL_SLIP_LOW ? -1 : 1; /* lambda_t -+ mu (lambda_n - u_n) */
+        jac[rt + lt * ld] = 1;
+        jac[rt + ln * ld] = sg * mu;
+        jac[rt + un * ld] = -sg * mu;
+    }
+}
+
+PL_MAYBE_UNUSED static void pl_contact_matrix(const pl_contact *p, const int *states, double *jac, int ld)
+{
+    int m2 = 2 * p->m, n = 4 * p->m, i, j, c;
+    for (j = 0; j <= n; j++)
+        for (i = 0; i < n; i++) jac[i + j * ld] = 0;
+    for (i = 0; i < m2; i++) {
+        for (j = 0; j < m2; j++) jac[i + j * ld] = p->k[i + j * m2];
+        jac[i + (m2 + i) * ld] = -1;
+        jac[i + n * ld] = -p->f[i];
+    }
+    for (c = 0; c < p->m; c++) pl_contact_rows(p, c, states[c], jac, ld);
+}
+
+PL_MAYBE_UNUSED static int pl_contact_residual(const double *y, double *h, void *user)
+{
+    const pl_contact *p = (const pl_contact *)user;
+    int m2 = 2 * p->m, i, j, c;
+    for (i = 0; i < m2; i++) {
+        double r = -y[4 * p->m] * p->f[i] - y[m2 + i];
+        for (j = 0; j < m2; j++) r += p->k[i + j * m2] * y[j];
+        h[i] = r;
+    }
+    for (c = 0; c < p->m; c++) {
+        double xn = y[m2 + 2 * c] - y[2 * c], xt = y[m2 + 2 * c + 1] - y[2 * c + 1];
+        double s = xn < 0 ? xn : 0, lo = p->mu[c] * s, hi = -p->mu[c] * s;
+        h[m2 + 2 * c] = y[m2 + 2 * c] - s;
+        h[m2 + 2 * c + 1] = y[m2 + 2 * c + 1] - (xt < lo ? lo : xt > hi ? hi : xt);
+    }
+    return 0;
+}
+
+PL_MAYBE_UNUSED static int pl_contact_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    const pl_contact *p = (const pl_contact *)user;
+    int states[PL_CONTACT_MAX_NODES], c;
+    double margin;
+    for (c = 0; c < p->m; c++) states[c] = pl_contact_state(p, y, c, &margin);
+    pl_contact_matrix(p, states, jac, ld);
+    return 0;
+}
+
+/* Every ray of the contact system p into rays (N + 1 each, g = +-1), by trying each
+   combination of states and each sign of g: with g fixed, H = 0 on that combination is an
+   N x N system. Returns their number; -1 if some ray lies within margin (relative) of its
+   region's boundary or a combination's system is singular (a ray along g = 0 or a line of
+   solutions: outside the assumptions), or there are more than max_rays. */
+PL_MAYBE_UNUSED static int pl_contact_rays(const pl_contact *p, double margin, double *rays, int max_rays)
+{
+    int n = 4 * p->m, np1 = n + 1, states[PL_CONTACT_MAX_NODES], count = 0, combo, n_combo = 1, c, i;
+    double jac[PL_MAX_N * (PL_MAX_N + 1)], a[PL_MAX_N * PL_MAX_N], b[PL_MAX_N], y[PL_MAX_N + 1];
+    for (c = 0; c < p->m; c++) n_combo *= 4;
+    for (combo = 0; combo < n_combo; combo++) {
+        int sign, code = combo;
+        for (c = 0; c < p->m; c++, code /= 4) states[c] = code % 4;
+        pl_contact_matrix(p, states, jac, n);
+        for (sign = 1; sign >= -1; sign -= 2) {
+            double norm = 0, worst = HUGE_VAL;
+            int same = 1;
+            memcpy(a, jac, sizeof(double) * (size_t)(n * n));
+            for (i = 0; i < n; i++) b[i] = -sign * jac[i + n * n];
+            if (!pl_solve_small(a, b, n)) return -1;
+            for (i = 0; i < n; i++) y[i] = b[i];
+            y[n] = sign;
+            for (i = 0; i <= n; i++) norm += y[i] * y[i];
+            norm = sqrt(norm);
+            for (c = 0; c < p->m && same; c++) {
+                double mg;
+                same = pl_contact_state(p, y, c, &mg) == states[c];
+                if (mg < worst) worst = mg;
+            }
+            if (!same) continue;
+            if (worst < margin * norm) return -1;
+            if (count >= max_rays) return -1;
+            memcpy(rays + (size_t)count * (size_t)np1, y, sizeof(double) * (size_t)np1);
+            count++;
+        }
+    }
+    return count;
+}
+
+/* Draws contact systems with m nodes (from *st: K = R R^T + 0.3 I plus a non-symmetric part
+   1.5 G, R and G standard normal; f standard normal; mu uniform in [0.3, 3]) until one has 3 or
+   more rays, none within relative margin 1e-3 of its region's boundary and no two within
+   cosine 0.9999 (c_diff 0.99999 tells them apart). Its rays go to rays (N + 1 each).
+   Returns their number, 0 if 100000 draws found none. */
+PL_MAYBE_UNUSED static int pl_random_contact(pl_contact *p, int m, unsigned long long *st, double *rays)
+{
+    int tries, m2 = 2 * m, np1 = 4 * m + 1, i, j, k;
+    for (tries = 0; tries < 100000; tries++) {
+        double r[4 * PL_CONTACT_MAX_NODES * PL_CONTACT_MAX_NODES];
+        int n_rays;
+        memset(p, 0, sizeof *p);
+        p->m = m;
+        for (i = 0; i < m2 * m2; i++) r[i] = pl_normal(st);
+        for (i = 0; i < m2; i++)
+            for (j = 0; j < m2; j++) {
+                double v = i == j ? 0.3 : 0;
+                for (k = 0; k < m2; k++) v += r[i + k * m2] * r[j + k * m2];
+                p->k[i + j * m2] = v + 1.5 * pl_normal(st);
+            }
+        for (i = 0; i < m2; i++) p->f[i] = pl_normal(st);
+        for (i = 0; i < m; i++) p->mu[i] = 0.3 + 2.7 * pl_uniform(st);
+        n_rays = pl_contact_rays(p, 1e-3, rays, PL_MAX_RAYS);
+        if (n_rays >= 3 && !pl_rays_close(rays, n_rays, np1, 0.9999)) return n_rays;
+    }
+    return 0;
 }
 
 /* Draws an LCP of size n (M and q standard normal, from *st) and its strictly complementary
@@ -173,21 +372,10 @@ PL_MAYBE_UNUSED static int pl_draw_lcp(pl_problem *p, int n, unsigned long long 
    those of g > 0 first). Returns their number, 0 if 100000 draws found none. */
 PL_MAYBE_UNUSED static int pl_random_lcp(pl_problem *p, int n, unsigned long long *st, int apart, double *rays)
 {
-    int tries, i, np1 = n + 1;
+    int tries, np1 = n + 1;
     for (tries = 0; tries < 100000; tries++) {
-        int a, n_rays = pl_draw_lcp(p, n, st, rays, &a), j1, j2, close = 0;
-        if (n_rays < 3) continue;
-        for (j1 = 0; apart && j1 < n_rays; j1++)
-            for (j2 = j1 + 1; j2 < n_rays; j2++) {
-                double c = 0, n1 = 0, n2 = 0;
-                for (i = 0; i < np1; i++) {
-                    c += rays[j1 * np1 + i] * rays[j2 * np1 + i];
-                    n1 += rays[j1 * np1 + i] * rays[j1 * np1 + i];
-                    n2 += rays[j2 * np1 + i] * rays[j2 * np1 + i];
-                }
-                close |= c > 0.9999 * sqrt(n1 * n2);
-            }
-        if (!close) return n_rays;
+        int a, n_rays = pl_draw_lcp(p, n, st, rays, &a);
+        if (n_rays >= 3 && !(apart && pl_rays_close(rays, n_rays, np1, 0.9999))) return n_rays;
     }
     return 0;
 }

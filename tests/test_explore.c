@@ -184,23 +184,6 @@ static int check_pl_ordinary(pl_problem *pp, const double *rays, int *stopped)
     return ok;
 }
 
-/* Whether two of the rays lie within c_diff [0.99999] of each other: one branch to the library */
-static int rays_merge(const double *rays, int n_rays, int np1)
-{
-    int i, j, k;
-    for (i = 0; i < n_rays; i++)
-        for (j = i + 1; j < n_rays; j++) {
-            double c = 0, ni = 0, nj = 0;
-            for (k = 0; k < np1; k++) {
-                c += rays[i * np1 + k] * rays[j * np1 + k];
-                ni += rays[i * np1 + k] * rays[i * np1 + k];
-                nj += rays[j * np1 + k] * rays[j * np1 + k];
-            }
-            if (c >= 0.99999 * sqrt(ni * nj)) return 1;
-        }
-    return 0;
-}
-
 /* Issue 17's measure of completeness: generated complementarity problems min(x, M x + q g),
    N = 2-4 (the families of tests/test_detect.c), whose trace from a ray of g > 0 passes
    through the origin. Where 3 or more rays meet there (a PC1 bifurcation point), the
@@ -221,7 +204,7 @@ static void test_pl_families_explore(void)
         draws++;
         n_rays = pl_draw_lcp(&pl, n, &st, rays, &a);
         if (a < 1 || n_rays < 2) continue; /* entered along a ray of g > 0 */
-        if (rays_merge(rays, n_rays, np1)) {
+        if (pl_rays_close(rays, n_rays, np1, 0.99999)) { /* one branch to the library (c_diff) */
             merged++;
             continue;
         }
