@@ -3433,10 +3433,14 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         }
         for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
         psb__copy(tc, s->rhs_ + np1, np1);
-        if (s->corr_reach_ > 0 && !(psb__dist_w(s, yc, y) <= s->corr_reach_)) {
-            *iterations = it;
-            s->last_fail_ = PSB__FAIL_CONVERGE;
-            return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector iterate left the step's reach");
+        if (s->corr_reach_ > 0) {
+            double away = psb__dist_w(s, yc, y);
+            /* a non-finite iterate goes on to the fault checks below */
+            if (away > s->corr_reach_ && psb__finite(away)) {
+                *iterations = it;
+                s->last_fail_ = PSB__FAIL_CONVERGE;
+                return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector iterate left the step's reach");
+            }
         }
         if (!psb__normalize_w(s, tc)) {
             s->last_fail_ = PSB__FAIL_SINGULAR;
