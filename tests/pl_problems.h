@@ -193,9 +193,9 @@ typedef struct pl_contact {
 
 enum { PL_APART, PL_STICK, PL_SLIP_LOW, PL_SLIP_UP };
 
-/* Node c's state at y, and how far y is from the region's boundary (the smallest of the
-   defining inequalities' margins, scaled by |y|): the enumeration rejects rays nearer than
-   its margin, whose region a sweep could not sample. */
+/* Node c's state at y, and into *margin the smallest slack of the state's defining
+   inequalities: pl_contact_rays rejects rays that close to a boundary (relative to |y|),
+   whose regions no sweep could sample. */
 PL_MAYBE_UNUSED static int pl_contact_state(const pl_contact *p, const double *y, int c, double *margin)
 {
     int m2 = 2 * p->m;
@@ -221,7 +221,8 @@ PL_MAYBE_UNUSED static int pl_contact_state(const pl_contact *p, const double *y
     return PL_STICK;
 }
 
-/* Row r of node c's two rows of dH in state st (row: N + 1 entries, stride ld). */
+/* Node c's two rows of dH in state st into jac (N x (N + 1), leading dimension ld, those
+   rows zero on entry). */
 PL_MAYBE_UNUSED static void pl_contact_rows(const pl_contact *p, int c, int st, double *jac, int ld)
 {
     int m2 = 2 * p->m, un = 2 * c, ut = un + 1, ln = m2 + un, lt = ln + 1, rn = m2 + un, rt = rn + 1;
@@ -242,6 +243,7 @@ PL_MAYBE_UNUSED static void pl_contact_rows(const pl_contact *p, int c, int st, 
     }
 }
 
+/* dH on the combination of states (one per node) into jac (leading dimension ld). */
 PL_MAYBE_UNUSED static void pl_contact_matrix(const pl_contact *p, const int *states, double *jac, int ld)
 {
     int m2 = 2 * p->m, n = 4 * p->m, i, j, c;
