@@ -537,9 +537,17 @@
      map of a closed manifold into R^N has mod-2 degree 0. So with the length adapting an
      odd count keeps the sweep going to n_span_max: random LCPs (bench_branching), complete
      sets N = 8 232 -> 234 of 236, N = 10 230 -> 244 of 254, at 5% more n_pc; of the
-     incomplete runs before, 22 of 28 had an odd count, none of the complete ones. An odd
-     count returned (report.n_branches, psb_diagram.n_odd) most likely misses a branch,
-     unless one runs along a piece boundary or y0 is not a regular point of its pieces.
+     incomplete runs before, 22 of 28 had an odd count, none of the complete ones. A count
+     still odd there (after the runs with a smaller h_init, see "Kinks within h_init") sweeps
+     once more, the pairs of found branches first, then random spans, with every direction
+     halfway between two of the first sweep's, while the count is odd, up to n_span counted
+     spans (report.n_span_odd): the missing region is most often thin and lies between
+     directions the first sweep sampled. Contact systems of 1-5 nodes (docs/branching-notes.md,
+     1346 ray entries): odd counts 17 -> 10 (4 of the 10 a ray within c_diff's angle of
+     another), at 0.3% more Algorithm 2.2 factorisations; the block, whose count is never odd,
+     as before. An odd count returned (report.n_branches, psb_diagram.n_odd) most likely
+     misses a branch, unless one runs along a piece boundary or y0 is not a regular point of
+     its pieces.
    - Adaptive end (patience, max_pc): stop after that many counted spans in a
      row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
      pair or a lucky random span.
@@ -1093,8 +1101,10 @@ typedef struct psb_branch_options {
                              n_span_max adapts (n_span counted spans at least, then on while
                              fewer than 3 times the span of the last new branch or while the
                              count of branches is odd; 2 n_span_max
-                             or 4 n_span spans in all, idle ones included); n_span_max =
-                             n_span is a fixed length */
+                             or 4 n_span spans in all, idle ones included; a count still odd
+                             then sweeps again, up to n_span counted spans, each direction
+                             halfway between two of the first sweep's); n_span_max = n_span is
+                             a fixed length */
     int patience;         /* stop after this many counted spans in a row found no new branch
                              [0: never] */
     long max_pc;          /* stop the sweep when n_pc reaches this budget [0: no budget] */
@@ -1167,6 +1177,7 @@ typedef struct psb_solver {
     int path_nts_, path_own_; /* trial's own known_ entry, for the cut (psb__try_tangent) */
     unsigned long long pairs_done_[32]; /* Algorithm 2.2: pairs (i, j), i < j < 64, of found
                                            branches swept, bit j (j - 1) / 2 + i */
+    double sweep_offset_; /* Algorithm 2.2: span directions at angles 2 pi (i + this) / n_dir */
     int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
                                          A^{-1} dpfac_ / delta_ is current */
     int branch_h_auto_, branch_h_min_auto_; /* follow the point (see psb__branch_h) */
@@ -1416,6 +1427,9 @@ typedef struct psb_branch_report {
                              found: the smallest n_span that finds them all, all else equal */
     long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
     int n_rand_last_new;  /* n_span = span_last_new would report */
+    int n_span_odd;       /* of n_span, the spans of the second sweep that an odd count began,
+                             each direction halfway between two of the first's (section 6,
+                             "An odd count"; 0 when the count came out even) */
     long n_failed;        /* trials and sample tangents that failed because of a fault, the sum
                              of the next three; psb_find_branches succeeds only when it is 0 */
     long n_failed_callback;  /* ... because a callback returned > 0 */
@@ -5535,7 +5549,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
     for (i = 0; i < s->branch.n_dir; i++) {
-        double alpha = 6.283185307179586 * i / s->branch.n_dir;
+        double alpha = 6.283185307179586 * (i + s->sweep_offset_) / s->branch.n_dir;
         for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
@@ -5611,17 +5625,123 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
     return t1;
 }
 
+/* Steps 2-7 of Algorithm 2.2 after Step 1 (psb__find_branches_once) has set t~1, t~2 and
+   branch 0; *overflow is set when a new branch found no room.
+   A span whose tangents were all tried before (the memo skips every direction, or the
+   screen every trial) tries nothing: it does not count against n_span. When the pairs of
+   known branches give only such spans, as on H = min(x, g - x) in R^k, whose 2^k rays
+   pairwise span planes meeting no other ray's region, they would use up every span and
+   starve the random ones: after one, a random span comes next. 2 n_span idle random spans in a row (in R^2, where every
+   span sweeps the one plane there is, they follow the first) or 4 n_span spans in all
+   (8 n_span when the length adapts, below) end the sweep: they bound the tangents spent.
+   Idle spans of pairs count in neither: each is followed by a random span, so they are
+   bounded by those, and counted they ended the sweep on the crossing kinks, k = 5, before
+   its random spans had found every ray (section 6, "Idle spans").
+   n_span left at its default (memo on): the sweep goes on past n_span until it has gone
+   twice as many counted spans without a new branch as it took to find the last one, up
+   to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
+   keep trickling in, and how long they took to come tells how long to wait); while the
+   count is odd it goes on to n_span_max (section 6, "An odd count": where the pieces are
+   transversal the branches come in pairs, so one is missing).
+   dense: the count stayed odd (psb__find_branches): the spans again, pairs first, with
+   each direction halfway between two of the first sweep's (section 6, "An odd count"),
+   while the count is odd, up to n_span counted spans. Returns PSB_SUCCESS or a fatal code. */
+static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, double *ts,
+                                 psb_branch_report *rep, int *overflow, int dense)
+{
+    int np1 = s->np1_, k, span, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
+    int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, spans_in_all, pi, pj;
+    int counted_before = rep->n_span;
+    long pc_before;
+    double *yc = PSB__VEC(s, PSB__V_BR_Y0), *t1 = PSB__VEC(s, PSB__V_BR_T1);
+    double *t2 = PSB__VEC(s, PSB__V_BR_T2), *pt = PSB__VEC(s, PSB__V_BR_P);
+    psb_result r, fatal = PSB_SUCCESS;
+    extend = s->branch.n_span_max > s->branch.n_span;
+    spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
+    if (dense) {
+        memset(s->pairs_done_, 0, sizeof s->pairs_done_);
+        s->sweep_offset_ = 0.5;
+        spans_in_all = 4 * s->branch.n_span;
+    }
+    for (span = 0; (dense ? rep->n_branches % 2 != 0 && rep->n_span - counted_before < s->branch.n_span
+                          : rep->n_span < s->branch.n_span ||
+                                (extend && rep->n_span < s->branch.n_span_max &&
+                                 (rep->n_span < 3 * rep->span_last_new || rep->n_branches % 2 != 0))) &&
+                   span - idle_pair_spans < spans_in_all; span++) {
+        found_before = rep->n_branches;
+        pc_before = rep->n_pc;
+        if (span > 0 || dense) {
+            pair_span = !pair_stale && psb__next_pair(s, ts, rep->n_branches, &pi, &pj);
+            if (pair_span) {
+                psb__copy(t1, ts + (size_t)pi * (size_t)np1, np1);
+                psb__copy(t2, ts + (size_t)pj * (size_t)np1, np1);
+            } else {
+                /* strategy (2): a random span (psb__restart_centre) */
+                double *rnd = PSB__VEC(s, PSB__V_BR_V), *prev = PSB__VEC(s, PSB__V_BR_TT);
+                const double *centre;
+                /* z / sqrt(w) with z standard normal is isotropic for <.,.>_w */
+                for (k = 0; k < np1; k++) rnd[k] = psb__gauss(s->rng_) / sqrt(s->w_[k]);
+                if (!psb__normalize_w(s, rnd)) continue;
+                psb__copy(prev, t2, np1);
+                centre = psb__restart_centre(s, ts, rep->n_branches, rep->n_rand, prev, t1);
+                global = !centre;
+                for (k = 0; k < np1; k++)
+                    pt[k] = yc[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
+                rep->n_rand++;
+                rep->n_tangents++;
+                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL);
+                if (psb__is_fatal(r)) {
+                    fatal = r;
+                    break;
+                }
+                if (r != PSB_SUCCESS) {
+                    psb__note_fault(s, r);
+                    psb__copy(t2, prev, np1);
+                    continue;
+                }
+                /* a tangent tried before: the plane through it and t~1 likely revisits swept
+                   ground (on a piecewise-linear H it is two piece directions); the random
+                   direction itself spans a fresh one */
+                if (global && !s->branch.no_memo && psb__memo_seen(s, t2)) psb__copy(t2, rnd, np1);
+            }
+        }
+        r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, overflow);
+        if (r != PSB_SUCCESS) {
+            fatal = r;
+            break;
+        }
+        pair_stale = pair_span && rep->n_pc == pc_before;
+        if (rep->n_pc == pc_before && !s->branch.no_memo) {
+            rep->n_span_idle++;
+            if (pair_span) idle_pair_spans++;
+            else if (++idle_spans_in_a_row >= 2 * s->branch.n_span) break;
+            continue;
+        }
+        idle_spans_in_a_row = 0;
+        rep->n_span++;
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) break;
+        if (rep->n_branches > found_before) {
+            rep->span_last_new = rep->n_span;
+            rep->n_pc_last_new = rep->n_pc;
+            rep->n_rand_last_new = rep->n_rand;
+        }
+        /* adaptive end: spans in a row that brought no new branch */
+        idle = rep->n_branches > found_before ? 0 : idle + 1;
+        if (s->branch.patience && idle >= s->branch.patience) break;
+    }
+    s->sweep_offset_ = 0;
+    return fatal;
+}
+
 /* One run of Algorithm 2.2 with the options in s->branch (psb__find_branches). */
 static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const double *t0,
                                           int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
-    int np1, k, span, overflow = 0, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
-    int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, spans_in_all, pi, pj;
-    long pc_before;
+    int np1, k, overflow = 0;
     unsigned long long seed;
     double *yc, *tc, *t1, *t2, *pt;
-    psb_result r, fatal = PSB_SUCCESS;
+    psb_result r;
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
     r = psb__check_couple(s, y0, t0);
@@ -5672,88 +5792,9 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     psb__copy(ts, t1, np1);
     rep->n_branches = 1;
 
-    /* A span whose tangents were all tried before (the memo skips every direction, or the
-       screen every trial) tries nothing: it does not count against n_span. When the pairs of known branches give only
-       such spans, as on H = min(x, g - x) in R^k, whose 2^k rays pairwise span planes meeting
-       no other ray's region, they would use up every span and starve the random ones: after
-       one, a random span comes next. 2 n_span idle random spans in a row (in R^2, where every
-       span sweeps the one plane there is, they follow the first) or 4 n_span spans in all
-       (8 n_span when the length adapts, below) end the sweep: they bound the tangents spent.
-       Idle spans of pairs count in neither: each is followed by a random span, so they are
-       bounded by those, and counted they ended the sweep on the crossing kinks, k = 5, before
-       its random spans had found every ray (section 6, "Idle spans").
-       n_span left at its default (memo on): the sweep goes on past n_span until it has gone
-       twice as many counted spans without a new branch as it took to find the last one, up
-       to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
-       keep trickling in, and how long they took to come tells how long to wait); while the
-       count is odd it goes on to n_span_max (section 6, "An odd count": where the pieces are
-       transversal the branches come in pairs, so one is missing). */
-    extend = s->branch.n_span_max > s->branch.n_span;
-    spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
-    for (span = 0; (rep->n_span < s->branch.n_span ||
-                    (extend && rep->n_span < s->branch.n_span_max &&
-                     (rep->n_span < 3 * rep->span_last_new || rep->n_branches % 2 != 0))) &&
-                   span - idle_pair_spans < spans_in_all; span++) {
-        found_before = rep->n_branches;
-        pc_before = rep->n_pc;
-        if (span > 0) {
-            pair_span = !pair_stale && psb__next_pair(s, ts, rep->n_branches, &pi, &pj);
-            if (pair_span) {
-                psb__copy(t1, ts + (size_t)pi * (size_t)np1, np1);
-                psb__copy(t2, ts + (size_t)pj * (size_t)np1, np1);
-            } else {
-                /* strategy (2): a random span (psb__restart_centre) */
-                double *rnd = PSB__VEC(s, PSB__V_BR_V), *prev = PSB__VEC(s, PSB__V_BR_TT);
-                const double *centre;
-                /* z / sqrt(w) with z standard normal is isotropic for <.,.>_w */
-                for (k = 0; k < np1; k++) rnd[k] = psb__gauss(s->rng_) / sqrt(s->w_[k]);
-                if (!psb__normalize_w(s, rnd)) continue;
-                psb__copy(prev, t2, np1);
-                centre = psb__restart_centre(s, ts, rep->n_branches, rep->n_rand, prev, t1);
-                global = !centre;
-                for (k = 0; k < np1; k++)
-                    pt[k] = yc[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
-                rep->n_rand++;
-                rep->n_tangents++;
-                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL);
-                if (psb__is_fatal(r)) return r;
-                if (r != PSB_SUCCESS) {
-                    psb__note_fault(s, r);
-                    psb__copy(t2, prev, np1);
-                    continue;
-                }
-                /* a tangent tried before: the plane through it and t~1 likely revisits swept
-                   ground (on a piecewise-linear H it is two piece directions); the random
-                   direction itself spans a fresh one */
-                if (global && !s->branch.no_memo && psb__memo_seen(s, t2)) psb__copy(t2, rnd, np1);
-            }
-        }
-        r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, &overflow);
-        if (r != PSB_SUCCESS) {
-            fatal = r;
-            break;
-        }
-        pair_stale = pair_span && rep->n_pc == pc_before;
-        if (rep->n_pc == pc_before && !s->branch.no_memo) {
-            rep->n_span_idle++;
-            if (pair_span) idle_pair_spans++;
-            else if (++idle_spans_in_a_row >= 2 * s->branch.n_span) break;
-            continue;
-        }
-        idle_spans_in_a_row = 0;
-        rep->n_span++;
-        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) break;
-        if (rep->n_branches > found_before) {
-            rep->span_last_new = rep->n_span;
-            rep->n_pc_last_new = rep->n_pc;
-            rep->n_rand_last_new = rep->n_rand;
-        }
-        /* adaptive end: spans in a row that brought no new branch */
-        idle = rep->n_branches > found_before ? 0 : idle + 1;
-        if (s->branch.patience && idle >= s->branch.patience) break;
-    }
+    r = psb__span_loop(s, max_branches, ys, ts, rep, &overflow, 0);
     psb__report_faults(s, rep);
-    if (fatal != PSB_SUCCESS) return fatal; /* psb__is_fatal in a sweep */
+    if (r != PSB_SUCCESS) return r;
     /* a trial that failed because of a fault might have found a branch: the set is not known
        to be complete */
     r = psb__faults_code(s, "Algorithm 2.2 (ys, ts: the branches found)");
@@ -5804,6 +5845,18 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         if (!turned && (rep->n_branches % 2 == 0 || rep->n_branches == before)) break;
         before = rep->n_branches;
         s->branch.h_init /= 16;
+    }
+    if (r == PSB_SUCCESS && rep->n_branches % 2 != 0 && s->branch.n_span_max > s->branch.n_span &&
+        !s->branch.no_memo && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc)) {
+        int overflow = 0, counted = rep->n_span;
+        r = psb__span_loop(s, max_branches, ys, ts, rep, &overflow, 1);
+        rep->n_span_odd = rep->n_span - counted;
+        psb__report_faults(s, rep);
+        if (r == PSB_SUCCESS) r = psb__faults_code(s, "Algorithm 2.2 (ys, ts: the branches found)");
+        if (r == PSB_SUCCESS) {
+            s->message[0] = 0;
+            if (overflow) r = PSB_BRANCH_CAPACITY;
+        }
     }
     s->branch.h_init = h_init;
     return r;

@@ -882,8 +882,8 @@ static void test_contact_systems(void)
 }
 
 /* n_span left at 0: at least 15 counted spans, then on while fewer than 3 times the span of the
-   last new branch or while the count of branches is odd, up to 60; n_span = 15 set by the
-   caller is kept. Random LCPs, N = 10, every
+   last new branch or while the count of branches is odd, up to 60 (an odd count then sweeps
+   again, up to 15 spans); n_span = 15 set by the caller is kept. Random LCPs, N = 10, every
    ray entered in turn, both ways: the default runs are complete more often. */
 static void test_sweep_length(void)
 {
@@ -918,8 +918,11 @@ static void test_sweep_length(void)
                        end a sweep sooner, never later */
                     want = 3 * br.span_last_new > 15 ? 3 * br.span_last_new : 15;
                     if (want > 60 || br.n_branches % 2 != 0) want = 60;
-                    off_rule += br.n_span > want ||
-                                (br.n_span < want && br.n_span_idle < 30 && br.n_span + br.n_span_idle < 120);
+                    if (br.n_span_odd > 0) /* the first sweep ended odd; the second: <= 15 */
+                        off_rule += br.n_span - br.n_span_odd > 60 || br.n_span_odd > 15;
+                    else
+                        off_rule += br.n_span > want || (br.n_span < want && br.n_span_idle < 30 &&
+                                                         br.n_span + br.n_span_idle < 120);
                     longer += br.n_span > 15;
                 }
                 psb_solver_free(&s);
@@ -1891,6 +1894,28 @@ static void test_odd_count_sweeps_on(void)
     }
     printf("  odd counts sweep on: %d of 5 runs complete (before: 0)\n", complete);
     CHECK(c == 5 && complete >= 4 && odd_short == 0 && fixed_ok);
+    {
+        /* a 3-node contact system (seed 9, the third draw) entered along ray 1: the first
+           sweep ends with 3 of its 4 rays (every pair and random span of 20 directions passes
+           the thin region of the fourth; reference BLAS and OpenBLAS); the second sweep's
+           directions, halfway between the first's, find it (before 0.11.0: 3 rays) */
+        pl_contact pc;
+        psb_problem prob;
+        psb_solver s;
+        psb_branch_report br;
+        double y[PL_MAX_N + 1];
+        int m, n_rays = 0, found;
+        st = 9;
+        for (m = 1; m <= 3; m++) n_rays = pl_random_contact(&pc, m, &st, rays);
+        CHECK(n_rays == 4);
+        psb_problem_init(&prob, 12, pl_contact_residual, pl_contact_jacobian, &pc);
+        CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+        CHECK(pl_branch_from_ray(&s, rays, 1, NULL, y, ys, ts, &br) == 0);
+        found = pl_match_rays(ts, br.n_branches, rays, n_rays, 13, 1e-6);
+        printf("  odd count, second sweep: %d of %d rays (%d spans of it)\n", found, n_rays, br.n_span_odd);
+        CHECK(br.n_branches == 4 && found == 4 && br.n_span_odd <= 15);
+        psb_solver_free(&s);
+    }
 }
 
 /* Algorithm 2.2's first sample tangent (Step 1) failing because of the Jacobian callback: the
