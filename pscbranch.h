@@ -542,8 +542,9 @@
      once more, the pairs of found branches first, then random spans, with every direction
      halfway between two of the first sweep's, up to n_span counted spans; then the spans of
      the pairs with 2 n_dir and then 4 n_dir directions, each halfway between two swept
-     before; all while the count is odd (report.n_span_odd): the missing region is most often
-     thin and lies between directions already sampled. bench_branching: random LCPs N = 10
+     before; all while the count is odd, not with patience set, within max_pc
+     (report.n_span_odd): the missing region is most often thin and lies between directions
+     already sampled. bench_branching: random LCPs N = 10
      242 -> 251 of 254 complete, contact systems N = 12 87 -> 90 of 90, at most 2% more
      Algorithm 2.2 factorisations; 1346 contact ray entries (docs/branching-notes.md): odd
      counts 17 -> 8 (4 of the 8 a ray within c_diff's angle of another). Runs whose count is
@@ -5810,17 +5811,21 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
    is most often thin and lies between directions already sampled. So the spans again, pairs
    first, each direction halfway between two of the first sweep's (psb__span_loop, dense);
    then, while the count is odd, the spans of pairs with 2 and then 4 times n_dir directions,
-   each halfway between two swept before. Returns PSB_SUCCESS or a fatal code. */
+   each halfway between two swept before, as long as these have not sampled more tangents
+   than the call had before them (with many branches their pairs are many). Returns
+   PSB_SUCCESS or a fatal code. */
 static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, double *ts,
                                   psb_branch_report *rep, int *overflow)
 {
     int level, pi, pj, np1 = s->np1_;
     psb_result r = psb__span_loop(s, max_branches, ys, ts, rep, overflow, 1);
+    long budget = 2 * rep->n_tangents;
     for (level = 2; level <= 3 && r == PSB_SUCCESS && rep->n_branches % 2 != 0 && !*overflow; level++) {
         memset(s->pairs_done_, 0, sizeof s->pairs_done_);
         s->sweep_offset_ = 0.5;
         s->sweep_n_dir_ = s->branch.n_dir << (level - 1);
-        while (rep->n_branches % 2 != 0 && psb__next_pair(s, ts, rep->n_branches, &pi, &pj)) {
+        while (rep->n_branches % 2 != 0 && !*overflow && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
+               rep->n_tangents + s->sweep_n_dir_ <= budget && psb__next_pair(s, ts, rep->n_branches, &pi, &pj)) {
             long pc_before = rep->n_pc;
             r = psb__sweep(s, PSB__VEC(s, PSB__V_BR_Y0), ts + (size_t)pi * (size_t)np1,
                            ts + (size_t)pj * (size_t)np1, max_branches, ys, ts, rep, overflow);
@@ -5877,8 +5882,9 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         before = rep->n_branches;
         s->branch.h_init /= 16;
     }
+    /* not with patience (the caller chose to stop early), nor past max_pc */
     if (r == PSB_SUCCESS && rep->n_branches % 2 != 0 && s->branch.n_span_max > s->branch.n_span &&
-        !s->branch.no_memo && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc)) {
+        !s->branch.no_memo && !s->branch.patience && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc)) {
         int overflow = 0, counted = rep->n_span;
         r = psb__odd_sweeps(s, max_branches, ys, ts, rep, &overflow);
         rep->n_span_odd = rep->n_span - counted;

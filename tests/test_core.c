@@ -1894,6 +1894,11 @@ static void test_odd_count_sweeps_on(void)
                 printf("  odd count, problem 22 ray 4: %d of %d rays (%d spans after the odd count)\n",
                        br.n_branches, n_rays, br.n_span_odd);
                 CHECK(ok);
+                /* patience set: the caller's early end stands */
+                memset(&bo, 0, sizeof bo);
+                bo.patience = 3;
+                CHECK(psb_find_branches(&s, y, t, &bo, PL_MAX_RAYS, ys, ts, &br) == PSB_SUCCESS);
+                CHECK(br.n_span_odd == 0);
             }
             /* n_span set: 15 spans, odd or not */
             memset(&bo, 0, sizeof bo);
