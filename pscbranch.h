@@ -544,11 +544,11 @@
      the pairs with 2 n_dir and then 4 n_dir directions, each halfway between two swept
      before; all while the count is odd, not with patience set, within max_pc
      (report.n_span_odd): the missing region is most often thin and lies between directions
-     already sampled. bench_branching: random LCPs N = 10
-     242 -> 251 of 254 complete, contact systems N = 12 87 -> 90 of 90, at most 2% more
-     Algorithm 2.2 factorisations; 1346 contact ray entries (docs/branching-notes.md): odd
-     counts 17 -> 8 (4 of the 8 a ray within c_diff's angle of another). Runs whose count is
-     even, the block's among them, are as before. An odd count returned (report.n_branches, psb_diagram.n_odd) most likely
+     already sampled. bench_branching: random LCPs N = 10 242 -> 251 of 254 complete,
+     contact systems N = 12 87 -> 90 of 90, at most 2.1% more Algorithm 2.2 factorisations;
+     1346 contact ray entries (docs/branching-notes.md): odd counts 17 -> 8 (4 of the 8 a ray
+     within c_diff's angle of another). Runs whose count is even, the block's among them, are
+     as before. An odd count returned (report.n_branches, psb_diagram.n_odd) most likely
      misses a branch, unless one runs along a piece boundary or y0 is not a regular point of
      its pieces.
    - Adaptive end (patience, max_pc): stop after that many counted spans in a
@@ -5635,9 +5635,10 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
    screen every trial) tries nothing: it does not count against n_span. When the pairs of
    known branches give only such spans, as on H = min(x, g - x) in R^k, whose 2^k rays
    pairwise span planes meeting no other ray's region, they would use up every span and
-   starve the random ones: after one, a random span comes next. 2 n_span idle random spans in a row (in R^2, where every
-   span sweeps the one plane there is, they follow the first) or 4 n_span spans in all
-   (8 n_span when the length adapts, below) end the sweep: they bound the tangents spent.
+   starve the random ones: after one, a random span comes next. 2 n_span idle random spans
+   in a row (in R^2, where every span sweeps the one plane there is, they follow the first)
+   or 4 n_span spans in all (8 n_span when the length adapts, below) end the sweep: they
+   bound the tangents spent.
    Idle spans of pairs count in neither: each is followed by a random span, so they are
    bounded by those, and counted they ended the sweep on the crossing kinks, k = 5, before
    its random spans had found every ray (section 6, "Idle spans").
