@@ -5648,8 +5648,7 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
    keep trickling in, and how long they took to come tells how long to wait); while the
    count is odd it goes on to n_span_max (section 6, "An odd count": where the pieces are
    transversal the branches come in pairs, so one is missing).
-   dense: the count stayed odd (psb__find_branches): the spans again, pairs first, with
-   each direction halfway between two of the first sweep's (section 6, "An odd count"),
+   dense: the count stayed odd (psb__odd_sweeps): the spans again, pairs first (span 0 too),
    while the count is odd, up to n_span counted spans. Returns PSB_SUCCESS or a fatal code. */
 static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, double *ts,
                                  psb_branch_report *rep, int *overflow, int dense)
@@ -5663,11 +5662,7 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
     psb_result r, fatal = PSB_SUCCESS;
     extend = s->branch.n_span_max > s->branch.n_span;
     spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
-    if (dense) {
-        memset(s->pairs_done_, 0, sizeof s->pairs_done_);
-        s->sweep_offset_ = 0.5;
-        spans_in_all = 4 * s->branch.n_span;
-    }
+    if (dense) spans_in_all = 4 * s->branch.n_span;
     for (span = 0; (dense ? rep->n_branches % 2 != 0 && rep->n_span - counted_before < s->branch.n_span
                           : rep->n_span < s->branch.n_span ||
                                 (extend && rep->n_span < s->branch.n_span_max &&
@@ -5734,8 +5729,20 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
         idle = rep->n_branches > found_before ? 0 : idle + 1;
         if (s->branch.patience && idle >= s->branch.patience) break;
     }
-    s->sweep_offset_ = 0;
     return fatal;
+}
+
+/* How a run of Algorithm 2.2 whose sweeps ended with r (PSB_SUCCESS or a fatal code) ends:
+   the fault counts into rep; a trial that failed because of a fault might have found a
+   branch, so the set is not known to be complete; else PSB_BRANCH_CAPACITY on overflow. */
+static psb_result psb__sweeps_end(psb_solver *s, psb_branch_report *rep, psb_result r, int overflow)
+{
+    psb__report_faults(s, rep);
+    if (r != PSB_SUCCESS) return r;
+    r = psb__faults_code(s, "Algorithm 2.2 (ys, ts: the branches found)");
+    if (r != PSB_SUCCESS) return r;
+    s->message[0] = 0;
+    return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
 
 /* One run of Algorithm 2.2 with the options in s->branch (psb__find_branches). */
@@ -5798,14 +5805,7 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     rep->n_branches = 1;
 
     r = psb__span_loop(s, max_branches, ys, ts, rep, &overflow, 0);
-    psb__report_faults(s, rep);
-    if (r != PSB_SUCCESS) return r;
-    /* a trial that failed because of a fault might have found a branch: the set is not known
-       to be complete */
-    r = psb__faults_code(s, "Algorithm 2.2 (ys, ts: the branches found)");
-    if (r != PSB_SUCCESS) return r;
-    s->message[0] = 0;
-    return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+    return psb__sweeps_end(s, rep, r, overflow);
 }
 
 /* A count still odd at the end of an adaptive sweep (psb__find_branches): the missing region
@@ -5819,11 +5819,14 @@ static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, d
                                   psb_branch_report *rep, int *overflow)
 {
     int level, pi, pj, np1 = s->np1_;
-    psb_result r = psb__span_loop(s, max_branches, ys, ts, rep, overflow, 1);
-    long budget = 2 * rep->n_tangents;
+    long budget;
+    psb_result r;
+    memset(s->pairs_done_, 0, sizeof s->pairs_done_);
+    s->sweep_offset_ = 0.5;
+    r = psb__span_loop(s, max_branches, ys, ts, rep, overflow, 1);
+    budget = 2 * rep->n_tangents;
     for (level = 2; level <= 3 && r == PSB_SUCCESS && rep->n_branches % 2 != 0 && !*overflow; level++) {
         memset(s->pairs_done_, 0, sizeof s->pairs_done_);
-        s->sweep_offset_ = 0.5;
         s->sweep_n_dir_ = s->branch.n_dir << (level - 1);
         while (rep->n_branches % 2 != 0 && !*overflow && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
                rep->n_tangents + s->sweep_n_dir_ <= budget && psb__next_pair(s, ts, rep->n_branches, &pi, &pj)) {
@@ -5834,9 +5837,9 @@ static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, d
             if (rep->n_pc > pc_before) rep->n_span++;
             else rep->n_span_idle++;
         }
-        s->sweep_offset_ = 0;
-        s->sweep_n_dir_ = 0;
     }
+    s->sweep_offset_ = 0;
+    s->sweep_n_dir_ = 0;
     return r;
 }
 
@@ -5889,12 +5892,7 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         int overflow = 0, counted = rep->n_span;
         r = psb__odd_sweeps(s, max_branches, ys, ts, rep, &overflow);
         rep->n_span_odd = rep->n_span - counted;
-        psb__report_faults(s, rep);
-        if (r == PSB_SUCCESS) r = psb__faults_code(s, "Algorithm 2.2 (ys, ts: the branches found)");
-        if (r == PSB_SUCCESS) {
-            s->message[0] = 0;
-            if (overflow) r = PSB_BRANCH_CAPACITY;
-        }
+        r = psb__sweeps_end(s, rep, r, overflow);
     }
     s->branch.h_init = h_init;
     return r;
