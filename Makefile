@@ -199,6 +199,9 @@ SMOKE = "smoke:$(BUILD)/consumer" \
 	"smoke:examples/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && examples/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
 	"smoke:examples/triangle --mesh 16" \
 	"smoke:examples/triangle --mesh 16 --problem fold" \
+	"smoke:examples/triangle --mesh 16 --problem fold --fold-trace end" \
+	"smoke:examples/triangle --mesh 16 --problem fold --fold-stop-kink 8 > $(BUILD)/fold_meet8.txt && grep -q 'gamma = 0.4886.*gamma rising, a limit point' $(BUILD)/fold_meet8.txt" \
+	"smoke:examples/triangle --mesh 16 --problem fold --fold-stop-kink 2 > $(BUILD)/fold_meet2.txt && grep -q 'monotone through it, not a limit point' $(BUILD)/fold_meet2.txt" \
 	"smoke:examples/block --explore" \
 	"smoke:examples/triangle --mesh 16 --explore" \
 	"smoke:examples/triangle --mesh 16 --explore --problem fold" \

@@ -73,10 +73,11 @@ if [[ " $STUDIES " == *" fold "* ]]; then
         N=$(sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' "$log")
         lo=$(awk -F, 'NR>1{print $2}' "$d/folds.csv" 2>/dev/null | sort -g | head -1)
         hi=$(awk -F, 'NR>1{print $2}' "$d/folds.csv" 2>/dev/null | sort -g | tail -1)
-        steps=$(sed -n 's/.*after \([0-9]*\) steps, \([0-9]*\) kinks.*/\1/p' "$log")
-        kinks=$(sed -n 's/.*after \([0-9]*\) steps, \([0-9]*\) kinks.*/\2/p' "$log")
-        nf=$(sed -n 's/.*factorisations \([0-9]*\).*/\1/p' "$log")
-        cpu=$(sed -n 's/.*tangent switches, time \([0-9.]*\) s.*/\1/p' "$log")
+        # summed over the traces (two when the one from gamma = -3 stops at a kink, see --fold-trace)
+        steps=$(sed -n 's/.*after \([0-9]*\) steps, \([0-9]*\) kinks.*/\1/p' "$log" | awk '{s += $1} END {print s}')
+        kinks=$(sed -n 's/.*after \([0-9]*\) steps, \([0-9]*\) kinks.*/\2/p' "$log" | awk '{s += $1} END {print s}')
+        nf=$(sed -n 's/^  time .*, factorisations \([0-9]*\)$/\1/p' "$log")
+        cpu=$(sed -n 's/^  time \([0-9.]*\) s (CPU).*/\1/p' "$log")
         wall=$(sed -n 's/^wall //p' "$log")
         m="no"
         [[ -n "$lo" && -n "$hi" ]] && [[ $(sig4 "$lo" "${PLO[$n]:-0}") == yes && $(sig4 "$hi" "${PHI[$n]:-0}") == yes ]] && m=yes

@@ -15,7 +15,10 @@
    --problem fold: h(gamma) = (-20 - 10 gamma, -7.5), traced from gamma = -3 (pushing) to
      gamma = 1; its two limit points bound the gamma interval with three solutions (paper, M4096:
      0.56541 and 0.66665). H is piecewise linear, so the limit points are kinks: each is located
-     to h_min and reported at the couple just before it.
+     to h_min and reported at the couple just before it. Where the tangent switch cannot pass
+     such a kink (the upper limit point on M262144), a second trace from gamma = 1 (every
+     contact node separated) comes back to it: the two meet there with gamma rising on both
+     sides, which makes that kink a limit point (--fold-trace).
 
    --solver dense|banded|umfpack|klu: how the bordered systems are solved (examples/fe_solvers.h);
      by default the banded LU, and UMFPACK from M4096 on in a build with SuiteSparse: the fine
@@ -26,7 +29,7 @@
    --compare FILE (up to 4) prints the relative H1(Omega) errors of a coarser file's
    displacements against this run's, branch by branch.
 
-   Usage: triangle [--mesh N] [--problem branching|fold] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
+   Usage: triangle [--mesh N] [--problem branching|fold] [--fold-trace auto|start|end] [--fold-stop-kink K] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
                    [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
                    [--solver dense|banded|umfpack|klu] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
    (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
@@ -61,6 +64,11 @@ static const char triangle_usage[] =
     "\n"
     "  --mesh N              N subdivisions per leg, N^2 P1 triangles (default 32; 2 <= N <= 2048)\n"
     "  --problem branching|fold   what to compute (default branching)\n"
+"  --fold-trace auto|start|end   where the fold problem's curve is traced from: gamma = -3,\n"
+    "                        gamma = 1, or (auto, default) from -3 and, when that trace stops at a\n"
+    "                        kink it cannot pass, also from 1 back to that kink\n"
+    "  --fold-stop-kink K    stop the trace from gamma = -3 on its K-th kink as if it could not pass\n"
+    "                        it (checks --fold-trace auto's meeting of two traces; 1..1000000)\n"
     "  --load H1|auto        branching load h = gamma (-H1, -7.5), 0 < H1 <= 1e6; auto: the middle of\n"
     "                        the loads with four branches on this mesh (default: 26.4 when inside, else auto)\n"
     "  --ndir N              directions per span of Algorithm 2.2 (default 30; 1..10000)\n"
@@ -87,6 +95,8 @@ static const char triangle_usage[] =
 
 typedef struct args {
     int n, fold, ndir, nspan, multipliers, verbose, quiet, solver, load_auto, explore, no_piece_memo;
+    int fold_trace;     /* FOLD_AUTO, FOLD_START, FOLD_END */
+    int fold_stop_kink; /* 0, or stop the trace from gamma = -3 on its K-th kink */
     double keep_mb;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
@@ -101,6 +111,7 @@ static int parse(int argc, char **argv, args *a)
 {
     static const char *const problems[] = {"branching", "fold", NULL};
     static const char *const dirichlet[] = {"mult", "elim", NULL};
+    static const char *const fold_traces[] = {"auto", "start", "end", NULL}; /* FOLD_* order */
     const char *kappa = NULL, *load = NULL, *compare = NULL;
     int elim = 0;
     cli c;
@@ -116,6 +127,8 @@ static int parse(int argc, char **argv, args *a)
         else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {}
         else if (cli_int(&c, "--mesh", &a->n, 2, TRI_MAX_MESH)) {}
         else if (cli_choice(&c, "--problem", &a->fold, problems)) {}
+        else if (cli_choice(&c, "--fold-trace", &a->fold_trace, fold_traces)) {}
+        else if (cli_int(&c, "--fold-stop-kink", &a->fold_stop_kink, 1, 1000000)) {}
         else if (cli_int(&c, "--ndir", &a->ndir, 1, TRI_MAX_NDIR)) {}
         else if (cli_int(&c, "--nspan", &a->nspan, 1, TRI_MAX_NSPAN)) {}
         else if (cli_double(&c, "--hmin", &a->hmin, 0, 1, 1)) {}
@@ -189,18 +202,40 @@ typedef struct fold_state {
     int have_kink;
     int nfold, verbose;
     double folds[PSB_MAX_FOLDS];
+    /* the trace from gamma = 1 back to where the trace from gamma = -3 stopped: it stops on the
+       kink it locates within FOLD_MEET_TOL (||.||_w) of meet */
+    const double *meet;
+    double *diff; /* n + 1 doubles of scratch */
+    int met;
+    double meet_dist, meet_tgamma;
+    int stop_kink, kinks; /* stop on the stop_kink-th kink located (0: never) */
 } fold_state;
+
+/* Both traces locate the kink to h_min = 1e-9 along the curve; the kinks next to a limit point
+   lie farther apart than this on every mesh traced (M4096-M262144). */
+#define FOLD_MEET_TOL 1e-7
 
 static int fold_point(const psb_point *pt, void *user)
 {
     fold_state *fs = (fold_state *)user;
+    int n = fs->run->md->n, i;
     if (fs->verbose)
-        printf("    point %4ld  gamma %+.6f  t_gamma %+.4f  h %.2e%s%s%s%s\n", pt->index, pt->y[fs->run->md->n], pt->t[fs->run->md->n], pt->h,
+        printf("    point %4ld  gamma %+.6f  t_gamma %+.4f  h %.2e%s%s%s%s\n", pt->index, pt->y[n], pt->t[n], pt->h,
                pt->flags & PSB_POINT_KINK ? "  kink" : "", pt->flags & PSB_POINT_SWITCH ? "  switch" : "",
                pt->flags & PSB_POINT_FOLD ? "  fold" : "", pt->flags & PSB_POINT_BOUND ? "  bound" : "");
     if (pt->flags & PSB_POINT_KINK) {
-        fs->kink_gamma = pt->y[fs->run->md->n];
+        fs->kink_gamma = pt->y[n];
         fs->have_kink = 1;
+        if (++fs->kinks == fs->stop_kink) return 1;
+        if (fs->meet) {
+            for (i = 0; i <= n; i++) fs->diff[i] = pt->y[i] - fs->meet[i];
+            fs->meet_dist = psb_norm_w(&fs->run->s, fs->diff);
+            if (fs->meet_dist <= FOLD_MEET_TOL) {
+                fs->met = 1;
+                fs->meet_tgamma = pt->t[n];
+                return 1;
+            }
+        }
         return 0;
     }
     fe_run_point(pt, fs->run);
@@ -210,70 +245,181 @@ static int fold_point(const psb_point *pt, void *user)
     return 0;
 }
 
-/* Traces the fold problem from (y, t) at gamma = -3 to gamma = 1, collecting the limit points. */
-static psb_result trace_fold(fe_run *run, double *y, double *t, fold_state *fs, psb_trace_report *rep, int verbose)
+/* Traces the fold problem from (y, t) (at gamma = -3 or 1) within [-3, 1], recording the points as
+   trace `which` (run->br index) and collecting the limit points; meet: see fold_state. */
+static psb_result trace_fold(fe_run *run, double *y, double *t, fold_state *fs, psb_trace_report *rep, int verbose,
+                             int which, const double *meet, double *diff, int stop_kink)
 {
     psb_trace_options to;
     memset(fs, 0, sizeof *fs);
     fs->verbose = verbose;
     fs->run = run;
+    fs->meet = meet;
+    fs->diff = diff;
+    fs->stop_kink = stop_kink;
     memset(&to, 0, sizeof to);
     to.param_min = -3;
     to.param_max = 1;
     to.locate_kinks = 1;
     to.on_point = fold_point;
     to.point_user = fs;
-    run->cur = 0;
-    run->nbr = 1;
+    run->cur = which;
+    run->nbr = which + 1;
     return psb_trace(&run->s, y, t, &to, rep);
+}
+
+/* --fold-trace: where the fold problem's curve is traced from */
+enum { FOLD_AUTO, FOLD_START, FOLD_END };
+
+/* The fold problem's curve from gamma = -3 to 1 and its limit points. FOLD_START: one trace from
+   the couple (y, t) at gamma = -3. FOLD_END: one trace from gamma = 1 down (every contact node is
+   separated there, so Newton from zero converges). FOLD_AUTO: from gamma = -3, and when that trace
+   stops at a kink it cannot pass (PSB_NONSMOOTH_END: on M262144 the upper limit point is such a
+   kink), from gamma = 1 back to that kink. Where the two traces meet, both arriving with t_gamma of
+   one sign, gamma has an extremum along the curve: a limit point. stop_kink > 0 (--fold-stop-kink)
+   stops the trace from -3 on that kink as if it could not pass it, to check the meeting. */
+typedef struct fold_study {
+    int ran[2];                   /* the trace from gamma = -3, the one from gamma = 1 */
+    psb_result end[2];
+    psb_trace_report rep[2];
+    double *y[2];                 /* their end couples (n + 1 each; y[0] is the caller's y) */
+    int met;                      /* the trace from 1 stopped on the other's end kink */
+    double meet_gamma, meet_dist;
+    int meet_is_fold;
+    int nfold;
+    double folds[2 * PSB_MAX_FOLDS + 1];
+    int covered;                  /* the traces cover the curve from gamma = -3 to 1 */
+} fold_study;
+
+/* Returns 0, or -1 after a message (out of memory, Newton or the tangent at gamma = 1 failed). */
+static int run_fold_study(fe_run *run, double *y, double *t, int from, int stop_kink, int verbose, fold_study *st)
+{
+    int n = run->md->n, k, rc = 0;
+    size_t bytes = sizeof(double) * ((size_t)n + 1);
+    double *yb = NULL, *tb = NULL, *diff = NULL;
+    fold_state fs;
+    memset(st, 0, sizeof *st);
+    st->y[0] = y;
+    if (from != FOLD_END) {
+        st->ran[0] = 1;
+        st->end[0] = trace_fold(run, y, t, &fs, &st->rep[0], verbose, 0, NULL, NULL, stop_kink);
+        for (k = 0; k < fs.nfold; k++) st->folds[st->nfold++] = fs.folds[k];
+        st->covered = st->end[0] == PSB_PARAM_BOUND && y[n] == 1.0;
+        if (from == FOLD_START || !(st->end[0] == PSB_NONSMOOTH_END || (stop_kink && st->end[0] == PSB_STOPPED))) return 0;
+    }
+    yb = calloc((size_t)n + 1, sizeof(double));
+    tb = calloc((size_t)n + 1, sizeof(double));
+    diff = malloc(bytes);
+    if (!yb || !tb || !diff) { fprintf(stderr, "%s: out of memory\n", fe_run_prog(run)); rc = -1; goto done; }
+    yb[n] = 1;
+    fe_run_progress(run, "Newton at gamma = 1");
+    if (psb_solve_at_param(&run->s, yb, 50) != PSB_SUCCESS) {
+        fprintf(stderr, "%s: Newton at gamma = 1 failed: %s\n", fe_run_prog(run), psb_solver_message(&run->s));
+        rc = -1;
+        goto done;
+    }
+    tb[n] = -1; /* towards smaller gamma */
+    if (psb_tangent(&run->s, yb, tb, tb) != PSB_SUCCESS) {
+        fprintf(stderr, "%s: tangent at gamma = 1 failed: %s\n", fe_run_prog(run), psb_solver_message(&run->s));
+        rc = -1;
+        goto done;
+    }
+    fe_run_progress(run, "tracing from gamma = 1%s", st->ran[0] ? " back to where the trace from gamma = -3 stopped" : "");
+    st->ran[1] = 1;
+    st->end[1] = trace_fold(run, yb, tb, &fs, &st->rep[1], verbose, st->ran[0], st->ran[0] ? y : NULL, diff, 0);
+    if (fs.met) {
+        st->met = 1;
+        st->meet_gamma = y[n];
+        st->meet_dist = fs.meet_dist;
+        st->meet_is_fold = (t[n] > 0) == (fs.meet_tgamma > 0);
+        if (st->meet_is_fold) st->folds[st->nfold++] = y[n];
+    }
+    for (k = 0; k < fs.nfold; k++) st->folds[st->nfold++] = fs.folds[k];
+    st->covered = st->met ? st->end[1] == PSB_STOPPED : st->end[1] == PSB_PARAM_BOUND && yb[n] == -3.0;
+    st->y[1] = yb;
+    yb = NULL;
+done:
+    free(yb); free(tb); free(diff);
+    return rc;
+}
+
+static void fold_study_free(fold_study *st) { free(st->y[1]); st->y[1] = NULL; }
+
+/* "   (paper: ...)": the paper's limit points on this mesh (Fig. 9), or on M4096 */
+static void print_paper_folds(int n)
+{
+    static const struct { int n; const char *lo, *hi; } paper[] = {
+        {64, "0.56541", "0.66665"}, {128, "0.5883", "0.70731"}, {256, "0.59996", "0.73289"}, {512, "0.60585", "0.7499"}};
+    int k;
+    for (k = 0; k < 4; k++)
+        if (paper[k].n == n) {
+            printf("   (paper, this mesh: %s, %s)\n", paper[k].lo, paper[k].hi);
+            return;
+        }
+    printf("   (paper: %s, %s on M4096)\n", paper[0].lo, paper[0].hi);
 }
 
 static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
 {
-    int n = run->md->n, k, ok;
-    psb_trace_report rep;
-    fold_state fs;
-    psb_result r;
-    fe_branch *b = &run->br[0];
-    r = trace_fold(run, y, t, &fs, &rep, a->verbose);
-    memcpy(b->y, y, sizeof(double) * ((size_t)n + 1));
-    b->end = r;
-    b->steps = rep.steps;
-    b->resnorm = fe_resnorm(run->md, y);
-    b->duplicate_of = -1;
-    b->number = 1;
-    fe_contact_states(run->md, y, b->states, NULL);
-    snprintf(b->label, sizeof b->label, "h = (-20 - 10 gamma, -7.5)");
-    printf("\n  trace from gamma = -3: %s after %ld steps, %d kinks located, %d tangent switches, time %.2f s (CPU), factorisations %ld\n",
-           psb_result_string(r), rep.steps, rep.n_kinks, rep.n_switches, seconds() - t0, run->s.stats.n_factor);
-    printf("  end: gamma = %g, |H| = %.1e, contact nodes: %d separated, %d stick, %d slip+, %d slip-\n", y[n], b->resnorm,
-           b->states[0], b->states[1], b->states[2], b->states[3]);
+    static const char *const from_label[2] = {"from gamma = -3", "from gamma = 1"};
+    int n = run->md->n, k, j, ok;
+    fold_study st;
+    if (run_fold_study(run, y, t, a->fold_trace, a->fold_stop_kink, a->verbose, &st)) return 1;
+    printf("\n");
+    for (j = 0, k = 0; k < 2; k++) {
+        fe_branch *b;
+        if (!st.ran[k]) continue;
+        b = &run->br[j];
+        memcpy(b->y, st.y[k], sizeof(double) * ((size_t)n + 1));
+        b->end = st.end[k];
+        b->steps = st.rep[k].steps;
+        b->resnorm = fe_resnorm(run->md, b->y);
+        b->duplicate_of = -1;
+        b->number = ++j;
+        fe_contact_states(run->md, b->y, b->states, NULL);
+        snprintf(b->label, sizeof b->label, "h = (-20 - 10 gamma, -7.5)");
+        printf("  trace %s: %s after %ld steps, %d kinks located, %d tangent switches\n", from_label[k],
+               psb_result_string(b->end), b->steps, st.rep[k].n_kinks, st.rep[k].n_switches);
+        printf("    end: gamma = %.8g, |H| = %.1e, contact nodes: %d separated, %d stick, %d slip+, %d slip-\n", b->y[n],
+               b->resnorm, b->states[0], b->states[1], b->states[2], b->states[3]);
+    }
+    run->nbr = j;
+    if (st.met)
+        printf("  the trace from gamma = 1 located the other's end kink, gamma = %.8f (distance %.1e): %s\n", st.meet_gamma,
+               st.meet_dist, !st.meet_is_fold ? "gamma is monotone through it, not a limit point"
+                             : t[n] > 0 ? "both traces arrive with gamma rising, a limit point"
+                                        : "both traces arrive with gamma falling, a limit point");
+    else if (st.ran[0] && st.ran[1])
+        printf("  the trace from gamma = 1 located no kink at the other's end\n");
+    printf("  time %.2f s (CPU), factorisations %ld\n", seconds() - t0, run->s.stats.n_factor);
     printf("  limit points (gamma): ");
-    for (k = 0; k < fs.nfold; k++) printf("%s%.5f", k ? ", " : "", fs.folds[k]);
-    printf("%s   (paper: 0.56541, 0.66665 on M4096; library fold estimates:", fs.nfold ? "" : "none");
-    for (k = 0; k < rep.n_folds && k < PSB_MAX_FOLDS; k++) printf(" %.5f", rep.fold_params[k]);
-    printf(")\n");
-    if (fs.nfold == 2)
+    for (k = 0; k < st.nfold; k++) printf("%s%.5f", k ? ", " : "", st.folds[k]);
+    printf("%s", st.nfold ? "" : "none");
+    print_paper_folds(a->n);
+    if (st.nfold == 2)
         printf("  three solutions for gamma in (%.5f, %.5f), i.e. h1 in (%.4f, %.4f) with h2 = -7.5\n",
-               fmin(fs.folds[0], fs.folds[1]), fmax(fs.folds[0], fs.folds[1]), 20 + 10 * fmin(fs.folds[0], fs.folds[1]),
-               20 + 10 * fmax(fs.folds[0], fs.folds[1]));
-    ok = r == PSB_PARAM_BOUND && y[n] == 1.0 && b->resnorm <= 1e-8 && fs.nfold == 2;
-    for (k = 0; k < fs.nfold; k++) ok = ok && fs.folds[k] > 0.4 && fs.folds[k] < 0.9;
+               fmin(st.folds[0], st.folds[1]), fmax(st.folds[0], st.folds[1]), 20 + 10 * fmin(st.folds[0], st.folds[1]),
+               20 + 10 * fmax(st.folds[0], st.folds[1]));
+    ok = st.covered && st.nfold == 2;
+    for (k = 0; k < run->nbr; k++) ok = ok && run->br[k].resnorm <= 1e-8;
+    for (k = 0; k < st.nfold; k++) ok = ok && st.folds[k] > 0.4 && st.folds[k] < 0.9;
     if (a->out) {
         char path[1024];
         FILE *fp = fe_run_open(run, path, a->out, "folds.csv");
         int bad = !fp;
         if (fp) {
             fprintf(fp, "fold,gamma\n");
-            for (k = 0; k < fs.nfold; k++) fprintf(fp, "%d,%.10f\n", k + 1, fs.folds[k]);
+            for (k = 0; k < st.nfold; k++) fprintf(fp, "%d,%.10f\n", k + 1, st.folds[k]);
             bad = fe_run_close(run, fp, path);
         }
         if (bad || fe_run_write(run, a->out, "triangle (fold)", 0) || fe_run_write_gnuplot(run, a->out, "triangle (fold)", "m", 1)) {
             fprintf(stderr, "triangle: FAILED (a file could not be written, see above)\n");
+            fold_study_free(&st);
             return 1;
         }
-        printf("  wrote %s/folds.csv, branches.csv, diagram.csv, branch_1.vtk, body_1.dat, plot.gp\n", a->out);
+        printf("  wrote %s/folds.csv, branches.csv, diagram.csv, plot.gp and per trace branch_K.vtk, body_K.dat\n", a->out);
     }
+    fold_study_free(&st);
     printf("triangle: %s\n", ok ? "OK (two limit points in (0.4, 0.9))" : "FAILED (limit points differ from the paper)");
     return ok ? 0 : 1;
 }
@@ -311,8 +457,7 @@ static int choose_load(args *a)
     fe_run run;
     psb_options opt;
     psb_branch_options bo;
-    psb_trace_report rep;
-    fold_state fs;
+    fold_study st;
     double h0[2] = {-20, -7.5}, h1[2] = {-10, 0}, *y = NULL, *t = NULL, *w;
     int n, ok = 0, k;
     fe_solver fsol;
@@ -340,9 +485,11 @@ static int choose_load(args *a)
     y[n] = -3;
     t[n] = 1;
     ok = psb_solve_at_param(&run.s, y, 50) == PSB_SUCCESS && psb_tangent(&run.s, y, t, t) == PSB_SUCCESS &&
-         trace_fold(&run, y, t, &fs, &rep, 0) == PSB_PARAM_BOUND && fs.nfold == 2;
+         !run_fold_study(&run, y, t, a->fold_trace, 0, 0, &st);
+    if (ok) fold_study_free(&st);
+    ok = ok && st.covered && st.nfold == 2;
     if (ok) {
-        double lo = 20 + 10 * fmin(fs.folds[0], fs.folds[1]), hi = 20 + 10 * fmax(fs.folds[0], fs.folds[1]);
+        double lo = 20 + 10 * fmin(st.folds[0], st.folds[1]), hi = 20 + 10 * fmax(st.folds[0], st.folds[1]);
         printf("triangle: on this mesh three solutions exist for h = (h1, -7.5) with h1 in (%.4f, %.4f)\n", lo, hi);
         if (a->load == 0 && lo < 26.4 && 26.4 < hi) {
             a->load = 26.4;
@@ -424,7 +571,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
             printf(" %.8f", folds[i]);
             ok = ok && folds[i] > 0.4 && folds[i] < 0.9;
         }
-        printf("   (paper: 0.56541, 0.66665 on M4096)\n");
+        print_paper_folds(a->n);
         ok = ok && n_fold == 2 && d.n_edges == 1 && d.edges[0].end == PSB_EDGE_BOUND;
         /* the hand-driven fold run from the same couple: its limit points are kinks located to h_min */
         {
@@ -433,7 +580,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
             double worst = 0;
             memcpy(ye, y, bytes);
             memcpy(te, t, bytes);
-            trace_fold(run, ye, te, &fs, &rep, 0);
+            trace_fold(run, ye, te, &fs, &rep, 0, 0, NULL, NULL, 0);
             ok = ok && fs.nfold == n_fold;
             for (i = 0; i < n_fold && i < fs.nfold; i++) worst = fmax(worst, fabs(folds[i] - fs.folds[i]));
             printf("  hand-driven fold run: %d limit points, largest difference %.1e in gamma\n", fs.nfold, worst);
@@ -510,6 +657,11 @@ int main(int argc, char **argv)
                a.refine, a.load);
         t1 = seconds();
         goto table;
+    }
+    if (a.fold && !a.explore && a.fold_trace == FOLD_END) {
+        rc = run_fold(&run, y, t, &a, t0);
+        fe_solver_report(&fsol);
+        goto done;
     }
     y[n] = a.fold ? -3 : -1; /* the pushing side: Newton from zero converges there */
     fe_run_progress(&run, "Newton at gamma = %g", y[n]);

@@ -117,6 +117,8 @@ usage "--mesh 100000: must be between 2 and 2048" triangle --mesh 100000
 usage "--mesh 16x: expected an integer" triangle --mesh 16x
 usage "--mesh 1: must be between 2" triangle --mesh 1
 usage "--problem foo: expected one of branching, fold" triangle --problem foo
+usage "--fold-trace both: expected one of auto, start, end" triangle --fold-trace both
+usage "--fold-stop-kink" triangle --fold-stop-kink 0
 usage "--load -3: must be > 0" triangle --load -3
 usage "--load abc: expected a number" triangle --load abc
 usage "--nspan 1001: must be between 1 and 1000" triangle --nspan 1001
