@@ -1950,6 +1950,9 @@ extern void PSCBRANCH_FORTRAN(dorm2r)(const char *side, const char *trans, const
 }
 #endif
 
+/* Directions a pass of the tangent switch remembers (psb__switch_fresh) */
+#define PSB__SW_RING 8
+
 /* Scratch vectors of n+1 components, carved from one block at init. */
 enum {
     PSB__V_Y,     /* corrector / Newton iterate */
@@ -1957,7 +1960,8 @@ enum {
     PSB__V_FD,    /* finite-difference point */
     PSB__V_REF,   /* reference direction copy */
     PSB__V_STEP_Y, PSB__V_STEP_T,   /* psb_step trial couple */
-    PSB__V_SW_Y, PSB__V_SW_T, PSB__V_SW_D, PSB__V_SW_P, PSB__V_SW_A, PSB__V_SW_B, PSB__V_SW_C, PSB__V_SW_L, /* switch */
+    PSB__V_SW_Y, PSB__V_SW_T, PSB__V_SW_D, PSB__V_SW_P, PSB__V_SW_A, PSB__V_SW_B, PSB__V_SW_C, /* switch */
+    PSB__V_SW_L, PSB__V_SW_L_END = PSB__V_SW_L + PSB__SW_RING - 1, /* its last directions tried */
     PSB__V_IO_Y, PSB__V_IO_T,       /* psb_step / psb_switch_tangent: the caller's couple, copied */
     PSB__V_TR_Y, PSB__V_TR_T, PSB__V_TR_Y0, PSB__V_TR_T0, PSB__V_TR_B, PSB__V_TR_S, PSB__V_TR_K, /* trace */
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
@@ -3808,18 +3812,21 @@ static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const dou
     return PSB_NONSMOOTH_END;
 }
 
-/* Whether the switch tries dir: not when it is, to rounding, the direction (either sign) it
-   tried last in this pass. In a piece every probe's tangent is the same, and a try from y along
-   it with a floor at least the last one's (the floors only grow within a pass) ends as the last
-   did: a later pass tried 3 switch_n_dir copies of one failing direction in 6 s where the first
-   took 11 ms, and at a cluster of kinks on triangle M65536 the straight-ahead probes tried one
-   direction 24 times, each halving h from h_init to h_min. */
-static int psb__switch_fresh(psb_solver *s, const double *dir, int *have_last)
+/* Whether the switch tries dir: not when it is, to rounding, a direction (either sign) it tried
+   among the last PSB__SW_RING of this pass (*n_tried counts them). In a piece every probe's
+   tangent is the same, and a try from y along it with a floor at least that try's (the floors
+   only grow within a pass) ends as that try did: a later pass tried 3 switch_n_dir copies of one
+   failing direction in 6 s where the first took 11 ms; at a cluster of kinks on triangle M65536
+   the straight-ahead probes tried one direction 24 times, each halving h from h_init to h_min;
+   in bench_branching's traces to a branch point 43% of the tries repeated one of the pass, 91%
+   of those within the last 8. */
+static int psb__switch_fresh(psb_solver *s, const double *dir, int *n_tried)
 {
-    double *last = PSB__VEC(s, PSB__V_SW_L);
-    if (*have_last && fabs(psb__cos_w(s, dir, last)) >= 1 - 1e-9) return 0;
-    psb__copy(last, dir, s->np1_);
-    *have_last = 1;
+    int k, n = *n_tried < PSB__SW_RING ? *n_tried : PSB__SW_RING;
+    for (k = 0; k < n; k++)
+        if (fabs(psb__cos_w(s, dir, PSB__VEC(s, PSB__V_SW_L + k))) >= 1 - 1e-9) return 0;
+    psb__copy(PSB__VEC(s, PSB__V_SW_L + *n_tried % PSB__SW_RING), dir, s->np1_);
+    ++*n_tried;
     return 1;
 }
 
@@ -3830,7 +3837,7 @@ static int psb__switch_fresh(psb_solver *s, const double *dir, int *have_last)
 static psb_result psb__switch_pass(psb_solver *s, double *y, double *t, const double *t_before,
                                    double c_done, double c_sw)
 {
-    int np1 = s->np1_, i, k, pass, have_last = 0;
+    int np1 = s->np1_, i, k, pass, n_tried = 0;
     double *dir = PSB__VEC(s, PSB__V_SW_D), *probe = PSB__VEC(s, PSB__V_SW_P);
     double *t1 = PSB__VEC(s, PSB__V_SW_A), *q = PSB__VEC(s, PSB__V_SW_B), delta;
     psb_result r;
@@ -3841,7 +3848,7 @@ static psb_result psb__switch_pass(psb_solver *s, double *y, double *t, const do
         if (psb__is_fatal(r)) return r;
         psb__note_fault(s, r);
         if (r != PSB_SUCCESS || psb__cos_w(s, dir, t) >= c_sw || psb__cos_w(s, dir, t) < c_done) continue;
-        if (!psb__switch_fresh(s, dir, &have_last)) continue;
+        if (!psb__switch_fresh(s, dir, &n_tried)) continue;
         r = psb__switch_try(s, y, t, t_before, dir, s->opt.h_min);
         if (r != PSB_NONSMOOTH_END) return r;
     }
@@ -3871,7 +3878,7 @@ static psb_result psb__switch_pass(psb_solver *s, double *y, double *t, const do
                 psb__note_fault(s, r);
                 if (r != PSB_SUCCESS || fabs(psb__cos_w(s, dir, t)) >= c_sw || fabs(psb__cos_w(s, dir, t)) < c_done)
                     continue;
-                if (!psb__switch_fresh(s, dir, &have_last)) continue;
+                if (!psb__switch_fresh(s, dir, &n_tried)) continue;
                 /* steps much shorter than the probe distance see only the kink itself */
                 r = psb__switch_try(s, y, t, t_before, dir, fmax(s->opt.h_min, delta / 64));
                 if (r != PSB_NONSMOOTH_END) return r;
