@@ -343,12 +343,12 @@
    ahead is swept in switch_n_dir directions at three probe distances, as Algorithm 2.2 does,
    with trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). If that
    finds nothing, both are repeated with the directions they left out that differ from t
-   beyond a tangent's rounding (cosine in [c_diff, 1 - 1e-12)), each once (a direction equal to
-   the one tried just before, to 1e-9 in cosine, is skipped): steps also fail at kinks that
+   beyond a tangent's rounding (cosine in [c_diff, 1 - 1e-12)): steps also fail at kinks that
    turn by less than acos(c_diff) when a thin wedge of other pieces lies straight ahead (the
-   corrector cycles between them), and such a kink is no end point. At a point
-   where more than two branches meet, the trace continues on one of them: use Algorithms 2.1
-   and 2.2 to get them all. Continuation restarts at h_init.
+   corrector cycles between them), and such a kink is no end point. Each pass skips a
+   direction equal (to 1e-9 in cosine, either sign) to one of the last 8 it tried: its steps
+   would end as they did. At a point where more than two branches meet, the trace continues on
+   one of them: use Algorithms 2.1 and 2.2 to get them all. Continuation restarts at h_init.
    The tangent switch and the deduplication of branches compare tangents in the weighted norm:
    two pieces that differ only in components of tiny weight look alike there, so do not weight
    any group of unknowns (e.g. multipliers) far below the others.
