@@ -64,7 +64,7 @@ static const char triangle_usage[] =
     "\n"
     "  --mesh N              N subdivisions per leg, N^2 P1 triangles (default 32; 2 <= N <= 2048)\n"
     "  --problem branching|fold   what to compute (default branching)\n"
-"  --fold-trace auto|start|end   where the fold problem's curve is traced from: gamma = -3,\n"
+    "  --fold-trace auto|start|end   where the fold problem's curve is traced from: gamma = -3,\n"
     "                        gamma = 1, or (auto, default) from -3 and, when that trace stops at a\n"
     "                        kink it cannot pass, also from 1 back to that kink\n"
     "  --fold-stop-kink K    stop the trace from gamma = -3 on its K-th kink as if it could not pass\n"
