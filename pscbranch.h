@@ -348,7 +348,11 @@
    corrector cycles between them), and such a kink is no end point. Each pass skips a
    direction equal (to 1e-9 in cosine, either sign) to one of the last 8 it tried: its steps
    would end as they did. At a point where more than two branches meet, the trace continues on
-   one of them: use Algorithms 2.1 and 2.2 to get them all. Continuation restarts at h_init.
+   one of them: use Algorithms 2.1 and 2.2 to get them all. A cluster of kinks closer together
+   than the probes resolve may end the trace there (PSB_NONSMOOTH_END; at a limit point of the
+   triangle's fold curve on M65536, three kinks within 4e-8 along it): Algorithms 2.1-2.2, or a
+   trace from the curve's other end (examples/triangle.c, --fold-trace), go on from there.
+   Continuation restarts at h_init.
    The tangent switch and the deduplication of branches compare tangents in the weighted norm:
    two pieces that differ only in components of tiny weight look alike there, so do not weight
    any group of unknowns (e.g. multipliers) far below the others.
