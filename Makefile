@@ -159,7 +159,8 @@ $(BUILD)/test_mumps_seq: tests/test_mumps.c contrib/psb_mumps.h tests/harness.h 
 
 
 # The sparse direct solvers of contrib/psb_sparse.h (UMFPACK, KLU) when SuiteSparse is installed
-# (libsuitesparse-dev): block and triangle then take --solver umfpack|klu, and build/test_sparse
+# (libsuitesparse-dev): block and triangle then take --solver umfpack|klu (and the triangle
+# contrib/psb_condense.h's --solver condensed, its default on small meshes), and build/test_sparse
 # joins the suite. The library itself never depends on it. The stamp rebuilds when that changes.
 SUITESPARSE_INC ?= /usr/include/suitesparse
 SUITESPARSE ?= $(shell test -f $(SUITESPARSE_INC)/umfpack.h && test -f $(SUITESPARSE_INC)/klu.h && echo yes)
@@ -168,18 +169,19 @@ SS_CFLAGS = -DFE_SUITESPARSE -I$(SUITESPARSE_INC)
 SS_LIBS = -lumfpack -lklu
 SPARSE_TESTS = $(BUILD)/test_sparse
 SMOKE_SPARSE = "smoke:examples/block --solver umfpack" "smoke:examples/block --solver klu" \
-	"smoke:examples/triangle --mesh 16 --solver umfpack" "smoke:examples/triangle --mesh 16 --problem fold --solver klu"
+	"smoke:examples/triangle --mesh 16 --solver umfpack" "smoke:examples/triangle --mesh 16 --problem fold --solver klu" \
+	"smoke:examples/triangle --mesh 16 --solver banded" "smoke:examples/triangle --mesh 16 --problem fold --solver banded"
 endif
 $(BUILD)/suitesparse-$(SUITESPARSE): | $(BUILD)
 	rm -f $(BUILD)/suitesparse-*
 	touch $@
 examples/block examples/triangle: examples/%: examples/%.c $(HEADER) examples/fe.h examples/explore_out.h \
-		examples/cli.h examples/fe_solvers.h contrib/psb_sparse.h $(BUILD)/suitesparse-$(SUITESPARSE)
+		examples/cli.h examples/fe_solvers.h contrib/psb_sparse.h contrib/psb_condense.h $(BUILD)/suitesparse-$(SUITESPARSE)
 	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(if $(filter examples/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
 		$(if $(filter examples/block,$@),$(BLOCK_LIBS)) $(LIBS)
 examples/block: examples/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
 
-$(BUILD)/test_sparse: tests/test_sparse.c tests/harness.h contrib/psb_sparse.h examples/fe.h $(HEADER) | $(BUILD)
+$(BUILD)/test_sparse: tests/test_sparse.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h examples/fe.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) -Itests tests/test_sparse.c -o $@ $(SS_LIBS) $(LIBS)
 examples/quasistatic: examples/fe.h
 examples/02_explore examples/03_pitchforks: examples/explore_out.h
@@ -256,7 +258,7 @@ bench/bench_mumps_factor: bench/bench_mumps_factor.c bench/bench_time.h examples
 	$(CC) $(ALL_CFLAGS) $(MPI_CFLAGS) $< -o $@ $(MUMPS_LIBS) $(LIBS)
 
 # the sparse solvers' factorisation times (bench_sparse) and whole runs per solver, with SuiteSparse
-bench/bench_sparse: bench/bench_sparse.c bench/bench_time.h $(HEADER) examples/fe.h contrib/psb_sparse.h
+bench/bench_sparse: bench/bench_sparse.c bench/bench_time.h $(HEADER) examples/fe.h contrib/psb_sparse.h contrib/psb_condense.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $(SS_CFLAGS) $< -o $@ $(SS_LIBS) $(LIBS)
 
 bench: $(BENCH) examples/block examples/triangle $(if $(SS_LIBS),bench/bench_sparse) \

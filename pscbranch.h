@@ -309,7 +309,10 @@
      parameter column included) and a callback for its values; MUMPS's analysis once per
      solver object, a numeric factorisation per factor call, a singular or non-finite B > 0
      (so the tangent fallbacks apply); the factorisation can spread over MPI ranks while the
-     continuation runs on rank 0 (psb_mumps_main; mpirun -np K).
+     continuation runs on rank 0 (psb_mumps_main; mpirun -np K). contrib/psb_condense.h is
+     for Jacobians that vary with y in a few rows only (linear elasticity with contact): the
+     constant rows are factored once (UMFPACK) and each factor call factors the dense Schur
+     complement on the varying rows' unknowns, exact at folds as well.
    PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
    scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
    Tangent. The bordered system [dH(y); (W r)^T] t = e_{N+1} (r the reference direction) is
@@ -2425,11 +2428,29 @@ static double psb__norm2(const double *a, int n)
     return sqrt(sum);
 }
 
-/* Weighted cosine of the angle between a and b (0 when either vanishes). */
+/* Weighted cosine of the angle between a and b (0 when either vanishes), with ||a||_w given
+   as na (< 0: computed here). One pass forms the sums psb__norm_w and psb__dot_w would, term for
+   term in the same order, so the value is theirs bit for bit; Algorithm 2.2 compares each trial
+   direction with every stored one, which made these passes a third of the triangle M4096's run. */
+static double psb__cos_w_na(const psb_solver *s, const double *a, double na, const double *b)
+{
+    double saa = 0, sbb = 0, sab = 0, nb;
+    const double *w = s->w_;
+    int i;
+    for (i = 0; i < s->np1_; i++) {
+        double wa = w[i] * a[i];
+        saa += wa * a[i];
+        sab += wa * b[i];
+        sbb += w[i] * b[i] * b[i];
+    }
+    if (na < 0) na = saa >= 1e-290 && saa <= 1e290 ? sqrt(saa) : psb__norm_w(s, a);
+    nb = sbb >= 1e-290 && sbb <= 1e290 ? sqrt(sbb) : psb__norm_w(s, b);
+    return (na > 0 && nb > 0) ? sab / (na * nb) : 0.0;
+}
+
 static double psb__cos_w(const psb_solver *s, const double *a, const double *b)
 {
-    double na = psb__norm_w(s, a), nb = psb__norm_w(s, b);
-    return (na > 0 && nb > 0) ? psb__dot_w(s, a, b) / (na * nb) : 0.0;
+    return psb__cos_w_na(s, a, -1.0, b);
 }
 
 static void psb__copy(double *dst, const double *src, int n) { memmove(dst, src, (size_t)n * sizeof *dst); }
@@ -5327,8 +5348,9 @@ static psb_result psb__sample_refresh(psb_solver *s, int from_memo, const double
 static int psb__memo_seen(const psb_solver *s, const double *t)
 {
     int m, stored = s->memo_n_ < s->memo_cap_ ? s->memo_n_ : s->memo_cap_;
+    double nt = psb__norm_w(s, t);
     for (m = 0; m < stored; m++)
-        if (fabs(psb__cos_w(s, t, s->memo_ + (size_t)m * (size_t)s->np1_)) >= s->opt.c_diff) return 1;
+        if (fabs(psb__cos_w_na(s, t, nt, s->memo_ + (size_t)m * (size_t)s->np1_)) >= s->opt.c_diff) return 1;
     return 0;
 }
 
@@ -5341,12 +5363,13 @@ static int psb__trial_known(const psb_solver *s, const double *x, const double *
                             const double *done, int own)
 {
     int m, np1 = s->np1_, stored = s->known_n_ < s->memo_cap_ ? s->known_n_ : s->memo_cap_;
+    double nx = psb__norm_w(s, x);
     for (m = 0; m < n_ts; m++)
-        if (psb__cos_w(s, x, ts + (size_t)m * (size_t)np1) >= s->opt.c_diff) return 1;
+        if (psb__cos_w_na(s, x, nx, ts + (size_t)m * (size_t)np1) >= s->opt.c_diff) return 1;
     for (m = 0; m < stored; m++)
-        if (m != own && psb__cos_w(s, x, s->known_ + (size_t)m * (size_t)np1) >= s->opt.c_diff)
+        if (m != own && psb__cos_w_na(s, x, nx, s->known_ + (size_t)m * (size_t)np1) >= s->opt.c_diff)
             return 1;
-    if (done && psb__cos_w(s, x, done) >= s->opt.c_diff) return 1;
+    if (done && psb__cos_w_na(s, x, nx, done) >= s->opt.c_diff) return 1;
     return psb__memo_seen(s, x);
 }
 

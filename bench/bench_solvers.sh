@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # bench_solvers.sh - whole runs of the FE examples per linear solver (run by `make bench` when
 # SuiteSparse is there): block M800 and M3200 with the banded LU, UMFPACK and KLU (the
-# defaults otherwise: input branch 1, n_dir 20, n_span 15), triangle M4096 branching.
-# --large: block M12800 and triangle M16384 (fold study) instead, banded and UMFPACK.
+# defaults otherwise: input branch 1, n_dir 20, n_span 15), triangle M4096 branching (banded,
+# UMFPACK, condensed).
+# --large: block M12800 (banded, UMFPACK) and triangle M16384 (fold study, with condensed too).
 # Table on stdout, CSV in bench/out/solvers.csv. Set OPENBLAS_NUM_THREADS=1 with OpenBLAS.
 set -u
 cd "$(dirname "$0")/.."
@@ -28,9 +29,9 @@ run() { # example mesh solver args...
 if [ $large = 0 ]; then
     for s in banded umfpack klu; do run block 20x40 $s; done
     for s in banded umfpack klu; do run block 40x80 $s; done
-    for s in banded umfpack; do run triangle 64 $s --load 26.4; done
+    for s in banded umfpack condensed; do run triangle 64 $s --load 26.4; done
 else
     for s in banded umfpack; do run block 80x160 $s; done
-    for s in banded umfpack; do run triangle 128 $s --problem fold; done
+    for s in banded umfpack condensed; do run triangle 128 $s --problem fold; done
 fi
 echo "  CSV: $csv"

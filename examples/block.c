@@ -161,7 +161,11 @@ static int parse(int argc, char **argv, args *a)
             else a->compare[a->ncompare++] = compare;
         }
         else if (cli_choice(&c, "--dirichlet", &elim, dirichlet)) a->multipliers = !elim;
-        else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {}
+        else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {
+            if (c.status == CLI_OK && a->solver == FE_SOLVER_CONDENSED)
+                cli_fail(&c, "--solver condensed: every row of the block's Jacobian varies (Ciarlet-Geymonat); "
+                             "condensed is for Hooke's law (the triangle)");
+        }
         else if (cli_string(&c, "--kappa", &kappa)) {
             if (strcmp(kappa, "1/N")) cli_parse_double(&c, kappa, &a->kappa, 0, 1e12, 1);
             else a->kappa = -1;

@@ -1166,6 +1166,21 @@ static inline int fe_sparse_fill(const double *y, double *ax, double *dparam, vo
     return K.overflow ? -1 : 0;
 }
 
+/* The rows of dH that vary with y under Hooke's law: each contact node's multiplier rows (the
+   rest is the constant stiffness, Dirichlet and load; contrib/psb_condense.h's varying rows).
+   rows holds 2 ncontact; returns how many were written. */
+static inline int fe_contact_rows(const fe_model *md, int *rows)
+{
+    int k, nr = 0;
+    for (k = 0; k < md->ncontact; k++) {
+        int a = md->cnode[k];
+        if (md->cdof[a] < 0) continue;
+        rows[nr++] = md->cdof[a];
+        rows[nr++] = md->cdof[a] + 1;
+    }
+    return nr;
+}
+
 /* ---- relative H1 error between nested meshes ------------------------------------------------- */
 
 /* Shape function values at reference point (xi, eta): Q1 on [-1, 1]^2 with vertices

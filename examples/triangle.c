@@ -20,9 +20,11 @@
      contact node separated) comes back to it: the two meet there with gamma rising on both
      sides, which makes that kink a limit point (--fold-trace).
 
-   --solver dense|banded|umfpack|klu: how the bordered systems are solved (examples/fe_solvers.h);
-     by default the banded LU, and UMFPACK from M4096 on in a build with SuiteSparse: the fine
-     meshes need it.
+   --solver dense|banded|umfpack|klu|condensed: how the bordered systems are solved (examples/
+     fe_solvers.h). In a build with SuiteSparse the default is `condensed` through M16384: the
+     stiffness (Hooke's law: constant) factored once, a dense system on the contact unknowns at
+     each call (contrib/psb_condense.h; M4096 7x faster than UMFPACK), and UMFPACK from M65536
+     on; without SuiteSparse the banded LU.
    Table 4 (branching): --save FILE writes the branches' end points at |gamma| = 1; --refine FILE
    reads such a file of a coarser nested mesh (N a multiple of its own) and re-solves each end
    point on this mesh by Newton from the interpolated coarse solution, skipping the branching;
@@ -31,7 +33,7 @@
 
    Usage: triangle [--mesh N] [--problem branching|fold] [--fold-trace auto|start|end] [--fold-stop-kink K] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
                    [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
-                   [--solver dense|banded|umfpack|klu] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
+                   [--solver dense|banded|umfpack|klu|condensed] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
    (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
    Build (from the repository root; `make` adds SuiteSparse when libsuitesparse-dev is there):
@@ -78,8 +80,8 @@ static const char triangle_usage[] =
     "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2, 1 for fold; 0 < W <= 1e12)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
-    "  --solver dense|banded|umfpack|klu   linear solver (default banded; umfpack from M4096\n"
-    "                        (a factorisation ~1.3x faster or more), in a build with SuiteSparse)\n"
+    "  --solver dense|banded|umfpack|klu|condensed   linear solver (default banded; in a build with\n"
+    "                        SuiteSparse condensed through M16384, umfpack from M65536)\n"
     "  --keep-mb MB          memory for earlier factorisations kept by umfpack/klu (default 256;\n"
     "                        1..1e6; contrib/psb_sparse.h)\n"
     "  --explore             the whole diagram from the start point alone (psb_explore): the four\n"

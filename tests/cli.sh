@@ -81,6 +81,7 @@ usage "--ndir 2147483648: must be between 1 and" block --ndir 2147483648
 usage "--nspan abc: expected an integer" block --nspan abc
 usage "--restart foo: expected one of mixed, paper, global" block --restart foo
 usage "--dirichlet foo: expected one of mult, elim" block --dirichlet foo
+usage "--solver condensed" block --solver condensed
 usage "--seed abc: expected a non-negative integer" block --seed abc
 usage "--seed -1: expected a non-negative integer" block --seed -1
 usage "--seed 99999999999999999999: must be at most" block --seed 99999999999999999999
