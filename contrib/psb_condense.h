@@ -155,6 +155,11 @@ PSB_CONDENSE_DEF psb_linear_solver psb_condense_solver(psb_condense *cd);
 #include <stdlib.h>
 #include <string.h>
 
+/* BLAS, declared as pscbranch.h declares LAPACK's routines */
+extern void PSCBRANCH_FORTRAN(dgemv)(const char *trans, const psb__lint *m, const psb__lint *n, const double *alpha,
+                                     const double *a, const psb__lint *lda, const double *x, const psb__lint *incx,
+                                     const double *beta, double *y, const psb__lint *incy PSB__STRLEN_ARG);
+
 #define PSB__CONDENSE_OMEGA_GOOD (8 * DBL_EPSILON)
 #define PSB__CONDENSE_OMEGA_MAX 1e-10
 
@@ -426,7 +431,7 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
     psb_condense *cd = (psb_condense *)ctx;
     int n = cd->n, nv = cd->n_v, m = cd->n_v + 1, i, j, k, q, t, rc;
     psb__lint lm = m, info = 0;
-    double *s = cd->s_, *rowsum = cd->work_, normb = 0, umax = 0, umin = HUGE_VAL;
+    double *s = cd->s_, *rowsum = cd->work_, *ztr, normb = 0, umax = 0, umin = HUGE_VAL;
     cd->message = "";
     cd->factored_ = 0;
     for (j = 0; j <= n; j++)
@@ -473,12 +478,19 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
     }
     s[nv + (size_t)nv * m] = row[cd->param_index];
     for (q = 0; q < cd->n_i; q++) cd->ri_[q] = row[psb__condense_ycomp(cd, cd->iidx_[q])];
+    ztr = rowsum; /* Z^T r_I in the row sums' room, no longer needed */
+    if (cd->n_i > 0 && cd->n_z > 0) { /* one BLAS call rather than n_Z dot products */
+        psb__lint li = cd->n_i, lz = cd->n_z, one = 1;
+        double alpha = 1, beta = 0;
+        PSCBRANCH_FORTRAN(dgemv)("T", &li, &lz, &alpha, cd->z_, &li, cd->ri_, &one, &beta, ztr, &one PSB__STRLEN_ONE);
+    } else {
+        for (t = 0; t < cd->n_z; t++) ztr[t] = 0;
+    }
     for (t = 0; t < cd->n_z; t++) {
-        const double *zt = cd->z_ + (size_t)t * (size_t)cd->n_i, *pt = cd->p_ + (size_t)t * (size_t)nv;
-        double *sc = s + (size_t)cd->zcol_[t] * m, dot = 0;
-        for (q = 0; q < cd->n_i; q++) dot += cd->ri_[q] * zt[q];
+        const double *pt = cd->p_ + (size_t)t * (size_t)nv;
+        double *sc = s + (size_t)cd->zcol_[t] * m;
         for (q = 0; q < nv; q++) sc[q] -= pt[q];
-        sc[nv] -= dot;
+        sc[nv] -= ztr[t];
     }
     PSCBRANCH_FORTRAN(dgetrf)(&lm, &lm, s, &lm, cd->ipiv_, &info);
     if (info < 0) { cd->message = "dgetrf rejected an argument"; return -1; }
