@@ -181,8 +181,9 @@ examples/block examples/triangle: examples/%: examples/%.c $(HEADER) examples/fe
 		$(if $(filter examples/block,$@),$(BLOCK_LIBS)) $(LIBS)
 examples/block: examples/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
 
-$(BUILD)/test_sparse: tests/test_sparse.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h examples/fe.h $(HEADER) | $(BUILD)
-	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) -Itests tests/test_sparse.c -o $@ $(SS_LIBS) $(LIBS)
+$(BUILD)/test_sparse: tests/test_sparse.c tests/condense_decl.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h \
+		examples/fe.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) -Itests tests/test_sparse.c tests/condense_decl.c -o $@ $(SS_LIBS) $(LIBS)
 examples/quasistatic: examples/fe.h
 examples/02_explore examples/03_pitchforks: examples/explore_out.h
 

@@ -42,8 +42,10 @@
      checked by its normwise backward error in B, omega = ||b - B z|| / (||B|| ||z|| + ||b||)
      (max norms): above 8 eps it is refined in B (at most two steps), above 1e-10 after that
      solve returns 1 (the library rejects the step). A singular S (a zero pivot, or a pivot
-     ratio min |U_ii| / max |U_ii| below rcond_min [1e3 eps]) or NaN/Inf in the values or the
-     row make factor return 1.
+     ratio min |U_ii| / max |U_ii| below rcond_min [1e3 eps], S's rows scaled to max |S_ij| = 1
+     first, so that the test does not depend on units) or NaN/Inf in the values or the row
+     make factor return 1. Init refuses an A_II whose UMFPACK pivot ratio (scaled) is below
+     rcond_min.
      Cost: memory n_I n_Z + (n_V + 1)^2 doubles beside A's copy and A_II's factors; a factor
      call O(nnz(A) + n_I n_Z + n_V^3), a solve O(nnz(factors) + n_I n_Z). It wins where n_V is
      small against n: on the triangle of examples/ (n_V = 4 per contact node) at M4096 a
@@ -55,7 +57,8 @@
      row_perm [NULL]  a permutation of the n equations applied to A_II before factoring, as
                       psb_sparse_options.row_perm; it must map the rows of I onto rows of I
      symmetric [0]    UMFPACK's symmetric strategy for A_II (as psb_sparse_options.symmetric)
-     rcond_min [1e3 eps]   the pivot ratio of S below which B is reported singular
+     rcond_min [1e3 eps]   the pivot ratio of S (rows scaled) below which B is reported
+                      singular, and of A_II below which init refuses it
 
    RETURN CODES of psb_condense_init: 0, or psb_sparse.h's PSB_SPARSE_ERR_MEMORY,
    PSB_SPARSE_ERR_INPUT (bad size, pattern, row list or permutation; a fill that fails at y0;
@@ -120,7 +123,8 @@ typedef struct psb_condense {
     double *vi_val_;
     int n_vv_, *vv_k_, *vv_s_;     /* A_VV's entries: index into A, index into S */
     double *s_, *ax_, *dparam_, *row_, *ri_, normb_;
-    psb__lint *ipiv_;
+    void *ipiv_;              /* S's pivots (LAPACK integers) */
+    double *rscale_;          /* S's row scaling, 1 / max_j |S_ij| */
     double *work_;            /* solve scratch */
     int factored_;
     void *umf_symbolic_, *umf_numeric_;
@@ -155,10 +159,36 @@ PSB_CONDENSE_DEF psb_linear_solver psb_condense_solver(psb_condense *cd);
 #include <stdlib.h>
 #include <string.h>
 
-/* BLAS, declared as pscbranch.h declares LAPACK's routines */
-extern void PSCBRANCH_FORTRAN(dgemv)(const char *trans, const psb__lint *m, const psb__lint *n, const double *alpha,
-                                     const double *a, const psb__lint *lda, const double *x, const psb__lint *incx,
-                                     const double *beta, double *y, const psb__lint *incy PSB__STRLEN_ARG);
+/* LAPACK and BLAS, named and typed by pscbranch.h's macros (manual, section 8) and declared as
+   its implementation declares them, so this file compiles with or without it */
+#ifndef PSCBRANCH_LAPACK_INT
+#define PSCBRANCH_LAPACK_INT int
+#endif
+#ifndef PSCBRANCH_FORTRAN
+#define PSCBRANCH_FORTRAN(name) name##_
+#endif
+#ifdef PSCBRANCH_NO_FORTRAN_STRLEN
+#define PSB__CD_STRLEN_ARG
+#define PSB__CD_STRLEN_ONE
+#else
+#define PSB__CD_STRLEN_ARG , size_t
+#define PSB__CD_STRLEN_ONE , (size_t)1
+#endif
+typedef PSCBRANCH_LAPACK_INT psb__cd_lint;
+#ifdef __cplusplus
+extern "C" {
+#endif
+extern void PSCBRANCH_FORTRAN(dgetrf)(const psb__cd_lint *m, const psb__cd_lint *n, double *a, const psb__cd_lint *lda,
+                                      psb__cd_lint *ipiv, psb__cd_lint *info);
+extern void PSCBRANCH_FORTRAN(dgetrs)(const char *trans, const psb__cd_lint *n, const psb__cd_lint *nrhs, const double *a,
+                                      const psb__cd_lint *lda, const psb__cd_lint *ipiv, double *b, const psb__cd_lint *ldb,
+                                      psb__cd_lint *info PSB__CD_STRLEN_ARG);
+extern void PSCBRANCH_FORTRAN(dgemv)(const char *trans, const psb__cd_lint *m, const psb__cd_lint *n, const double *alpha,
+                                     const double *a, const psb__cd_lint *lda, const double *x, const psb__cd_lint *incx,
+                                     const double *beta, double *y, const psb__cd_lint *incy PSB__CD_STRLEN_ARG);
+#ifdef __cplusplus
+}
+#endif
 
 #define PSB__CONDENSE_OMEGA_GOOD (8 * DBL_EPSILON)
 #define PSB__CONDENSE_OMEGA_MAX 1e-10
@@ -172,7 +202,7 @@ PSB_CONDENSE_DEF void psb_condense_free(psb_condense *cd)
     free(cd->iidx_); free(cd->vidx_); free(cd->ieq_); free(cd->iip_); free(cd->iii_); free(cd->iix_);
     free(cd->zcol_); free(cd->z_); free(cd->p_); free(cd->vi_row_); free(cd->vi_col_); free(cd->vi_val_); free(cd->vv_k_);
     free(cd->vv_s_); free(cd->s_); free(cd->ax_); free(cd->dparam_); free(cd->row_); free(cd->ri_);
-    free(cd->ipiv_); free(cd->work_); free(cd->umf_iwork_);
+    free(cd->ipiv_); free(cd->rscale_); free(cd->work_); free(cd->umf_iwork_);
     memset(cd, 0, sizeof *cd);
 }
 
@@ -238,6 +268,19 @@ PSB_CONDENSE_DEF int psb_condense_init(psb_condense *cd, int n, int param_index,
     nnz = colp[n];
     for (k = 0; k < nnz; k++)
         if (rowi[k] < 0 || rowi[k] >= n) return psb__condense_fail(cd, PSB_SPARSE_ERR_INPUT, "a row index lies outside [0, n)");
+    {
+        int *last = (int *)psb__condense_alloc((size_t)n, sizeof(int)); /* column + 1 that last held row i */
+        if (!last) return psb__condense_fail(cd, PSB_SPARSE_ERR_MEMORY, "out of memory");
+        for (j = 0; j < n; j++)
+            for (k = colp[j]; k < colp[j + 1]; k++) {
+                if (last[rowi[k]] == j + 1) {
+                    free(last);
+                    return psb__condense_fail(cd, PSB_SPARSE_ERR_INPUT, "the pattern repeats an entry");
+                }
+                last[rowi[k]] = j + 1;
+            }
+        free(last);
+    }
     cd->n = n;
     cd->param_index = param_index;
     cd->fill_ = fill;
@@ -341,10 +384,6 @@ PSB_CONDENSE_DEF int psb_condense_init(psb_condense *cd, int n, int param_index,
         qsort(col, (size_t)nc, sizeof *col, psb__condense_entry_cmp);
         cd->iip_[pj] = q;
         for (k = 0; k < nc; k++) {
-            if (k > 0 && col[k].row == col[k - 1].row) {
-                free(col);
-                return psb__condense_fail(cd, PSB_SPARSE_ERR_INPUT, "the pattern repeats an entry");
-            }
             cd->iii_[q] = col[k].row;
             cd->iix_[q++] = col[k].val;
         }
@@ -368,6 +407,8 @@ PSB_CONDENSE_DEF int psb_condense_init(psb_condense *cd, int n, int param_index,
         cd->stats.status = umfpack_di_numeric(cd->iip_, cd->iii_, cd->iix_, cd->umf_symbolic_, &cd->umf_numeric_,
                                               cd->umf_control_, cd->umf_info_);
         cd->stats.init_flops = cd->umf_info_[UMFPACK_FLOPS];
+        if (cd->stats.status == UMFPACK_OK && !(cd->umf_info_[UMFPACK_RCOND] >= cd->rcond_min_))
+            cd->stats.status = UMFPACK_WARNING_singular_matrix; /* nearly: UMFPACK's scaled pivot ratio */
         if (cd->stats.status != UMFPACK_OK) {
             int singular = cd->stats.status == UMFPACK_WARNING_singular_matrix;
             if (singular) cd->stats.status = UMFPACK_OK;
@@ -375,7 +416,7 @@ PSB_CONDENSE_DEF int psb_condense_init(psb_condense *cd, int n, int param_index,
             return psb__condense_fail(cd, singular ? PSB_SPARSE_ERR_INPUT
                                           : cd->stats.status == UMFPACK_ERROR_out_of_memory ? PSB_SPARSE_ERR_MEMORY
                                                                                             : PSB_SPARSE_ERR_BACKEND,
-                                      singular ? "the block of the constant rows, A(I, I), is singular"
+                                      singular ? "the block of the constant rows, A(I, I), is singular or nearly so"
                                                : "umfpack_di_numeric failed on the constant block");
         }
     }
@@ -393,11 +434,12 @@ PSB_CONDENSE_DEF int psb_condense_init(psb_condense *cd, int n, int param_index,
     cd->z_ = (double *)psb__condense_alloc((size_t)cd->n_i, sizeof(double) * (size_t)(cd->n_z ? cd->n_z : 1));
     cd->p_ = (double *)psb__condense_alloc((size_t)cd->n_v, sizeof(double) * (size_t)(cd->n_z ? cd->n_z : 1));
     cd->s_ = (double *)psb__condense_alloc((size_t)m, sizeof(double) * (size_t)m);
-    cd->ipiv_ = (psb__lint *)psb__condense_alloc((size_t)m, sizeof(psb__lint));
+    cd->ipiv_ = psb__condense_alloc((size_t)m, sizeof(psb__cd_lint));
+    cd->rscale_ = (double *)psb__condense_alloc((size_t)m, sizeof(double));
     cd->ri_ = (double *)psb__condense_alloc((size_t)cd->n_i, sizeof(double));
     cd->work_ = (double *)psb__condense_alloc(work, sizeof(double));
     cd->umf_iwork_ = (int *)psb__condense_alloc((size_t)cd->n_i, sizeof(int));
-    if (!cd->z_ || !cd->p_ || !cd->s_ || !cd->ipiv_ || !cd->ri_ || !cd->work_ || !cd->umf_iwork_)
+    if (!cd->z_ || !cd->p_ || !cd->s_ || !cd->ipiv_ || !cd->rscale_ || !cd->ri_ || !cd->work_ || !cd->umf_iwork_)
         return psb__condense_fail(cd, PSB_SPARSE_ERR_MEMORY, "out of memory (Z has n_I x n_Z doubles)");
     rhs = cd->work_;
     w = cd->work_ + cd->n_i;
@@ -430,7 +472,7 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
 {
     psb_condense *cd = (psb_condense *)ctx;
     int n = cd->n, nv = cd->n_v, m = cd->n_v + 1, i, j, k, q, t, rc;
-    psb__lint lm = m, info = 0;
+    psb__cd_lint lm = m, info = 0;
     double *s = cd->s_, *rowsum = cd->work_, *ztr, normb = 0, umax = 0, umin = HUGE_VAL;
     cd->message = "";
     cd->factored_ = 0;
@@ -480,9 +522,9 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
     for (q = 0; q < cd->n_i; q++) cd->ri_[q] = row[psb__condense_ycomp(cd, cd->iidx_[q])];
     ztr = rowsum; /* Z^T r_I in the row sums' room, no longer needed */
     if (cd->n_i > 0 && cd->n_z > 0) { /* one BLAS call rather than n_Z dot products */
-        psb__lint li = cd->n_i, lz = cd->n_z, one = 1;
+        psb__cd_lint li = cd->n_i, lz = cd->n_z, one = 1;
         double alpha = 1, beta = 0;
-        PSCBRANCH_FORTRAN(dgemv)("T", &li, &lz, &alpha, cd->z_, &li, cd->ri_, &one, &beta, ztr, &one PSB__STRLEN_ONE);
+        PSCBRANCH_FORTRAN(dgemv)("T", &li, &lz, &alpha, cd->z_, &li, cd->ri_, &one, &beta, ztr, &one PSB__CD_STRLEN_ONE);
     } else {
         for (t = 0; t < cd->n_z; t++) ztr[t] = 0;
     }
@@ -492,16 +534,32 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
         for (q = 0; q < nv; q++) sc[q] -= pt[q];
         sc[nv] -= ztr[t];
     }
-    PSCBRANCH_FORTRAN(dgetrf)(&lm, &lm, s, &lm, cd->ipiv_, &info);
+    /* rows scaled to max |S_ij| = 1 (S mixes stiffness-sized rows with the unit border row),
+       so that the pivot ratio below does not depend on the units, as UMFPACK's scaled one */
+    cd->stats.rcond = 0;
+    for (q = 0; q < m; q++) cd->rscale_[q] = 0;
+    for (t = 0; t < m; t++)
+        for (q = 0; q < m; q++)
+            if (fabs(s[q + (size_t)t * m]) > cd->rscale_[q]) cd->rscale_[q] = fabs(s[q + (size_t)t * m]);
+    for (q = 0; q < m; q++) {
+        if (!(cd->rscale_[q] > 0) || !isfinite(cd->rscale_[q])) {
+            cd->message = cd->rscale_[q] > 0 ? "S overflows" : "B is singular (a zero row of S)";
+            return 1;
+        }
+        cd->rscale_[q] = 1 / cd->rscale_[q];
+    }
+    for (t = 0; t < m; t++)
+        for (q = 0; q < m; q++) s[q + (size_t)t * m] *= cd->rscale_[q];
+    PSCBRANCH_FORTRAN(dgetrf)(&lm, &lm, s, &lm, (psb__cd_lint *)cd->ipiv_, &info);
+    cd->stats.n_factor++;
     if (info < 0) { cd->message = "dgetrf rejected an argument"; return -1; }
-    if (info > 0) { cd->message = "B is singular (a zero pivot of S)"; cd->stats.rcond = 0; return 1; }
+    if (info > 0) { cd->message = "B is singular (a zero pivot of S)"; return 1; }
     for (q = 0; q < m; q++) {
         double u = fabs(s[q + (size_t)q * m]);
         if (u > umax) umax = u;
-        if (u < umin) umin = u;
+        if (!(u >= umin)) umin = u; /* NaN included */
     }
     cd->stats.rcond = umin / umax;
-    cd->stats.n_factor++;
     if (!(cd->stats.rcond >= cd->rcond_min_)) { cd->message = "B is singular (pivot ratio of S below rcond_min)"; return 1; }
     cd->factored_ = 1;
     return 0;
@@ -511,7 +569,7 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
 static int psb__condense_solve1(psb_condense *cd, const double *b, double *z)
 {
     int n = cd->n, nv = cd->n_v, q, t;
-    psb__lint lm = nv + 1, one = 1, info = 0;
+    psb__cd_lint lm = nv + 1, one = 1, info = 0;
     double *pb = cd->work_ + 4 * ((size_t)n + 1), *w = pb + cd->n_i, *uw = w + cd->n_i, *xs = uw + 5 * (size_t)cd->n_i;
     double dot = 0;
     for (q = 0; q < cd->n_i; q++) pb[q] = b[cd->ieq_[q]];
@@ -520,7 +578,8 @@ static int psb__condense_solve1(psb_condense *cd, const double *b, double *z)
     for (q = 0; q < cd->n_vi_; q++) xs[cd->vi_row_[q]] -= cd->vi_val_[q] * w[cd->vi_col_[q]];
     for (q = 0; q < cd->n_i; q++) dot += cd->ri_[q] * w[q];
     xs[nv] = b[n] - dot;
-    PSCBRANCH_FORTRAN(dgetrs)("N", &lm, &one, cd->s_, &lm, cd->ipiv_, xs, &lm, &info PSB__STRLEN_ONE);
+    for (q = 0; q <= nv; q++) xs[q] *= cd->rscale_[q];
+    PSCBRANCH_FORTRAN(dgetrs)("N", &lm, &one, cd->s_, &lm, (const psb__cd_lint *)cd->ipiv_, xs, &lm, &info PSB__CD_STRLEN_ONE);
     if (info) return -1;
     for (t = 0; t < cd->n_z; t++) {
         const double *zt = cd->z_ + (size_t)t * (size_t)cd->n_i;
@@ -549,8 +608,8 @@ static double psb__condense_residual(const psb_condense *cd, const double *b, co
     for (j = 0; j <= n; j++) dot += cd->row_[j] * z[j];
     r[n] -= dot;
     for (i = 0; i <= n; i++) {
-        if (!(fabs(r[i]) <= rmax)) rmax = fabs(r[i]);
-        if (!(fabs(z[i]) <= zmax)) zmax = fabs(z[i]);
+        if (rmax == rmax && !(fabs(r[i]) <= rmax)) rmax = fabs(r[i]); /* a NaN stays */
+        if (zmax == zmax && !(fabs(z[i]) <= zmax)) zmax = fabs(z[i]);
         if (fabs(b[i]) > bmax) bmax = fabs(b[i]);
     }
     den = cd->normb_ * zmax + bmax;

@@ -45,7 +45,7 @@ static inline int fe_solver_sparse_wins(const fe_model *md)
 /* The default for Hooke's law (the triangle) in a build with SuiteSparse: static condensation
    while its dense Schur complement, 4 unknowns per contact node, stays below 768 (OpenBLAS, one
    thread, CPU s, against the default before it: M256 branching 0.14 -> 0.07 (banded), M4096
-   16.7 -> 2.4 and M16384 fold study 36 -> 13 (UMFPACK); at M65536, n_V = 1024, the two tie at
+   16.7 -> 2.4 and M16384 fold study 26 -> 14 (UMFPACK); at M65536, n_V = 1024, the two tie at
    140 s, and beyond UMFPACK wins: S's LU grows like n_V^3; docs/benchmarks.md). */
 static inline int fe_solver_condensed_wins(const fe_model *md)
 {

@@ -22,6 +22,8 @@
 extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b, const int *ldb,
                    int *info);
 
+size_t condense_struct_size(void); /* tests/condense_decl.c: psb_condense.h without its implementation */
+
 static const psb_sparse_backend backends[2] = {PSB_SPARSE_UMFPACK, PSB_SPARSE_KLU};
 
 static double rnd(unsigned long long *s)
@@ -39,6 +41,7 @@ typedef struct gen {
     int nan;              /* 1: a NaN in the values */
     int n_vary, vary[2];  /* rows whose diagonal gets + vary_val (psb_condense's varying rows) */
     double vary_val, bump; /* bump: added to A(0, 0), a row declared constant */
+    double scale;         /* A and dparam times this (0: 1), as stiffness in SI units */
     int *colp, *rowi;
 } gen;
 
@@ -62,6 +65,10 @@ static int gen_fill(const double *y, double *ax, double *dparam, void *user)
         dparam[r] = g->vary_val; /* varying rows may vary in dH/dparameter too */
     }
     ax[0] += g->bump;
+    if (g->scale != 0) {
+        for (q = 0; q < g->colp[g->n]; q++) ax[q] *= g->scale;
+        for (j = 0; j < g->n; j++) dparam[j] *= g->scale;
+    }
     if (g->nan) ax[0] = NAN;
     return 0;
 }
@@ -166,6 +173,19 @@ static void test_generic(void)
             }
 }
 
+/* A (4 x 4) whose constant block A({0, 1}, {0, 1}) = [1 1; 1 1 + 1e-15] is nearly singular
+   while [A e_3; e_4^T] is well conditioned: rows [1 1 1 0], [1 1+1e-15 0 0], [1 -1 0 0], and
+   row 3 = [0 0 1 1], the varying one, whose columns make V = {2, 3}. */
+static int near_singular_fill(const double *y, double *ax, double *dparam, void *user)
+{
+    static const double a[9] = {1, 1, 1, 1, 1 + 1e-15, -1, 1, 1, 1};
+    (void)y; (void)user;
+    memcpy(ax, a, sizeof a);
+    dparam[0] = dparam[1] = dparam[2] = 0;
+    dparam[3] = 1;
+    return 0;
+}
+
 /* psb_condense: solutions against dense LAPACK while the varying rows change, at a fold (A
    singular, B regular), with the parameter first, inside and last, with a row permutation, and
    with every row varying (no constant block); then each refusal. */
@@ -249,6 +269,15 @@ static void test_condense(void)
         CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, 1, &neg, y, NULL) == PSB_SPARSE_ERR_INPUT);
         CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, -1, g.vary, y, NULL) == PSB_SPARSE_ERR_INPUT);
         CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, 2, NULL, y, NULL) == PSB_SPARSE_ERR_INPUT);
+        /* an entry repeated in a column of V (outside A(I, I)) */
+        {
+            int *dup = malloc(sizeof(int) * (size_t)g.colp[9]);
+            memcpy(dup, g.rowi, sizeof(int) * (size_t)g.colp[9]);
+            dup[g.colp[3]] = dup[g.colp[3] + 1]; /* column 3: rows 2, 3, 4 -> 3, 3, 4 */
+            CHECK(psb_condense_init(&cd, 9, 9, g.colp, dup, gen_fill, &g, 2, g.vary, y, NULL) == PSB_SPARSE_ERR_INPUT &&
+                  strstr(cd.message, "repeats"));
+            free(dup);
+        }
         /* a permutation that moves a constant row into V */
         for (i = 0; i < 9; i++) perm[i] = i;
         perm[0] = 1; perm[1] = 0;
@@ -266,9 +295,31 @@ static void test_condense(void)
         g.fail = 0; g.nan = 1;
         CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, 2, g.vary, y, NULL) == PSB_SPARSE_ERR_INPUT);
         g.nan = 0;
+        /* A_II nearly singular, B not: refused at init, not called singular at every factor */
+        {
+            static const int colp4[5] = {0, 3, 6, 8, 9}, rowi4[9] = {0, 1, 2, 0, 1, 2, 0, 3, 3}, vary3 = 3;
+            CHECK(psb_condense_init(&cd, 4, 4, colp4, rowi4, near_singular_fill, NULL, 1, &vary3, y, NULL) ==
+                      PSB_SPARSE_ERR_INPUT && strstr(cd.message, "nearly"));
+        }
+        g.shift = 1;
         /* nothing varies, A regular: a linear problem, S is 1 x 1 */
         CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, 0, NULL, y, NULL) == 0 && cd.n_v == 0);
         psb_condense_free(&cd);
+        /* stiffness-sized rows (1e14) beside the unit border row: B is well conditioned once its
+           rows are scaled, and S's pivot test must not call it singular */
+        {
+            double row[10], z[10], rhs[10], B[100];
+            unsigned long long sd = 5;
+            g.scale = 1e14; g.shift = 0;
+            CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, 2, g.vary, y, NULL) == 0);
+            for (i = 0; i < 10; i++) { row[i] = 0.2 + 0.1 * rnd(&sd); z[i] = rhs[i] = rnd(&sd); }
+            CHECK(psb_condense_factor(y, row, &cd) == 0);
+            CHECK(psb_condense_solve(z, 1, &cd) == 0);
+            gen_dense(&g, row, B);
+            CHECK(harness_backward_error(B, 10, z, rhs) <= 1e-14);
+            psb_condense_free(&cd);
+        }
+        CHECK(condense_struct_size() == sizeof(psb_condense)); /* declared alike without the implementation */
         free(g.colp); free(g.rowi);
     }
 }
