@@ -182,8 +182,11 @@ examples/block examples/triangle: examples/%: examples/%.c $(HEADER) examples/fe
 examples/block: examples/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
 
 $(BUILD)/test_sparse: tests/test_sparse.c tests/condense_decl.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h \
-		examples/fe.h $(HEADER) | $(BUILD)
+		examples/fe.h $(HEADER) $(BUILD)/contrib_cxx.o | $(BUILD)
 	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) -Itests tests/test_sparse.c tests/condense_decl.c -o $@ $(SS_LIBS) $(LIBS)
+# the contrib headers' implementations compile as C++ too (built, not linked)
+$(BUILD)/contrib_cxx.o: tests/contrib_cxx.cpp contrib/psb_sparse.h contrib/psb_condense.h $(HEADER) | $(BUILD)
+	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -I. $(SS_CFLAGS) -c tests/contrib_cxx.cpp -o $@
 examples/quasistatic: examples/fe.h
 examples/02_explore examples/03_pitchforks: examples/explore_out.h
 

@@ -158,6 +158,16 @@ typedef struct psb_sparse_stats {
     psb_sparse_ordering ordering; /* the ordering the analysis used (AMD or METIS) */
 } psb_sparse_stats;
 
+/* an earlier factorisation kept for reuse (internal; at file scope, so that C++ compiles the
+   implementation too) */
+struct psb__sparse_kept {
+    double *vals, *row, *u;
+    void *numeric;
+    unsigned long long hash;
+    long used;
+    int valid, u_ok, refactored;
+};
+
 typedef struct psb_sparse {
     int n, param_index;
     psb_sparse_backend backend;
@@ -183,13 +193,7 @@ typedef struct psb_sparse {
     unsigned long long fhash_;
     int fvalid_, sm_on_, sm_u_ok_;
     /* earlier factors kept (keep - 1 of them), swapped with the current ones when taken */
-    struct psb__sparse_kept {
-        double *vals, *row, *u;
-        void *numeric;
-        unsigned long long hash;
-        long used;
-        int valid, u_ok, refactored;
-    } *kept_;
+    struct psb__sparse_kept *kept_;
     int n_kept_;
     long clock_;
     double keep_bytes_;   /* keep_mb in bytes */
