@@ -542,8 +542,8 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
         for (q = 0; q < m; q++)
             if (fabs(s[q + (size_t)t * m]) > cd->rscale_[q]) cd->rscale_[q] = fabs(s[q + (size_t)t * m]);
     for (q = 0; q < m; q++) {
-        if (!(cd->rscale_[q] > 0) || !isfinite(cd->rscale_[q])) {
-            cd->message = cd->rscale_[q] > 0 ? "S overflows" : "B is singular (a zero row of S)";
+        if (!(cd->rscale_[q] > 0) || !isfinite(cd->rscale_[q]) || !isfinite(1 / cd->rscale_[q])) {
+            cd->message = isfinite(cd->rscale_[q]) ? "B is singular (a zero or subnormal row of S)" : "S overflows";
             return 1;
         }
         cd->rscale_[q] = 1 / cd->rscale_[q];
