@@ -42,9 +42,11 @@
      checked by its normwise backward error in B, omega = ||b - B z|| / (||B|| ||z|| + ||b||)
      (max norms): above 8 eps it is refined in B (at most two steps), above 1e-10 after that
      solve returns 1 (the library rejects the step). A singular S (a zero pivot, or a pivot
-     ratio min |U_ii| / max |U_ii| below rcond_min [1e3 eps], S's rows scaled to max |S_ij| = 1
-     first, so that the test does not depend on units) or NaN/Inf in the values or the row
-     make factor return 1. Init refuses an A_II whose UMFPACK pivot ratio (scaled) is below
+     ratio min |U_ii| / max(max |U_ii|, 1) below rcond_min [1e3 eps], each row of S divided
+     first by the larger of its B row's sum of |b_ij| and its own largest entry, so that the
+     test does not depend on units and a row that cancels in the Schur complement counts as
+     the near-dependence of B's rows that it is, as UMFPACK's scaled pivots of B would show)
+     or NaN/Inf in the values or the row make factor return 1. Init refuses an A_II whose UMFPACK pivot ratio (scaled) is below
      rcond_min.
      Cost: memory n_I n_Z + (n_V + 1)^2 doubles beside A's copy and A_II's factors; a factor
      call O(nnz(A) + n_I n_Z + n_V^3), a solve O(nnz(factors) + n_I n_Z). It wins where n_V is
@@ -65,7 +67,8 @@
    A_II singular; n_V > 46339), PSB_SPARSE_ERR_BACKEND (UMFPACK failed); cd.message says which. On failure
    nothing is held. The factor and solve callbacks follow pscbranch's contract (manual,
    section 6): 0, > 0 singular or recoverable (the fill's own > 0 too), < 0 stop (the fill's
-   < 0, a constant row that changed, UMFPACK failing); cd.message says why (factor clears it).
+   < 0, a constant row that changed, UMFPACK failing; a cd whose init failed or that was freed,
+   NULL arguments); cd.message says why (factor clears it).
    No global state; one psb_condense may not serve two solvers at the same time. */
 #ifndef PSB_CONDENSE_H
 #define PSB_CONDENSE_H
@@ -124,7 +127,7 @@ typedef struct psb_condense {
     int n_vv_, *vv_k_, *vv_s_;     /* A_VV's entries: index into A, index into S */
     double *s_, *ax_, *dparam_, *row_, *ri_, normb_;
     void *ipiv_;              /* S's pivots (LAPACK integers) */
-    double *rscale_;          /* S's row scaling, 1 / max_j |S_ij| */
+    double *rscale_;          /* S's row scaling, 1 / max(B row's sum of |b_ij|, max_j |S_ij|) */
     double *work_;            /* solve scratch */
     int factored_;
     void *umf_symbolic_, *umf_numeric_;
@@ -471,9 +474,17 @@ PSB_CONDENSE_DEF int psb_condense_init(psb_condense *cd, int n, int param_index,
 PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, void *ctx)
 {
     psb_condense *cd = (psb_condense *)ctx;
-    int n = cd->n, nv = cd->n_v, m = cd->n_v + 1, i, j, k, q, t, rc;
-    psb__cd_lint lm = m, info = 0;
-    double *s = cd->s_, *rowsum = cd->work_, *ztr, normb = 0, umax = 0, umin = HUGE_VAL;
+    int n, nv, m, i, j, k, q, t, rc;
+    psb__cd_lint lm, info = 0;
+    double *s, *rowsum, *ztr, normb = 0, umax = 0, umin = HUGE_VAL;
+    if (!cd) return -1;
+    if (!cd->fill_ || !y || !row) {
+        cd->message = !cd->fill_ ? "cd is not initialised" : "NULL y or row";
+        cd->factored_ = 0;
+        return -1;
+    }
+    n = cd->n; nv = cd->n_v; m = nv + 1; lm = m;
+    s = cd->s_; rowsum = cd->work_;
     cd->message = "";
     cd->factored_ = 0;
     for (j = 0; j <= n; j++)
@@ -511,6 +522,9 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
     if (rowsum[n] > normb) normb = rowsum[n];
     if (!isfinite(normb)) { cd->message = "the row sums of |B| overflow"; return 1; }
     cd->normb_ = normb;
+    /* S's row scale starts from B's own row sums, taken before the Schur complement cancels */
+    for (q = 0; q < nv; q++) cd->rscale_[q] = rowsum[cd->vidx_[q]];
+    cd->rscale_[nv] = rowsum[n];
     /* S = [A_VV d_V; r_V r_p] - [A_VI; r_I] Z */
     memset(s, 0, sizeof(double) * (size_t)m * (size_t)m);
     for (k = 0; k < cd->n_vv_; k++) s[cd->vv_s_[k]] += cd->ax_[cd->vv_k_[k]];
@@ -534,10 +548,10 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
         for (q = 0; q < nv; q++) sc[q] -= pt[q];
         sc[nv] -= ztr[t];
     }
-    /* rows scaled to max |S_ij| = 1 (S mixes stiffness-sized rows with the unit border row),
-       so that the pivot ratio below does not depend on the units, as UMFPACK's scaled one */
+    /* rows scaled by the larger of B's row sum and max |S_ij| (S mixes stiffness-sized rows with
+       the unit border row), so that the pivot ratio below does not depend on the units, as
+       UMFPACK's scaled one; a row that cancelled to rounding stays small, as B's dependence */
     cd->stats.rcond = 0;
-    for (q = 0; q < m; q++) cd->rscale_[q] = 0;
     for (t = 0; t < m; t++)
         for (q = 0; q < m; q++)
             if (fabs(s[q + (size_t)t * m]) > cd->rscale_[q]) cd->rscale_[q] = fabs(s[q + (size_t)t * m]);
@@ -559,7 +573,7 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
         if (u > umax) umax = u;
         if (!(u >= umin)) umin = u; /* NaN included */
     }
-    cd->stats.rcond = umin / umax;
+    cd->stats.rcond = umin / fmax(umax, 1); /* a lone pivot compares with its row's scale */
     if (!(cd->stats.rcond >= cd->rcond_min_)) { cd->message = "B is singular (pivot ratio of S below rcond_min)"; return 1; }
     cd->factored_ = 1;
     return 0;
@@ -620,11 +634,15 @@ static double psb__condense_residual(const psb_condense *cd, const double *b, co
 PSB_CONDENSE_DEF int psb_condense_solve(double *b, int nrhs, void *ctx)
 {
     psb_condense *cd = (psb_condense *)ctx;
-    size_t np1 = (size_t)cd->n + 1;
-    double *bs = cd->work_, *z = bs + np1, *r = z + np1, *dz = r + np1;
+    size_t np1;
+    double *bs, *z, *r, *dz;
     int col, it;
     size_t i;
+    if (!cd) return -1;
     if (!cd->factored_) { cd->message = "solve without a successful factor"; return -1; }
+    if (!b || nrhs < 0) { cd->message = "NULL b or nrhs < 0"; return -1; }
+    np1 = (size_t)cd->n + 1;
+    bs = cd->work_; z = bs + np1; r = z + np1; dz = r + np1;
     for (col = 0; col < nrhs; col++) {
         double *bc = b + (size_t)col * np1, omega;
         memcpy(bs, bc, sizeof(double) * np1);

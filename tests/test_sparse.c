@@ -305,6 +305,41 @@ static void test_condense(void)
         /* nothing varies, A regular: a linear problem, S is 1 x 1 */
         CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, 0, NULL, y, NULL) == 0 && cd.n_v == 0);
         psb_condense_free(&cd);
+        /* a border row in the span of the constant rows: B singular, though S's row (1 x 1 with
+           nothing varying) cancels to rounding and once looked regular after scaling by itself */
+        {
+            double row[10], B[100], comb[9];
+            unsigned long long sd = 12345;
+            int nv, c;
+            for (nv = 0; nv <= 2; nv += 2) {
+                CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, nv, g.vary, y, NULL) == 0);
+                for (i = 0; i < 10; i++) row[i] = 0;
+                gen_dense(&g, row, B);
+                for (i = 0; i < 9; i++) comb[i] = nv && i >= 1 && i <= 6 ? 0 : 0.5 + rnd(&sd); /* I rows only */
+                for (c = 0; c < 10; c++) {
+                    row[c] = 0;
+                    for (i = 0; i < 9; i++) row[c] += comb[i] * B[i + (size_t)c * 10];
+                }
+                CHECK(psb_condense_factor(y, row, &cd) > 0 && strstr(cd.message, "singular"));
+                CHECK(psb_condense_solve(row, 1, &cd) < 0);
+                psb_condense_free(&cd);
+            }
+        }
+        /* misuse: factor or solve on a freed cd (or one whose init failed), a NULL context, NULL
+           arguments, nrhs < 0: -1, no crash */
+        {
+            double row[10] = {0}, z[10] = {0};
+            row[9] = 1;
+            CHECK(psb_condense_factor(y, row, &cd) == -1 && cd.message[0]); /* freed above */
+            CHECK(psb_condense_solve(z, 1, &cd) == -1);
+            CHECK(psb_condense_factor(y, row, NULL) == -1 && psb_condense_solve(z, 1, NULL) == -1);
+            CHECK(psb_condense_init(&cd, 9, 9, g.colp, g.rowi, gen_fill, &g, 0, NULL, y, NULL) == 0);
+            CHECK(psb_condense_factor(NULL, row, &cd) == -1 && psb_condense_factor(y, NULL, &cd) == -1);
+            CHECK(psb_condense_factor(y, row, &cd) == 0);
+            CHECK(psb_condense_solve(NULL, 1, &cd) == -1 && psb_condense_solve(z, -1, &cd) == -1);
+            CHECK(psb_condense_solve(z, 1, &cd) == 0);
+            psb_condense_free(&cd);
+        }
         /* stiffness-sized rows (1e14) beside the unit border row: B is well conditioned once its
            rows are scaled, and S's pivot test must not call it singular */
         {
