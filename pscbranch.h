@@ -657,6 +657,18 @@
    locate_kinks finds one, is at a kink: FOLD_KINK / PC1, with the couple before it within
    h_min / h_dec (the triangle's fold problem: both limit points, M64 gamma = 0.6666458 and
    0.5654145 at h_min 1e-9).
+   Straight through: a det sign change in a step whose tangent did not turn is located as
+   above; where |det| jumped there instead of passing zero (at the bracket's end it exceeds
+   1e3 times the secants' slope times the bracket's width), the trace went straight through a
+   nonsmooth point (two pieces with one tangent, r and -r both branches): PC1, the bracket's
+   end before it with the bracket's width, psb_special.located = 1 (psb_locate_end looks for a
+   turn and finds none there: give the couple to psb_find_branches as it is). A zero within
+   1e3 widths of an end is not told apart from a jump. (H = C|y| + D y, N = 2, with r and -r
+   rays: the smooth switch had given three of its four rays.)
+   Limits of sign tests: two sign changes within one step cancel and are not seen (pitchforks
+   at l = 0 and 0.02 on x = 0 with steps of 0.1: none; with h_max 1e-3: both); a branch point
+   where det keeps its sign (three branches crossing, x (x - l) (x + l)) is not seen. Lower
+   h_max where branch points may lie close together.
    PC1 (Ligursky and Renard's test of det [dH_j; t_j^T] det [dH_j+1; t_j+1^T] < 0 across a
    kink): orient every branch leaving the point outwards; their signs add up to 0 (H maps
    a small sphere around the point to R^N, and the signed count of zeros of such a map is
@@ -742,7 +754,11 @@
    the chord) of a known node arrives there too: a piecewise-linear branch goes straight
    through a point where it has no kink, and the detectors may see nothing there (the way on
    is made one of the node's branches if it is not). node_tol defaults to 16 eo.branch.h
-   (with differences and h following the point, to 16 times h at the node).
+   (with differences and h following the point, to 16 times h at the node). Where Algorithm
+   2.2 finds two branches at a point the trace stopped at (the switch failed, or a kink with
+   branch_at_kinks), the point is an ordinary kink (d.n_kinks_plain): no node, the edge goes on
+   along the other branch, with a fold node there when the parameter turns (a limit point at a
+   kink, which the tangent switch would have reported).
    Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
    and outgoing branches have opposite outward signs it is silent. The block's and the
    triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
@@ -1324,6 +1340,10 @@ typedef struct psb_special {
     double precision;     /* bound on the location error, ||.||_w along the curve */
     int event;            /* EVENT: index of the event component; -1 otherwise */
     int direction;        /* EVENT: +1 rising, -1 falling; 0 otherwise */
+    int located;          /* PC1: 1 when the trace went straight through the nonsmooth point
+                             (the tangent did not turn, det jumped there): y is within
+                             `precision` of it already, and psb_locate_end, which looks for a
+                             turn, finds none: pass the couple to psb_find_branches as it is */
 } psb_special;
 
 /* psb_trace_options.detect: a bit mask */
@@ -1655,7 +1675,8 @@ typedef struct psb_diagram {
     psb_edge *edges;
     long n_points;          /* accepted points of all edges */
     int n_branchings;       /* calls of Algorithm 2.2 or of the branch point switch */
-    int n_kinks_plain;      /* branch_at_kinks: kinks found ordinary (two branches) */
+    int n_kinks_plain;      /* kinks found ordinary (two branches; branch_at_kinks, or where the
+                               tangent switch failed): the edge went on */
     int n_queued;           /* branches left untraced (budget, capacity or a stop) */
     int n_failed;           /* edges that ended in a failure */
     int n_odd;              /* branching nodes with an odd number of branches: where the pieces
@@ -4585,6 +4606,23 @@ static void psb__special_init(psb__detector *d, psb_special_kind kind, const dou
     d->sp.event = -1;
 }
 
+/* Whether the test function's sign change that psb__locate_change located (precision: the
+   bracket's width, fend: |f| at its end nearer the zero, f01: |f| at y0 and y1) is a jump rather
+   than a zero. At a simple zero |f| at the bracket's end is at most its slope times the
+   bracket's width, and the slope is that of the secants from y0 and y1 to within the curvature;
+   across a nonsmooth point f jumps and keeps its one-sided size at any width. A zero within
+   1e3 widths of an end is not told apart (called a zero, as before). */
+static int psb__sign_jumped(const psb_solver *s, const double *y0, const double *y1, double precision,
+                            double fend, const double *f01)
+{
+    const double *ys = PSB__VEC(s, PSB__V_SP_Y);
+    double d0 = psb__dist_w(s, y0, ys), d1 = psb__dist_w(s, y1, ys), slope = 0;
+    if (!(precision > 0)) return 0;
+    if (d0 > 1e3 * precision) slope = fmax(slope, f01[0] / d0);
+    if (d1 > 1e3 * precision) slope = fmax(slope, f01[1] / d1);
+    return slope > 0 && fend > 1e3 * slope * precision;
+}
+
 /* The detectors for the accepted step from (y0, t0) to (y1, t1) of length h_step: kink
    (1: the couple before a kink is in K_YA/K_TA, 2: (y0, t0) is, the step was a tangent
    switch, 0: none known). Returns 0 to go on, 1 to stop at d->sp (PSB_STOPPED), or a
@@ -4649,6 +4687,17 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
                below its values at the ends, a pole grows it beyond */
             if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_USER && fend > fmin(f01[0], f01[1]))
                 r = PSB_NONSMOOTH_END;
+            if (r == PSB_SUCCESS && psb__sign_jumped(s, y0, y1, precision, fend, f01)) {
+                /* det jumped at a nonsmooth point passed straight through (no kink: the
+                   tangent did not turn), a PC1 point: the couple before it, for Algorithm 2.2 */
+                r = PSB_NONSMOOTH_END;
+                if (!(detect & PSB_DETECT_PC1)) break;
+                psb__special_init(d, PSB_SPECIAL_PC1, PSB__VEC(s, PSB__V_SP_YA), PSB__VEC(s, PSB__V_SP_TA), p);
+                d->sp.precision = precision;
+                d->sp.located = 1;
+                if (psb__report_special(d, index)) return 1;
+                break;
+            }
         }
         if (r == PSB_SUCCESS) {
             double span = 0;
@@ -6539,6 +6588,9 @@ typedef struct psb__explorer {
     int edge, from, stop, stop_node;
     psb_node_kind stop_kind; /* the branching the stop asks for (NONSMOOTH, BRANCH, PC1) */
     int has_kernel;
+    int detect;    /* the edge's detectors (PSB_DETECT_*) */
+    int located;   /* the stop's PC1 point is located already (psb_special.located) */
+    int plain_ok;  /* a two-branch end where the switch failed may resume as an ordinary kink */
     double stop_precision;
     long points;
     double length;
@@ -6707,7 +6759,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     psb_result r = PSB_SUCCESS;
     *resume = 0;
     psb__copy(before, y, np1);
-    if (kind != PSB_NODE_BRANCH) {
+    if (kind != PSB_NODE_BRANCH && !(kind == PSB_NODE_PC1 && !kink && x->located)) {
         r = psb__locate_end(s, y, t, &precision);
         if (r < 0) {
             ed->result = r;
@@ -6755,7 +6807,9 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     }
     if (r == PSB_BRANCH_CAPACITY) d->truncated = 1;
     nb = br.n_branches < d->max_branches ? br.n_branches : d->max_branches;
-    if (kink && nb == 2 && r != PSB_BRANCH_CAPACITY) { /* an ordinary kink: the other branch */
+    /* an ordinary kink, located (branch_at_kinks) or where the tangent switch failed: the other
+       branch */
+    if ((kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok)) && nb == 2 && r != PSB_BRANCH_CAPACITY) {
         const double *y1 = nd->ys + np1;
         d->n_kinks_plain++;
         if (psb__explore_beyond_bound(x, y1)) {
@@ -6765,6 +6819,10 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
             psb__copy(y, y1, np1);
             return psb__explore_end_on_bound(x, e, before, y);
         }
+        /* a limit point at the kink (the trace stopped there before its fold detector saw the
+           parameter turn): a fold node of the edge, as the detector would have made */
+        if ((x->detect & PSB_DETECT_FOLDS) && t[s->prob.param_index] * nd->ts[np1 + s->prob.param_index] < 0)
+            psb__explore_add_node(x, PSB_NODE_FOLD, y, precision, e);
         ed->length += psb__dist_w(s, y, y1);
         psb__copy(y, y1, np1);
         psb__copy(t, nd->ts + np1, np1);
@@ -6821,6 +6879,7 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
         psb__copy(PSB__XVEC(x, PSB__X_SY), sp->y, np1);
         psb__copy(PSB__XVEC(x, PSB__X_ST), sp->t, np1);
         x->has_kernel = sp->kernel != NULL;
+        x->located = sp->located;
         if (sp->kernel) psb__copy(PSB__XVEC(x, PSB__X_K), sp->kernel, np1);
         x->stop_kind = sp->kind == PSB_SPECIAL_BRANCH ? PSB_NODE_BRANCH : PSB_NODE_PC1;
         x->stop_precision = sp->precision;
@@ -6965,6 +7024,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
                     (s->prob.linear != PSB_LINEAR_USER ? PSB_DETECT_PC1 : 0) |
                     (to.n_events > 0 ? PSB_DETECT_EVENTS : 0);
     if (x->eo->no_detect) to.detect = 0;
+    x->detect = to.detect;
     x->edge = e;
     x->from = from;
     /* away: twice the start's distance from the origin, at least its tolerance beyond */
@@ -7002,7 +7062,13 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
         if (x->stop == PSB__XS_NONE && r == PSB_NONSMOOTH_END) {
             x->stop_kind = PSB_NODE_NONSMOOTH;
             x->stop_precision = 0;
-            return psb__explore_branching(x, e, y, t, 0, &resume);
+            x->plain_ok = rep.steps > 0; /* a trace that made no step does not resume */
+            r = psb__explore_branching(x, e, y, t, 0, &resume);
+            if (resume) {
+                x->away = 1;
+                continue;
+            }
+            return r;
         }
         break;
     }

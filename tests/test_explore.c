@@ -1612,6 +1612,173 @@ static void test_kink_next_to_a_bound(void)
     psb_diagram_free(&d);
 }
 
+/* ---- folds at kinks, nonsmooth points crossed straight through ------------------------------ */
+/* H = a max(x, 0) + b min(x, 0) - g: the branches x = g / a and x = g / b; with a b < 0 both
+   lie on one side of g = 0, and g has its minimum at the kink (a limit point). */
+typedef struct { double a, b; } kink1;
+
+static int kink1_res(const double *y, double *h, void *u)
+{
+    const kink1 *k = (const kink1 *)u;
+    h[0] = k->a * fmax(y[0], 0) + k->b * fmin(y[0], 0) - y[1];
+    return 0;
+}
+
+static int kink1_jac(const double *y, double *j, int ld, void *u)
+{
+    const kink1 *k = (const kink1 *)u;
+    (void)ld;
+    j[0] = y[0] >= 0 ? k->a : k->b;
+    j[1] = -1;
+    return 0;
+}
+
+/* H = C |y| + D y (N = 2, y = (x1, x2, g)): a ray in each orthant whose selection's kernel lies
+   in it. */
+typedef struct { const double *c, *d; } absval2;
+
+static int absval2_res(const double *y, double *h, void *u)
+{
+    const absval2 *p = (const absval2 *)u;
+    int i, j;
+    for (i = 0; i < 2; i++)
+        for (h[i] = 0, j = 0; j < 3; j++) h[i] += p->c[3 * i + j] * fabs(y[j]) + p->d[3 * i + j] * y[j];
+    return 0;
+}
+
+static int absval2_jac(const double *y, double *jac, int ld, void *u)
+{
+    const absval2 *p = (const absval2 *)u;
+    int i, j;
+    for (i = 0; i < 2; i++)
+        for (j = 0; j < 3; j++) jac[i + j * ld] = p->c[3 * i + j] * (y[j] >= 0 ? 1 : -1) + p->d[3 * i + j];
+    return 0;
+}
+
+/* Explores H = C |y| + D y from half-way along `ray` (towards the origin, box [-1, 1]^3); counts
+   the nodes by kind and the branching node's branches matched to `rays`. */
+static void absval2_explore(const double *c, const double *dm, const double *ray, int branch_at_kinks,
+                            psb_diagram *d, int count[PSB_NODE_FAILURE + 1])
+{
+    absval2 p = {c, dm};
+    psb_problem prob;
+    psb_options o;
+    psb_solver s;
+    psb_explore_options eo;
+    double y[3], t[3], lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
+    int i;
+    memset(&o, 0, sizeof o);
+    memset(&eo, 0, sizeof eo);
+    eo.box_min = lo;
+    eo.box_max = hi;
+    eo.branch_at_kinks = branch_at_kinks;
+    psb_problem_init(&prob, 2, absval2_res, absval2_jac, &p);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    for (i = 0; i < 3; i++) { y[i] = 0.5 * ray[i]; t[i] = -ray[i]; }
+    CHECK(psb_solve_at_param(&s, y, 0) == PSB_SUCCESS && psb_tangent(&s, y, t, t) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(d, 2, 32, 32, 16) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, &eo, d) == PSB_SUCCESS);
+    memset(count, 0, sizeof(int) * (PSB_NODE_FAILURE + 1));
+    for (i = 0; i < d->n_nodes; i++) count[d->nodes[i].kind]++;
+    psb_solver_free(&s);
+}
+
+static void test_folds_at_kinks_and_straight_crossings(void)
+{
+    int bak, i, count[PSB_NODE_FAILURE + 1];
+    psb_diagram d;
+    /* a limit point at a kink is a fold node, also when every kink stops the trace for
+       Algorithm 2.2 (branch_at_kinks: it had been taken for an ordinary kink and lost); an
+       ordinary kink where g goes on rising is none */
+    for (bak = 0; bak < 2; bak++) {
+        kink1 fold = {1, -2}, plain = {1, 2};
+        psb_problem prob;
+        psb_options o = pl_options();
+        psb_solver s;
+        psb_explore_options eo;
+        double y[2] = {0.5, 0.5}, t[2] = {-1, -1};
+        int n_fold = 0;
+        memset(&eo, 0, sizeof eo);
+        eo.trace.param_min = -1;
+        eo.trace.param_max = 2;
+        eo.branch_at_kinks = bak;
+        psb_problem_init(&prob, 1, kink1_res, kink1_jac, &fold);
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(&d, 1, 8, 8, 8) == PSB_SUCCESS);
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        for (i = 0; i < d.n_nodes; i++) {
+            const psb_node *nd = d.nodes + i;
+            CHECK(nd->kind == PSB_NODE_START || nd->kind == PSB_NODE_BOUND || nd->kind == PSB_NODE_FOLD);
+            if (nd->kind != PSB_NODE_FOLD) continue;
+            n_fold++;
+            CHECK(fabs(nd->param) <= 1e-6 && nd->precision <= 1e-5 && fabs(nd->y[0]) <= 1e-5);
+        }
+        CHECK(n_fold == 1 && d.n_edges == 2 && d.n_kinks_plain == bak);
+        psb_diagram_free(&d);
+        psb_solver_free(&s);
+        prob.user = &plain;
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(&d, 1, 8, 8, 8) == PSB_SUCCESS);
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        for (i = 0; i < d.n_nodes; i++) CHECK(d.nodes[i].kind == PSB_NODE_START || d.nodes[i].kind == PSB_NODE_BOUND);
+        psb_diagram_free(&d);
+        psb_solver_free(&s);
+    }
+    /* the same where the tangent switch cannot pass the kink (two rays of H = C |y| + D y
+       leaving the origin towards g < 0): Algorithm 2.2 finds the two, an ordinary kink, so
+       the edge goes on along the other with a fold node, not a two-branch nonsmooth node */
+    {
+        static const double c[6] = {-0x1.e1ff39ade535p-4, -0x1.afe048d94948p-1, -0x1.a18d3c10586fep-1,
+                                    0x1.36a02200044a4p-2, 0x1.f861f16111e3cp-1, 0x1.da54981acf15p-4};
+        static const double dm[6] = {-0x1.f1c25526f8bd2p-1, -0x1.ea8352fab383p-3, -0x1.35b72b42aa37cp-1,
+                                     0x1.0aabb91766a6ep-1, 0x1.48faae834c2e8p-2, 0x1.ae10bd064b7fp-1};
+        static const double ray[3] = {-0.692592, 0.434485, -0.575794};
+        for (bak = 0; bak < 2; bak++) {
+            absval2_explore(c, dm, ray, bak, &d, count);
+            CHECK(count[PSB_NODE_FOLD] == 1 && count[PSB_NODE_BOUND] == 2 && count[PSB_NODE_NONSMOOTH] == 0 &&
+                  count[PSB_NODE_PC1] == 0 && count[PSB_NODE_BRANCH] == 0 && d.n_kinks_plain == 1);
+            for (i = 0; i < d.n_nodes; i++)
+                if (d.nodes[i].kind == PSB_NODE_FOLD) CHECK(fabs(d.nodes[i].param) <= 1e-6);
+            psb_diagram_free(&d);
+        }
+    }
+    /* a nonsmooth point crossed straight through: r and -r are both rays (C |r| = 0, D r = 0),
+       so the trace meets no kink there, but det [dH; t^T] jumps in sign. Enumerating the
+       orthants gives four rays; it had been taken for a smooth branch point (three branches by
+       the smooth switch, an odd count) */
+    {
+        static const double c[6] = {-0x1.725f08221f08bp-2, 0x1.6b033e0fb88b9p-1, -0x1.e671b1353cb01p-1,
+                                    -0x1.9f4f341de5551p-2, 0x1.f9a79026fe6abp-2, -0x1.5dc942aeb34bfp-4};
+        static const double dm[6] = {-0x1.bb1ee4dc5b846p-2, 0x1.12ca57d28db27p-2, -0x1.7ff348a99da57p-1,
+                                     -0x1.ff63de1c67296p-2, 0x1.4e6f8ffc8a1p-2, -0x1.9ef2984b39c9ep-1};
+        static const double rays[4][3] = {{0.402611, -0.863642, -0.303358}, {0.740526, 0.642364, -0.197456},
+                                          {-0.740526, -0.642364, 0.197456}, {0.517253, 0.823813, 0.231909}};
+        for (bak = 0; bak < 2; bak++) {
+            int k, seen[4] = {0, 0, 0, 0}, node = -1;
+            absval2_explore(c, dm, rays[1], bak, &d, count);
+            CHECK(count[PSB_NODE_PC1] == 1 && count[PSB_NODE_BRANCH] == 0 && count[PSB_NODE_NONSMOOTH] == 0 &&
+                  count[PSB_NODE_BOUND] == 4 && d.n_odd == 0);
+            for (i = 0; i < d.n_nodes; i++)
+                if (d.nodes[i].kind == PSB_NODE_PC1) node = i;
+            if (node >= 0) {
+                const psb_node *nd = d.nodes + node;
+                CHECK(fabs(nd->y[0]) + fabs(nd->y[1]) + fabs(nd->y[2]) <= 1e-8);
+                for (k = 0; k < nd->n_branches && k < 4; k++) {
+                    const double *tk = nd->ts + 3 * k;
+                    double nt = sqrt(tk[0] * tk[0] + tk[1] * tk[1] + tk[2] * tk[2]);
+                    for (i = 0; i < 4; i++) {
+                        const double *r = rays[i];
+                        double nr = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+                        if ((tk[0] * r[0] + tk[1] * r[1] + tk[2] * r[2]) / (nt * nr) > 1 - 1e-9) seen[i]++;
+                    }
+                }
+                CHECK(nd->n_branches == 4 && seen[0] == 1 && seen[1] == 1 && seen[2] == 1 && seen[3] == 1);
+            }
+            psb_diagram_free(&d);
+        }
+    }
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -1635,6 +1802,7 @@ int main(void)
     test_small_loop_of_pieces();
     test_loop_within_a_tenth_of_h_init();
     test_kink_next_to_a_bound();
+    test_folds_at_kinks_and_straight_crossings();
     test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();
