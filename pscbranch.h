@@ -720,6 +720,7 @@
 
    Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
    reach and returns the graph: nodes are special points, edges the branch segments between.
+   Start at a regular point: a start at a branch point itself is traced along +-t only.
      psb_diagram d;  psb_explore_options eo = {0};      // zero fields: defaults
      psb_diagram_init(&d, n, 64, 128, 16);              // nodes, edges, branches per node
      eo.trace.param_min = -1;  eo.trace.param_max = 1;  // each trace's options
@@ -1337,7 +1338,9 @@ typedef struct psb_special {
                              on_point call and until the next library call on the solver
                              (psb_branch_point_switch and psb_locate_end take them as input) */
     double param;         /* y[param_index] of the reported point */
-    double precision;     /* bound on the location error, ||.||_w along the curve */
+    double precision;     /* bound on the location error, ||.||_w along the curve, of the zero
+                             of the test function as computed (0: hit exactly); with dH by
+                             finite differences that zero is off by about fd_step */
     int event;            /* EVENT: index of the event component; -1 otherwise */
     int direction;        /* EVENT: +1 rising, -1 falling; 0 otherwise */
     int located;          /* PC1: 1 when the trace went straight through the nonsmooth point

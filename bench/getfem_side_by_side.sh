@@ -8,6 +8,9 @@
 #            bench/getfem/triangle.py: the same for the triangle of Section 3.3 (GetFEM's own
 #            continuation passes its branching point unflagged; gfcont.py says how its
 #            Algorithms 2.1-2.2 are made to run there)
+#   fold     (FOLD=N, off by default) examples/triangle --mesh N --problem fold against
+#            bench/getfem/fold.py: the triangle's fold study, traced from gamma = -3 to 1 with
+#            the kinks located to h_min = 1e-9 and the two limit points read off
 # Each side is one process timed by /usr/bin/time (wall and CPU = user + sys, Python start-up and
 # model set-up included); each script's own CPU time of the computation is printed beside. GetFEM's
 # end values are compared with pscbranch's branch by branch (the scripts print the differences).
@@ -18,6 +21,7 @@
 #   TRIANGLE=64 bash bench/getfem_side_by_side.sh           # the triangle M4096 too, once
 #                                      (TRIANGLE_REPEAT=K: K sittings; GetFEM takes minutes there;
 #                                      BLOCK=0 skips the block)
+#   BLOCK=0 FOLD=64 FOLD_REPEAT=3 bash bench/getfem_side_by_side.sh   # the fold study, M4096
 # Tables on stdout, CSV in bench/out/getfem_<problem>_<mesh>.csv, logs in bench/out/getfem/.
 set -u
 cd "$(dirname "$0")/.."
@@ -25,6 +29,8 @@ REPEAT=${REPEAT:-3}
 MESH=${MESH:-10x20}
 TRIANGLE=${TRIANGLE:-}
 TRIANGLE_REPEAT=${TRIANGLE_REPEAT:-1}
+FOLD=${FOLD:-}
+FOLD_REPEAT=${FOLD_REPEAT:-1}
 BLOCK=${BLOCK:-1}
 PY=${GETFEM_PYTHON:-/usr/bin/python3}
 OUT=bench/out
@@ -45,7 +51,7 @@ fi
 # the triangle with the example's default solver (UMFPACK from M4096 when libsuitesparse-dev is
 # there, the banded LU otherwise: examples/fe_solvers.h)
 tri_flags=()
-if [ -n "$TRIANGLE" ]; then
+if [ -n "$TRIANGLE$FOLD" ]; then
     SS_INC=${SS_INC:-/usr/include/suitesparse}
     if [ -f "$SS_INC/umfpack.h" ]; then
         $CC -std=c99 -O2 -I. -I"$SS_INC" -DFE_SUITESPARSE examples/triangle.c -o "$OUT/triangle_side" -lumfpack -lklu -llapack -lblas -lm || exit 1
@@ -64,7 +70,7 @@ gver=$(dpkg-query -W -f='${Version}' python3-getfem 2>/dev/null || echo unknown)
 echo "getfem_side_by_side: $(date -u +%Y-%m-%dT%H:%M:%SZ), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $(grep -c ^processor /proc/cpuinfo) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "  BLAS: pscbranch $blas; GetFEM $gblas (OPENBLAS_NUM_THREADS=OMP_NUM_THREADS=1)"
 echo "  GetFEM $gver (python3-getfem), linear solver MUMPS (sequential); $PY"
-echo "  pscbranch: block banded LAPACK${TRIANGLE:+, triangle $tri_backend}"
+echo "  pscbranch: block banded LAPACK${TRIANGLE:+, triangle $tri_backend}${FOLD:+, fold study $tri_backend}"
 
 
 # timed LOG CMD...: runs CMD with its output in LOG; sets wall, cpu (user + sys)
@@ -78,7 +84,8 @@ timed() {
 
 ratios=()
 side_by_side() { # PROBLEM MESH SITTINGS PSB_CMD... -- GETFEM_CMD...
-    local problem=$1 mesh=$2 reps=$3 k psb=() gfm=() seen=0
+    local problem=$1 mesh=$2 reps=$3 k psb=() gfm=() seen=0 compare=branches.csv
+    [ "$problem" = fold ] && compare=folds.csv
     shift 3
     for a in "$@"; do
         if [ "$a" = -- ]; then seen=1; continue; fi
@@ -87,7 +94,7 @@ side_by_side() { # PROBLEM MESH SITTINGS PSB_CMD... -- GETFEM_CMD...
     CSV=$OUT/getfem_${problem}_$mesh.csv
     echo "problem,mesh,sitting,side,wall_s,cpu_s,own_cpu_s,branches,status,end_value_difference" >"$CSV"
     echo
-    echo "  $problem $mesh: sitting | pscbranch wall  CPU  (own) branches | GetFEM wall  CPU  (own) branches | ratio wall  CPU | end values vs pscbranch"
+    echo "  $problem $mesh: sitting | pscbranch wall  CPU  (own) $([ "$problem" = fold ] && echo "limit points" || echo branches) | GetFEM wall  CPU  (own) $([ "$problem" = fold ] && echo "limit points" || echo branches) | ratio wall  CPU | $([ "$problem" = fold ] && echo "limit points" || echo "end values") vs pscbranch"
     for k in $(seq 1 "$reps"); do
         local d=$LOGS/${problem}_${mesh}_$k
         mkdir -p "$d"
@@ -96,14 +103,15 @@ side_by_side() { # PROBLEM MESH SITTINGS PSB_CMD... -- GETFEM_CMD...
         local pown pnb pst
         pown=$(sed -n 's/.*time \([0-9.]*\) s (CPU).*/\1/p' "$d/pscbranch.log" | head -n 1)
         pnb=$(sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p' "$d/pscbranch.log" | head -n 1)
+        [ "$problem" = fold ] && pnb=$(grep -m1 'limit points (gamma):' "$d/pscbranch.log" | sed 's/(paper.*//' | grep -o '[0-9]\.[0-9]*' | wc -l)
         pst=$(grep -q ": OK" "$d/pscbranch.log" && echo OK || echo FAILED)
-        timed "$d/getfem.log" "${gfm[@]}" --compare "$d/psb/branches.csv"
+        timed "$d/getfem.log" "${gfm[@]}" --compare "$d/psb/$compare"
         local gw=$wall gc=$cpu
         local gown gnb gst diff
         gown=$(sed -n 's/.*time \([0-9.]*\) s (CPU, set-up.*/\1/p' "$d/getfem.log" | head -n 1)
-        gnb=$(sed -n 's/^ *\([0-9]*\) distinct branches.*/\1/p' "$d/getfem.log" | head -n 1)
+        gnb=$(sed -n 's/^ *\([0-9]*\) \(distinct branches\|limit points;\).*/\1/p' "$d/getfem.log" | head -n 1)
         gst=$(grep -q "^getfem-$problem: OK" "$d/getfem.log" && echo OK || echo FAILED)
-        diff=$(sed -n 's/.*largest end-value difference \(.*\)$/\1/p' "$d/getfem.log" | head -n 1)
+        diff=$(sed -n 's/.*largest \(end-value\|limit-point\) difference \(.*\)$/\2/p' "$d/getfem.log" | head -n 1)
         local rw rc
         rw=$(awk -v a="$gw" -v b="$pw" 'BEGIN { if (b > 0) printf "%.1f", a / b; else print "-" }')
         rc=$(awk -v a="$gc" -v b="$pc" 'BEGIN { if (b > 0) printf "%.1f", a / b; else print "-" }')
@@ -124,6 +132,9 @@ side_by_side() { # PROBLEM MESH SITTINGS PSB_CMD... -- GETFEM_CMD...
 [ "$BLOCK" = 0 ] || side_by_side block "$MESH" "$REPEAT" "$OUT/block_side" --mesh "$MESH" -- "$PY" bench/getfem/block.py --mesh "$MESH"
 if [ -n "$TRIANGLE" ]; then
     side_by_side triangle "$TRIANGLE" "$TRIANGLE_REPEAT" "$OUT/triangle_side" --mesh "$TRIANGLE" --load 26.4 "${tri_flags[@]}" -- "$PY" bench/getfem/triangle.py --mesh "$TRIANGLE"
+fi
+if [ -n "$FOLD" ]; then
+    side_by_side fold "$FOLD" "$FOLD_REPEAT" "$OUT/triangle_side" --mesh "$FOLD" --problem fold -- "$PY" bench/getfem/fold.py --mesh "$FOLD"
 fi
 echo
 echo "  logs: $LOGS/, CSV: $OUT/getfem_<problem>_<mesh>.csv"

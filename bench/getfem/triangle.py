@@ -35,9 +35,10 @@ R_AUG, FRICTION = 10.0, 1.7
 LOAD = (-26.4, -7.5)
 
 
-def build(n):
+def build(n, load='gamma*[%.17g, %.17g]' % LOAD):
     """The model, the GetFEM objects it uses, the u dofs (u1, u2) of the first and the last contact
-    node along the bottom leg (x1 = 0 and x1 = (n - 1)/n)."""
+    node along the bottom leg (x1 = 0 and x1 = (n - 1)/n). load: the traction on the vertical leg
+    in GetFEM's weak-form language, a function of the datum gamma (fold.py gives its own)."""
     m = gf.Mesh('empty', 2)
     tris = []
     for j in range(n):
@@ -65,7 +66,7 @@ def build(n):
     md.add_isotropic_linearized_elasticity_brick(mim, 'u', 'lambda', 'mu')
     md.add_Dirichlet_condition_with_multipliers(mim, 'u', mfu, HYPOTENUSE)
     md.add_initialized_data('gamma', [0.0])
-    md.add_source_term(mim, 'gamma*[%.17g, %.17g].Test_u' % LOAD, LEFT)
+    md.add_source_term(mim, '(%s).Test_u' % load, LEFT)
     dofs = mfu.basic_dof_on_region(CONTACT)
     ncontact = len(dofs) // 2
     md.add_variable('lambda_n', ncontact)
