@@ -4678,7 +4678,8 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
         psb__special_init(d, PSB_SPECIAL_PC1, yk, tk, p);
         d->sp.precision = s->opt.h_min / s->opt.h_dec;
         if (psb__report_special(d, index)) return 1;
-    } else if (branch && !kink && (detect & PSB_DETECT_BRANCH)) {
+    } else if (branch && !kink && (detect & (PSB_DETECT_BRANCH | PSB_DETECT_PC1))) {
+        /* a smooth branch point, or (PC1) a nonsmooth point crossed straight through */
         fn.kind = PSB_SPECIAL_BRANCH;
         r = PSB_NONSMOOTH_END;
         for (k = 0; k < 2 && r != PSB_SUCCESS; k++) {
@@ -4702,7 +4703,7 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
                 break;
             }
         }
-        if (r == PSB_SUCCESS) {
+        if (r == PSB_SUCCESS && (detect & PSB_DETECT_BRANCH)) {
             double span = 0;
             for (k = 0; k < s->np1_; k++) span += s->w_[k] * t0[k] * (y1[k] - y0[k]);
             r = psb__branch_directions(s, y0, t0, span);

@@ -1683,6 +1683,23 @@ static void absval2_explore(const double *c, const double *dm, const double *ray
     psb_solver_free(&s);
 }
 
+/* psb_trace's special points by kind; located PC1 points and their distance from the origin */
+typedef struct { int n[PSB_SPECIAL_EVENT + 1], located; double dist; } specials_seen;
+
+static int count_specials(const psb_point *pt, void *user)
+{
+    specials_seen *seen = (specials_seen *)user;
+    if (pt->flags & PSB_POINT_SPECIAL) {
+        const psb_special *sp = pt->special;
+        seen->n[sp->kind]++;
+        if (sp->kind == PSB_SPECIAL_PC1 && sp->located) {
+            seen->located++;
+            seen->dist = sqrt(sp->y[0] * sp->y[0] + sp->y[1] * sp->y[1] + sp->y[2] * sp->y[2]);
+        }
+    }
+    return 0;
+}
+
 static void test_folds_at_kinks_and_straight_crossings(void)
 {
     int bak, i, count[PSB_NODE_FAILURE + 1];
@@ -1753,6 +1770,34 @@ static void test_folds_at_kinks_and_straight_crossings(void)
                                      -0x1.ff63de1c67296p-2, 0x1.4e6f8ffc8a1p-2, -0x1.9ef2984b39c9ep-1};
         static const double rays[4][3] = {{0.402611, -0.863642, -0.303358}, {0.740526, 0.642364, -0.197456},
                                           {-0.740526, -0.642364, 0.197456}, {0.517253, 0.823813, 0.231909}};
+        /* the trace alone: one PC1 point, located (no kink to run Algorithm 2.1 to), with the
+           PC1 detector alone too; never a smooth branch point */
+        for (bak = 0; bak < 3; bak++) {
+            static const int masks[3] = {PSB_DETECT_ALL, PSB_DETECT_PC1, PSB_DETECT_BRANCH};
+            absval2 p = {c, dm};
+            psb_problem prob;
+            psb_options o;
+            psb_solver s;
+            psb_trace_options to;
+            specials_seen seen;
+            double y[3], t[3];
+            memset(&o, 0, sizeof o);
+            memset(&to, 0, sizeof to);
+            memset(&seen, 0, sizeof seen);
+            psb_problem_init(&prob, 2, absval2_res, absval2_jac, &p);
+            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+            for (i = 0; i < 3; i++) { y[i] = 0.5 * rays[1][i]; t[i] = -rays[1][i]; }
+            CHECK(psb_solve_at_param(&s, y, 0) == PSB_SUCCESS && psb_tangent(&s, y, t, t) == PSB_SUCCESS);
+            to.detect = masks[bak];
+            to.max_steps = 40;
+            to.on_point = count_specials;
+            to.point_user = &seen;
+            psb_trace(&s, y, t, &to, NULL);
+            CHECK(seen.n[PSB_SPECIAL_BRANCH] == 0);
+            CHECK(seen.n[PSB_SPECIAL_PC1] == (bak < 2) && seen.located == (bak < 2));
+            CHECK(bak == 2 || seen.dist <= 1e-8);
+            psb_solver_free(&s);
+        }
         for (bak = 0; bak < 2; bak++) {
             int k, seen[4] = {0, 0, 0, 0}, node = -1;
             absval2_explore(c, dm, rays[1], bak, &d, count);
