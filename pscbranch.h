@@ -1375,7 +1375,9 @@ typedef int (*psb_point_fn)(const psb_point *pt, void *user);
 
 typedef struct psb_trace_options {
     double param_min, param_max; /* bounds on y[param_index]; ignored when param_min >= param_max;
-                                    either may be infinite, NaN gives PSB_ERR_INPUT */
+                                    either may be infinite, NaN gives PSB_ERR_INPUT. The trace
+                                    ends on the first point of the curve on a bound, also where
+                                    a fold lies beyond it within a step (retaken shorter) */
     long max_steps;              /* accepted steps [0 -> 10000] */
     int no_switch;               /* 1: stop (PSB_NONSMOOTH_END) instead of switching at a kink */
     int detect_loop;             /* 1: stop (PSB_LOOP_CLOSED) when the curve returns to its start */
@@ -4104,6 +4106,19 @@ static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, c
     return 1;
 }
 
+/* Whether the fold within the step from (y0, t0) to (y1, t1) (t0[p] t1[p] < 0) may lie beyond the
+   bound it turns towards. The Hermite estimate of the fold's parameter is off by up to a fraction
+   of its rise above the step's ends, so the rise counts twice: a shorter step decides, and as
+   steps shrink the rise falls like their square. */
+static int psb__fold_beyond_bound(const psb_solver *s, const psb_trace_options *to, const double *y0,
+                                  const double *t0, const double *y1, const double *t1)
+{
+    int p = s->prob.param_index;
+    double fold = psb__fold_param(s, y0, t0, y1, t1);
+    if (t0[p] > 0) return 2 * fold - fmax(y0[p], y1[p]) > to->param_max;
+    return 2 * fold - fmin(y0[p], y1[p]) < to->param_min;
+}
+
 /* Solves for the point with y[param] = bound between y0 (inside) and y1 (outside), starting from
    the chord; on success y1 holds it. */
 static psb_result psb__land_on_bound(psb_solver *s, const double *y0, double *y1, double bound)
@@ -4356,12 +4371,13 @@ static int psb__on_bracket(const psb_solver *s, const double *ya, const double *
    tol_correction of the curve, have tangents off by tol_correction / distance), up to 12
    times (a singular matrix is geometry here: a user solver's is tried twice, as its failure
    may be passing). Returns PSB_SUCCESS, PSB_ERR_NO_CONVERGENCE (no point of the branch found),
-   a fault (callback > 0, NaN/Inf) or a fatal code. */
+   PSB_ERR_SINGULAR (none found, and the user solver refused a matrix on the way: the caller
+   decides whether that can be geometry), a fault (callback > 0, NaN/Inf) or a fatal code. */
 static psb_result psb__bracket_point(psb_solver *s, const double *y0, const double *t0, double sa,
                                      const double *ya, const double *ta, double sb, const double *yb,
                                      const double *tb, int far_b, double *sm, double *ye, double *te)
 {
-    int np1 = s->np1_, k, i;
+    int np1 = s->np1_, k, i, user_singular = 0;
     double w = sb - sa, ca = psb_dot_w(s, t0, ta), cb = psb_dot_w(s, t0, tb);
     for (k = 0; k < 12; k++) {
         double l = (*sm - sa) / w, l2 = l * l, l3 = l2 * l, h00, h10, h01, h11;
@@ -4376,12 +4392,13 @@ static psb_result psb__bracket_point(psb_solver *s, const double *y0, const doub
             /* a singular matrix stays singular; a user solver's passing failure does not */
             for (i = 0; i < np1; i++) ye[i] = h00 * ya[i] + h10 * ta[i] + h01 * yb[i] + h11 * tb[i];
             r = psb__newton_on(s, ye, te, y0, t0, *sm);
+            if (r == PSB_ERR_SINGULAR) user_singular = 1;
         }
         if (psb__is_fatal(r) || r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE) return r;
         if (r == PSB_SUCCESS && psb__on_bracket(s, ya, ta, yb, tb, l, ye, te)) return PSB_SUCCESS;
         *sm += 0.5 * ((far_b ? sb : sa) - *sm);
     }
-    return PSB_ERR_NO_CONVERGENCE;
+    return user_singular ? PSB_ERR_SINGULAR : PSB_ERR_NO_CONVERGENCE;
 }
 
 /* Locates the sign change of fn between the accepted couples (y0, t0) and y1, on the curve
@@ -4398,7 +4415,7 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
                                      const double *t0, const double *y1, double tol,
                                      double *precision, double *fend_abs, double *f01_abs)
 {
-    int np1 = s->np1_, iter, side = 0, bisect = 0, evals = 0, i;
+    int np1 = s->np1_, iter, side = 0, bisect = 0, evals = 0, found = 0, i;
     double *ya = PSB__VEC(s, PSB__V_SP_YA), *ta = PSB__VEC(s, PSB__V_SP_TA);
     double *yb = PSB__VEC(s, PSB__V_SP_YB), *tb = PSB__VEC(s, PSB__V_SP_TB);
     double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
@@ -4441,7 +4458,9 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
         sm = fmin(fmax(sm, sa + margin), sb - margin);
         r = psb__bracket_point(s, y0, t0, sa, ya, ta, sb, yb, tb, fabs(fb) > fabs(fa), &sm, ye, te);
         if (r == PSB_SUCCESS) r = psb__sp_value(s, fn, ye, te, &fm);
-        if (psb__sp_fault(s, r, fn->kind != PSB_SPECIAL_BRANCH)) return r;
+        /* the user solver refusing every point inside the step's bracket is its failure, not
+           a branch point's geometry (singular at the point only: the points tried move away) */
+        if (psb__sp_fault(s, r, fn->kind != PSB_SPECIAL_BRANCH || found == 0)) return r;
         /* the user backend's tau growing far beyond its values at the ends: a pole */
         if (r == PSB_SUCCESS && fn->kind == PSB_SPECIAL_BRANCH && s->prob.linear == PSB_LINEAR_USER &&
             fabs(fm) > 1e3 * fmax(f01_abs[0], f01_abs[1]))
@@ -4452,6 +4471,7 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
             bisect = 1;
             continue;
         }
+        found++;
         if ((fm < 0) == (fa < 0)) {
             sa = sm; fa = ga = fm;
             psb__copy(ya, ye, np1); psb__copy(ta, te, np1);
@@ -4825,6 +4845,14 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         } else if (r != PSB_SUCCESS) {
             rep->end = r;
             goto done;
+        } else if (bounded && told[p] * tc[p] < 0 && h_step * s->opt.h_dec >= s->opt.h_min &&
+                   psb__fold_beyond_bound(s, &opts, yold, told, yc, tc)) {
+            /* a fold within the step beyond a bound, both ends inside: the curve reached the
+               bound first on the way up to the fold; a shorter step from yold lands on it */
+            psb__copy(yc, yold, np1);
+            psb__copy(tc, told, np1);
+            h = h_step * s->opt.h_dec;
+            continue;
         } else {
             /* the test function from the factors of the step's last corrector iteration */
             if (det.mon_on) {
@@ -7535,13 +7563,16 @@ PSCBRANCH_DEF psb_result psb_proj_disk(const double x[2], double s, int piece_re
     if (pc == PSB_DISK_BOUNDARY) {
         /* P = s x/|x|, dP/dx = (s/|x|)(I - d d^T), dP/ds = d. At x = 0 (only a neighbour when
            s = 0) take the limit along d = e1 with s/|x| -> 0; for s > 0 use s/|x| = 1. */
-        if (nx >= DBL_MIN) {
+        if (nx >= DBL_MIN && nx <= DBL_MAX) {
             d0 = x[0] / nx;
             d1 = x[1] / nx;
             k = s / nx;
-        } else if (nx > 0.0) { /* subnormal: the direction of the scaled x (s/|x| may overflow) */
-            nx = psb__ct_dir2(x[0], x[1], &d0, &d1);
-            k = s / nx;
+        } else if (nx > 0.0) {
+            /* |x| subnormal (s/|x| may overflow) or beyond DBL_MAX (s/|x| may not underflow):
+               the direction of the scaled x, s/|x| = (s/m)/|x/m| */
+            double m = fabs(x[0]) > fabs(x[1]) ? fabs(x[0]) : fabs(x[1]);
+            psb__ct_dir2(x[0], x[1], &d0, &d1);
+            k = s / m / hypot(x[0] / m, x[1] / m);
         } else {
             d0 = 1.0;
             d1 = 0.0;
@@ -7615,7 +7646,7 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
     else if (mu > 0.0 && n >= 0.0 && t <= mu * n) /* mu = 0: IN has no interior, never the
                                                      default; n < 0: mu n may underflow to -0 */
         pc = PSB_CONE_IN;
-    else if (mu * t <= -n)
+    else if ((mu > 0.0 ? mu * t : 0.0) <= -n) /* mu = 0: 0 |x_T| even where |x_T| overflows */
         pc = PSB_CONE_POLAR;
     else
         pc = PSB_CONE_BOUNDARY;
@@ -7630,8 +7661,9 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
         wm = mu * w;
         wmm = mu * mu * w;
         mc = mu * c;
-        if (!(t >= DBL_MIN || t == 0.0) || !psb__finite(mu * mu) || !psb__finite(mc)) {
-            /* extreme magnitudes: mu^2, mu |x_T| or mu c overflow, or x_T is subnormal. The
+        if (!(t >= DBL_MIN || t == 0.0) || !psb__finite(mu * mu) || !psb__finite(mc) || fabs(c) < DBL_MIN) {
+            /* extreme magnitudes: mu^2, mu |x_T| or mu c overflow, x_T is subnormal, or c
+               underflows (mu c, the tangential part, may not: mu 1e150, x_T 1e-200). The
                weights 1, mu, mu^2 over 1 + mu^2 are formed without mu^2 and c, mu c as sums
                of bounded multiples of x_N and |x_T| (finite unless the projection is not) */
             double im = 1.0 / mu, m = fabs(x[1]) > fabs(x[2]) ? fabs(x[1]) : fabs(x[2]), nu;
@@ -7645,7 +7677,7 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
                 nu = hypot(x[1] / m, x[2] / m);
                 c = w * n + (wm * m) * nu;
                 mc = wm * n + (wmm * m) * nu;
-                k = wm * (n / m / nu) + wmm;
+                k = mu > 0.0 ? wm * (n / m / nu) + wmm : 0.0; /* mu = 0: n/m may overflow */
             } else {
                 c = w * n;
                 mc = wm * n;
@@ -7708,11 +7740,13 @@ PSCBRANCH_DEF psb_result psb_proj_cone_active(const double x[3], double mu, doub
     n = x[0];
     t = hypot(x[1], x[2]);
     *mask = 0u;
-    if (mu > 0.0 && t <= mu * n + tol)
+    /* as psb_proj_cone's default piece: n < 0 outside IN (mu n may underflow to -0), and
+       mu |x_T| = 0 for mu = 0 (|x_T| may overflow) */
+    if (mu > 0.0 && n >= -tol && t <= mu * n + tol)
         *mask |= 1u << PSB_CONE_IN;
-    if (mu * t <= -n + tol)
+    if ((mu > 0.0 ? mu * t : 0.0) <= -n + tol)
         *mask |= 1u << PSB_CONE_POLAR;
-    if (mu * n <= t + tol && -n <= mu * t + tol)
+    if (mu * n <= t + tol && -n <= (mu > 0.0 ? mu * t : 0.0) + tol)
         *mask |= 1u << PSB_CONE_BOUNDARY;
     return PSB_SUCCESS;
 }
@@ -7820,6 +7854,8 @@ PSCBRANCH_DEF psb_result psb_ac2d_state(double u_n, double u_t, double lam_n, do
         return e;
     xn = lam_n - r * (u_n - gap);
     xt = lam_t - r * u_t;
+    if (!psb__finite(xn) || !psb__finite(xt))
+        return PSB_ERR_NONFINITE; /* overflow inside, as psb_ac2d_node */
     s = xn < 0.0 ? xn : 0.0;
     if (s == 0.0)
         *state = PSB_CONTACT_SEPARATED;
@@ -7950,20 +7986,23 @@ PSCBRANCH_DEF psb_result psb_fc3d_desaxce(const double u[3], double mu, double u
     t = hypot(u[1], u[2]);
     for (a = 0; a < 9; a++)
         jv[a] = (a % 4 == 0) ? 1.0 : 0.0;
-    /* d|u_T|/du_T = u_T/|u_T|; at u_T = 0 the B-limit along e1 (subnormal u_T: scaled) */
-    if (t >= DBL_MIN) {
+    /* d|u_T|/du_T = u_T/|u_T|; at u_T = 0 the B-limit along e1 (subnormal or overflowing |u_T|:
+       scaled by m = max |u_T,i|, and mu |u_T| = (mu m) |u_T/m|) */
+    if (t >= DBL_MIN && t <= DBL_MAX) {
         jv[3] = mu * u[1] / t;
         jv[6] = mu * u[2] / t;
+        uv[0] = u[0] + mu * t;
     } else if (t > 0.0) {
-        double d0, d1;
+        double d0, d1, m = fabs(u[1]) > fabs(u[2]) ? fabs(u[1]) : fabs(u[2]);
         psb__ct_dir2(u[1], u[2], &d0, &d1);
         jv[3] = mu * d0;
         jv[6] = mu * d1;
+        uv[0] = mu > 0.0 ? u[0] + (mu * m) * hypot(u[1] / m, u[2] / m) : u[0];
     } else {
         jv[3] = mu;
         jv[6] = 0.0;
+        uv[0] = u[0];
     }
-    uv[0] = u[0] + mu * t; /* overflows only where uhat does */
     uv[1] = u[1];
     uv[2] = u[2];
     {

@@ -865,6 +865,64 @@ static void test_extremes(void)
     CHECK(bad_fd == 0);
 }
 
+/* Magnitudes at the ends of the range, each once a wrong success (a review, 2026-11-28): |x|
+   beyond DBL_MAX, mu = 0 with |x_T| overflowing or subnormal, a c that underflows while mu c
+   does not, De Saxce's uhat representable while |u_T| is not, overflow inside ac2d_state, and
+   an active set that named IN for a point strictly outside the cone. */
+static void test_extremes_review(void)
+{
+    double p[3], j[9], js[2], f[3], jr[9], uh[3];
+    unsigned mask;
+    int pc;
+    psb_contact_state st;
+    {
+        const double x[2] = {1.5e308, 1.5e308};
+        CHECK(psb_proj_disk(x, 1, PSB_PIECE_DEFAULT, p, j, js, &pc) == PSB_SUCCESS && pc == PSB_DISK_BOUNDARY);
+        CHECK_NEAR(p[0], sqrt(0.5), 1e-15);
+        CHECK_NEAR(p[1], sqrt(0.5), 1e-15);
+        CHECK_NEAR(js[0], sqrt(0.5), 1e-15);
+    }
+    {
+        const double r[3] = {1, 1.5e308, 1.5e308}, u[3] = {0, 0, 0};
+        CHECK(psb_fc3d_ac(r, u, 1, 1, 1, PSB_PIECE_DEFAULT, f, jr, NULL, &pc) == PSB_SUCCESS);
+        CHECK_NEAR(jr[1], -sqrt(0.5), 1e-15);
+        CHECK_NEAR(jr[2], -sqrt(0.5), 1e-15);
+    }
+    {
+        const double x[3] = {-1, 1.5e308, 1.5e308};
+        CHECK(psb_proj_cone(x, 0, PSB_PIECE_DEFAULT, p, j, &pc) == PSB_SUCCESS && pc == PSB_CONE_POLAR);
+        CHECK(p[0] == 0 && p[1] == 0 && p[2] == 0);
+        CHECK(psb_proj_cone_active(x, 0, 0, &mask) == PSB_SUCCESS && mask == 1u << PSB_CONE_POLAR);
+    }
+    {
+        const double x[3] = {1, 1e-320, 0};
+        CHECK(psb_proj_cone(x, 0, PSB_PIECE_DEFAULT, p, j, &pc) == PSB_SUCCESS && pc == PSB_CONE_BOUNDARY);
+        CHECK(p[0] == 1 && p[1] == 0 && p[2] == 0 && j[0] == 1 && j[4] == 0 && j[8] == 0);
+    }
+    {
+        const double x[3] = {0, 1e-200, 1e-200};
+        CHECK(psb_proj_cone(x, 1e150, PSB_PIECE_DEFAULT, p, j, &pc) == PSB_SUCCESS && pc == PSB_CONE_BOUNDARY);
+        CHECK_NEAR(p[1], 1e-200, 1e-214);
+        CHECK_NEAR(p[2], 1e-200, 1e-214);
+        CHECK_NEAR(j[4], 1, 1e-14);
+        CHECK_NEAR(j[8], 1, 1e-14);
+        CHECK(fabs(j[5]) <= 1e-14 && fabs(j[7]) <= 1e-14);
+    }
+    {
+        const double u[3] = {0, 1.5e308, 1.5e308};
+        CHECK(psb_fc3d_desaxce(u, 0, uh, j) == PSB_SUCCESS && uh[0] == 0 && uh[1] == u[1] && uh[2] == u[2]);
+        CHECK(psb_fc3d_desaxce(u, 0.5, uh, j) == PSB_SUCCESS);
+        CHECK_NEAR(uh[0], 0.75e308 * sqrt(2.0), 1e294);
+        CHECK_NEAR(j[3], 0.5 * sqrt(0.5), 1e-15);
+    }
+    st = PSB_CONTACT_STICK;
+    CHECK(psb_ac2d_state(1e308, 0, -1e308, 5, 10, 0, 0, &st) == PSB_ERR_NONFINITE);
+    {
+        const double x[3] = {-1e-117, 0, 0};
+        CHECK(psb_proj_cone_active(x, 1e-216, 0, &mask) == PSB_SUCCESS && mask == 1u << PSB_CONE_POLAR);
+    }
+}
+
 int main(void)
 {
     size_t k;
@@ -882,5 +940,6 @@ int main(void)
     test_error();
     test_bad_input();
     test_extremes();
+    test_extremes_review();
     return HARNESS_END();
 }

@@ -21,6 +21,7 @@ typedef struct {
     /* user backend: the bordered matrix and its LU (n + 1 <= 4) */
     double lu[16];
     int piv[4], np1;
+    long calls, fail_from, fail_to; /* user factor: calls made; returns 1 for calls in [from, to) */
 } problem;
 
 /* pitchfork x^3 - l x; transcritical x^2 - l x; two coupled pitchforks on x = 0 at l = 0
@@ -115,6 +116,8 @@ static int user_factor(const double *y, const double *row, void *ctx)
     problem *p = (problem *)ctx;
     int n = p->np1 - 1, np1 = p->np1, i, j, c;
     double jac[12];
+    p->calls++;
+    if (p->calls > p->fail_from && p->calls <= p->fail_to) return 1;
     smooth_jac(y, jac, n, p);
     for (j = 0; j < np1; j++) {
         for (i = 0; i < n; i++) p->lu[i + j * np1] = jac[i + j * n];
@@ -642,6 +645,69 @@ static void test_circle(psb_linear linear)
     psb_solver_free(&s);
 }
 
+/* A user factor that fails (returns 1, "singular") on a window of calls, or on every call from
+   call k on, at every k of the circle's clean run: the trace returns a failure, or every point
+   it reported is where it belongs. A failure while a point was being located had been taken
+   for the geometry of a branch point: the bracket reached was reported (an event 0.08 off, a
+   branch point on a curve that has none) and the trace went on to succeed. */
+static void test_user_factor_failing_inside(void)
+{
+    psb_solver s;
+    problem pr;
+    psb_options opt;
+    psb_trace_options to;
+    record rc;
+    double work[9];
+    long clean, k;
+    int w, failures = 0, runs = 0;
+    memset(&opt, 0, sizeof opt);
+    setup(&s, &pr, P_CIRCLE, PSB_LINEAR_USER, &opt);
+    for (w = 0; w < 3; w++) {
+        static const long widths[3] = {1, 30, 1000000};
+        pr.calls = 0;
+        pr.fail_from = pr.fail_to = 0;
+        {
+            double y[2] = {1, 0}, t[2] = {0, 1};
+            trace_options(&to, &rc, 2, PSB_DETECT_FOLDS | PSB_DETECT_EVENTS | PSB_DETECT_BRANCH);
+            to.detect_loop = 1;
+            to.n_events = 3;
+            to.event = event_x;
+            to.event_work = work;
+            CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_LOOP_CLOSED);
+            clean = pr.calls;
+        }
+        for (k = 0; k < clean; k++) {
+            double y[2] = {1, 0}, t[2] = {0, 1};
+            psb_result r;
+            int i, bad = 0;
+            pr.calls = 0;
+            pr.fail_from = k;
+            pr.fail_to = k + widths[w];
+            trace_options(&to, &rc, 2, PSB_DETECT_FOLDS | PSB_DETECT_EVENTS | PSB_DETECT_BRANCH);
+            to.detect_loop = 1;
+            to.n_events = 3;
+            to.event = event_x;
+            to.event_work = work;
+            r = psb_trace(&s, y, t, &to, NULL);
+            runs++;
+            failures += r < 0;
+            for (i = 0; i < rc.n && i < MAX_SP; i++) {
+                const psb_special *sp = &rc.sp[i];
+                bad |= sp->kind == PSB_SPECIAL_BRANCH || sp->precision > 1e-10;
+                if (sp->kind == PSB_SPECIAL_FOLD) bad |= fabs(fabs(sp->param) - 1) > 1e-12;
+                if (sp->kind == PSB_SPECIAL_EVENT && sp->event == 0) bad |= fabs(rc.y[i][0] - 0.3) > 1e-10;
+                if (sp->kind == PSB_SPECIAL_EVENT && sp->event == 1) bad |= fabs(rc.y[i][1] + 0.5) > 1e-10;
+            }
+            CHECK(!bad);
+            if (bad) printf("  user factor failing from call %ld (%ld calls): %s, a point misplaced\n", k, widths[w],
+                            psb_result_string(r));
+        }
+    }
+    printf("  user factor failing inside: %d runs, %d ended in a failure, none with a misplaced point\n", runs, failures);
+    CHECK(failures > 0);
+    psb_solver_free(&s);
+}
+
 /* The tent l = 1 - |x|: a fold at the kink x = 0, reported as nonsmooth with the couple before
    it, within the stated precision of the kink; no smooth fold, no PC1 point. */
 static void test_fold_kink(void)
@@ -913,6 +979,7 @@ int main(void)
         test_crossing_circles(backends[b]);
     }
     test_fold_kink();
+    test_user_factor_failing_inside();
     test_pl_families();
     test_determinism();
     test_bad_input();

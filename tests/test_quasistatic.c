@@ -422,6 +422,59 @@ static void test_point_callback(void)
     psb_solver_free(&s);
 }
 
+/* The cubic l = x^3 - 3x: from x = -1.5 (l = 1.125) up to a load just below the fold's (l = 2 at
+   x = -1). The step ends at the first point of the path with that load, on the same branch,
+   however close the fold: a step over the fold with both ends below the load had skipped that
+   point and snapped to the far branch (x near 2). Also the trace with that bound. */
+static int cubic_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] * y[0] * y[0] - 3 * y[0] - y[1];
+    return 0;
+}
+
+static int cubic_jac(const double *y, double *j, int ld, void *u)
+{
+    (void)u;
+    j[0] = 3 * y[0] * y[0] - 3;
+    j[ld] = -1;
+    return 0;
+}
+
+static void test_fold_just_beyond_the_load(void)
+{
+    static const double loads[4] = {1.999, 1.999999, 1.99999999, 1.9999999999};
+    int k, it;
+    for (k = 0; k < 4; k++) {
+        psb_problem prob;
+        psb_options opt;
+        psb_solver s;
+        psb_evolve_options eo;
+        psb_evolve_report rep;
+        psb_trace_options to;
+        double y[2] = {-1.5, 1.125}, t[2] = {1, 0}, x = -1.5;
+        for (it = 0; it < 100; it++) x -= (x * x * x - 3 * x - loads[k]) / (3 * x * x - 3);
+        memset(&opt, 0, sizeof opt);
+        opt.h_init = 1e-2;
+        opt.h_max = 5e-2;
+        opt.h_min = 1e-10;
+        psb_problem_init(&prob, 1, cubic_res, cubic_jac, NULL);
+        CHECK(psb_solver_init(&s, &prob, &opt) == PSB_SUCCESS);
+        memset(&eo, 0, sizeof eo);
+        eo.mode = PSB_EVOLVE_CONTINUATION;
+        CHECK(psb_evolve_step(&s, y, loads[k], &eo, &rep) == PSB_SUCCESS);
+        CHECK(rep.n_folds == 0 && fabs(y[0] - x) <= 1e-9 && y[1] == loads[k]);
+        y[0] = -1.5;
+        y[1] = 1.125;
+        memset(&to, 0, sizeof to);
+        to.param_min = 0;
+        to.param_max = loads[k];
+        CHECK(psb_tangent(&s, y, t, t) == PSB_SUCCESS);
+        CHECK(psb_trace(&s, y, t, &to, NULL) == PSB_PARAM_BOUND && fabs(y[0] - x) <= 1e-9);
+        psb_solver_free(&s);
+    }
+}
+
 int main(void)
 {
     test_derivation();
@@ -430,5 +483,6 @@ int main(void)
     test_unloading();
     test_bad_input();
     test_point_callback();
+    test_fold_just_beyond_the_load();
     return HARNESS_END();
 }
