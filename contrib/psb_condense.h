@@ -46,8 +46,8 @@
      first by the larger of its B row's sum of |b_ij| and its own largest entry, so that the
      test does not depend on units and a row that cancels in the Schur complement counts as
      the near-dependence of B's rows that it is, as UMFPACK's scaled pivots of B would show)
-     or NaN/Inf in the values or the row make factor return 1. Init refuses an A_II whose UMFPACK pivot ratio (scaled) is below
-     rcond_min.
+     or NaN/Inf in the values or the row make factor return 1. Init refuses an A_II whose
+     UMFPACK pivot ratio (scaled) is below rcond_min.
      Cost: memory n_I n_Z + (n_V + 1)^2 doubles beside A's copy and A_II's factors; a factor
      call O(nnz(A) + n_I n_Z + n_V^3), a solve O(nnz(factors) + n_I n_Z). It wins where n_V is
      small against n: on the triangle of examples/ (n_V = 4 per contact node) at M4096 a
