@@ -1655,27 +1655,35 @@ static int absval2_jac(const double *y, double *jac, int ld, void *u)
     return 0;
 }
 
+/* A solver for H = C |y| + D y (default options) and the couple half-way along `ray`, towards
+   the origin. */
+static void absval2_start(absval2 *p, psb_solver *s, const double *ray, double *y, double *t)
+{
+    psb_problem prob;
+    psb_options o;
+    int i;
+    memset(&o, 0, sizeof o);
+    psb_problem_init(&prob, 2, absval2_res, absval2_jac, p);
+    CHECK(psb_solver_init(s, &prob, &o) == PSB_SUCCESS);
+    for (i = 0; i < 3; i++) { y[i] = 0.5 * ray[i]; t[i] = -ray[i]; }
+    CHECK(psb_solve_at_param(s, y, 0) == PSB_SUCCESS && psb_tangent(s, y, t, t) == PSB_SUCCESS);
+}
+
 /* Explores H = C |y| + D y from half-way along `ray` (towards the origin, box [-1, 1]^3); counts
    the nodes by kind and the branching node's branches matched to `rays`. */
 static void absval2_explore(const double *c, const double *dm, const double *ray, int branch_at_kinks,
                             psb_diagram *d, int count[PSB_NODE_FAILURE + 1])
 {
     absval2 p = {c, dm};
-    psb_problem prob;
-    psb_options o;
     psb_solver s;
     psb_explore_options eo;
     double y[3], t[3], lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
     int i;
-    memset(&o, 0, sizeof o);
     memset(&eo, 0, sizeof eo);
     eo.box_min = lo;
     eo.box_max = hi;
     eo.branch_at_kinks = branch_at_kinks;
-    psb_problem_init(&prob, 2, absval2_res, absval2_jac, &p);
-    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-    for (i = 0; i < 3; i++) { y[i] = 0.5 * ray[i]; t[i] = -ray[i]; }
-    CHECK(psb_solve_at_param(&s, y, 0) == PSB_SUCCESS && psb_tangent(&s, y, t, t) == PSB_SUCCESS);
+    absval2_start(&p, &s, ray, y, t);
     CHECK(psb_diagram_init(d, 2, 32, 32, 16) == PSB_SUCCESS);
     CHECK(psb_explore(&s, y, t, &eo, d) == PSB_SUCCESS);
     memset(count, 0, sizeof(int) * (PSB_NODE_FAILURE + 1));
@@ -1775,19 +1783,13 @@ static void test_folds_at_kinks_and_straight_crossings(void)
         for (bak = 0; bak < 3; bak++) {
             static const int masks[3] = {PSB_DETECT_ALL, PSB_DETECT_PC1, PSB_DETECT_BRANCH};
             absval2 p = {c, dm};
-            psb_problem prob;
-            psb_options o;
             psb_solver s;
             psb_trace_options to;
             specials_seen seen;
             double y[3], t[3];
-            memset(&o, 0, sizeof o);
             memset(&to, 0, sizeof to);
             memset(&seen, 0, sizeof seen);
-            psb_problem_init(&prob, 2, absval2_res, absval2_jac, &p);
-            CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-            for (i = 0; i < 3; i++) { y[i] = 0.5 * rays[1][i]; t[i] = -rays[1][i]; }
-            CHECK(psb_solve_at_param(&s, y, 0) == PSB_SUCCESS && psb_tangent(&s, y, t, t) == PSB_SUCCESS);
+            absval2_start(&p, &s, rays[1], y, t);
             to.detect = masks[bak];
             to.max_steps = 40;
             to.on_point = count_specials;
