@@ -7428,16 +7428,24 @@ static psb_result psb__ct_emit(const psb__ct_out *outs, int count, int *piece_ds
     return PSB_SUCCESS;
 }
 
-/* Unit direction of (a, b) != 0 and its length (may overflow to Inf): scaled by the larger
-   magnitude first, so that subnormal components keep their direction (hypot alone rounds
-   (5e-324, -5e-324) to length 5e-324 and direction (1, -1)). */
-static double psb__ct_dir2(double a, double b, double *d0, double *d1)
+/* Unit direction of (a, b) != 0 and its length as m nu, m = the larger magnitude (in *m), nu =
+   |(a, b)| / m in [1, sqrt 2] (returned): scaled first, so that subnormal components keep their
+   direction (hypot alone rounds (5e-324, -5e-324) to length 5e-324 and direction (1, -1)) and
+   products with the length can be formed where the length itself overflows. */
+static double psb__ct_dir2(double a, double b, double *m, double *d0, double *d1)
 {
-    double m = fabs(a) > fabs(b) ? fabs(a) : fabs(b), ua = a / m, ub = b / m, nu = hypot(ua, ub);
+    double ua, ub, nu;
+    *m = fabs(a) > fabs(b) ? fabs(a) : fabs(b);
+    ua = a / *m;
+    ub = b / *m;
+    nu = hypot(ua, ub);
     *d0 = ua / nu;
     *d1 = ub / nu;
-    return m * nu;
+    return nu;
 }
+
+/* mu |x_T| for a friction coefficient mu >= 0: 0 when mu = 0, also where |x_T| overflows */
+static double psb__ct_mu_times(double mu, double t) { return mu > 0.0 ? mu * t : 0.0; }
 /* Shared by both half-lines: sign = +1 for [0,inf[, -1 for ]-inf,0]. */
 static psb_result psb__ct_proj_half(double x, double sign, int req, double *value, double *deriv,
                                  int *piece)
@@ -7570,9 +7578,8 @@ PSCBRANCH_DEF psb_result psb_proj_disk(const double x[2], double s, int piece_re
         } else if (nx > 0.0) {
             /* |x| subnormal (s/|x| may overflow) or beyond DBL_MAX (s/|x| may not underflow):
                the direction of the scaled x, s/|x| = (s/m)/|x/m| */
-            double m = fabs(x[0]) > fabs(x[1]) ? fabs(x[0]) : fabs(x[1]);
-            psb__ct_dir2(x[0], x[1], &d0, &d1);
-            k = s / m / hypot(x[0] / m, x[1] / m);
+            double m, nu = psb__ct_dir2(x[0], x[1], &m, &d0, &d1);
+            k = s / m / nu;
         } else {
             d0 = 1.0;
             d1 = 0.0;
@@ -7646,7 +7653,7 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
     else if (mu > 0.0 && n >= 0.0 && t <= mu * n) /* mu = 0: IN has no interior, never the
                                                      default; n < 0: mu n may underflow to -0 */
         pc = PSB_CONE_IN;
-    else if ((mu > 0.0 ? mu * t : 0.0) <= -n) /* mu = 0: 0 |x_T| even where |x_T| overflows */
+    else if (psb__ct_mu_times(mu, t) <= -n)
         pc = PSB_CONE_POLAR;
     else
         pc = PSB_CONE_BOUNDARY;
@@ -7666,15 +7673,14 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
                underflows (mu c, the tangential part, may not: mu 1e150, x_T 1e-200). The
                weights 1, mu, mu^2 over 1 + mu^2 are formed without mu^2 and c, mu c as sums
                of bounded multiples of x_N and |x_T| (finite unless the projection is not) */
-            double im = 1.0 / mu, m = fabs(x[1]) > fabs(x[2]) ? fabs(x[1]) : fabs(x[2]), nu;
+            double im = 1.0 / mu, m, nu;
             w = mu <= 1.0 ? 1.0 / (1.0 + mu * mu) : im / (mu + im);
             wm = mu <= 1.0 ? mu / (1.0 + mu * mu) : 1.0 / (mu + im);
             wmm = mu <= 1.0 ? mu * mu / (1.0 + mu * mu) : 1.0 / (1.0 + im * im);
             if (t > 0.0) {
                 /* |x_T| = m nu, nu in [1, sqrt 2]; products with m first: |x_T| may overflow
                    where the projection does not */
-                psb__ct_dir2(x[1], x[2], &d0, &d1);
-                nu = hypot(x[1] / m, x[2] / m);
+                nu = psb__ct_dir2(x[1], x[2], &m, &d0, &d1);
                 c = w * n + (wm * m) * nu;
                 mc = wm * n + (wmm * m) * nu;
                 k = mu > 0.0 ? wm * (n / m / nu) + wmm : 0.0; /* mu = 0: n/m may overflow */
@@ -7740,13 +7746,12 @@ PSCBRANCH_DEF psb_result psb_proj_cone_active(const double x[3], double mu, doub
     n = x[0];
     t = hypot(x[1], x[2]);
     *mask = 0u;
-    /* as psb_proj_cone's default piece: n < 0 outside IN (mu n may underflow to -0), and
-       mu |x_T| = 0 for mu = 0 (|x_T| may overflow) */
+    /* as psb_proj_cone's default piece: n < 0 outside IN (mu n may underflow to -0) */
     if (mu > 0.0 && n >= -tol && t <= mu * n + tol)
         *mask |= 1u << PSB_CONE_IN;
-    if ((mu > 0.0 ? mu * t : 0.0) <= -n + tol)
+    if (psb__ct_mu_times(mu, t) <= -n + tol)
         *mask |= 1u << PSB_CONE_POLAR;
-    if (mu * n <= t + tol && -n <= (mu > 0.0 ? mu * t : 0.0) + tol)
+    if (mu * n <= t + tol && -n <= psb__ct_mu_times(mu, t) + tol)
         *mask |= 1u << PSB_CONE_BOUNDARY;
     return PSB_SUCCESS;
 }
@@ -7993,11 +7998,10 @@ PSCBRANCH_DEF psb_result psb_fc3d_desaxce(const double u[3], double mu, double u
         jv[6] = mu * u[2] / t;
         uv[0] = u[0] + mu * t;
     } else if (t > 0.0) {
-        double d0, d1, m = fabs(u[1]) > fabs(u[2]) ? fabs(u[1]) : fabs(u[2]);
-        psb__ct_dir2(u[1], u[2], &d0, &d1);
+        double d0, d1, m, nu = psb__ct_dir2(u[1], u[2], &m, &d0, &d1);
         jv[3] = mu * d0;
         jv[6] = mu * d1;
-        uv[0] = mu > 0.0 ? u[0] + (mu * m) * hypot(u[1] / m, u[2] / m) : u[0];
+        uv[0] = mu > 0.0 ? u[0] + (mu * m) * nu : u[0];
     } else {
         jv[3] = mu;
         jv[6] = 0.0;
