@@ -6,7 +6,9 @@
    In exactly one C file:     #define PSB_SPARSE_IMPLEMENTATION
                               #include "contrib/psb_sparse.h"   (after or without pscbranch.h)
    Build:                     cc -I/usr/include/suitesparse ... -lumfpack -lklu -llapack -lblas -lm
-   (Debian: apt-get install libsuitesparse-dev.) -DPSB_SPARSE_NO_UMFPACK or -DPSB_SPARSE_NO_KLU
+   (Debian: apt-get install libsuitesparse-dev.) With Intel MKL as the BLAS, run with
+   MKL_THREADING_LAYER=GNU: SuiteSparse's CHOLMOD loads libgomp, and MKL's default Intel threads
+   beside it compute wrong factors. -DPSB_SPARSE_NO_UMFPACK or -DPSB_SPARSE_NO_KLU
    leaves one backend out (and its library off the link line); -DPSB_SPARSE_STATIC makes the
    functions static.
 

@@ -503,6 +503,7 @@ static int wants_mumps(int argc, char **argv)
 /* MPI only for MUMPS: its start-up (~1 s) stays out of the other runs */
 int main(int argc, char **argv)
 {
+    fe_solver_blas_threads();
 #ifdef FE_MUMPS
     if (wants_mumps(argc, argv)) return psb_mumps_main(argc, argv, block_main);
 #endif

@@ -30,6 +30,19 @@
 enum { FE_SOLVER_DENSE, FE_SOLVER_BANDED, FE_SOLVER_UMFPACK, FE_SOLVER_KLU, FE_SOLVER_MUMPS, FE_SOLVER_CONDENSED, FE_SOLVER_AUTO };
 static const char *const fe_solver_names[] = {"dense", "banded", "umfpack", "klu", "mumps", "condensed", NULL};
 
+/* MKL's default (Intel) threading layer computes wrong factors in a process that also has GNU
+   OpenMP's libgomp, which SuiteSparse's CHOLMOD loads (Debian 12, MKL 2020.4, 2 threads: dgetrf
+   of a random 600 x 600 matrix stops on DLASWP parameter errors; block --solver umfpack found 4
+   of the 6 branches, its test 2). MKL's GNU layer shares libgomp and is right. So the programs
+   that link SuiteSparse ask for it before their first BLAS call, unless the environment chose
+   a layer; other BLAS ignore the variable. The Makefile exports it too (tests, benchmarks). */
+static inline void fe_solver_blas_threads(void)
+{
+#if defined(_POSIX_C_SOURCE) && _POSIX_C_SOURCE >= 200112L
+    setenv("MKL_THREADING_LAYER", "GNU", 0);
+#endif
+}
+
 /* The default: UMFPACK where one of its factorisations (the better of AMD and METIS, kept
    factors where dH repeats) is about 1.3x faster than the banded LU or more, which whole runs
    then follow (bench/bench_sparse, OpenBLAS, one thread): kl^2 > 400 N^0.4, kl = ku the half

@@ -618,6 +618,7 @@ int main(int argc, char **argv)
     psb_result r;
     fe_solver fsol;
 
+    fe_solver_blas_threads();
     memset(&mesh, 0, sizeof mesh);
     memset(&fsol, 0, sizeof fsol);
     memset(&md, 0, sizeof md);
