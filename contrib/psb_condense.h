@@ -47,7 +47,10 @@
      test does not depend on units and a row that cancels in the Schur complement counts as
      the near-dependence of B's rows that it is, as UMFPACK's scaled pivots of B would show)
      or NaN/Inf in the values or the row make factor return 1. Init refuses an A_II whose
-     UMFPACK pivot ratio (scaled) is below rcond_min.
+     UMFPACK pivot ratio (scaled) is below rcond_min. A B singular to working precision whose
+     pivots passed (an exactly singular A_II or S with rounding noise for a pivot) shows in its
+     solutions: solve returns 1 when ||z|| > ||R b|| / rcond_min, R scaling B's rows to unit
+     sums of |b_ij| (a lower bound on the condition number of R B; rows in any units pass).
      Cost: memory n_I n_Z + (n_V + 1)^2 doubles beside A's copy and A_II's factors; a factor
      call O(nnz(A) + n_I n_Z + n_V^3), a solve O(nnz(factors) + n_I n_Z). It wins where n_V is
      small against n: on the triangle of examples/ (n_V = 4 per contact node) at M4096 a
@@ -128,6 +131,8 @@ typedef struct psb_condense {
     double *s_, *ax_, *dparam_, *row_, *ri_, normb_;
     void *ipiv_;              /* S's pivots (LAPACK integers) */
     double *rscale_;          /* S's row scaling, 1 / max(B row's sum of |b_ij|, max_j |S_ij|) */
+    double *brscale_;         /* 1 / (B row's sum of |b_ij|), 0 for a zero row: the solutions'
+                                 growth test (n + 1) */
     double *work_;            /* solve scratch */
     int factored_;
     void *umf_symbolic_, *umf_numeric_;
@@ -136,7 +141,7 @@ typedef struct psb_condense {
 } psb_condense;
 
 /* Copies the pattern, fills at y0 (n + 1 values), factors A_II and forms Z. Returns 0 or
-   PSB_SPARSE_ERR_*. */
+   PSB_SPARSE_ERR_*. cd is overwritten: free a live one first. */
 PSB_CONDENSE_DEF int psb_condense_init(psb_condense *cd, int n, int param_index, const int *colp, const int *rowi,
                                        psb_sparse_fill_fn fill, void *user, int n_vary, const int *vary_rows,
                                        const double *y0, const psb_condense_options *opt);
@@ -205,7 +210,7 @@ PSB_CONDENSE_DEF void psb_condense_free(psb_condense *cd)
     free(cd->iidx_); free(cd->vidx_); free(cd->ieq_); free(cd->iip_); free(cd->iii_); free(cd->iix_);
     free(cd->zcol_); free(cd->z_); free(cd->p_); free(cd->vi_row_); free(cd->vi_col_); free(cd->vi_val_); free(cd->vv_k_);
     free(cd->vv_s_); free(cd->s_); free(cd->ax_); free(cd->dparam_); free(cd->row_); free(cd->ri_);
-    free(cd->ipiv_); free(cd->rscale_); free(cd->work_); free(cd->umf_iwork_);
+    free(cd->ipiv_); free(cd->rscale_); free(cd->brscale_); free(cd->work_); free(cd->umf_iwork_);
     memset(cd, 0, sizeof *cd);
 }
 
@@ -439,10 +444,11 @@ PSB_CONDENSE_DEF int psb_condense_init(psb_condense *cd, int n, int param_index,
     cd->s_ = (double *)psb__condense_alloc((size_t)m, sizeof(double) * (size_t)m);
     cd->ipiv_ = psb__condense_alloc((size_t)m, sizeof(psb__cd_lint));
     cd->rscale_ = (double *)psb__condense_alloc((size_t)m, sizeof(double));
+    cd->brscale_ = (double *)psb__condense_alloc((size_t)n + 1, sizeof(double));
     cd->ri_ = (double *)psb__condense_alloc((size_t)cd->n_i, sizeof(double));
     cd->work_ = (double *)psb__condense_alloc(work, sizeof(double));
     cd->umf_iwork_ = (int *)psb__condense_alloc((size_t)cd->n_i, sizeof(int));
-    if (!cd->z_ || !cd->p_ || !cd->s_ || !cd->ipiv_ || !cd->rscale_ || !cd->ri_ || !cd->work_ || !cd->umf_iwork_)
+    if (!cd->z_ || !cd->p_ || !cd->s_ || !cd->ipiv_ || !cd->rscale_ || !cd->brscale_ || !cd->ri_ || !cd->work_ || !cd->umf_iwork_)
         return psb__condense_fail(cd, PSB_SPARSE_ERR_MEMORY, "out of memory (Z has n_I x n_Z doubles)");
     rhs = cd->work_;
     w = cd->work_ + cd->n_i;
@@ -522,6 +528,7 @@ PSB_CONDENSE_DEF int psb_condense_factor(const double *y, const double *row, voi
     if (rowsum[n] > normb) normb = rowsum[n];
     if (!isfinite(normb)) { cd->message = "the row sums of |B| overflow"; return 1; }
     cd->normb_ = normb;
+    for (i = 0; i <= n; i++) cd->brscale_[i] = rowsum[i] > 0 ? 1 / rowsum[i] : 0;
     /* S's row scale starts from B's own row sums, taken before the Schur complement cancels */
     for (q = 0; q < nv; q++) cd->rscale_[q] = rowsum[cd->vidx_[q]];
     cd->rscale_[nv] = rowsum[n];
@@ -661,6 +668,19 @@ PSB_CONDENSE_DEF int psb_condense_solve(double *b, int nrhs, void *ctx)
         cd->stats.omega = omega;
         cd->stats.n_solve++;
         if (!(omega <= PSB__CONDENSE_OMEGA_MAX)) { cd->message = "a solution's backward error stays above 1e-10"; return 1; }
+        { /* ||z|| / ||R b|| bounds cond(R B) from below (||R B|| = 1): past 1 / rcond_min, B is
+             singular to working precision though the pivots passed (an exactly singular A_II
+             or S whose last pivot is rounding noise) */
+            double zmax = 0, rbmax = 0;
+            for (i = 0; i < np1; i++) {
+                if (fabs(z[i]) > zmax) zmax = fabs(z[i]);
+                if (fabs(bs[i]) * cd->brscale_[i] > rbmax) rbmax = fabs(bs[i]) * cd->brscale_[i];
+            }
+            if (zmax * cd->rcond_min_ > rbmax) {
+                cd->message = "B is singular to working precision (the solution grew past ||R b|| / rcond_min)";
+                return 1;
+            }
+        }
         memcpy(bc, z, sizeof(double) * np1);
     }
     return 0;

@@ -42,8 +42,10 @@
 
    RESULTS (every function): 0 success; PSB_MUMPS_SINGULAR (> 0) when B is singular (MUMPS found
    a null pivot: |pivot| <= null_pivot_tol x max |scaled B|, or its own INFOG(1) = -10, or -6
-   for a structurally singular pattern; or a solution grows past ||b|| / (||B|| null_pivot_tol),
-   an exactly singular B whose last pivot is rounding noise), holds a NaN or an infinity or a
+   for a structurally singular pattern; or a solution z grows past ||R b|| / null_pivot_tol, R
+   scaling each row of B to a unit sum of |B_ij|: an exactly singular B whose last pivot is
+   rounding noise; the row scaling keeps stiffness in any units apart from the border row's),
+   holds a NaN or an infinity or a
    row sum of |B| that overflows, or the fill callback returned > 0: pscbranch then rejects the
    step or borders with another row; < 0 a failure named by the PSB_MUMPS_ERR_* codes, with a message in
    m->message (INFOG(1), INFOG(2) of MUMPS in m->infog1, m->infog2). The functions never print,
@@ -92,6 +94,8 @@ typedef struct psb_mumps {
     double null_pivot_tol;      /* CNTL(3): relative null-pivot threshold [1e3 eps], in [0, 1);
                                    a solution growing past 1 / null_pivot_tol is refused too */
     double normb;               /* ||B|| (max row sum) of the last factorisation */
+    double *row_scale;          /* 1 / (sum_j |B_ij|) of each row of the last factorisation (0 for
+                                   a zero row): the growth test's scaling (n+1) */
     int live;                   /* the MUMPS instances exist on every rank */
     int analysed, factored;
     int icntl14;                /* workspace margin in percent, 0..1e6 [20] (raised on a shortfall) */
@@ -103,7 +107,8 @@ typedef struct psb_mumps {
 
 /* Creates a solver on rank 0 of comm (the other ranks must be in psb_mumps_worker(comm)) for B of
    order n+1 with dH/dy's pattern rows[k], cols[k] (0 <= rows < n, 0 <= cols <= n), k < nnz.
-   Both arrays are copied. On failure *m is left freed (psb_mumps_free is harmless on it). */
+   Both arrays are copied. On failure *m is left freed (psb_mumps_free is harmless on it). *m is
+   overwritten: free a live one first. */
 int psb_mumps_init(psb_mumps *m, MPI_Comm comm, int n, long long nnz, const int *rows, const int *cols,
                    psb_mumps_fill_fn fill, void *user);
 /* Fills dH/dy at y (m->fill) and `row` (n+1 values) as the last row, and factors B: the
@@ -306,7 +311,8 @@ int psb_mumps_init(psb_mumps *m, MPI_Comm comm, int n, long long nnz, const int 
     m->irn = (MUMPS_INT *)malloc(sizeof(MUMPS_INT) * (size_t)total);
     m->jcn = (MUMPS_INT *)malloc(sizeof(MUMPS_INT) * (size_t)total);
     m->a = (double *)malloc(sizeof(double) * (size_t)total);
-    if (!m->irn || !m->jcn || !m->a) {
+    m->row_scale = (double *)malloc(sizeof(double) * ((size_t)n + 1));
+    if (!m->irn || !m->jcn || !m->a || !m->row_scale) {
         psb_mumps_free(m);
         return psb__mumps_fail(m, PSB_MUMPS_ERR_MEMORY, "out of memory for the pattern");
     }
@@ -371,14 +377,14 @@ int psb_mumps_factor(psb_mumps *m, const double *y, const double *row)
     memcpy(m->a + m->nnz_user, row, sizeof(double) * ((size_t)m->n + 1));
     for (k = 0; k < total; k++) /* MUMPS would factor a NaN without complaint */
         if (!isfinite(m->a[k])) return psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "B holds a NaN or an infinity");
-    /* ||B||, for the growth test of the solutions (duplicates bound it from above) */
-    rowsum = (double *)calloc((size_t)m->n + 1, sizeof(double));
-    if (!rowsum) return psb__mumps_fail(m, PSB_MUMPS_ERR_MEMORY, "out of memory");
+    /* row sums of |B| (duplicates bound them from above), for the growth test of the solutions */
+    rowsum = m->row_scale;
+    memset(rowsum, 0, sizeof(double) * ((size_t)m->n + 1));
     for (k = 0; k < total; k++) rowsum[m->irn[k] - 1] += fabs(m->a[k]);
     m->normb = 0;
     for (k = 0; k <= m->n; k++) if (rowsum[k] > m->normb) m->normb = rowsum[k];
-    free(rowsum);
     if (!isfinite(m->normb)) return psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "a row sum of |B| overflows");
+    for (k = 0; k <= m->n; k++) m->row_scale[k] = rowsum[k] > 0 ? 1 / rowsum[k] : 0;
     if (!m->analysed) {
         /* a failed analysis (a structurally singular pattern: -6) is tried again next time */
         if ((rc = psb__mumps_job(m, 1)) != 0) return rc;
@@ -421,12 +427,12 @@ int psb_mumps_solve(psb_mumps *m, double *b, int nrhs)
         m->message[0] = '\0';
         return PSB_MUMPS_OK;
     }
-    /* each right-hand side's size, for the growth test below */
+    /* each right-hand side's size in the row-scaled system, for the growth test below */
     bmax = (double *)calloc((size_t)nrhs, sizeof(double));
     if (!bmax) return psb__mumps_fail(m, PSB_MUMPS_ERR_MEMORY, "out of memory");
     for (j = 0; j < nrhs; j++)
         for (k = 0; k <= m->n; k++) {
-            double v = fabs(b[(size_t)j * ((size_t)m->n + 1) + (size_t)k]);
+            double v = fabs(b[(size_t)j * ((size_t)m->n + 1) + (size_t)k]) * m->row_scale[k];
             if (v > bmax[j]) bmax[j] = v;
         }
     m->id.rhs = b;
@@ -441,18 +447,19 @@ int psb_mumps_solve(psb_mumps *m, double *b, int nrhs)
     len = (long long)nrhs * (m->n + 1);
     for (k = 0; k < len && !rc; k++)
         if (!isfinite(b[k])) rc = psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "the solution is not finite");
-    /* ||B|| ||x|| / ||b|| bounds cond(B) from below: past 1 / null_pivot_tol, B is singular to
-       working precision, though its pivots passed (an exactly singular B whose last pivot is
-       rounding noise) */
+    /* ||x|| / ||R b|| bounds cond(R B) from below (||R B|| = 1): past 1 / null_pivot_tol, B is
+       singular to working precision, though its pivots passed (an exactly singular B whose last
+       pivot is rounding noise). Scaled by rows: dH in SI units (1e14) beside a unit border row
+       had failed every solve. */
     for (j = 0; j < nrhs && !rc; j++) {
         double xmax = 0;
         for (k = 0; k <= m->n; k++) {
             double v = fabs(b[(size_t)j * ((size_t)m->n + 1) + (size_t)k]);
             if (v > xmax) xmax = v;
         }
-        if (m->normb * xmax * m->null_pivot_tol > bmax[j])
+        if (xmax * m->null_pivot_tol > bmax[j])
             rc = psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "B is singular to working precision (the solution grew past "
-                                                        "||b|| / (||B|| null_pivot_tol))");
+                                                        "||R b|| / null_pivot_tol, R scaling B's rows)");
     }
     free(bmax);
     if (rc) return rc;
@@ -481,6 +488,7 @@ void psb_mumps_free(psb_mumps *m)
     free(m->irn);
     free(m->jcn);
     free(m->a);
+    free(m->row_scale);
     memset(m, 0, sizeof *m);
 }
 

@@ -388,24 +388,27 @@ static void test_two_objects(void)
 
 /* Through pscbranch: x_i = x_{i+1} (i < n-1), x_0^2 + g^2 = 1; at (0, ..., 0, 1) the parameter
    g has a fold and dH/dx is singular (its last row vanishes). psb_tangent and Newton with MUMPS
-   against the dense backend. */
-typedef struct chain { int n; } chain;
+   against the dense backend; with the equations scaled by k (stiffness in SI units, 1e14,
+   beside the unit border row: every solve had been refused by the growth test). */
+typedef struct chain { int n; double k; } chain;
 
 static int chain_h(const double *y, double *h, void *user)
 {
     int n = ((chain *)user)->n, i;
-    for (i = 0; i < n - 1; i++) h[i] = y[i] - y[i + 1];
-    h[n - 1] = y[0] * y[0] + y[n] * y[n] - 1;
+    double k = ((chain *)user)->k;
+    for (i = 0; i < n - 1; i++) h[i] = k * (y[i] - y[i + 1]);
+    h[n - 1] = k * (y[0] * y[0] + y[n] * y[n] - 1);
     return 0;
 }
 
 static int chain_jac(const double *y, double *jac, int ld, void *user)
 {
     int n = ((chain *)user)->n, i, j;
+    double k = ((chain *)user)->k;
     for (j = 0; j <= n; j++) for (i = 0; i < n; i++) jac[i + (size_t)j * ld] = 0;
-    for (i = 0; i < n - 1; i++) { jac[i + (size_t)i * ld] = 1; jac[i + (size_t)(i + 1) * ld] = -1; }
-    jac[n - 1] = 2 * y[0];
-    jac[n - 1 + (size_t)n * ld] = 2 * y[n];
+    for (i = 0; i < n - 1; i++) { jac[i + (size_t)i * ld] = k; jac[i + (size_t)(i + 1) * ld] = -k; }
+    jac[n - 1] = 2 * k * y[0];
+    jac[n - 1 + (size_t)n * ld] = 2 * k * y[n];
     return 0;
 }
 
@@ -413,22 +416,24 @@ static int chain_jac(const double *y, double *jac, int ld, void *user)
 static int chain_fill(const double *y, double *v, void *user)
 {
     int n = ((chain *)user)->n, i;
-    for (i = 0; i < n - 1; i++) { v[2 * i] = 1; v[2 * i + 1] = -1; }
-    v[2 * (n - 1)] = 2 * y[0];
-    v[2 * (n - 1) + 1] = 2 * y[n];
+    double k = ((chain *)user)->k;
+    for (i = 0; i < n - 1; i++) { v[2 * i] = k; v[2 * i + 1] = -k; }
+    v[2 * (n - 1)] = 2 * k * y[0];
+    v[2 * (n - 1) + 1] = 2 * k * y[n];
     return 0;
 }
 
-static void test_pscbranch(void)
+static void test_pscbranch(double k)
 {
     enum { N = 30 };
-    chain c = {N};
+    chain c = {N, 0};
     int rows[2 * N], cols[2 * N], i;
     psb_problem pd, pm;
     psb_solver sd, sm;
     psb_options opt;
     psb_mumps m;
     double y[N + 1], ref[N + 1], td[N + 1], tm[N + 1], yd[N + 1], ym[N + 1], dt = 0, dy = 0;
+    c.k = k;
     for (i = 0; i < N - 1; i++) { rows[2 * i] = rows[2 * i + 1] = i; cols[2 * i] = i; cols[2 * i + 1] = i + 1; }
     rows[2 * N - 2] = rows[2 * N - 1] = N - 1; cols[2 * N - 2] = 0; cols[2 * N - 1] = N;
     CHECK(psb_mumps_init(&m, MPI_COMM_WORLD, N, 2 * N, rows, cols, chain_fill, &c) == 0);
@@ -481,7 +486,8 @@ static int tests(int argc, char **argv)
     test_codes_and_counts();
     test_audit();
     test_two_objects();
-    test_pscbranch();
+    test_pscbranch(1);
+    test_pscbranch(1e14); /* stiffness in SI units */
     return HARNESS_END();
 }
 

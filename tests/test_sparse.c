@@ -720,6 +720,160 @@ static void test_end_to_end(void)
     }
 }
 
+/* ---- exactly singular B whose last pivot is rounding noise (a review, 2026-11-29) ----
+   Random bordered B = [dH; row] with dyadic entries (m 2^e, |m| <= 8, |e| <= 10) and one exact
+   dependence: a dH row 2^s times another, or the border row 2^s times a dH row. Every product
+   is exact, so B is singular, and with w^T b != 0 (w the left kernel vector) B z = b has no
+   solution. 8 of these 12000 had passed the pivot ratio test and come back solved with a
+   tiny backward error and a residual of 1e-5..0.4 ||b|| (49 with |e| <= 20); the solution's
+   growth now refuses them. A success must solve B z = b to 1e-6 ||b|| (long double). */
+enum { SG_MAX = 12 };
+typedef struct sing {
+    int n, p;
+    double m[SG_MAX * (SG_MAX + 1)]; /* dH, n x (n+1), column-major, y's columns */
+    int colp[SG_MAX + 1], rowi[SG_MAX * SG_MAX];
+} sing;
+
+static int sing_fill(const double *y, double *ax, double *dparam, void *user)
+{
+    sing *g = (sing *)user;
+    int j, q;
+    (void)y;
+    for (j = 0; j < g->n; j++) {
+        int col = j < g->p ? j : j + 1;
+        for (q = g->colp[j]; q < g->colp[j + 1]; q++) ax[q] = g->m[g->rowi[q] + col * g->n];
+    }
+    for (j = 0; j < g->n; j++) dparam[j] = g->m[j + g->p * g->n];
+    return 0;
+}
+
+static double dyadic(unsigned long long *s)
+{
+    double m = floor(8 * fabs(rnd(s))) + 1, e = floor(10 * rnd(s));
+    return (rnd(s) < 0 ? -m : m) * ldexp(1, (int)e);
+}
+
+/* 1: factor and solve both succeeded with a wrong answer; 2: init failed or a code < 0 */
+static int sing_trial(unsigned long long *s, int kind, int *refused)
+{
+    sing g;
+    int n = 5 + (int)(8 * fabs(rnd(s))) % 8, p = (int)((n + 1) * fabs(rnd(s))) % (n + 1), i, j, k, r1, r2, wrong = 0;
+    double row[SG_MAX + 1], b[SG_MAX + 1], z[SG_MAX + 1], y[SG_MAX + 1] = {0}, f;
+    long double res = 0, bn = 0;
+    if (n > SG_MAX) n = SG_MAX;
+    g.n = n; g.p = p;
+    for (k = 0; k < n * (n + 1); k++) g.m[k] = fabs(rnd(s)) < 0.45 ? dyadic(s) : 0;
+    for (i = 0; i < n; i++) if (g.m[i + i * n] == 0) g.m[i + i * n] = dyadic(s);
+    for (j = 0; j <= n; j++) row[j] = fabs(rnd(s)) < 0.6 ? dyadic(s) : 0;
+    r1 = (int)(n * fabs(rnd(s))) % n;
+    f = ldexp(1, (int)floor(12 * rnd(s)));
+    if (kind % 2 == 0) { /* dH row r2 = f dH row r1 */
+        r2 = (r1 + 1 + (int)((n - 1) * fabs(rnd(s))) % (n - 1)) % n;
+        for (j = 0; j <= n; j++) g.m[r2 + j * n] = f * g.m[r1 + j * n];
+    } else { /* the border row = f dH row r1 */
+        for (j = 0; j <= n; j++) row[j] = f * g.m[r1 + j * n];
+    }
+    k = 0;
+    for (j = 0; j < n; j++) { /* the state columns' pattern: dH's nonzeros, every row of row r1's columns */
+        int col = j < p ? j : j + 1;
+        g.colp[j] = k;
+        for (i = 0; i < n; i++) if (g.m[i + col * n] != 0) g.rowi[k++] = i;
+    }
+    g.colp[n] = k;
+    for (i = 0; i <= n; i++) b[i] = dyadic(s);
+    {
+        psb_sparse sp;
+        int rf, rs = 1;
+        if (psb_sparse_init(&sp, backends[kind / 2], n, p, g.colp, g.rowi, sing_fill, &g, NULL)) return 2;
+        rf = psb_sparse_factor(y, row, &sp);
+        if (rf == 0) {
+            memcpy(z, b, sizeof(double) * (size_t)(n + 1));
+            rs = psb_sparse_solve(z, 1, &sp);
+        }
+        if (rf < 0 || rs < 0) wrong = 2;
+        else if (rf == 0 && rs == 0) {
+            for (i = 0; i <= n; i++) {
+                long double r = b[i];
+                for (j = 0; j <= n; j++) r -= (long double)(i < n ? g.m[i + j * n] : row[j]) * z[j];
+                if (fabsl(r) > res) res = fabsl(r);
+                if (fabsl((long double)b[i]) > bn) bn = fabsl((long double)b[i]);
+            }
+            wrong = !(res <= 1e-6L * bn);
+        } else {
+            ++*refused;
+        }
+        psb_sparse_free(&sp);
+    }
+    return wrong;
+}
+
+/* The review's two fixed cases: kept factors taking, by the rank-one update, a border row that
+   makes B exactly singular (column 1 = 8 column 0; a fresh object refuses it); psb_condense
+   with an exactly singular A_II (det 0, pivot ratio 7.3e-11) in a B whose row 2 is 256 times
+   row 3. Both had come back solved, residuals 1.6e7 and 1.2e6 ||b||. */
+static const double sr_ax[18] = {0x1p+21, -0x1.4p+18, 0x1p-10, -0x1p+7, 0x1.8p+21, 0x1p+24, -0x1.4p+21, 0x1p-7,
+                                 -0x1p+10, 0x1.8p+24, 0x1p+4, -0x1.8p-25, 0x1.4p+6, 0x1.4p+12, 0x1p+0, 0x1p+15,
+                                 -0x1p+6, 0x1.4p+21};
+static const double sr_dpar[5] = {0, 0, 0x1p-11, 0, 0};
+static const double sc_ax[16] = {0x1.cp+17, -0x1p-5, -0x1.ap-22, 0x1.4p-1, 0x1.4p-9, -0x1.8p+18, 0x1p-9, -0x1.8p+15,
+                                 -0x1.8p+7, 0x1.04p-2, -0x1.9p+18, -0x1.9p+10, -0x1p+20, 0x1p+17, 0x1p+9, -0x1p+4};
+static const double sc_dpar[5] = {0, 0, -0x1.8p+9, -0x1.8p+1, 0};
+
+static int sr_fill(const double *y, double *ax, double *dparam, void *user)
+{
+    int which = *(const int *)user;
+    (void)y;
+    memcpy(ax, which ? sc_ax : sr_ax, which ? sizeof sc_ax : sizeof sr_ax);
+    memcpy(dparam, which ? sc_dpar : sr_dpar, sizeof sr_dpar);
+    return 0;
+}
+
+static void test_singular_cases(void)
+{
+    static const int r_colp[6] = {0, 5, 10, 13, 15, 18}, r_rowi[18] = {0, 1, 2, 3, 4, 0, 1, 2, 3, 4, 0, 2, 4, 0, 3, 1, 3, 4};
+    static const double row0[6] = {0x1.61ad6eada0bfp-1, 0x1.3ffc877ea8704p-2, -0x1.2ac82064cb9bap+22,
+                                   -0x1.b18965186638ep+4, 0x1.c4137083c70dp-2, -0x1.2326df29df686p+18};
+    static const double row1[6] = {0, 0, -0x1.4p+22, -0x1p+5, 0, 0x1p+19};
+    static const int c_colp[6] = {0, 2, 5, 9, 12, 16}, c_rowi[16] = {0, 4, 1, 2, 3, 0, 1, 2, 3, 1, 2, 3, 0, 2, 3, 4};
+    static const double c_row[6] = {0x1.8p+9, 0x1p-4, 0x1.4p+9, -0x1p+11, -0x1.4p+15, -0x1p+14};
+    double y[6] = {0}, z[6];
+    int which, b, vary[2] = {0, 4}, i, rf, rs;
+    for (b = 0; b < 2; b++) { /* UMFPACK, KLU */
+        psb_sparse sp;
+        which = 0;
+        CHECK(psb_sparse_init(&sp, backends[b], 5, 2, r_colp, r_rowi, sr_fill, &which, NULL) == 0);
+        CHECK(psb_sparse_factor(y, row0, &sp) == 0);
+        rf = psb_sparse_factor(y, row1, &sp);
+        for (i = 0; i < 6; i++) z[i] = i % 3 ? 1 : -1;
+        rs = rf ? 1 : psb_sparse_solve(z, 1, &sp);
+        CHECK(rf == 1 || rs == 1); /* refused, at the factor or at the solve */
+        psb_sparse_free(&sp);
+    }
+    {
+        psb_condense cd;
+        which = 1;
+        if (psb_condense_init(&cd, 5, 2, c_colp, c_rowi, sr_fill, &which, 2, vary, y, NULL) == 0) {
+            rf = psb_condense_factor(y, c_row, &cd);
+            for (i = 0; i < 6; i++) z[i] = i % 3 ? 1 : -1;
+            rs = rf ? 1 : psb_condense_solve(z, 1, &cd);
+            CHECK(rf == 1 || rs == 1);
+        }
+        psb_condense_free(&cd);
+    }
+}
+
+static void test_singular_noise(void)
+{
+    unsigned long long s = 20261129;
+    int t, kind, wrong[4] = {0, 0, 0, 0}, refused[4] = {0, 0, 0, 0}, trials = 3000;
+    for (kind = 0; kind < 4; kind++)
+        for (t = 0; t < trials; t++) wrong[kind] += sing_trial(&s, kind, &refused[kind]) != 0;
+    for (kind = 0; kind < 4; kind++) CHECK(wrong[kind] == 0 && refused[kind] > trials / 2);
+    printf("  exactly singular B, %d each (UMFPACK rows, UMFPACK border, KLU rows, KLU border): refused %d %d %d %d, "
+           "wrong successes or codes < 0 %d %d %d %d\n", trials, refused[0], refused[1], refused[2], refused[3], wrong[0], wrong[1],
+           wrong[2], wrong[3]);
+}
+
 int main(void)
 {
     test_input();
@@ -727,6 +881,8 @@ int main(void)
     test_reuse();
     test_condense();
     test_fe_matrices();
+    test_singular_noise();
+    test_singular_cases();
     test_end_to_end();
     return HARNESS_END();
 }
