@@ -358,7 +358,7 @@ FUZZ_CC ?= clang
 FUZZ_BUILD ?= build-fuzz
 # FUZZ_NO_CMP=1: without libFuzzer's comparison tracing; the sanitizers check the same and edge
 # coverage still guides, at 3.4x the inputs a second for fuzz_api (long counting runs; see
-# docs/fuzzing.md); the gate and `make fuzz` keep the full instrumentation
+# fuzz/README.md); the gate and `make fuzz` keep the full instrumentation
 FUZZ_NO_CMP ?=
 FUZZ_CFLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I. -Itests \
 	$(if $(FUZZ_NO_CMP),-fno-sanitize-coverage=trace-cmp)
