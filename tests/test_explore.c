@@ -1826,6 +1826,127 @@ static void test_folds_at_kinks_and_straight_crossings(void)
     }
 }
 
+/* ---- several kinks in one step (a review, 2026-11-29) ----
+   x = a (|g| + |g - d|) has kinks at g = 0 and g = d; with d below a step both lie in one. The
+   half step lands on the middle piece, whose tangent is the average turn, so the pair had
+   passed for a smooth turn (0 kinks, or the first only). locate_kinks = 2 reports both. */
+typedef struct two_kinks { double a, d; int n; double g[8]; } two_kinks;
+
+static int two_kinks_h(const double *y, double *h, void *user)
+{
+    const two_kinks *k = (const two_kinks *)user;
+    h[0] = y[0] - k->a * (fabs(y[1]) + fabs(y[1] - k->d));
+    return 0;
+}
+
+static int two_kinks_jac(const double *y, double *jac, int ld, void *user)
+{
+    const two_kinks *k = (const two_kinks *)user;
+    (void)ld;
+    jac[0] = 1;
+    jac[1] = -k->a * ((y[1] >= 0 ? 1 : -1) + (y[1] >= k->d ? 1 : -1));
+    return 0;
+}
+
+static int two_kinks_point(const psb_point *pt, void *user)
+{
+    two_kinks *k = (two_kinks *)user;
+    if ((pt->flags & PSB_POINT_KINK) && k->n < 8) k->g[k->n++] = pt->y[1];
+    return 0;
+}
+
+/* A four-branch point 0.06 before an ordinary kink, in one step (N = 1): H = c1 |u| + c2 |s| +
+   d1 u + d2 s + e (|a1 u + a2 s + a0| - |a0|); rays from the origin and kinks at
+   (-0.058134, -0.015214) and (-0.064996, 0.006130), enumerated over the 8 sign patterns. */
+static const double ck_c1 = 0x1.48b5da19760f8p-1, ck_c2 = -0x1.dedbefcccap+0, ck_d1 = 0x1.afaa2a6f868b5p-4,
+                    ck_d2 = -0x1.eff781cf73b44p-1, ck_e = 0x1.2a3e7d46f6c15p-2, ck_a1 = -0x1.e76c461fe05a9p-1,
+                    ck_a2 = -0x1.397370b072f0bp-2, ck_a0 = -0x1.eb851eb851eb8p-5;
+
+static int close_kink_h(const double *y, double *h, void *user)
+{
+    (void)user;
+    h[0] = ck_c1 * fabs(y[0]) + ck_c2 * fabs(y[1]) + ck_d1 * y[0] + ck_d2 * y[1] +
+           ck_e * (fabs(ck_a1 * y[0] + ck_a2 * y[1] + ck_a0) - fabs(ck_a0));
+    return 0;
+}
+
+static int close_kink_jac(const double *y, double *jac, int ld, void *user)
+{
+    double su = y[0] >= 0 ? 1 : -1, ss = y[1] >= 0 ? 1 : -1, sl = ck_a1 * y[0] + ck_a2 * y[1] + ck_a0 >= 0 ? 1 : -1;
+    (void)user; (void)ld;
+    jac[0] = ck_c1 * su + ck_d1 + ck_e * sl * ck_a1;
+    jac[1] = ck_c2 * ss + ck_d2 + ck_e * sl * ck_a2;
+    return 0;
+}
+
+static void test_kinks_in_one_step(void)
+{
+    static const double as[3] = {0.02, 0.05, 0.2}, ds[5] = {0.01, 0.03, 0.05, 0.08, 0.5}, starts[3] = {-0.83, -0.61, -0.97};
+    int ia, id, is, complete = 0, runs = 0;
+    for (ia = 0; ia < 3; ia++)
+        for (id = 0; id < 5; id++)
+            for (is = 0; is < 3; is++) {
+                two_kinks k;
+                psb_problem prob;
+                psb_solver s;
+                psb_trace_options to;
+                psb_trace_report rep;
+                double y[2], t[2] = {0, 1};
+                psb_result r;
+                memset(&k, 0, sizeof k);
+                k.a = as[ia];
+                k.d = ds[id];
+                psb_problem_init(&prob, 1, two_kinks_h, two_kinks_jac, &k);
+                CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+                y[1] = starts[is];
+                y[0] = k.a * (fabs(y[1]) + fabs(y[1] - k.d));
+                CHECK(psb_tangent(&s, y, t, t) == PSB_SUCCESS);
+                memset(&to, 0, sizeof to);
+                to.param_min = -1;
+                to.param_max = 1;
+                to.locate_kinks = 2; /* every kink of a step */
+                to.on_point = two_kinks_point;
+                to.point_user = &k;
+                r = psb_trace(&s, y, t, &to, &rep);
+                runs++;
+                complete += r == PSB_PARAM_BOUND && k.n == 2 && rep.n_kinks == 2 && fabs(k.g[0]) <= 1e-6 &&
+                            fabs(k.g[1] - k.d) <= 1e-6;
+                psb_solver_free(&s);
+            }
+    CHECK(complete == runs);
+    printf("  two kinks 0.01-0.5 apart, slopes +-2a, a = 0.02-0.2: both located in %d of %d traces\n", complete, runs);
+    {
+        psb_problem prob;
+        psb_solver s;
+        psb_diagram d;
+        psb_explore_options eo;
+        double y[2] = {0x1p-1, 0x1.7d8a5aaeccbafp-3}, t[2] = {0x1p+0, 0x1.7d8a5aaeccbafp-2};
+        double lo[2] = {-1, -1e300}, hi[2] = {1, 1e300};
+        int i, at_origin = -1, bounds = 0;
+        psb_result r;
+        psb_problem_init(&prob, 1, close_kink_h, close_kink_jac, NULL);
+        CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(&d, 1, 64, 64, 16) == PSB_SUCCESS);
+        memset(&eo, 0, sizeof eo);
+        eo.trace.param_min = -1;
+        eo.trace.param_max = 1;
+        eo.box_min = lo;
+        eo.box_max = hi;
+        eo.branch_at_kinks = 1;
+        r = psb_explore(&s, y, t, &eo, &d);
+        for (i = 0; i < d.n_nodes; i++) {
+            if (d.nodes[i].kind == PSB_NODE_BOUND) bounds++;
+            if (fabs(d.nodes[i].y[0]) + fabs(d.nodes[i].y[1]) <= 1e-6) at_origin = i;
+        }
+        CHECK(r == PSB_SUCCESS && at_origin >= 0 && bounds == 4 && d.n_odd == 0);
+        if (at_origin >= 0) CHECK(d.nodes[at_origin].n_branches == 4);
+        printf("  a four-branch point 0.06 before an ordinary kink: %s, %d nodes, %d at the origin with %d branches, %d bounds\n",
+               psb_result_string(r), d.n_nodes, at_origin >= 0, at_origin >= 0 ? d.nodes[at_origin].n_branches : 0, bounds);
+        psb_diagram_free(&d);
+        psb_solver_free(&s);
+    }
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -1850,6 +1971,7 @@ int main(void)
     test_loop_within_a_tenth_of_h_init();
     test_kink_next_to_a_bound();
     test_folds_at_kinks_and_straight_crossings();
+    test_kinks_in_one_step();
     test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();
