@@ -50,7 +50,8 @@
    parameter (or options.weights). Every norm, cosine and normalisation uses it: predictor,
    corrector, acceptance cosine, Algorithms 2.1 and 2.2, loop detection. Step sizes and
    tol_correction are lengths in it, so y in units far from 1 wants weights 1/u_i^2, u_i the
-   size of component i (a diagram in units of 1e-8 or 1e8 then comes out as in units of 1),
+   size of component i (a diagram in units of 1e-8 or 1e8, or with components in units of
+   1e-14 and 1e14 side by side, then comes out as in units of 1),
    and with differences, whose steps are fd_step max(1, |y_j|), components far below 1 want
    fd_step times their size; H's units need nothing (see tol_residual).
    H is PC^1: continuous, and near every point equal to one of finitely many C^1 selections. The
@@ -270,7 +271,7 @@
    docs/branching-notes.md and docs/benchmarks.md.
    Linear algebra (problem.linear). Every factorisation is of a bordered matrix
    B = [dH(y); row^T], (N+1) x (N+1), and serves all right-hand sides of its iteration.
-   PSB_LINEAR_DENSE: dgetrf/dgetrs on B, dgecon for the tangent's conditioning test, memory
+   PSB_LINEAR_DENSE: dgetrf/dgetrs on B, dlacn2 for the tangent's conditioning test, memory
      ~ 2 (N+1)^2 doubles. problem.jacobian fills dH (or finite differences, N+1 residuals).
    PSB_LINEAR_BANDED: for dH/dx with bandwidths kl, ku (number the unknowns so that coupled
      ones are close: node by node in finite elements). problem.band_jacobian fills the band
@@ -317,8 +318,9 @@
    scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
    Tangent. The bordered system [dH(y); (W r)^T] t = e_{N+1} (r the reference direction) is
    solved; if it is singular (r orthogonal to the kernel) or, dense, its reciprocal condition
-   number (dgecon) is below sqrt(eps), the dense backend takes the kernel from the QR
-   factorisation of dH(y)^T (dgeqr2/dorm2r), which is exact at folds (rank < N gives
+   number is below sqrt(eps) (estimated as dgecon does, for B with its columns in the weights'
+   units and its rows then scaled to a largest entry of 1), the dense backend takes the kernel
+   from the QR factorisation of dH(y)^T (dgeqr2/dorm2r), which is exact at folds (rank < N gives
    PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
    scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
    Predictor-corrector. Prediction (y + h t, t). Each corrector iteration factors
@@ -909,7 +911,7 @@
    PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (results are the same)
    PSCBRANCH_STDIO            with the implementation: psb_diagram_write_json and _csv (the
                               only functions that take a FILE *; the rest never prints)
-   LAPACK routines used: dgetrf, dgetrs, dgecon, dgeqr2, dorm2r (dgbtrf with
+   LAPACK routines used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf with
    PSCBRANCH_USE_DGBTRF).
 
    9. REVISION HISTORY
@@ -1966,10 +1968,8 @@ extern void PSCBRANCH_FORTRAN(dgetrs)(const char *trans, const psb__lint *n,
                                       const psb__lint *nrhs, const double *a,
                                       const psb__lint *lda, const psb__lint *ipiv, double *b,
                                       const psb__lint *ldb, psb__lint *info PSB__STRLEN_ARG);
-extern void PSCBRANCH_FORTRAN(dgecon)(const char *norm, const psb__lint *n, const double *a,
-                                      const psb__lint *lda, const double *anorm, double *rcond,
-                                      double *work, psb__lint *iwork,
-                                      psb__lint *info PSB__STRLEN_ARG);
+extern void PSCBRANCH_FORTRAN(dlacn2)(const psb__lint *n, double *v, double *x, psb__lint *isgn,
+                                      double *est, psb__lint *kase, psb__lint *isave);
 extern void PSCBRANCH_FORTRAN(dgbtrf)(const psb__lint *m, const psb__lint *n, const psb__lint *kl,
                                       const psb__lint *ku, double *ab, const psb__lint *ldab,
                                       psb__lint *ipiv, psb__lint *info);
@@ -2638,20 +2638,39 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
 }
 
 /* Builds [jac; row^T] in mat_ ((n+1) x (n+1)) and LU-factors it.
-   Returns PSB_SUCCESS or PSB_ERR_SINGULAR; *rcond (if not NULL) gets the 1-norm estimate. */
+   Returns PSB_SUCCESS or PSB_ERR_SINGULAR; *rcond (if not NULL) gets the reciprocal condition
+   number of R B C in the 1-norm (dlacn2's estimate, as dgecon's, with the same LU): C scales
+   column j by 1 / sqrt(w_j), the units the weights declare, and R then each row to a largest
+   entry of 1, so neither the units of y nor those of H's rows count. Unscaled (dgecon), y in
+   units of 1e-8 and 1e8 side by side, with the weights the manual asks for, made every
+   tangent's bordered system look singular (PSB_ERR_SINGULAR). */
 static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rcond)
 {
-    int n = s->n_, np1 = s->np1_, j;
-    psb__lint m = np1, info = 0;
-    double anorm = 0;
+    int n = s->n_, np1 = s->np1_, i, j;
+    psb__lint m = np1, info = 0, kase = 0, isave[3], one = 1;
+    double anorm = 0, est = 0, *v = s->work_, *x = s->work_ + np1, *rs = s->work_ + 2 * np1,
+           *cs = s->work_ + 3 * np1;
+    if (rcond)
+        for (i = 0; i < np1; i++) rs[i] = 0;
     for (j = 0; j < np1; j++) {
-        double *dst = s->mat_ + (size_t)j * (size_t)np1, colsum = 0;
+        double *dst = s->mat_ + (size_t)j * (size_t)np1;
         const double *src = s->jac_ + (size_t)j * (size_t)n;
-        int i;
         memcpy(dst, src, (size_t)n * sizeof *dst);
         dst[n] = row[j];
-        for (i = 0; i < np1; i++) colsum += fabs(dst[i]);
-        if (colsum > anorm) anorm = colsum;
+        if (rcond) {
+            cs[j] = 1 / sqrt(s->w_[j]);
+            for (i = 0; i < np1; i++)
+                if (fabs(dst[i]) * cs[j] > rs[i]) rs[i] = fabs(dst[i]) * cs[j];
+        }
+    }
+    if (rcond) {
+        for (i = 0; i < np1; i++) rs[i] = rs[i] > 0 ? 1 / rs[i] : 1;
+        for (j = 0; j < np1; j++) {
+            const double *col = s->mat_ + (size_t)j * (size_t)np1;
+            double colsum = 0;
+            for (i = 0; i < np1; i++) colsum += rs[i] * fabs(col[i]) * cs[j];
+            if (colsum > anorm) anorm = colsum;
+        }
     }
     s->stats.n_factor++;
     PSCBRANCH_FORTRAN(dgetrf)(&m, &m, s->mat_, &m, (psb__lint *)s->ipiv_, &info);
@@ -2661,9 +2680,17 @@ static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rc
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix is exactly singular");
     }
     if (rcond) {
-        PSCBRANCH_FORTRAN(dgecon)("1", &m, s->mat_, &m, &anorm, rcond, s->work_, (psb__lint *)s->iwork_,
-                                  &info PSB__STRLEN_ONE);
-        if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgecon rejected an argument");
+        /* ||(R B C)^-1||_1: (R B C)^-1 x = C^-1 B^-1 R^-1 x, its transpose R^-1 B^-T C^-1 x */
+        for (;;) {
+            PSCBRANCH_FORTRAN(dlacn2)(&m, v, x, (psb__lint *)s->iwork_, &est, &kase, isave);
+            if (kase == 0) break;
+            for (i = 0; i < np1; i++) x[i] /= kase == 1 ? rs[i] : cs[i];
+            PSCBRANCH_FORTRAN(dgetrs)(kase == 1 ? "N" : "T", &m, &one, s->mat_, &m, (psb__lint *)s->ipiv_, x, &m,
+                                      &info PSB__STRLEN_ONE);
+            if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrs rejected an argument");
+            for (i = 0; i < np1; i++) x[i] /= kase == 1 ? cs[i] : rs[i];
+        }
+        *rcond = est > 0 && anorm > 0 && isfinite(est * anorm) ? 1 / (est * anorm) : 0;
     }
     return PSB_SUCCESS;
 }
@@ -3227,14 +3254,24 @@ static psb_result psb__solve_factored(psb_solver *s, double *b, int nrhs)
 }
 
 /* Kernel of s->jac_ through the QR factorisation of its transpose: the last column of Q spans
-   the orthogonal complement of range(jac^T) = ker(jac) when jac has rank n. */
+   the orthogonal complement of range(jac^T) = ker(jac) when jac has rank n. Factored as
+   (R jac C)^T, C scaling column j by 1 / sqrt(w_j) and R then each row to a largest entry of 1,
+   so that the rank test does not depend on the units of y or H; t = C z from its kernel z. */
 static psb_result psb__kernel_qr(psb_solver *s, double *t)
 {
     int n = s->n_, np1 = s->np1_, i, j;
     psb__lint m = np1, nn = n, one = 1, info = 0;
-    double rmax = 0, rmin = HUGE_VAL;
+    double rmax = 0, rmin = HUGE_VAL, *rs = s->work_; /* taken before dgeqr2 uses it */
+    for (i = 0; i < n; i++) {
+        double big = 0;
+        for (j = 0; j < np1; j++)
+            if (fabs(s->jac_[i + (size_t)j * (size_t)n]) / sqrt(s->w_[j]) > big)
+                big = fabs(s->jac_[i + (size_t)j * (size_t)n]) / sqrt(s->w_[j]);
+        rs[i] = big > 0 ? 1 / big : 1;
+    }
     for (j = 0; j < np1; j++)
-        for (i = 0; i < n; i++) s->mat_[j + (size_t)i * (size_t)np1] = s->jac_[i + (size_t)j * (size_t)n];
+        for (i = 0; i < n; i++)
+            s->mat_[j + (size_t)i * (size_t)np1] = rs[i] * s->jac_[i + (size_t)j * (size_t)n] / sqrt(s->w_[j]);
     s->stats.n_factor++;
     PSCBRANCH_FORTRAN(dgeqr2)(&m, &nn, s->mat_, &m, s->tau_, s->work_, &info);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgeqr2 rejected an argument");
@@ -3252,6 +3289,7 @@ static psb_result psb__kernel_qr(psb_solver *s, double *t)
     PSCBRANCH_FORTRAN(dorm2r)("L", "N", &m, &one, &nn, s->mat_, &m, s->tau_, t, &m, s->work_,
                               &info PSB__STRLEN_ONE PSB__STRLEN_ONE);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dorm2r rejected an argument");
+    for (j = 0; j < np1; j++) t[j] /= sqrt(s->w_[j]);
     return PSB_SUCCESS;
 }
 

@@ -1947,6 +1947,97 @@ static void test_kinks_in_one_step(void)
     }
 }
 
+/* ---- y in mixed units (a review, 2026-11-29) ----
+   The README's first problem, min(x_i, c_i g - x_i) = 0, c = (1, 2), with x_1 in units u_1 and
+   x_2 in u_2, weights 1/u_i^2 as the manual asks: the four rays from the origin, (x_1, x_2) =
+   (0, 0), (g, 0), (0, 2g), (g, 2g) in units of 1. With u = (1e-8, 1e8) every bordered system
+   had looked singular to the unscaled condition and rank tests (PSB_ERR_SINGULAR). */
+static double mixed_u[2] = {1, 1};
+
+static int mixed_h(const double *y, double *h, void *user)
+{
+    static const double c[2] = {1.0, 2.0};
+    int i;
+    (void)user;
+    for (i = 0; i < 2; i++) h[i] = fmin(y[i] / mixed_u[i], c[i] * y[2] - y[i] / mixed_u[i]);
+    return 0;
+}
+
+static int mixed_jac(const double *y, double *jac, int ld, void *user)
+{
+    static const double c[2] = {1.0, 2.0};
+    int i;
+    (void)user;
+    for (i = 0; i < 2; i++) {
+        int first = y[i] / mixed_u[i] <= c[i] * y[2] - y[i] / mixed_u[i];
+        jac[i] = jac[i + ld] = 0.0;
+        jac[i + i * ld] = (first ? 1.0 : -1.0) / mixed_u[i];
+        jac[i + 2 * ld] = first ? 0.0 : c[i];
+    }
+    return 0;
+}
+
+static int mixed_stop(const psb_point *p, void *user)
+{
+    (void)user;
+    return p->flags & PSB_POINT_KINK;
+}
+
+static void test_mixed_units(void)
+{
+    static const double rays[4][2] = {{0, 0}, {1, 0}, {0, 2}, {1, 2}};
+    int e, complete = 0, runs = 0;
+    for (e = 0; e <= 14; e += 2) {
+        int flip;
+        for (flip = 0; flip < 2; flip++) {
+            psb_problem prob;
+            psb_options opt;
+            psb_trace_options to;
+            psb_branch_report rep;
+            psb_solver s;
+            double w[3], y[3], t[3], ys[8 * 3], ts[8 * 3];
+            psb_result r;
+            int k, q, matched = 0;
+            mixed_u[0] = pow(10, flip ? e : -e);
+            mixed_u[1] = 1 / mixed_u[0];
+            w[0] = 1 / (mixed_u[0] * mixed_u[0]);
+            w[1] = 1 / (mixed_u[1] * mixed_u[1]);
+            w[2] = 1;
+            memset(&opt, 0, sizeof opt);
+            opt.weights = w;
+            memset(&to, 0, sizeof to);
+            to.locate_kinks = 1;
+            to.on_point = mixed_stop;
+            memset(&rep, 0, sizeof rep);
+            y[0] = 1.0 * mixed_u[0];
+            y[1] = 2.0 * mixed_u[1];
+            y[2] = 1.0;
+            psb_problem_init(&prob, 2, mixed_h, mixed_jac, NULL);
+            CHECK(psb_solver_init(&s, &prob, &opt) == PSB_SUCCESS);
+            r = psb_solve_at_param(&s, y, 0);
+            if (r == PSB_SUCCESS) r = psb_tangent(&s, y, NULL, t);
+            for (k = 0; k < 3; k++) t[k] = -t[k];
+            if (r == PSB_SUCCESS) r = psb_trace(&s, y, t, &to, NULL);
+            if (r >= 0) r = psb_locate_end(&s, y, t, NULL, NULL);
+            if (r >= 0) r = psb_find_branches(&s, y, t, NULL, 8, ys, ts, &rep);
+            for (q = 0; r >= 0 && q < 4; q++) /* each ray once, in units of 1 */
+                for (k = 0; k < rep.n_branches; k++) {
+                    double g = ts[3 * k + 2], x1 = ts[3 * k] / mixed_u[0], x2 = ts[3 * k + 1] / mixed_u[1];
+                    if (g > 0 && fabs(x1 / g - rays[q][0]) <= 1e-8 && fabs(x2 / g - rays[q][1]) <= 1e-8) {
+                        matched++;
+                        break;
+                    }
+                }
+            runs++;
+            complete += r == PSB_SUCCESS && rep.n_branches == 4 && matched == 4;
+            psb_solver_free(&s);
+        }
+    }
+    CHECK(complete == runs);
+    printf("  crossing kinks, x in units (1e-e, 1e+e) and (1e+e, 1e-e), e = 0..14: the four rays in %d of %d\n",
+           complete, runs);
+}
+
 int main(void)
 {
     test_crossing_kinks();
@@ -1972,6 +2063,7 @@ int main(void)
     test_kink_next_to_a_bound();
     test_folds_at_kinks_and_straight_crossings();
     test_kinks_in_one_step();
+    test_mixed_units();
     test_odd_node_flagged();
     test_single_faults_curved_fd();
     test_determinism();

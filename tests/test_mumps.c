@@ -15,7 +15,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* dgetrf_, dgetrs_, dgecon_: pscbranch.h declares them (with the hidden string lengths) */
+/* dgetrf_, dgetrs_: pscbranch.h declares them (with the hidden string lengths) */
+/* dgecon_, the header's until it estimated the condition of the scaled B itself (dlacn2) */
+#ifdef PSCBRANCH_NO_FORTRAN_STRLEN
+extern void dgecon_(const char *norm, const int *n, const double *a, const int *lda, const double *anorm,
+                    double *rcond, double *work, int *iwork, int *info);
+#else
+extern void dgecon_(const char *norm, const int *n, const double *a, const int *lda, const double *anorm,
+                    double *rcond, double *work, int *iwork, int *info, size_t len);
+#endif
 
 static unsigned long long rng_state = 88172645463325252ULL;
 static double urand(void) /* xorshift64, uniform in [-1, 1) */
