@@ -336,7 +336,11 @@
    solves of Algorithm 2.1, the detectors and psb_solve_at_param). A trial is
    accepted when it converged within max_iter, the corrected point lies within h of the
    prediction (a longer jump landed on another part of the curve), and cos_w(t_new, t) >=
-   c_min; otherwise h *= h_dec until h < h_min. An iterate farther than 4 h from the
+   c_min; otherwise h *= h_dec until h < h_min. A branch that runs within a step of the one
+   traced, past a kink where that one turns sharply, can still take the corrector (a review:
+   a wedge with a line 0.01 beside its apex, h 0.1: the trace went on along the line, and the
+   explorer called the apex a smooth branch point); bound h_max below such distances. An
+   iterate farther than 4 h from the
    prediction ends the trial at once (at kinks the corrector otherwise hops between the far
    kernels of pieces until max_iter).
    Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
