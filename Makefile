@@ -363,7 +363,11 @@ FUZZ_NO_CMP ?=
 FUZZ_CFLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I. -Itests \
 	$(if $(FUZZ_NO_CMP),-fno-sanitize-coverage=trace-cmp)
 FUZZ_NAMES = $(filter-out $(if $(FC_HDF5_CFLAGS),,fc_hdf5),$(patsubst fuzz/fuzz_%.c,%,$(wildcard fuzz/fuzz_*.c)))
-$(FUZZ_BUILD)/fuzz_fc_hdf5: FUZZ_EXTRA_CFLAGS = $(FC_HDF5_CFLAGS)
+# FUZZ_HDF5_IN_PROCESS=1: fuzz_fc_hdf5 reads without fc_solve's child process, 4x the inputs a
+# second and the reader's coverage seen, but libhdf5's own faults stop the run (long counting
+# runs; see fuzz/README.md); the gate and `make fuzz` keep the child, as fc_solve runs
+FUZZ_HDF5_IN_PROCESS ?=
+$(FUZZ_BUILD)/fuzz_fc_hdf5: FUZZ_EXTRA_CFLAGS = $(FC_HDF5_CFLAGS) $(if $(FUZZ_HDF5_IN_PROCESS),-DFC_HDF5_IN_PROCESS)
 $(FUZZ_BUILD)/fuzz_fc_hdf5: FUZZ_EXTRA_LIBS = $(FC_HDF5_LIBS)
 
 $(FUZZ_BUILD)/fuzz_%: fuzz/fuzz_%.c $(HEADER) $(wildcard fuzz/*.h examples/*.c examples/*.h tests/*.h)

@@ -668,18 +668,10 @@ PSB_CONDENSE_DEF int psb_condense_solve(double *b, int nrhs, void *ctx)
         cd->stats.omega = omega;
         cd->stats.n_solve++;
         if (!(omega <= PSB__CONDENSE_OMEGA_MAX)) { cd->message = "a solution's backward error stays above 1e-10"; return 1; }
-        { /* ||z|| / ||R b|| bounds cond(R B) from below (||R B|| = 1): past 1 / rcond_min, B is
-             singular to working precision though the pivots passed (an exactly singular A_II
-             or S whose last pivot is rounding noise) */
-            double zmax = 0, rbmax = 0;
-            for (i = 0; i < np1; i++) {
-                if (fabs(z[i]) > zmax) zmax = fabs(z[i]);
-                if (fabs(bs[i]) * cd->brscale_[i] > rbmax) rbmax = fabs(bs[i]) * cd->brscale_[i];
-            }
-            if (zmax * cd->rcond_min_ > rbmax) {
-                cd->message = "B is singular to working precision (the solution grew past ||R b|| / rcond_min)";
-                return 1;
-            }
+        /* an exactly singular A_II or S whose last pivot is rounding noise passes the pivots */
+        if (psb__sparse_grew(np1, bs, cd->brscale_, z, cd->rcond_min_)) {
+            cd->message = "B is singular to working precision (the solution grew past ||R b|| / rcond_min)";
+            return 1;
         }
         memcpy(bc, z, sizeof(double) * np1);
     }

@@ -447,10 +447,10 @@ int psb_mumps_solve(psb_mumps *m, double *b, int nrhs)
     len = (long long)nrhs * (m->n + 1);
     for (k = 0; k < len && !rc; k++)
         if (!isfinite(b[k])) rc = psb__mumps_fail(m, PSB_MUMPS_SINGULAR, "the solution is not finite");
-    /* ||x|| / ||R b|| bounds cond(R B) from below (||R B|| = 1): past 1 / null_pivot_tol, B is
-       singular to working precision, though its pivots passed (an exactly singular B whose last
-       pivot is rounding noise). Scaled by rows: dH in SI units (1e14) beside a unit border row
-       had failed every solve. */
+    /* psb_sparse.h's psb__sparse_grew per right-hand side (b is overwritten, hence bmax kept;
+       this header does not need SuiteSparse's): ||x|| / ||R b|| bounds cond(R B) from below, and
+       past 1 / null_pivot_tol B is singular to working precision though its pivots passed.
+       Scaled by rows: dH in SI units (1e14) beside a unit border row had failed every solve. */
     for (j = 0; j < nrhs && !rc; j++) {
         double xmax = 0;
         for (k = 0; k <= m->n; k++) {

@@ -108,6 +108,8 @@
 
 #include "pscbranch.h"
 
+#include <math.h> /* fabs in psb__sparse_grew */
+
 #ifndef PSB_SPARSE_NO_UMFPACK
 #include <umfpack.h>
 #endif
@@ -230,6 +232,25 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx);
 PSB_SPARSE_DEF psb_linear_solver psb_sparse_solver(psb_sparse *sp);
 /* Whether a backend is in this build. */
 PSB_SPARSE_DEF int psb_sparse_available(psb_sparse_backend backend);
+
+/* ||x|| / ||R b|| bounds cond(R B) from below (rscale: R, scaling B's rows to unit sums of
+   |B_ij|, 0 for a zero row, so ||R B|| = 1): past 1 / rcond_min, B is singular to working
+   precision though its pivots passed, as an exactly singular B whose last pivot is rounding
+   noise. Rows in any units pass (stiffness in SI units beside the border row); columns scaled
+   1e12 apart could not. Scaling the columns too (C, to a largest entry of R B C of 1) caught
+   fewer: tests/test_sparse.c's singular B with entries 2^-20..2^20 passed 49 of 12000 times
+   unchecked, 11 with R and C, 6 with R (none from 2^-10..2^10 with either; 8 unchecked).
+   Shared with contrib/psb_condense.h. */
+static inline int psb__sparse_grew(int n1, const double *b, const double *rscale, const double *x, double rcond_min)
+{
+    int i;
+    double xmax = 0, bmax = 0;
+    for (i = 0; i < n1; i++) {
+        if (fabs(x[i]) > xmax) xmax = fabs(x[i]);
+        if (fabs(b[i]) * rscale[i] > bmax) bmax = fabs(b[i]) * rscale[i];
+    }
+    return xmax * rcond_min > bmax;
+}
 
 #ifdef __cplusplus
 }
@@ -799,24 +820,6 @@ static double psb__sparse_residual(const psb_sparse *sp, const double *pb, const
     return rmax / (sp->normb_ * xmax + bmax);
 }
 
-/* ||x|| / ||R pb|| bounds cond(R B) from below (R scales B's rows to unit sums of |B_ij|, so
-   ||R B|| = 1): past 1 / rcond_min, B is singular to working precision though its pivots
-   passed, as an exactly singular B whose last pivot is rounding noise. Rows in any units pass
-   (stiffness in SI units beside the border row); columns scaled 1e12 apart could not. Scaling
-   the columns too (C, to a largest entry of R B C of 1) caught fewer: tests/test_sparse.c's
-   singular B with entries 2^-20..2^20 passed 49 of 12000 times unchecked, 11 with R and C, 6
-   with R (none from 2^-10..2^10 with either; 8 unchecked). */
-static int psb__sparse_grew(const psb_sparse *sp, const double *pb, const double *x)
-{
-    int c;
-    double xmax = 0, bmax = 0;
-    for (c = 0; c <= sp->n; c++) {
-        if (fabs(x[c]) > xmax) xmax = fabs(x[c]);
-        if (fabs(pb[c]) * sp->rscale_[c] > bmax) bmax = fabs(pb[c]) * sp->rscale_[c];
-    }
-    return xmax * sp->rcond_min_ > bmax;
-}
-
 PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
 {
     psb_sparse *sp = (psb_sparse *)ctx;
@@ -869,7 +872,7 @@ PSB_SPARSE_DEF int psb_sparse_solve(double *b, int nrhs, void *ctx)
             sp->message = "solve: solution rejected, its backward error exceeds 1e-10";
             return 1;
         }
-        if (psb__sparse_grew(sp, pb, x)) {
+        if (psb__sparse_grew(sp->n + 1, pb, sp->rscale_, x, sp->rcond_min_)) {
             sp->message = "solve: B is singular to working precision (the solution grew past ||R b|| / rcond_min, "
                           "R scaling B's rows)";
             return 1;

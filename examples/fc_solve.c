@@ -7,8 +7,9 @@
    dense: m, m again and the column-major array in sequence, each printed line a column, as
    Siconos writes it; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's
    cs_print), q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib
-   local problems in HDF5 (read by libhdf5 in a child process: a file on which libhdf5 crashes
-   or hangs is a read error). Every size, pointer and index is checked before use, NaN and Inf are
+   local problems in HDF5 (read by libhdf5 in a child process: a file on which libhdf5 crashes,
+   hangs or allocates past 2 GiB is a read error; -DFC_HDF5_IN_PROCESS reads in this process
+   instead, for the fuzzer). Every size, pointer and index is checked before use, NaN and Inf are
    rejected everywhere; a bad file gets `FILE error: what is wrong` and exit status 2. W is kept
    in compressed columns, so memory follows its non-zeros, within the limits FC_MAX_FILE (2 GiB
    of text), FC_MAX_CONTACTS (10^6), FC_MAX_NNZ (2^25 stored non-zeros) and FC_MAX_COUPLED
@@ -400,9 +401,14 @@ static const char *fc_from_fclib(fc_problem *p, const fc_fclib *a)
 #ifdef FC_SOLVE_HDF5
 /* FCLib's HDF5 files: optional build, -DFC_SOLVE_HDF5, link libhdf5. */
 #include <hdf5.h>
-#ifndef _WIN32
+#if defined _WIN32 && !defined FC_HDF5_IN_PROCESS
+#define FC_HDF5_IN_PROCESS /* no fork */
+#endif
+#ifndef FC_HDF5_IN_PROCESS
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -492,7 +498,9 @@ static const char *h5_read_arrays(const char *path, fc_fclib *a, void *bufs[9])
     return err;
 }
 
-#ifdef _WIN32
+#ifdef FC_HDF5_IN_PROCESS
+/* Without the child: for Windows (no fork), and for fuzz/fuzz_fc_hdf5.c's long runs, where
+   libFuzzer sees this reader's coverage (lost in a child) without a fork per input. */
 static const char *fc_read_hdf5(const char *path, fc_problem *p)
 {
     fc_fclib a;
@@ -507,10 +515,47 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
 }
 #else
 /* libhdf5 trusts a file's metadata: on a corrupted file it may crash or spin (Debian 12's
-   1.10.8 divides by a zero chunk size inside H5Dopen, fuzz/corpus/fc_hdf5/zero_chunk.hdf5).
+   1.10.8 divides by a zero chunk size inside H5Dopen, fuzz/libhdf5_faults/zero_chunk.hdf5).
    So a child process reads the file and sends the arrays through a pipe; the parent checks
-   them like any input, and a child that dies or runs over FC_HDF5_SECONDS is a bad file. */
+   them like any input, and a child that dies or runs over FC_HDF5_SECONDS is a bad file. It may
+   also allocate without end (8 KB files found by fuzz_fc_hdf5 took all of a 24 GB machine's
+   memory for 40-60 s): on Linux its address space may grow by FC_HDF5_MAX_BYTES past what it
+   has mapped at the fork, five times what the largest problem fc_solve accepts needs
+   (FC_MAX_NNZ non-zeros: 0.4 GB); not under a sanitizer (its shadow memory). */
 #define FC_HDF5_SECONDS 60
+#define FC_HDF5_MAX_BYTES ((rlim_t)2 << 30)
+#if defined __SANITIZE_ADDRESS__ || defined __SANITIZE_THREAD__
+#define FC_HDF5_SANITIZED
+#elif defined __has_feature
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#define FC_HDF5_SANITIZED
+#endif
+#endif
+
+/* The child's address-space cap (above); left as it is where the size mapped is unknown. */
+static void h5_cap_memory(void)
+{
+#ifndef FC_HDF5_SANITIZED
+    char text[64];
+    long page = sysconf(_SC_PAGESIZE);
+    ssize_t len = -1;
+    int fd = open("/proc/self/statm", O_RDONLY); /* its first field: pages mapped */
+    struct rlimit lim;
+    if (fd >= 0) {
+        len = read(fd, text, sizeof text - 1);
+        close(fd);
+    }
+    if (len > 0 && page > 0) {
+        rlim_t cap;
+        text[len] = '\0';
+        cap = (rlim_t)strtoul(text, NULL, 10) * (rlim_t)page + FC_HDF5_MAX_BYTES;
+        if (getrlimit(RLIMIT_AS, &lim) == 0 && (lim.rlim_cur == RLIM_INFINITY || lim.rlim_cur > cap)) {
+            lim.rlim_cur = cap;
+            setrlimit(RLIMIT_AS, &lim); /* on failure the child reads without the cap */
+        }
+    }
+#endif
+}
 
 /* Writes n bytes (the child's side); 0 on success. */
 static int h5_put(int fd, const void *data, size_t n)
@@ -585,6 +630,7 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
             signal(faults[k], SIG_DFL);
         close(fds[0]);
         alarm(FC_HDF5_SECONDS);
+        h5_cap_memory();
         h5_child(path, fds[1]);
         _exit(0);
     }
