@@ -370,7 +370,14 @@ FUZZ_HDF5_IN_PROCESS ?=
 $(FUZZ_BUILD)/fuzz_fc_hdf5: FUZZ_EXTRA_CFLAGS = $(FC_HDF5_CFLAGS) $(if $(FUZZ_HDF5_IN_PROCESS),-DFC_HDF5_IN_PROCESS)
 $(FUZZ_BUILD)/fuzz_fc_hdf5: FUZZ_EXTRA_LIBS = $(FC_HDF5_LIBS)
 
-$(FUZZ_BUILD)/fuzz_%: fuzz/fuzz_%.c $(HEADER) $(wildcard fuzz/*.h examples/*.c examples/*.h tests/*.h)
+# the build's knobs as a stamp, so that changing one rebuilds the targets
+FUZZ_STAMP = $(FUZZ_BUILD)/knobs-cmp$(if $(FUZZ_NO_CMP),0,1)-inproc$(if $(FUZZ_HDF5_IN_PROCESS),1,0)
+$(FUZZ_STAMP):
+	@mkdir -p $(FUZZ_BUILD)
+	rm -f $(FUZZ_BUILD)/knobs-*
+	touch $@
+
+$(FUZZ_BUILD)/fuzz_%: fuzz/fuzz_%.c $(HEADER) $(wildcard fuzz/*.h examples/*.c examples/*.h tests/*.h) $(FUZZ_STAMP)
 	@mkdir -p $(FUZZ_BUILD)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) $(FUZZ_EXTRA_CFLAGS) $< -o $@ $(FUZZ_EXTRA_LIBS) $(LIBS)
 

@@ -8,7 +8,7 @@
    Siconos writes it; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's
    cs_print), q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib
    local problems in HDF5 (read by libhdf5 in a child process: a file on which libhdf5 crashes,
-   hangs or allocates past 2 GiB is a read error; -DFC_HDF5_IN_PROCESS reads in this process
+   hangs or, on Linux, allocates past 2 GiB is a read error; -DFC_HDF5_IN_PROCESS reads in this process
    instead, for the fuzzer). Every size, pointer and index is checked before use, NaN and Inf are
    rejected everywhere; a bad file gets `FILE error: what is wrong` and exit status 2. W is kept
    in compressed columns, so memory follows its non-zeros, within the limits FC_MAX_FILE (2 GiB
@@ -521,39 +521,49 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
    also allocate without end (8 KB files found by fuzz_fc_hdf5 took all of a 24 GB machine's
    memory for 40-60 s): on Linux its address space may grow by FC_HDF5_MAX_BYTES past what it
    has mapped at the fork, five times what the largest problem fc_solve accepts needs
-   (FC_MAX_NNZ non-zeros: 0.4 GB); not under a sanitizer (its shadow memory). */
+   (FC_MAX_NNZ non-zeros: 0.4 GB). Not under a sanitizer: ASan's allocator maps within address
+   space it reserved at start, so the cap would not bound it (13.7 GB, 60 s on such a file). */
 #define FC_HDF5_SECONDS 60
 #define FC_HDF5_MAX_BYTES ((rlim_t)2 << 30)
-#if defined __SANITIZE_ADDRESS__ || defined __SANITIZE_THREAD__
+#if defined __SANITIZE_ADDRESS__ || defined __SANITIZE_THREAD__ || defined __SANITIZE_HWADDRESS__
 #define FC_HDF5_SANITIZED
 #elif defined __has_feature
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer) || __has_feature(leak_sanitizer) || __has_feature(hwaddress_sanitizer)
 #define FC_HDF5_SANITIZED
 #endif
 #endif
 
-/* The child's address-space cap (above); left as it is where the size mapped is unknown. */
-static void h5_cap_memory(void)
+/* The child's address-space cap (above). Returns 1 if set; 0 where it is left as it is: the
+   size mapped unknown (no /proc), a limit already as low, or a cap rlim_t cannot hold. */
+static int h5_cap_memory(void)
 {
 #ifndef FC_HDF5_SANITIZED
-    char text[64];
+    char text[64], *end;
     long page = sysconf(_SC_PAGESIZE);
+    unsigned long pages;
     ssize_t len = -1;
     int fd = open("/proc/self/statm", O_RDONLY); /* its first field: pages mapped */
     struct rlimit lim;
+    rlim_t cap;
     if (fd >= 0) {
         len = read(fd, text, sizeof text - 1);
         close(fd);
     }
-    if (len > 0 && page > 0) {
-        rlim_t cap;
-        text[len] = '\0';
-        cap = (rlim_t)strtoul(text, NULL, 10) * (rlim_t)page + FC_HDF5_MAX_BYTES;
-        if (getrlimit(RLIMIT_AS, &lim) == 0 && (lim.rlim_cur == RLIM_INFINITY || lim.rlim_cur > cap)) {
-            lim.rlim_cur = cap;
-            setrlimit(RLIMIT_AS, &lim); /* on failure the child reads without the cap */
-        }
-    }
+    if (len <= 0 || page <= 0)
+        return 0;
+    text[len] = '\0';
+    pages = strtoul(text, &end, 10);
+    if (end == text || pages == 0 ||
+        pages > (RLIM_INFINITY - 1 - FC_HDF5_MAX_BYTES) / (rlim_t)page) /* also ULONG_MAX */
+        return 0;
+    cap = (rlim_t)pages * (rlim_t)page + FC_HDF5_MAX_BYTES;
+    if (getrlimit(RLIMIT_AS, &lim) != 0 || (lim.rlim_cur != RLIM_INFINITY && lim.rlim_cur <= cap))
+        return 0;
+    lim.rlim_cur = cap;
+    return setrlimit(RLIMIT_AS, &lim) == 0; /* on failure the child reads without the cap */
+#else
+    return 0;
 #endif
 }
 
@@ -630,7 +640,7 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
             signal(faults[k], SIG_DFL);
         close(fds[0]);
         alarm(FC_HDF5_SECONDS);
-        h5_cap_memory();
+        (void)h5_cap_memory();
         h5_child(path, fds[1]);
         _exit(0);
     }

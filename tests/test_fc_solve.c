@@ -14,6 +14,7 @@
 
 #include "fc_gen.h"
 #include "harness.h"
+#include <stdint.h> /* SIZE_MAX */
 
 /* Independent check of a returned reaction; returns the eq. (15) error it recomputes. */
 static double check_solution(const fc_problem *p, const double *r, double tol, const char *name)
@@ -729,23 +730,35 @@ static void test_fclib_validation(void)
         fc_free(&p);
         remove(path);
     }
-#if !defined FC_HDF5_IN_PROCESS && !defined FC_HDF5_SANITIZED
+#if !defined FC_HDF5_IN_PROCESS && !defined FC_HDF5_SANITIZED && SIZE_MAX > 0xFFFFFFFFu
     { /* the reader's child may grow by FC_HDF5_MAX_BYTES, no more: 8 KB files had libhdf5
-         take all of a 24 GB machine's memory */
+         take all of a 24 GB machine's memory. Address space, not memory touched: nothing is
+         written. Exit 0: as promised; 1: not; 2: this machine cannot tell (no /proc, a lower
+         limit already set, or the large request refused without the cap too). */
         pid_t pid = fork();
         int status = 0;
         CHECK(pid >= 0);
-        if (pid == 0) { /* address space, not memory touched: nothing is written */
-            void *volatile within, *volatile beyond; /* calls the optimiser must keep */
-            h5_cap_memory();
-            within = malloc((size_t)1 << 30);
-            free(within);
-            beyond = malloc((size_t)FC_HDF5_MAX_BYTES + ((size_t)256 << 20));
-            _exit(within && !beyond ? 0 : 1);
+        if (pid == 0) {
+            size_t beyond = (size_t)FC_HDF5_MAX_BYTES + ((size_t)256 << 20);
+            void *volatile a; /* calls the optimiser must keep */
+            a = malloc(beyond);
+            if (!a)
+                _exit(2);
+            free(a);
+            if (!h5_cap_memory())
+                _exit(2);
+            a = malloc((size_t)1 << 30);
+            if (!a)
+                _exit(1);
+            free(a);
+            a = malloc(beyond);
+            _exit(a ? 1 : 0);
         }
         if (pid > 0) {
             CHECK(waitpid(pid, &status, 0) == pid);
-            CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+            CHECK(WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 2));
+            if (WIFEXITED(status) && WEXITSTATUS(status) == 2)
+                printf("  the HDF5 child's memory cap: not testable on this machine\n");
         }
     }
 #endif
