@@ -8,13 +8,14 @@
    Siconos writes it; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's
    cs_print), q (dim*nc values), mu (nc values); with -DFC_SOLVE_HDF5 (and -lhdf5) also FCLib
    local problems in HDF5 (read by libhdf5 in a child process: a file on which libhdf5 crashes,
-   hangs or, on Linux, allocates past 2 GiB is a read error; -DFC_HDF5_IN_PROCESS reads in this process
-   instead, for the fuzzer). Every size, pointer and index is checked before use, NaN and Inf are
-   rejected everywhere; a bad file gets `FILE error: what is wrong` and exit status 2. W is kept
-   in compressed columns, so memory follows its non-zeros, within the limits FC_MAX_FILE (2 GiB
-   of text), FC_MAX_CONTACTS (10^6), FC_MAX_NNZ (2^25 stored non-zeros) and FC_MAX_COUPLED
-   (12288 unknowns in one coupled component of W, whose Newton system may be factored dense:
-   8 n^2 bytes, 1.2 GB at the limit; larger components are refused with a message).
+   hangs or, on Linux, allocates past 2 GiB is a read error; -DFC_HDF5_IN_PROCESS reads in
+   this process instead, for the fuzzer). Every size, pointer and index is checked before use,
+   NaN and Inf are rejected everywhere; a bad file gets `FILE error: what is wrong` and exit
+   status 2. W is kept in compressed columns, so memory follows its non-zeros, within the
+   limits FC_MAX_FILE (2 GiB of text), FC_MAX_CONTACTS (10^6), FC_MAX_NNZ (2^25 stored
+   non-zeros) and FC_MAX_COUPLED (12288 unknowns in one coupled component of W, whose Newton
+   system may be factored dense: 8 n^2 bytes, 1.2 GB at the limit; larger components are
+   refused with a message).
    Prints `FILE contacts=N iterations=K residual=R time=Ts newton=A sweeps=B ipm=C` (K = A + B
    + C, C the interior-point iterations), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at the returned
    r with u recomputed as W r + q, or the absolute |F_nat(r)| when q = 0 (then the line says
