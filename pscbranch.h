@@ -101,8 +101,10 @@
    a step was accepted); what each function writes on failure is in its declaration. A freed
    or uninitialised solver makes every call return PSB_ERR_NULL (psb_dot_w/_norm_w: NaN).
    No function allocates except psb_solver_init and psb_diagram_init. Single operations (solve,
-   tangent, correct, step, switch, locate_end, find_branches) may be called from a point
-   callback of psb_trace; psb_trace itself may not (it would reuse the trace's scratch vectors).
+   tangent, correct, step, switch, locate_end, find_branches) may be called from a point or
+   event callback of psb_trace on the same solver; psb_trace, psb_explore, psb_evolve_step and
+   psb_branch_point_switch may not (they would reuse the trace's scratch vectors): there they
+   return PSB_ERR_INPUT and leave the outer trace as it was.
    The solver is not thread-safe; distinct solvers are independent (no global state).
 
    3. CALLBACKS
@@ -183,7 +185,9 @@
                                     precision of 0, fuzz_api)
    h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
                                     corrector iterations; shrink after a rejected trial;
-                                    1 <= h_inc <= 100, 0 < h_dec <= 0.9 (bounded shrinking)
+                                    1 <= h_inc <= 100, 1e-3 <= h_dec <= 0.9 (bounded
+                                    shrinking; a smaller h_dec jumped from a rejected step to
+                                    below h_min and called a smooth point an end)
    max_iter [10]                    corrector iterations per trial; max_iter, iter_threshold
                                     <= PSB_MAX_ITER_LIMIT (1000)
    tol_residual [1e-10]             ||H(y)||_2 at convergence. Absolute; where H's rounding
@@ -1080,7 +1084,7 @@ typedef struct psb_options {
     double h_min;          /* smallest step before the step is declared failed [1e-6] */
     double h_max;          /* largest step [1e-1] */
     double h_inc;          /* growth factor after an easy step, > 1 [1.3] */
-    double h_dec;          /* shrink factor after a rejected step, in (0,1) [0.5] */
+    double h_dec;          /* shrink factor after a rejected step, in [1e-3, 0.9] [0.5] */
     int max_iter;          /* corrector iterations per trial step [10] */
     int iter_threshold;    /* the step grows only when the corrector took fewer iterations [4] */
     double tol_residual;   /* ||H(y)||_2 at convergence [1e-10] */
@@ -1236,6 +1240,7 @@ typedef struct psb_solver {
                         cause: callback > 0, NaN/Inf, singular Jacobian; [3]: singular
                         difference Jacobians, a fault only when n_ok_ = 0 (psb__note_fault) */
     long n_ok_;      /* tangents and corrector runs of the current algorithm that succeeded */
+    int in_trace_callback_; /* a trace's on_point or event callback is running (psb__trace_busy) */
     unsigned ready_; /* PSB__READY between a successful init and psb_solver_free */
 } psb_solver;
 
@@ -1389,7 +1394,7 @@ typedef struct psb_trace_options {
                                     either may be infinite, NaN gives PSB_ERR_INPUT. The trace
                                     ends on the first point of the curve on a bound, also where
                                     a fold lies beyond it within a step (retaken shorter) */
-    long max_steps;              /* accepted steps [0 -> 10000] */
+    long max_steps;              /* accepted steps [0 -> 10000]; < 0 gives PSB_ERR_OPTIONS */
     int no_switch;               /* 1: stop (PSB_NONSMOOTH_END) instead of switching at a kink */
     int detect_loop;             /* 1: stop (PSB_LOOP_CLOSED) when the curve returns to its start */
     int locate_kinks;            /* 1: locate the first kink of each step that passes one (where
@@ -1397,7 +1402,8 @@ typedef struct psb_trace_options {
                                     step) to within h_min and report the couple just before it as
                                     a PSB_POINT_KINK point; a nonzero return from on_point there
                                     stops the trace on it. 2: every kink of the step, in order
-                                    (up to 8), at a search of the rest of the step past each */
+                                    (up to 8), at a search of the rest of the step past each.
+                                    Other values give PSB_ERR_OPTIONS */
     psb_point_fn on_point;       /* optional */
     void *point_user;
     /* special points on the path (manual section 6, "Special points on the path") */
@@ -2191,7 +2197,7 @@ static const char *psb__check_options(const psb_options *o, int np1)
         !(o->h_min <= o->h_init) || !(o->h_init <= o->h_max))
         return "h_min, h_init, h_max: need 1e-290 <= h_min <= h_init <= h_max < inf";
     if (!(o->h_inc >= 1 && o->h_inc <= 100)) return "h_inc must lie in [1, 100]";
-    if (!(o->h_dec > 0 && o->h_dec <= 0.9)) return "h_dec must lie in (0, 0.9]";
+    if (!(o->h_dec >= 1e-3 && o->h_dec <= 0.9)) return "h_dec must lie in [1e-3, 0.9]";
     if (o->max_iter < 1 || o->max_iter > PSB_MAX_ITER_LIMIT) return "max_iter must lie in [1, PSB_MAX_ITER_LIMIT = 1000]";
     if (o->iter_threshold < 1 || o->iter_threshold > PSB_MAX_ITER_LIMIT)
         return "iter_threshold must lie in [1, PSB_MAX_ITER_LIMIT = 1000]";
@@ -3874,7 +3880,10 @@ PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h
     psb__copy(yc, y, s->np1_);
     psb__copy(tc, t, s->np1_);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
+    psb__faults_reset(s);
     r = psb__try_step(s, yc, tc, &hh, s->opt.h_min, &iters);
+    /* difference Jacobians of rank < N at every trial, none converged: a fault, not the curve */
+    if (r == PSB_ERR_STEP_TOO_SMALL && s->n_ok_ == 0 && s->faults_[3] > 0) return psb__faults_code(s, "psb_step");
     if (r != PSB_SUCCESS) return r;
     psb__copy(y, yc, s->np1_);
     psb__copy(t, tc, s->np1_);
@@ -4397,10 +4406,35 @@ typedef struct psb__sp_fn {
     double ref;
 } psb__sp_fn;
 
+/* A trace's on_point callback, marked as running (psb__trace_busy). */
+static int psb__call_point(psb_solver *s, const psb_trace_options *to, const psb_point *p)
+{
+    int outer = s->in_trace_callback_, rc;
+    s->in_trace_callback_ = 1;
+    rc = to->on_point(p, to->point_user);
+    s->in_trace_callback_ = outer;
+    return rc;
+}
+
+/* PSB_ERR_INPUT when called from a trace's callback: a trace (also inside psb_explore,
+   psb_evolve_step, psb_branch_point_switch) would reuse the outer trace's scratch vectors */
+static psb_result psb__trace_busy(psb_solver *s, const char *what)
+{
+    char buf[160];
+    if (!s->in_trace_callback_) return PSB_SUCCESS;
+    snprintf(buf, sizeof buf, "%s called from a callback of a trace on the same solver (use another solver)", what);
+    return psb__fail(s, PSB_ERR_INPUT, buf);
+}
+
 static psb_result psb__event_values(psb_solver *s, const psb_trace_options *to, const double *y,
                                     double *g)
 {
-    psb_result r = psb__callback_code(s, to->event(y, g, to->event_user), "event callback returned nonzero");
+    int outer = s->in_trace_callback_, rc;
+    psb_result r;
+    s->in_trace_callback_ = 1;
+    rc = to->event(y, g, to->event_user);
+    s->in_trace_callback_ = outer;
+    r = psb__callback_code(s, rc, "event callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
     if (!psb__all_finite(g, (size_t)to->n_events))
         return psb__fail(s, PSB_ERR_NONFINITE, "event callback returned NaN or Inf");
@@ -4427,7 +4461,7 @@ static psb_result psb__sp_value(psb_solver *s, const psb__sp_fn *fn, const doubl
     switch (fn->kind) {
     case PSB_SPECIAL_FOLD: *f = t[s->prob.param_index]; return PSB_SUCCESS;
     case PSB_SPECIAL_EVENT: {
-        double *g = fn->to->event_work + 2 * fn->to->n_events;
+        double *g = fn->to->event_work + 2 * (size_t)fn->to->n_events;
         r = psb__event_values(s, fn->to, y, g);
         *f = g[fn->index];
         return r;
@@ -4656,6 +4690,7 @@ static psb_result psb__branch_directions(psb_solver *s, const double *y0, const 
 
 /* What psb_trace's detectors carry from one accepted point to the next. */
 typedef struct psb__detector {
+    psb_solver *s;
     const psb_trace_options *to;
     psb_trace_report *rep;
     psb__mon mon_old, mon_new;
@@ -4720,7 +4755,7 @@ static int psb__report_special(psb__detector *d, long index)
     p.index = index;
     p.flags = PSB_POINT_SPECIAL;
     p.special = &d->sp;
-    if (d->to->on_point && d->to->on_point(&p, d->to->point_user)) return 1;
+    if (d->to->on_point && psb__call_point(d->s, d->to, &p)) return 1;
     return (d->to->stop_at >> d->sp.kind & 1u) != 0;
 }
 
@@ -4882,10 +4917,14 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
     r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_trace");
     if (r != PSB_SUCCESS) return rep->end = r;
     if (to) opts = *to;
     else memset(&opts, 0, sizeof opts);
-    if (opts.max_steps <= 0) opts.max_steps = 10000;
+    if (opts.max_steps < 0) return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "trace options: max_steps must be >= 0");
+    if (opts.locate_kinks < 0 || opts.locate_kinks > 2)
+        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "trace options: locate_kinks must be 0, 1 or 2");
+    if (opts.max_steps == 0) opts.max_steps = 10000;
     np1 = s->np1_;
     p = s->prob.param_index;
     if (opts.param_min != opts.param_min || opts.param_max != opts.param_max)
@@ -4913,6 +4952,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     psb__copy(ystart, yc, np1);
     h = s->opt.h_init;
     memset(&det, 0, sizeof det);
+    det.s = s;
     det.to = &opts;
     det.rep = rep;
     if (opts.detect) {
@@ -4923,7 +4963,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     pt.y = yc;
     pt.t = tc;
     pt.flags = PSB_POINT_START;
-    if (opts.on_point && opts.on_point(&pt, opts.point_user)) {
+    if (opts.on_point && psb__call_point(s, &opts, &pt)) {
         rep->end = PSB_STOPPED;
         goto done;
     }
@@ -4989,7 +5029,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             kp.index = rep->steps;
             kp.flags = PSB_POINT_KINK;
             rep->n_kinks++;
-            if (opts.on_point && opts.on_point(&kp, opts.point_user)) {
+            if (opts.on_point && psb__call_point(s, &opts, &kp)) {
                 psb__copy(yc, kp.y, np1);
                 psb__copy(tc, kp.t, np1);
                 rep->end = PSB_STOPPED;
@@ -5080,7 +5120,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         }
         pt.index = rep->steps;
         pt.flags = flags;
-        if (opts.on_point && opts.on_point(&pt, opts.point_user)) { rep->end = PSB_STOPPED; goto done; }
+        if (opts.on_point && psb__call_point(s, &opts, &pt)) { rep->end = PSB_STOPPED; goto done; }
         if (flags & PSB_POINT_BOUND) { rep->end = PSB_PARAM_BOUND; goto done; }
         if (opts.detect_loop && rep->steps >= 3) {
             /* the start lies on the last chord, and the curve already went further than it */
@@ -6525,6 +6565,7 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
     rep->newton_jump = rep->newton_gap = -1;
     if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
+    if (psb__trace_busy(s, "psb_evolve_step")) return PSB_ERR_INPUT;
     if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
     if (eo) o = *eo;
     else memset(&o, 0, sizeof o);
@@ -7365,6 +7406,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     const char *bad;
     int np1, p, i, k, traces = 0, max_traces;
     psb_result r = psb__check_couple(s, y, t), result = PSB_SUCCESS;
+    if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_explore");
     if (r != PSB_SUCCESS) return r;
     if (!d || !d->nodes || !d->work_) return psb__fail(s, PSB_ERR_NULL, "the diagram is NULL or not set up");
     if (d->n != s->n_) return psb__fail(s, PSB_ERR_SIZE, "the diagram's n differs from the problem's");
@@ -7581,6 +7623,20 @@ static double psb__ct_dir2(double a, double b, double *m, double *d0, double *d1
 
 /* mu |x_T| for a friction coefficient mu >= 0: 0 when mu = 0, also where |x_T| overflows */
 static double psb__ct_mu_times(double mu, double t) { return mu > 0.0 ? mu * t : 0.0; }
+/* x_N and |x_T| for the cone's piece tests (|x_T| <= mu x_N, mu |x_T| <= -x_N), which are
+   homogeneous in x: where |x_T| overflows (and mu > 0; mu = 0 tests x_N alone), both and tol are
+   halved, exactly but for a subnormal x_N, which cannot decide a test beside such |x_T| */
+static void psb__ct_cone_tests(const double x[3], double mu, double *n, double *t, double *tol)
+{
+    *n = x[0];
+    *t = hypot(x[1], x[2]);
+    if (*t > DBL_MAX && mu > 0.0) {
+        *n = 0.5 * x[0];
+        *t = hypot(0.5 * x[1], 0.5 * x[2]);
+        if (tol)
+            *tol *= 0.5;
+    }
+}
 /* Shared by both half-lines: sign = +1 for [0,inf[, -1 for ]-inf,0]. */
 static psb_result psb__ct_proj_half(double x, double sign, int req, double *value, double *deriv,
                                  int *piece)
@@ -7771,7 +7827,7 @@ PSCBRANCH_DEF psb_result psb_proj_disk_active(const double x[2], double s, doubl
 PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_request,
                                        double p[3], double j[9], int *piece)
 {
-    double n, t, d0, d1, c, k = 0.0, w, wm, wmm, mc, pv[3], jv[9];
+    double n, t, d0, d1, c, k = 0.0, w, wm, wmm, mc, mch = 0.0, pv[3], jv[9];
     int pc, a, b, scaled = 0;
     if (!x || !p)
         return PSB_ERR_NULL;
@@ -7783,15 +7839,19 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
         return PSB_ERR_SIZE;
     n = x[0];
     t = hypot(x[1], x[2]);
-    if (piece_request >= 0)
+    if (piece_request >= 0) {
         pc = piece_request;
-    else if (mu > 0.0 && n >= 0.0 && t <= mu * n) /* mu = 0: IN has no interior, never the
-                                                     default; n < 0: mu n may underflow to -0 */
-        pc = PSB_CONE_IN;
-    else if (psb__ct_mu_times(mu, t) <= -n)
-        pc = PSB_CONE_POLAR;
-    else
-        pc = PSB_CONE_BOUNDARY;
+    } else {
+        double nc, tc;
+        psb__ct_cone_tests(x, mu, &nc, &tc, NULL);
+        if (mu > 0.0 && nc >= 0.0 && tc <= mu * nc) /* mu = 0: IN has no interior, never the
+                                                        default; n < 0: mu n may underflow to -0 */
+            pc = PSB_CONE_IN;
+        else if (psb__ct_mu_times(mu, tc) <= -nc)
+            pc = PSB_CONE_POLAR;
+        else
+            pc = PSB_CONE_BOUNDARY;
+    }
     if (pc == PSB_CONE_BOUNDARY) {
         /* Nearest point on the ray (1, mu d)/sqrt(1+mu^2), d = x_T/|x_T|:
            P = c (1, mu d), c = (x_N + mu |x_T|)/(1+mu^2);
@@ -7818,6 +7878,8 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
                 nu = psb__ct_dir2(x[1], x[2], &m, &d0, &d1);
                 c = w * n + (wm * m) * nu;
                 mc = wm * n + (wmm * m) * nu;
+                /* |P_T| = mu c may overflow where each of P_T's components does not */
+                mch = 0.5 * wm * n + (wmm * (0.5 * m)) * nu;
                 k = mu > 0.0 ? wm * (n / m / nu) + wmm : 0.0; /* mu = 0: n/m may overflow */
             } else {
                 c = w * n;
@@ -7837,8 +7899,8 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
             k = wmm;
         }
         pv[0] = c;
-        pv[1] = mc * d0;
-        pv[2] = mc * d1;
+        pv[1] = psb__finite(mc) ? mc * d0 : 2.0 * (mch * d0);
+        pv[2] = psb__finite(mc) ? mc * d1 : 2.0 * (mch * d1);
         {
             double dd[2];
             dd[0] = d0;
@@ -7878,8 +7940,7 @@ PSCBRANCH_DEF psb_result psb_proj_cone_active(const double x[3], double mu, doub
         return PSB_ERR_NONFINITE;
     if (mu < 0.0 || tol < 0.0)
         return PSB_ERR_INPUT;
-    n = x[0];
-    t = hypot(x[1], x[2]);
+    psb__ct_cone_tests(x, mu, &n, &t, &tol);
     *mask = 0u;
     /* as psb_proj_cone's default piece: n < 0 outside IN (mu n may underflow to -0) */
     if (mu > 0.0 && n >= -tol && t <= mu * n + tol)

@@ -1346,6 +1346,30 @@ static inline int fe_interpolate_at_nodes(const fe_locator *L, int ncomp, const 
     return 0;
 }
 
+/* Whether fine refines L's mesh, its nodes located already (owner: fe_interpolate_at_nodes):
+   every vertex of a fine element lies in the coarse element holding its centroid (tried first
+   among its vertices' elements, which a vertex on a coarse edge may miss). 0, or -2. */
+static inline int fe_elements_nested(const fe_locator *L, const fe_mesh *fine, const int *owner)
+{
+    const fe_mesh *coarse = L->m;
+    const double tol = 1e-9;
+    int nv = coarse->nvert, e;
+    if (fine->nvert != nv) return -2;
+    for (e = 0; e < fine->nelem; e++) {
+        const int *c = fine->conn + nv * e;
+        double cen[2] = {0, 0}, ref[2];
+        int v, ce = -1;
+        for (v = 0; v < nv; v++) { cen[0] += fine->x[2 * c[v]] / nv; cen[1] += fine->x[2 * c[v] + 1] / nv; }
+        for (v = 0; v < nv && ce < 0; v++)
+            if (fe_locate_in(coarse, owner[c[v]], cen, tol, ref)) ce = owner[c[v]];
+        if (ce < 0) ce = fe_locator_find(L, cen, ref);
+        if (ce < 0) return -2;
+        for (v = 0; v < nv; v++)
+            if (!fe_locate_in(coarse, ce, fine->x + 2 * c[v], tol, ref)) return -2;
+    }
+    return 0;
+}
+
 /* The same with a locator of its own: 0, -1 out of memory, -2 not nested. */
 static inline int fe_interpolate_nested(const fe_mesh *coarse, int ncomp, const double *vc, const fe_mesh *fine,
                                         double *vf)
@@ -1355,6 +1379,26 @@ static inline int fe_interpolate_nested(const fe_mesh *coarse, int ncomp, const 
     if (fe_locator_init(&L, coarse)) return -1;
     rc = fe_interpolate_at_nodes(&L, ncomp, vc, fine, vf, NULL);
     fe_locator_free(&L);
+    return rc;
+}
+
+/* Whether fine refines coarse (the same element kind, every fine element inside one coarse
+   element): 0, -1 out of memory, -2 not. */
+static inline int fe_mesh_refines(const fe_mesh *coarse, const fe_mesh *fine)
+{
+    fe_locator L;
+    int rc = 0, a, *owner;
+    if (fine->nvert != coarse->nvert) return -2;
+    owner = malloc(sizeof(int) * (size_t)(fine->nnode > 0 ? fine->nnode : 1));
+    if (!owner) return -1;
+    if (fe_locator_init(&L, coarse)) { free(owner); return -1; }
+    for (a = 0; a < fine->nnode && !rc; a++) {
+        double ref[2];
+        if ((owner[a] = fe_locator_find(&L, fine->x + 2 * a, ref)) < 0) rc = -2;
+    }
+    if (!rc) rc = fe_elements_nested(&L, fine, owner);
+    fe_locator_free(&L);
+    free(owner);
     return rc;
 }
 
@@ -1371,7 +1415,6 @@ static inline int fe_h1_error_parts(const fe_mesh *coarse, const double *uc, con
 {
     int nv = coarse->nvert, e, i, rc = 0, *owner = NULL;
     double *ui = NULL;
-    const double tol = 1e-9;
     fe_locator L;
     out[0] = out[1] = out[2] = out[3] = 0;
     if (fine->nvert != nv || (nv != 3 && nv != 4)) return -2;
@@ -1380,20 +1423,12 @@ static inline int fe_h1_error_parts(const fe_mesh *coarse, const double *uc, con
     owner = malloc(sizeof(int) * (size_t)fine->nnode);
     if (!ui || !owner) { rc = -1; goto done; }
     rc = fe_interpolate_at_nodes(&L, 2, uc, fine, ui, owner);
+    if (!rc) rc = fe_elements_nested(&L, fine, owner);
     if (rc) goto done;
-    /* nested: every vertex of a fine element lies in the coarse element holding its centroid
-       (tried first among its vertices' elements, which a vertex on a coarse edge may miss) */
     for (e = 0; e < fine->nelem; e++) {
         const int *c = fine->conn + nv * e;
-        double cen[2] = {0, 0}, ref[2], qx[4], qy[4], qw[4];
-        int v, q, nq, ce = -1;
-        for (v = 0; v < nv; v++) { cen[0] += fine->x[2 * c[v]] / nv; cen[1] += fine->x[2 * c[v] + 1] / nv; }
-        for (v = 0; v < nv && ce < 0; v++)
-            if (fe_locate_in(coarse, owner[c[v]], cen, tol, ref)) ce = owner[c[v]];
-        if (ce < 0) ce = fe_locator_find(&L, cen, ref);
-        if (ce < 0) { rc = -2; goto done; }
-        for (v = 0; v < nv; v++)
-            if (!fe_locate_in(coarse, ce, fine->x + 2 * c[v], tol, ref)) { rc = -2; goto done; }
+        double qx[4], qy[4], qw[4];
+        int v, q, nq;
         /* quadrature on the fine element */
         if (nv == 3) {
             qx[0] = 0.5; qy[0] = 0; qx[1] = 0.5; qy[1] = 0.5; qx[2] = 0; qy[2] = 0.5;
@@ -1872,6 +1907,7 @@ static inline int fe_run_refine_ends(fe_run *run, const char *path, void (*class
     fine = malloc(sizeof(double) * 6 * (size_t)m->nnode);
     clen = fe_contact_lengths(md);
     run->nbr = 0;
+    if (fe_mesh_refines(&e.mesh, m)) rc = -3;
     for (k = 0; k < e.count && !rc; k++) {
         fe_branch *b = &run->br[run->nbr];
         if (!fine || !clen || fe_interpolate_nested(&e.mesh, 6, e.fields + (size_t)k * 6 * e.mesh.nnode, m, fine)) { rc = -3; break; }

@@ -64,6 +64,10 @@ for prog in 01_branching 02_explore 03_pitchforks block triangle fc_solve quasis
 # end-point files for --refine: a hostile header (a heap overflow once), a missing file
 printf 'fe-ends rect 40 80 65536 65536\n1 4295098369\n' >"$tmp/hostile.txt"
 printf 'fe-ends rect 40 80 5 10\n1 66\nbranch 1 gamma 1\n0 0 0\n' >"$tmp/short.txt"
+# valid files of a mesh the run's does not refine: Q1 in a P1 run, a finer triangle, 3x3 in 4x4
+{ printf 'fe-ends rect 1 1 2 2\n1 9\nbranch 1 gamma 1\n'; for i in 1 2 3 4 5 6 7 8 9; do echo '0 0 0 0 0 0'; done; } >"$tmp/q1.txt"
+{ printf 'fe-ends tri 1 16\n1 153\nbranch 1 gamma 1\n'; i=0; while [ $i -lt 153 ]; do echo '0 0 0 0 0 0'; i=$((i + 1)); done; } >"$tmp/tri16.txt"
+{ printf 'fe-ends rect 40 80 3 3\n1 16\nbranch 1 gamma 1\n'; i=0; while [ $i -lt 16 ]; do echo '0 0 0 0 0 0'; i=$((i + 1)); done; } >"$tmp/rect3.txt"
 
 # block
 usage "unknown option '--bogus'" block --bogus
@@ -131,6 +135,9 @@ fails "cannot write /dev/full" triangle --quiet --mesh 8 --problem branching --s
 fails "cannot write $tmp/o2/folds.csv: Is a directory" triangle --quiet --mesh 16 --problem fold --out "$tmp/o2"
 fails "cannot write $tmp/o6/diagram.json: Is a directory" triangle --quiet --explore --mesh 8 --out "$tmp/o6"
 fails "not a valid end-point file" triangle --quiet --mesh 8 --load 26 --refine "$tmp/hostile.txt"
+fails "q1.txt: its mesh is not a coarser mesh nested in this one" triangle --quiet --mesh 8 --load 26 --refine "$tmp/q1.txt"
+fails "tri16.txt: its mesh is not a coarser mesh nested in this one" triangle --quiet --mesh 8 --load 26 --refine "$tmp/tri16.txt"
+fails "rect3.txt: its mesh is not a coarser mesh nested in this one" block --quiet --mesh 4x4 --refine "$tmp/rect3.txt"
 # --mesh 2: the default load's fold problem fails; the message must not blame a --load not given
 fails "choosing the default load" triangle --quiet --mesh 2
 if grep -qF -- "--load auto" "$tmp/err"; then fail "triangle --mesh 2 blames --load auto"; else pass; fi

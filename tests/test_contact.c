@@ -921,6 +921,28 @@ static void test_extremes_review(void)
         const double x[3] = {-1e-117, 0, 0};
         CHECK(psb_proj_cone_active(x, 1e-216, 0, &mask) == PSB_SUCCESS && mask == 1u << PSB_CONE_POLAR);
     }
+    /* |x_T| beyond DBL_MAX with mu |x_T| <= -x_N, a point of the polar cone (an audit,
+       2026-11-29: BOUNDARY had been chosen, P_N < 0, outside K, and fc3d_nat non-zero at an
+       exact solution); and |P_T| = mu c beyond DBL_MAX while P's components are not */
+    {
+        const double x1[3] = {-1e308, DBL_MAX, -1e308}, x2[3] = {-1, DBL_MAX, DBL_MAX}, x3[3] = {-1, 1e308, 1.7e308};
+        const double r[3] = {0, 0, 0}, u[3] = {1, -1e308, -1.7e308}, x4[3] = {1e308, DBL_MAX, DBL_MAX};
+        double ju[9];
+        CHECK(psb_proj_cone(x1, 0.3, PSB_PIECE_DEFAULT, p, j, &pc) == PSB_SUCCESS && pc == PSB_CONE_POLAR);
+        CHECK(p[0] == 0 && p[1] == 0 && p[2] == 0);
+        CHECK(psb_proj_cone_active(x1, 0.3, 0, &mask) == PSB_SUCCESS && mask == 1u << PSB_CONE_POLAR);
+        CHECK(psb_proj_cone(x2, 5e-324, PSB_PIECE_DEFAULT, p, j, &pc) == PSB_SUCCESS && pc == PSB_CONE_POLAR);
+        CHECK(psb_proj_cone(x3, 1e-310, PSB_PIECE_DEFAULT, p, j, &pc) == PSB_SUCCESS && pc == PSB_CONE_POLAR);
+        CHECK(psb_proj_cone_active(x3, 1e-310, 0, &mask) == PSB_SUCCESS && mask == 1u << PSB_CONE_POLAR);
+        CHECK(psb_fc3d_nat(r, u, 1e-310, 1, PSB_PIECE_DEFAULT, f, jr, ju, &pc) == PSB_SUCCESS);
+        CHECK(f[0] == 0 && f[1] == 0 && f[2] == 0);
+        /* P = c (1, mu d), c = (x_N + mu |x_T|) / (1 + mu^2) = 1.2169e308, |P_T| = 2.43e308 */
+        CHECK(psb_proj_cone(x4, 2, PSB_PIECE_DEFAULT, p, j, &pc) == PSB_SUCCESS && pc == PSB_CONE_BOUNDARY);
+        CHECK(all_finite(p, 3) && all_finite(j, 9));
+        CHECK_NEAR(p[0] / (0.2e308 + 0.4 * sqrt(2.0) * DBL_MAX), 1, 1e-15);
+        CHECK_NEAR(p[1] / (2 * sqrt(0.5) * p[0]), 1, 1e-15);
+        CHECK(p[1] == p[2]);
+    }
 }
 
 int main(void)

@@ -676,6 +676,7 @@ static void test_option_limits(void)
         CHECK(strstr(psb_solver_message(&s), name) != NULL);                                       \
     } while (0)
     REJECTED(o.h_dec = 1 - 1e-12, "h_dec"); /* never finished */
+    REJECTED(o.h_dec = 1e-8, "h_dec");      /* a smooth point called an end (an audit, 2026-11-29) */
     REJECTED(o.max_iter = INT_MAX, "max_iter");
     REJECTED(o.iter_threshold = PSB_MAX_ITER_LIMIT + 1, "iter_threshold");
     REJECTED(o.h_inc = 1e300, "h_inc");
@@ -685,6 +686,9 @@ static void test_option_limits(void)
     o.switch_n_dir = PSB_MAX_DIR_LIMIT;
     o.max_iter = o.iter_threshold = PSB_MAX_ITER_LIMIT;
     o.h_dec = 0.9;
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    psb_solver_free(&s);
+    o.h_dec = 1e-3;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     psb_solver_free(&s);
 
@@ -1429,8 +1433,111 @@ static void test_misuse_new_functions(void)
     psb_solver_free(&s);
 }
 
+/* An audit of 2026-11-29 (hidden variants of issue 20's items). */
+static int rank1_res(const double *y, double *h, void *u)
+{
+    double sum = y[0] + y[1] + y[2];
+    (void)u;
+    h[0] = sum;
+    h[1] = 2 * sum;
+    return 0;
+}
+
+static int circle_jac1(const double *y, double *jac, int ld, void *u)
+{
+    (void)u;
+    (void)ld;
+    jac[0] = 2 * y[0];
+    jac[1] = 2 * y[1];
+    return 0;
+}
+
+typedef struct {
+    psb_solver *s;
+    int calls;
+    psb_result inner[4];
+} nested;
+
+/* calls what a point callback may not at the third point, and what it may at the fourth */
+static int nested_point(const psb_point *pt, void *u)
+{
+    nested *n = (nested *)u;
+    double y[2] = {-0.6, 0.8}, t[2] = {0.8, 0.6};
+    psb_trace_options to;
+    memset(&to, 0, sizeof to);
+    to.max_steps = 40;
+    if (pt->index == 3) {
+        psb_diagram d;
+        n->inner[0] = psb_trace(n->s, y, t, &to, NULL);
+        n->inner[1] = psb_evolve_step(n->s, y, 0.5, NULL, NULL);
+        memset(&d, 0, sizeof d); /* refused before the diagram is looked at */
+        n->inner[2] = psb_explore(n->s, y, t, NULL, &d);
+    }
+    if (pt->index == 4) n->inner[3] = psb_correct(n->s, y, t, NULL);
+    n->calls++;
+    return 0;
+}
+
+static void test_audit_variants(void)
+{
+    psb_problem prob;
+    psb_solver s;
+    psb_trace_options to;
+    double y[3] = {0.3, 0.4, 0.5}, t[3] = {0.6, 0, 0.8}, y0[3], t0[3], h = 0.01, yc[2] = {1, 0}, tc[2] = {0, 1};
+    double yref[2], tref[2];
+    nested n;
+    int k;
+    /* rank < N difference Jacobians at every trial of psb_step: a fault, as everywhere else
+       (was PSB_ERR_STEP_TOO_SMALL, "for the curve's sake"); y, t and h untouched */
+    psb_problem_init(&prob, 2, rank1_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    memcpy(y0, y, sizeof y);
+    memcpy(t0, t, sizeof t);
+    CHECK(psb_step(&s, y, t, &h) == PSB_ERR_SINGULAR);
+    CHECK(strstr(psb_solver_message(&s), "singular") != NULL);
+    CHECK(same(y, y0, 3) && same(t, t0, 3) && h == 0.01);
+    CHECK(psb_correct(&s, y, t, NULL) == PSB_ERR_SINGULAR);
+    psb_solver_free(&s);
+
+    /* trace options out of their range: max_steps < 0 had run 10000 steps, locate_kinks 7 as 1 */
+    psb_problem_init(&prob, 1, circle_res, circle_jac1, NULL);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    memset(&to, 0, sizeof to);
+    to.max_steps = -5;
+    CHECK(psb_trace(&s, yc, tc, &to, NULL) == PSB_ERR_OPTIONS && yc[0] == 1 && tc[1] == 1);
+    to.max_steps = 10;
+    for (k = -1; k <= 7; k += 8) {
+        to.locate_kinks = k;
+        CHECK(psb_trace(&s, yc, tc, &to, NULL) == PSB_ERR_OPTIONS && yc[0] == 1 && tc[1] == 1);
+        CHECK(strstr(psb_solver_message(&s), "locate_kinks") != NULL);
+    }
+
+    /* a trace, an evolution or an exploration from a point callback of a trace on the same
+       solver: refused, and the outer trace ends where it would alone (it had been steered
+       elsewhere); a single operation there is allowed */
+    to.locate_kinks = 0;
+    CHECK(psb_trace(&s, yc, tc, &to, NULL) == PSB_STEP_BUDGET);
+    memcpy(yref, yc, sizeof yref);
+    memcpy(tref, tc, sizeof tref);
+    yc[0] = 1; yc[1] = 0; tc[0] = 0; tc[1] = 1;
+    n.s = &s;
+    n.calls = 0;
+    for (k = 0; k < 4; k++) n.inner[k] = PSB_SUCCESS;
+    to.on_point = nested_point;
+    to.point_user = &n;
+    CHECK(psb_trace(&s, yc, tc, &to, NULL) == PSB_STEP_BUDGET);
+    CHECK(n.calls == 11 && n.inner[0] == PSB_ERR_INPUT && n.inner[1] == PSB_ERR_INPUT && n.inner[2] == PSB_ERR_INPUT);
+    CHECK(n.inner[3] == PSB_SUCCESS);
+    CHECK(same(yc, yref, 2) && same(tc, tref, 2));
+    /* and after it, a trace on the same solver is allowed again */
+    to.on_point = NULL;
+    CHECK(psb_trace(&s, yc, tc, &to, NULL) == PSB_STEP_BUDGET);
+    psb_solver_free(&s);
+}
+
 int main(void)
 {
+    test_audit_variants();
     test_fd_repair_failure();
     test_failures_reported();
     test_inputs_untouched();

@@ -433,6 +433,18 @@ static void test_nested_interpolation(void)
         }
         CHECK(err_lin < 1e-12 && err_bnd < 1e-12);
         CHECK(fe_interpolate_nested(&f, 2, vf, &c, vc) == 0); /* fine onto coarse: its nodes are fine nodes */
+        /* --refine's check (an audit, 2026-11-29: a finer, a non-nested or a Q1 file in a P1 run
+           had been interpolated and re-solved): f refines c and itself; not c refines f, a mesh
+           of 3/2 c's cells (which f refines), or the other element kind */
+        {
+            fe_mesh o, k;
+            if (tri) { fe_mesh_triangle(&o, 1.0, 3 * nc / 2); fe_mesh_rectangle(&k, 1.0, 1.0, 3 * nc, 3 * nc); }
+            else { fe_mesh_rectangle(&o, 40.0, 80.0, 3 * nc / 2, 3 * nc); fe_mesh_triangle(&k, 40.0, 3 * nc); }
+            CHECK(fe_mesh_refines(&c, &f) == 0 && fe_mesh_refines(&f, &f) == 0);
+            CHECK(fe_mesh_refines(&f, &c) == -2 && fe_mesh_refines(&c, &o) == -2 && fe_mesh_refines(&o, &f) == 0);
+            CHECK(fe_mesh_refines(&c, &k) == -2);
+            fe_mesh_free(&o); fe_mesh_free(&k);
+        }
         free(vc); free(vf); fe_mesh_free(&c); fe_mesh_free(&f);
     }
     {
