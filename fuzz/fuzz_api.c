@@ -179,8 +179,18 @@ static void fuzz_contact(bytes *b)
     }
     mu = rd_double(b);
     s = rd_double(b);
-    if (psb_proj_disk(x, s, piece, p, j, j + 4, NULL) == PSB_SUCCESS) REQUIRE(all_finite(p, 2) && all_finite(j, 6));
-    if (psb_proj_cone(x, mu, piece, p, j, NULL) == PSB_SUCCESS) REQUIRE(all_finite(p, 3) && all_finite(j, 9));
+    if (psb_proj_disk(x, s, piece, p, j, j + 4, NULL) == PSB_SUCCESS) {
+        REQUIRE(all_finite(p, 2) && all_finite(j, 6));
+        /* the default piece's P lies in the disk (subnormals: a few 4.9e-324 off) */
+        if (piece < 0) REQUIRE(!(hypot(p[0], p[1]) > (s > 0 ? s : 0) * (1 + 1e-15) + 1e-322));
+    }
+    if (psb_proj_cone(x, mu, piece, p, j, NULL) == PSB_SUCCESS) {
+        REQUIRE(all_finite(p, 3) && all_finite(j, 9));
+        if (piece < 0) { /* in K up to rounding (as tests/test_contact.c's extremes) */
+            double pt = hypot(p[1], p[2]), dn = mu > 0 ? pt / mu - p[0] : HUGE_VAL, dt = pt - mu * p[0];
+            REQUIRE(p[0] >= 0 && !((dn < dt ? dn : dt) > 1e-14 * hypot(p[0], pt) + 1e-322));
+        }
+    }
     if (psb_fc3d_desaxce(u3, mu, p, j) == PSB_SUCCESS) REQUIRE(all_finite(p, 3) && all_finite(j, 9));
     if (psb_fc3d_nat(r3, u3, mu, s, piece, f, jr, ju, NULL) == PSB_SUCCESS)
         REQUIRE(all_finite(f, 3) && all_finite(jr, 9) && all_finite(ju, 9));
