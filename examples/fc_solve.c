@@ -34,6 +34,10 @@
    cannot resolve uhat below eps |r|. Then (a)-(d) are checked again with rho = 1 / W's scale
    (the power of two nearest its largest diagonal entry), which is eq. (15) for the problem
    rescaled to W ~ 1; the verdict names that rho. A diverging r fails both.
+   Every test is normwise, at |q|'s scale (FCLIB's measure): a contact whose own entries of q
+   and W r are far below |q| is held to |q|'s tolerance, so a penetration of 0.1 beside a q
+   entry of 1e12 passes at tol 1e-10. A contact-wise test would also refuse sound solutions
+   whose small reactions carry the normwise error of the large ones (grazing contacts, q_N = 0).
    A problem is proved infeasible without solving when some contact has q_N < 0 and no reaction
    in the cones can raise its u_N (W_cN,eN + mu_e |W_cN,eT| <= 0 for every contact e).
 
