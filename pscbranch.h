@@ -186,8 +186,10 @@
    h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
                                     corrector iterations; shrink after a rejected trial;
                                     1 <= h_inc <= 100, 1e-3 <= h_dec <= 0.9 (bounded
-                                    shrinking; a smaller h_dec jumped from a rejected step to
-                                    below h_min and called a smooth point an end)
+                                    shrinking). A step's trials are h, h h_dec, ... down to
+                                    h_min: where a rejected h is below h_min / h_dec the next
+                                    would fall below h_min, and the step fails (a trace then
+                                    ends there), so keep h_min well below h_max h_dec
    max_iter [10]                    corrector iterations per trial; max_iter, iter_threshold
                                     <= PSB_MAX_ITER_LIMIT (1000)
    tol_residual [1e-10]             ||H(y)||_2 at convergence. Absolute; where H's rounding
@@ -1310,7 +1312,8 @@ PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *i
    when the corrector was quick, capped at h_max). On failure y, t and *h are untouched.
    Returns PSB_SUCCESS, PSB_ERR_STEP_TOO_SMALL (every trial failed for the curve's sake),
    PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR (a trial failed because of the callback,
-   a NaN or a Jacobian of rank < N, and no smaller one converged), PSB_ERR_CALLBACK, ... */
+   a NaN or a Jacobian of rank < N, and no smaller one converged; with differences, _SINGULAR
+   when no trial converged and dH(y) has no tangent either), PSB_ERR_CALLBACK, ... */
 PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h);
 
 /* Simple tangent switch at a couple (y, t) where steps fail (a kink ahead): computes the
@@ -2014,6 +2017,7 @@ enum {
     PSB__V_SW_L, PSB__V_SW_L_END = PSB__V_SW_L + PSB__SW_RING - 1, /* its last directions tried */
     PSB__V_IO_Y, PSB__V_IO_T,       /* psb_step / psb_switch_tangent: the caller's couple, copied */
     PSB__V_TR_Y, PSB__V_TR_T, PSB__V_TR_Y0, PSB__V_TR_T0, PSB__V_TR_B, PSB__V_TR_S, PSB__V_TR_K, /* trace */
+    PSB__V_TR_KY, PSB__V_TR_KT, /* trace: a step's first kink couple, kept across its callbacks */
     PSB__V_K_YA, PSB__V_K_TA, PSB__V_K_Y, PSB__V_K_T, /* kink location */
     PSB__V_BR_Y0, PSB__V_BR_T0, PSB__V_BR_T1, PSB__V_BR_T2, PSB__V_BR_V, PSB__V_BR_TT,
     PSB__V_BR_TP, PSB__V_BR_Y, PSB__V_BR_T, PSB__V_BR_P, PSB__V_BR_Q, PSB__V_BR_K, PSB__V_BR_S, /* branching */
@@ -3882,8 +3886,15 @@ PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     psb__faults_reset(s);
     r = psb__try_step(s, yc, tc, &hh, s->opt.h_min, &iters);
-    /* difference Jacobians of rank < N at every trial, none converged: a fault, not the curve */
-    if (r == PSB_ERR_STEP_TOO_SMALL && s->n_ok_ == 0 && s->faults_[3] > 0) return psb__faults_code(s, "psb_step");
+    /* no trial converged and difference Jacobians were singular: a fault when dH(y) has no
+       tangent either (rank < N), the curve's when it has (a kink turned the trials across the
+       bordering row, as psb__correct tells apart with an analytic Jacobian) */
+    if (r == PSB_ERR_STEP_TOO_SMALL && s->n_ok_ == 0 && s->faults_[3] > 0) {
+        psb_result rt = psb__tangent(s, y, t, tc);
+        if (rt == PSB_ERR_SINGULAR) return psb__faults_code(s, "psb_step");
+        if (psb__is_fatal(rt)) return rt;
+        return psb__fail(s, r, "no trial step converged down to h_min");
+    }
     if (r != PSB_SUCCESS) return r;
     psb__copy(y, yc, s->np1_);
     psb__copy(t, tc, s->np1_);
@@ -5018,7 +5029,8 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             }
             h = psb__adapt(s, h, iters);
         }
-        step_kink = kink; /* the step's first kink, for the detectors (K_YA/K_TA, kept in SW_Y/SW_T) */
+        step_kink = kink; /* the step's first kink, for the detectors (K_YA/K_TA, kept in TR_KY/TR_KT:
+                             a point callback may call psb_switch_tangent, whose scratch SW_* is) */
         for (n_step_kinks = 0; kink; n_step_kinks++) {
             psb_point kp;
             double *yp = PSB__VEC(s, PSB__V_SW_C), *tp = PSB__VEC(s, PSB__V_SW_D), hp = 4 * s->opt.h_min;
@@ -5037,12 +5049,12 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             }
             /* A later kink of the same step (a review: two kinks 0.05 apart, one reported):
                the rest of the step is searched from a couple just past this one (the
-               switch's scratch, idle here) */
+               switch's scratch, idle here but in the callback above) */
             kink = 0;
             if (opts.locate_kinks < 2 || (flags & PSB_POINT_SWITCH) || n_step_kinks >= 7) break;
             if (n_step_kinks == 0) {
-                psb__copy(PSB__VEC(s, PSB__V_SW_Y), kp.y, np1);
-                psb__copy(PSB__VEC(s, PSB__V_SW_T), kp.t, np1);
+                psb__copy(PSB__VEC(s, PSB__V_TR_KY), kp.y, np1);
+                psb__copy(PSB__VEC(s, PSB__V_TR_KT), kp.t, np1);
             }
             psb__copy(yp, kp.y, np1);
             psb__copy(tp, kp.t, np1);
@@ -5056,8 +5068,8 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             }
         }
         if (step_kink && n_step_kinks > 0 && opts.locate_kinks) {
-            psb__copy(PSB__VEC(s, PSB__V_K_YA), PSB__VEC(s, PSB__V_SW_Y), np1);
-            psb__copy(PSB__VEC(s, PSB__V_K_TA), PSB__VEC(s, PSB__V_SW_T), np1);
+            psb__copy(PSB__VEC(s, PSB__V_K_YA), PSB__VEC(s, PSB__V_TR_KY), np1);
+            psb__copy(PSB__VEC(s, PSB__V_K_TA), PSB__VEC(s, PSB__V_TR_KT), np1);
         }
         /* across a kink the corrector's last factorisation may be at an iterate on the other
            piece: the test function then costs a factorisation at the accepted point */
@@ -6492,6 +6504,7 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     psb_result r;
     if (rep) memset(rep, 0, sizeof *rep);
     r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_branch_point_switch");
     if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
     return r == PSB_SUCCESS ? psb__branch_point_switch(s, y, t, kernel, max_branches, ys, ts, rep) : r;
 }
@@ -7886,6 +7899,17 @@ PSCBRANCH_DEF psb_result psb_proj_cone(const double x[3], double mu, int piece_r
                 mc = wm * n;
             }
             scaled = 1;
+            /* the default piece has x_N + mu |x_T| > 0, so c > 0; these sums may round below 0
+               where they cancel (then P is below their rounding: the apex) */
+            if (piece_request < 0 && (c < 0.0 || mc < 0.0 || mch < 0.0))
+                c = mc = mch = 0.0;
+            /* P on its ray, |P_T| = mu P_N, though each sum carries its own rounding: the
+               smaller of c, mu c from the larger (the same relative error, but a subnormal
+               grid or an overflow for the one alone) */
+            if (mu >= 1.0)
+                c = psb__finite(mc) ? mc / mu : 2.0 * (mch / mu);
+            else
+                mc = mu * c;
         }
         if (t > 0.0) {
             if (!scaled) {

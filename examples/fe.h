@@ -1382,13 +1382,33 @@ static inline int fe_interpolate_nested(const fe_mesh *coarse, int ncomp, const 
     return rc;
 }
 
-/* Whether fine refines coarse (the same element kind, every fine element inside one coarse
-   element): 0, -1 out of memory, -2 not. */
+/* The area of m (its straight-edged elements, by the shoelace formula). */
+static inline double fe_mesh_area(const fe_mesh *m)
+{
+    double area = 0;
+    int e, v;
+    for (e = 0; e < m->nelem; e++) {
+        const int *c = m->conn + m->nvert * e;
+        double twice = 0;
+        for (v = 0; v < m->nvert; v++) {
+            const double *p = m->x + 2 * c[v], *q = m->x + 2 * c[(v + 1) % m->nvert];
+            twice += p[0] * q[1] - q[0] * p[1];
+        }
+        area += 0.5 * fabs(twice);
+    }
+    return area;
+}
+
+/* Whether fine refines coarse (the same element kind and domain, every fine element inside one
+   coarse element): 0, -1 out of memory, -2 not. */
 static inline int fe_mesh_refines(const fe_mesh *coarse, const fe_mesh *fine)
 {
     fe_locator L;
     int rc = 0, a, *owner;
+    double ac = fe_mesh_area(coarse), af = fe_mesh_area(fine);
     if (fine->nvert != coarse->nvert) return -2;
+    /* inside the coarse domain, the fine one covers it iff their areas agree */
+    if (!(fabs(ac - af) <= 1e-12 * ac)) return -2;
     owner = malloc(sizeof(int) * (size_t)(fine->nnode > 0 ? fine->nnode : 1));
     if (!owner) return -1;
     if (fe_locator_init(&L, coarse)) { free(owner); return -1; }

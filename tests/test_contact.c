@@ -943,6 +943,32 @@ static void test_extremes_review(void)
         CHECK_NEAR(p[1] / (2 * sqrt(0.5) * p[0]), 1, 1e-15);
         CHECK(p[1] == p[2]);
     }
+    /* Near the polar cone's boundary, x_N = -mu |x_T| (1 + d), the scaled sums for c and mu c
+       cancel (a review, 2026-11-29): P_N had come out below 0, or P off its ray by 1e-13
+       relative, or by 1e-317 where c is subnormal. P must lie in K as in test_extremes. */
+    {
+        const double x1[3] = {-0x1.d53bc43d1c9d9p+1022, -0x1.798b03cdd2c45p+1023, -0x1.a00db485c3b3dp+1023};
+        long n = 0, bad = 0, it;
+        CHECK(psb_proj_cone(x1, 0x1.aba01512d9882p-2, PSB_PIECE_DEFAULT, p, j, &pc) == PSB_SUCCESS);
+        CHECK(p[0] >= 0);
+        for (it = 0; it < 200000; it++) {
+            double x[3], mu = urand(0, 1) < 0.1 ? 0.0 : pow(10.0, urand(-320, 308)), t, half, pn, pt, dn, dt;
+            x[1] = urand(0, 1) < 0.5 ? (urand(0, 1) < 0.5 ? -1 : 1) * DBL_MAX * urand(0.3, 1) : extreme();
+            x[2] = extreme();
+            t = 2 * hypot(0.5 * x[1], 0.5 * x[2]);
+            x[0] = -mu * t * (1 + urand(-0.5, 0.5) * pow(10.0, urand(-16, 0)));
+            if (!isfinite(x[0]) || psb_proj_cone(x, mu, PSB_PIECE_DEFAULT, p, j, &pc) != PSB_SUCCESS) continue;
+            n++;
+            half = hypot(p[1], p[2]) > DBL_MAX ? 0.5 : 1.0;
+            pn = half * p[0];
+            pt = hypot(half * p[1], half * p[2]);
+            dn = mu > 0 ? pt / mu - pn : HUGE_VAL;
+            dt = pt - mu * pn;
+            bad += p[0] < 0 || (dn < dt ? dn : dt) > 1e-14 * hypot(pn, pt) + 1e-322 || !all_finite(p, 3) || !all_finite(j, 9);
+        }
+        printf("  near the polar boundary: %ld projections, %ld outside K\n", n, bad);
+        CHECK(n > 100000 && bad == 0);
+    }
 }
 
 int main(void)

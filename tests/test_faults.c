@@ -1443,6 +1443,13 @@ static int rank1_res(const double *y, double *h, void *u)
     return 0;
 }
 
+static int corner_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = y[0] > y[1] ? y[0] : y[1];
+    return 0;
+}
+
 static int circle_jac1(const double *y, double *jac, int ld, void *u)
 {
     (void)u;
@@ -1455,7 +1462,7 @@ static int circle_jac1(const double *y, double *jac, int ld, void *u)
 typedef struct {
     psb_solver *s;
     int calls;
-    psb_result inner[4];
+    psb_result inner[5];
 } nested;
 
 /* calls what a point callback may not at the third point, and what it may at the fourth */
@@ -1472,6 +1479,7 @@ static int nested_point(const psb_point *pt, void *u)
         n->inner[1] = psb_evolve_step(n->s, y, 0.5, NULL, NULL);
         memset(&d, 0, sizeof d); /* refused before the diagram is looked at */
         n->inner[2] = psb_explore(n->s, y, t, NULL, &d);
+        n->inner[4] = psb_branch_point_switch(n->s, y, t, NULL, NULL, 0, NULL, NULL, NULL);
     }
     if (pt->index == 4) n->inner[3] = psb_correct(n->s, y, t, NULL);
     n->calls++;
@@ -1498,6 +1506,17 @@ static void test_audit_variants(void)
     CHECK(same(y, y0, 3) && same(t, t0, 3) && h == 0.01);
     CHECK(psb_correct(&s, y, t, NULL) == PSB_ERR_SINGULAR);
     psb_solver_free(&s);
+    /* but at a right-angle kink of max(x, g), whose bordered matrices turn singular with a
+       regular dH, it is the curve's (a review of that fix), and the switch passes it */
+    psb_problem_init(&prob, 1, corner_res, NULL, NULL);
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    {
+        double yk[2] = {-1e-8, 0}, tk[2] = {1, 0};
+        h = 0.01;
+        CHECK(psb_step(&s, yk, tk, &h) == PSB_ERR_STEP_TOO_SMALL && h == 0.01 && yk[0] == -1e-8);
+        CHECK(psb_switch_tangent(&s, yk, tk) == PSB_SUCCESS && fabs(yk[0]) < 1e-12 && yk[1] < -1e-3);
+    }
+    psb_solver_free(&s);
 
     /* trace options out of their range: max_steps < 0 had run 10000 steps, locate_kinks 7 as 1 */
     psb_problem_init(&prob, 1, circle_res, circle_jac1, NULL);
@@ -1522,11 +1541,12 @@ static void test_audit_variants(void)
     yc[0] = 1; yc[1] = 0; tc[0] = 0; tc[1] = 1;
     n.s = &s;
     n.calls = 0;
-    for (k = 0; k < 4; k++) n.inner[k] = PSB_SUCCESS;
+    for (k = 0; k < 5; k++) n.inner[k] = PSB_SUCCESS;
     to.on_point = nested_point;
     to.point_user = &n;
     CHECK(psb_trace(&s, yc, tc, &to, NULL) == PSB_STEP_BUDGET);
     CHECK(n.calls == 11 && n.inner[0] == PSB_ERR_INPUT && n.inner[1] == PSB_ERR_INPUT && n.inner[2] == PSB_ERR_INPUT);
+    CHECK(n.inner[4] == PSB_ERR_INPUT); /* it traces (its kink walk): refused before its arguments */
     CHECK(n.inner[3] == PSB_SUCCESS);
     CHECK(same(yc, yref, 2) && same(tc, tref, 2));
     /* and after it, a trace on the same solver is allowed again */

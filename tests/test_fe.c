@@ -444,6 +444,11 @@ static void test_nested_interpolation(void)
             CHECK(fe_mesh_refines(&f, &c) == -2 && fe_mesh_refines(&c, &o) == -2 && fe_mesh_refines(&o, &f) == 0);
             CHECK(fe_mesh_refines(&c, &k) == -2);
             fe_mesh_free(&o); fe_mesh_free(&k);
+            /* a coarse mesh on a larger domain holds every fine element, but f does not cover it */
+            if (tri) fe_mesh_triangle(&o, 2.0, nc);
+            else fe_mesh_rectangle(&o, 80.0, 160.0, nc, 2 * nc);
+            CHECK(fe_mesh_refines(&o, &f) == -2);
+            fe_mesh_free(&o);
         }
         free(vc); free(vf); fe_mesh_free(&c); fe_mesh_free(&f);
     }

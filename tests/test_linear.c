@@ -592,7 +592,7 @@ static void test_memory(void)
     p.linear = PSB_LINEAR_BANDED;
     p.kl = 2;
     p.ku = 2;
-    CHECK(psb_solver_memory_size(&p) < (size_t)(60 + 9 * 5 + 2 * 32 + 8) * (size_t)(n + 1) * sizeof(double));
+    CHECK(psb_solver_memory_size(&p) < (size_t)(62 + 9 * 5 + 2 * 32 + 8) * (size_t)(n + 1) * sizeof(double));
     n = 10000;
     psb_problem_init(&p, n, chain_res, NULL, &n);
     CHECK(psb_solver_memory_size(&p) > (size_t)2 * (size_t)n * (size_t)n * sizeof(double));
