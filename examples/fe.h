@@ -1320,41 +1320,29 @@ static inline int fe_locator_find(const fe_locator *L, const double p[2], double
     return -1;
 }
 
-/* Nodal field vc (ncomp values per node of L's mesh) evaluated at every node of fine, into vf
-   (ncomp per fine node): exact interpolation when fine refines that mesh (nested P1 or Q1
-   spaces). A field living on boundary nodes only (zero elsewhere) is interpolated linearly along
-   the boundary edges, since a point on an edge has no weight on the other vertices. owner (may
-   be NULL) receives the coarse element of each fine node. Returns 0, or -2 when a fine node lies
-   outside the coarse mesh. */
-static inline int fe_interpolate_at_nodes(const fe_locator *L, int ncomp, const double *vc, const fe_mesh *fine,
-                                          double *vf, int *owner)
+/* Where every node of a fine mesh lies in a coarse one: its element (owner) and reference
+   coordinates there (ref, two per node). Built once, it interpolates any number of coarse
+   fields onto the fine nodes without locating them again. */
+typedef struct fe_nesting {
+    const fe_mesh *coarse, *fine;
+    int *owner;
+    double *ref;
+} fe_nesting;
+
+static inline void fe_nesting_free(fe_nesting *n)
 {
-    const fe_mesh *coarse = L->m;
-    int a, i, c, nv = coarse->nvert;
-    for (a = 0; a < fine->nnode; a++) {
-        double ref[2], N[4];
-        int e = fe_locator_find(L, fine->x + 2 * a, ref);
-        if (e < 0) return -2;
-        if (owner) owner[a] = e;
-        fe_shape_val(nv, ref[0], ref[1], N);
-        for (c = 0; c < ncomp; c++) {
-            double v = 0;
-            for (i = 0; i < nv; i++) v += N[i] * vc[(size_t)ncomp * coarse->conn[nv * e + i] + c];
-            vf[(size_t)ncomp * a + c] = v;
-        }
-    }
-    return 0;
+    free(n->owner); free(n->ref);
+    n->owner = NULL; n->ref = NULL;
 }
 
-/* Whether fine refines L's mesh, its nodes located already (owner: fe_interpolate_at_nodes):
-   every vertex of a fine element lies in the coarse element holding its centroid (tried first
-   among its vertices' elements, which a vertex on a coarse edge may miss). 0, or -2. */
+/* Whether fine refines L's mesh, its nodes located already (owner): every vertex of a fine
+   element lies in the coarse element holding its centroid (tried first among its vertices'
+   elements, which a vertex on a coarse edge may miss). 0, or -2. */
 static inline int fe_elements_nested(const fe_locator *L, const fe_mesh *fine, const int *owner)
 {
     const fe_mesh *coarse = L->m;
     const double tol = 1e-9;
     int nv = coarse->nvert, e;
-    if (fine->nvert != nv) return -2;
     for (e = 0; e < fine->nelem; e++) {
         const int *c = fine->conn + nv * e;
         double cen[2] = {0, 0}, ref[2];
@@ -1370,16 +1358,60 @@ static inline int fe_elements_nested(const fe_locator *L, const fe_mesh *fine, c
     return 0;
 }
 
-/* The same with a locator of its own: 0, -1 out of memory, -2 not nested. */
+/* Locates fine's nodes in coarse. With `nested`, also requires every fine element inside one
+   coarse element, of the same kind. 0; -1 out of memory; -2 a fine node outside coarse, or
+   (nested) not nested. */
+static inline int fe_nesting_init(fe_nesting *n, const fe_mesh *coarse, const fe_mesh *fine, int nested)
+{
+    fe_locator L;
+    size_t cnt = (size_t)(fine->nnode > 0 ? fine->nnode : 1);
+    int a, rc = 0;
+    n->coarse = coarse;
+    n->fine = fine;
+    n->owner = NULL;
+    n->ref = NULL;
+    if (nested && fine->nvert != coarse->nvert) return -2;
+    n->owner = malloc(sizeof(int) * cnt);
+    n->ref = malloc(sizeof(double) * 2 * cnt);
+    if (!n->owner || !n->ref || fe_locator_init(&L, coarse)) { fe_nesting_free(n); return -1; }
+    for (a = 0; a < fine->nnode && !rc; a++)
+        if ((n->owner[a] = fe_locator_find(&L, fine->x + 2 * a, n->ref + 2 * a)) < 0) rc = -2;
+    if (!rc && nested) rc = fe_elements_nested(&L, fine, n->owner);
+    fe_locator_free(&L);
+    if (rc) fe_nesting_free(n);
+    return rc;
+}
+
+/* Nodal field vc (ncomp values per coarse node) evaluated at every fine node, into vf (ncomp
+   per fine node): exact interpolation when fine refines coarse (nested P1 or Q1 spaces). A
+   field living on boundary nodes only (zero elsewhere) is interpolated linearly along the
+   boundary edges, since a point on an edge has no weight on the other vertices. */
+static inline void fe_nesting_interpolate(const fe_nesting *n, int ncomp, const double *vc, double *vf)
+{
+    const fe_mesh *coarse = n->coarse;
+    int a, i, c, nv = coarse->nvert;
+    for (a = 0; a < n->fine->nnode; a++) {
+        const int *vert = coarse->conn + (size_t)nv * (size_t)n->owner[a];
+        double N[4];
+        fe_shape_val(nv, n->ref[2 * a], n->ref[2 * a + 1], N);
+        for (c = 0; c < ncomp; c++) {
+            double v = 0;
+            for (i = 0; i < nv; i++) v += N[i] * vc[(size_t)ncomp * vert[i] + c];
+            vf[(size_t)ncomp * a + c] = v;
+        }
+    }
+}
+
+/* The same for one field: 0, -1 out of memory, -2 a fine node outside coarse. */
 static inline int fe_interpolate_nested(const fe_mesh *coarse, int ncomp, const double *vc, const fe_mesh *fine,
                                         double *vf)
 {
-    fe_locator L;
-    int rc;
-    if (fe_locator_init(&L, coarse)) return -1;
-    rc = fe_interpolate_at_nodes(&L, ncomp, vc, fine, vf, NULL);
-    fe_locator_free(&L);
-    return rc;
+    fe_nesting n;
+    int rc = fe_nesting_init(&n, coarse, fine, 0);
+    if (rc) return rc;
+    fe_nesting_interpolate(&n, ncomp, vc, vf);
+    fe_nesting_free(&n);
+    return 0;
 }
 
 /* The area of m (its straight-edged elements, by the shoelace formula). */
@@ -1399,33 +1431,31 @@ static inline double fe_mesh_area(const fe_mesh *m)
     return area;
 }
 
-/* Whether fine refines coarse (the same element kind and domain, every fine element inside one
-   coarse element): 0, -1 out of memory, -2 not. */
-static inline int fe_mesh_refines(const fe_mesh *coarse, const fe_mesh *fine)
+/* fe_nesting_init's nested map of fine in coarse when fine refines it: the same element kind
+   and domain, every fine element inside one coarse element. 0, -1 out of memory, -2 not. */
+static inline int fe_nesting_refined(fe_nesting *n, const fe_mesh *coarse, const fe_mesh *fine)
 {
-    fe_locator L;
-    int rc = 0, a, *owner;
     double ac = fe_mesh_area(coarse), af = fe_mesh_area(fine);
-    if (fine->nvert != coarse->nvert) return -2;
+    n->owner = NULL;
+    n->ref = NULL;
     /* inside the coarse domain, the fine one covers it iff their areas agree (to the
        rounding of sums over up to 10^6 elements) */
     if (!(fabs(ac - af) <= 1e-9 * ac)) return -2;
-    owner = malloc(sizeof(int) * (size_t)(fine->nnode > 0 ? fine->nnode : 1));
-    if (!owner) return -1;
-    if (fe_locator_init(&L, coarse)) { free(owner); return -1; }
-    for (a = 0; a < fine->nnode && !rc; a++) {
-        double ref[2];
-        if ((owner[a] = fe_locator_find(&L, fine->x + 2 * a, ref)) < 0) rc = -2;
-    }
-    if (!rc) rc = fe_elements_nested(&L, fine, owner);
-    fe_locator_free(&L);
-    free(owner);
+    return fe_nesting_init(n, coarse, fine, 1);
+}
+
+/* Whether fine refines coarse (fe_nesting_refined): 0, -1 out of memory, -2 not. */
+static inline int fe_mesh_refines(const fe_mesh *coarse, const fe_mesh *fine)
+{
+    fe_nesting n;
+    int rc = fe_nesting_refined(&n, coarse, fine);
+    fe_nesting_free(&n);
     return rc;
 }
 
 /* Squared norms for ||u_c - u_f||_{1,Omega} between a coarse mesh and a fine mesh that refines it
    (same element kind, every fine element inside one coarse element): u_c (2 * coarse nnode nodal
-   displacements) is evaluated exactly at the fine nodes (fe_interpolate_nested), which
+   displacements) is evaluated exactly at the fine nodes (fe_nesting_interpolate), which
    represents it exactly on the fine mesh, and e = I u_c - u_f is integrated on the fine mesh: P1
    with the edge-midpoint rule (exact for the quadratic |e|^2), Q1 with 2 x 2 Gauss (exact on
    parallelograms). out = {||e||_0^2, |e|_1^2, ||u_f||_0^2, |u_f|_1^2}. Returns 0; -1 out of
@@ -1434,18 +1464,15 @@ static inline int fe_mesh_refines(const fe_mesh *coarse, const fe_mesh *fine)
 static inline int fe_h1_error_parts(const fe_mesh *coarse, const double *uc, const fe_mesh *fine, const double *uf,
                                     double out[4])
 {
-    int nv = coarse->nvert, e, i, rc = 0, *owner = NULL;
-    double *ui = NULL;
-    fe_locator L;
+    int nv = coarse->nvert, e, i, rc;
+    double *ui;
+    fe_nesting nest;
     out[0] = out[1] = out[2] = out[3] = 0;
     if (fine->nvert != nv || (nv != 3 && nv != 4)) return -2;
-    if (fe_locator_init(&L, coarse)) return -1;
-    ui = malloc(sizeof(double) * 2 * (size_t)fine->nnode);
-    owner = malloc(sizeof(int) * (size_t)fine->nnode);
-    if (!ui || !owner) { rc = -1; goto done; }
-    rc = fe_interpolate_at_nodes(&L, 2, uc, fine, ui, owner);
-    if (!rc) rc = fe_elements_nested(&L, fine, owner);
-    if (rc) goto done;
+    ui = malloc(sizeof(double) * 2 * (size_t)(fine->nnode > 0 ? fine->nnode : 1));
+    if (!ui) return -1;
+    if ((rc = fe_nesting_init(&nest, coarse, fine, 1))) goto done;
+    fe_nesting_interpolate(&nest, 2, uc, ui);
     for (e = 0; e < fine->nelem; e++) {
         const int *c = fine->conn + nv * e;
         double qx[4], qy[4], qw[4];
@@ -1478,8 +1505,8 @@ static inline int fe_h1_error_parts(const fe_mesh *coarse, const double *uc, con
         }
     }
 done:
-    fe_locator_free(&L);
-    free(ui); free(owner);
+    fe_nesting_free(&nest);
+    free(ui);
     return rc;
 }
 
@@ -1912,7 +1939,7 @@ static inline int fe_run_save_ends(const fe_run *run, const char *path, const ch
 }
 
 /* The end points of a coarser nested mesh re-solved on run's mesh: each branch's six nodal
-   fields interpolated (fe_interpolate_nested: exact for the displacements; the multipliers,
+   fields interpolated (fe_nesting_interpolate: exact for the displacements; the multipliers,
    which live on boundary nodes, linearly along the boundary edges), then Newton at its gamma.
    Fills run->br[] as a branching run would, classified by the example's classify. Returns 0,
    -1 or -2 (the file: fe_ends_read), -3 (not nested, or out of memory); a branch whose Newton
@@ -1922,16 +1949,19 @@ static inline int fe_run_refine_ends(fe_run *run, const char *path, void (*class
     fe_model *md = run->md;
     const fe_mesh *m = md->mesh;
     fe_ends e;
+    fe_nesting nest;
     double *fine = NULL, *clen = NULL;
     int k, a, rc;
+    nest.owner = NULL;
+    nest.ref = NULL;
     if ((rc = fe_ends_read(path, &e))) return rc;
     fine = malloc(sizeof(double) * 6 * (size_t)m->nnode);
     clen = fe_contact_lengths(md);
     run->nbr = 0;
-    if (fe_mesh_refines(&e.mesh, m)) rc = -3;
+    if (!fine || !clen || fe_nesting_refined(&nest, &e.mesh, m)) rc = -3;
     for (k = 0; k < e.count && !rc; k++) {
         fe_branch *b = &run->br[run->nbr];
-        if (!fine || !clen || fe_interpolate_nested(&e.mesh, 6, e.fields + (size_t)k * 6 * e.mesh.nnode, m, fine)) { rc = -3; break; }
+        fe_nesting_interpolate(&nest, 6, e.fields + (size_t)k * 6 * e.mesh.nnode, fine);
         fe_run_progress(run, "re-solving end point %d of %d (branch %d) by Newton", k + 1, e.count, e.number[k]);
         memset(b->y, 0, sizeof(double) * (size_t)run->np1);
         for (a = 0; a < m->nnode; a++) fe_set_node_fields(md, clen, a, fine + 6 * (size_t)a, b->y);
@@ -1947,6 +1977,7 @@ static inline int fe_run_refine_ends(fe_run *run, const char *path, void (*class
             printf("  refined branch %d classifies as %d on this mesh\n", e.number[k], b->number);
         run->nbr++;
     }
+    fe_nesting_free(&nest);
     free(fine);
     free(clen);
     fe_ends_free(&e);
