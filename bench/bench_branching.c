@@ -7,7 +7,9 @@
      random LCPs     min(x, M x + q g) = 0, M and q standard normal (seeded), kept with 3 or more
                      strictly complementary rays, no two within c_diff of each other;
      contact systems 1-5 nodes with Coulomb friction, no gap, load g f (pl_random_contact),
-                     kept alike, 20 per size (5 with --quick, sizes 1, 3, 5).
+                     kept alike, 20 per size (5 with --quick, sizes 1, 3, 5);
+     abs. value eqs  A x - |x| - b g = 0, N = 4 and 6 (pl_random_ave: |A| ~ 1, 4 or more rays,
+                     kept alike), 20 per size (5 with --quick, N = 6 alone).
    Configurations: the defaults; the defaults with the Jacobian left to forward differences;
    Algorithm 2.2 as printed (Remark 2.3(ii) restarts, the printed sweep, every direction tried).
    A run is complete when every ray, and nothing else, is found (tangents matching to 1e-6).
@@ -149,6 +151,22 @@ int main(int argc, char **argv)
                     run(4 * k, pl_contact_residual, pl_contact_jacobian, &p, rays, n_rays, i, cfg, &t);
             }
             report(csv, "contact systems", 4 * k, (double)ray_total / done, cfg, &t);
+        }
+    for (k = quick ? 6 : 4; k <= 6; k += 2)
+        for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
+            unsigned long long st = 333 + (unsigned long long)k;
+            int done;
+            long ray_total = 0;
+            tally t;
+            memset(&t, 0, sizeof t);
+            for (done = 0; done < n_problems / 2; done++) {
+                pl_ave p;
+                int n_rays = pl_random_ave(&p, k, &st, rays);
+                if (!n_rays) break;
+                ray_total += n_rays;
+                for (i = 0; i < n_rays; i++) run(k, pl_ave_residual, pl_ave_jacobian, &p, rays, n_rays, i, cfg, &t);
+            }
+            report(csv, "abs. value eqs", k, (double)ray_total / done, cfg, &t);
         }
     if (csv) fclose(csv);
     return 0;

@@ -401,6 +401,92 @@ PL_MAYBE_UNUSED static int pl_match_rays(const double *ts, int n_found, const do
         }
     return matched;
 }
+/* Absolute value equations H(x, g) = A x - |x| - b g (A row-major here, as printed).
+   On the orthant of sign vector s, H = (A - diag(s)) x - b g: where that matrix is regular,
+   its kernel is the ray (sg (A - diag(s))^-1 b, sg), a branch at 0 when its signs are s. */
+typedef struct pl_ave {
+    int n;
+    double a[PL_MAX_N * PL_MAX_N]; /* row-major n x n */
+    double b[PL_MAX_N];
+} pl_ave;
+
+PL_MAYBE_UNUSED static int pl_ave_residual(const double *y, double *h, void *user)
+{
+    const pl_ave *p = (const pl_ave *)user;
+    int i, j, n = p->n;
+    for (i = 0; i < n; i++) {
+        double w = -fabs(y[i]) - p->b[i] * y[n];
+        for (j = 0; j < n; j++) w += p->a[i * n + j] * y[j];
+        h[i] = w;
+    }
+    return 0;
+}
+
+/* The selection's gradient A - diag(sign x), sign(0) = +1; the column of g is -b. */
+PL_MAYBE_UNUSED static int pl_ave_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    const pl_ave *p = (const pl_ave *)user;
+    int i, j, n = p->n;
+    for (i = 0; i < n; i++) {
+        for (j = 0; j < n; j++) jac[i + j * ld] = p->a[i * n + j];
+        jac[i + i * ld] -= y[i] >= 0 ? 1 : -1;
+        jac[i + n * ld] = -p->b[i];
+    }
+    return 0;
+}
+
+/* Every ray of the problem (n + 1 each, g = +-1), one per orthant whose solution has its
+   signs. Returns their number, or -1 when a candidate has a component within margin of 0
+   (relative to its norm): a ray on an orthant's boundary breaks the problem's assumptions. */
+PL_MAYBE_UNUSED static int pl_ave_rays(const pl_ave *p, double margin, double *rays, int max_rays)
+{
+    int n = p->n, count = 0, sg;
+    unsigned long mask;
+    for (mask = 0; mask < (1ul << n); mask++)
+        for (sg = 1; sg >= -1; sg -= 2) {
+            double a[PL_MAX_N * PL_MAX_N], x[PL_MAX_N], norm = 1;
+            int i, j, ok = 1;
+            for (i = 0; i < n; i++) {
+                for (j = 0; j < n; j++) a[i + j * n] = p->a[i * n + j];
+                a[i + i * n] -= (mask >> i) & 1 ? -1 : 1;
+                x[i] = sg * p->b[i];
+            }
+            if (!pl_solve_small(a, x, n)) continue;
+            for (i = 0; i < n; i++) norm += x[i] * x[i];
+            norm = sqrt(norm);
+            for (i = 0; i < n; i++) {
+                if (fabs(x[i]) < margin * norm) return -1;
+                if ((x[i] < 0) != (((mask >> i) & 1) != 0)) ok = 0;
+            }
+            if (!ok) continue;
+            if (count < max_rays) {
+                for (i = 0; i < n; i++) rays[count * (n + 1) + i] = x[i];
+                rays[count * (n + 1) + n] = sg;
+            }
+            count++;
+        }
+    return count;
+}
+
+/* Draws absolute value equations of size n (A_ij = 0.5 N(0, 1) / sqrt(n), so that |A| ~ 1 and
+   many orthants hold a ray; b standard normal; from *st) until one has 4 or more rays, none
+   within relative margin 1e-3 of an orthant's boundary, no two within cosine 0.9999. Its rays
+   go to rays (n + 1 each). Returns their number, 0 if 100000 draws found none. */
+PL_MAYBE_UNUSED static int pl_random_ave(pl_ave *p, int n, unsigned long long *st, double *rays)
+{
+    int tries, i;
+    for (tries = 0; tries < 100000; tries++) {
+        int n_rays;
+        memset(p, 0, sizeof *p);
+        p->n = n;
+        for (i = 0; i < n * n; i++) p->a[i] = 0.5 * pl_normal(st) / sqrt((double)n);
+        for (i = 0; i < n; i++) p->b[i] = pl_normal(st);
+        n_rays = pl_ave_rays(p, 1e-3, rays, PL_MAX_RAYS);
+        if (n_rays >= 4 && n_rays <= PL_MAX_RAYS && !pl_rays_close(rays, n_rays, n + 1, 0.9999)) return n_rays;
+    }
+    return 0;
+}
+
 #ifdef PSCBRANCH_H
 static int pl_stop_at_kink(const psb_point *pt, void *user)
 {
