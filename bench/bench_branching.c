@@ -85,6 +85,34 @@ static void report(FILE *csv, const char *family, int n, double rays, int cfg, c
                 (double)t->n_factor / (double)t->runs, (double)t->n_factor_22 / (double)t->runs);
 }
 
+/* A random family: count problems drawn by draw (of the given size, from seed) into *p, each
+   entered along every ray, in each configuration; n unknowns. */
+typedef int (*draw_fn)(void *p, int size, unsigned long long *st, double *rays);
+static int draw_lcp(void *p, int size, unsigned long long *st, double *rays) { return pl_random_lcp(p, size, st, 1, rays); }
+static int draw_contact(void *p, int size, unsigned long long *st, double *rays) { return pl_random_contact(p, size, st, rays); }
+static int draw_ave(void *p, int size, unsigned long long *st, double *rays) { return pl_random_ave(p, size, st, rays); }
+
+static void random_family(FILE *csv, const char *family, int size, int n, unsigned long long seed, int count,
+                          draw_fn draw, void *p, psb_residual_fn residual, psb_jacobian_fn jacobian)
+{
+    static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int cfg;
+    for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
+        unsigned long long st = seed;
+        int done, i;
+        long ray_total = 0;
+        tally t;
+        memset(&t, 0, sizeof t);
+        for (done = 0; done < count; done++) {
+            int n_rays = draw(p, size, &st, rays);
+            if (!n_rays) break;
+            ray_total += n_rays;
+            for (i = 0; i < n_rays; i++) run(n, residual, jacobian, p, rays, n_rays, i, cfg, &t);
+        }
+        report(csv, family, n, (double)ray_total / done, cfg, &t);
+    }
+}
+
 int main(int argc, char **argv)
 {
     static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
@@ -119,55 +147,20 @@ int main(int argc, char **argv)
             report(csv, "crossing kinks", k, n_rays, cfg, &t);
         }
     }
-    for (k = 4; k <= (quick ? 6 : 10); k += 2)
-        for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
-            unsigned long long st = 777 + (unsigned long long)k;
-            int done;
-            long ray_total = 0;
-            tally t;
-            memset(&t, 0, sizeof t);
-            for (done = 0; done < n_problems; done++) {
-                pl_problem p;
-                int n_rays = pl_random_lcp(&p, k, &st, 1, rays);
-                if (!n_rays) break;
-                ray_total += n_rays;
-                for (i = 0; i < n_rays; i++) run(k, pl_residual, pl_jacobian, &p, rays, n_rays, i, cfg, &t);
-            }
-            report(csv, "random LCPs", k, (double)ray_total / done, cfg, &t);
-        }
-    for (k = 1; k <= PL_CONTACT_MAX_NODES; k += quick ? 2 : 1)
-        for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
-            unsigned long long st = 555 + (unsigned long long)k;
-            int done;
-            long ray_total = 0;
-            tally t;
-            memset(&t, 0, sizeof t);
-            for (done = 0; done < n_problems / 2; done++) {
-                pl_contact p;
-                int n_rays = pl_random_contact(&p, k, &st, rays);
-                if (!n_rays) break;
-                ray_total += n_rays;
-                for (i = 0; i < n_rays; i++)
-                    run(4 * k, pl_contact_residual, pl_contact_jacobian, &p, rays, n_rays, i, cfg, &t);
-            }
-            report(csv, "contact systems", 4 * k, (double)ray_total / done, cfg, &t);
-        }
-    for (k = quick ? 6 : 4; k <= 6; k += 2)
-        for (cfg = CFG_DEFAULTS; cfg <= CFG_PRINTED; cfg++) {
-            unsigned long long st = 333 + (unsigned long long)k;
-            int done;
-            long ray_total = 0;
-            tally t;
-            memset(&t, 0, sizeof t);
-            for (done = 0; done < n_problems / 2; done++) {
-                pl_ave p;
-                int n_rays = pl_random_ave(&p, k, &st, rays);
-                if (!n_rays) break;
-                ray_total += n_rays;
-                for (i = 0; i < n_rays; i++) run(k, pl_ave_residual, pl_ave_jacobian, &p, rays, n_rays, i, cfg, &t);
-            }
-            report(csv, "abs. value eqs", k, (double)ray_total / done, cfg, &t);
-        }
+    for (k = 4; k <= (quick ? 6 : 10); k += 2) {
+        pl_problem p;
+        random_family(csv, "random LCPs", k, k, 777 + (unsigned long long)k, n_problems, draw_lcp, &p, pl_residual, pl_jacobian);
+    }
+    for (k = 1; k <= PL_CONTACT_MAX_NODES; k += quick ? 2 : 1) {
+        pl_contact p;
+        random_family(csv, "contact systems", k, 4 * k, 555 + (unsigned long long)k, n_problems / 2, draw_contact, &p,
+                      pl_contact_residual, pl_contact_jacobian);
+    }
+    for (k = quick ? 6 : 4; k <= 6; k += 2) {
+        pl_ave p;
+        random_family(csv, "abs. value eqs", k, k, 333 + (unsigned long long)k, n_problems / 2, draw_ave, &p, pl_ave_residual,
+                      pl_ave_jacobian);
+    }
     if (csv) fclose(csv);
     return 0;
 }
