@@ -444,9 +444,11 @@
      before, t~2 is that random direction itself: on a piecewise-linear H the tangents are the
      pieces' finitely many directions, and the plane of two of them revisits swept ground.
      When the tangent beside t_j is t_j (within c_diff: the random point lies in t_j's region),
-     t~2 is r: t_j and its own tangent span no plane, and such spans were idle (absolute value
-     equations A x - |x| = b g, N = 6, 59 684 entries: silent misses of a pair of rays 43 -> 10,
-     Algorithm 2.2's factorisations 0.3% more).
+     t~2 is r: the span through t_j and its own tangent swept the plane of t_j and the rounding
+     left when t_j is taken out of its copy, a direction set by the last bits, and mostly tried
+     nothing (absolute value equations A x - |x| = b g, N = 6, 59 684 entries: incomplete 43
+     -> 10, of them silent, with an even count, 41 -> 10; Algorithm 2.2's factorisations 0.3%
+     more).
    - Memo of tried tangents (no_memo = 0). The trials of a direction are steps from y0
      along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
      of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
@@ -6010,8 +6012,9 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
                 }
                 /* a tangent tried before: the plane through it and t~1 likely revisits swept
                    ground (on a piecewise-linear H it is two piece directions); beside a found
-                   branch t_j whose region holds the random point, the tangent is t_j = t~1 and
-                   spans no plane at all. The random direction spans a fresh one */
+                   branch t_j whose region holds the random point, the tangent is t_j = t~1,
+                   and the plane would be t~1's and rounding noise's. The random direction
+                   spans a fresh one */
                 if (global ? !s->branch.no_memo && psb__memo_seen(s, t2)
                            : s->branch.restart == PSB_RESTART_MIXED && fabs(psb__cos_w(s, t2, t1)) >= s->opt.c_diff)
                     psb__copy(t2, rnd, np1);

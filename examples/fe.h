@@ -1436,6 +1436,8 @@ static inline double fe_mesh_area(const fe_mesh *m)
 static inline int fe_nesting_refined(fe_nesting *n, const fe_mesh *coarse, const fe_mesh *fine)
 {
     double ac = fe_mesh_area(coarse), af = fe_mesh_area(fine);
+    n->coarse = coarse;
+    n->fine = fine;
     n->owner = NULL;
     n->ref = NULL;
     /* inside the coarse domain, the fine one covers it iff their areas agree (to the

@@ -1,7 +1,8 @@
 /* libFuzzer target: the examples' end-point file reader (block / triangle --refine and --compare,
    examples/fe.h fe_ends_read_stream) on arbitrary bytes, through a memory stream. A file it
    accepts is used as the examples use it: its fields interpolated onto the mesh refined twice
-   (the --refine path) and compared in H1 with the interpolant (the --compare path), on small
+   (fe_nesting's interpolation, as --refine does after its nesting test) and compared in H1
+   with the interpolant (the --compare path), on small
    meshes. Findings are crashes, sanitizer reports, leaks, and broken promises of the reader
    (checked below with abort()).
      clang -g -O1 -fsanitize=fuzzer,address,undefined -I. fuzz/fuzz_fe_ends.c -llapack -lblas -lm

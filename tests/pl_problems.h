@@ -436,8 +436,9 @@ PL_MAYBE_UNUSED static int pl_ave_jacobian(const double *y, double *jac, int ld,
 }
 
 /* Every ray of the problem (n + 1 each, g = +-1), one per orthant whose solution has its
-   signs. Returns their number, or -1 when a candidate has a component within margin of 0
-   (relative to its norm): a ray on an orthant's boundary breaks the problem's assumptions. */
+   signs (orthants whose matrix is singular skipped). Returns their number, or -1 when a
+   candidate has a component within margin of 0 (relative to its norm: a ray on an orthant's
+   boundary breaks the problem's assumptions) or there are more than max_rays. */
 PL_MAYBE_UNUSED static int pl_ave_rays(const pl_ave *p, double margin, double *rays, int max_rays)
 {
     int n = p->n, count = 0, sg;
@@ -465,7 +466,7 @@ PL_MAYBE_UNUSED static int pl_ave_rays(const pl_ave *p, double margin, double *r
             }
             count++;
         }
-    return count;
+    return count > max_rays ? -1 : count;
 }
 
 /* Draws absolute value equations of size n (A_ij = 0.5 N(0, 1) / sqrt(n), so that |A| ~ 1 and
@@ -482,7 +483,7 @@ PL_MAYBE_UNUSED static int pl_random_ave(pl_ave *p, int n, unsigned long long *s
         for (i = 0; i < n * n; i++) p->a[i] = 0.5 * pl_normal(st) / sqrt((double)n);
         for (i = 0; i < n; i++) p->b[i] = pl_normal(st);
         n_rays = pl_ave_rays(p, 1e-3, rays, PL_MAX_RAYS);
-        if (n_rays >= 4 && n_rays <= PL_MAX_RAYS && !pl_rays_close(rays, n_rays, n + 1, 0.9999)) return n_rays;
+        if (n_rays >= 4 && !pl_rays_close(rays, n_rays, n + 1, 0.9999)) return n_rays;
     }
     return 0;
 }

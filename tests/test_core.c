@@ -1014,10 +1014,11 @@ static void test_restart_centre(void)
 /* Random spans beside a found branch (PSB_RESTART_MIXED) on absolute value equations
    A x - |x| = b g, N = 6 (tests/pl_problems.h), entered along each ray with the defaults.
    Where t_j's orthant is wide, y0 + h (t_j + 0.1 r) lies in it and its tangent is t_j: the
-   span swept only t_j and was idle, and the sweep ended on idle random spans before a thin
-   pair of rays was sampled (silently: an even count). Three of 20 000 audit problems whose
-   entries marked lost a pair before (4 of 6 rays from ray 5, 18 of 20 from ray 13; 1 of 2
-   from ray 0, odd); the random direction itself now spans the plane. */
+   span swept t_j and rounding noise and mostly tried nothing, and the sweep ended on idle
+   random spans before a pair of rays was sampled (silently: an even count). Three problems
+   of an audit (10 000 per N and three generators; the third with A's diagonal near +-1) whose
+   entries named lost rays before (4 of 6 from ray 5, 18 of 20 from ray 13; 1 of 2 from ray 0,
+   odd); the random direction itself now spans the plane. */
 static void test_ave_near_branch_spans(void)
 {
     static const pl_ave cases[3] = {
