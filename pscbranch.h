@@ -559,8 +559,11 @@
      and the span that brought the last new branch measures how thin they are. So the sweep
      goes on past 15 counted spans until twice as many again have found nothing (fewer than 3
      times the span of the last new branch), up to 60 (8 n_span spans in all, idle ones
-     included). Runs whose branches all came by span 5 end at 15. A value set by the caller
-     is kept, so the paper's n_span means what it says.
+     included). Runs whose branches all came by span 5 end at 15, or sooner where 2 n_span
+     idle random spans come in a row ("Idle spans" above; 28 of the 43 incomplete entries of
+     the absolute value equations audit, N = 6, ended so before the spans beside a found
+     branch were mended, "Restarts" above). A value set by the caller is kept, so the
+     paper's n_span means what it says.
    - An odd count. Near y0 the branches cross a small sphere around it where H, restricted to
      the sphere (dimension N, into R^N), vanishes; where they cross it transversally (each
      branch inside a piece whose dH has rank N), that map's zeros come in even number, as a
