@@ -785,7 +785,12 @@
    2.2 finds two branches at a point the trace stopped at (the switch failed, or a kink with
    branch_at_kinks), the point is an ordinary kink (d.n_kinks_plain): no node, the edge goes on
    along the other branch, with a fold node there when the parameter turns (a limit point at a
-   kink, which the tangent switch would have reported).
+   kink, which the tangent switch would have reported). Unless the two have the same outward
+   sign (dense and banded backends; one bordered factorisation on each, after the full sweep
+   where kink_spans looked first): the signs of a complete set add up to 0 (PC1, above), so
+   two that agree are not all; the point is a node with the two, counted in d.n_odd (a
+   4-node contact system of an audit, 2 of 2400 entries: two of four rays, success and n_odd
+   0 before).
    Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
    and outgoing branches have opposite outward signs it is silent. The block's and the
    triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
@@ -808,15 +813,16 @@
    exploring (PSB_STEP_BUDGET, PSB_STOPPED); nodes, edges or branches at a node running out
    give PSB_BRANCH_CAPACITY (d.truncated) after tracing what fits; d.n_queued counts the
    branches left. d.n_odd counts the branching nodes left with an odd number of branches
-   ("An odd count", above): the call still returns PSB_SUCCESS, since a branch along a piece
-   boundary can make a count odd, but such a node most likely misses a branch; raise
-   branch.n_dir or n_span_max. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
+   ("An odd count", above) or with two of one outward sign: the call still returns
+   PSB_SUCCESS, since a branch along a piece boundary can make a count odd, but such a node
+   most likely misses a branch; raise branch.n_dir or n_span_max. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
    doubles, set up once; psb_explore allocates nothing and uses the solver's scratch (so not
    from a point callback of psb_trace). Same inputs and seed, the same graph bit for bit.
    Output (PSCBRANCH_STDIO). psb_diagram_write_json writes
      {"format": "pscbranch-diagram", "version": 1, "n": N, "param_index": p,
       "complete": true when no branch was left and nothing was cut,
-      "odd_nodes": d.n_odd (branching nodes with an odd number of branches, section 6),
+      "odd_nodes": d.n_odd (branching nodes with an odd number of branches, or two of one
+                  outward sign, section 6),
       "nodes": [{"id", "kind" (psb_node_kind_string), "param", "precision", "edge", "event",
                  "direction", "y": [N+1], "branches": [{"edge" (-1: untraced), "y", "t"}]}],
       "edges": [{"id", "from", "from_branch", "to" (-1: no room), "to_branch",
@@ -1715,9 +1721,10 @@ typedef struct psb_diagram {
                                tangent switch failed): the edge went on */
     int n_queued;           /* branches left untraced (budget, capacity or a stop) */
     int n_failed;           /* edges that ended in a failure */
-    int n_odd;              /* branching nodes with an odd number of branches: where the pieces
-                               are transversal branches come in pairs, so such a node most
-                               likely misses one (manual section 6, "An odd count") */
+    int n_odd;              /* branching nodes with an odd number of branches, or with two of
+                               one outward sign: where the pieces are transversal branches
+                               come in pairs of opposite signs, so such a node most likely
+                               misses one (manual section 6, "An odd count", PC1) */
     int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node) */
     /* private */
     double *work_;
@@ -6973,6 +6980,33 @@ static void psb__explore_arrive(psb__explorer *x, int e, int j, const double *t)
     ed->to_branch = best;
 }
 
+/* Whether the two branches (ys, ts: outward tangents, branch 0 the one arrived by, ys[0] =
+   y0) leaving y0 have the same outward sign, det [dH; (W t)^T] on each, taken at branch 1's
+   landing point and as far up branch 0. The signs of a complete set add up to 0 (section 6,
+   PC1), so two that agree are not all. *agree = 0 where it cannot be told (user backend, a
+   failing evaluation or factorisation there); returns a fatal code or PSB_SUCCESS. */
+static psb_result psb__pair_signs_agree(psb_solver *s, const double *y0, const double *ys, const double *ts,
+                                        int *agree)
+{
+    int np1 = s->np1_, k;
+    double *p = PSB__VEC(s, PSB__V_BR_P), d = psb__dist_w(s, ys + np1, y0), sign[2];
+    psb__mon m;
+    psb_result r;
+    *agree = 0;
+    if (s->prob.linear == PSB_LINEAR_USER) return PSB_SUCCESS;
+    if (!(d > 0)) d = s->branch.h;
+    psb__axpy_to(p, y0, d, ts, np1);
+    for (k = 0; k < 2; k++) {
+        r = psb__monitor_at(s, k ? ys + np1 : p, ts + (size_t)k * (size_t)np1, &m);
+        if (psb__is_fatal(r)) return r;
+        if (r != PSB_SUCCESS) return PSB_SUCCESS;
+        sign[k] = m.sign[0];
+    }
+    s->message[0] = 0;
+    *agree = sign[0] == sign[1];
+    return PSB_SUCCESS;
+}
+
 /* The branching at the end of edge e: (y, t) is the couple where the trace stopped (before a
    nonsmooth or PC1 point, or at a located smooth branch point with its kernel estimate in
    X_K). A known node is arrived at; a new one gets its branches (Algorithm 2.1 and 2.2, or
@@ -6988,7 +7022,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     psb_node *nd;
     psb_branch_report br;
     psb_node_kind kind = kink ? PSB_NODE_PC1 : x->stop_kind;
-    int np1 = s->np1_, j, k, nb;
+    int np1 = s->np1_, j, k, nb, looked = 0, unbalanced = 0;
     double precision = x->stop_precision, *before = PSB__XVEC(x, PSB__X_P);
     psb_result r = PSB_SUCCESS;
     *resume = 0;
@@ -7030,6 +7064,8 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         s->branch.n_span_max = n_span_max;
         if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY))
             r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        else
+            looked = 1;
     } else {
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     }
@@ -7039,11 +7075,29 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
         return psb__is_fatal(r) ? r : PSB_SUCCESS;
     }
+    /* two branches of one outward sign are not all of them (psb__pair_signs_agree): not an
+       ordinary kink but a node, counted in n_odd, after the full sweep where the look alone
+       found them */
+    if (r == PSB_SUCCESS && br.n_branches == 2 && (kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok))) {
+        psb_result rs = psb__pair_signs_agree(s, y, nd->ys, nd->ts, &unbalanced);
+        if (rs == PSB_SUCCESS && unbalanced && looked) {
+            rs = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+            if (rs == PSB_SUCCESS && br.n_branches == 2) rs = psb__pair_signs_agree(s, y, nd->ys, nd->ts, &unbalanced);
+            else unbalanced = 0;
+            r = rs;
+        }
+        if (rs < 0) r = rs;
+        if (r < 0) {
+            ed->result = r;
+            psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
+            return psb__is_fatal(r) ? r : PSB_SUCCESS;
+        }
+    }
     if (r == PSB_BRANCH_CAPACITY) d->truncated = 1;
     nb = br.n_branches < d->max_branches ? br.n_branches : d->max_branches;
     /* an ordinary kink, located (branch_at_kinks) or where the tangent switch failed: the other
        branch */
-    if ((kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok)) && nb == 2 && r != PSB_BRANCH_CAPACITY) {
+    if ((kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok)) && nb == 2 && !unbalanced && r != PSB_BRANCH_CAPACITY) {
         const double *y1 = nd->ys + np1;
         d->n_kinks_plain++;
         if (psb__explore_beyond_bound(x, y1)) {
@@ -7064,7 +7118,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         return PSB_SUCCESS;
     }
     psb__explore_add_node(x, kind, y, precision, -1);
-    if (nb % 2 != 0 && r != PSB_BRANCH_CAPACITY) d->n_odd++;
+    if ((nb % 2 != 0 || unbalanced) && r != PSB_BRANCH_CAPACITY) d->n_odd++;
     nd->n_branches = nb;
     nd->branch_edge[0] = e;
     for (k = 1; k < nb; k++) nd->branch_edge[k] = -1;

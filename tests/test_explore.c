@@ -1140,6 +1140,53 @@ static void test_odd_node_flagged(void)
     psb_solver_free(&s);
 }
 
+/* A kink where Algorithm 2.2 finds two branches of the same outward sign (det [dH; t^T]): the
+   signs of a complete set add up to 0, so two that agree are not all, and the point is no
+   ordinary kink. A 4-node contact system of an audit (2 of 2400 entries): its four rays at the
+   origin, entered along ray 0 or 2; the sweep finds rays 0 and 2 alone (both sign -1), and the
+   explorer went straight on, success and n_odd 0. Now a node there, flagged in n_odd unless
+   all four rays were found. */
+static void test_unbalanced_pair_flagged(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[PL_MAX_N + 1], t[PL_MAX_N + 1];
+    unsigned long long st = 0x850ccb2f548fafceull;
+    int n_rays, entry, i;
+    pl_contact pc;
+    psb_options o;
+    psb_explore_options eo;
+    psb_diagram d;
+    psb_problem prob;
+    psb_solver s;
+    n_rays = pl_random_contact(&pc, 4, &st, rays);
+    CHECK(n_rays == 4);
+    memset(&o, 0, sizeof o);
+    psb_problem_init(&prob, 16, pl_contact_residual, pl_contact_jacobian, &pc);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(&d, 16, 64, 64, MAXB) == PSB_SUCCESS);
+    for (entry = 0; entry <= 2; entry += 2) {
+        int origin = -1, complete;
+        pl_start_on_ray(17, rays, entry, y, t);
+        memset(&eo, 0, sizeof eo);
+        eo.trace.param_min = -1;
+        eo.trace.param_max = 1;
+        eo.branch_at_kinks = 1;
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        for (i = 0; i < d.n_nodes; i++)
+            if ((d.nodes[i].kind == PSB_NODE_NONSMOOTH || d.nodes[i].kind == PSB_NODE_PC1) &&
+                psb_norm_w(&s, d.nodes[i].y) < 1e-6)
+                origin = i;
+        CHECK(origin >= 0);
+        if (origin < 0) continue;
+        complete = d.nodes[origin].n_branches == 4 &&
+                   pl_match_rays(d.nodes[origin].ts, 4, rays, 4, 17, 1e-8) == 4;
+        printf("  two branches of one outward sign, entry %d: %d branches at the origin, n_odd %d\n", entry,
+               d.nodes[origin].n_branches, d.n_odd);
+        CHECK(complete ? d.n_odd == 0 : d.n_odd >= 1);
+    }
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
 static void test_loop_through_pc1_points(void)
 {
     int fd, k;
@@ -2065,6 +2112,7 @@ int main(void)
     test_kinks_in_one_step();
     test_mixed_units();
     test_odd_node_flagged();
+    test_unbalanced_pair_flagged();
     test_single_faults_curved_fd();
     test_determinism();
     test_output();
