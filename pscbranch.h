@@ -6999,11 +6999,11 @@ static psb_result psb__pair_signs_agree(psb_solver *s, const double *y0, const d
     for (k = 0; k < 2; k++) {
         r = psb__monitor_at(s, k ? ys + np1 : p, ts + (size_t)k * (size_t)np1, &m);
         if (psb__is_fatal(r)) return r;
-        if (r != PSB_SUCCESS) return PSB_SUCCESS;
+        if (r != PSB_SUCCESS) break;
         sign[k] = m.sign[0];
     }
-    s->message[0] = 0;
-    *agree = sign[0] == sign[1];
+    s->message[0] = 0; /* a failure here leaves the verdict of before: an ordinary kink */
+    *agree = k == 2 && sign[0] == sign[1];
     return PSB_SUCCESS;
 }
 
