@@ -7023,6 +7023,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     psb_branch_report br;
     psb_node_kind kind = kink ? PSB_NODE_PC1 : x->stop_kind;
     int np1 = s->np1_, j, k, nb, looked = 0, unbalanced = 0;
+    int plain_possible = kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok); /* two branches: an ordinary kink */
     double precision = x->stop_precision, *before = PSB__XVEC(x, PSB__X_P);
     psb_result r = PSB_SUCCESS;
     *resume = 0;
@@ -7070,34 +7071,27 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     }
     d->n_branchings++;
+    /* two branches of one outward sign are not all of them (psb__pair_signs_agree): not an
+       ordinary kink but a node, counted in n_odd, after the full sweep where the look alone
+       found them */
+    if (r == PSB_SUCCESS && br.n_branches == 2 && plain_possible) {
+        r = psb__pair_signs_agree(s, y, nd->ys, nd->ts, &unbalanced);
+        if (r == PSB_SUCCESS && unbalanced && looked) {
+            unbalanced = 0;
+            r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+            if (r == PSB_SUCCESS && br.n_branches == 2) r = psb__pair_signs_agree(s, y, nd->ys, nd->ts, &unbalanced);
+        }
+    }
     if (r < 0) {
         ed->result = r;
         psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
         return psb__is_fatal(r) ? r : PSB_SUCCESS;
     }
-    /* two branches of one outward sign are not all of them (psb__pair_signs_agree): not an
-       ordinary kink but a node, counted in n_odd, after the full sweep where the look alone
-       found them */
-    if (r == PSB_SUCCESS && br.n_branches == 2 && (kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok))) {
-        psb_result rs = psb__pair_signs_agree(s, y, nd->ys, nd->ts, &unbalanced);
-        if (rs == PSB_SUCCESS && unbalanced && looked) {
-            rs = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
-            if (rs == PSB_SUCCESS && br.n_branches == 2) rs = psb__pair_signs_agree(s, y, nd->ys, nd->ts, &unbalanced);
-            else unbalanced = 0;
-            r = rs;
-        }
-        if (rs < 0) r = rs;
-        if (r < 0) {
-            ed->result = r;
-            psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
-            return psb__is_fatal(r) ? r : PSB_SUCCESS;
-        }
-    }
     if (r == PSB_BRANCH_CAPACITY) d->truncated = 1;
     nb = br.n_branches < d->max_branches ? br.n_branches : d->max_branches;
     /* an ordinary kink, located (branch_at_kinks) or where the tangent switch failed: the other
        branch */
-    if ((kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok)) && nb == 2 && !unbalanced && r != PSB_BRANCH_CAPACITY) {
+    if (plain_possible && nb == 2 && !unbalanced && r != PSB_BRANCH_CAPACITY) {
         const double *y1 = nd->ys + np1;
         d->n_kinks_plain++;
         if (psb__explore_beyond_bound(x, y1)) {
