@@ -554,7 +554,8 @@
      came. After an idle span of two known branches the next span is random, not the next
      pair. 2 n_span idle random spans in a row (in R^2 all spans after the first), or 4 n_span
      spans in all (8 n_span when the length adapts), end the sweep; idle spans of pairs count
-     in neither (each is followed by a random span, which bounds them).
+     in neither (each is followed by a random span, which bounds them). While the set found is
+     odd or unbalanced ("An odd count", below) only the spans in all end it.
    - Sweep length (n_span left at 0). Where regions are thin, new branches thin out slowly,
      and the span that brought the last new branch measures how thin they are. So the sweep
      goes on past 15 counted spans until twice as many again have found nothing (fewer than 3
@@ -580,10 +581,27 @@
      already sampled. bench_branching: random LCPs N = 10 242 -> 251 of 254 complete,
      contact systems N = 12 87 -> 90 of 90, at most 2.1% more Algorithm 2.2 factorisations;
      1346 contact ray entries (docs/branching-notes.md): odd counts 17 -> 8 (4 of the 8 a ray
-     within c_diff's angle of another). Runs whose count is even, the block's among them, are
-     as before. An odd count returned (report.n_branches, psb_diagram.n_odd) most likely
-     misses a branch, unless one runs along a piece boundary or y0 is not a regular point of
-     its pieces.
+     within c_diff's angle of another). An odd count returned (report.n_branches,
+     psb_diagram.n_odd) most likely misses a branch, unless one runs along a piece boundary or
+     y0 is not a regular point of its pieces.
+     Unbalanced signs. Counted with orientation (PC1 above), each transversal branch carries
+     its outward sign sgn det [dH; (W t)^T], and the signs of a complete set add up to 0. An
+     even count whose signs do not cancel misses branches too (two of one sign, most often),
+     and the sweeps treat it as an odd one: on to n_span_max, then the sweeps again, while
+     the set is odd or unbalanced (not the reruns with a smaller h_init). Each branch's sign
+     is taken once, when the sweep would end, by a bordered factorisation at its landing point
+     (branch 0's on its tangent; difference steps as at sample points): n_branches
+     factorisations a call, dense and banded backends only. report.unbalanced tells a set
+     left so. A missing pair of opposite signs (the thin regions, mostly) leaves the sum
+     unchanged, so a balanced even count is no proof. Measured against the rule of the odd
+     count alone (OpenBLAS, one thread, side by side): the absolute value equations' audit, N
+     = 6, every ray of 10 000 problems entered, 10 -> 2 incomplete entries of 59 684;
+     bench_branching random LCPs N = 10 248 -> 249 of 254 complete, contact systems N = 16 87
+     -> 88 of 88, every other row's sets the same, Algorithm 2.2's factorisations 0.3-6.5%
+     more with the defaults (the signs); psb_explore on 2000 entries a family (seed 77),
+     contact systems of 3 and 4 nodes 1991 -> 1992 and 1982 -> 1986 exact diagrams, random
+     LCPs N = 8 1979 -> 1980; the block: the same six branches from every input and seed of
+     Tables 1-2, 6 factorisations more a run.
    - Adaptive end (patience, max_pc): stop after that many counted spans in a
      row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
      pair or a lucky random span.
@@ -785,12 +803,11 @@
    2.2 finds two branches at a point the trace stopped at (the switch failed, or a kink with
    branch_at_kinks), the point is an ordinary kink (d.n_kinks_plain): no node, the edge goes on
    along the other branch, with a fold node there when the parameter turns (a limit point at a
-   kink, which the tangent switch would have reported). Unless the two have the same outward
-   sign (dense and banded backends; one bordered factorisation on each, after the full sweep
-   where kink_spans looked first): the signs of a complete set add up to 0 (PC1, above), so
-   two that agree are not all; the point is a node with the two, counted in d.n_odd (a
-   4-node contact system of an audit, 2 of 2400 entries: two of four rays, success and n_odd
-   0 before).
+   kink, which the tangent switch would have reported). Unless their outward signs do not
+   cancel (report.unbalanced, section 6 "An odd count"; after the full sweep where kink_spans
+   looked first): two of one sign are not all, and the point is a node, counted in d.n_odd
+   (a 4-node contact system of an audit, 2 of 2400 entries: two of four rays, success and
+   n_odd 0 before).
    Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
    and outgoing branches have opposite outward signs it is silent. The block's and the
    triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
@@ -813,7 +830,7 @@
    exploring (PSB_STEP_BUDGET, PSB_STOPPED); nodes, edges or branches at a node running out
    give PSB_BRANCH_CAPACITY (d.truncated) after tracing what fits; d.n_queued counts the
    branches left. d.n_odd counts the branching nodes left with an odd number of branches
-   ("An odd count", above) or with two of one outward sign: the call still returns
+   or with outward signs that do not cancel ("An odd count", above): the call still returns
    PSB_SUCCESS, since a branch along a piece boundary can make a count odd, but such a node
    most likely misses a branch; raise branch.n_dir or n_span_max. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
    doubles, set up once; psb_explore allocates nothing and uses the solver's scratch (so not
@@ -821,8 +838,8 @@
    Output (PSCBRANCH_STDIO). psb_diagram_write_json writes
      {"format": "pscbranch-diagram", "version": 1, "n": N, "param_index": p,
       "complete": true when no branch was left and nothing was cut,
-      "odd_nodes": d.n_odd (branching nodes with an odd number of branches, or two of one
-                  outward sign, section 6),
+      "odd_nodes": d.n_odd (branching nodes with an odd number of branches, or whose
+                  outward signs do not cancel, section 6),
       "nodes": [{"id", "kind" (psb_node_kind_string), "param", "precision", "edge", "event",
                  "direction", "y": [N+1], "branches": [{"edge" (-1: untraced), "y", "t"}]}],
       "edges": [{"id", "from", "from_branch", "to" (-1: no room), "to_branch",
@@ -1159,9 +1176,9 @@ typedef struct psb_branch_options {
                              n_span is left at 0 and the memo is on, else n_span]: n_span <
                              n_span_max adapts (n_span counted spans at least, then on while
                              fewer than 3 times the span of the last new branch or while the
-                             count of branches is odd; 2 n_span_max
-                             or 4 n_span spans in all, idle ones included; a count still odd
-                             then sweeps again with directions between the first sweep's,
+                             count of branches is odd or their outward signs do not cancel;
+                             2 n_span_max or 4 n_span spans in all, idle ones included; such a
+                             set then sweeps again with directions between the first sweep's,
                              section 6, "An odd count"); n_span_max = n_span is a fixed
                              length */
     int patience;         /* stop after this many counted spans in a row found no new branch
@@ -1236,6 +1253,8 @@ typedef struct psb_solver {
     int path_nts_, path_own_; /* trial's own known_ entry, for the cut (psb__try_tangent) */
     unsigned long long pairs_done_[32]; /* Algorithm 2.2: pairs (i, j), i < j < 64, of found
                                            branches swept, bit j (j - 1) / 2 + i */
+    signed char branch_sign_[64]; /* Algorithm 2.2: the outward signs of found branches 0 .. */
+    int branch_signs_n_;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
     double sweep_offset_; /* Algorithm 2.2: span directions at angles 2 pi (i + offset) / n, */
     int sweep_n_dir_;     /* i < n = this (0: n_dir) */
     int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
@@ -1500,9 +1519,12 @@ typedef struct psb_branch_report {
                              found: the smallest n_span that finds them all, all else equal */
     long n_pc_last_new;   /* n_pc and n_rand at the end of that span, i.e. what a run with */
     int n_rand_last_new;  /* n_span = span_last_new would report */
-    int n_span_odd;       /* of n_span, the spans of the sweeps that an odd count began, with
-                             directions between the first sweep's (section 6, "An odd count";
-                             0 when the count came out even) */
+    int n_span_odd;       /* of n_span, the spans of the sweeps that an odd count or unbalanced
+                             signs began, with directions between the first sweep's (section
+                             6, "An odd count"; 0 when the first sweep's set was balanced) */
+    int unbalanced;       /* 1: an even count whose outward signs do not add up to 0, so most
+                             likely two branches missing (dense and banded backends; section
+                             6, "An odd count"); 0 otherwise, odd counts included */
     long n_failed;        /* trials and sample tangents that failed because of a fault, the sum
                              of the next three; psb_find_branches succeeds only when it is 0 */
     long n_failed_callback;  /* ... because a callback returned > 0 */
@@ -1521,7 +1543,9 @@ typedef struct psb_branch_report {
    PSB_SUCCESS, PSB_BRANCH_CAPACITY, or a failure: PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when a trial or sample tangent failed
    because of a fault (the set may be incomplete; rep->n_failed* count them), PSB_ERR_OPTIONS
    (bo), PSB_ERR_CALLBACK, ... After a failure ys, ts hold the rep->n_branches branches found
-   until then and rep is written; y0, t0 are inputs only. */
+   until then and rep is written; y0, t0 are inputs only. A success with an odd
+   rep->n_branches or with rep->unbalanced most likely misses branches (section 6, "An odd
+   count"). */
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            const psb_branch_options *bo, int max_branches,
                                            double *ys, double *ts, psb_branch_report *rep);
@@ -1721,10 +1745,10 @@ typedef struct psb_diagram {
                                tangent switch failed): the edge went on */
     int n_queued;           /* branches left untraced (budget, capacity or a stop) */
     int n_failed;           /* edges that ended in a failure */
-    int n_odd;              /* branching nodes with an odd number of branches, or with two of
-                               one outward sign: where the pieces are transversal branches
-                               come in pairs of opposite signs, so such a node most likely
-                               misses one (manual section 6, "An odd count", PC1) */
+    int n_odd;              /* branching nodes with an odd number of branches, or whose
+                               outward signs do not add up to 0: where the pieces are
+                               transversal they do, so such a node most likely misses
+                               branches (manual section 6, "An odd count", PC1) */
     int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node) */
     /* private */
     double *work_;
@@ -5853,6 +5877,48 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     return PSB_SUCCESS;
 }
 
+/* Whether the branches found (ys, ts: outward tangents, branch 0 the incoming one, ys[0] = y0)
+   cannot be all of them: an odd count (section 6, "An odd count"), or an even one whose
+   outward signs sgn det [dH; (W t)^T] do not add up to 0, as those of a complete set do
+   (section 6, PC1). Dense and banded backends: each branch's sign once (branch_sign_), by a
+   bordered factorisation at its landing point (branch 0's on its tangent, as far from y0 as
+   branch 1's), difference steps as at sample points. Where a sign cannot be told (user
+   backend, over 64 branches, a failing evaluation or factorisation) the count alone decides.
+   A fatal code goes to *fatal (and 0 is returned). */
+static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, int n_branches,
+                           psb_result *fatal)
+{
+    int np1 = s->np1_, j, sum = 0;
+    if (n_branches % 2 != 0) return 1;
+    if (s->prob.linear == PSB_LINEAR_USER || n_branches > 64 || s->branch_signs_n_ < 0) return 0;
+    for (j = s->branch_signs_n_; j < n_branches; j++) {
+        const double *tj = ts + (size_t)j * (size_t)np1, *p = ys + (size_t)j * (size_t)np1;
+        psb__mon m;
+        psb_result r;
+        if (j == 0) {
+            double d = psb__dist_w(s, ys + np1, ys), *q = PSB__VEC(s, PSB__V_BR_S);
+            psb__axpy_to(q, ys, d > 0 ? d : s->branch.h, tj, np1);
+            p = q;
+        }
+        s->fd_cap_ = 1e-3 * s->branch.h;
+        r = psb__monitor_at(s, p, tj, &m);
+        s->fd_cap_ = 0;
+        if (psb__is_fatal(r)) {
+            *fatal = r;
+            return 0;
+        }
+        if (r != PSB_SUCCESS) {
+            s->message[0] = 0; /* no verdict: the count's */
+            s->branch_signs_n_ = -1;
+            return 0;
+        }
+        s->branch_sign_[j] = (signed char)(m.sign[0] < 0 ? -1 : 1);
+        s->branch_signs_n_ = j + 1;
+    }
+    for (j = 0; j < n_branches; j++) sum += s->branch_sign_[j];
+    return sum != 0;
+}
+
 /* One span of Algorithm 2.2 (Steps 2-7) with the spanning tangents t1, t2. */
 static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, const double *t2,
                              int max_branches, double *ys, double *ts, psb_branch_report *rep,
@@ -5984,10 +6050,12 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
     extend = s->branch.n_span_max > s->branch.n_span;
     spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
     if (dense) spans_in_all = 4 * s->branch.n_span;
-    for (span = 0; (dense ? rep->n_branches % 2 != 0 && rep->n_span - counted_before < s->branch.n_span
+    for (span = 0; (dense ? rep->n_span - counted_before < s->branch.n_span &&
+                                psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)
                           : rep->n_span < s->branch.n_span ||
                                 (extend && rep->n_span < s->branch.n_span_max &&
-                                 (rep->n_span < 3 * rep->span_last_new || rep->n_branches % 2 != 0))) &&
+                                 (rep->n_span < 3 * rep->span_last_new ||
+                                  psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)))) &&
                    span - idle_pair_spans < spans_in_all; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
@@ -6039,7 +6107,10 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
         if (rep->n_pc == pc_before && !s->branch.no_memo) {
             rep->n_span_idle++;
             if (pair_span) idle_pair_spans++;
-            else if (++idle_spans_in_a_row >= 2 * s->branch.n_span) break;
+            else if (++idle_spans_in_a_row >= 2 * s->branch.n_span &&
+                     !((extend || dense) && psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)))
+                break;
+            if (fatal != PSB_SUCCESS) break;
             continue;
         }
         idle_spans_in_a_row = 0;
@@ -6114,6 +6185,7 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     s->chord_turn_max_ = 0;
     s->chord_turn_min_ = HUGE_VAL;
     memset(s->pairs_done_, 0, sizeof s->pairs_done_);
+    s->branch_signs_n_ = 0;
     psb__faults_reset(s);
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
@@ -6150,11 +6222,13 @@ static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, d
     s->sweep_offset_ = 0.5;
     r = psb__span_loop(s, max_branches, ys, ts, rep, overflow, 1);
     budget = 2 * rep->n_tangents;
-    for (level = 2; level <= 3 && r == PSB_SUCCESS && rep->n_branches % 2 != 0 && !*overflow; level++) {
+    for (level = 2; level <= 3 && r == PSB_SUCCESS && !*overflow && psb__unbalanced(s, ys, ts, rep->n_branches, &r);
+         level++) {
         memset(s->pairs_done_, 0, sizeof s->pairs_done_);
         s->sweep_n_dir_ = s->branch.n_dir << (level - 1);
-        while (rep->n_branches % 2 != 0 && !*overflow && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
-               rep->n_tangents + s->sweep_n_dir_ <= budget && psb__next_pair(s, ts, rep->n_branches, &pi, &pj)) {
+        while (!*overflow && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
+               rep->n_tangents + s->sweep_n_dir_ <= budget && psb__unbalanced(s, ys, ts, rep->n_branches, &r) &&
+               psb__next_pair(s, ts, rep->n_branches, &pi, &pj)) {
             long pc_before = rep->n_pc;
             r = psb__sweep(s, PSB__VEC(s, PSB__V_BR_Y0), ts + (size_t)pi * (size_t)np1,
                            ts + (size_t)pj * (size_t)np1, max_branches, ys, ts, rep, overflow);
@@ -6212,13 +6286,16 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         s->branch.h_init /= 16;
     }
     /* not with patience (the caller chose to stop early), nor past max_pc */
-    if (r == PSB_SUCCESS && rep->n_branches % 2 != 0 && s->branch.n_span_max > s->branch.n_span &&
-        !s->branch.no_memo && !s->branch.patience && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc)) {
+    if (r == PSB_SUCCESS && s->branch.n_span_max > s->branch.n_span && !s->branch.no_memo &&
+        !s->branch.patience && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
+        psb__unbalanced(s, ys, ts, rep->n_branches, &r)) {
         int overflow = 0, counted = rep->n_span;
         r = psb__odd_sweeps(s, max_branches, ys, ts, rep, &overflow);
         rep->n_span_odd = rep->n_span - counted;
         r = psb__sweeps_end(s, rep, r, overflow);
     }
+    if ((r == PSB_SUCCESS || r == PSB_BRANCH_CAPACITY) && rep->n_branches % 2 == 0)
+        rep->unbalanced = psb__unbalanced(s, ys, ts, rep->n_branches, &r);
     s->branch.h_init = h_init;
     return r;
 }
@@ -6980,33 +7057,6 @@ static void psb__explore_arrive(psb__explorer *x, int e, int j, const double *t)
     ed->to_branch = best;
 }
 
-/* Whether the two branches (ys, ts: outward tangents, branch 0 the one arrived by, ys[0] =
-   y0) leaving y0 have the same outward sign, det [dH; (W t)^T] on each, taken at branch 1's
-   landing point and as far up branch 0. The signs of a complete set add up to 0 (section 6,
-   PC1), so two that agree are not all. *agree = 0 where it cannot be told (user backend, a
-   failing evaluation or factorisation there); returns a fatal code or PSB_SUCCESS. */
-static psb_result psb__pair_signs_agree(psb_solver *s, const double *y0, const double *ys, const double *ts,
-                                        int *agree)
-{
-    int np1 = s->np1_, k;
-    double *p = PSB__VEC(s, PSB__V_BR_P), d = psb__dist_w(s, ys + np1, y0), sign[2];
-    psb__mon m;
-    psb_result r;
-    *agree = 0;
-    if (s->prob.linear == PSB_LINEAR_USER) return PSB_SUCCESS;
-    if (!(d > 0)) d = s->branch.h;
-    psb__axpy_to(p, y0, d, ts, np1);
-    for (k = 0; k < 2; k++) {
-        r = psb__monitor_at(s, k ? ys + np1 : p, ts + (size_t)k * (size_t)np1, &m);
-        if (psb__is_fatal(r)) return r;
-        if (r != PSB_SUCCESS) break;
-        sign[k] = m.sign[0];
-    }
-    s->message[0] = 0; /* a failure here leaves the verdict of before: an ordinary kink */
-    *agree = k == 2 && sign[0] == sign[1];
-    return PSB_SUCCESS;
-}
-
 /* The branching at the end of edge e: (y, t) is the couple where the trace stopped (before a
    nonsmooth or PC1 point, or at a located smooth branch point with its kernel estimate in
    X_K). A known node is arrived at; a new one gets its branches (Algorithm 2.1 and 2.2, or
@@ -7071,17 +7121,12 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     }
     d->n_branchings++;
-    /* two branches of one outward sign are not all of them (psb__pair_signs_agree): not an
-       ordinary kink but a node, counted in n_odd, after the full sweep where the look alone
-       found them */
-    if (r == PSB_SUCCESS && br.n_branches == 2 && plain_possible) {
-        r = psb__pair_signs_agree(s, y, nd->ys, nd->ts, &unbalanced);
-        if (r == PSB_SUCCESS && unbalanced && looked) {
-            unbalanced = 0;
-            r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
-            if (r == PSB_SUCCESS && br.n_branches == 2) r = psb__pair_signs_agree(s, y, nd->ys, nd->ts, &unbalanced);
-        }
-    }
+    /* branches whose outward signs do not cancel are not all (br.unbalanced): where the look
+       alone found two such, the full sweep; two left so are no ordinary kink but a node,
+       counted in n_odd */
+    if (r == PSB_SUCCESS && br.unbalanced && looked)
+        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+    unbalanced = r >= 0 && br.unbalanced;
     if (r < 0) {
         ed->result = r;
         psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);

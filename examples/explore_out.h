@@ -122,8 +122,8 @@ static void xo_print(const psb_diagram *d, int comp)
                e->length);
     }
     if (d->n_odd)
-        printf("  %d branching node(s) with an odd number of branches, or two of one outward sign: most likely one is "
-               "missing there\n", d->n_odd);
+        printf("  %d branching node(s) with an odd number of branches, or outward signs that do not cancel: most "
+               "likely branches are missing there\n", d->n_odd);
 }
 
 /* Closes points.csv and writes DIR/diagram.json, nodes.csv, edges.csv, marks.csv (kind,

@@ -1019,6 +1019,153 @@ static void test_restart_centre(void)
    of an audit (10 000 per N and three generators; the third with A's diagonal near +-1) whose
    entries named lost rays before (4 of 6 from ray 5, 18 of 20 from ray 13; 1 of 2 from ray 0,
    odd); the random direction itself now spans the plane. */
+/* The ray of rays (np1 each) the unit direction of y lies on (1e-6), or -1. */
+static int ray_of(const double *y, const double *rays, int n_rays, int np1)
+{
+    double d[PL_MAX_N + 1], len = 0;
+    int i, j;
+    for (i = 0; i < np1; i++) len += y[i] * y[i];
+    if (len == 0) return -1;
+    for (i = 0; i < np1; i++) d[i] = y[i] / sqrt(len);
+    for (j = 0; j < n_rays; j++)
+        if (pl_match_rays(d, 1, rays + (size_t)j * np1, 1, np1, 1e-6)) return j;
+    return -1;
+}
+
+/* A ray's outward sign, sgn det [dH; r^T], dH taken at 1e-3 r (constant on the ray's open
+   region), by the test's own elimination with partial pivoting; 0 if singular. */
+static int ray_sign(psb_jacobian_fn jacobian, void *user, int n, const double *ray)
+{
+    double a[(PL_MAX_N + 1) * (PL_MAX_N + 1)], p[PL_MAX_N + 1] = {0};
+    int np1 = n + 1, i, j, k, sign = 1;
+    for (i = 0; i < np1; i++) p[i] = 1e-3 * ray[i];
+    if (jacobian(p, a, np1, user) != 0) return 0;
+    for (j = 0; j < np1; j++) a[n + j * np1] = ray[j];
+    for (k = 0; k < np1; k++) {
+        int piv = k;
+        for (i = k + 1; i < np1; i++)
+            if (fabs(a[i + k * np1]) > fabs(a[piv + k * np1])) piv = i;
+        if (a[piv + k * np1] == 0) return 0;
+        if (piv != k) {
+            for (j = 0; j < np1; j++) {
+                double w = a[k + j * np1];
+                a[k + j * np1] = a[piv + j * np1];
+                a[piv + j * np1] = w;
+            }
+            sign = -sign;
+        }
+        if (a[k + k * np1] < 0) sign = -sign;
+        for (i = k + 1; i < np1; i++) {
+            double f = a[i + k * np1] / a[k + k * np1];
+            for (j = k; j < np1; j++) a[i + j * np1] -= f * a[k + j * np1];
+        }
+    }
+    return sign;
+}
+
+/* The outward signs (manual section 6, PC1 and "An odd count"). On every problem the rays'
+   signs add up to 0 (the theorem the rule rests on, checked by the test's own determinants).
+   Algorithm 2.2 entered along every ray, with the defaults and with a short sweep (2 spans
+   of 6 directions, which leaves sets incomplete): report.unbalanced is set exactly when the
+   count is even and the found rays' signs do not add up to 0; no spurious branch; with the
+   defaults every set is complete or told incomplete (odd or unbalanced). The 4-node contact
+   system of an explorer audit: from entry 0, two rays of one sign returned with success and
+   nothing to tell before the sweep went on while the signs did not cancel. */
+static void test_outward_signs(void)
+{
+    enum { NB = PL_MAX_RAYS * (PL_MAX_N + 1) };
+    static double rays[NB], ys[NB], ts[NB];
+    int fam, runs = 0, agree = 0, spurious = 0, flagged_short = 0, complete_def = 0, runs_def = 0;
+    int balanced_sets = 0, sets = 0, silent_def = 0, audit_told = 0;
+    /* contact systems of 3 and 4 nodes, absolute value equations N = 6, LCPs N = 8, the audit's */
+    for (fam = 0; fam < 5; fam++) {
+        unsigned long long st = fam == 4 ? 0x850ccb2f548fafceull : 9001 + (unsigned long long)fam;
+        int problem, n_problems = fam == 4 ? 1 : 5;
+        for (problem = 0; problem < n_problems; problem++) {
+            static pl_contact pc;
+            static pl_ave pa;
+            static pl_problem pp;
+            psb_jacobian_fn jac;
+            psb_residual_fn res;
+            void *user;
+            int n, n_rays, k, sum = 0, config;
+            psb_problem prob;
+            psb_solver s;
+            if (fam == 0 || fam == 1 || fam == 4) {
+                n_rays = pl_random_contact(&pc, fam == 0 ? 3 : 4, &st, rays);
+                n = 4 * pc.m;
+                res = pl_contact_residual;
+                jac = pl_contact_jacobian;
+                user = &pc;
+            } else if (fam == 2) {
+                n_rays = pl_random_ave(&pa, 6, &st, rays);
+                n = 6;
+                res = pl_ave_residual;
+                jac = pl_ave_jacobian;
+                user = &pa;
+            } else {
+                n_rays = pl_random_lcp(&pp, 8, &st, 1, rays);
+                n = 8;
+                res = pl_residual;
+                jac = pl_jacobian;
+                user = &pp;
+            }
+            CHECK(n_rays >= 3);
+            if (n_rays < 3) continue;
+            for (k = 0; k < n_rays; k++) sum += ray_sign(jac, user, n, rays + (size_t)k * (size_t)(n + 1));
+            sets++;
+            balanced_sets += sum == 0;
+            psb_problem_init(&prob, n, res, jac, user);
+            CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+            for (config = 0; config < 2; config++) {
+                int inc;
+                for (inc = 0; inc < n_rays; inc++) {
+                    psb_branch_options bo;
+                    psb_branch_report br;
+                    double y[PL_MAX_N + 1];
+                    int j, found_sum = 0, unmatched = 0, expected;
+                    memset(&bo, 0, sizeof bo);
+                    if (config == 1) {
+                        bo.n_span = 2;
+                        bo.n_dir = 6;
+                    }
+                    if (pl_branch_from_ray(&s, rays, inc, config ? &bo : NULL, y, ys, ts, &br) != 0) {
+                        CHECK(0);
+                        continue;
+                    }
+                    runs++;
+                    for (j = 0; j < br.n_branches; j++) {
+                        int ray = ray_of(ts + (size_t)j * (size_t)(n + 1), rays, n_rays, n + 1);
+                        if (ray < 0) unmatched++;
+                        else found_sum += ray_sign(jac, user, n, rays + (size_t)ray * (size_t)(n + 1));
+                    }
+                    spurious += unmatched;
+                    expected = br.n_branches % 2 == 0 && found_sum != 0;
+                    agree += !unmatched && br.unbalanced == expected;
+                    if (config == 1) flagged_short += br.unbalanced;
+                    if (config == 0) {
+                        int ok = br.n_branches == n_rays &&
+                                 pl_match_rays(ts, br.n_branches, rays, n_rays, n + 1, 1e-6) == n_rays;
+                        runs_def++;
+                        complete_def += ok;
+                        silent_def += !ok && br.n_branches % 2 == 0 && !br.unbalanced;
+                        if (fam == 4) audit_told += ok || br.n_branches % 2 != 0 || br.unbalanced;
+                    }
+                }
+            }
+            psb_solver_free(&s);
+        }
+    }
+    printf("  outward signs: %d of %d ray sets balanced; report.unbalanced right in %d of %d runs, "
+           "%d short runs flagged; defaults complete in %d of %d entries, %d silent misses (the audit's "
+           "system complete or flagged from %d of 4)\n",
+           balanced_sets, sets, agree, runs, flagged_short, complete_def, runs_def, silent_def, audit_told);
+    CHECK(balanced_sets == sets);
+    CHECK(agree == runs && spurious == 0);
+    CHECK(flagged_short > 0);
+    CHECK(silent_def == 0 && audit_told == 4);
+}
+
 static void test_ave_near_branch_spans(void)
 {
     static const pl_ave cases[3] = {
@@ -1068,18 +1215,6 @@ static void test_ave_near_branch_spans(void)
     CHECK(entries == 28 && complete == 28);
 }
 
-/* The ray of rays (np1 each) the unit direction of y lies on (1e-6), or -1. */
-static int ray_of(const double *y, const double *rays, int n_rays, int np1)
-{
-    double d[PL_MAX_N + 1], len = 0;
-    int i, j;
-    for (i = 0; i < np1; i++) len += y[i] * y[i];
-    if (len == 0) return -1;
-    for (i = 0; i < np1; i++) d[i] = y[i] / sqrt(len);
-    for (j = 0; j < n_rays; j++)
-        if (pl_match_rays(d, 1, rays + (size_t)j * np1, 1, np1, 1e-6)) return j;
-    return -1;
-}
 
 /* The ray on which a trial step of Algorithm 2.2 from y0 along dir lands, -1 if on none, -2 if
    it fails; with record, the corrector's tangents go to s->path_ (s->path_n_ of them). */
@@ -2429,6 +2564,7 @@ int main(void)
     test_pair_order();
     test_restart_centre();
     test_ave_near_branch_spans();
+    test_outward_signs();
     test_screen_equivalence();
     test_cut_claim();
     test_crossing_kinks();

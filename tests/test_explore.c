@@ -1127,12 +1127,14 @@ static void test_odd_node_flagged(void)
                 branching = i;
                 nodes_odd += d.nodes[i].n_branches % 2;
             }
-        CHECK(branching >= 0 && d.n_odd == nodes_odd);
+        CHECK(branching >= 0 && d.n_odd >= nodes_odd); /* and nodes whose signs do not cancel */
         if (branching < 0) continue;
         printf("  odd node: n_span %s, %d branches at the origin, n_odd %d\n", fixed ? "15" : "adaptive",
                d.nodes[branching].n_branches, d.n_odd);
         /* reference BLAS: 5 and n_odd 1; another's rounding may steer the fixed sweep */
-        if (fixed) CHECK(d.nodes[branching].n_branches <= 6 && d.n_odd == d.nodes[branching].n_branches % 2);
+        if (fixed)
+            CHECK(d.nodes[branching].n_branches <= 6 && d.n_odd >= d.nodes[branching].n_branches % 2 &&
+                  (d.nodes[branching].n_branches < 6 || d.n_odd == 0));
         else CHECK(d.nodes[branching].n_branches == 6 && d.n_odd == 0 &&
                    pl_match_rays(d.nodes[branching].ts, 6, rays, 6, 11, 1e-8) == 6);
     }
@@ -1143,9 +1145,9 @@ static void test_odd_node_flagged(void)
 /* A kink where Algorithm 2.2 finds two branches of the same outward sign (det [dH; t^T]): the
    signs of a complete set add up to 0, so two that agree are not all, and the point is no
    ordinary kink. A 4-node contact system of an audit (2 of 2400 entries): its four rays at the
-   origin, entered along ray 0 or 2; the sweep finds rays 0 and 2 alone (both sign -1), and the
-   explorer went straight on, success and n_odd 0. Now a node there, flagged in n_odd unless
-   all four rays were found. */
+   origin, entered along ray 0 or 2; the sweep found rays 0 and 2 alone (both sign -1), and the
+   explorer went straight on, success and n_odd 0. Now the sweep goes on while the signs do not
+   cancel, and the origin is a node, flagged in n_odd unless all four rays were found. */
 static void test_unbalanced_pair_flagged(void)
 {
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[PL_MAX_N + 1], t[PL_MAX_N + 1];
@@ -1179,7 +1181,7 @@ static void test_unbalanced_pair_flagged(void)
         if (origin < 0) continue;
         complete = d.nodes[origin].n_branches == 4 &&
                    pl_match_rays(d.nodes[origin].ts, 4, rays, 4, 17, 1e-8) == 4;
-        printf("  two branches of one outward sign, entry %d: %d branches at the origin, n_odd %d\n", entry,
+        printf("  two rays of one outward sign found alone before, entry %d: %d branches at the origin, n_odd %d\n", entry,
                d.nodes[origin].n_branches, d.n_odd);
         CHECK(complete ? d.n_odd == 0 : d.n_odd >= 1);
     }
