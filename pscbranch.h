@@ -462,7 +462,9 @@
      look-ups with fewer than one hit in 8 the call stops hashing). A remembered
      tangent only decides skips (tried before, screened, the previous direction's region);
      one that goes on to a trial is recomputed from the same dH, because the rounding of a
-     different bordering row can steer a sweep elsewhere on degenerate problems.
+     different bordering row can steer a sweep elsewhere on degenerate problems. Each entry
+     also keeps its tangent's outward sign, sgn det [dH; (W t)^T] from the LU factors that
+     made it, for the found branches' signs ("An odd count", below).
    - Conic stop (with screening, analytic dH). A trial step that fails (no convergence, the
      jump or cosine test) is retried with h_dec times the step down to trial_h_min. Where the
      pieces its corrector met are cones with apex y0, a smaller step is the same run scaled
@@ -589,19 +591,22 @@
      even count whose signs do not cancel misses branches too (two of one sign, most often),
      and the sweeps treat it as an odd one: on to n_span_max, then the sweeps again, while
      the set is odd or unbalanced (not the reruns with a smaller h_init). Each branch's sign
-     is taken once, when the sweep would end, by a bordered factorisation at its landing point
-     (branch 0's on its tangent; difference steps as at sample points): n_branches
-     factorisations a call, dense and banded backends only. report.unbalanced tells a set
-     left so. A missing pair of opposite signs (the thin regions, mostly) leaves the sum
+     is taken once, when the sweep would end, at its landing point (branch 0's on its
+     tangent): from the memo where the point's piece or dH has an entry (every factorisation
+     that makes a memoised tangent keeps det B's sign, O(N) from the LU factors), else by a
+     bordered factorisation there (difference steps as at sample points); dense and banded
+     backends only. report.unbalanced tells a set left so. A missing pair of opposite signs (the thin regions, mostly) leaves the sum
      unchanged, so a balanced even count is no proof. Measured against the rule of the odd
      count alone (OpenBLAS, one thread, side by side): the absolute value equations' audit, N
-     = 6, every ray of 10 000 problems entered, 10 -> 2 incomplete entries of 59 684;
+     = 6, every ray of 10 000 problems entered, 10 -> 2 incomplete entries of 59 684 (the
+     same factorisations);
      bench_branching random LCPs N = 10 248 -> 249 of 254 complete, contact systems N = 16 87
-     -> 88 of 88, every other row's sets the same, Algorithm 2.2's factorisations 0.3-6.5%
-     more with the defaults (the signs); psb_explore on 2000 entries a family (seed 77),
+     -> 88 of 88, every other row's sets the same, Algorithm 2.2's factorisations with the
+     defaults 0-1% more (the memo gives the signs), with differences 0.1-3.4% (no memo: a
+     factorisation a branch); psb_explore on 2000 entries a family (seed 77),
      contact systems of 3 and 4 nodes 1991 -> 1992 and 1982 -> 1986 exact diagrams, random
      LCPs N = 8 1979 -> 1980; the block: the same six branches from every input and seed of
-     Tables 1-2, 6 factorisations more a run.
+     Tables 1-2, 0-4 factorisations more a run.
    - Adaptive end (patience, max_pc): stop after that many counted spans in a
      row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
      pair or a lucky random span.
@@ -1248,6 +1253,8 @@ typedef struct psb_solver {
                                 this from its start (psb__try_step_from) */
     int conic_h0_ok_;        /* psb_find_branches holds H(y0) for it */
     double *jmemo_t_;             /* the unit tangent of each entry's dH */
+    signed char *jmemo_sign_;     /* its outward sign sgn det [dH; (W t)^T], 0 if not known */
+    int tangent_sign_;            /* that of the last psb__tangent_from_jacobian's tangent */
     int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
     const double *path_ts_; /* with path_on_: the found branches' tangents (path_nts_) and the */
     int path_nts_, path_own_; /* trial's own known_ entry, for the cut (psb__try_tangent) */
@@ -2352,6 +2359,8 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
         PSB__TAKE(jmemo_t_, cap * np1);
         if (s) s->jmemo_key_ = (unsigned long long *)(void *)(base + off);
         off += 2 * cap; /* the keys: 8 bytes each, as a double */
+        if (s) s->jmemo_sign_ = (signed char *)(void *)(base + off);
+        off += (cap + sizeof(double) - 1) / sizeof(double);
     }
     if (p->linear == PSB_LINEAR_DENSE) {
         PSB__TAKE(jac_, n * np1);
@@ -3347,13 +3356,47 @@ static psb_result psb__kernel_qr(psb_solver *s, double *t)
     return PSB_SUCCESS;
 }
 
+/* sgn det B and log|det B| (logabs may be NULL) from the current LU factors of B = [dH; row^T]:
+   dense, or banded with A unshifted and the border current (det B = (-1)^(n - p) det A (d -
+   c.w), the parameter column moved last); 0 where the factors do not tell it. O(N). */
+static int psb__factors_det(const psb_solver *s, double *logabs)
+{
+    int n = s->n_, np1 = s->np1_, i, sign = 1;
+    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
+    double la = 0;
+    if (s->prob.linear == PSB_LINEAR_DENSE) {
+        for (i = 0; i < np1; i++) {
+            double u = s->mat_[i + (size_t)i * (size_t)np1];
+            if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
+            if (logabs) la += log(fabs(u));
+        }
+    } else if (s->prob.linear == PSB_LINEAR_BANDED && !s->shifted_ && s->border_ok_) {
+        int kv = s->prob.kl + s->prob.ku;
+        for (i = 0; i < n; i++) {
+            double u = s->lu_[(size_t)kv + (size_t)i * (size_t)s->ldlu_];
+            if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
+            if (logabs) la += log(fabs(u));
+        }
+        if (s->delta_ < 0) sign = -sign;
+        if ((n - s->prob.param_index) % 2) sign = -sign;
+        if (logabs) la += log(fabs(s->delta_));
+    } else {
+        return 0;
+    }
+    if (logabs) *logabs = la;
+    return sign;
+}
+
 /* Unit tangent at y oriented by ref (both n+1); y's Jacobian is evaluated here. */
-/* psb__tangent's work once dH(y) is formed (psb__jacobian). */
+/* psb__tangent's work once dH(y) is formed (psb__jacobian). Also sets tangent_sign_, the
+   outward sign sgn det [dH; (W t)^T] of the t returned (0 where the factors do not tell it):
+   x solves [dH; row^T] x = e_(n+1), so row.x = 1 > 0 and det [dH; (W x)^T] has det B's sign. */
 static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, double *t)
 {
-    int np1 = s->np1_, i, attempt;
+    int np1 = s->np1_, i, attempt, sign = 0;
     double rcond = 0, *row = s->rhs_ + np1, *x = s->rhs_;
     psb_result r;
+    s->tangent_sign_ = 0;
     /* bordered with ref; if that is singular (ref orthogonal to the kernel), the dense backend
        asks QR of dH^T, the others border with e_param, then with a fixed generic row */
     for (attempt = 0; attempt < 3; attempt++) {
@@ -3366,7 +3409,10 @@ static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, d
             memset(x, 0, (size_t)np1 * sizeof *x);
             x[np1 - 1] = 1;
             r = psb__solve_factored(s, x, 1);
-            if (r == PSB_SUCCESS) break;
+            if (r == PSB_SUCCESS) {
+                sign = psb__factors_det(s, NULL);
+                break;
+            }
         }
         if (r != PSB_SUCCESS && r != PSB_ERR_SINGULAR) return r;
         if (s->prob.linear == PSB_LINEAR_DENSE) {
@@ -3376,13 +3422,16 @@ static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, d
         }
     }
     if (r != PSB_SUCCESS) return r;
-    if (psb__dot_w(s, x, ref) < 0)
+    if (psb__dot_w(s, x, ref) < 0) {
         for (i = 0; i < np1; i++) x[i] = -x[i];
+        sign = -sign;
+    }
     if (!psb__normalize_w(s, x)) {
         s->last_fail_ = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
     }
     psb__copy(t, x, np1);
+    s->tangent_sign_ = sign;
     s->n_ok_++;
     return PSB_SUCCESS;
 }
@@ -3406,7 +3455,7 @@ static int psb__trial_known(const psb_solver *s, const double *x, const double *
                             const double *done, int own);
 static void psb__jmemo_key(const psb_solver *s, unsigned long long *key);
 static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key);
-static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t);
+static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t, int sign);
 static int psb__jmemo_hashing(const psb_solver *s);
 static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const double *ref, double *t, int *m);
 static double psb__angle_w(const psb_solver *s, const double *a, const double *b);
@@ -3561,7 +3610,7 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res;
         unsigned long long store_key[2] = {0, 0}, dh_key[2] = {0, 0}; /* dH's hash: once */
-        int cut = 0, by_piece = 0;
+        int cut = 0, by_piece = 0, tc_sign;
         s->stats.n_newton++;
         s->pmemo_check_on_ = 0;
         if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, NULL, store_key, &by_piece);
@@ -3597,6 +3646,7 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         s->rhs_[np1 + n] = 1;
         r = psb__solve_factored(s, s->rhs_, 2);
         if (r != PSB_SUCCESS) return r;
+        tc_sign = psb__factors_det(s, NULL); /* row.tc = 1: det [dH; (W tc)^T] has det B's sign */
         if (s->conic_ok_) { /* the point s->branch.h from y0 towards this iterate */
             double dist = psb__dist_w(s, yc, s->conic_y0_), *pe = PSB__VEC(s, PSB__V_BR_PE);
             s->conic_ok_ = dist > s->branch.h;
@@ -3621,7 +3671,7 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         if (s->path_on_ && s->path_n_ < PSB__PATH_MAX)
             psb__copy(s->path_ + (size_t)s->path_n_++ * (size_t)np1, tc, np1);
         if ((store_key[0] || store_key[1]) && (!by_piece || psb__pmemo_trusted(s, 0)))
-            psb__jmemo_store(s, store_key, tc);
+            psb__jmemo_store(s, store_key, tc, tc_sign);
         if (s->pmemo_check_on_) {
             double drift = psb__angle_w(s, tc, PSB__VEC(s, PSB__V_BR_MT));
             s->pmemo_check_on_ = 0;
@@ -4317,21 +4367,14 @@ typedef struct psb__mon {
 
 static psb_result psb__monitor(psb_solver *s, psb__mon *m)
 {
-    int np1 = s->np1_, n = s->n_, i, k;
+    int np1 = s->np1_, i, k;
     double sign = 1, logabs = 0;
-    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
     psb_result r;
     if (s->prob.linear == PSB_LINEAR_DENSE) {
-        for (i = 0; i < np1; i++) {
-            double u = s->mat_[i + (size_t)i * (size_t)np1];
-            if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
-            logabs += log(fabs(u));
-        }
+        sign = psb__factors_det(s, &logabs);
     } else if (s->prob.linear == PSB_LINEAR_BANDED) {
-        /* det B = (-1)^(n - p) det A (d - c.w): the parameter column moved last. Factors of
-           A + sigma I (A nearly singular) would move a zero of det B by ~sigma: A is factored
-           as it is (exactly singular: det B = 0) */
-        int kv = s->prob.kl + s->prob.ku;
+        /* factors of A + sigma I (A nearly singular) would move a zero of det B by ~sigma: A
+           is factored as it is (exactly singular: det B = 0) */
         if (s->shifted_) {
             r = psb__band_prepare(s, 0.0);
             s->shifted_ = 0;
@@ -4347,14 +4390,7 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
             r = psb__band_border(s, NULL);
             if (r != PSB_SUCCESS) return r;
         }
-        for (i = 0; i < n; i++) {
-            double u = s->lu_[(size_t)kv + (size_t)i * (size_t)s->ldlu_];
-            if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
-            logabs += log(fabs(u));
-        }
-        if (s->delta_ < 0) sign = -sign;
-        if ((n - s->prob.param_index) % 2) sign = -sign;
-        logabs += log(fabs(s->delta_));
+        sign = psb__factors_det(s, &logabs);
     } else {
         double *x = s->rhs_, q[2];
         int attempt;
@@ -5528,12 +5564,14 @@ static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const do
     return 1;
 }
 
-/* Stores the unit tangent t under key (the oldest entry makes room when the memo is full). */
-static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t)
+/* Stores the unit tangent t and its outward sign (0: not known) under key (the oldest entry
+   makes room when the memo is full). */
+static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t, int sign)
 {
     int m = s->jmemo_n_ % s->memo_cap_;
     s->jmemo_key_[2 * m] = key[0];
     s->jmemo_key_[2 * m + 1] = key[1];
+    s->jmemo_sign_[m] = (signed char)sign;
     psb__copy(s->jmemo_t_ + (size_t)m * (size_t)s->np1_, t, s->np1_);
     s->jmemo_n_++;
 }
@@ -5637,7 +5675,7 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
         return PSB_SUCCESS;
     }
     r = by_piece ? psb__sample_tangent_at(s, pt, ref, t) : psb__tangent_from_jacobian(s, ref, t);
-    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, key, t);
+    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, key, t, s->tangent_sign_);
     return r;
 }
 
@@ -5877,14 +5915,45 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     return PSB_SUCCESS;
 }
 
+/* The outward sign sgn det [dH; (W t)^T] of the branch (p, t) from Algorithm 2.2's memo: the
+   entry of p's piece (problem.piece) or of dH(p) (the Jacobian memo), when its sign is known
+   and its tangent lies along t (on a piece of a piecewise-linear H it is t's, up to
+   orientation; on a smooth piece near y0 nearly so, and the sign holds short of a fold).
+   *sign 0 otherwise. Returns PSB_SUCCESS or a fatal code (a failing evaluation tells nothing). */
+static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t, int *sign)
+{
+    unsigned long long key[2];
+    int m, known = 0, np1 = s->np1_;
+    double dot;
+    psb_result r;
+    *sign = 0;
+    if (s->jmemo_n_ == 0) return PSB_SUCCESS;
+    if (s->prob.piece) {
+        r = psb__piece_key(s, p, key, &known);
+        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
+    }
+    if (!known) {
+        if (!psb__jmemo_usable(&s->prob)) return PSB_SUCCESS;
+        r = psb__jacobian(s, p, NULL);
+        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
+        psb__jmemo_key(s, key);
+    }
+    m = psb__jmemo_find(s, key);
+    if (m < 0 || !s->jmemo_sign_[m]) return PSB_SUCCESS;
+    dot = psb__cos_w(s, s->jmemo_t_ + (size_t)m * (size_t)np1, t);
+    if (fabs(dot) >= s->opt.c_diff) *sign = dot > 0 ? s->jmemo_sign_[m] : -s->jmemo_sign_[m];
+    return PSB_SUCCESS;
+}
+
 /* Whether the branches found (ys, ts: outward tangents, branch 0 the incoming one, ys[0] = y0)
    cannot be all of them: an odd count (section 6, "An odd count"), or an even one whose
    outward signs sgn det [dH; (W t)^T] do not add up to 0, as those of a complete set do
-   (section 6, PC1). Dense and banded backends: each branch's sign once (branch_sign_), by a
-   bordered factorisation at its landing point (branch 0's on its tangent, as far from y0 as
-   branch 1's), difference steps as at sample points. Where a sign cannot be told (user
-   backend, over 64 branches, a failing evaluation or factorisation) the count alone decides.
-   A fatal code goes to *fatal (and 0 is returned). */
+   (section 6, PC1). Dense and banded backends: each branch's sign once (branch_sign_), at its
+   landing point (branch 0's on its tangent, as far from y0 as branch 1's): from the memo where
+   the point's piece or dH has an entry of known sign (psb__memo_sign), else by a bordered
+   factorisation there, difference steps as at sample points. Where a sign cannot be told
+   (user backend, over 64 branches, a failing evaluation or factorisation) the count alone
+   decides. A fatal code goes to *fatal (and 0 is returned). */
 static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, int n_branches,
                            psb_result *fatal)
 {
@@ -5895,13 +5964,18 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
         const double *tj = ts + (size_t)j * (size_t)np1, *p = ys + (size_t)j * (size_t)np1;
         psb__mon m;
         psb_result r;
+        int sign = 0;
         if (j == 0) {
             double d = psb__dist_w(s, ys + np1, ys), *q = PSB__VEC(s, PSB__V_BR_S);
             psb__axpy_to(q, ys, d > 0 ? d : s->branch.h, tj, np1);
             p = q;
         }
         s->fd_cap_ = 1e-3 * s->branch.h;
-        r = psb__monitor_at(s, p, tj, &m);
+        r = psb__memo_sign(s, p, tj, &sign);
+        if (r == PSB_SUCCESS && !sign) {
+            r = psb__monitor_at(s, p, tj, &m);
+            sign = m.sign[0] < 0 ? -1 : 1;
+        }
         s->fd_cap_ = 0;
         if (psb__is_fatal(r)) {
             *fatal = r;
@@ -5912,7 +5986,7 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
             s->branch_signs_n_ = -1;
             return 0;
         }
-        s->branch_sign_[j] = (signed char)(m.sign[0] < 0 ? -1 : 1);
+        s->branch_sign_[j] = (signed char)sign;
         s->branch_signs_n_ = j + 1;
     }
     for (j = 0; j < n_branches; j++) sum += s->branch_sign_[j];
