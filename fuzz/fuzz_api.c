@@ -400,6 +400,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (r >= 0) {
         REQUIRE(br.n_branches >= 1 && br.n_branches <= max_branches && br.n_failed == 0);
         REQUIRE(all_finite(ys, br.n_branches * np1) && all_finite(ts, br.n_branches * np1));
+        /* the signs' verdict: even counts only, never without determinants */
+        REQUIRE(!br.unbalanced || (br.n_branches % 2 == 0 && s.prob.linear != PSB_LINEAR_USER));
     }
     REQUIRE(br.n_failed == br.n_failed_callback + br.n_failed_nonfinite + br.n_failed_singular);
     psb_solver_free(&s);
