@@ -2396,6 +2396,9 @@ static inline int fe_run_summary(fe_run *run, int ndist, int expected, double se
     printf("  corrector iterations %ld, Jacobians %ld, factorisations reused %ld, sample tangents from the "
            "memos %ld\n", run->s.stats.n_newton, run->s.stats.n_jacobian, run->s.stats.n_factor_reused,
            run->s.stats.n_tangent_reused);
+    if (run->nbr % 2 != 0 || run->brep.unbalanced) /* manual section 6, "An odd count" */
+        printf("  %s: most likely branches are missing (raise --ndir or --nspan)\n",
+               run->nbr % 2 != 0 ? "an odd count of branches" : "the branches' outward signs do not cancel");
     return ndist == expected;
 }
 

@@ -206,5 +206,15 @@ fails "/dev/full is not a directory" quasistatic --quiet --out /dev/full
 fails "cannot write $tmp/o7/step_0003.vtu: Is a directory" quasistatic --quiet --mesh 8 --dt 0.1 --out "$tmp/o7"
 fails "cannot write $tmp/o8/evolution.csv: Is a directory" quasistatic --quiet --mesh 8 --dt 0.1 --out "$tmp/o8"
 
+# a sweep too short for the block (2 directions, 1 span): the example says the set looks
+# incomplete and fails the paper's count
+"$bin/block" --ndir 2 --nspan 1 >"$tmp/out" 2>"$tmp/err"
+rc=$?
+if [ $rc -eq 1 ] && grep -q "most likely branches are missing" "$tmp/out"; then
+    pass
+else
+    fail "block --ndir 2 --nspan 1: exit $rc, stdout: $(grep -m 1 distinct "$tmp/out")"
+fi
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
