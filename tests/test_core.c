@@ -1011,14 +1011,6 @@ static void test_restart_centre(void)
     }
 }
 
-/* Random spans beside a found branch (PSB_RESTART_MIXED) on absolute value equations
-   A x - |x| = b g, N = 6 (tests/pl_problems.h), entered along each ray with the defaults.
-   Where t_j's orthant is wide, y0 + h (t_j + 0.1 r) lies in it and its tangent is t_j: the
-   span swept t_j and rounding noise and mostly tried nothing, and the sweep ended on idle
-   random spans before a pair of rays was sampled (silently: an even count). Three problems
-   of an audit (10 000 per N and three generators; the third with A's diagonal near +-1) whose
-   entries named lost rays before (4 of 6 from ray 5, 18 of 20 from ray 13; 1 of 2 from ray 0,
-   odd); the random direction itself now spans the plane. */
 /* The ray of rays (np1 each) the unit direction of y lies on (1e-6), or -1. */
 static int ray_of(const double *y, const double *rays, int n_rays, int np1)
 {
@@ -1096,9 +1088,9 @@ static int residual_of_band(const double *y, double *h, void *user)
    signs by factorisations of their own) and on the banded backend (from the memo, banded
    factors): report.unbalanced is set exactly when the count is even and the found rays'
    signs do not add up to 0; no spurious branch; with the defaults every set is complete or
-   told incomplete (odd or unbalanced). The 4-node contact
-   system of an explorer audit: from entry 0, two rays of one sign returned with success and
-   nothing to tell before the sweep went on while the signs did not cancel. */
+   told incomplete (odd or unbalanced). The 4-node contact system of an explorer audit: from
+   entry 0, two rays of one sign returned with success and nothing to tell before the sweep
+   went on while the signs did not cancel. */
 static void test_outward_signs(void)
 {
     enum { NB = PL_MAX_RAYS * (PL_MAX_N + 1) };
@@ -1207,6 +1199,14 @@ static void test_outward_signs(void)
     CHECK(silent_def == 0 && audit_told == 12);
 }
 
+/* Random spans beside a found branch (PSB_RESTART_MIXED) on absolute value equations
+   A x - |x| = b g, N = 6 (tests/pl_problems.h), entered along each ray with the defaults.
+   Where t_j's orthant is wide, y0 + h (t_j + 0.1 r) lies in it and its tangent is t_j: the
+   span swept t_j and rounding noise and mostly tried nothing, and the sweep ended on idle
+   random spans before a pair of rays was sampled (silently: an even count). Three problems
+   of an audit (10 000 per N and three generators; the third with A's diagonal near +-1) whose
+   entries named lost rays before (4 of 6 from ray 5, 18 of 20 from ray 13; 1 of 2 from ray 0,
+   odd); the random direction itself now spans the plane. */
 static void test_ave_near_branch_spans(void)
 {
     static const pl_ave cases[3] = {
