@@ -557,7 +557,8 @@
      pair. 2 n_span idle random spans in a row (in R^2 all spans after the first), or 4 n_span
      spans in all (8 n_span when the length adapts), end the sweep; idle spans of pairs count
      in neither (each is followed by a random span, which bounds them). While the set found is
-     odd or unbalanced ("An odd count", below) only the spans in all end it.
+     odd or unbalanced ("An odd count", below), when the length adapts and in the sweeps that
+     follow it, only the spans in all end it.
    - Sweep length (n_span left at 0). Where regions are thin, new branches thin out slowly,
      and the span that brought the last new branch measures how thin they are. So the sweep
      goes on past 15 counted spans until twice as many again have found nothing (fewer than 3
@@ -593,9 +594,10 @@
      the set is odd or unbalanced (not the reruns with a smaller h_init). Each branch's sign
      is taken once, when the sweep would end, at its landing point (branch 0's on its
      tangent): from the memo where the point's piece or dH has an entry (every factorisation
-     that makes a memoised tangent keeps det B's sign, O(N) from the LU factors), else by a
-     bordered factorisation there (difference steps as at sample points); dense and banded
-     backends only. report.unbalanced tells a set left so. A missing pair of opposite signs
+     that makes a memoised tangent keeps det B's sign, O(N) from the LU factors; not from
+     shifted banded factors nor the dense QR fallback), else by a bordered factorisation there
+     (difference steps as at sample points; banded factors of an exactly singular dH/dx tell
+     none); dense and banded backends only. report.unbalanced tells a set left so. A missing pair of opposite signs
      (the thin regions, mostly) leaves the sum unchanged, so a balanced even count is no
      proof. Measured against the rule of the odd count alone (OpenBLAS, one thread, side by
      side): the absolute value equations' audit, N = 6, every ray of 10 000 problems entered,
@@ -5915,6 +5917,13 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     return PSB_SUCCESS;
 }
 
+/* A failed look-up in the memo tells nothing, and leaves no message behind. */
+static psb_result psb__memo_sign_none(psb_solver *s)
+{
+    s->message[0] = 0;
+    return PSB_SUCCESS;
+}
+
 /* The outward sign sgn det [dH; (W t)^T] of the branch (p, t) from Algorithm 2.2's memo: the
    entry of p's piece (problem.piece) or of dH(p) (the Jacobian memo), when its sign is known
    and its tangent lies along t (on a piece of a piecewise-linear H it is t's, up to
@@ -5930,12 +5939,12 @@ static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t
     if (s->jmemo_n_ == 0) return PSB_SUCCESS;
     if (s->prob.piece) {
         r = psb__piece_key(s, p, key, &known);
-        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
+        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : psb__memo_sign_none(s);
     }
     if (!known) {
         if (!psb__jmemo_usable(&s->prob)) return PSB_SUCCESS;
         r = psb__jacobian(s, p, NULL);
-        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
+        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : psb__memo_sign_none(s);
         psb__jmemo_key(s, key);
     }
     m = psb__jmemo_find(s, key);
@@ -5974,7 +5983,9 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
         r = psb__memo_sign(s, p, tj, &sign);
         if (r == PSB_SUCCESS && !sign) {
             r = psb__monitor_at(s, p, tj, &m);
-            sign = m.sign[0] < 0 ? -1 : 1;
+            /* banded factors of an exactly singular A tell no sign (psb__monitor's -700) */
+            if (r == PSB_SUCCESS && !(m.logabs[0] > -700)) r = PSB_ERR_SINGULAR;
+            if (r == PSB_SUCCESS) sign = m.sign[0] < 0 ? -1 : 1;
         }
         s->fd_cap_ = 0;
         if (psb__is_fatal(r)) {

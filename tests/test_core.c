@@ -1199,6 +1199,58 @@ static void test_outward_signs(void)
     CHECK(silent_def == 0 && audit_told == 12);
 }
 
+/* H = s (max(x, 0) + g), N = 1: two rays at the origin, (1, -1) and (-1, 0), of opposite outward
+   signs. Along the second dH/dx = 0: the banded backend's factors of A tell no determinant, and
+   took a sign of +1 for one (a review: unbalanced with the set complete). */
+static double kink_scale;
+
+static int kink_residual(const double *y, double *h, void *user)
+{
+    (void)user;
+    h[0] = kink_scale * ((y[0] > 0 ? y[0] : 0) + y[1]);
+    return 0;
+}
+
+static int kink_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    (void)user;
+    jac[0] = kink_scale * (y[0] > 0 ? 1 : 0);
+    jac[ld] = kink_scale;
+    return 0;
+}
+
+static int kink_band_jacobian(const double *y, double *band, int ldband, double *dparam, void *user)
+{
+    (void)user;
+    band[PSB_BAND_INDEX(0, ldband, 0, 0)] = kink_scale * (y[0] > 0 ? 1 : 0);
+    dparam[0] = kink_scale;
+    return 0;
+}
+
+static void test_outward_signs_singular_state_block(void)
+{
+    int scale, backend, ok = 0;
+    for (scale = 0; scale < 2; scale++)
+        for (backend = 0; backend < 3; backend++) { /* dense, differences, banded */
+            double y0[2] = {0, 0}, t0[2] = {-0.70710678118654752, 0.70710678118654752}, ys[16], ts[16];
+            psb_problem prob;
+            psb_solver s;
+            psb_branch_report br;
+            kink_scale = scale ? 1 : -1;
+            psb_problem_init(&prob, 1, kink_residual, backend == 1 ? NULL : kink_jacobian, NULL);
+            if (backend == 2) {
+                prob.linear = PSB_LINEAR_BANDED;
+                prob.band_jacobian = kink_band_jacobian;
+            }
+            CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+            ok += psb_find_branches(&s, y0, t0, NULL, 8, ys, ts, &br) == PSB_SUCCESS && br.n_branches == 2 &&
+                  !br.unbalanced && fabs(ts[2] + 1) < 1e-6 && fabs(ts[3]) < 1e-6;
+            psb_solver_free(&s);
+        }
+    printf("  outward signs where dH/dx is singular on a ray: %d of 6 runs complete and balanced\n", ok);
+    CHECK(ok == 6);
+}
+
 /* Random spans beside a found branch (PSB_RESTART_MIXED) on absolute value equations
    A x - |x| = b g, N = 6 (tests/pl_problems.h), entered along each ray with the defaults.
    Where t_j's orthant is wide, y0 + h (t_j + 0.1 r) lies in it and its tangent is t_j: the
@@ -2606,6 +2658,7 @@ int main(void)
     test_restart_centre();
     test_ave_near_branch_spans();
     test_outward_signs();
+    test_outward_signs_singular_state_block();
     test_screen_equivalence();
     test_cut_claim();
     test_crossing_kinks();
