@@ -597,17 +597,17 @@
      that makes a memoised tangent keeps det B's sign, O(N) from the LU factors; not from
      shifted banded factors nor the dense QR fallback), else by a bordered factorisation there
      (difference steps as at sample points; banded factors of an exactly singular dH/dx tell
-     none); dense and banded backends only. report.unbalanced tells a set left so. A missing pair of opposite signs
-     (the thin regions, mostly) leaves the sum unchanged, so a balanced even count is no
-     proof. Measured against the rule of the odd count alone (OpenBLAS, one thread, side by
-     side): the absolute value equations' audit, N = 6, every ray of 10 000 problems entered,
-     10 -> 2 incomplete entries of 59 684 (the same factorisations); bench_branching random
-     LCPs N = 10 248 -> 249 of 254 complete, contact systems N = 16 87 -> 88 of 88, every
-     other row's sets the same, Algorithm 2.2's factorisations with the defaults 0-1% more
-     (the memo gives the signs), with differences 0.1-3.4% (no memo: a factorisation a
-     branch); psb_explore on 2000 entries a family (seed 77), contact systems of 3 and 4
-     nodes 1991 -> 1992 and 1982 -> 1986 exact diagrams, random LCPs N = 8 1979 -> 1980; the
-     block: the same six branches from every input and seed of Tables 1-2, 0-4
+     none); dense and banded backends only. report.unbalanced tells a set left so. A missing
+     pair of opposite signs (the thin regions, mostly) leaves the sum unchanged, so a balanced
+     even count is no proof. Measured against the rule of the odd count alone (OpenBLAS, one
+     thread, side by side): the absolute value equations' audit, N = 6, every ray of 10 000
+     problems entered, 10 -> 2 incomplete entries of 59 684 (the same factorisations);
+     bench_branching random LCPs N = 10 248 -> 249 of 254 complete, contact systems N = 16
+     87 -> 88 of 88, every other row's sets the same, Algorithm 2.2's factorisations with the
+     defaults 0-1% more (the memo gives the signs), with differences 0.1-3.4% (no memo: a
+     factorisation a branch); psb_explore on 2000 entries a family (seed 77), contact systems
+     of 3 and 4 nodes 1991 -> 1992 and 1982 -> 1986 exact diagrams, random LCPs N = 8 1979 ->
+     1980; the block: the same six branches from every input and seed of Tables 1-2, 0-4
      factorisations more a run.
    - Adaptive end (patience, max_pc): stop after that many counted spans in a
      row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
