@@ -5917,13 +5917,6 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     return PSB_SUCCESS;
 }
 
-/* A failed look-up in the memo tells nothing, and leaves no message behind. */
-static psb_result psb__memo_sign_none(psb_solver *s)
-{
-    s->message[0] = 0;
-    return PSB_SUCCESS;
-}
-
 /* The outward sign sgn det [dH; (W t)^T] of the branch (p, t) from Algorithm 2.2's memo: the
    entry of p's piece (problem.piece) or of dH(p) (the Jacobian memo), when its sign is known
    and its tangent lies along t (on a piece of a piecewise-linear H it is t's, up to
@@ -5939,12 +5932,12 @@ static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t
     if (s->jmemo_n_ == 0) return PSB_SUCCESS;
     if (s->prob.piece) {
         r = psb__piece_key(s, p, key, &known);
-        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : psb__memo_sign_none(s);
+        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
     }
     if (!known) {
         if (!psb__jmemo_usable(&s->prob)) return PSB_SUCCESS;
         r = psb__jacobian(s, p, NULL);
-        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : psb__memo_sign_none(s);
+        if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
         psb__jmemo_key(s, key);
     }
     m = psb__jmemo_find(s, key);
@@ -5992,9 +5985,9 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
             *fatal = r;
             return 0;
         }
+        s->message[0] = 0; /* a failed look-up or factorisation here tells nothing */
         if (r != PSB_SUCCESS) {
-            s->message[0] = 0; /* no verdict: the count's */
-            s->branch_signs_n_ = -1;
+            s->branch_signs_n_ = -1; /* no verdict: the count's */
             return 0;
         }
         s->branch_sign_[j] = (signed char)sign;
@@ -7157,7 +7150,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     psb_node *nd;
     psb_branch_report br;
     psb_node_kind kind = kink ? PSB_NODE_PC1 : x->stop_kind;
-    int np1 = s->np1_, j, k, nb, looked = 0, unbalanced = 0;
+    int np1 = s->np1_, j, k, nb;
     int plain_possible = kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok); /* two branches: an ordinary kink */
     double precision = x->stop_precision, *before = PSB__XVEC(x, PSB__X_P);
     psb_result r = PSB_SUCCESS;
@@ -7191,27 +7184,20 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         r = psb__branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
                                      nd->ts, &br);
     else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->branch.n_span) {
-        /* a short look first: an ordinary kink is told by it; else the full sweep (reseeded:
-           the same result as without the look) */
+        /* a short look first: an ordinary kink is told by it, two branches whose outward
+           signs cancel (br.unbalanced: two of one sign are not all); else the full sweep
+           (reseeded: the same result as without the look) */
         int n_span = s->branch.n_span, n_span_max = s->branch.n_span_max;
         s->branch.n_span = s->branch.n_span_max = x->eo->kink_spans;
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
         s->branch.n_span = n_span;
         s->branch.n_span_max = n_span_max;
-        if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY))
+        if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY || br.unbalanced))
             r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
-        else
-            looked = 1;
     } else {
         r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
     }
     d->n_branchings++;
-    /* branches whose outward signs do not cancel are not all (br.unbalanced): where the look
-       alone found two such, the full sweep; two left so are no ordinary kink but a node,
-       counted in n_odd */
-    if (r == PSB_SUCCESS && br.unbalanced && looked)
-        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
-    unbalanced = r >= 0 && br.unbalanced;
     if (r < 0) {
         ed->result = r;
         psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
@@ -7221,7 +7207,8 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     nb = br.n_branches < d->max_branches ? br.n_branches : d->max_branches;
     /* an ordinary kink, located (branch_at_kinks) or where the tangent switch failed: the other
        branch */
-    if (plain_possible && nb == 2 && !unbalanced && r != PSB_BRANCH_CAPACITY) {
+    /* two left unbalanced are no ordinary kink but a node, counted in n_odd */
+    if (plain_possible && nb == 2 && !br.unbalanced && r != PSB_BRANCH_CAPACITY) {
         const double *y1 = nd->ys + np1;
         d->n_kinks_plain++;
         if (psb__explore_beyond_bound(x, y1)) {
@@ -7242,7 +7229,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         return PSB_SUCCESS;
     }
     psb__explore_add_node(x, kind, y, precision, -1);
-    if ((nb % 2 != 0 || unbalanced) && r != PSB_BRANCH_CAPACITY) d->n_odd++;
+    if ((nb % 2 != 0 || br.unbalanced) && r != PSB_BRANCH_CAPACITY) d->n_odd++;
     nd->n_branches = nb;
     nd->branch_edge[0] = e;
     for (k = 1; k < nb; k++) nd->branch_edge[k] = -1;

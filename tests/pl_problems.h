@@ -495,6 +495,38 @@ static int pl_stop_at_kink(const psb_point *pt, void *user)
     return (pt->flags & PSB_POINT_KINK) != 0;
 }
 
+/* A ray's outward sign, sgn det [dH; r^T] (manual section 6, PC1), dH from the jacobian callback
+   at 1e-3 r (constant on the ray's open region), by the tests' own elimination with partial
+   pivoting; 0 if singular or the callback fails. */
+PL_MAYBE_UNUSED static int pl_ray_sign(psb_jacobian_fn jacobian, void *user, int n, const double *ray)
+{
+    double a[(PL_MAX_N + 1) * (PL_MAX_N + 1)], p[PL_MAX_N + 1] = {0};
+    int np1 = n + 1, i, j, k, sign = 1;
+    for (i = 0; i < np1; i++) p[i] = 1e-3 * ray[i];
+    if (jacobian(p, a, np1, user) != 0) return 0;
+    for (j = 0; j < np1; j++) a[n + j * np1] = ray[j];
+    for (k = 0; k < np1; k++) {
+        int piv = k;
+        for (i = k + 1; i < np1; i++)
+            if (fabs(a[i + k * np1]) > fabs(a[piv + k * np1])) piv = i;
+        if (a[piv + k * np1] == 0) return 0;
+        if (piv != k) {
+            for (j = 0; j < np1; j++) {
+                double w = a[k + j * np1];
+                a[k + j * np1] = a[piv + j * np1];
+                a[piv + j * np1] = w;
+            }
+            sign = -sign;
+        }
+        if (a[k + k * np1] < 0) sign = -sign;
+        for (i = k + 1; i < np1; i++) {
+            double f = a[i + k * np1] / a[k + k * np1];
+            for (j = k; j < np1; j++) a[i + j * np1] -= f * a[k + j * np1];
+        }
+    }
+    return sign;
+}
+
 /* y at half the length of ray `incoming` (rays: np1 each), t pointing back to the origin. */
 PL_MAYBE_UNUSED static void pl_start_on_ray(int np1, const double *rays, int incoming, double *y, double *t)
 {

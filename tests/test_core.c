@@ -1024,37 +1024,6 @@ static int ray_of(const double *y, const double *rays, int n_rays, int np1)
     return -1;
 }
 
-/* A ray's outward sign, sgn det [dH; r^T], dH taken at 1e-3 r (constant on the ray's open
-   region), by the test's own elimination with partial pivoting; 0 if singular. */
-static int ray_sign(psb_jacobian_fn jacobian, void *user, int n, const double *ray)
-{
-    double a[(PL_MAX_N + 1) * (PL_MAX_N + 1)], p[PL_MAX_N + 1] = {0};
-    int np1 = n + 1, i, j, k, sign = 1;
-    for (i = 0; i < np1; i++) p[i] = 1e-3 * ray[i];
-    if (jacobian(p, a, np1, user) != 0) return 0;
-    for (j = 0; j < np1; j++) a[n + j * np1] = ray[j];
-    for (k = 0; k < np1; k++) {
-        int piv = k;
-        for (i = k + 1; i < np1; i++)
-            if (fabs(a[i + k * np1]) > fabs(a[piv + k * np1])) piv = i;
-        if (a[piv + k * np1] == 0) return 0;
-        if (piv != k) {
-            for (j = 0; j < np1; j++) {
-                double w = a[k + j * np1];
-                a[k + j * np1] = a[piv + j * np1];
-                a[piv + j * np1] = w;
-            }
-            sign = -sign;
-        }
-        if (a[k + k * np1] < 0) sign = -sign;
-        for (i = k + 1; i < np1; i++) {
-            double f = a[i + k * np1] / a[k + k * np1];
-            for (j = k; j < np1; j++) a[i + j * np1] -= f * a[k + j * np1];
-        }
-    }
-    return sign;
-}
-
 /* A dense problem's callbacks for the banded backend (kl = ku = n - 1, the parameter last). */
 typedef struct band_of_dense {
     psb_residual_fn residual;
@@ -1133,7 +1102,7 @@ static void test_outward_signs(void)
             }
             CHECK(n_rays >= 3);
             if (n_rays < 3) continue;
-            for (k = 0; k < n_rays; k++) sum += ray_sign(jac, user, n, rays + (size_t)k * (size_t)(n + 1));
+            for (k = 0; k < n_rays; k++) sum += pl_ray_sign(jac, user, n, rays + (size_t)k * (size_t)(n + 1));
             sets++;
             balanced_sets += sum == 0;
             bd.residual = res;
@@ -1170,7 +1139,7 @@ static void test_outward_signs(void)
                     for (j = 0; j < br.n_branches; j++) {
                         int ray = ray_of(ts + (size_t)j * (size_t)(n + 1), rays, n_rays, n + 1);
                         if (ray < 0) unmatched++;
-                        else found_sum += ray_sign(jac, user, n, rays + (size_t)ray * (size_t)(n + 1));
+                        else found_sum += pl_ray_sign(jac, user, n, rays + (size_t)ray * (size_t)(n + 1));
                     }
                     spurious += unmatched;
                     expected = br.n_branches % 2 == 0 && found_sum != 0;

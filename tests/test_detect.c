@@ -736,37 +736,6 @@ static void test_fold_kink(void)
 
 /* ---- PC1 bifurcation points passed through: generated piecewise-linear families ------------ */
 
-/* sign det [A; r^T] for the selection A active along ray r = (x*, g) of min(x, M x + q g) */
-static double ray_sign(const pl_problem *p, const double *ray, double orient)
-{
-    int n = p->n, np1 = n + 1, i, j, c;
-    double a[PL_MAX_N * PL_MAX_N + 2 * PL_MAX_N + 1], det = 1;
-    for (i = 0; i < n; i++)
-        for (j = 0; j <= n; j++)
-            a[i + j * np1] = ray[i] > 0 ? (j < n ? p->m[i + j * n] : p->q[i]) : (double)(i == j);
-    for (j = 0; j <= n; j++) a[n + j * np1] = orient * ray[j];
-    for (c = 0; c < np1; c++) {
-        int piv = c;
-        for (i = c + 1; i < np1; i++)
-            if (fabs(a[i + c * np1]) > fabs(a[piv + c * np1])) piv = i;
-        if (piv != c) {
-            det = -det;
-            for (j = 0; j < np1; j++) {
-                double tmp = a[c + j * np1];
-                a[c + j * np1] = a[piv + j * np1];
-                a[piv + j * np1] = tmp;
-            }
-        }
-        det *= a[c + c * np1];
-        if (a[c + c * np1] == 0) return 0;
-        for (i = c + 1; i < np1; i++) {
-            double f = a[i + c * np1] / a[c + c * np1];
-            for (j = c; j < np1; j++) a[i + j * np1] -= f * a[c + j * np1];
-        }
-    }
-    return det > 0 ? 1 : -1;
-}
-
 /* pl_jacobian in the banded backend's layout (full band, kl = ku = n - 1) */
 static int pl_band_jacobian(const double *y, double *band, int ldband, double *dparam, void *user)
 {
@@ -825,7 +794,7 @@ static void pass_through(const pl_problem *pl, const double *rays, int n_rays, i
     opt.h_init = 0.02;
     opt.kappa = kappa; /* the sign of det [dH; (W t)^T] does not depend on the weights */
     CHECK(psb_solver_init(&s, &p, &opt) == PSB_SUCCESS);
-    for (i = 0; i < n_rays; i++) sum += (int)ray_sign(pl, rays + i * np1, 1);
+    for (i = 0; i < n_rays; i++) sum += pl_ray_sign(pl_jacobian, (void *)pl, n, rays + i * np1);
     st->degree_ok += sum == 0; /* the outward signs of the rays add up to 0 */
     st->runs++;
     pl_start_on_ray(np1, rays, incoming, y, t);
@@ -848,7 +817,8 @@ static void pass_through(const pl_problem *pl, const double *rays, int n_rays, i
             if (c > best) { best = c; out = j; }
         }
         if (best > 0.9999 && out != incoming) {
-            int expect_pc1 = ray_sign(pl, rays + incoming * np1, 1) == ray_sign(pl, rays + out * np1, 1);
+            int expect_pc1 = pl_ray_sign(pl_jacobian, (void *)pl, n, rays + incoming * np1) ==
+                              pl_ray_sign(pl_jacobian, (void *)pl, n, rays + out * np1);
             int expect_fold = rays[incoming * np1 + n] * rays[out * np1 + n] > 0;
             int pc1 = rep.n_special[PSB_SPECIAL_PC1], fold = rep.n_special[PSB_SPECIAL_FOLD_KINK];
             st->passed++;
