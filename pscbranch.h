@@ -1153,54 +1153,51 @@ typedef struct psb_options {
 PSCBRANCH_DEF psb_options psb_options_resolve(const psb_options *opt);
 
 /* ---- branching options: Algorithms 2.1 and 2.2, psb_branch_point_switch ------------------ */
-/* Given to psb_locate_end, psb_find_branches and psb_branch_point_switch (NULL: defaults) and
-   in psb_explore_options.branch; every zero field takes the default in brackets (manual,
-   section 5). "h_min", "h_init" in brackets are psb_options', the continuation's. */
-typedef struct psb_branch_options {
+/* Switches for reproducing the paper and for experiments: a user leaves them at 0, which is
+   the library's method (manual, section 5). */
+typedef struct psb_branch_expert {
     int as_printed;       /* 1: Algorithm 2.2 exactly as printed, as far as a switch below
                              departs from it: paper_sweep = no_memo = no_screen = 1 and
                              restart = PSB_RESTART_PAPER (so a fixed length of n_span spans);
                              the other fields keep their meaning [0] */
-    double h;             /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
-                             h_fd_steps difference steps at each branching point (manual,
-                             section 1); a value set here stands, and Algorithm 2.2 then takes
-                             its sample tangents with difference steps below h / 1000] */
-    double h_fd_steps;    /* finite differences, h left at 0: h is this many difference steps
-                             at the point [1e4]; resolved to 0 when not used, while h then
-                             stays 0, meaning "follows the point" */
-    double h_min;         /* precision of Algorithm 2.1 [h / 2^14] */
-    double h_init;        /* first step of each trial predictor-corrector step of 2.2, and the
-                             radius of psb_branch_point_switch's sphere [h_init] */
-    double trial_h_min;   /* trial steps of Algorithm 2.2 give up below this step [h_min];
-                             e.g. h_init / 16 bounds each trial to 5 correctors */
-    int n_dir;            /* directions per span of two tangents (psb_branch_point_switch:
-                             2 n_dir angles on its circle) [20] */
-    int n_span;           /* counted spans (selections of the two spanning tangents) [15]; with
-                             the memo on, a span whose every tangent was tried before does not
-                             count, and after such a span of known branches a random one comes
-                             next (2 n_span such spans in a row, or 4 n_span in all, end it) */
-    int n_span_max;       /* counted spans at most when the sweep adapts its length [60 when
-                             n_span is left at 0 and the memo is on, else n_span]: n_span <
-                             n_span_max adapts (n_span counted spans at least, then on while
-                             fewer than 3 times the span of the last new branch or while the
-                             count of branches is odd or their outward signs do not cancel;
-                             2 n_span_max or 4 n_span spans in all, idle ones included; such a
-                             set then sweeps again with directions between the first sweep's,
-                             section 6, "An odd count"); n_span_max = n_span is a fixed
-                             length */
-    int patience;         /* stop after this many counted spans in a row found no new branch
-                             [0: never] */
-    long max_pc;          /* stop the sweep when n_pc reaches this budget [0: no budget] */
+    int paper_sweep;      /* 1: directions v = sin(a) t~1 + cos(a) t~2 exactly as printed;
+                             0: t~2 is first made w-orthogonal to t~1, so that the directions
+                             spread evenly over the plane [0] */
     int no_memo;          /* 1: try every direction whose region is new to its sweep, as
                              printed; 0: skip one whose tangent was tried already [0] */
     int no_screen;        /* 1: each trial along the sampled tangent, as printed; 0: along the
                              tangent at its predictor point, skipped when that one's trial is
-                             known (manual, section 6) [0] */
-    int paper_sweep;      /* 1: directions v = sin(a) t~1 + cos(a) t~2 exactly as printed;
-                             0: t~2 is first made w-orthogonal to t~1, so that the directions
-                             spread evenly over the plane [0] */
+                             known [0] */
     int restart;          /* how random spans are drawn once the pairs of known branches are
                              used up [PSB_RESTART_MIXED]: see psb_restart */
+    double h_fd_steps;    /* finite differences, h left at 0: h is this many difference steps
+                             at the point [1e4]; resolved to 0 when not used, while h then
+                             stays 0, meaning "follows the point" */
+    double trial_h_min;   /* trial steps of Algorithm 2.2 give up below this step [h_min];
+                             e.g. h_init / 16 bounds each trial to 5 correctors */
+    int patience;         /* stop after this many counted spans in a row found no new branch
+                             [0: never] */
+} psb_branch_expert;
+
+/* Given to psb_locate_end, psb_find_branches and psb_branch_point_switch (NULL: defaults) and
+   in psb_explore_options.branch; every zero field takes the default in brackets (manual,
+   section 5). "h_min", "h_init" in brackets are psb_options', the continuation's. */
+typedef struct psb_branch_options {
+    double h;             /* h of Algorithms 2.1 and 2.2 [h_min; with finite differences
+                             expert.h_fd_steps difference steps at each branching point] */
+    double h_min;         /* precision of Algorithm 2.1 [h / 2^14] */
+    double h_init;        /* first step of each trial predictor-corrector step of 2.2, and the
+                             radius of psb_branch_point_switch's sphere [h_init] */
+    int n_dir;            /* directions per span of two tangents (psb_branch_point_switch:
+                             2 n_dir angles on its circle) [20] */
+    int n_span;           /* counted spans (selections of the two spanning tangents) [15]; with
+                             the memo on, a span whose every tangent was tried before does not
+                             count */
+    int n_span_max;       /* counted spans at most when the sweep adapts its length [60 when
+                             n_span is left at 0 and the memo is on, else n_span]: n_span <
+                             n_span_max adapts; n_span_max = n_span is a fixed length */
+    long max_pc;          /* stop the sweep when n_pc reaches this budget [0: no budget] */
+    psb_branch_expert expert; /* paper reproduction and experiments [all 0] */
 } psb_branch_options;
 
 /* ---- counters ---------------------------------------------------------------------------- */
@@ -2187,22 +2184,22 @@ PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_opt
     double h_min = ready ? s->opt.h_min : 1e-6, h_init = ready ? s->opt.h_init : 1e-2;
     if (bo) b = *bo;
     else memset(&b, 0, sizeof b);
-    if (b.as_printed == 1) { /* the switches whose zero departs from the printed algorithm */
-        b.paper_sweep = b.no_memo = b.no_screen = 1;
-        if (b.restart == PSB_RESTART_MIXED) b.restart = PSB_RESTART_PAPER;
+    if (b.expert.as_printed == 1) { /* the switches whose zero departs from the printed algorithm */
+        b.expert.paper_sweep = b.expert.no_memo = b.expert.no_screen = 1;
+        if (b.expert.restart == PSB_RESTART_MIXED) b.expert.restart = PSB_RESTART_PAPER;
     }
     if (b.h == 0 && fd) {
-        if (b.h_fd_steps == 0) b.h_fd_steps = 1e4; /* h follows the point */
+        if (b.expert.h_fd_steps == 0) b.expert.h_fd_steps = 1e4; /* h follows the point */
     } else {
         if (b.h == 0) b.h = h_min;
         if (b.h_min == 0) b.h_min = b.h / 16384.0;
-        b.h_fd_steps = 0; /* not used */
+        b.expert.h_fd_steps = 0; /* not used */
     }
     if (b.h_init == 0) b.h_init = h_init;
     if (b.n_dir == 0) b.n_dir = 20;
-    if (b.n_span_max == 0) b.n_span_max = b.n_span == 0 && !b.no_memo ? 60 : b.n_span ? b.n_span : 15;
+    if (b.n_span_max == 0) b.n_span_max = b.n_span == 0 && !b.expert.no_memo ? 60 : b.n_span ? b.n_span : 15;
     if (b.n_span == 0) b.n_span = 15;
-    if (b.trial_h_min == 0) b.trial_h_min = h_min;
+    if (b.expert.trial_h_min == 0) b.expert.trial_h_min = h_min;
     return b;
 }
 
@@ -2269,12 +2266,12 @@ static const char *psb__check_options(const psb_options *o, int np1)
 /* Checks resolved branching options the same way; the message names the field. */
 static const char *psb__check_branch(const psb_branch_options *b)
 {
-    if (b->as_printed != 0 && b->as_printed != 1) return "branch options: as_printed must be 0 or 1";
-    if (b->as_printed && b->restart != PSB_RESTART_PAPER)
-        return "branch options: as_printed = 1 draws random spans as printed (restart PSB_RESTART_PAPER)";
+    if (b->expert.as_printed != 0 && b->expert.as_printed != 1) return "branch options: expert.as_printed must be 0 or 1";
+    if (b->expert.as_printed && b->expert.restart != PSB_RESTART_PAPER)
+        return "branch options: expert.as_printed = 1 draws random spans as printed (expert.restart PSB_RESTART_PAPER)";
     if (!PSB__LEN(b->h_init)) return "branch options: h_init must be finite and >= 1e-290";
-    if (b->h == 0 && b->h_fd_steps != 0) { /* follows the point (finite differences) */
-        if (!(b->h_fd_steps >= 1 && b->h_fd_steps <= 1e8)) return "branch options: h_fd_steps must lie in [1, 1e8]";
+    if (b->h == 0 && b->expert.h_fd_steps != 0) { /* follows the point (finite differences) */
+        if (!(b->expert.h_fd_steps >= 1 && b->expert.h_fd_steps <= 1e8)) return "branch options: expert.h_fd_steps must lie in [1, 1e8]";
         if (b->h_min != 0 && !PSB__LEN(b->h_min)) return "branch options: h_min must be finite and >= 1e-290";
     } else if (!PSB__LEN(b->h) || !PSB__LEN(b->h_min) || !(b->h_min < b->h)) {
         return "branch options: h, h_min: need 1e-290 <= h_min < h < inf (h_min defaults to h / 16384)";
@@ -2285,11 +2282,11 @@ static const char *psb__check_branch(const psb_branch_options *b)
         return "branch options: n_span must lie in [1, PSB_MAX_SPAN_LIMIT = 10000]";
     if (b->n_span_max < b->n_span || b->n_span_max > PSB_MAX_SPAN_LIMIT)
         return "branch options: n_span_max must lie in [n_span, PSB_MAX_SPAN_LIMIT = 10000]";
-    if (!PSB__LEN(b->trial_h_min)) return "branch options: trial_h_min must be finite and >= 1e-290";
-    if (b->patience < 0) return "branch options: patience must be >= 0";
+    if (!PSB__LEN(b->expert.trial_h_min)) return "branch options: expert.trial_h_min must be finite and >= 1e-290";
+    if (b->expert.patience < 0) return "branch options: expert.patience must be >= 0";
     if (b->max_pc < 0) return "branch options: max_pc must be >= 0";
-    if (b->restart < PSB_RESTART_MIXED || b->restart > PSB_RESTART_GLOBAL)
-        return "branch options: restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
+    if (b->expert.restart < PSB_RESTART_MIXED || b->expert.restart > PSB_RESTART_GLOBAL)
+        return "branch options: expert.restart must be PSB_RESTART_MIXED, _PAPER or _GLOBAL";
 #undef PSB__WEIGHT_OK
 #undef PSB__LEN
     return NULL;
@@ -5256,7 +5253,7 @@ static double psb__auto_branch_h(const psb_solver *s, const double *y)
         double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
         if (sj > step) step = sj;
     }
-    h = s->branch.h_fd_steps * step;
+    h = s->branch.expert.h_fd_steps * step;
     if (h > s->branch.h_init / 8) h = s->branch.h_init / 8;
     return h > s->opt.h_min ? h : s->opt.h_min;
 }
@@ -5816,7 +5813,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     psb_result r;
     /* the trials from y0 along +-tt depend on y0 and tt alone: a tangent within c_diff of one
        tried before in this call (any span) repeats its trials and their verdict */
-    if (!s->branch.no_memo && psb__memo_seen(s, tt)) {
+    if (!s->branch.expert.no_memo && psb__memo_seen(s, tt)) {
         rep->n_memo++;
         return PSB_SUCCESS;
     }
@@ -5826,7 +5823,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         s->path_own_ = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
-        if (!s->branch.no_screen) {
+        if (!s->branch.expert.no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
             s->cone_probe_ = y0;
@@ -5855,12 +5852,12 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         /* not with finite differences: the corrector's quotients (steps not held below
            branch_h / 1000 as at sample points) can mix the pieces at its iterates, and
            recorded their paths cost complete sets (random LCPs, N = 8: 196 of 236, not 214) */
-        s->path_on_ = !s->branch.no_screen && !psb__fd_jacobian(&s->prob);
+        s->path_on_ = !s->branch.expert.no_screen && !psb__fd_jacobian(&s->prob);
         s->path_ts_ = ts;
         s->path_nts_ = rep->n_branches;
         s->conic_y0_ = s->path_on_ && s->conic_h0_ok_ ? y0 : NULL;
         memo_cuts = s->memo_cuts_;
-        r = psb__try_step_from(s, yb, tb, &hh, s->branch.trial_h_min, &iters, y0);
+        r = psb__try_step_from(s, yb, tb, &hh, s->branch.expert.trial_h_min, &iters, y0);
         rep->n_cut_memo += s->memo_cuts_ - memo_cuts;
         s->path_on_ = 0;
         s->conic_y0_ = NULL;
@@ -5913,7 +5910,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
         rep->n_branches++;
     }
-    if (!s->branch.no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
+    if (!s->branch.expert.no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
     return PSB_SUCCESS;
 }
 
@@ -6008,7 +6005,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
     double h = s->branch.h, *q = PSB__VEC(s, PSB__V_BR_Q);
     psb_result r;
     psb__copy(q, t2, np1);
-    if (!s->branch.paper_sweep) {
+    if (!s->branch.expert.paper_sweep) {
         /* t2 made w-orthogonal to t1: the same plane, but the n_dir directions spread evenly
            over it even when t1 and t2 are nearly parallel (then the printed combination
            bunches them around +-t1 and +-t2 and misses the regions in between) */
@@ -6033,7 +6030,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         /* a tangent tried before is skipped by psb__try_tangent; one that will be tried is
            the recomputed one (psb__sample_tangent) */
-        if (from_memo && (s->branch.no_memo || !psb__memo_seen(s, tt))) {
+        if (from_memo && (s->branch.expert.no_memo || !psb__memo_seen(s, tt))) {
             r = psb__sample_refresh(s, from_memo, pt, v, tt);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) {
@@ -6065,7 +6062,7 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
             double c;
             if (s->pairs_done_[bit / 64] >> (bit % 64) & 1u) continue;
             c = fabs(psb__cos_w(s, ts + (size_t)i * (size_t)np1, ts + (size_t)j * (size_t)np1));
-            if (!s->branch.paper_sweep) c = 1 - c;
+            if (!s->branch.expert.paper_sweep) c = 1 - c;
             if (c > best) {
                 best = c;
                 *pi = i;
@@ -6087,9 +6084,9 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
 static const double *psb__restart_centre(const psb_solver *s, const double *ts, int n_br, int n_rand,
                                          const double *prev, double *t1)
 {
-    if (s->branch.restart == PSB_RESTART_GLOBAL || (s->branch.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
+    if (s->branch.expert.restart == PSB_RESTART_GLOBAL || (s->branch.expert.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
         return NULL;
-    if (s->branch.restart == PSB_RESTART_PAPER) return prev;
+    if (s->branch.expert.restart == PSB_RESTART_PAPER) return prev;
     psb__copy(t1, ts + (size_t)(n_rand / 2 % n_br) * (size_t)s->np1_, s->np1_);
     return t1;
 }
@@ -6171,8 +6168,8 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
                    branch t_j whose region holds the random point, the tangent is t_j = t~1,
                    and the plane would be t~1's and rounding noise's. The random direction
                    spans a fresh one */
-                if (global ? !s->branch.no_memo && psb__memo_seen(s, t2)
-                           : s->branch.restart == PSB_RESTART_MIXED && fabs(psb__cos_w(s, t2, t1)) >= s->opt.c_diff)
+                if (global ? !s->branch.expert.no_memo && psb__memo_seen(s, t2)
+                           : s->branch.expert.restart == PSB_RESTART_MIXED && fabs(psb__cos_w(s, t2, t1)) >= s->opt.c_diff)
                     psb__copy(t2, rnd, np1);
             }
         }
@@ -6182,7 +6179,7 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
             break;
         }
         pair_stale = pair_span && rep->n_pc == pc_before;
-        if (rep->n_pc == pc_before && !s->branch.no_memo) {
+        if (rep->n_pc == pc_before && !s->branch.expert.no_memo) {
             rep->n_span_idle++;
             if (pair_span) idle_pair_spans++;
             else if (++idle_spans_in_a_row >= 2 * s->branch.n_span &&
@@ -6201,7 +6198,7 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
         }
         /* adaptive end: spans in a row that brought no new branch */
         idle = rep->n_branches > found_before ? 0 : idle + 1;
-        if (s->branch.patience && idle >= s->branch.patience) break;
+        if (s->branch.expert.patience && idle >= s->branch.expert.patience) break;
     }
     return fatal;
 }
@@ -6246,7 +6243,7 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     psb__branch_h(s, yc);
     /* H(y0) for the trials' conic test (psb__conic_excess); the test is off without it */
     s->conic_h0_ok_ = 0;
-    if (s->jmemo_dh_ && !s->branch.no_screen) {
+    if (s->jmemo_dh_ && !s->branch.expert.no_screen) {
         r = psb__residual(s, yc, PSB__VEC(s, PSB__V_BR_H0));
         if (psb__is_fatal(r)) return r;
         s->conic_h0_ok_ = r == PSB_SUCCESS;
@@ -6364,8 +6361,8 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         s->branch.h_init /= 16;
     }
     /* not with patience (the caller chose to stop early), nor past max_pc */
-    if (r == PSB_SUCCESS && s->branch.n_span_max > s->branch.n_span && !s->branch.no_memo &&
-        !s->branch.patience && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
+    if (r == PSB_SUCCESS && s->branch.n_span_max > s->branch.n_span && !s->branch.expert.no_memo &&
+        !s->branch.expert.patience && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
         psb__unbalanced(s, ys, ts, rep->n_branches, &r)) {
         int overflow = 0, counted = rep->n_span;
         r = psb__odd_sweeps(s, max_branches, ys, ts, rep, &overflow);

@@ -46,7 +46,7 @@ static void run(int n, psb_residual_fn residual, psb_jacobian_fn jacobian, void 
     psb_branch_report br;
     psb_result r;
     memset(&bo, 0, sizeof bo);
-    bo.as_printed = cfg == CFG_PRINTED;
+    bo.expert.as_printed = cfg == CFG_PRINTED;
     psb_problem_init(&prob, n, residual, cfg == CFG_FD ? NULL : jacobian, user);
     tl->runs++;
     if (psb_solver_init(&s, &prob, NULL) != PSB_SUCCESS) { tl->failed++; return; }

@@ -363,8 +363,8 @@ static int block_main(int argc, char **argv)
     opt.c_diff = 0.99999; opt.seed = a.seed; opt.max_iter = a.maxiter;
     memset(&bo, 0, sizeof bo);
     bo.h = 5e-7; bo.h_min = 5e-7 / 16384; bo.h_init = 5e-4;
-    bo.n_dir = a.ndir; bo.n_span = a.nspan; bo.trial_h_min = a.hmin; bo.paper_sweep = a.paper_sweep; bo.no_screen = a.no_screen; bo.restart = a.restart;
-    bo.patience = a.patience;
+    bo.n_dir = a.ndir; bo.n_span = a.nspan; bo.expert.trial_h_min = a.hmin; bo.expert.paper_sweep = a.paper_sweep; bo.expert.no_screen = a.no_screen; bo.expert.restart = a.restart;
+    bo.expert.patience = a.patience;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "block: out of memory\n"); goto done; }
     if (a.mult_weight < 0) a.mult_weight = 1 / (md.r * md.r);

@@ -444,7 +444,7 @@ static void set_options(psb_options *opt, psb_branch_options *bo, const args *a,
     opt->tol_residual = 1e-9; opt->tol_correction = 1e-9;
     opt->c_diff = 1 - 1e-10; opt->seed = a->seed;
     bo->h = 5e-8; bo->h_min = 5e-8 / 16384; bo->h_init = 5e-4;
-    bo->trial_h_min = a->hmin;
+    bo->expert.trial_h_min = a->hmin;
     bo->n_dir = a->ndir; bo->n_span = a->nspan;
 }
 

@@ -243,22 +243,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fd_central = (int)(rd_u8(&b) & 1);
     o.c_diff = rd_double(&b);
     bo.h = rd_double(&b);
-    bo.h_fd_steps = rd_double(&b);
+    bo.expert.h_fd_steps = rd_double(&b);
     bo.h_min = rd_double(&b);
     bo.h_init = rd_double(&b);
     bo.n_dir = rd_int(&b);
     o.switch_n_dir = bo.n_dir;
     bo.n_span = rd_int(&b);
     bo.n_span_max = rd_int(&b);
-    bo.trial_h_min = rd_double(&b);
-    bo.patience = rd_int(&b);
+    bo.expert.trial_h_min = rd_double(&b);
+    bo.expert.patience = rd_int(&b);
     bo.max_pc = rd_int(&b);
-    bo.no_memo = (int)(rd_u8(&b) & 1);
-    bo.no_screen = (int)(rd_u8(&b) & 1);
-    bo.paper_sweep = (int)(rd_u8(&b) & 1);
-    bo.restart = (int)(rd_u8(&b) % 4);
+    bo.expert.no_memo = (int)(rd_u8(&b) & 1);
+    bo.expert.no_screen = (int)(rd_u8(&b) & 1);
+    bo.expert.paper_sweep = (int)(rd_u8(&b) & 1);
+    bo.expert.restart = (int)(rd_u8(&b) % 4);
     o.seed = rd_u8(&b);
-    bo.as_printed = (int)(o.seed % 3 == 2); /* no byte of its own: the seed's */
+    bo.expert.as_printed = (int)(o.seed % 3 == 2); /* no byte of its own: the seed's */
 
     /* the problem */
     memset(&fp, 0, sizeof fp);
@@ -315,8 +315,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         check_failure(&s, r);
         if (r == PSB_ERR_NULL)
             REQUIRE(s.branch.n_span == rb.n_span && s.branch.n_span_max == rb.n_span_max &&
-                    s.branch.n_dir == rb.n_dir && s.branch.restart == rb.restart &&
-                    s.branch.h_fd_steps == rb.h_fd_steps &&
+                    s.branch.n_dir == rb.n_dir && s.branch.expert.restart == rb.expert.restart &&
+                    s.branch.expert.h_fd_steps == rb.expert.h_fd_steps &&
                     memcmp(&s.branch.h_init, &rb.h_init, sizeof(double)) == 0);
     }
     psb_solver_free(&s);
@@ -327,7 +327,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (o.max_iter > 20 || o.max_iter < 0) o.max_iter = 20;
     if (bo.max_pc <= 0 || bo.max_pc > 40) bo.max_pc = 40;
     if (!(o.h_min >= 1e-9)) o.h_min = 0;
-    if (!(bo.trial_h_min >= 1e-9)) bo.trial_h_min = 0;
+    if (!(bo.expert.trial_h_min >= 1e-9)) bo.expert.trial_h_min = 0;
     if (!(bo.h_min >= 1e-12)) bo.h_min = 0;
     to.max_steps = 60;
     if (psb_solver_init(&s, &prob, &o) != PSB_SUCCESS) {

@@ -603,7 +603,7 @@ static void check_star(int nz, int incoming, int paper_sweep)
     CHECK(n_rays == 8);
     psb_problem_init(&prob, nz + 1, star_res, star_jac, &sp);
     paper_options(&o, &bo);
-    bo.paper_sweep = paper_sweep;
+    bo.expert.paper_sweep = paper_sweep;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     pl_start_on_ray(np1, rays, incoming, y, t);
     CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
@@ -629,8 +629,8 @@ static void test_branch_budgets(void)
     CHECK(star_rays(&sp, rays) == 8);
     psb_problem_init(&prob, 1, star_res, star_jac, &sp);
     paper_options(&o, &bo);
-    bo.no_memo = 1; /* every direction tried, as printed: n_pc as the paper counts it */
-    bo.no_screen = 1;
+    bo.expert.no_memo = 1; /* every direction tried, as printed: n_pc as the paper counts it */
+    bo.expert.no_screen = 1;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     pl_start_on_ray(2, rays, 0, y, t);
     CHECK(pl_trace_to_kink(&s, y, t, NULL) == PSB_STOPPED);
@@ -643,7 +643,7 @@ static void test_branch_budgets(void)
     CHECK(full.n_pc_last_new <= full.n_pc && full.n_rand_last_new <= full.n_rand);
     psb_solver_free(&s);
 
-    bo.patience = 2;
+    bo.expert.patience = 2;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &adaptive) == PSB_SUCCESS);
     CHECK(adaptive.n_branches == 8);
@@ -653,7 +653,7 @@ static void test_branch_budgets(void)
     CHECK(adaptive.n_pc_last_new == full.n_pc_last_new && adaptive.span_last_new == full.span_last_new);
     psb_solver_free(&s);
 
-    bo.patience = 0;
+    bo.expert.patience = 0;
     bo.max_pc = 10;
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &budget) == PSB_SUCCESS);
@@ -676,7 +676,7 @@ static void test_branch_budgets(void)
         psb_branch_report memo;
         double ys2[16 * 2], ts2[16 * 2];
         int k;
-        bo.no_memo = 0;
+        bo.expert.no_memo = 0;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
         CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys2, ts2, &memo) == PSB_SUCCESS);
         CHECK(memo.n_branches == 8 && memo.n_memo > 0 && 4 * memo.n_pc < full.n_pc);
@@ -687,7 +687,7 @@ static void test_branch_budgets(void)
         /* at most 2 n_span + 28 + 1 sweeps, and the random draws' own tangents */
         CHECK(memo.n_tangents <= 1 + (2 * bo.n_span + 28 + 1) * bo.n_dir + memo.n_rand);
         psb_solver_free(&s);
-        bo.no_memo = 1;
+        bo.expert.no_memo = 1;
         bo.n_span = 1;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
         CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &full) == PSB_SUCCESS);
@@ -699,8 +699,8 @@ static void test_branch_budgets(void)
            a trial whose tangent there is a found ray's or was tried skipped */
         {
             psb_branch_report screened;
-            bo.no_memo = 0;
-            bo.no_screen = 0;
+            bo.expert.no_memo = 0;
+            bo.expert.no_screen = 0;
             bo.n_span = 15;
             CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
             CHECK(psb_find_branches(&s, y0, t0, &bo, 16, ys, ts, &screened) == PSB_SUCCESS);
@@ -954,7 +954,7 @@ static void test_pair_order(void)
     for (way = 0; way < 2; way++) {
         memset(&o, 0, sizeof o);
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-        s.branch.paper_sweep = way; /* as a branching call with paper_sweep sets it */
+        s.branch.expert.paper_sweep = way; /* as a branching call with paper_sweep sets it */
         /* t_0 = e_0, t_1 = e_1, t_2 = (e_0 - 0.9 e_2) / |.|, t_3 = -(e_1 + 0.5 e_3) / |.|:
            |cos| (0,2) 0.74, (1,3) 0.89, (0,1) (1,2) (0,3) (2,3) 0 */
         memset(ts, 0, sizeof ts);
@@ -994,7 +994,7 @@ static void test_restart_centre(void)
     for (mode = PSB_RESTART_MIXED; mode <= PSB_RESTART_GLOBAL; mode++) {
         memset(&o, 0, sizeof o);
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-        s.branch.restart = mode; /* as a branching call with this restart sets it */
+        s.branch.expert.restart = mode; /* as a branching call with this restart sets it */
         for (n_rand = 0; n_rand < 8; n_rand++) {
             const double *c;
             for (k = 0; k < 5; k++) t1[k] = keep[k] = -1 - k;
@@ -1288,7 +1288,7 @@ static int trial_ray(psb_solver *s, const double *y0, const double *dir, int rec
     memcpy(y, y0, (size_t)np1 * sizeof(double));
     memcpy(t, dir, (size_t)np1 * sizeof(double));
     s->path_on_ = record;
-    landed = psb__try_step_from(s, y, t, &h, s->branch.trial_h_min, &iters, y0) == PSB_SUCCESS;
+    landed = psb__try_step_from(s, y, t, &h, s->branch.expert.trial_h_min, &iters, y0) == PSB_SUCCESS;
     s->path_on_ = 0;
     return landed ? ray_of(y, rays, n_rays, np1) : -2;
 }
@@ -2152,7 +2152,7 @@ static void test_odd_count_sweeps_on(void)
                 /* patience set: the caller's early end stands (here with 9 branches, reference
                    BLAS and OpenBLAS) */
                 memset(&bo, 0, sizeof bo);
-                bo.patience = 5;
+                bo.expert.patience = 5;
                 CHECK(psb_find_branches(&s, y, t, &bo, PL_MAX_RAYS, ys, ts, &br) == PSB_SUCCESS);
                 printf("  with patience 5: %d branches, %d spans after an odd count\n", br.n_branches,
                        br.n_span_odd);
@@ -2505,7 +2505,7 @@ static void test_failures(void)
             CHECK(psb_locate_end(&s, yb, tb, &bo, &prec) == PSB_ERR_OPTIONS && s.message[0] != 0);
             CHECK(prec == -1 && yb[0] == 0.6 && yb[1] == 0.8 && tb[0] == 0.8 && tb[1] == -0.6);
             bo.h = 1e-6;
-            bo.trial_h_min = 1e-300;
+            bo.expert.trial_h_min = 1e-300;
             CHECK(psb_locate_end(&s, yb, tb, &bo, &prec) == PSB_ERR_OPTIONS);
             psb_solver_free(&s);
         }
@@ -2601,7 +2601,7 @@ static void test_options_resolve(void)
     psb_branch_options b = psb_branch_options_resolve(NULL, NULL);
     CHECK(d.kappa == 1 && d.h_init == 1e-2 && d.h_min == 1e-6 && d.c_diff == 0.99999 && d.switch_n_dir == 20);
     CHECK(b.n_dir == 20 && b.n_span == 15 && b.n_span_max == 60 && b.h == d.h_min);
-    CHECK(b.h_min == b.h / 16384 && b.h_init == d.h_init && b.trial_h_min == d.h_min);
+    CHECK(b.h_min == b.h / 16384 && b.h_init == d.h_init && b.expert.trial_h_min == d.h_min);
 }
 
 int main(void)

@@ -615,11 +615,11 @@ static void test_misuse(void)
    with skip_h, h and h_min aside (they follow the point with differences). */
 static int same_branch_options(const psb_branch_options *a, const psb_branch_options *b, int skip_h)
 {
-    return a->as_printed == b->as_printed && (skip_h || (a->h == b->h && a->h_min == b->h_min)) &&
-           a->h_fd_steps == b->h_fd_steps && a->h_init == b->h_init && a->trial_h_min == b->trial_h_min &&
+    return a->expert.as_printed == b->expert.as_printed && (skip_h || (a->h == b->h && a->h_min == b->h_min)) &&
+           a->expert.h_fd_steps == b->expert.h_fd_steps && a->h_init == b->h_init && a->expert.trial_h_min == b->expert.trial_h_min &&
            a->n_dir == b->n_dir && a->n_span == b->n_span && a->n_span_max == b->n_span_max &&
-           a->patience == b->patience && a->max_pc == b->max_pc && a->no_memo == b->no_memo &&
-           a->no_screen == b->no_screen && a->paper_sweep == b->paper_sweep && a->restart == b->restart;
+           a->expert.patience == b->expert.patience && a->max_pc == b->max_pc && a->expert.no_memo == b->expert.no_memo &&
+           a->expert.no_screen == b->expert.no_screen && a->expert.paper_sweep == b->expert.paper_sweep && a->expert.restart == b->expert.restart;
 }
 
 /* Item 2: option arithmetic. Every field NaN or Inf is rejected by name; counts have upper
@@ -648,8 +648,8 @@ static void test_option_limits(void)
 #undef FIELD
     }, bfields[] = {
 #define FIELD(f, name) {offsetof(psb_branch_options, f), name}
-        FIELD(h, "h, h_min"), FIELD(h_fd_steps, "h_fd_steps"), FIELD(h_min, "h_min"),
-        FIELD(h_init, "h_init"), FIELD(trial_h_min, "trial_h_min"),
+        FIELD(h, "h, h_min"), FIELD(expert.h_fd_steps, "h_fd_steps"), FIELD(h_min, "h_min"),
+        FIELD(h_init, "h_init"), FIELD(expert.trial_h_min, "trial_h_min"),
 #undef FIELD
     };
     example_problem(&p, rays);
@@ -719,20 +719,20 @@ static void test_option_limits(void)
     BRANCH_REJECTED((bo.n_span = 20, bo.n_span_max = 19), "n_span_max");
     BRANCH_REJECTED(bo.n_dir = INT_MAX, "n_dir");
     BRANCH_REJECTED(bo.n_dir = -1, "n_dir");
-    BRANCH_REJECTED(bo.patience = -1, "patience");
+    BRANCH_REJECTED(bo.expert.patience = -1, "patience");
     BRANCH_REJECTED(bo.max_pc = -1, "max_pc");
-    BRANCH_REJECTED(bo.restart = 7, "restart");
+    BRANCH_REJECTED(bo.expert.restart = 7, "restart");
     BRANCH_REJECTED((bo.h = 1e-6, bo.h_min = 1e-6), "h, h_min");
-    BRANCH_REJECTED(bo.as_printed = 2, "as_printed");
-    BRANCH_REJECTED((bo.as_printed = 1, bo.restart = PSB_RESTART_GLOBAL), "as_printed");
+    BRANCH_REJECTED(bo.expert.as_printed = 2, "as_printed");
+    BRANCH_REJECTED((bo.expert.as_printed = 1, bo.expert.restart = PSB_RESTART_GLOBAL), "as_printed");
 #undef BRANCH_REJECTED
     memset(&bo, 0, sizeof bo); /* the limits themselves are valid */
     bo.n_span = bo.n_span_max = PSB_MAX_SPAN_LIMIT;
     bo.n_dir = PSB_MAX_DIR_LIMIT;
-    bo.as_printed = 1;
-    bo.restart = PSB_RESTART_PAPER;
+    bo.expert.as_printed = 1;
+    bo.expert.restart = PSB_RESTART_PAPER;
     CHECK(psb_locate_end(&s, y, t, &bo, NULL) != PSB_ERR_OPTIONS);
-    CHECK(s.branch.n_span == PSB_MAX_SPAN_LIMIT && s.branch.n_dir == PSB_MAX_DIR_LIMIT && s.branch.as_printed == 1);
+    CHECK(s.branch.n_span == PSB_MAX_SPAN_LIMIT && s.branch.n_dir == PSB_MAX_DIR_LIMIT && s.branch.expert.as_printed == 1);
     psb_solver_free(&s);
 }
 
@@ -748,21 +748,21 @@ static void test_resolve_truthful(void)
     psb_branch_options d = psb_branch_options_resolve(NULL, NULL), b;
     int fd, way;
     example_problem(&p, rays);
-    CHECK(d.n_span == 15 && d.n_span_max == 60 && d.h == 1e-6 && d.h_min == 1e-6 / 16384 && d.h_fd_steps == 0);
-    CHECK(d.h_init == 1e-2 && d.trial_h_min == 1e-6 && d.n_dir == 20 && d.restart == PSB_RESTART_MIXED);
+    CHECK(d.n_span == 15 && d.n_span_max == 60 && d.h == 1e-6 && d.h_min == 1e-6 / 16384 && d.expert.h_fd_steps == 0);
+    CHECK(d.h_init == 1e-2 && d.expert.trial_h_min == 1e-6 && d.n_dir == 20 && d.expert.restart == PSB_RESTART_MIXED);
     memset(&b, 0, sizeof b);
     b.n_span = 15;
     d = psb_branch_options_resolve(&b, NULL); /* set by the caller: a fixed length */
     CHECK(d.n_span == 15 && d.n_span_max == 15);
     b.n_span = 0;
-    b.no_memo = 1; /* the length adapts only with the memo */
+    b.expert.no_memo = 1; /* the length adapts only with the memo */
     d = psb_branch_options_resolve(&b, NULL);
     CHECK(d.n_span == 15 && d.n_span_max == 15);
     memset(&b, 0, sizeof b);
-    b.as_printed = 1; /* the printed algorithm: its four switches, and so a fixed length */
+    b.expert.as_printed = 1; /* the printed algorithm: its four switches, and so a fixed length */
     d = psb_branch_options_resolve(&b, NULL);
-    CHECK(d.as_printed == 1 && d.paper_sweep == 1 && d.no_memo == 1 && d.no_screen == 1);
-    CHECK(d.restart == PSB_RESTART_PAPER && d.n_span == 15 && d.n_span_max == 15);
+    CHECK(d.expert.as_printed == 1 && d.expert.paper_sweep == 1 && d.expert.no_memo == 1 && d.expert.no_screen == 1);
+    CHECK(d.expert.restart == PSB_RESTART_PAPER && d.n_span == 15 && d.n_span_max == 15);
     memset(&o, 0, sizeof o);
     o.h_min = 1e-7;
     o.h_init = 1e-3;
@@ -777,9 +777,9 @@ static void test_resolve_truthful(void)
             /* the continuation's h_min and h_init, and the Jacobian: differences make h follow
                the point */
             d = psb_branch_options_resolve(NULL, &s);
-            CHECK(d.h_init == 1e-3 && d.trial_h_min == 1e-7);
-            CHECK(fd ? d.h == 0 && d.h_min == 0 && d.h_fd_steps == 1e4
-                     : d.h == 1e-7 && d.h_min == 1e-7 / 16384 && d.h_fd_steps == 0);
+            CHECK(d.h_init == 1e-3 && d.expert.trial_h_min == 1e-7);
+            CHECK(fd ? d.h == 0 && d.h_min == 0 && d.expert.h_fd_steps == 1e4
+                     : d.h == 1e-7 && d.h_min == 1e-7 / 16384 && d.expert.h_fd_steps == 0);
             CHECK(same_branch_options(&s.branch, &d, 0)); /* before any call: the defaults */
             memset(&b, 0, sizeof b);
             b.n_dir = 16;
@@ -828,10 +828,10 @@ static void test_as_printed_and_null(void)
     psb_branch_options printed, separate, zero, used[2];
     int problem, inc, runs = 0, identical = 0, saved_default = 0, saved_printed = 0, fd;
     memset(&printed, 0, sizeof printed);
-    printed.as_printed = 1;
+    printed.expert.as_printed = 1;
     memset(&separate, 0, sizeof separate);
-    separate.paper_sweep = separate.no_memo = separate.no_screen = 1;
-    separate.restart = PSB_RESTART_PAPER;
+    separate.expert.paper_sweep = separate.expert.no_memo = separate.expert.no_screen = 1;
+    separate.expert.restart = PSB_RESTART_PAPER;
     memset(&zero, 0, sizeof zero);
     for (problem = 0; problem < 4; problem++) {
         pl_problem p;
@@ -847,8 +847,8 @@ static void test_as_printed_and_null(void)
             identical += a.n_branches == b.n_branches && a.n_pc == b.n_pc && a.n_rand == b.n_rand &&
                          a.n_span == b.n_span && a.n_tangents == b.n_tangents && same(ys[0], ys[1], (int)len) &&
                          same(ts[0], ts[1], (int)len);
-            CHECK(used[0].as_printed == 1 && used[1].as_printed == 0);
-            used[1].as_printed = 1;
+            CHECK(used[0].expert.as_printed == 1 && used[1].expert.as_printed == 0);
+            used[1].expert.as_printed = 1;
             CHECK(same_branch_options(&used[0], &used[1], 0)); /* the same resolved switches */
             saved_printed += a.n_memo + a.n_screened + a.n_cut > 0;
             CHECK(branch_run(&p, 0, rays, inc, NULL, ys[1], ts[1], &c, &used[1]) == 0);

@@ -604,7 +604,7 @@ static int run_model(fe_model *md, int triangle, int backend, ends *e)
     memset(&bo, 0, sizeof bo);
     bo.h = triangle ? 5e-8 : 5e-7;
     bo.h_min = bo.h / 16384; bo.h_init = 5e-4;
-    bo.n_dir = triangle ? 30 : 20; bo.n_span = triangle ? 10 : 15; bo.trial_h_min = 5e-4;
+    bo.n_dir = triangle ? 30 : 20; bo.n_span = triangle ? 10 : 15; bo.expert.trial_h_min = 5e-4;
     fe_weights(md, opt.kappa, 1 / (md->r * md->r), w);
     opt.weights = w;
     if (backend < 0) {
