@@ -3,6 +3,8 @@
 #                  else says what to run), build everything with strict warnings, run the suite
 #   make check     the same without the dependency step
 #   make demo      run the main demo and draw its pictures (gnuplot, installed like the rest)
+#   make examples  every program: the teaching examples (examples/), the FE applications (fe/)
+#                  and the frictional-contact solver (fc_solve/)
 #   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
 #   make bench     the benchmarks (bench/out/), with GetFEM side by side when python3-getfem is there
 #                  (bash bench/bench_mumps.sh --large: banded against MUMPS on 1 and 2 ranks up to M12800)
@@ -10,13 +12,13 @@
 #                  for a time, or for N runs from a fixed seed (clang; see fuzz/README.md)
 #   make images    the README's pictures in docs/img/ (docs/make_images.sh)
 #   make install PREFIX=/usr/local [DESTDIR=...]   the header, pscbranch.pc, the CMake package
-#                  (find_package(pscbranch)), the docs and the examples' sources
+#                  (find_package(pscbranch)), the docs and the programs' sources
 #   make uninstall PREFIX=... [DESTDIR=...]        removes what install put there
 #   (bash tests/packaging.sh checks install with pkg-config and CMake consumers; CI: .ci/run)
 #   make bench-large   the long benchmarks: block M12800 per backend, triangle fold studies
 # LAPACK_LIBS chooses the LAPACK/BLAS (default -llapack -lblas); HDF5= builds fc_solve without
-# HDF5 even when libhdf5-dev is installed; SUITESPARSE= builds the examples without SuiteSparse;
-# MUMPS= and MUMPS_SEQ= leave MUMPS out (below).
+# HDF5 even when libhdf5-dev is installed; SUITESPARSE= builds the FE applications without
+# SuiteSparse; MUMPS= and MUMPS_SEQ= leave MUMPS out (below).
 CC ?= cc
 CXX ?= c++
 LAPACK_LIBS ?= -llapack -lblas
@@ -26,7 +28,7 @@ CFLAGS ?=
 SAN ?=
 ALL_CFLAGS = $(WARN) $(OPT) $(SAN) -I. $(CFLAGS)
 LIBS = $(LAPACK_LIBS) -lm
-DATA = data
+DATA = fc_solve/data
 BUILD ?= build
 # checks (and installs) what a target needs, silently when all is there: see tools/deps.sh
 DEPS = CC="$(CC)" CXX="$(CXX)" LAPACK_LIBS="$(LAPACK_LIBS)" sh tools/deps.sh
@@ -36,8 +38,10 @@ TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BU
 	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_detect $(BUILD)/test_faults \
 	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic $(BUILD)/test_explore \
 	$(SPARSE_TESTS)
-EXAMPLES = examples/01_branching examples/02_explore examples/03_pitchforks examples/fc_solve examples/block \
-	examples/triangle examples/quasistatic
+# the teaching examples (examples/NN_name.c, each one file on pscbranch.h alone) and the applications
+TEACHING = $(patsubst %.c,%,$(sort $(wildcard examples/[0-9][0-9]_*.c)))
+APPS = fe/block fe/triangle fe/quasistatic fc_solve/fc_solve
+EXAMPLES = $(TEACHING) $(APPS)
 
 .PHONY: all test check demo demo-run examples bench bench-large asan ubsan fuzz fuzz-run install uninstall clean \
 	quasistatic-demo quasistatic-demo-run images images-run
@@ -71,11 +75,12 @@ $(BUILD)/test_faults: tests/test_faults.c tests/harness.h tests/pl_problems.h $(
 $(BUILD)/test_contact: tests/test_contact.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_contact.c -o $@ $(LIBS)
 
-$(BUILD)/test_fc_solve: tests/test_fc_solve.c tests/fc_gen.h tests/harness.h examples/fc_solve.c $(HEADER) | $(BUILD)
-	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) -Itests tests/test_fc_solve.c -o $@ $(FC_HDF5_LIBS) $(LIBS)
+$(BUILD)/test_fc_solve: fc_solve/tests/test_fc_solve.c fc_solve/tests/fc_gen.h tests/harness.h fc_solve/fc_solve.c \
+		$(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) -Itests fc_solve/tests/test_fc_solve.c -o $@ $(FC_HDF5_LIBS) $(LIBS)
 
-$(BUILD)/test_fe: tests/test_fe.c tests/harness.h examples/fe.h $(HEADER) | $(BUILD)
-	$(CC) $(ALL_CFLAGS) -Itests tests/test_fe.c -o $@ $(LIBS)
+$(BUILD)/test_fe: fe/tests/test_fe.c tests/harness.h fe/fe.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests fe/tests/test_fe.c -o $@ $(LIBS)
 
 $(BUILD)/test_explore: tests/test_explore.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_explore.c -o $@ $(LIBS)
@@ -108,16 +113,16 @@ HDF5 ?= $(shell pkg-config --exists hdf5 2>/dev/null && echo yes)
 ifeq ($(HDF5),yes)
 FC_HDF5_CFLAGS = -DFC_SOLVE_HDF5 $(shell pkg-config --cflags hdf5)
 FC_HDF5_LIBS = $(shell pkg-config --libs hdf5)
-SMOKE_HDF5 = "smoke:examples/fc_solve $(DATA)/fc-problems/harder/*.hdf5"
+SMOKE_HDF5 = "smoke:fc_solve/fc_solve $(DATA)/fc-problems/harder/*.hdf5"
 endif
 $(BUILD)/fc_solve-hdf5-$(HDF5): | $(BUILD)
 	rm -f $(BUILD)/fc_solve-hdf5-*
 	touch $@
-examples/fc_solve: examples/fc_solve.c $(HEADER) $(BUILD)/fc_solve-hdf5-$(HDF5)
+fc_solve/fc_solve: fc_solve/fc_solve.c fe/cli.h $(HEADER) $(BUILD)/fc_solve-hdf5-$(HDF5)
 	$(CC) $(ALL_CFLAGS) $(FC_HDF5_CFLAGS) $< -o $@ $(FC_HDF5_LIBS) $(LIBS)
 
 # MUMPS (contrib/psb_mumps.h), optional: with MPI (libmumps-dev, libopenmpi-dev: pkg-config mpi-c)
-# examples/block is built with -DFE_MUMPS (--solver mumps; MPI starts only then) and test_mumps
+# fe/block is built with -DFE_MUMPS (--solver mumps; MPI starts only then) and test_mumps
 # runs on 1 rank and, with mpirun, on 2 (tools/mpirun.sh); with the sequential library
 # (libmumps-seq-dev) test_mumps_seq. Each is detected by linking a probe, and left out when absent.
 MPI_CFLAGS := $(shell pkg-config --cflags mpi-c 2>/dev/null)
@@ -134,7 +139,7 @@ ifeq ($(MUMPS),yes)
 BLOCK_CFLAGS = -DFE_MUMPS $(MPI_CFLAGS)
 BLOCK_LIBS = $(MUMPS_LIBS)
 TESTS += $(BUILD)/test_mumps
-SMOKE_MUMPS = "smoke:bash tests/mumps_ends.sh examples/block"
+SMOKE_MUMPS = "smoke:bash tests/mumps_ends.sh fe/block"
 ifneq ($(MPIRUN),)
 TESTS += $(BUILD)/test_mumps_np2
 endif
@@ -159,7 +164,7 @@ $(BUILD)/test_mumps_seq: tests/test_mumps.c contrib/psb_mumps.h tests/harness.h 
 
 
 # The sparse direct solvers of contrib/psb_sparse.h (UMFPACK, KLU) when SuiteSparse is installed
-# (libsuitesparse-dev): block and triangle then take --solver umfpack|klu (and the triangle
+# (libsuitesparse-dev): fe/block and fe/triangle then take --solver umfpack|klu (and the triangle
 # contrib/psb_condense.h's --solver condensed, its default on small meshes), and build/test_sparse
 # joins the suite. The library itself never depends on it. The stamp rebuilds when that changes.
 SUITESPARSE_INC ?= /usr/include/suitesparse
@@ -168,55 +173,53 @@ ifeq ($(SUITESPARSE),yes)
 SS_CFLAGS = -DFE_SUITESPARSE -I$(SUITESPARSE_INC)
 SS_LIBS = -lumfpack -lklu
 SPARSE_TESTS = $(BUILD)/test_sparse
-SMOKE_SPARSE = "smoke:examples/block --solver umfpack" "smoke:examples/block --solver klu" \
-	"smoke:examples/triangle --mesh 16 --solver umfpack" "smoke:examples/triangle --mesh 16 --problem fold --solver klu" \
-	"smoke:examples/triangle --mesh 16 --solver banded" "smoke:examples/triangle --mesh 16 --problem fold --solver banded"
+SMOKE_SPARSE = "smoke:fe/block --solver umfpack" "smoke:fe/block --solver klu" \
+	"smoke:fe/triangle --mesh 16 --solver umfpack" "smoke:fe/triangle --mesh 16 --problem fold --solver klu" \
+	"smoke:fe/triangle --mesh 16 --solver banded" "smoke:fe/triangle --mesh 16 --problem fold --solver banded"
 endif
 $(BUILD)/suitesparse-$(SUITESPARSE): | $(BUILD)
 	rm -f $(BUILD)/suitesparse-*
 	touch $@
-examples/block examples/triangle: examples/%: examples/%.c $(HEADER) examples/fe.h examples/explore_out.h \
-		examples/cli.h examples/fe_solvers.h contrib/psb_sparse.h contrib/psb_condense.h $(BUILD)/suitesparse-$(SUITESPARSE)
-	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(if $(filter examples/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
-		$(if $(filter examples/block,$@),$(BLOCK_LIBS)) $(LIBS)
-examples/block: examples/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
+fe/block fe/triangle: fe/%: fe/%.c $(HEADER) fe/fe.h fe/explore_out.h fe/cli.h fe/fe_solvers.h \
+		contrib/psb_sparse.h contrib/psb_condense.h $(BUILD)/suitesparse-$(SUITESPARSE)
+	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(if $(filter fe/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
+		$(if $(filter fe/block,$@),$(BLOCK_LIBS)) $(LIBS)
+fe/block: fe/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
 
 $(BUILD)/test_sparse: tests/test_sparse.c tests/condense_decl.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h \
-		examples/fe.h $(HEADER) $(BUILD)/contrib_cxx.o | $(BUILD)
+		fe/fe.h $(HEADER) $(BUILD)/contrib_cxx.o | $(BUILD)
 	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) -Itests tests/test_sparse.c tests/condense_decl.c -o $@ $(SS_LIBS) $(LIBS)
 # the contrib headers' implementations compile as C++ too (built, not linked)
 $(BUILD)/contrib_cxx.o: tests/contrib_cxx.cpp contrib/psb_sparse.h contrib/psb_condense.h $(HEADER) | $(BUILD)
 	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -I. $(SS_CFLAGS) -c tests/contrib_cxx.cpp -o $@
-examples/quasistatic: examples/fe.h
-examples/02_explore examples/03_pitchforks: examples/explore_out.h
+fe/quasistatic: fe/quasistatic.c fe/fe.h fe/cli.h $(HEADER)
+	$(CC) $(ALL_CFLAGS) $< -o $@ $(LIBS)
 
 examples: $(EXAMPLES)
 
-# each example exits non-zero when its result differs from the analytic or the papers' one
+# each program exits non-zero when its result differs from the analytic or the papers' one
 SMOKE = "smoke:$(BUILD)/consumer" \
-	"smoke:examples/01_branching" \
-	"smoke:examples/02_explore" \
-	"smoke:examples/03_pitchforks" \
-	"smoke:examples/fc_solve $(DATA)/fc-problems/*.dat" \
-	"smoke:examples/fc_solve $(DATA)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
-	"smoke:examples/block" \
-	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1 --no-screen --expect-npc 72" \
-	"smoke:examples/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1" \
-	"smoke:examples/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && examples/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
-	"smoke:examples/triangle --mesh 16" \
-	"smoke:examples/triangle --mesh 16 --problem fold" \
-	"smoke:examples/triangle --mesh 16 --problem fold --fold-trace end" \
-	"smoke:examples/triangle --mesh 16 --problem fold --fold-stop-kink 8 > $(BUILD)/fold_meet8.txt && grep -q 'gamma = 0.4886.*gamma rising, a limit point' $(BUILD)/fold_meet8.txt" \
-	"smoke:examples/triangle --mesh 16 --problem fold --fold-stop-kink 2 > $(BUILD)/fold_meet2.txt && grep -q 'monotone through it, not a limit point' $(BUILD)/fold_meet2.txt" \
-	"smoke:examples/block --explore" \
-	"smoke:examples/triangle --mesh 16 --explore" \
-	"smoke:examples/triangle --mesh 16 --explore --problem fold" \
-	"smoke:examples/quasistatic --mesh 8 --dt 0.1" $(SMOKE_SPARSE) $(SMOKE_MUMPS) \
+	$(patsubst %,"smoke:%",$(TEACHING)) \
+	"smoke:fc_solve/fc_solve $(DATA)/fc-problems/*.dat" \
+	"smoke:fc_solve/fc_solve $(DATA)/fc-problems/harder/*.dat" $(SMOKE_HDF5) \
+	"smoke:fe/block" \
+	"smoke:fe/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1 --no-screen --expect-npc 72" \
+	"smoke:fe/block --mesh 20x40 --input 3 --ndir 50 --nspan 1 --paper-sweep --branch-mult-weight 1" \
+	"smoke:fe/block --mesh 5x10 --save $(BUILD)/ends_5x10.txt && fe/block --mesh 10x20 --refine $(BUILD)/ends_5x10.txt --compare $(BUILD)/ends_5x10.txt" \
+	"smoke:fe/triangle --mesh 16" \
+	"smoke:fe/triangle --mesh 16 --problem fold" \
+	"smoke:fe/triangle --mesh 16 --problem fold --fold-trace end" \
+	"smoke:fe/triangle --mesh 16 --problem fold --fold-stop-kink 8 > $(BUILD)/fold_meet8.txt && grep -q 'gamma = 0.4886.*gamma rising, a limit point' $(BUILD)/fold_meet8.txt" \
+	"smoke:fe/triangle --mesh 16 --problem fold --fold-stop-kink 2 > $(BUILD)/fold_meet2.txt && grep -q 'monotone through it, not a limit point' $(BUILD)/fold_meet2.txt" \
+	"smoke:fe/block --explore" \
+	"smoke:fe/triangle --mesh 16 --explore" \
+	"smoke:fe/triangle --mesh 16 --explore --problem fold" \
+	"smoke:fe/quasistatic --mesh 8 --dt 0.1" $(SMOKE_SPARSE) $(SMOKE_MUMPS) \
 	"smoke:bash tests/cli.sh" \
 	"smoke:bash tests/readme_program.sh"
 
 # MKL's Intel threading layer beside libgomp (SuiteSparse's) computes wrong factors: every
-# program run from here gets MKL's GNU layer unless one was chosen (examples/fe_solvers.h)
+# program run from here gets MKL's GNU layer unless one was chosen (fe/fe_solvers.h)
 export MKL_THREADING_LAYER ?= GNU
 
 # test and demo first see to their dependencies, then run make again: its variables (HDF5) then
@@ -232,10 +235,10 @@ demo:
 	@$(DEPS) cc lapack gnuplot
 	@$(MAKE) --no-print-directory demo-run
 
-demo-run: examples/01_branching examples/block
+demo-run: examples/01_branching fe/block
 	@mkdir -p out/block
 	./examples/01_branching --out out
-	./examples/block --out out/block
+	./fe/block --out out/block
 	cd out/block && gnuplot plot.gp
 	@echo "plots: out/block/*.png"
 
@@ -244,8 +247,8 @@ quasistatic-demo:
 	@$(DEPS) cc lapack gnuplot
 	@$(MAKE) --no-print-directory quasistatic-demo-run
 
-quasistatic-demo-run: examples/quasistatic
-	./examples/quasistatic --out out/quasistatic
+quasistatic-demo-run: fe/quasistatic
+	./fe/quasistatic --out out/quasistatic
 	cd out/quasistatic && gnuplot plot.gp
 	@echo "plot: out/quasistatic/quasistatic.png"
 
@@ -262,14 +265,14 @@ BENCH = bench/bench_linear bench/bench_branching bench/bench_detect
 bench/%: bench/%.c $(HEADER) tests/pl_problems.h bench/bench_time.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
 
-bench/bench_mumps_factor: bench/bench_mumps_factor.c bench/bench_time.h examples/fe_mumps.h contrib/psb_mumps.h examples/fe.h $(HEADER)
+bench/bench_mumps_factor: bench/bench_mumps_factor.c bench/bench_time.h fe/fe_mumps.h contrib/psb_mumps.h fe/fe.h $(HEADER)
 	$(CC) $(ALL_CFLAGS) $(MPI_CFLAGS) $< -o $@ $(MUMPS_LIBS) $(LIBS)
 
 # the sparse solvers' factorisation times (bench_sparse) and whole runs per solver, with SuiteSparse
-bench/bench_sparse: bench/bench_sparse.c bench/bench_time.h $(HEADER) examples/fe.h contrib/psb_sparse.h contrib/psb_condense.h
+bench/bench_sparse: bench/bench_sparse.c bench/bench_time.h $(HEADER) fe/fe.h contrib/psb_sparse.h contrib/psb_condense.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $(SS_CFLAGS) $< -o $@ $(SS_LIBS) $(LIBS)
 
-bench: $(BENCH) examples/block examples/triangle $(if $(SS_LIBS),bench/bench_sparse) \
+bench: $(BENCH) fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse) \
 		$(if $(filter yes,$(MUMPS)),bench/bench_mumps_factor)
 	@mkdir -p bench/out
 	./bench/bench_linear --csv bench/out/linear.csv
@@ -282,7 +285,7 @@ bench: $(BENCH) examples/block examples/triangle $(if $(SS_LIBS),bench/bench_spa
 
 # the long ones (an hour or more): factorisations up to block M12800 and triangle M16384, block
 # M12800 and the triangle's M16384 fold study per solver
-bench-large: examples/block examples/triangle $(if $(SS_LIBS),bench/bench_sparse)
+bench-large: fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse)
 	@mkdir -p bench/out
 	$(if $(SS_LIBS),./bench/bench_sparse --large --csv bench/out/sparse_large.csv && bash bench/bench_solvers.sh --large,@echo "bench-large: needs SuiteSparse (libsuitesparse-dev)")
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh --large,@echo "bench-large: MUMPS with MPI not found, its runs skipped")
@@ -308,8 +311,10 @@ DOCDIR ?= $(PREFIX)/share/doc/pscbranch
 VERSION := $(shell awk '/^\#define PSCBRANCH_VERSION_(MAJOR|MINOR|PATCH) /{v = v (v == "" ? "" : ".") $$3} END{print v}' $(HEADER))
 INSTALL ?= install
 DOCS = README.md LICENSE CHANGELOG.md
-EXAMPLE_SOURCES = $(wildcard examples/*.c examples/*.h)
-# the optional solvers' headers, beside the examples that include them as "contrib/..."
+# the programs' sources, one folder each as in the repository (their tests, fuzz targets and data stay here)
+PROGRAM_DIRS = examples fe fc_solve
+PROGRAM_SOURCES = $(foreach d,$(PROGRAM_DIRS),$(wildcard $(d)/*.c $(d)/*.h $(d)/README.md))
+# the optional solvers' headers, beside the applications that include them as "contrib/..."
 CONTRIB_SOURCES = $(wildcard contrib/*.h)
 # @VAR@ in the templates (the same ones CMakeLists.txt fills in for cmake --install)
 SUBST = sed -e 's|@PSCBRANCH_VERSION@|$(VERSION)|g' -e 's|@PSCBRANCH_PREFIX@|$(PREFIX)|g' \
@@ -319,7 +324,7 @@ install:
 	@case "$(PREFIX)" in /*) ;; *) echo "PREFIX must be an absolute path: $(PREFIX)" >&2; exit 1;; esac
 	@test -n "$(VERSION)" || { echo "no version in $(HEADER)" >&2; exit 1; }
 	$(INSTALL) -d "$(DESTDIR)$(INCLUDEDIR)" "$(DESTDIR)$(PKGCONFIGDIR)" "$(DESTDIR)$(CMAKEDIR)" \
-		"$(DESTDIR)$(DOCDIR)/examples" "$(DESTDIR)$(DOCDIR)/contrib"
+		$(foreach d,$(PROGRAM_DIRS),"$(DESTDIR)$(DOCDIR)/$(d)") "$(DESTDIR)$(DOCDIR)/contrib"
 	$(INSTALL) -m 644 $(HEADER) "$(DESTDIR)$(INCLUDEDIR)/"
 	$(SUBST) pscbranch.pc.in > "$(DESTDIR)$(PKGCONFIGDIR)/pscbranch.pc"
 	$(SUBST) cmake/pscbranchConfig.cmake.in > "$(DESTDIR)$(CMAKEDIR)/pscbranchConfig.cmake"
@@ -327,7 +332,7 @@ install:
 	$(INSTALL) -m 644 cmake/pscbranch-lapack.cmake "$(DESTDIR)$(CMAKEDIR)/"
 	$(INSTALL) -m 644 $(wildcard $(DOCS)) "$(DESTDIR)$(DOCDIR)/"
 	if [ -d docs ]; then cp -R docs "$(DESTDIR)$(DOCDIR)/" && chmod -R u+w,go+rX "$(DESTDIR)$(DOCDIR)/docs"; fi
-	$(INSTALL) -m 644 $(EXAMPLE_SOURCES) "$(DESTDIR)$(DOCDIR)/examples/"
+	$(foreach d,$(PROGRAM_DIRS),$(INSTALL) -m 644 $(filter $(d)/%,$(PROGRAM_SOURCES)) "$(DESTDIR)$(DOCDIR)/$(d)/" &&) true
 	$(INSTALL) -m 644 $(CONTRIB_SOURCES) "$(DESTDIR)$(DOCDIR)/contrib/"
 	@echo "installed pscbranch $(VERSION) in $(DESTDIR)$(PREFIX)"
 
@@ -338,15 +343,16 @@ uninstall:
 	rm -f "$(DESTDIR)$(INCLUDEDIR)/$(HEADER)" "$(DESTDIR)$(PKGCONFIGDIR)/pscbranch.pc"
 	rm -f $(addprefix "$(DESTDIR)$(CMAKEDIR)/,$(addsuffix ",$(CMAKE_FILES)))
 	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/,$(addsuffix ",$(DOCS)))
-	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/examples/,$(addsuffix ",$(notdir $(EXAMPLE_SOURCES))))
+	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/,$(addsuffix ",$(PROGRAM_SOURCES)))
 	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/contrib/,$(addsuffix ",$(notdir $(CONTRIB_SOURCES))))
 	rm -rf "$(DESTDIR)$(DOCDIR)/docs"
-	rmdir "$(DESTDIR)$(CMAKEDIR)" "$(DESTDIR)$(DOCDIR)/examples" "$(DESTDIR)$(DOCDIR)/contrib" \
+	rmdir "$(DESTDIR)$(CMAKEDIR)" $(foreach d,$(PROGRAM_DIRS),"$(DESTDIR)$(DOCDIR)/$(d)") "$(DESTDIR)$(DOCDIR)/contrib" \
 		"$(DESTDIR)$(DOCDIR)" 2>/dev/null || true
 
-# libFuzzer targets (clang, ASan + UBSan): every fuzz/fuzz_NAME.c is built into build-fuzz/ and
-# run for FUZZ_SECONDS on a scratch copy of its seed corpus fuzz/corpus/NAME/ (the runs never
-# grow the repository); any crash, sanitizer report, leak or timeout fails the target. See
+# libFuzzer targets (clang, ASan + UBSan): a target lives beside what it fuzzes, in fuzz/ (the
+# library), fe/fuzz/ or fc_solve/fuzz/. Every DIR/fuzz_NAME.c is built into build-fuzz/ and run for
+# FUZZ_SECONDS on a scratch copy of its seed corpus DIR/corpus/NAME/ (the runs never grow the
+# repository); any crash, sanitizer report, leak or timeout fails the target. See
 # fuzz/README.md. The fc_hdf5 target needs HDF5 (left out without it).
 FUZZ_SECONDS ?= 30
 # FUZZ_RUNS=N: N executions from the fixed FUZZ_SEED instead, the same inputs at every run (CI's
@@ -362,7 +368,10 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_NO_CMP ?=
 FUZZ_CFLAGS = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I. -Itests \
 	$(if $(FUZZ_NO_CMP),-fno-sanitize-coverage=trace-cmp)
-FUZZ_NAMES = $(filter-out $(if $(FC_HDF5_CFLAGS),,fc_hdf5),$(patsubst fuzz/fuzz_%.c,%,$(wildcard fuzz/fuzz_*.c)))
+FUZZ_DIRS = fuzz fe/fuzz fc_solve/fuzz
+FUZZ_SOURCES = $(filter-out $(if $(FC_HDF5_CFLAGS),,%/fuzz_fc_hdf5.c),$(wildcard $(addsuffix /fuzz_*.c,$(FUZZ_DIRS))))
+FUZZ_NAMES = $(patsubst fuzz_%.c,%,$(notdir $(FUZZ_SOURCES)))
+vpath fuzz_%.c $(FUZZ_DIRS)
 # FUZZ_HDF5_IN_PROCESS=1: fuzz_fc_hdf5 reads without fc_solve's child process, 4x the inputs a
 # second and the reader's coverage seen, but libhdf5's own faults stop the run (long counting
 # runs; see fuzz/README.md); the gate and `make fuzz` keep the child, as fc_solve runs
@@ -377,7 +386,8 @@ $(FUZZ_STAMP):
 	rm -f $(FUZZ_BUILD)/knobs-*
 	touch $@
 
-$(FUZZ_BUILD)/fuzz_%: fuzz/fuzz_%.c $(HEADER) $(wildcard fuzz/*.h examples/*.c examples/*.h tests/*.h) $(FUZZ_STAMP)
+$(FUZZ_BUILD)/fuzz_%: fuzz_%.c $(HEADER) $(wildcard $(addsuffix /*.h,$(FUZZ_DIRS)) fe/*.h fc_solve/*.c tests/*.h) \
+		$(FUZZ_STAMP)
 	@mkdir -p $(FUZZ_BUILD)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) $(FUZZ_EXTRA_CFLAGS) $< -o $@ $(FUZZ_EXTRA_LIBS) $(LIBS)
 
@@ -386,9 +396,10 @@ fuzz:
 	@$(MAKE) --no-print-directory fuzz-run
 
 fuzz-run: $(patsubst %,$(FUZZ_BUILD)/fuzz_%,$(FUZZ_NAMES))
-	@set -e; for n in $(FUZZ_NAMES); do \
+	@set -e; for s in $(FUZZ_SOURCES); do \
+	  n=$${s##*/fuzz_}; n=$${n%.c}; seeds=$${s%/*}/corpus/$$n; \
 	  rm -rf $(FUZZ_BUILD)/corpus-$$n; mkdir -p $(FUZZ_BUILD)/corpus-$$n; \
-	  if [ -d fuzz/corpus/$$n ]; then cp -R fuzz/corpus/$$n/. $(FUZZ_BUILD)/corpus-$$n/; fi; \
+	  if [ -d $$seeds ]; then cp -R $$seeds/. $(FUZZ_BUILD)/corpus-$$n/; fi; \
 	  echo "fuzz_$$n: $(if $(FUZZ_RUNS),$(FUZZ_RUNS) runs from seed $(FUZZ_SEED),$(FUZZ_SECONDS) s)"; \
 	  $(FUZZ_BUILD)/fuzz_$$n $(FUZZ_LIMIT) -timeout=10 -print_final_stats=1 \
 	    -artifact_prefix=$(FUZZ_BUILD)/$$n- $(FUZZ_BUILD)/corpus-$$n \

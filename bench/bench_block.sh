@@ -19,8 +19,8 @@ for a in "$@"; do
     case "$a" in --full) full=1 ;; --quick) quick=1 ;; esac
 done
 mkdir -p bench/out
-block=examples/block
-[ -x "$block" ] || { echo "build examples/block first (make examples)"; exit 1; }
+block=fe/block
+[ -x "$block" ] || { echo "build fe/block first (make examples)"; exit 1; }
 
 
 echo "bench_block: the block of Section 3.2 (n_dir 20, n_span 15, input branch 1 unless stated)"

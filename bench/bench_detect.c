@@ -1,10 +1,10 @@
 /* bench_detect - what monitoring costs: factorisations of a trace with every detector on
    (psb_trace_options.detect = PSB_DETECT_ALL) against the same trace with none, on the
-   frictional contact problems of examples/fe.h (issue 17: at most 1.1x).
+   frictional contact problems of fe/fe.h (issue 17: at most 1.1x).
 
-   Cases (banded backend, the examples' options):
+   Cases (banded backend, the FE applications' options):
      block M200, M800  fe_block_model 10 x 20 and 20 x 40, Newton at gamma = -1, traced to the
-                       nonsmooth point at gamma = 0 with locate_kinks (the examples' approach);
+                       nonsmooth point at gamma = 0 with locate_kinks (the applications' approach);
      triangle n = 64   fe_triangle_model, the fold problem h = (-20 - 10 gamma, -7.5), Newton at
                        gamma = -3, traced to gamma = 1 with locate_kinks (two limit points).
    Columns: case, N, steps, factorisations plain and with detectors, their ratio, special
@@ -13,7 +13,7 @@
    Usage: bench_detect [--csv FILE] */
 #define PSCBRANCH_IMPLEMENTATION
 #include "../pscbranch.h"
-#include "../examples/fe.h"
+#include "../fe/fe.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -13,7 +13,7 @@
    everything in an iteration that is not its factorisation.
 
    The problem is a 2D reaction-diffusion system on an nx x ny grid with two unknowns per node
-   (numbered node by node, as the FE examples do): bandwidth 2 nx + 2, like block M200-M3200.
+   (numbered node by node, as the FE applications do): bandwidth 2 nx + 2, like block M200-M3200.
    Usage: bench_linear [--csv FILE] [--quick] [--banded] */
 #define PSCBRANCH_IMPLEMENTATION
 #include "../pscbranch.h"

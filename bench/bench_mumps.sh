@@ -9,16 +9,16 @@
 # Then MUMPS alone (bench/bench_mumps_factor): a factorisation and a 2-column solve of the
 # block's bordered Jacobian on M3200 and M12800, 1 and 2 ranks.
 # Tables on stdout and in bench/out/mumps.md, CSV in bench/out/mumps.csv (run by `make bench`
-# when examples/block is built with MUMPS). Usage: bench/bench_mumps.sh [--large]
+# when fe/block is built with MUMPS). Usage: bench/bench_mumps.sh [--large]
 set -u
 cd "$(dirname "$0")/.."
 meshes="20x40 40x80"
 for a in "$@"; do
     case "$a" in --large) meshes="$meshes 80x160" ;; *) echo "usage: bench/bench_mumps.sh [--large]" >&2; exit 2 ;; esac
 done
-block=examples/block
-[ -x "$block" ] || { echo "build examples/block first (make examples)"; exit 1; }
-"$block" --solver mumps --help >/dev/null 2>&1 || { echo "bench_mumps: examples/block is built without MUMPS, skipped"; exit 0; }
+block=fe/block
+[ -x "$block" ] || { echo "build fe/block first (make examples)"; exit 1; }
+"$block" --solver mumps --help >/dev/null 2>&1 || { echo "bench_mumps: fe/block is built without MUMPS, skipped"; exit 0; }
 export OPENBLAS_NUM_THREADS=1
 mkdir -p bench/out
 out=bench/out/mumps.md

@@ -1,4 +1,4 @@
-/* bench_mumps_factor - MUMPS's cost on the block's bordered Jacobian (examples/fe_mumps.h), apart
+/* bench_mumps_factor - MUMPS's cost on the block's bordered Jacobian (fe/fe_mumps.h), apart
    from the continuation: the first factorisation (with the analysis), then REPS numeric
    factorisations and REPS solves with two right-hand sides (a corrector iteration's), wall
    milliseconds each, and MUMPS's flops per factorisation. Run by bench/bench_mumps.sh on 1 rank
@@ -7,9 +7,9 @@
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
-#include "examples/fe.h"
+#include "fe/fe.h"
 #define PSB_MUMPS_IMPLEMENTATION
-#include "examples/fe_mumps.h"
+#include "fe/fe_mumps.h"
 #include "bench_time.h"
 
 static int bench(int argc, char **argv)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench_solvers.sh - whole runs of the FE examples per linear solver (run by `make bench` when
+# bench_solvers.sh - whole runs of the FE applications per linear solver (run by `make bench` when
 # SuiteSparse is there): block M800 and M3200 with the banded LU, UMFPACK and KLU (the
 # defaults otherwise: input branch 1, n_dir 20, n_span 15), triangle M4096 branching (banded,
 # UMFPACK, condensed).
@@ -11,14 +11,14 @@ mkdir -p bench/out
 large=0
 [ "${1:-}" = --large ] && large=1
 echo "bench_solvers: whole runs per linear solver"
-ldd examples/block | grep -E 'blas|lapack|umfpack|klu' | sed 's/^[[:space:]]*/  linked: /'
+ldd fe/block | grep -E 'blas|lapack|umfpack|klu' | sed 's/^[[:space:]]*/  linked: /'
 csv=bench/out/solvers$([ $large = 1 ] && echo _large).csv
 echo "example,mesh,solver,n,seconds,factorisations,branches" >"$csv"
 echo "  example   mesh     solver    N       time [s]   factorisations  branches / limit points"
 run() { # example mesh solver args...
     local ex=$1 mesh=$2 solver=$3 out n secs fact nbr
     shift 3
-    out=$(examples/$ex --quiet --mesh "$mesh" --solver "$solver" "$@" 2>&1)
+    out=$(fe/$ex --quiet --mesh "$mesh" --solver "$solver" "$@" 2>&1)
     n=$(printf '%s\n' "$out" | sed -n 's/.*N = \([0-9]*\) unknowns.*/\1/p' | head -n 1)
     secs=$(printf '%s\n' "$out" | sed -n 's/.*time \([0-9.]*\) s.*/\1/p' | tail -n 1)
     fact=$(printf '%s\n' "$out" | sed -n 's/.*, factorisations \([0-9][0-9]*\),.*/\1/p' | head -n 1)

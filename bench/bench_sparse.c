@@ -1,4 +1,4 @@
-/* bench_sparse - one factorisation of the bordered matrix of the FE examples: the banded LU of
+/* bench_sparse - one factorisation of the bordered matrix of the FE applications: the banded LU of
    pscbranch (the banded backend's, psb__gbtrf on dH/dx) against UMFPACK and KLU on the whole
    bordered matrix through contrib/psb_sparse.h (the analysis done once, before timing), on the
    block's and the triangle's Jacobians across N. Every time includes the Jacobian's assembly at
@@ -14,7 +14,7 @@
 #define _POSIX_C_SOURCE 199309L
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
-#include "examples/fe.h"
+#include "fe/fe.h"
 #define PSB_SPARSE_IMPLEMENTATION
 #include "contrib/psb_sparse.h"
 #define PSB_CONDENSE_IMPLEMENTATION

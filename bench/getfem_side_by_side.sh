@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # getfem_side_by_side.sh - pscbranch against GetFEM's own continuation and branching (by the
 # paper's authors) on the same problems, run one after the other in one sitting, REPEAT times:
-#   block    examples/block --mesh MESH (M200 by default) against bench/getfem/block.py: Newton at
+#   block    fe/block --mesh MESH (M200 by default) against bench/getfem/block.py: Newton at
 #            gamma = -1 on branch 1, continuation to the nonsmooth point gamma = 0, Algorithms
 #            2.1-2.2 (n_dir 20, n_span 15), every branch traced to |gamma| = 1
-#   triangle (TRIANGLE=N, off by default) examples/triangle --mesh N --load 26.4 against
+#   triangle (TRIANGLE=N, off by default) fe/triangle --mesh N --load 26.4 against
 #            bench/getfem/triangle.py: the same for the triangle of Section 3.3 (GetFEM's own
 #            continuation passes its branching point unflagged; gfcont.py says how its
 #            Algorithms 2.1-2.2 are made to run there)
-#   fold     (FOLD=N, off by default) examples/triangle --mesh N --problem fold against
+#   fold     (FOLD=N, off by default) fe/triangle --mesh N --problem fold against
 #            bench/getfem/fold.py: the triangle's fold study, traced from gamma = -3 to 1 with
 #            the kinks located to h_min = 1e-9 and the two limit points read off
 # Each side is one process timed by /usr/bin/time (wall and CPU = user + sys, Python start-up and
@@ -44,19 +44,19 @@ fi
 [ -x /usr/bin/time ] || { echo "getfem_side_by_side: skipped: /usr/bin/time is missing (Debian: apt-get install time)"; exit 0; }
 mkdir -p "$LOGS"
 
-# pscbranch's side: the examples built here with -O2 (the banded backend, as `make examples`)
+# pscbranch's side: the FE applications built here with -O2 (the banded backend, as `make examples`)
 if [ "$BLOCK" != 0 ]; then
-    $CC -std=c99 -O2 -I. examples/block.c -o "$OUT/block_side" -llapack -lblas -lm || exit 1
+    $CC -std=c99 -O2 -I. fe/block.c -o "$OUT/block_side" -llapack -lblas -lm || exit 1
 fi
 # the triangle with the example's default solver (UMFPACK from M4096 when libsuitesparse-dev is
-# there, the banded LU otherwise: examples/fe_solvers.h)
+# there, the banded LU otherwise: fe/fe_solvers.h)
 tri_flags=()
 if [ -n "$TRIANGLE$FOLD" ]; then
     SS_INC=${SS_INC:-/usr/include/suitesparse}
     if [ -f "$SS_INC/umfpack.h" ]; then
-        $CC -std=c99 -O2 -I. -I"$SS_INC" -DFE_SUITESPARSE examples/triangle.c -o "$OUT/triangle_side" -lumfpack -lklu -llapack -lblas -lm || exit 1
+        $CC -std=c99 -O2 -I. -I"$SS_INC" -DFE_SUITESPARSE fe/triangle.c -o "$OUT/triangle_side" -lumfpack -lklu -llapack -lblas -lm || exit 1
     else
-        $CC -std=c99 -O2 -I. examples/triangle.c -o "$OUT/triangle_side" -llapack -lblas -lm || exit 1
+        $CC -std=c99 -O2 -I. fe/triangle.c -o "$OUT/triangle_side" -llapack -lblas -lm || exit 1
     fi
     tri_backend="its default solver"
 fi

@@ -29,7 +29,7 @@ mkdir -p "$OUT" "$RUNS"
 # the sparse build of the example (UMFPACK through contrib/psb_sparse.h; see the top of triangle.c)
 SS_INC=${SS_INC:-/usr/include/suitesparse}
 if [[ "${NOBUILD:-0}" != 1 ]]; then
-    $CC -std=c99 -Wall -Wextra -Wpedantic -Werror -O2 -I. -I"$SS_INC" -DFE_SUITESPARSE examples/triangle.c \
+    $CC -std=c99 -Wall -Wextra -Wpedantic -Werror -O2 -I. -I"$SS_INC" -DFE_SUITESPARSE fe/triangle.c \
         -o "$BIN" -lumfpack -lklu -llapack -lblas -lm
 fi
 
@@ -154,7 +154,7 @@ fi
 if [[ "${BANDED:-0}" == 1 ]]; then
     # the same n = 64 runs on the banded backend, for the speed ratio
     BB=$OUT/triangle_banded
-    $CC -std=c99 -Wall -Wextra -Wpedantic -Werror -O2 -I. examples/triangle.c -o "$BB" -llapack -lblas -lm
+    $CC -std=c99 -Wall -Wextra -Wpedantic -Werror -O2 -I. fe/triangle.c -o "$BB" -llapack -lblas -lm
     printf "\nbanded backend, n = 64 (CPU s): "
     "$BB" --mesh 64 --problem fold > "$RUNS/banded_fold_64.txt" 2>&1 || true
     "$BB" --mesh 64 --load 26.4 > "$RUNS/banded_branch_64.txt" 2>&1 || true

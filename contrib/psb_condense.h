@@ -53,7 +53,7 @@
      sums of |b_ij| (a lower bound on the condition number of R B; rows in any units pass).
      Cost: memory n_I n_Z + (n_V + 1)^2 doubles beside A's copy and A_II's factors; a factor
      call O(nnz(A) + n_I n_Z + n_V^3), a solve O(nnz(factors) + n_I n_Z). It wins where n_V is
-     small against n: on the triangle of examples/ (n_V = 4 per contact node) at M4096 a
+     small against n: on the triangle of fe/ (n_V = 4 per contact node) at M4096 a
      factor call takes 0.9 ms and a solve 0.6 ms, against 7.4 ms for UMFPACK's factorisation
      of B (docs/benchmarks.md, "Static condensation"); S's LU grows like n_V^3, and at
      n_V = 1024 (triangle M65536) whole runs are as fast as with UMFPACK.

@@ -1,6 +1,6 @@
 #!/bin/sh
 # docs/make_images.sh - regenerate the README's pictures in docs/img/ (640x400 PNG, < 100 KB):
-# builds the examples, runs each with --out into a scratch folder and renders its gnuplot script
+# builds the programs, runs each with --out into a scratch folder and renders its gnuplot script
 # at the README's size. Needs gnuplot (Debian: apt-get install gnuplot-nox).
 # Usage (from anywhere): sh docs/make_images.sh
 set -eu
@@ -9,8 +9,7 @@ command -v gnuplot >/dev/null 2>&1 || {
     echo "make_images.sh: gnuplot not found; install it with: apt-get install gnuplot-nox" >&2
     exit 1
 }
-make examples/01_branching examples/02_explore examples/03_pitchforks examples/block examples/triangle \
-    examples/quasistatic >/dev/null
+make examples >/dev/null
 img=docs/img
 mkdir -p "$img"
 scratch=$(mktemp -d)
@@ -72,14 +71,14 @@ cp "$scratch/01/branches.png" "$img/01_branching.png"
 
 # block (M200, the example's defaults): the six branches' diagram and the deformed bodies.
 mkdir -p "$scratch/block"
-./examples/block --quiet --out "$scratch/block" >/dev/null
+./fe/block --quiet --out "$scratch/block" >/dev/null
 render "$scratch/block" 640 400
 cp "$scratch/block/diagram.png" "$img/block_diagram.png"
 cp "$scratch/block/bodies.png" "$img/block_bodies.png"
 
 # triangle (the example's default mesh, 32 x 32): the four branches' diagram.
 mkdir -p "$scratch/triangle"
-./examples/triangle --quiet --out "$scratch/triangle" >/dev/null
+./fe/triangle --quiet --out "$scratch/triangle" >/dev/null
 render "$scratch/triangle" 640 400
 cp "$scratch/triangle/diagram.png" "$img/triangle_diagram.png"
 
@@ -92,13 +91,19 @@ for ex in 02_explore 03_pitchforks; do
     cp "$scratch/$ex/diagram.png" "$img/$ex.png"
 done
 mkdir -p "$scratch/block_explore"
-./examples/block --explore --quiet --out "$scratch/block_explore" >/dev/null
+./fe/block --explore --quiet --out "$scratch/block_explore" >/dev/null
 render "$scratch/block_explore" 640 400
 cp "$scratch/block_explore/diagram.png" "$img/block_explore.png"
 
+# 04_evolution: the truss's two snap-throughs, the time steps in order and the traced paths.
+mkdir -p "$scratch/04"
+./examples/04_evolution --out "$scratch/04" >/dev/null
+render "$scratch/04" 640 400
+cp "$scratch/04/evolution.png" "$img/04_evolution.png"
+
 # quasistatic: the load-displacement path through the snap-through, the step's static diagram.
 mkdir -p "$scratch/quasistatic"
-./examples/quasistatic --quiet --out "$scratch/quasistatic" >/dev/null
+./fe/quasistatic --quiet --out "$scratch/quasistatic" >/dev/null
 render "$scratch/quasistatic" 640 400
 cp "$scratch/quasistatic/quasistatic.png" "$img/quasistatic.png"
 

@@ -8,23 +8,18 @@
    active), for g < 0 none. We reach the origin along one of them, then let Algorithms 2.1 and 2.2
    discover the others without being told where the pieces of H are.
 
-   Run:  ./examples/01_branching [--out DIR]   (prints a table, writes DIR/branches_01.csv) */
-#define _POSIX_C_SOURCE 200809L
+   Build (from the repository root) and run:
+     cc -std=c99 -I. examples/01_branching.c -o examples/01_branching -llapack -lblas -lm
+     ./examples/01_branching [--out DIR]   (prints a table, writes DIR/branches_01.csv) */
+#define _POSIX_C_SOURCE 200809L /* mkdir, stat, access */
 #define PSCBRANCH_IMPLEMENTATION
-#include "../pscbranch.h"
-#include "cli.h"
+#include "pscbranch.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
-
-static const char usage[] =
-    "usage: 01_branching [--out DIR]\n"
-    "Finds the four branches leaving the nonsmooth point of a 2 x 2 linear complementarity problem\n"
-    "(Algorithms 2.1-2.2) and prints their tangents. Exit status 0 when the four are found, 1 when\n"
-    "not or when the output cannot be written, 2 on a usage error.\n"
-    "\n"
-    "  --out DIR     also write DIR/branches_01.csv (DIR created if missing)\n"
-    "  -h, --help    this help\n";
+#include <sys/stat.h>
+#include <unistd.h>
 
 static const double M[2][2] = {{-1.0, 0.2}, {0.1, -1.0}};
 static const double Q[2] = {1.0, 1.0};
@@ -66,6 +61,71 @@ static int stop_at_kink(const psb_point *pt, void *user)
     return (pt->flags & PSB_POINT_KINK) != 0;
 }
 
+/* ---- the command line and the output folder -------------------------------------------- */
+
+static const char usage[] =
+    "usage: 01_branching [--out DIR]\n"
+    "Finds the four branches leaving the nonsmooth point of a 2 x 2 linear complementarity problem\n"
+    "(Algorithms 2.1-2.2) and prints their tangents. Exit status 0 when the four are found, 1 when\n"
+    "not or when the output cannot be written, 2 on a usage error.\n"
+    "\n"
+    "  --out DIR     also write DIR/branches_01.csv (DIR created if missing)\n"
+    "  -h, --help    this help\n";
+
+/* "01_branching: what 'arg' (see ...)" on stderr; returns 2, the exit status of a usage error */
+static int bad_usage(const char *what, const char *arg)
+{
+    if (arg) fprintf(stderr, "01_branching: %s '%s' (see '01_branching --help')\n", what, arg);
+    else fprintf(stderr, "01_branching: %s (see '01_branching --help')\n", what);
+    return 2;
+}
+
+/* Reads --out DIR (or --out=DIR) and --help. Returns -1 to go on, else the exit status. */
+static int parse_args(int argc, char **argv, const char **dir)
+{
+    int i;
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(usage, stdout);
+            return 0;
+        }
+        if (!strcmp(a, "--")) /* the end of the options; no arguments follow */
+            return i + 1 < argc ? bad_usage("unexpected argument", argv[i + 1]) : -1;
+        if (!strncmp(a, "--out=", 6)) {
+            *dir = a + 6;
+        } else if (!strcmp(a, "--out")) {
+            if (i + 1 == argc || (argv[i + 1][0] == '-' && argv[i + 1][1])) /* an option, not a value */
+                return bad_usage("--out needs a value", NULL);
+            *dir = argv[++i];
+        } else {
+            return bad_usage(a[0] == '-' && a[1] ? "unknown option" : "unexpected argument", a);
+        }
+        if (!**dir) return bad_usage("--out: empty value", NULL);
+    }
+    return -1;
+}
+
+/* Creates DIR if missing (one level) and checks that it is a directory we may write into, before
+   the run rather than after it. 0, or -1 with the reason on stderr. */
+static int make_out_dir(const char *dir)
+{
+    struct stat st;
+    if (mkdir(dir, 0777) && errno != EEXIST) {
+        fprintf(stderr, "01_branching: cannot create directory %s: %s\n", dir, strerror(errno));
+        return -1;
+    }
+    if (stat(dir, &st) || !S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "01_branching: %s is not a directory\n", dir);
+        return -1;
+    }
+    if (access(dir, W_OK | X_OK)) {
+        fprintf(stderr, "01_branching: cannot write into %s: %s\n", dir, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     psb_problem problem;
@@ -78,16 +138,10 @@ int main(int argc, char **argv)
     double y[3], t[3], ys[8 * 3], ts[8 * 3], precision;
     const char *out_dir = NULL;
     psb_result r;
-    int k, i;
+    int k, i, status;
 
-    {
-        cli c;
-        cli_init(&c, "01_branching", argc, argv, usage);
-        while (cli_next(&c))
-            if (!cli_string(&c, "--out", &out_dir)) cli_unknown(&c);
-        if (c.status != CLI_OK) return c.status == CLI_HELP ? 0 : 2;
-    }
-    if (out_dir && cli_output_dir("01_branching", out_dir)) return 1;
+    if ((status = parse_args(argc, argv, &out_dir)) >= 0) return status;
+    if (out_dir && make_out_dir(out_dir)) return 1;
 
     psb_problem_init(&problem, 2, residual, jacobian, NULL); /* the load g is y[2], the last */
     memset(&opt, 0, sizeof opt); /* zero means default; continuation: */

@@ -1,22 +1,34 @@
 #!/usr/bin/env bash
-# The examples' command lines (examples/cli.h): for every example, --help and -h print the usage
-# on stdout and exit 0; malformed command lines exit 2 (usage errors) or 1 (a file that cannot be
-# read or written) with a message on stderr naming the offending option or value, and never
-# crash (exit status < 128). Ends with `N passed, M failed`; exit status 1 on any failure.
-# The programs come from examples/ (built by `make examples`), or from $CLI_BIN, e.g. builds
-# under AddressSanitizer and UndefinedBehaviorSanitizer, whose reports (leaks too) count as
-# failures.
+# The programs' command lines (the teaching examples' own parsers, fe/cli.h for the applications):
+# for every program, --help and -h print the usage on stdout and exit 0; malformed command lines
+# exit 2 (usage errors) or 1 (a file that cannot be read or written) with a message on stderr
+# naming the offending option or value, and never crash (exit status < 128). Ends with
+# `N passed, M failed`; exit status 1 on any failure.
+# The programs come from examples/, fe/ and fc_solve/ (built by `make examples`), or all from one
+# folder $CLI_BIN, e.g. builds under AddressSanitizer and UndefinedBehaviorSanitizer, whose
+# reports (leaks too) count as failures.
 set -u
 cd "$(dirname "$0")/.." || exit 1
-bin=${CLI_BIN:-examples}
+# where PROG is built
+where() {
+    if [ -n "${CLI_BIN:-}" ]; then
+        echo "$CLI_BIN/$1"
+    else
+        case $1 in
+        [0-9][0-9]_*) echo "examples/$1" ;;
+        fc_solve) echo fc_solve/fc_solve ;;
+        *) echo "fe/$1" ;;
+        esac
+    fi
+}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 passed=0
 failed=0
 
-for prog in 01_branching 02_explore 03_pitchforks block triangle fc_solve quasistatic; do
-    if [ ! -x "$bin/$prog" ]; then
-        echo "tests/cli.sh: $bin/$prog is missing (make examples)"
+for prog in 01_branching 02_explore 03_pitchforks 04_evolution block triangle fc_solve quasistatic; do
+    if [ ! -x "$(where "$prog")" ]; then
+        echo "tests/cli.sh: $(where "$prog") is missing (make examples)"
         exit 1
     fi
 done
@@ -31,7 +43,7 @@ fail() {
 help() {
     local prog=$1 opt rc
     for opt in --help -h; do
-        "$bin/$prog" $opt >"$tmp/out" 2>"$tmp/err"
+        "$(where "$prog")" $opt >"$tmp/out" 2>"$tmp/err"
         rc=$?
         if [ $rc -eq 0 ] && grep -q "^usage: $prog" "$tmp/out" && grep -q -- '--' "$tmp/out" && [ ! -s "$tmp/err" ]; then
             pass
@@ -45,7 +57,7 @@ help() {
 expect() {
     local want=$1 text=$2 prog=$3 rc
     shift 3
-    "$bin/$prog" "$@" >"$tmp/out" 2>"$tmp/err"
+    "$(where "$prog")" "$@" >"$tmp/out" 2>"$tmp/err"
     rc=$?
     if [ $rc -eq "$want" ] && grep -qF -- "$text" "$tmp/err"; then
         pass
@@ -59,7 +71,7 @@ expect() {
 usage() { expect 2 "$@"; }
 fails() { expect 1 "$@"; }
 
-for prog in 01_branching 02_explore 03_pitchforks block triangle fc_solve quasistatic; do help "$prog"; done
+for prog in 01_branching 02_explore 03_pitchforks 04_evolution block triangle fc_solve quasistatic; do help "$prog"; done
 
 # end-point files for --refine: a hostile header (a heap overflow once), a missing file
 printf 'fe-ends rect 40 80 65536 65536\n1 4295098369\n' >"$tmp/hostile.txt"
@@ -155,9 +167,9 @@ usage "--tol needs a value" fc_solve x.dat --tol
 # corrupted HDF5 files on which libhdf5 itself crashes (Debian 12's 1.10.8: SIGFPE in H5Dopen,
 # SIGSEGV, heap corruption) are read errors (exit 2) of the file, not crashes of fc_solve (HDF5
 # builds only; this script runs the builds without sanitizers)
-if ! "$bin/fc_solve" fuzz/corpus/fc_hdf5/csc2d.hdf5 2>/dev/null | grep -q "not supported by this build"; then
-    for f in fuzz/libhdf5_faults/*.hdf5; do
-        "$bin/fc_solve" "$f" >"$tmp/out" 2>"$tmp/err"
+if ! "$(where fc_solve)" fc_solve/fuzz/corpus/fc_hdf5/csc2d.hdf5 2>/dev/null | grep -q "not supported by this build"; then
+    for f in fc_solve/fuzz/libhdf5_faults/*.hdf5; do
+        "$(where fc_solve)" "$f" >"$tmp/out" 2>"$tmp/err"
         rc=$?
         if [ $rc -eq 2 ] && grep -q "^$f error: " "$tmp/out" &&
             ! grep -qE 'Sanitizer|runtime error:' "$tmp/err"; then
@@ -188,6 +200,15 @@ usage "unexpected argument 'x'" 03_pitchforks --out "$tmp" x
 fails "/dev/full is not a directory" 03_pitchforks --out /dev/full
 fails "cannot write $tmp/o6/diagram.json: Is a directory" 03_pitchforks --out "$tmp/o6"
 
+# 04_evolution
+usage "unknown option '--bogus'" 04_evolution --bogus
+usage "--out needs a value" 04_evolution --out
+usage "unexpected argument 'x'" 04_evolution x
+fails "/dev/full is not a directory" 04_evolution --out /dev/full
+fails "cannot write $tmp/o8/evolution.csv: Is a directory" 04_evolution --out "$tmp/o8"
+mkdir -p "$tmp/o10/plot.gp"
+fails "cannot write $tmp/o10/plot.gp: Is a directory" 04_evolution --out "$tmp/o10"
+
 # quasistatic
 usage "unknown option '--bogus'" quasistatic --bogus
 usage "--mesh 1: must be between 2 and 512" quasistatic --mesh 1
@@ -208,7 +229,7 @@ fails "cannot write $tmp/o8/evolution.csv: Is a directory" quasistatic --quiet -
 
 # a sweep too short for the block (2 directions, 1 span): the example says the set looks
 # incomplete and fails the paper's count
-"$bin/block" --ndir 2 --nspan 1 >"$tmp/out" 2>"$tmp/err"
+"$(where block)" --ndir 2 --nspan 1 >"$tmp/out" 2>"$tmp/err"
 rc=$?
 if [ $rc -eq 1 ] && grep -q "most likely branches are missing" "$tmp/out"; then
     pass

@@ -53,6 +53,7 @@ installed_files() { # the files make install must write under prefix $1
     for f in include/pscbranch.h lib/pkgconfig/pscbranch.pc lib/cmake/pscbranch/pscbranchConfig.cmake \
         lib/cmake/pscbranch/pscbranchConfigVersion.cmake share/doc/pscbranch/LICENSE \
         share/doc/pscbranch/README.md share/doc/pscbranch/examples/01_branching.c \
+        share/doc/pscbranch/fe/block.c share/doc/pscbranch/fe/README.md share/doc/pscbranch/fc_solve/fc_solve.c \
         share/doc/pscbranch/contrib/psb_sparse.h share/doc/pscbranch/contrib/psb_mumps.h; do
         [ -f "$1/$f" ] || { echo "missing $1/$f"; return 1; }
     done

@@ -12,7 +12,7 @@
           -lumfpack -lklu -llapack -lblas -lm */
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
-#include "examples/fe.h"
+#include "fe/fe.h"
 #define PSB_SPARSE_IMPLEMENTATION
 #include "contrib/psb_sparse.h"
 #define PSB_CONDENSE_IMPLEMENTATION
@@ -579,7 +579,7 @@ static void test_fe_matrices(void)
         }
 }
 
-/* ---- end to end: the examples' run (approach, Algorithms 2.1-2.2, every branch traced) ---- */
+/* ---- end to end: the FE applications' run (approach, Algorithms 2.1-2.2, every branch traced) ---- */
 typedef struct ends { int nbr; double *y; long analyses, fills, factor_calls, reused; } ends;
 
 static int run_model(fe_model *md, int triangle, int backend, ends *e)

@@ -3,14 +3,14 @@
 continuation and non-smooth branching (getfem.ContStruct, 'non-smooth', singularities 2), the
 reference for bench/getfem_side_by_side.sh. Written here from GetFEM's documented Python API.
 
-The problem is examples/block.c's (examples/fe.h, fe_block_model): a 40 mm x 80 mm block, NX x NY
+The problem is fe/block.c's (fe/fe.h, fe_block_model): a 40 mm x 80 mm block, NX x NY
 bilinear squares, 3 x 3 Gauss points, plane-strain Ciarlet-Geymonat (lambda = 4000, mu = 120,
 a = 30 N/mm^2), fixed on top by Lagrange multipliers (bilinear traces), loaded by
 h = gamma (-2, 0.12 (x1 - 20)) N/mm^2 on both lateral sides, on a rigid foundation x2 >= 0 with
 nodal contact and Coulomb friction F = 1 in the non-symmetric Alart-Curnier form of eq. (2)
 (GetFEM's nodal contact brick, augmented version 1), r = 10.
 
-The run is the same as `examples/block --mesh NXxNY` (gfcont.py): Newton at gamma = -1 on
+The run is the same as `fe/block --mesh NXxNY` (gfcont.py): Newton at gamma = -1 on
 branch 1, continuation towards gamma = 0, GetFEM's Algorithms 2.1-2.2 at the nonsmooth point
 (h = 5e-7, h_init = 5e-4, c_diff = 0.99999, n_dir = 20, n_span = 15 unless given), every branch
 traced to |gamma| = 1. GetFEM returns a tangent per one-sided branch it finds and each is traced
@@ -18,7 +18,7 @@ traced to |gamma| = 1. GetFEM returns a tangent per one-sided branch it finds an
 time of one tangent per distinct branch is printed too.
 
 The branches are numbered as in the paper (1-3 forced right, gamma < 0; 4-6 left; lower vertex on
-that side lifted, sticking, slipping). --compare FILE (examples/block's --out DIR/branches.csv)
+that side lifted, sticking, slipping). --compare FILE (fe/block's --out DIR/branches.csv)
 prints the end values beside pscbranch's.
 
 Usage: /usr/bin/python3 bench/getfem/block.py [--mesh NXxNY] [--ndir N] [--nspan N]

@@ -3,7 +3,7 @@
 own continuation, the reference for bench/getfem_side_by_side.sh (FOLD=N). Written here from
 GetFEM's documented Python API.
 
-The model is triangle.py's with the load of examples/triangle's --problem fold,
+The model is triangle.py's with the load of fe/triangle's --problem fold,
 h(gamma) = (-20 - 10 gamma, -7.5) GN/m^2 on the vertical leg. The run is the example's: Newton at
 gamma = -3 (pushing; Newton from zero), then GetFEM's continuation with its tangent switch for
 non-smooth problems ('non-smooth') and its limit-point test ('singularities', 1) up to gamma = 1.
@@ -16,7 +16,7 @@ defaults for the rest (h_inc 1.3, h_dec 0.5, max_iter 10, thr_iter 4).
 
 Usage: /usr/bin/python3 bench/getfem/fold.py [--mesh N] [--lsolver mumps|superlu|auto]
            [--min-cos C] [--compare FILE] [--verbose]
---compare takes examples/triangle --problem fold's --out DIR/folds.csv.
+--compare takes fe/triangle --problem fold's --out DIR/folds.csv.
 """
 import argparse
 import sys
@@ -30,7 +30,7 @@ PAPER = {64: (0.56541, 0.66665), 128: (0.5883, 0.70731), 256: (0.59996, 0.73289)
 
 
 def read_folds(path):
-    """examples/triangle's folds.csv: the limit points' gamma, sorted."""
+    """fe/triangle's folds.csv: the limit points' gamma, sorted."""
     with open(path) as f:
         next(f)
         return sorted(float(line.split(',')[1]) for line in f if line.strip())

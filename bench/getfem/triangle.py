@@ -3,7 +3,7 @@
 continuation and non-smooth branching, the reference for bench/getfem_side_by_side.sh (TRIANGLE=N).
 Written here from GetFEM's documented Python API.
 
-The problem is examples/triangle.c's branching run (examples/fe.h, fe_triangle_model): a right
+The problem is fe/triangle.c's branching run (fe/fe.h, fe_triangle_model): a right
 isosceles triangle with 1 m legs on the axes, the n x n grid of squares cut parallel to the
 hypotenuse (n^2 P1 triangles), plane-strain Hooke law (lambda = 100, mu = 82 GN/m^2), fixed along
 the hypotenuse by Lagrange multipliers (linear traces), loaded on the vertical leg by
@@ -11,7 +11,7 @@ h = gamma (-26.4, -7.5) GN/m^2, lying on a rigid foundation x2 >= 0 along the bo
 nodal contact and Coulomb friction F = 1.7 in the Alart-Curnier form of eq. (2) (GetFEM's nodal
 contact brick, version 1), r = 10. The corner (1, 0) is fixed, so n contact nodes remain.
 
-The run (gfcont.py) is `examples/triangle --mesh N --load 26.4`'s: Newton at gamma = -1 from zero
+The run (gfcont.py) is `fe/triangle --mesh N --load 26.4`'s: Newton at gamma = -1 from zero
 (branch 2), continuation towards gamma = 0, GetFEM's Algorithms 2.1-2.2 with the paper's triangle
 parameters (h = 5e-8, h_init = 5e-4, c_diff = 1 - 1e-10, n_dir = 30, n_span = 10), every branch
 traced to |gamma| = 1. The paper finds four branches: 2 (gamma < 0); 1, 3, 4 (gamma > 0) with the
@@ -20,7 +20,7 @@ lower left vertex separated, sticking, slipping.
 Usage: /usr/bin/python3 bench/getfem/triangle.py [--mesh N] [--ndir N] [--nspan N]
            [--lsolver mumps|superlu|auto] [--trace-min-cos C] [--single-struct]
            [--compare FILE] [--verbose]
-(options as in block.py; --compare takes examples/triangle's --out DIR/branches.csv)
+(options as in block.py; --compare takes fe/triangle's --out DIR/branches.csv)
 """
 import sys
 

@@ -1,4 +1,4 @@
-/* Tests of examples/fc_solve.c's solver on generated frictional-contact instances (tests/fc_gen.h):
+/* Tests of fc_solve/fc_solve.c's solver on generated frictional-contact instances (fc_gen.h):
    2D and 3D, rank-deficient (rigid scenes) and full-rank (flexible-like) W, mu = 0 and mu > 0,
    some with 100+ contacts, six hard piles (each solved or honestly failed, whatever the BLAS).
    Checks the reported error against an independent recomputation from the dense W, and the
@@ -10,7 +10,7 @@
    infeasible problems never reported solved, W kept sparse and split into coupled components
    (15 000 decoupled contacts), the limit on a coupled component. */
 #define FC_SOLVE_NO_MAIN
-#include "examples/fc_solve.c"
+#include "fc_solve/fc_solve.c"
 
 #include "fc_gen.h"
 #include "harness.h"
@@ -913,9 +913,9 @@ static void test_coupled_limit(void)
 /* A finding of fuzz_fc_solve: mu = 4.6e72 at a sliding contact multiplies the rounding of u_T
    (~1e-29) into uhat_N, so the eq. (15) error the solver computed (3e-17) and an independent
    recomputation (2e-3) disagreed and the problem was reported solved. The rounding bound of the
-   acceptance test carries (1 + mu) now: not solved, with the bound in the verdict. The numbers
-   are that mutation of data/fc-problems/FC2D_SliderCrankLagrangian00000.dat (Siconos, INRIA,
-   Apache-2.0: data/README.md). */
+   acceptance test carries (1 + mu): not solved, with the bound in the verdict. The numbers are
+   that mutation of fc_solve/data/fc-problems/FC2D_SliderCrankLagrangian00000.dat (Siconos,
+   INRIA, Apache-2.0: fc_solve/data/README.md). */
 static void test_huge_mu(void)
 {
     char path[512];

@@ -1,7 +1,7 @@
 /* quasistatic - a quasi-static evolution through a frictional snap-through, time step by time
    step, with psb_evolve_step (Ligursky & Renard, CMAME 280 (2014)).
 
-   The body: the right isosceles triangle of examples/triangle.c (1 m legs, P1, plane-strain
+   The body: the right isosceles triangle of fe/triangle.c (1 m legs, P1, plane-strain
    Hooke lambda = 100, mu = 82 GN/m^2, fixed along the hypotenuse, lying on its bottom leg on a
    rigid foundation with Coulomb friction F = 1.7, r = 10), loaded on its vertical leg by
    h(lambda) = (-20 - 10 lambda, -7.5) GN/m^2 (the fold problem of triangle.c) along the load
@@ -45,7 +45,7 @@
 
    Usage: quasistatic [--mesh N] [--dt DT] [--out DIR] [--verbose] [--quiet] [--help]
    Build (from the repository root):
-     cc -std=c99 -O2 -I. examples/quasistatic.c -o examples/quasistatic -llapack -lblas -lm */
+     cc -std=c99 -O2 -I. fe/quasistatic.c -o fe/quasistatic -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
 #include <sys/stat.h>
 #define PSCBRANCH_IMPLEMENTATION

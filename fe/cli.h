@@ -1,4 +1,4 @@
-/* cli.h - the command-line parser shared by the pscbranch examples (header-only, C99).
+/* cli.h - the command-line parser of the FE applications and fc_solve (header-only, C99).
 
    Behaves as Unix tools do: `--help` / `-h` prints the usage to stdout (the caller then exits 0);
    an error names the option and the offending value with the reason, on stderr, with a pointer

@@ -1,10 +1,10 @@
-/* Tests of the examples' FE toolkit (examples/fe.h): constitutive laws against finite differences,
+/* Tests of the FE applications' toolkit (fe/fe.h): constitutive laws against finite differences,
    assembly against finite differences of the energy and of the residual, contact rows, mesh counts,
    and a Newton solve of both of the paper's problems.
-   Build: cc -std=c99 -I. tests/test_fe.c -o build/test_fe -llapack -lblas -lm */
+   Build: cc -std=c99 -I. fe/tests/test_fe.c -o build/test_fe -llapack -lblas -lm */
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
-#include "examples/fe.h"
+#include "fe/fe.h"
 #include "tests/harness.h"
 #include <limits.h>
 
@@ -266,7 +266,7 @@ static void test_newton(void)
 }
 
 
-/* fe.h's own contact rows agree with the library's psb_ac2d_node (which the examples use). */
+/* fe.h's own contact rows agree with the library's psb_ac2d_node (which the applications use). */
 static void test_contact_vs_library(void)
 {
     unsigned long long s = 4242;
@@ -688,7 +688,7 @@ static void test_ends_reader(void)
 }
 
 /* fe_contact_state of each node agrees with the counts of fe_contact_states (classify in the
-   examples reads one node's state through it, without a fixed-size array). */
+   applications reads one node's state through it, without a fixed-size array). */
 static void test_contact_state(void)
 {
     fe_mesh m;

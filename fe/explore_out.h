@@ -1,10 +1,10 @@
-/* explore_out.h - what the examples print and write of a diagram found by psb_explore: the graph
+/* explore_out.h - what the FE applications print and write of a diagram found by psb_explore: the graph
    as a table, its JSON and CSV forms (psb_diagram_write_json/_csv), the accepted points as CSV
    from the point callback, and a gnuplot script that draws the diagram in the plane of the
    parameter and one state component, special points marked by kind.
    Include after pscbranch.h compiled with PSCBRANCH_IMPLEMENTATION and PSCBRANCH_STDIO.
    A file that cannot be written is recorded in the xo_out (xo_error prints it with the reason),
-   so that the example can name it and exit non-zero. */
+   so that the program can name it and exit non-zero. */
 #ifndef EXPLORE_OUT_H
 #define EXPLORE_OUT_H
 #include <errno.h>

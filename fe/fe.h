@@ -1,4 +1,5 @@
-/* fe.h - a small 2D finite-element toolkit for the pscbranch contact examples (plain C99).
+/* fe.h - a small 2D finite-element toolkit for the FE applications block, triangle and
+   quasistatic (plain C99).
 
    What it does: structured meshes of a rectangle (Q1 squares) and of a right isosceles triangle
    (P1 triangles), Gauss quadrature, plane-strain Hooke and Ciarlet-Geymonat laws, assembly of the
@@ -18,7 +19,7 @@
    sparse direct solvers (fe_sparse: the pattern and the values of dH/dx for contrib/psb_sparse.h).
    fe_h1_rel_error compares displacements on nested P1 or Q1 meshes in the H1(Omega) norm.
 
-   When pscbranch.h is included before this file, a small driver shared by the examples is
+   When pscbranch.h is included before this file, a small driver shared by the applications is
    compiled too (fe_run_*): callbacks for pscbranch's dense and banded backends, the weights of its
    inner product (fe_weights), the continuation to the branching point at gamma = 0, Algorithms
    2.1-2.2, the traces of every branch to |gamma| = 1 and the output files (CSV, VTK, gnuplot).
@@ -154,7 +155,7 @@ static inline int fe_mesh_alloc(fe_mesh *m, int nnode, int nelem, int nvert, int
 }
 
 /* Largest mesh the generators build: every index computed in int (element-vertex, node-dof and
-   quadrature offsets, at most 81 per element) then stays far below INT_MAX. The examples state
+   quadrature offsets, at most 81 per element) then stays far below INT_MAX. The applications state
    their own, smaller, limits in their --help. */
 #define FE_MAX_NODES (1L << 23)
 
@@ -331,7 +332,7 @@ enum { FE_SEPARATED = 0, FE_STICK = 1, FE_SLIP_POS = 2, FE_SLIP_NEG = 3 };
      -(1/r)(l_n - (l_n - r u_n)_-),  -(1/r)(l_t - P_[F s, -F s](l_t - r u_t)),  s = (l_n - r u_n)_-.
    jac (may be NULL): column-major 2 x 4 with respect to (u_n, u_t, l_n, l_t). state: the smooth
    piece used (separated, stick, slip with u_t > 0 / u_t < 0 at a solution). Kinks go to the
-   separated / stick side. Own implementation; the examples may use psb_ac2d_node instead. */
+   separated / stick side. Own implementation; the applications may use psb_ac2d_node instead. */
 static inline int fe_contact_node(double un, double ut, double ln, double lt, double r, double fr,
                                   double res[2], double jac[8])
 {
@@ -1577,7 +1578,7 @@ static inline int fe_parse_double(const char *s, const char **end, double *v)
 }
 
 /* A mesh description: "rect LX LY NX NY" (fe_mesh_rectangle) or "tri LEN N" (fe_mesh_triangle),
-   lengths in [FE_SPEC_MIN_LEN, FE_SPEC_MAX_LEN] (the examples' bodies measure 1 m and 40 mm:
+   lengths in [FE_SPEC_MIN_LEN, FE_SPEC_MAX_LEN] (the applications' bodies measure 1 m and 40 mm:
    a length far outside is no mesh of theirs, and its coordinates would underflow or overflow),
    sizes within FE_MAX_NODES, nothing after but white space. */
 #define FE_SPEC_MIN_LEN 1e-9
@@ -1744,7 +1745,7 @@ static inline void fe_ends_error(const char *prog, const char *path, int rc)
     else fprintf(stderr, "%s: %s: its mesh is not a coarser mesh nested in this one (or out of memory)\n", prog, path);
 }
 
-/* ---- branching driver shared by the examples (needs pscbranch.h included before this file) --- */
+/* ---- branching driver shared by the applications (needs pscbranch.h included before this file) --- */
 #ifdef PSCBRANCH_H
 
 typedef struct fe_branch {
@@ -2021,7 +2022,7 @@ static inline int fe_run_compare_ends(const fe_run *run, const char *path)
     return rc;
 }
 
-/* The examples' --save FILE and --compare FILE... after a run (a branching or a --refine one):
+/* The applications' --save FILE and --compare FILE... after a run (a branching or a --refine one):
    prints the H1 table headed by `table` and a line per failure; returns 0 if any failed. */
 static inline int fe_run_save_compare(const fe_run *run, const char *prog, const char *spec, const char *save,
                                       const char *const *compare, int ncompare, const char *table)

@@ -1,18 +1,18 @@
-/* libFuzzer target: the examples' end-point file reader (block / triangle --refine and --compare,
-   examples/fe.h fe_ends_read_stream) on arbitrary bytes, through a memory stream. A file it
-   accepts is used as the examples use it: its fields interpolated onto the mesh refined twice
+/* libFuzzer target: the FE applications' end-point file reader (block / triangle --refine and --compare,
+   fe/fe.h fe_ends_read_stream) on arbitrary bytes, through a memory stream. A file it
+   accepts is used as the applications use it: its fields interpolated onto the mesh refined twice
    (fe_nesting's interpolation, as --refine does after its nesting test) and compared in H1
    with the interpolant (the --compare path), on small
    meshes. Findings are crashes, sanitizer reports, leaks, and broken promises of the reader
    (checked below with abort()).
-     clang -g -O1 -fsanitize=fuzzer,address,undefined -I. fuzz/fuzz_fe_ends.c -llapack -lblas -lm
-     ./a.out fuzz/corpus/fe_ends */
+     clang -g -O1 -fsanitize=fuzzer,address,undefined -I. fe/fuzz/fuzz_fe_ends.c -llapack -lblas -lm
+     ./a.out fe/fuzz/corpus/fe_ends */
 #define _POSIX_C_SOURCE 200809L
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "examples/fe.h"
+#include "fe/fe.h"
 
 /* Refined meshes are built for files of at most this many nodes (the fuzzer's speed). */
 #define FUZZ_MAX_NODES 2000

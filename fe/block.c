@@ -31,14 +31,14 @@
    --compare (up to 4) prints the relative H1 errors of a coarser file's displacements against
    this run's, branch by branch (Table 3). --expect-npc N: exit status 1 unless Algorithm 2.2's
    n_pc is N (the tests check Table 1's n_pc = 72 this way).
-   --solver: how the bordered systems are solved (examples/fe_solvers.h); by default the banded
+   --solver: how the bordered systems are solved (fe/fe_solvers.h); by default the banded
    LU, and UMFPACK from M12800 (in a build with SuiteSparse), where it is 1.6x faster. --solver
    mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are installed):
-   MUMPS, also distributed: `mpirun -np 2 examples/block --solver mumps` runs the continuation on
+   MUMPS, also distributed: `mpirun -np 2 fe/block --solver mumps` runs the continuation on
    rank 0 and MUMPS's factorisations on both ranks.
    Build (from the repository root; `make` adds SuiteSparse and MUMPS when they are installed):
-     cc -std=c99 -O2 -I. examples/block.c -o examples/block -llapack -lblas -lm
-     cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE examples/block.c -o examples/block \
+     cc -std=c99 -O2 -I. fe/block.c -o fe/block -llapack -lblas -lm
+     cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE fe/block.c -o fe/block \
         -lumfpack -lklu -llapack -lblas -lm
      with MUMPS too: add -DFE_MUMPS $(pkg-config --cflags mpi-c) and -ldmumps -lmumps_common
         $(pkg-config --libs mpi-c) */

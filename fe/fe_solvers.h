@@ -1,4 +1,4 @@
-/* fe_solvers.h - the --solver option of the FE examples (block, triangle): how pscbranch solves
+/* fe_solvers.h - the --solver option of the FE applications (block, triangle): how pscbranch solves
    the bordered systems of an fe.h model.
      dense    PSB_LINEAR_DENSE (LAPACK dgetrf on the whole matrix; small meshes only)
      banded   PSB_LINEAR_BANDED (the header's banded LU, half band md->half_band)
@@ -7,7 +7,7 @@
      condensed  contrib/psb_condense.h (same builds), for Hooke's law (the triangle): the
               constant rows factored once by UMFPACK, a dense Schur complement on the contact
               unknowns (4 per contact node) factored at each call
-     mumps    MUMPS: contrib/psb_mumps.h through PSB_LINEAR_USER (examples/fe_mumps.h), in a build
+     mumps    MUMPS: contrib/psb_mumps.h through PSB_LINEAR_USER (fe/fe_mumps.h), in a build
               with FE_MUMPS defined (the Makefile builds the block so when MUMPS and MPI are
               there); the program runs under psb_mumps_main, also through mpirun
    Without --solver: the banded LU, or UMFPACK where it is faster (fe_solver_sparse_wins), or

@@ -1,11 +1,11 @@
 /* Writes the seed corpora of fuzz_fc_hdf5 and fuzz_fc_fclib: tiny FCLib local problems in each
    W layout (and issue 20's bad column pointers), as HDF5 files into the first folder and in the
-   byte layout of fuzz/fc_fclib_bytes.h into the second:
-     cc -DFC_SOLVE_HDF5 $(pkg-config --cflags hdf5) -I. -Itests fuzz/fc_hdf5_seeds.c \
+   byte layout of fc_fclib_bytes.h into the second:
+     cc -DFC_SOLVE_HDF5 $(pkg-config --cflags hdf5) -I. fc_solve/fuzz/fc_hdf5_seeds.c \
         $(pkg-config --libs hdf5) -lm -o /tmp/seeds
-     /tmp/seeds fuzz/corpus/fc_hdf5 fuzz/corpus/fc_fclib */
-#include "fc_gen.h"
-#include "fuzz/fc_fclib_bytes.h"
+     /tmp/seeds fc_solve/fuzz/corpus/fc_hdf5 fc_solve/fuzz/corpus/fc_fclib */
+#include "fc_solve/tests/fc_gen.h"
+#include "fc_fclib_bytes.h"
 
 #include <stdio.h>
 

@@ -1,14 +1,14 @@
-/* libFuzzer target: the validation of examples/fc_solve.c's FCLib reader without HDF5's file
+/* libFuzzer target: the validation of fc_solve.c's FCLib reader without HDF5's file
    layer: the bytes are decoded as the arrays an FCLib local problem's HDF5 file holds
-   (fuzz/fc_fclib_bytes.h) and given to fc_from_fclib, which fc_read_hdf5 calls on what it reads
+   (fc_fclib_bytes.h) and given to fc_from_fclib, which fc_read_hdf5 calls on what it reads
    (sizes, compressed-column / compressed-row pointers, triplets, indices, q, mu). An accepted
-   problem must be well formed (fuzz/fc_fuzz_check.h); a rejected one must leave the problem
+   problem must be well formed (fc_fuzz_check.h); a rejected one must leave the problem
    empty with a message. fuzz_fc_hdf5 covers the file layer, at a few hundred runs a second. */
 #define FC_SOLVE_NO_MAIN
-#include "examples/fc_solve.c"
+#include "fc_solve/fc_solve.c"
 
-#include "fuzz/fc_fclib_bytes.h"
-#include "fuzz/fc_fuzz_check.h"
+#include "fc_fclib_bytes.h"
+#include "fc_fuzz_check.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -62,7 +62,7 @@
    ipm_frozen); the first run is kept as it was because on other instances it is the faster one.
    If both miss, the pair is run again with the augmentation rho scaled by 5, then by 0.2
    (FC_RUNS): the best iterate of all runs is returned.
-   Build with -DFC_SOLVE_NO_MAIN to #include the solver elsewhere (tests/test_fc_solve.c). */
+   Build with -DFC_SOLVE_NO_MAIN to #include the solver elsewhere (fc_solve/tests/test_fc_solve.c). */
 #define PSCBRANCH_IMPLEMENTATION
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L /* fork and pipe: the HDF5 reader's child process */
@@ -504,7 +504,7 @@ static const char *h5_read_arrays(const char *path, fc_fclib *a, void *bufs[9])
 }
 
 #ifdef FC_HDF5_IN_PROCESS
-/* Without the child: for Windows (no fork), and for fuzz/fuzz_fc_hdf5.c's long runs, where
+/* Without the child: for Windows (no fork), and for fc_solve/fuzz/fuzz_fc_hdf5.c's long runs, where
    libFuzzer sees this reader's coverage (lost in a child) without a fork per input. */
 static const char *fc_read_hdf5(const char *path, fc_problem *p)
 {
@@ -520,7 +520,7 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
 }
 #else
 /* libhdf5 trusts a file's metadata: on a corrupted file it may crash or spin (Debian 12's
-   1.10.8 divides by a zero chunk size inside H5Dopen, fuzz/libhdf5_faults/zero_chunk.hdf5).
+   1.10.8 divides by a zero chunk size inside H5Dopen, fc_solve/fuzz/libhdf5_faults/zero_chunk.hdf5).
    So a child process reads the file and sends the arrays through a pipe; the parent checks
    them like any input, and a child that dies or runs over FC_HDF5_SECONDS is a bad file. It may
    also allocate without end (8 KB files found by fuzz_fc_hdf5 took all of a 24 GB machine's
@@ -2105,7 +2105,7 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
    allocation failure (fc_solve then checks the whole result: fc_accept). */
 /* Runs in pairs (without, then with interior-point restarts), each pair with the augmentation
    rho scaled by one of these: where Newton stalls on one scaling it often converges on another
-   (the kinks of the residual move with rho). On 36 generated piles (tests/fc_gen.h, mu 0.3 to
+   (the kinks of the residual move with rho). On 36 generated piles (fc_solve/tests/fc_gen.h, mu 0.3 to
    2, 100 to 560 contacts) the first pair solved 26, rho x 5 two more, rho x 0.2 one more. */
 #define FC_RUNS 6
 static const double fc_run_rho[FC_RUNS / 2] = {1.0, 5.0, 0.2};
@@ -2773,7 +2773,7 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
 }
 
 #ifndef FC_SOLVE_NO_MAIN
-#include "cli.h"
+#include "fe/cli.h" /* the FE applications' command-line parser */
 
 static const char fc_usage[] =
     "usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...\n"

@@ -1,4 +1,4 @@
-/* libFuzzer target: examples/fc_solve.c's FCLib HDF5 reader (fc_read on an HDF5 file). The
+/* libFuzzer target: fc_solve.c's FCLib HDF5 reader (fc_read on an HDF5 file). The
    bytes are written to a scratch file which fc_read opens; mutations of the seed files mostly
    change the datasets' values (sizes, pointers, indices, entries). As fc_solve runs it, libhdf5
    reads the file in a child process, so that its own faults on corrupted metadata are read
@@ -7,12 +7,12 @@
    reader runs in this process instead: 4 times the inputs a second, but a fault inside libhdf5
    then stops the run, and is ours only if fc_solve fails on the input too (fuzz/README.md).
    Leaks inside libhdf5 are suppressed and an oversized allocation request returns NULL (HDF5
-   then reports an error). An accepted problem must be well formed (fuzz/fc_fuzz_check.h); a
+   then reports an error). An accepted problem must be well formed (fc_fuzz_check.h); a
    rejected one must leave the problem empty with a message. */
 #define FC_SOLVE_NO_MAIN
-#include "examples/fc_solve.c"
+#include "fc_solve/fc_solve.c"
 
-#include "fuzz/fc_fuzz_check.h"
+#include "fc_fuzz_check.h"
 
 #include <stdint.h>
 #include <unistd.h>

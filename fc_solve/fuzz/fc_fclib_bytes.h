@@ -1,4 +1,4 @@
-/* A byte layout of an FCLib local problem's arrays (fc_fclib of examples/fc_solve.c) for the
+/* A byte layout of an FCLib local problem's arrays (fc_fclib of fc_solve.c) for the
    fuzz_fc_hdf5 target's second mode, which checks fc_from_fclib without HDF5's file layer:
    int32 dim, m, n, nz; uint16 counts np, ni, nx, nq, nmu (each taken modulo 257); then p, i
    (int32 each) and x, q, mu (float64 each), all little-endian, missing bytes read as 0. */

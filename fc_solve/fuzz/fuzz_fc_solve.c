@@ -1,4 +1,4 @@
-/* libFuzzer target: examples/fc_solve.c's solver and acceptance test on arbitrary finite data:
+/* libFuzzer target: fc_solve.c's solver and acceptance test on arbitrary finite data:
    the bytes are read as a text problem file (as fuzz_fc_text does) and problems of at most 9
    unknowns are solved with --maxit 2. A success must hold up when checked independently: u
    recomputed from the compressed columns, the eq. (15) error <= 2 tol (tol plus the rounding
@@ -7,9 +7,9 @@
    a millisecond a run (six runs of the schedule, interior-point restarts), hence a separate
    target from the reader's. */
 #define FC_SOLVE_NO_MAIN
-#include "examples/fc_solve.c"
+#include "fc_solve/fc_solve.c"
 
-#include "fuzz/fc_fuzz_check.h"
+#include "fc_fuzz_check.h"
 
 static void check_success(const fc_problem *p, const double *r, int rho_exp, double tol)
 {

@@ -1,12 +1,12 @@
-/* libFuzzer target: examples/fc_solve.c's text reader (fc_parse: header, dense, sparse-block and
+/* libFuzzer target: fc_solve.c's text reader (fc_parse: header, dense, sparse-block and
    compressed-column W, q, mu) on arbitrary bytes. A problem it accepts must be what the reader
    promises (sizes, W in compressed columns with rows in range and finite non-zeros, finite q,
    finite mu >= 0), a rejected one must leave the problem empty with a message; else the target
-   aborts (fuzz/fc_fuzz_check.h). fuzz_fc_solve goes on to solve what it accepts. */
+   aborts (fc_fuzz_check.h). fuzz_fc_solve goes on to solve what it accepts. */
 #define FC_SOLVE_NO_MAIN
-#include "examples/fc_solve.c"
+#include "fc_solve/fc_solve.c"
 
-#include "fuzz/fc_fuzz_check.h"
+#include "fc_fuzz_check.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -20,8 +20,8 @@
      contact node separated) comes back to it: the two meet there with gamma rising on both
      sides, which makes that kink a limit point (--fold-trace).
 
-   --solver dense|banded|umfpack|klu|condensed: how the bordered systems are solved (examples/
-     fe_solvers.h). In a build with SuiteSparse the default is `condensed` through M16384: the
+   --solver dense|banded|umfpack|klu|condensed: how the bordered systems are solved
+     (fe/fe_solvers.h). In a build with SuiteSparse the default is `condensed` through M16384: the
      stiffness (Hooke's law: constant) factored once, a dense system on the contact unknowns at
      each call (contrib/psb_condense.h; M4096 7x faster than UMFPACK), and UMFPACK from M65536
      on; without SuiteSparse the banded LU.
@@ -37,9 +37,9 @@
    (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
    Build (from the repository root; `make` adds SuiteSparse when libsuitesparse-dev is there):
-     cc -std=c99 -O2 -I. examples/triangle.c -o examples/triangle -llapack -lblas -lm
-     cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE examples/triangle.c \
-        -o examples/triangle -lumfpack -lklu -llapack -lblas -lm */
+     cc -std=c99 -O2 -I. fe/triangle.c -o fe/triangle -llapack -lblas -lm
+     cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE fe/triangle.c \
+        -o fe/triangle -lumfpack -lklu -llapack -lblas -lm */
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION

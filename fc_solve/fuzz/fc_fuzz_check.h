@@ -1,7 +1,7 @@
 /* The invariants of a problem fc_solve's readers accept (shared by the fc_* fuzz targets):
    sizes, W in compressed columns with pointers monotone from 0, rows in range and finite
    non-zeros, finite q, finite mu >= 0. Aborts (a finding) when one fails. Include after
-   examples/fc_solve.c. */
+   fc_solve.c. */
 #ifndef FC_FUZZ_CHECK_H
 #define FC_FUZZ_CHECK_H
 
