@@ -1220,6 +1220,54 @@ typedef struct psb_stats {
 } psb_stats;
 
 /* ---- the solver: caller-owned state, all memory set up at init ------------------------ */
+/* The solver's working storage and the algorithms' state: private, treat as opaque. */
+typedef struct psb__internal {
+    int n, np1, ldlu, shifted, memo_n, memo_cap, known_n;
+    int jmemo_n;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
+    int jmemo_dh;                /* its keys may hash dH (psb__jmemo_usable); else piece ids */
+    long jmemo_looks, jmemo_hits; /* its look-ups and hits in the current call */
+    long memo_cuts;              /* trials cut by psb__path_memo_cut, in all */
+    int pmemo_checks;            /* piece memo against a trial's own tangents: pairs */
+    double pmemo_drift;          /* compared in the current call, the largest angle between */
+                                  /* them; a pair pending in BR_MT (psb__path_memo_cut) */
+    double cone_defect;          /* Algorithm 2.2's run: how far its trials saw H depart from
+                                     cones about y0 (psb__conic_excess, largest) */
+    double chord_turn_max, chord_turn_min; /* and its landing points' chords from y0 against
+                                     their tangents (psb__find_branches) */
+    unsigned long long *jmemo_key; /* two 64-bit hashes of dH per entry (memo_cap entries) */
+    int conic_h0_ok;        /* psb_find_branches holds H(y0) for it */
+    double *jmemo_t;             /* the unit tangent of each entry's dH */
+    signed char *jmemo_sign;     /* its outward sign sgn det [dH; (W t)^T], 0 if not known */
+    int tangent_sign;            /* that of the last psb__tangent_from_jacobian's tangent */
+    unsigned long long pairs_done[32]; /* Algorithm 2.2: pairs (i, j), i < j < 64, of found
+                                           branches swept, bit j (j - 1) / 2 + i */
+    signed char branch_sign[64]; /* Algorithm 2.2: the outward signs of found branches 0 .. */
+    int branch_signs_n;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
+    double sweep_offset; /* Algorithm 2.2: span directions at angles 2 pi (i + offset) / n, */
+    int sweep_n_dir;     /* i < n = this (0: n_dir) */
+    int band_ok, bv_ok, border_ok; /* banded: band holds dH/dx at yfac / bv is
+                                         A^{-1} dpfac / delta is current */
+    int branch_h_auto, branch_h_min_auto; /* follow the point (see psb__branch_h) */
+    double fd_cap;   /* > 0: largest difference step (weighted), see psb__sample_tangent */
+    double *w;
+    double *jac, *mat, *rhs, *res, *res2, *work, *tau, *vec;
+    double *band, *lu, *dparam, *row, *bv, *bx, *bres, *yfac, *fdh, *memo, *known, *path;
+    double *bandpair[2], *afac, *dpfac; /* band is one of the pair; afac the one lu holds */
+    double *gbw;                           /* banded: the LU's panel multipliers */
+    double delta, mnorm, bamp;
+    void *ipiv, *iwork; /* LAPACK integers */
+    void *owned;
+    unsigned long long rng[4];
+    int last_fail;
+    double sp_d[2]; /* psb_trace's detectors: the corners d of the random borders (user backend) */
+    long faults[4]; /* trials of the current algorithm that failed because of a fault, by
+                        cause: callback > 0, NaN/Inf, singular Jacobian; [3]: singular
+                        difference Jacobians, a fault only when n_ok = 0 (psb__note_fault) */
+    long n_ok;      /* tangents and corrector runs of the current algorithm that succeeded */
+    int in_trace_callback; /* a trace's on_point or event callback is running (psb__trace_busy) */
+    unsigned ready; /* PSB__READY between a successful init and psb_solver_free */
+} psb__internal;
+
 typedef struct psb_solver {
     psb_problem prob; /* fd_step resolved */
     psb_options opt;  /* resolved */
@@ -1229,61 +1277,7 @@ typedef struct psb_solver {
                                   2.1 and 2.2; the branch point switch uses neither) */
     psb_stats stats;  /* cumulative; zero it whenever you like */
     char message[200]; /* diagnostic of the last failure ("" when none) */
-    /* private */
-    int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
-    int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
-    int jmemo_dh_;                /* its keys may hash dH (psb__jmemo_usable); else piece ids */
-    long jmemo_looks_, jmemo_hits_; /* its look-ups and hits in the current call */
-    long memo_cuts_;              /* trials cut by psb__path_memo_cut, in all */
-    int pmemo_checks_, pmemo_check_on_; /* piece memo against a trial's own tangents: pairs */
-    double pmemo_drift_;          /* compared in the current call, the largest angle between */
-                                  /* them; a pair pending in BR_MT (psb__path_memo_cut) */
-    double cone_defect_;          /* Algorithm 2.2's run: how far its trials saw H depart from
-                                     cones about y0 (psb__conic_excess, largest) */
-    double chord_turn_max_, chord_turn_min_; /* and its landing points' chords from y0 against
-                                     their tangents (psb__find_branches) */
-    const double *cone_probe_;    /* y0 while a trial's screening point is sampled, else NULL */
-    unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
-    const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
-                                conic test, see psb__try_tangent); NULL otherwise */
-    int conic_ok_;           /* every iterate of the last corrector run passed that test */
-    int conic_armed_;        /* the test runs: a step of the trial was rejected already */
-    double corr_reach_;      /* > 0: the corrector gives up once an iterate lies farther than
-                                this from its start (psb__try_step_from) */
-    int conic_h0_ok_;        /* psb_find_branches holds H(y0) for it */
-    double *jmemo_t_;             /* the unit tangent of each entry's dH */
-    signed char *jmemo_sign_;     /* its outward sign sgn det [dH; (W t)^T], 0 if not known */
-    int tangent_sign_;            /* that of the last psb__tangent_from_jacobian's tangent */
-    int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
-    const double *path_ts_; /* with path_on_: the found branches' tangents (path_nts_) and the */
-    int path_nts_, path_own_; /* trial's own known_ entry, for the cut (psb__try_tangent) */
-    unsigned long long pairs_done_[32]; /* Algorithm 2.2: pairs (i, j), i < j < 64, of found
-                                           branches swept, bit j (j - 1) / 2 + i */
-    signed char branch_sign_[64]; /* Algorithm 2.2: the outward signs of found branches 0 .. */
-    int branch_signs_n_;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
-    double sweep_offset_; /* Algorithm 2.2: span directions at angles 2 pi (i + offset) / n, */
-    int sweep_n_dir_;     /* i < n = this (0: n_dir) */
-    int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
-                                         A^{-1} dpfac_ / delta_ is current */
-    int branch_h_auto_, branch_h_min_auto_; /* follow the point (see psb__branch_h) */
-    double fd_cap_;   /* > 0: largest difference step (weighted), see psb__sample_tangent */
-    double *w_;
-    double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
-    double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_, *known_, *path_;
-    double *bandpair_[2], *afac_, *dpfac_; /* band_ is one of the pair; afac_ the one lu_ holds */
-    double *gbw_;                           /* banded: the LU's panel multipliers */
-    double delta_, mnorm_, bamp_;
-    void *ipiv_, *iwork_; /* LAPACK integers */
-    void *owned_;
-    unsigned long long rng_[4];
-    int last_fail_;
-    double sp_d_[2]; /* psb_trace's detectors: the corners d of the random borders (user backend) */
-    long faults_[4]; /* trials of the current algorithm that failed because of a fault, by
-                        cause: callback > 0, NaN/Inf, singular Jacobian; [3]: singular
-                        difference Jacobians, a fault only when n_ok_ = 0 (psb__note_fault) */
-    long n_ok_;      /* tangents and corrector runs of the current algorithm that succeeded */
-    int in_trace_callback_; /* a trace's on_point or event callback is running (psb__trace_busy) */
-    unsigned ready_; /* PSB__READY between a successful init and psb_solver_free */
+    psb__internal internal_; /* private: treat as opaque */
 } psb_solver;
 
 /* Returns *bo (or all defaults when bo is NULL) with every zero field replaced by what the
@@ -2075,8 +2069,8 @@ enum {
     PSB__V_BR_MT, /* a trial's memo tangent (psb__path_memo_cut) */
     PSB__NVEC
 };
-/* Entries of each of psb_find_branches' stores, the tangents tried (memo_), the directions
-   whose trial is known (known_) and the Jacobian memo (jmemo_t_, analytic dH only): the block
+/* Entries of each of psb_find_branches' stores, the tangents tried (memo), the directions
+   whose trial is known (known) and the Jacobian memo (jmemo_t, analytic dH only): the block
    M800 fills 200-220 of the first two in 10 spans; the three are held to 12 MB together (more
    only at the floor of 32 entries, N > 16000) */
 static int psb__memo_capacity(int n)
@@ -2084,7 +2078,7 @@ static int psb__memo_capacity(int n)
     int cap = (int)((1L << 19) / ((long)n + 1));
     return cap < 32 ? 32 : cap > 256 ? 256 : cap;
 }
-#define PSB__VEC(s, k) ((s)->vec_ + (size_t)(k) * (size_t)(s)->np1_)
+#define PSB__VEC(s, k) ((s)->internal_.vec + (size_t)(k) * (size_t)(s)->internal_.np1)
 /* Corrector tangents a trial of Algorithm 2.2 records (its first iterations'; see
    psb__try_tangent) */
 #define PSB__PATH_MAX 8
@@ -2099,7 +2093,7 @@ static int psb__memo_capacity(int n)
    succeeded is it a fault. */
 enum { PSB__FAIL_NONE, PSB__FAIL_CONVERGE, PSB__FAIL_NONFINITE, PSB__FAIL_CALLBACK,
        PSB__FAIL_SINGULAR, PSB__FAIL_COSINE, PSB__FAIL_KNOWN, PSB__FAIL_TURN, PSB__FAIL_FD_RANK };
-#define PSB__READY 0x70736231u /* psb_solver.ready_ of an initialised solver */
+#define PSB__READY 0x70736231u /* psb_solver.internal_.ready of an initialised solver */
 
 PSCBRANCH_DEF const char *psb_result_string(psb_result code)
 {
@@ -2180,7 +2174,7 @@ PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_opt
                                                             const psb_solver *s)
 {
     psb_branch_options b;
-    int ready = s && s->ready_ == PSB__READY, fd = ready && psb__fd_jacobian(&s->prob);
+    int ready = s && s->internal_.ready == PSB__READY, fd = ready && psb__fd_jacobian(&s->prob);
     double h_min = ready ? s->opt.h_min : 1e-6, h_init = ready ? s->opt.h_init : 1e-2;
     if (bo) b = *bo;
     else memset(&b, 0, sizeof b);
@@ -2339,51 +2333,51 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
     double *base = (double *)memory;
 #define PSB__TAKE(field, count)                                                                    \
     do {                                                                                           \
-        if (s) s->field = base + off;                                                              \
+        if (s) s->internal_.field = base + off;                                                              \
         off += (count);                                                                            \
     } while (0)
-    PSB__TAKE(w_, np1);
-    PSB__TAKE(rhs_, 2 * np1);
-    PSB__TAKE(res_, n);
-    PSB__TAKE(res2_, n);
-    PSB__TAKE(work_, 4 * np1);
-    PSB__TAKE(yfac_, np1);
-    PSB__TAKE(fdh_, n);
-    PSB__TAKE(vec_, (size_t)PSB__NVEC * np1);
-    PSB__TAKE(memo_, (size_t)psb__memo_capacity(p->n) * np1);
-    PSB__TAKE(known_, (size_t)psb__memo_capacity(p->n) * np1);
-    PSB__TAKE(path_, (size_t)PSB__PATH_MAX * np1);
+    PSB__TAKE(w, np1);
+    PSB__TAKE(rhs, 2 * np1);
+    PSB__TAKE(res, n);
+    PSB__TAKE(res2, n);
+    PSB__TAKE(work, 4 * np1);
+    PSB__TAKE(yfac, np1);
+    PSB__TAKE(fdh, n);
+    PSB__TAKE(vec, (size_t)PSB__NVEC * np1);
+    PSB__TAKE(memo, (size_t)psb__memo_capacity(p->n) * np1);
+    PSB__TAKE(known, (size_t)psb__memo_capacity(p->n) * np1);
+    PSB__TAKE(path, (size_t)PSB__PATH_MAX * np1);
     if (psb__jmemo_usable(p) || p->piece) {
         size_t cap = (size_t)psb__memo_capacity(p->n);
-        PSB__TAKE(jmemo_t_, cap * np1);
-        if (s) s->jmemo_key_ = (unsigned long long *)(void *)(base + off);
+        PSB__TAKE(jmemo_t, cap * np1);
+        if (s) s->internal_.jmemo_key = (unsigned long long *)(void *)(base + off);
         off += 2 * cap; /* the keys: 8 bytes each, as a double */
-        if (s) s->jmemo_sign_ = (signed char *)(void *)(base + off);
+        if (s) s->internal_.jmemo_sign = (signed char *)(void *)(base + off);
         off += (cap + sizeof(double) - 1) / sizeof(double);
     }
     if (p->linear == PSB_LINEAR_DENSE) {
-        PSB__TAKE(jac_, n * np1);
-        PSB__TAKE(mat_, np1 * np1);
-        PSB__TAKE(tau_, np1);
+        PSB__TAKE(jac, n * np1);
+        PSB__TAKE(mat, np1 * np1);
+        PSB__TAKE(tau, np1);
         ints = 2 * np1;
     } else if (p->linear == PSB_LINEAR_BANDED) {
-        PSB__TAKE(bandpair_[0], (kl + ku + 1) * n);
-        PSB__TAKE(bandpair_[1], p->band_lean ? 0 : (kl + ku + 1) * n);
-        PSB__TAKE(dpfac_, n);
-        PSB__TAKE(lu_, (2 * kl + ku + 1) * n);
-        PSB__TAKE(dparam_, n);
-        PSB__TAKE(row_, np1);
-        PSB__TAKE(bv_, n);
-        PSB__TAKE(bx_, np1);
-        PSB__TAKE(bres_, np1);
-        PSB__TAKE(gbw_, (kl + PSB__GB_NB) * PSB__GB_NB);
+        PSB__TAKE(bandpair[0], (kl + ku + 1) * n);
+        PSB__TAKE(bandpair[1], p->band_lean ? 0 : (kl + ku + 1) * n);
+        PSB__TAKE(dpfac, n);
+        PSB__TAKE(lu, (2 * kl + ku + 1) * n);
+        PSB__TAKE(dparam, n);
+        PSB__TAKE(row, np1);
+        PSB__TAKE(bv, n);
+        PSB__TAKE(bx, np1);
+        PSB__TAKE(bres, np1);
+        PSB__TAKE(gbw, (kl + PSB__GB_NB) * PSB__GB_NB);
         ints = n;
     }
 #undef PSB__TAKE
     off = psb__align(off * sizeof(double));
     if (s) {
-        s->ipiv_ = (char *)memory + off;
-        s->iwork_ = p->linear == PSB_LINEAR_DENSE ? (void *)((psb__lint *)s->ipiv_ + np1) : NULL;
+        s->internal_.ipiv = (char *)memory + off;
+        s->internal_.iwork = p->linear == PSB_LINEAR_DENSE ? (void *)((psb__lint *)s->internal_.ipiv + np1) : NULL;
     }
     return off + psb__align(ints * sizeof(psb__lint));
 }
@@ -2416,19 +2410,19 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     if (s->prob.fd_step == 0) s->prob.fd_step = p->fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
     if (!(s->prob.fd_step > 0) || !(s->prob.fd_step < 1))
         return psb__fail(s, PSB_ERR_OPTIONS, "problem.fd_step must lie in (0, 1)");
-    s->n_ = p->n;
-    s->np1_ = p->n + 1;
-    s->ldlu_ = 2 * p->kl + p->ku + 1;
-    s->memo_cap_ = psb__memo_capacity(p->n);
-    s->jmemo_dh_ = psb__jmemo_usable(p);
+    s->internal_.n = p->n;
+    s->internal_.np1 = p->n + 1;
+    s->internal_.ldlu = 2 * p->kl + p->ku + 1;
+    s->internal_.memo_cap = psb__memo_capacity(p->n);
+    s->internal_.jmemo_dh = psb__jmemo_usable(p);
     psb__layout(p, s, memory);
-    s->band_ = s->bandpair_[0];
-    if (p->band_lean) s->bandpair_[1] = NULL;
-    for (i = 0; i < s->np1_; i++)
-        s->w_[i] = s->opt.weights ? s->opt.weights[i]
+    s->internal_.band = s->internal_.bandpair[0];
+    if (p->band_lean) s->internal_.bandpair[1] = NULL;
+    for (i = 0; i < s->internal_.np1; i++)
+        s->internal_.w[i] = s->opt.weights ? s->opt.weights[i]
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
     s->opt.weights = NULL; /* copied: the caller's array need not outlive init */
-    s->ready_ = PSB__READY;
+    s->internal_.ready = PSB__READY;
     s->branch = psb_branch_options_resolve(NULL, s);
     return PSB_SUCCESS;
 }
@@ -2453,7 +2447,7 @@ PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
         PSCBRANCH_FREE(mem);
         return r;
     }
-    s->owned_ = mem;
+    s->internal_.owned = mem;
     return r;
 }
 
@@ -2461,7 +2455,7 @@ PSCBRANCH_DEF void psb_solver_free(psb_solver *s)
 {
     psb_stats stats;
     if (!s) return;
-    if (s->ready_ == PSB__READY && s->owned_) PSCBRANCH_FREE(s->owned_);
+    if (s->internal_.ready == PSB__READY && s->internal_.owned) PSCBRANCH_FREE(s->internal_.owned);
     /* every pointer into the block goes, so that a later call fails cleanly (PSB_ERR_NULL);
        the counters stay readable */
     stats = s->stats;
@@ -2476,13 +2470,13 @@ static double psb__dot_w(const psb_solver *s, const double *a, const double *b)
 {
     double sum = 0;
     int i;
-    for (i = 0; i < s->np1_; i++) sum += s->w_[i] * a[i] * b[i];
+    for (i = 0; i < s->internal_.np1; i++) sum += s->internal_.w[i] * a[i] * b[i];
     return sum;
 }
 
 PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b)
 {
-    if (!s || s->ready_ != PSB__READY || !s->w_ || !a || !b) return NAN;
+    if (!s || s->internal_.ready != PSB__READY || !s->internal_.w || !a || !b) return NAN;
     return psb__dot_w(s, a, b);
 }
 
@@ -2493,16 +2487,16 @@ static double psb__norm_w(const psb_solver *s, const double *a)
     double sum = psb__dot_w(s, a, a), big = 0, scaled = 0;
     int i;
     if (sum >= 1e-290 && sum <= 1e290) return sqrt(sum);
-    for (i = 0; i < s->np1_; i++)
+    for (i = 0; i < s->internal_.np1; i++)
         if (fabs(a[i]) > big) big = fabs(a[i]);
     if (!(big > 0) || !psb__finite(big)) return sqrt(sum); /* zero, or NaN/Inf */
-    for (i = 0; i < s->np1_; i++) scaled += s->w_[i] * (a[i] / big) * (a[i] / big);
+    for (i = 0; i < s->internal_.np1; i++) scaled += s->internal_.w[i] * (a[i] / big) * (a[i] / big);
     return big * sqrt(scaled);
 }
 
 PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a)
 {
-    if (!s || s->ready_ != PSB__READY || !s->w_ || !a) return NAN;
+    if (!s || s->internal_.ready != PSB__READY || !s->internal_.w || !a) return NAN;
     return psb__norm_w(s, a);
 }
 
@@ -2511,7 +2505,7 @@ static double psb__dist_w(const psb_solver *s, const double *a, const double *b)
 {
     double sum = 0;
     int i;
-    for (i = 0; i < s->np1_; i++) sum += s->w_[i] * (a[i] - b[i]) * (a[i] - b[i]);
+    for (i = 0; i < s->internal_.np1; i++) sum += s->internal_.w[i] * (a[i] - b[i]) * (a[i] - b[i]);
     return sqrt(sum);
 }
 
@@ -2530,9 +2524,9 @@ static double psb__norm2(const double *a, int n)
 static double psb__cos_w_na(const psb_solver *s, const double *a, double na, const double *b)
 {
     double saa = 0, sbb = 0, sab = 0, nb;
-    const double *w = s->w_;
+    const double *w = s->internal_.w;
     int i;
-    for (i = 0; i < s->np1_; i++) {
+    for (i = 0; i < s->internal_.np1; i++) {
         double wa = w[i] * a[i];
         saa += wa * a[i];
         sab += wa * b[i];
@@ -2562,7 +2556,7 @@ static int psb__normalize_w(const psb_solver *s, double *a)
     double nrm = psb__norm_w(s, a);
     int i;
     if (!(nrm > 0) || !psb__finite(nrm)) return 0;
-    for (i = 0; i < s->np1_; i++) a[i] /= nrm;
+    for (i = 0; i < s->internal_.np1; i++) a[i] /= nrm;
     return 1;
 }
 
@@ -2571,7 +2565,7 @@ static psb_result psb__callback_code(psb_solver *s, int rc, const char *which)
 {
     if (rc == 0) return PSB_SUCCESS;
     if (rc < 0) return psb__fail(s, PSB_ERR_CALLBACK, which);
-    s->last_fail_ = PSB__FAIL_CALLBACK;
+    s->internal_.last_fail = PSB__FAIL_CALLBACK;
     return psb__fail(s, PSB_ERR_CALLBACK_FAILED, which);
 }
 
@@ -2587,8 +2581,8 @@ static int psb__is_fault(psb_result r)
 /* Starts the count of faults of an algorithm (psb__note_fault, psb__faults_code). */
 static void psb__faults_reset(psb_solver *s)
 {
-    memset(s->faults_, 0, sizeof s->faults_);
-    s->n_ok_ = 0;
+    memset(s->internal_.faults, 0, sizeof s->internal_.faults);
+    s->internal_.n_ok = 0;
 }
 
 /* Counts a failed trial or tangent of the current algorithm when its code r is a fault;
@@ -2597,10 +2591,10 @@ static int psb__note_fault(psb_solver *s, psb_result r)
 {
     if (!psb__is_fault(r)) return 0;
     if (r == PSB_ERR_SINGULAR && psb__fd_jacobian(&s->prob)) {
-        s->faults_[3]++;
+        s->internal_.faults[3]++;
         return 0;
     }
-    s->faults_[r == PSB_ERR_CALLBACK_FAILED ? 0 : r == PSB_ERR_NONFINITE ? 1 : 2]++;
+    s->internal_.faults[r == PSB_ERR_CALLBACK_FAILED ? 0 : r == PSB_ERR_NONFINITE ? 1 : 2]++;
     return 1;
 }
 
@@ -2611,15 +2605,15 @@ static psb_result psb__faults_code(psb_solver *s, const char *what)
 {
     static const psb_result codes[3] = {PSB_ERR_CALLBACK_FAILED, PSB_ERR_NONFINITE, PSB_ERR_SINGULAR};
     int k;
-    if (s->n_ok_ == 0 && s->faults_[3] > 0) {
-        s->faults_[2] += s->faults_[3];
-        s->faults_[3] = 0;
+    if (s->internal_.n_ok == 0 && s->internal_.faults[3] > 0) {
+        s->internal_.faults[2] += s->internal_.faults[3];
+        s->internal_.faults[3] = 0;
     }
     for (k = 0; k < 3; k++)
-        if (s->faults_[k]) {
+        if (s->internal_.faults[k]) {
             char buf[160];
             snprintf(buf, sizeof buf, "%s: failed trials: callback > 0 %ld, NaN/Inf %ld, "
-                     "singular dH or solver.factor %ld", what, s->faults_[0], s->faults_[1], s->faults_[2]);
+                     "singular dH or solver.factor %ld", what, s->internal_.faults[0], s->internal_.faults[1], s->internal_.faults[2]);
             return psb__fail(s, codes[k], buf);
         }
     return PSB_SUCCESS;
@@ -2634,35 +2628,35 @@ static psb_result psb__residual(psb_solver *s, const double *y, double *out)
     rc = s->prob.residual(y, out, s->prob.user);
     r = psb__callback_code(s, rc, "residual callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
-    if (!psb__all_finite(out, s->n_)) {
-        s->last_fail_ = PSB__FAIL_NONFINITE;
+    if (!psb__all_finite(out, s->internal_.n)) {
+        s->internal_.last_fail = PSB__FAIL_NONFINITE;
         return psb__fail(s, PSB_ERR_NONFINITE, "residual callback returned NaN or Inf");
     }
     return PSB_SUCCESS;
 }
 
-/* The difference step for component j at value x: fd_step max(1, |x|), at most fd_cap_ in the
+/* The difference step for component j at value x: fd_step max(1, |x|), at most fd_cap in the
    weighted norm when that is set. */
 static double psb__fd_step(const psb_solver *s, int j, double x)
 {
     double step = s->prob.fd_step * (fabs(x) > 1 ? fabs(x) : 1.0);
-    if (s->fd_cap_ > 0 && step * sqrt(s->w_[j]) > s->fd_cap_) step = s->fd_cap_ / sqrt(s->w_[j]);
+    if (s->internal_.fd_cap > 0 && step * sqrt(s->internal_.w[j]) > s->internal_.fd_cap) step = s->internal_.fd_cap / sqrt(s->internal_.w[j]);
     return step;
 }
 
-/* dH(y) into s->jac_ (n x (n+1), ld n). h_at_y: H(y) if the caller has it (forward differences
+/* dH(y) into s->internal_.jac (n x (n+1), ld n). h_at_y: H(y) if the caller has it (forward differences
    reuse it), else NULL. */
 static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const double *h_at_y)
 {
-    int n = s->n_, np1 = s->np1_, i, j, rc;
+    int n = s->internal_.n, np1 = s->internal_.np1, i, j, rc;
     psb_result r;
     s->stats.n_jacobian++;
     if (s->prob.jacobian) {
-        rc = s->prob.jacobian(y, s->jac_, n, s->prob.user);
+        rc = s->prob.jacobian(y, s->internal_.jac, n, s->prob.user);
         r = psb__callback_code(s, rc, "jacobian callback returned nonzero");
         if (r != PSB_SUCCESS) return r;
-        if (!psb__all_finite(s->jac_, n * np1)) {
-            s->last_fail_ = PSB__FAIL_NONFINITE;
+        if (!psb__all_finite(s->internal_.jac, n * np1)) {
+            s->internal_.last_fail = PSB__FAIL_NONFINITE;
             return psb__fail(s, PSB_ERR_NONFINITE, "jacobian callback returned NaN or Inf");
         }
         return PSB_SUCCESS;
@@ -2670,26 +2664,26 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
     {
         double *yp = PSB__VEC(s, PSB__V_FD);
         if (!s->prob.fd_central && !h_at_y) {
-            r = psb__residual(s, y, s->res2_);
+            r = psb__residual(s, y, s->internal_.res2);
             if (r != PSB_SUCCESS) return r;
-            h_at_y = s->res2_;
+            h_at_y = s->internal_.res2;
         }
         psb__copy(yp, y, np1);
         for (j = 0; j < np1; j++) {
             double step = psb__fd_step(s, j, y[j]);
-            double *col = s->jac_ + (size_t)j * (size_t)n, hp, hm;
+            double *col = s->internal_.jac + (size_t)j * (size_t)n, hp, hm;
             volatile double probe = y[j] + step; /* the step actually representable */
             hp = probe - y[j];
             yp[j] = y[j] + hp;
             r = psb__residual(s, yp, col);
             if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
             if (s->prob.fd_central) {
-                /* res2_, not res_: callers hold H(y) in res_ across this call */
+                /* res2, not res: callers hold H(y) in res across this call */
                 yp[j] = y[j] - hp;
                 hm = hp;
-                r = psb__residual(s, yp, s->res2_);
+                r = psb__residual(s, yp, s->internal_.res2);
                 if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
-                for (i = 0; i < n; i++) col[i] = (col[i] - s->res2_[i]) / (hp + hm);
+                for (i = 0; i < n; i++) col[i] = (col[i] - s->internal_.res2[i]) / (hp + hm);
             } else {
                 for (i = 0; i < n; i++) col[i] = (col[i] - h_at_y[i]) / hp;
             }
@@ -2699,7 +2693,7 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
     return PSB_SUCCESS;
 }
 
-/* Builds [jac; row^T] in mat_ ((n+1) x (n+1)) and LU-factors it.
+/* Builds [jac; row^T] in mat ((n+1) x (n+1)) and LU-factors it.
    Returns PSB_SUCCESS or PSB_ERR_SINGULAR; *rcond (if not NULL) gets the reciprocal condition
    number of R B C in the 1-norm (dlacn2's estimate, as dgecon's, with the same LU): C scales
    column j by 1 / sqrt(w_j), the units the weights declare, and R then each row to a largest
@@ -2708,19 +2702,19 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
    tangent's bordered system look singular (PSB_ERR_SINGULAR). */
 static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rcond)
 {
-    int n = s->n_, np1 = s->np1_, i, j;
+    int n = s->internal_.n, np1 = s->internal_.np1, i, j;
     psb__lint m = np1, info = 0, kase = 0, isave[3], one = 1;
-    double anorm = 0, est = 0, *v = s->work_, *x = s->work_ + np1, *rs = s->work_ + 2 * np1,
-           *cs = s->work_ + 3 * np1;
+    double anorm = 0, est = 0, *v = s->internal_.work, *x = s->internal_.work + np1, *rs = s->internal_.work + 2 * np1,
+           *cs = s->internal_.work + 3 * np1;
     if (rcond)
         for (i = 0; i < np1; i++) rs[i] = 0;
     for (j = 0; j < np1; j++) {
-        double *dst = s->mat_ + (size_t)j * (size_t)np1;
-        const double *src = s->jac_ + (size_t)j * (size_t)n;
+        double *dst = s->internal_.mat + (size_t)j * (size_t)np1;
+        const double *src = s->internal_.jac + (size_t)j * (size_t)n;
         memcpy(dst, src, (size_t)n * sizeof *dst);
         dst[n] = row[j];
         if (rcond) {
-            cs[j] = 1 / sqrt(s->w_[j]);
+            cs[j] = 1 / sqrt(s->internal_.w[j]);
             for (i = 0; i < np1; i++)
                 if (fabs(dst[i]) * cs[j] > rs[i]) rs[i] = fabs(dst[i]) * cs[j];
         }
@@ -2728,26 +2722,26 @@ static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rc
     if (rcond) {
         for (i = 0; i < np1; i++) rs[i] = rs[i] > 0 ? 1 / rs[i] : 1;
         for (j = 0; j < np1; j++) {
-            const double *col = s->mat_ + (size_t)j * (size_t)np1;
+            const double *col = s->internal_.mat + (size_t)j * (size_t)np1;
             double colsum = 0;
             for (i = 0; i < np1; i++) colsum += rs[i] * fabs(col[i]) * cs[j];
             if (colsum > anorm) anorm = colsum;
         }
     }
     s->stats.n_factor++;
-    PSCBRANCH_FORTRAN(dgetrf)(&m, &m, s->mat_, &m, (psb__lint *)s->ipiv_, &info);
+    PSCBRANCH_FORTRAN(dgetrf)(&m, &m, s->internal_.mat, &m, (psb__lint *)s->internal_.ipiv, &info);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrf rejected an argument");
     if (info > 0) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix is exactly singular");
     }
     if (rcond) {
         /* ||(R B C)^-1||_1: (R B C)^-1 x = C^-1 B^-1 R^-1 x, its transpose R^-1 B^-T C^-1 x */
         for (;;) {
-            PSCBRANCH_FORTRAN(dlacn2)(&m, v, x, (psb__lint *)s->iwork_, &est, &kase, isave);
+            PSCBRANCH_FORTRAN(dlacn2)(&m, v, x, (psb__lint *)s->internal_.iwork, &est, &kase, isave);
             if (kase == 0) break;
             for (i = 0; i < np1; i++) x[i] /= kase == 1 ? rs[i] : cs[i];
-            PSCBRANCH_FORTRAN(dgetrs)(kase == 1 ? "N" : "T", &m, &one, s->mat_, &m, (psb__lint *)s->ipiv_, x, &m,
+            PSCBRANCH_FORTRAN(dgetrs)(kase == 1 ? "N" : "T", &m, &one, s->internal_.mat, &m, (psb__lint *)s->internal_.ipiv, x, &m,
                                       &info PSB__STRLEN_ONE);
             if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrs rejected an argument");
             for (i = 0; i < np1; i++) x[i] /= kase == 1 ? cs[i] : rs[i];
@@ -2759,11 +2753,11 @@ static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rc
 
 static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 {
-    psb__lint m = s->np1_, nr = nrhs, info = 0;
-    PSCBRANCH_FORTRAN(dgetrs)("N", &m, &nr, s->mat_, &m, (psb__lint *)s->ipiv_, b, &m, &info PSB__STRLEN_ONE);
+    psb__lint m = s->internal_.np1, nr = nrhs, info = 0;
+    PSCBRANCH_FORTRAN(dgetrs)("N", &m, &nr, s->internal_.mat, &m, (psb__lint *)s->internal_.ipiv, b, &m, &info PSB__STRLEN_ONE);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrs rejected an argument");
-    if (!psb__all_finite(b, s->np1_ * nrhs)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+    if (!psb__all_finite(b, s->internal_.np1 * nrhs)) {
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "solution of the bordered system is not finite");
     }
     return PSB_SUCCESS;
@@ -2787,49 +2781,49 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 /* state column j <-> y component */
 static int psb__ycol(const psb_solver *s, int j) { return j < s->prob.param_index ? j : j + 1; }
 
-/* band_jacobian at y into band_ and dparam_ (zeroed by the caller). Every entry is checked,
+/* band_jacobian at y into band and dparam (zeroed by the caller). Every entry is checked,
    since an Inf on the diagonal factors into finite, wrong solutions. */
 static psb_result psb__band_callback(psb_solver *s, const double *y)
 {
     int ld = s->prob.kl + s->prob.ku + 1;
-    size_t size = (size_t)ld * (size_t)s->n_;
-    psb_result r = psb__callback_code(s, s->prob.band_jacobian(y, s->band_, ld, s->dparam_, s->prob.user),
+    size_t size = (size_t)ld * (size_t)s->internal_.n;
+    psb_result r = psb__callback_code(s, s->prob.band_jacobian(y, s->internal_.band, ld, s->internal_.dparam, s->prob.user),
                                       "band_jacobian callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
-    if (!psb__all_finite(s->band_, size) || !psb__all_finite(s->dparam_, (size_t)s->n_)) {
-        s->last_fail_ = PSB__FAIL_NONFINITE;
+    if (!psb__all_finite(s->internal_.band, size) || !psb__all_finite(s->internal_.dparam, (size_t)s->internal_.n)) {
+        s->internal_.last_fail = PSB__FAIL_NONFINITE;
         return psb__fail(s, PSB_ERR_NONFINITE, "band_jacobian callback returned NaN or Inf");
     }
     return PSB_SUCCESS;
 }
 
-/* A = dH/dx at y into band_, the buffer of the pair that lu_'s factors did not come from. */
+/* A = dH/dx at y into band, the buffer of the pair that lu's factors did not come from. */
 static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const double *h_at_y)
 {
-    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
+    int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
     int i, j, g;
     psb_result r;
-    if (!s->bandpair_[1]) s->afac_ = NULL; /* one buffer: the factors' A is overwritten */
-    s->band_ = s->afac_ == s->bandpair_[0] ? s->bandpair_[1] : s->bandpair_[0];
-    s->band_ok_ = 0;
-    psb__copy(s->yfac_, y, s->np1_);
-    memset(s->band_, 0, (size_t)ld * (size_t)n * sizeof(double));
-    memset(s->dparam_, 0, (size_t)n * sizeof(double));
+    if (!s->internal_.bandpair[1]) s->internal_.afac = NULL; /* one buffer: the factors' A is overwritten */
+    s->internal_.band = s->internal_.afac == s->internal_.bandpair[0] ? s->internal_.bandpair[1] : s->internal_.bandpair[0];
+    s->internal_.band_ok = 0;
+    psb__copy(s->internal_.yfac, y, s->internal_.np1);
+    memset(s->internal_.band, 0, (size_t)ld * (size_t)n * sizeof(double));
+    memset(s->internal_.dparam, 0, (size_t)n * sizeof(double));
     if (s->prob.band_jacobian) {
         r = psb__band_callback(s, y);
-        s->band_ok_ = r == PSB_SUCCESS;
+        s->internal_.band_ok = r == PSB_SUCCESS;
         return r;
     }
     /* finite differences, Curtis-Powell-Reid: state columns j = g, g + ld, g + 2 ld, ... touch
        disjoint rows, so one residual serves the whole group (two when central) */
     {
-        double *yp = PSB__VEC(s, PSB__V_FD), *hp = s->fdh_, *steps = s->bx_, scale;
+        double *yp = PSB__VEC(s, PSB__V_FD), *hp = s->internal_.fdh, *steps = s->internal_.bx, scale;
         const double *base;
         int central = s->prob.fd_central;
         if (!h_at_y && !central) {
-            r = psb__residual(s, y, s->res2_);
+            r = psb__residual(s, y, s->internal_.res2);
             if (r != PSB_SUCCESS) return r;
-            h_at_y = s->res2_;
+            h_at_y = s->internal_.res2;
         }
         for (g = 0; g <= ld; g++) {
             int side;
@@ -2843,32 +2837,32 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
                 volatile double probe = y[p] + psb__fd_step(s, p, y[p]);
                 steps[0] = probe - y[p];
             }
-            /* side 1: y + steps into hp; side -1 (central): y - steps into res2_ (not res_:
+            /* side 1: y + steps into hp; side -1 (central): y - steps into res2 (not res:
                callers hold H(y) there across this call) */
             for (side = 1; side >= (central ? -1 : 1); side -= 2) {
-                psb__copy(yp, y, s->np1_);
+                psb__copy(yp, y, s->internal_.np1);
                 if (g < ld) {
                     for (j = g; j < n; j += ld) yp[psb__ycol(s, j)] += side * steps[j];
                 } else {
                     yp[p] += side * steps[0];
                 }
-                r = psb__residual(s, yp, side > 0 ? hp : s->res2_);
+                r = psb__residual(s, yp, side > 0 ? hp : s->internal_.res2);
                 if (r != PSB_SUCCESS) return r;
             }
-            base = central ? s->res2_ : h_at_y;
+            base = central ? s->internal_.res2 : h_at_y;
             scale = central ? 2 : 1;
             if (g < ld) {
                 for (j = g; j < n; j += ld) {
                     int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
                     for (i = lo; i <= hi; i++)
-                        s->band_[PSB_BAND_INDEX(ku, ld, i, j)] = (hp[i] - base[i]) / (scale * steps[j]);
+                        s->internal_.band[PSB_BAND_INDEX(ku, ld, i, j)] = (hp[i] - base[i]) / (scale * steps[j]);
                 }
             } else {
-                for (i = 0; i < n; i++) s->dparam_[i] = (hp[i] - base[i]) / (scale * steps[0]);
+                for (i = 0; i < n; i++) s->internal_.dparam[i] = (hp[i] - base[i]) / (scale * steps[0]);
             }
         }
     }
-    s->band_ok_ = 1;
+    s->internal_.band_ok = 1;
     return PSB_SUCCESS;
 }
 
@@ -2986,43 +2980,43 @@ static int psb__gbtrf(int n, int kl, int ku, double *ab, int ldab, psb__lint *ip
 }
 #endif
 
-/* LU of A + shift I into lu_ (dgbtrf layout: kl extra rows on top), unless lu_ holds the
+/* LU of A + shift I into lu (dgbtrf layout: kl extra rows on top), unless lu holds the
    unshifted factors of a bit-identical A already. */
 static psb_result psb__band_lu(psb_solver *s, double shift)
 {
-    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
+    int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
     size_t size = (size_t)ld * (size_t)n;
     long info;
-    if (!s->band_ok_) return psb__fail(s, PSB_ERR_INPUT, "no Jacobian to factor");
-    if (shift == 0 && s->afac_ &&
-        (s->afac_ == s->band_ || !memcmp(s->afac_, s->band_, size * sizeof(double)))) {
+    if (!s->internal_.band_ok) return psb__fail(s, PSB_ERR_INPUT, "no Jacobian to factor");
+    if (shift == 0 && s->internal_.afac &&
+        (s->internal_.afac == s->internal_.band || !memcmp(s->internal_.afac, s->internal_.band, size * sizeof(double)))) {
         s->stats.n_factor_reused++;
         return PSB_SUCCESS;
     }
-    s->afac_ = NULL;
-    s->bv_ok_ = 0;
+    s->internal_.afac = NULL;
+    s->internal_.bv_ok = 0;
     for (j = 0; j < n; j++) {
-        double *dst = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+        double *dst = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu;
         memset(dst, 0, (size_t)kl * sizeof(double));
-        memcpy(dst + kl, s->band_ + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
+        memcpy(dst + kl, s->internal_.band + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
         dst[kl + ku] += shift;
     }
     s->stats.n_factor++;
 #ifdef PSCBRANCH_USE_DGBTRF
     {
-        psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->ldlu_, linfo = 0;
-        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->lu_, &ldlu, (psb__lint *)s->ipiv_, &linfo);
+        psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->internal_.ldlu, linfo = 0;
+        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->internal_.lu, &ldlu, (psb__lint *)s->internal_.ipiv, &linfo);
         if (linfo < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
         info = (long)linfo;
     }
 #else
-    info = psb__gbtrf(n, kl, ku, s->lu_, s->ldlu_, (psb__lint *)s->ipiv_, s->gbw_);
+    info = psb__gbtrf(n, kl, ku, s->internal_.lu, s->internal_.ldlu, (psb__lint *)s->internal_.ipiv, s->internal_.gbw);
 #endif
     if (info > 0) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "banded block is exactly singular");
     }
-    if (shift == 0) s->afac_ = s->band_;
+    if (shift == 0) s->internal_.afac = s->internal_.band;
     return PSB_SUCCESS;
 }
 
@@ -3059,10 +3053,10 @@ static void psb__band_axpy(int m, const double *PSB__RESTRICT c, double a, doubl
    (reference BLAS, -O2): 0.52x at n = 462, kl = ku = 22; 0.48x at n = 1806, kl = ku = 45. */
 static void psb__band_subst(const psb_solver *s, double *x, double *y)
 {
-    int n = s->n_, kl = s->prob.kl, kv = kl + s->prob.ku, j;
-    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
+    int n = s->internal_.n, kl = s->prob.kl, kv = kl + s->prob.ku, j;
+    const psb__lint *ipiv = (const psb__lint *)s->internal_.ipiv;
     for (j = 0; kl > 0 && j < n - 1; j++) {
-        const double *col = s->lu_ + (size_t)j * (size_t)s->ldlu_ + kv + 1;
+        const double *col = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu + kv + 1;
         int l = (int)ipiv[j] - 1;
         if (l != j) {
             double tmp = x[l];
@@ -3073,7 +3067,7 @@ static void psb__band_subst(const psb_solver *s, double *x, double *y)
                        y ? y + j + 1 : NULL);
     }
     for (j = n - 1; j >= 0; j--) {
-        const double *col = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+        const double *col = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu;
         int above = j < kv ? j : kv; /* U's entries above the diagonal in column j */
         x[j] /= col[kv];
         if (y) y[j] /= col[kv];
@@ -3082,14 +3076,14 @@ static void psb__band_subst(const psb_solver *s, double *x, double *y)
     }
 }
 
-/* Factors A (shifted if asked) for the border row in row_; w = A^{-1} b and delta = d - c.w
+/* Factors A (shifted if asked) for the border row in row; w = A^{-1} b and delta = d - c.w
    follow with the first solve (psb__band_border), in the same pass as its right-hand side. */
 static psb_result psb__band_prepare(psb_solver *s, double shift)
 {
     psb_result r = psb__band_lu(s, shift);
     if (r != PSB_SUCCESS) return r;
-    if (s->bv_ok_ && memcmp(s->dpfac_, s->dparam_, (size_t)s->n_ * sizeof(double))) s->bv_ok_ = 0;
-    s->border_ok_ = 0;
+    if (s->internal_.bv_ok && memcmp(s->internal_.dpfac, s->internal_.dparam, (size_t)s->internal_.n * sizeof(double))) s->internal_.bv_ok = 0;
+    s->internal_.border_ok = 0;
     return PSB_SUCCESS;
 }
 
@@ -3097,31 +3091,31 @@ static psb_result psb__band_prepare(psb_solver *s, double shift)
    in the same pass over the factors. */
 static psb_result psb__band_border(psb_solver *s, double *x)
 {
-    int n = s->n_, j;
+    int n = s->internal_.n, j;
     double delta;
-    if (s->bv_ok_) {
+    if (s->internal_.bv_ok) {
         if (x) psb__band_subst(s, x, NULL);
     } else {
-        memcpy(s->dpfac_, s->dparam_, (size_t)n * sizeof(double));
-        memcpy(s->bv_, s->dparam_, (size_t)n * sizeof(double));
-        psb__band_subst(s, s->bv_, x);
-        s->bv_ok_ = 1;
+        memcpy(s->internal_.dpfac, s->internal_.dparam, (size_t)n * sizeof(double));
+        memcpy(s->internal_.bv, s->internal_.dparam, (size_t)n * sizeof(double));
+        psb__band_subst(s, s->internal_.bv, x);
+        s->internal_.bv_ok = 1;
     }
-    delta = s->row_[s->prob.param_index];
-    s->bamp_ = fabs(delta);
+    delta = s->internal_.row[s->prob.param_index];
+    s->internal_.bamp = fabs(delta);
     for (j = 0; j < n; j++) {
-        delta -= s->row_[psb__ycol(s, j)] * s->bv_[j];
-        s->bamp_ += fabs(s->row_[psb__ycol(s, j)] * s->bv_[j]);
+        delta -= s->internal_.row[psb__ycol(s, j)] * s->internal_.bv[j];
+        s->internal_.bamp += fabs(s->internal_.row[psb__ycol(s, j)] * s->internal_.bv[j]);
     }
-    if (!psb__finite(delta) || delta == 0 || !psb__all_finite(s->bv_, (size_t)n)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+    if (!psb__finite(delta) || delta == 0 || !psb__all_finite(s->internal_.bv, (size_t)n)) {
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered banded system is singular");
     }
     /* cancellation in delta = d - c.w: the factor by which block elimination can amplify the
        banded solves' errors (large only near a fold, where A is nearly singular) */
-    s->bamp_ /= fabs(delta);
-    s->delta_ = delta;
-    s->border_ok_ = 1;
+    s->internal_.bamp /= fabs(delta);
+    s->internal_.delta = delta;
+    s->internal_.border_ok = 1;
     return PSB_SUCCESS;
 }
 
@@ -3129,17 +3123,17 @@ static psb_result psb__band_border(psb_solver *s, double *x)
    only where one of them is needed (near folds), not in every corrector iteration. */
 static double psb__band_mnorm(psb_solver *s)
 {
-    int n = s->n_, ld = s->prob.kl + s->prob.ku + 1, i, j;
+    int n = s->internal_.n, ld = s->prob.kl + s->prob.ku + 1, i, j;
     double bnorm = 0, sum;
-    if (s->mnorm_ >= 0) return s->mnorm_;
+    if (s->internal_.mnorm >= 0) return s->internal_.mnorm;
     for (j = 0; j < n; j++) {
-        const double *col = s->band_ + (size_t)j * (size_t)ld;
-        for (sum = fabs(s->row_[psb__ycol(s, j)]), i = 0; i < ld; i++) sum += fabs(col[i]);
+        const double *col = s->internal_.band + (size_t)j * (size_t)ld;
+        for (sum = fabs(s->internal_.row[psb__ycol(s, j)]), i = 0; i < ld; i++) sum += fabs(col[i]);
         if (sum > bnorm) bnorm = sum;
     }
-    for (sum = fabs(s->row_[s->prob.param_index]), i = 0; i < n; i++) sum += fabs(s->dparam_[i]);
-    s->mnorm_ = sum > bnorm ? sum : bnorm;
-    return s->mnorm_;
+    for (sum = fabs(s->internal_.row[s->prob.param_index]), i = 0; i < n; i++) sum += fabs(s->internal_.dparam[i]);
+    s->internal_.mnorm = sum > bnorm ? sum : bnorm;
+    return s->internal_.mnorm;
 }
 
 static double psb__band_shift(psb_solver *s)
@@ -3152,16 +3146,16 @@ static double psb__band_shift(psb_solver *s)
 static psb_result psb__band_prepare_shifted(psb_solver *s)
 {
     psb_result r = psb__band_prepare(s, psb__band_shift(s));
-    s->shifted_ = r == PSB_SUCCESS;
+    s->internal_.shifted = r == PSB_SUCCESS;
     return r;
 }
 
 static psb_result psb__factor_banded(psb_solver *s, const double *row)
 {
     psb_result r;
-    psb__copy(s->row_, row, s->np1_);
-    s->mnorm_ = -1;
-    s->shifted_ = 0;
+    psb__copy(s->internal_.row, row, s->internal_.np1);
+    s->internal_.mnorm = -1;
+    s->internal_.shifted = 0;
     r = psb__band_prepare(s, 0.0);
     return r == PSB_ERR_SINGULAR ? psb__band_prepare_shifted(s) : r;
 }
@@ -3171,26 +3165,26 @@ static psb_result psb__factor_banded(psb_solver *s, const double *row)
    on the unshifted factors, A is refactored shifted. */
 static psb_result psb__band_apply(psb_solver *s, const double *rhs, double *z)
 {
-    int n = s->n_, j, p = s->prob.param_index, zero_f = 1;
-    double xi = rhs[n], *x = s->work_ + s->np1_; /* work_[0, np1) holds the caller's rhs */
+    int n = s->internal_.n, j, p = s->prob.param_index, zero_f = 1;
+    double xi = rhs[n], *x = s->internal_.work + s->internal_.np1; /* work[0, np1) holds the caller's rhs */
     psb_result r;
     for (j = 0; j < n && zero_f; j++) zero_f = rhs[j] == 0;
     for (;;) {
         if (zero_f) memset(x, 0, (size_t)n * sizeof(double));
         else memcpy(x, rhs, (size_t)n * sizeof(double));
-        if (s->border_ok_) {
+        if (s->internal_.border_ok) {
             if (!zero_f) psb__band_subst(s, x, NULL);
             break;
         }
         r = psb__band_border(s, zero_f ? NULL : x);
         if (r == PSB_SUCCESS) break;
-        if (r != PSB_ERR_SINGULAR || s->shifted_) return r;
+        if (r != PSB_ERR_SINGULAR || s->internal_.shifted) return r;
         r = psb__band_prepare_shifted(s);
         if (r != PSB_SUCCESS) return r;
     }
-    for (j = 0; j < n; j++) xi -= s->row_[psb__ycol(s, j)] * x[j];
-    xi /= s->delta_;
-    for (j = 0; j < n; j++) z[psb__ycol(s, j)] = x[j] - s->bv_[j] * xi;
+    for (j = 0; j < n; j++) xi -= s->internal_.row[psb__ycol(s, j)] * x[j];
+    xi /= s->internal_.delta;
+    for (j = 0; j < n; j++) z[psb__ycol(s, j)] = x[j] - s->internal_.bv[j] * xi;
     z[p] = xi;
     return PSB_SUCCESS;
 }
@@ -3198,15 +3192,15 @@ static psb_result psb__band_apply(psb_solver *s, const double *rhs, double *z)
 /* res = rhs - B z with the unshifted B; returns ||res||_inf. */
 static double psb__band_residual(const psb_solver *s, const double *rhs, const double *z, double *res)
 {
-    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, i, j, p = s->prob.param_index;
+    int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, i, j, p = s->prob.param_index;
     double big = 0, last = rhs[n];
-    for (i = 0; i < n; i++) res[i] = rhs[i] - s->dparam_[i] * z[p];
+    for (i = 0; i < n; i++) res[i] = rhs[i] - s->internal_.dparam[i] * z[p];
     for (j = 0; j < n; j++) {
         double zj = z[psb__ycol(s, j)];
         int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
-        for (i = lo; i <= hi; i++) res[i] -= s->band_[PSB_BAND_INDEX(ku, ld, i, j)] * zj;
+        for (i = lo; i <= hi; i++) res[i] -= s->internal_.band[PSB_BAND_INDEX(ku, ld, i, j)] * zj;
     }
-    for (i = 0; i <= n; i++) last -= s->row_[i] * z[i];
+    for (i = 0; i <= n; i++) last -= s->internal_.row[i] * z[i];
     res[n] = last;
     for (i = 0; i <= n; i++)
         if (fabs(res[i]) > big || res[i] != res[i]) big = res[i] != res[i] ? HUGE_VAL : fabs(res[i]);
@@ -3215,24 +3209,24 @@ static double psb__band_residual(const psb_solver *s, const double *rhs, const d
 
 static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
 {
-    int np1 = s->np1_, k, it, i;
+    int np1 = s->internal_.np1, k, it, i;
     for (k = 0; k < nrhs; k++) {
-        double *rhs = s->bres_, *z = b + (size_t)k * (size_t)np1, *dz = s->bx_;
+        double *rhs = s->internal_.bres, *z = b + (size_t)k * (size_t)np1, *dz = s->internal_.bx;
         double bnorm = 0, znorm, resn, prev = HUGE_VAL;
-        int max_it = s->shifted_ ? 30 : 4, done = 0;
+        int max_it = s->internal_.shifted ? 30 : 4, done = 0;
         psb_result r;
         /* keep the right-hand side: the solution overwrites it */
-        memcpy(s->work_, z, (size_t)np1 * sizeof(double));
+        memcpy(s->internal_.work, z, (size_t)np1 * sizeof(double));
         for (i = 0; i < np1; i++) bnorm = fabs(z[i]) > bnorm ? fabs(z[i]) : bnorm;
-        r = psb__band_apply(s, s->work_, z);
+        r = psb__band_apply(s, s->internal_.work, z);
         if (r != PSB_SUCCESS) return r;
         /* far from folds block elimination is as accurate as the LU solve itself (backward stable):
            the residual check and refinement are for a nearly singular A only */
-        if (!s->shifted_ && s->bamp_ <= 16) continue;
+        if (!s->internal_.shifted && s->internal_.bamp <= 16) continue;
         for (it = 0; it <= max_it && !done; it++) {
             znorm = 0;
             for (i = 0; i < np1; i++) znorm = fabs(z[i]) > znorm ? fabs(z[i]) : znorm;
-            resn = psb__band_residual(s, s->work_, z, rhs);
+            resn = psb__band_residual(s, s->internal_.work, z, rhs);
             if (resn <= 32 * DBL_EPSILON * (psb__band_mnorm(s) * znorm + bnorm)) { done = 1; break; }
             if (!(resn < 0.5 * prev) && it >= 2) break; /* stalled */
             prev = resn;
@@ -3241,15 +3235,15 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
             for (i = 0; i < np1; i++) z[i] += dz[i];
         }
         if (!done) {
-            if (!s->shifted_) {
+            if (!s->internal_.shifted) {
                 /* nearly singular A: refactor shifted, restart this column */
                 r = psb__band_prepare_shifted(s);
                 if (r != PSB_SUCCESS) return r;
-                memcpy(z, s->work_, (size_t)np1 * sizeof(double));
+                memcpy(z, s->internal_.work, (size_t)np1 * sizeof(double));
                 k--;
                 continue;
             }
-            s->last_fail_ = PSB__FAIL_SINGULAR;
+            s->internal_.last_fail = PSB__FAIL_SINGULAR;
             return psb__fail(s, PSB_ERR_SINGULAR, "bordered banded system: refinement did not converge");
         }
     }
@@ -3264,7 +3258,7 @@ static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_
 {
     switch (s->prob.linear) {
     case PSB_LINEAR_BANDED: s->stats.n_jacobian++; return psb__jacobian_banded(s, y, h_at_y);
-    case PSB_LINEAR_USER: psb__copy(s->yfac_, y, s->np1_); return PSB_SUCCESS;
+    case PSB_LINEAR_USER: psb__copy(s->internal_.yfac, y, s->internal_.np1); return PSB_SUCCESS;
     default: return psb__jacobian_dense(s, y, h_at_y);
     }
 }
@@ -3281,10 +3275,10 @@ static psb_result psb__factor_bordered(psb_solver *s, const double *row, double 
     case PSB_LINEAR_USER:
         s->stats.n_factor++;
         s->stats.n_jacobian++;
-        rc = s->prob.solver.factor(s->yfac_, row, s->prob.solver.ctx);
+        rc = s->prob.solver.factor(s->internal_.yfac, row, s->prob.solver.ctx);
         r = psb__callback_code(s, rc, "solver.factor returned nonzero");
         if (r == PSB_ERR_CALLBACK_FAILED) {
-            s->last_fail_ = PSB__FAIL_SINGULAR;
+            s->internal_.last_fail = PSB__FAIL_SINGULAR;
             return psb__fail(s, PSB_ERR_SINGULAR, "solver.factor reported a singular matrix");
         }
         return r;
@@ -3302,56 +3296,56 @@ static psb_result psb__solve_factored(psb_solver *s, double *b, int nrhs)
         rc = s->prob.solver.solve(b, nrhs, s->prob.solver.ctx);
         r = psb__callback_code(s, rc, "solver.solve returned nonzero");
         if (r == PSB_ERR_CALLBACK_FAILED) {
-            s->last_fail_ = PSB__FAIL_SINGULAR;
+            s->internal_.last_fail = PSB__FAIL_SINGULAR;
             r = psb__fail(s, PSB_ERR_SINGULAR, "solver.solve failed");
         }
         break;
     default: return psb__solve_dense(s, b, nrhs);
     }
-    if (r == PSB_SUCCESS && !psb__all_finite(b, s->np1_ * nrhs)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+    if (r == PSB_SUCCESS && !psb__all_finite(b, s->internal_.np1 * nrhs)) {
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "solution of the bordered system is not finite");
     }
     return r;
 }
 
-/* Kernel of s->jac_ through the QR factorisation of its transpose: the last column of Q spans
+/* Kernel of s->internal_.jac through the QR factorisation of its transpose: the last column of Q spans
    the orthogonal complement of range(jac^T) = ker(jac) when jac has rank n. Factored as
    (R jac C)^T, C scaling column j by 1 / sqrt(w_j) and R then each row to a largest entry of 1,
    so that the rank test does not depend on the units of y or H; t = C z from its kernel z. */
 static psb_result psb__kernel_qr(psb_solver *s, double *t)
 {
-    int n = s->n_, np1 = s->np1_, i, j;
+    int n = s->internal_.n, np1 = s->internal_.np1, i, j;
     psb__lint m = np1, nn = n, one = 1, info = 0;
-    double rmax = 0, rmin = HUGE_VAL, *rs = s->work_; /* taken before dgeqr2 uses it */
+    double rmax = 0, rmin = HUGE_VAL, *rs = s->internal_.work; /* taken before dgeqr2 uses it */
     for (i = 0; i < n; i++) {
         double big = 0;
         for (j = 0; j < np1; j++)
-            if (fabs(s->jac_[i + (size_t)j * (size_t)n]) / sqrt(s->w_[j]) > big)
-                big = fabs(s->jac_[i + (size_t)j * (size_t)n]) / sqrt(s->w_[j]);
+            if (fabs(s->internal_.jac[i + (size_t)j * (size_t)n]) / sqrt(s->internal_.w[j]) > big)
+                big = fabs(s->internal_.jac[i + (size_t)j * (size_t)n]) / sqrt(s->internal_.w[j]);
         rs[i] = big > 0 ? 1 / big : 1;
     }
     for (j = 0; j < np1; j++)
         for (i = 0; i < n; i++)
-            s->mat_[j + (size_t)i * (size_t)np1] = rs[i] * s->jac_[i + (size_t)j * (size_t)n] / sqrt(s->w_[j]);
+            s->internal_.mat[j + (size_t)i * (size_t)np1] = rs[i] * s->internal_.jac[i + (size_t)j * (size_t)n] / sqrt(s->internal_.w[j]);
     s->stats.n_factor++;
-    PSCBRANCH_FORTRAN(dgeqr2)(&m, &nn, s->mat_, &m, s->tau_, s->work_, &info);
+    PSCBRANCH_FORTRAN(dgeqr2)(&m, &nn, s->internal_.mat, &m, s->internal_.tau, s->internal_.work, &info);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgeqr2 rejected an argument");
     for (i = 0; i < n; i++) {
-        double d = fabs(s->mat_[i + (size_t)i * (size_t)np1]);
+        double d = fabs(s->internal_.mat[i + (size_t)i * (size_t)np1]);
         if (d > rmax) rmax = d;
         if (d < rmin) rmin = d;
     }
     if (!(rmin > rmax * DBL_EPSILON * np1)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "Jacobian has rank < n: no unique tangent");
     }
     memset(t, 0, (size_t)np1 * sizeof *t);
     t[n] = 1;
-    PSCBRANCH_FORTRAN(dorm2r)("L", "N", &m, &one, &nn, s->mat_, &m, s->tau_, t, &m, s->work_,
+    PSCBRANCH_FORTRAN(dorm2r)("L", "N", &m, &one, &nn, s->internal_.mat, &m, s->internal_.tau, t, &m, s->internal_.work,
                               &info PSB__STRLEN_ONE PSB__STRLEN_ONE);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dorm2r rejected an argument");
-    for (j = 0; j < np1; j++) t[j] /= sqrt(s->w_[j]);
+    for (j = 0; j < np1; j++) t[j] /= sqrt(s->internal_.w[j]);
     return PSB_SUCCESS;
 }
 
@@ -3360,25 +3354,25 @@ static psb_result psb__kernel_qr(psb_solver *s, double *t)
    c.w), the parameter column moved last); 0 where the factors do not tell it. O(N). */
 static int psb__factors_det(const psb_solver *s, double *logabs)
 {
-    int n = s->n_, np1 = s->np1_, i, sign = 1;
-    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
+    int n = s->internal_.n, np1 = s->internal_.np1, i, sign = 1;
+    const psb__lint *ipiv = (const psb__lint *)s->internal_.ipiv;
     double la = 0;
     if (s->prob.linear == PSB_LINEAR_DENSE) {
         for (i = 0; i < np1; i++) {
-            double u = s->mat_[i + (size_t)i * (size_t)np1];
+            double u = s->internal_.mat[i + (size_t)i * (size_t)np1];
             if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
             if (logabs) la += log(fabs(u));
         }
-    } else if (s->prob.linear == PSB_LINEAR_BANDED && !s->shifted_ && s->border_ok_) {
+    } else if (s->prob.linear == PSB_LINEAR_BANDED && !s->internal_.shifted && s->internal_.border_ok) {
         int kv = s->prob.kl + s->prob.ku;
         for (i = 0; i < n; i++) {
-            double u = s->lu_[(size_t)kv + (size_t)i * (size_t)s->ldlu_];
+            double u = s->internal_.lu[(size_t)kv + (size_t)i * (size_t)s->internal_.ldlu];
             if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
             if (logabs) la += log(fabs(u));
         }
-        if (s->delta_ < 0) sign = -sign;
+        if (s->internal_.delta < 0) sign = -sign;
         if ((n - s->prob.param_index) % 2) sign = -sign;
-        if (logabs) la += log(fabs(s->delta_));
+        if (logabs) la += log(fabs(s->internal_.delta));
     } else {
         return 0;
     }
@@ -3387,20 +3381,20 @@ static int psb__factors_det(const psb_solver *s, double *logabs)
 }
 
 /* Unit tangent at y oriented by ref (both n+1); y's Jacobian is evaluated here. */
-/* psb__tangent's work once dH(y) is formed (psb__jacobian). Also sets tangent_sign_, the
+/* psb__tangent's work once dH(y) is formed (psb__jacobian). Also sets tangent_sign, the
    outward sign sgn det [dH; (W t)^T] of the t returned (0 where the factors do not tell it):
    x solves [dH; row^T] x = e_(n+1), so row.x = 1 > 0 and det [dH; (W x)^T] has det B's sign. */
 static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, double *t)
 {
-    int np1 = s->np1_, i, attempt, sign = 0;
-    double rcond = 0, *row = s->rhs_ + np1, *x = s->rhs_;
+    int np1 = s->internal_.np1, i, attempt, sign = 0;
+    double rcond = 0, *row = s->internal_.rhs + np1, *x = s->internal_.rhs;
     psb_result r;
-    s->tangent_sign_ = 0;
+    s->internal_.tangent_sign = 0;
     /* bordered with ref; if that is singular (ref orthogonal to the kernel), the dense backend
        asks QR of dH^T, the others border with e_param, then with a fixed generic row */
     for (attempt = 0; attempt < 3; attempt++) {
         for (i = 0; i < np1; i++)
-            row[i] = s->w_[i] * (attempt == 0 ? ref[i]
+            row[i] = s->internal_.w[i] * (attempt == 0 ? ref[i]
                                  : attempt == 1 ? (double)(i == s->prob.param_index)
                                                 : 1.0 + 0.1 * (i % 7));
         r = psb__factor_bordered(s, row, &rcond);
@@ -3426,12 +3420,12 @@ static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, d
         sign = -sign;
     }
     if (!psb__normalize_w(s, x)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
     }
     psb__copy(t, x, np1);
-    s->tangent_sign_ = sign;
-    s->n_ok_++;
+    s->internal_.tangent_sign = sign;
+    s->internal_.n_ok++;
     return PSB_SUCCESS;
 }
 
@@ -3460,126 +3454,6 @@ static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const do
 static double psb__angle_w(const psb_solver *s, const double *a, const double *b);
 static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known);
 
-/* Whether a piece's tangent may decide (psb__path_memo_cut): the memo's pieces checked that
-   many times and found nearly linear. */
-static int psb__pmemo_trusted(const psb_solver *s, int checks)
-{
-    return s->pmemo_checks_ >= checks && s->pmemo_drift_ <= acos(s->opt.c_diff) / 8;
-}
-
-/* The memo's cut of an Algorithm 2.2 trial (path_on_) at its corrector iterate y, bordered by
-   t: the tangent this iteration would compute is the unit kernel of dH(y), oriented by t, and
-   Algorithm 2.2's memo (psb__sample_tangent) may hold it already, keyed by y's piece id
-   (before dH is formed, dh_key NULL; *by_piece set when the callback gave one) or by dH's
-   hash (dh_key, of the dH just formed; *by_piece as the first call left it). If that
-   tangent's trial is known, the corrector's cut (psb__correct_run) applies without the
-   factorisation. As with sample tangents, the memo's tangent only decides this skip.
-   A dH hash gives the tangent of the same dH. A piece id gives one from another point of the
-   piece, which is the tangent here only where H is nearly linear across the piece (the block:
-   no cut decided otherwise in 390 checked); on a curved piece the wrong verdict can cost a
-   branch (curved random LCPs). So a piece's tangent decides a cut only after the memo has met
-   4 tangents computed at trial iterates of pieces it held, and found them all within an
-   eighth of c_diff's angle of its own (pmemo_drift_, measured by the corrector).
-   key gets the key under which the corrector stores the tangent it computes (zero when there
-   is none or the memo holds it).
-   Returns 1 (cut), 0, or a fatal or fault code from the piece callback (< 0). */
-static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t,
-                              const unsigned long long *dh_key, unsigned long long *key, int *by_piece)
-{
-    int m, got;
-    double *x = PSB__VEC(s, PSB__V_BR_MT);
-    if (!dh_key) {
-        psb_result r;
-        key[0] = key[1] = 0;
-        *by_piece = 0;
-        if (!s->prob.piece) return 0;
-        r = psb__piece_key(s, y, key, by_piece);
-        if (r != PSB_SUCCESS) return r;
-        if (!*by_piece) return 0;
-    } else {
-        if (*by_piece || !psb__jmemo_hashing(s)) return 0;
-        key[0] = dh_key[0];
-        key[1] = dh_key[1];
-    }
-    got = psb__jmemo_get(s, key, t, x, &m);
-    if (m >= 0) key[0] = key[1] = 0; /* held already: nothing to store */
-    if (!got) return 0;
-    if (*by_piece && !psb__pmemo_trusted(s, 4)) {
-        s->pmemo_check_on_ = 1; /* no cut yet: the corrector compares its tangent with x */
-        return 0;
-    }
-    return psb__trial_known(s, x, s->path_ts_, s->path_nts_, NULL, s->path_own_);
-}
-
-/* How far from cones about y0 Algorithm 2.2's trials may see H before the run is made again
-   with a smaller h_init (psb__find_branches): a landing point's chord from y0 against its
-   tangent (radians), or an iterate's psb__conic_excess. */
-#define PSB__CHORD_TURN 0.05
-
-/* Whether Algorithm 2.2's run still watches for H off the cones about y0 (cone_defect_): H(y0)
-   is held, the evidence is not in yet, and a rerun could still follow (h_init / 16 stays above
-   8 h, psb__find_branches). */
-static int psb__cone_watched(const psb_solver *s)
-{
-    return s->conic_h0_ok_ && s->cone_defect_ <= PSB__CHORD_TURN &&
-           s->branch.h_init / 16 >= 8 * s->branch.h;
-}
-
-/* Records an excess of psb__conic_excess in cone_defect_ (HUGE_VAL, no scale, tells nothing). */
-static void psb__note_cone_excess(psb_solver *s, double excess)
-{
-    if (excess > s->cone_defect_ && excess < HUGE_VAL) s->cone_defect_ = excess;
-}
-
-/* How far H is from affine through y0 at a point y of an Algorithm 2.2 trial whose dH(y) was
-   just formed and H(y) is in res_: the largest row error of H(y) = H(y0) + dH(y) (y - y0)
-   beyond rounding (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| +
-   |H(y0)|), relative to the step's own scale max_i (|dH| |y - y0|)_i; HUGE_VAL for NaN, or
-   for an error where the step has no scale. The conic test of the trials
-   (psb__try_tangent), first half, asks at most 10^-6: y0 lies within Algorithm 2.1's
-   precision of the kink, not on it, and its pieces' affine maps meet there to that order;
-   Algorithm 2.2's rerun asks more (psb__cone_tolerance). The conic test's second half
-   (psb__correct_run, with dH(y)'s hash): dH is the same, bit for bit, at the point of the
-   segment from y0 to y at distance s->branch.h from y0. Pieces of a
-   piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
-   the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
-   the same H scaled: the same run. */
-static double psb__conic_excess(const psb_solver *s, const double *y0, const double *y)
-{
-    int n = s->n_, np1 = s->np1_, i, j;
-    const double *h0 = PSB__VEC(s, PSB__V_BR_H0);
-    double excess = 0, step = 0; /* the largest row error beyond rounding, and row size */
-    for (i = 0; i < n; i++) {
-        double sum = 0, size = 0, scale = fabs(s->res_[i]) + fabs(h0[i]);
-        if (s->prob.linear == PSB_LINEAR_DENSE) {
-            for (j = 0; j < np1; j++) {
-                double a = s->jac_[(size_t)i + (size_t)j * (size_t)n];
-                sum += a * (y[j] - y0[j]);
-                size += fabs(a * (y[j] - y0[j]));
-                scale += fabs(a) * (fabs(y[j]) + fabs(y0[j]));
-            }
-        } else {
-            int kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
-            int lo = i - kl > 0 ? i - kl : 0, hi = i + ku < n - 1 ? i + ku : n - 1;
-            for (j = lo; j <= hi; j++) { /* state column j is y component j, or j + 1 past p */
-                int c = j < p ? j : j + 1;
-                double a = s->band_[PSB_BAND_INDEX(ku, ld, i, j)];
-                sum += a * (y[c] - y0[c]);
-                size += fabs(a * (y[c] - y0[c]));
-                scale += fabs(a) * (fabs(y[c]) + fabs(y0[c]));
-            }
-            sum += s->dparam_[i] * (y[p] - y0[p]);
-            size += fabs(s->dparam_[i] * (y[p] - y0[p]));
-            scale += fabs(s->dparam_[i]) * (fabs(y[p]) + fabs(y0[p]));
-        }
-        sum = fabs(s->res_[i] - h0[i] - sum) - 1024 * DBL_EPSILON * scale;
-        if (isnan(sum)) return HUGE_VAL;
-        if (sum > excess) excess = sum;
-        if (size > step) step = size;
-    }
-    return step > 0 ? excess / step : excess > 0 ? HUGE_VAL : 0;
-}
-
 /* Whether Newton has reached what H's rounding allows though ||H|| > tol_residual: the last
    correction is below tol_correction (the point lies that close to the solution) and the
    residual no longer falls by half, i.e. it is rounding. tol_residual is absolute, and terms
@@ -3590,115 +3464,105 @@ static int psb__at_rounding(const psb_solver *s, double corr, double res, double
     return corr <= s->opt.tol_correction && res >= 0.5 * res_before;
 }
 
-/* Moore-Penrose corrector on internal copies; (y, t) replaced only on convergence. With
-   path_on_ (Algorithm 2.2's trials) it records its tangents and stops as soon as one is a
-   tangent whose trial's outcome is known (the cut, see psb__try_tangent; last_fail_
-   PSB__FAIL_KNOWN). */
-static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *iterations)
+/* What a caller watches in a corrector run beyond convergence (Algorithm 2.2's trials watch
+   for a known outcome and for pieces that are not cones about their point). The corrector
+   calls fn at each event with the couple named there; fn returns 0 to go on, 1 when the run
+   can end because its outcome is known (at ITERATE, JACOBIAN and TANGENT: last_fail KNOWN; at
+   REJECTED: psb__try_step_from tries no smaller step), or a result code < 0 that ends it. */
+typedef enum psb__corr_event {
+    PSB__CORR_STEP,      /* psb__try_step_from begins a trial step */
+    PSB__CORR_START,     /* the run begins: H at its start is in res */
+    PSB__CORR_ITERATE,   /* an iterate (y, t), before dH(y) is formed */
+    PSB__CORR_JACOBIAN,  /* dH(y) formed at the iterate (y, t), H(y) in res */
+    PSB__CORR_SOLVED,    /* the iteration's bordered system solved; y still the iterate */
+    PSB__CORR_TANGENT,   /* the next iterate (y, t), t normalised; sign: det of the B factored */
+    PSB__CORR_CORRECTED, /* before H at that iterate is evaluated (only < 0 counts) */
+    PSB__CORR_REJECTED   /* psb__try_step_from rejected a trial step (last_fail says why) */
+} psb__corr_event;
+typedef struct psb__corr_watch psb__corr_watch;
+struct psb__corr_watch {
+    int (*fn)(psb__corr_watch *w, psb_solver *s, psb__corr_event e, const double *y,
+              const double *t, int sign);
+};
+
+/* Moore-Penrose corrector on internal copies; (y, t) replaced only on convergence. reach > 0:
+   the run gives up once an iterate lies farther than reach from y. watch (may be NULL) sees
+   the run's events (psb__corr_watch). */
+static psb_result psb__correct_run(psb_solver *s, double *y, double *t, double reach,
+                                   psb__corr_watch *watch, int *iterations)
 {
-    int n = s->n_, np1 = s->np1_, it, i;
-    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_, corr_prev = 0, res_prev;
+    int n = s->internal_.n, np1 = s->internal_.np1, it, i;
+    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->internal_.work, corr_prev = 0, res_prev;
     psb_result r;
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "zero tangent");
-    r = psb__residual(s, yc, s->res_);
+    r = psb__residual(s, yc, s->internal_.res);
     if (r != PSB_SUCCESS) return r;
-    res_prev = psb__norm2(s->res_, n);
-    s->conic_ok_ = s->conic_y0_ != NULL && s->conic_armed_;
+    res_prev = psb__norm2(s->internal_.res, n);
+    if (watch) watch->fn(watch, s, PSB__CORR_START, yc, tc, 0);
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res;
-        unsigned long long store_key[2] = {0, 0}, dh_key[2] = {0, 0}; /* dH's hash: once */
-        int cut = 0, by_piece = 0, tc_sign;
+        int cut = 0, tc_sign;
         s->stats.n_newton++;
-        s->pmemo_check_on_ = 0;
-        if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, NULL, store_key, &by_piece);
+        if (watch) cut = watch->fn(watch, s, PSB__CORR_ITERATE, yc, tc, 0);
         if (cut == 0) {
-            r = psb__jacobian(s, yc, s->res_);
+            r = psb__jacobian(s, yc, s->internal_.res);
             if (r != PSB_SUCCESS) return r;
-            if (s->conic_ok_ || (s->path_on_ && !by_piece && psb__jmemo_hashing(s))) psb__jmemo_key(s, dh_key);
-            if (s->conic_y0_) { /* before the memo's cut, which the test may void */
-                int watch = psb__cone_watched(s) &&
-                            psb__dist_w(s, yc, s->conic_y0_) <= 2 * s->branch.h_init;
-                if (s->conic_ok_ || watch) {
-                    double excess = psb__conic_excess(s, s->conic_y0_, yc);
-                    if (s->conic_ok_) s->conic_ok_ = excess <= 1e-6;
-                    if (watch) psb__note_cone_excess(s, excess);
-                }
-            }
-            if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, dh_key, store_key, &by_piece);
+            if (watch) cut = watch->fn(watch, s, PSB__CORR_JACOBIAN, yc, tc, 0);
         }
         if (cut < 0) return (psb_result)cut;
         if (cut) {
             *iterations = it;
-            s->memo_cuts_++;
-            s->last_fail_ = PSB__FAIL_KNOWN;
+            s->internal_.last_fail = PSB__FAIL_KNOWN;
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
-        for (i = 0; i < np1; i++) row[i] = s->w_[i] * tc[i];
+        for (i = 0; i < np1; i++) row[i] = s->internal_.w[i] * tc[i];
         r = psb__factor_bordered(s, row, NULL);
         if (r != PSB_SUCCESS) return r;
         /* two right-hand sides, one factorisation: [H(y); 0] and [0; 1] */
-        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
-        s->rhs_[n] = 0;
-        memset(s->rhs_ + np1, 0, (size_t)np1 * sizeof(double));
-        s->rhs_[np1 + n] = 1;
-        r = psb__solve_factored(s, s->rhs_, 2);
+        memcpy(s->internal_.rhs, s->internal_.res, (size_t)n * sizeof(double));
+        s->internal_.rhs[n] = 0;
+        memset(s->internal_.rhs + np1, 0, (size_t)np1 * sizeof(double));
+        s->internal_.rhs[np1 + n] = 1;
+        r = psb__solve_factored(s, s->internal_.rhs, 2);
         if (r != PSB_SUCCESS) return r;
         tc_sign = psb__factors_det(s, NULL); /* row.tc = 1: det [dH; (W tc)^T] has det B's sign */
-        if (s->conic_ok_) { /* the point s->branch.h from y0 towards this iterate */
-            double dist = psb__dist_w(s, yc, s->conic_y0_), *pe = PSB__VEC(s, PSB__V_BR_PE);
-            s->conic_ok_ = dist > s->branch.h;
-            for (i = 0; i < np1 && s->conic_ok_; i++)
-                pe[i] = s->conic_y0_[i] + s->branch.h / dist * (yc[i] - s->conic_y0_[i]);
-        }
-        for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
-        psb__copy(tc, s->rhs_ + np1, np1);
-        if (s->corr_reach_ > 0) {
+        if (watch) watch->fn(watch, s, PSB__CORR_SOLVED, yc, tc, tc_sign);
+        for (i = 0; i < np1; i++) yc[i] -= s->internal_.rhs[i];
+        psb__copy(tc, s->internal_.rhs + np1, np1);
+        if (reach > 0) {
             double away = psb__dist_w(s, yc, y);
             /* a non-finite iterate goes on to the fault checks below */
-            if (away > s->corr_reach_ && psb__finite(away)) {
+            if (away > reach && psb__finite(away)) {
                 *iterations = it;
-                s->last_fail_ = PSB__FAIL_CONVERGE;
+                s->internal_.last_fail = PSB__FAIL_CONVERGE;
                 return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector iterate left the step's reach");
             }
         }
         if (!psb__normalize_w(s, tc)) {
-            s->last_fail_ = PSB__FAIL_SINGULAR;
+            s->internal_.last_fail = PSB__FAIL_SINGULAR;
             return psb__fail(s, PSB_ERR_SINGULAR, "corrector tangent vanished");
         }
-        if (s->path_on_ && s->path_n_ < PSB__PATH_MAX)
-            psb__copy(s->path_ + (size_t)s->path_n_++ * (size_t)np1, tc, np1);
-        if ((store_key[0] || store_key[1]) && (!by_piece || psb__pmemo_trusted(s, 0)))
-            psb__jmemo_store(s, store_key, tc, tc_sign);
-        if (s->pmemo_check_on_) {
-            double drift = psb__angle_w(s, tc, PSB__VEC(s, PSB__V_BR_MT));
-            s->pmemo_check_on_ = 0;
-            s->pmemo_checks_++;
-            if (!(drift <= s->pmemo_drift_)) s->pmemo_drift_ = drift; /* NaN: never cuts */
-        }
         *iterations = it;
-        if (s->path_on_ && psb__trial_known(s, tc, s->path_ts_, s->path_nts_, NULL, s->path_own_)) {
-            s->last_fail_ = PSB__FAIL_KNOWN;
+        if (watch && watch->fn(watch, s, PSB__CORR_TANGENT, yc, tc, tc_sign)) {
+            s->internal_.last_fail = PSB__FAIL_KNOWN;
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
-        corr = psb__norm_w(s, s->rhs_);
-        if (s->conic_ok_) { /* psb__conic_excess's second half */
-            unsigned long long key[2] = {0, 0};
-            r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_PE), NULL);
-            if (psb__is_fatal(r)) return r;
-            if (r == PSB_SUCCESS) psb__jmemo_key(s, key);
-            s->conic_ok_ = r == PSB_SUCCESS && key[0] == dh_key[0] && key[1] == dh_key[1];
+        corr = psb__norm_w(s, s->internal_.rhs);
+        if (watch) {
+            int w = watch->fn(watch, s, PSB__CORR_CORRECTED, yc, tc, 0);
+            if (w < 0) return (psb_result)w;
         }
-        r = psb__residual(s, yc, s->res_);
+        r = psb__residual(s, yc, s->internal_.res);
         if (r != PSB_SUCCESS) return r;
-        res = psb__norm2(s->res_, n);
+        res = psb__norm2(s->internal_.res, n);
         if ((res <= s->opt.tol_residual &&
              (corr <= s->opt.tol_correction ||
               (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) ||
             psb__at_rounding(s, corr, res, res_prev)) {
-            /* a residual that vanishes at an overflowed iterate (steps of ~1e300, fuzz_api) is
-               no solution */
+            /* a residual that vanishes at an overflowed iterate (steps of ~1e300) is no
+               solution */
             if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "corrector iterate overflowed");
             psb__copy(y, yc, np1);
             psb__copy(t, tc, np1);
@@ -3707,40 +3571,41 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         corr_prev = corr;
         res_prev = res;
     }
-    s->last_fail_ = PSB__FAIL_CONVERGE;
+    s->internal_.last_fail = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector did not converge in max_iter iterations");
 }
 
 /* The corrector; *iterations (may be NULL) gets the iterations spent, also on failure. A
    singular bordered matrix is geometry when dH has a tangent where it happened (the curve
-   turned across the bordering row: last_fail_ TURN), a fault when it has none (rank < N, or a
-   solver.factor that fails with any row: last_fail_ SINGULAR); the extra tangent costs a
+   turned across the bordering row: last_fail TURN), a fault when it has none (rank < N, or a
+   solver.factor that fails with any row: last_fail SINGULAR); the extra tangent costs a
    factorisation only on that failure. With differences it is never a fault (FD_RANK). */
-static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterations)
+static psb_result psb__correct(psb_solver *s, double *y, double *t, double reach,
+                               psb__corr_watch *watch, int *iterations)
 {
     int its = 0;
-    psb_result r = psb__correct_run(s, y, t, &its), rt;
+    psb_result r = psb__correct_run(s, y, t, reach, watch, &its), rt;
     if (iterations) *iterations = its;
-    if (r == PSB_SUCCESS) s->n_ok_++;
+    if (r == PSB_SUCCESS) s->internal_.n_ok++;
     if (r != PSB_ERR_SINGULAR) return r;
     if (psb__fd_jacobian(&s->prob)) { /* either way no fault (FD_RANK): spare the test */
-        s->last_fail_ = PSB__FAIL_FD_RANK;
-        s->faults_[3]++;
+        s->internal_.last_fail = PSB__FAIL_FD_RANK;
+        s->internal_.faults[3]++;
         return r;
     }
-    rt = psb__tangent(s, PSB__VEC(s, PSB__V_Y), PSB__VEC(s, PSB__V_T), s->rhs_);
+    rt = psb__tangent(s, PSB__VEC(s, PSB__V_Y), PSB__VEC(s, PSB__V_T), s->internal_.rhs);
     if (rt == PSB_SUCCESS) {
-        s->last_fail_ = PSB__FAIL_TURN;
+        s->internal_.last_fail = PSB__FAIL_TURN;
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix singular: the tangent turned across the bordering row");
     }
-    if (rt == PSB_ERR_SINGULAR) s->last_fail_ = PSB__FAIL_SINGULAR;
+    if (rt == PSB_ERR_SINGULAR) s->internal_.last_fail = PSB__FAIL_SINGULAR;
     return rt;
 }
 
 /* Whether psb__correct's failure r was a fault (psb__is_fault, its SINGULAR told apart). */
 static int psb__correct_fault(const psb_solver *s, psb_result r)
 {
-    return psb__is_fault(r) && s->last_fail_ != PSB__FAIL_TURN && s->last_fail_ != PSB__FAIL_FD_RANK;
+    return psb__is_fault(r) && s->internal_.last_fail != PSB__FAIL_TURN && s->internal_.last_fail != PSB__FAIL_FD_RANK;
 }
 
 /* Whether y1 lies on the line through y0 along t (|cosine| >= c_diff), at most dmax away. */
@@ -3749,7 +3614,7 @@ static int psb__on_ray(psb_solver *s, const double *y0, const double *y1, const 
 {
     double *d = PSB__VEC(s, PSB__V_FD), dn;
     int i;
-    for (i = 0; i < s->np1_; i++) d[i] = y1[i] - y0[i];
+    for (i = 0; i < s->internal_.np1; i++) d[i] = y1[i] - y0[i];
     dn = psb__norm_w(s, d);
     return dn > 0 && dn <= dmax && fabs(psb__dot_w(s, d, t)) >= s->opt.c_diff * dn * psb__norm_w(s, t);
 }
@@ -3759,29 +3624,28 @@ static int psb__on_ray(psb_solver *s, const double *y0, const double *y1, const 
    ray_from (Algorithm 2.2's trials, else NULL): a converged point that fails the jump or the
    cosine test is accepted all the same when it lies, within 8 steps of ray_from, on the line
    through ray_from along its own tangent (|cosine| >= c_diff): a point of a branch leaving
-   ray_from, wherever the corrector found it. */
+   ray_from, wherever the corrector found it. watch (may be NULL) sees each corrector run
+   and each rejection (psb__corr_watch). */
 static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double *h,
-                                    double h_floor, int *iters, const double *ray_from)
+                                    double h_floor, int *iters, const double *ray_from,
+                                    psb__corr_watch *watch)
 {
-    int np1 = s->np1_;
+    int np1 = s->internal_.np1;
     double *yt = PSB__VEC(s, PSB__V_STEP_Y), *tt = PSB__VEC(s, PSB__V_STEP_T), hh = *h;
     psb_result fault = PSB_SUCCESS; /* the first fault among the failed trials */
-    s->last_fail_ = PSB__FAIL_NONE;
-    s->conic_armed_ = 0;
+    s->internal_.last_fail = PSB__FAIL_NONE;
     while (hh >= h_floor) {
         psb_result r;
         psb__axpy_to(yt, y, hh, t, np1);
         psb__copy(tt, t, np1);
         s->stats.n_pc_steps++;
-        s->path_n_ = 0; /* the path of this step alone */
+        if (watch) watch->fn(watch, s, PSB__CORR_STEP, yt, tt, 0);
         /* a step is accepted within hh of its prediction: an iterate 4 hh away is lost (at
            a kink the corrector hops between pieces' far kernels until max_iter; PL contact,
            5 nodes: the trace to a branch point 10406 -> 2548 factorisations, the same trials
            and outcomes). Not for Algorithm 2.2's trials, which accept a landing anywhere on a
            ray from ray_from */
-        s->corr_reach_ = ray_from ? 0 : 4 * hh;
-        r = psb__correct(s, yt, tt, iters);
-        s->corr_reach_ = 0;
+        r = psb__correct(s, yt, tt, ray_from ? 0 : 4 * hh, watch, iters);
         if (psb__is_fatal(r)) return r;
         if (r == PSB_SUCCESS) {
             /* a corrector that travelled farther than the step jumped to another part of the
@@ -3790,7 +3654,7 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
             int i;
             for (i = 0; i < np1; i++) {
                 double d = yt[i] - y[i] - hh * t[i];
-                jump += s->w_[i] * d * d;
+                jump += s->internal_.w[i] * d * d;
             }
             if ((sqrt(jump) <= hh && psb__cos_w(s, tt, t) >= s->opt.c_min) ||
                 (ray_from && psb__on_ray(s, ray_from, yt, tt, 8 * hh))) {
@@ -3799,23 +3663,17 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
                 *h = hh;
                 return PSB_SUCCESS;
             }
-            s->last_fail_ = PSB__FAIL_COSINE;
+            s->internal_.last_fail = PSB__FAIL_COSINE;
         } else if (fault == PSB_SUCCESS && psb__correct_fault(s, r)) {
             fault = r;
         }
         s->stats.n_rejected++;
         /* a cut trial: a smaller step is the same trial scaled down */
-        if (s->last_fail_ == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
-        /* so is one that failed for the curve's sake on H conic about y0 (psb__try_tangent):
-           no convergence, or the jump or cosine test, where every iterate passed both halves of
-           psb__conic_excess (a turn ends the run before its last iterate's second half) */
-        if (s->conic_y0_ && s->conic_ok_ &&
-            (s->last_fail_ == PSB__FAIL_CONVERGE || s->last_fail_ == PSB__FAIL_COSINE))
+        if (s->internal_.last_fail == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
+        /* so is one that the watch knows smaller steps repeat */
+        if (watch && watch->fn(watch, s, PSB__CORR_REJECTED, yt, tt, 0))
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial step failed on pieces conic about "
                                                          "the point: smaller steps repeat it");
-        /* the test costs a Jacobian and two hashes per iteration: only for trials that have
-           failed once (most trials land, or are cut, at their first step) */
-        s->conic_armed_ = s->conic_y0_ != NULL;
         hh *= s->opt.h_dec;
     }
     /* a trial that failed because of a fault might have converged: the steps did not run out
@@ -3831,7 +3689,7 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
 static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, double h_floor,
                                 int *iters)
 {
-    return psb__try_step_from(s, y, t, h, h_floor, iters, NULL);
+    return psb__try_step_from(s, y, t, h, h_floor, iters, NULL, NULL);
 }
 
 /* Whether s is an initialised solver (not freed). A non-NULL s that is not gets the message
@@ -3839,7 +3697,7 @@ static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, 
 static int psb__ready(psb_solver *s)
 {
     if (!s) return 0;
-    if (s->ready_ == PSB__READY && s->vec_) return 1;
+    if (s->internal_.ready == PSB__READY && s->internal_.vec) return 1;
     psb__fail(s, PSB_ERR_NULL, "solver not initialised (or freed)");
     return 0;
 }
@@ -3849,7 +3707,7 @@ static psb_result psb__check_couple(psb_solver *s, const void *y, const void *t)
     if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
-    if (!psb__all_finite((const double *)y, s->np1_) || !psb__all_finite((const double *)t, s->np1_))
+    if (!psb__all_finite((const double *)y, s->internal_.np1) || !psb__all_finite((const double *)t, s->internal_.np1))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or t contains NaN or Inf");
     {
         double nt = psb__norm_w(s, (const double *)t);
@@ -3867,10 +3725,10 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
     if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
-    if (!psb__all_finite(y, s->np1_)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
+    if (!psb__all_finite(y, s->internal_.np1)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
     if (max_iter > PSB_MAX_ITER_LIMIT) return psb__fail(s, PSB_ERR_INPUT, "max_iter > PSB_MAX_ITER_LIMIT");
-    n = s->n_;
-    np1 = s->np1_;
+    n = s->internal_.n;
+    np1 = s->internal_.np1;
     if (max_iter <= 0) max_iter = 50;
     yc = PSB__VEC(s, PSB__V_Y);
     yt = PSB__VEC(s, PSB__V_T);
@@ -3878,32 +3736,32 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
     memset(row, 0, (size_t)np1 * sizeof *row);
     row[s->prob.param_index] = 1;
     psb__copy(yc, y, np1);
-    r = psb__residual(s, yc, s->res_);
+    r = psb__residual(s, yc, s->internal_.res);
     if (r != PSB_SUCCESS) return r;
-    res = psb__norm2(s->res_, n);
+    res = psb__norm2(s->internal_.res, n);
     for (it = 1; it <= max_iter; it++) {
         double corr, lambda = 1, res_before = res;
         s->stats.n_newton++;
-        r = psb__jacobian(s, yc, s->res_);
+        r = psb__jacobian(s, yc, s->internal_.res);
         if (r != PSB_SUCCESS) return r;
         r = psb__factor_bordered(s, row, NULL);
         if (r != PSB_SUCCESS) return r;
-        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
-        s->rhs_[n] = 0;
-        r = psb__solve_factored(s, s->rhs_, 1);
+        memcpy(s->internal_.rhs, s->internal_.res, (size_t)n * sizeof(double));
+        s->internal_.rhs[n] = 0;
+        r = psb__solve_factored(s, s->internal_.rhs, 1);
         if (r != PSB_SUCCESS) return r;
         /* zero in exact arithmetic (the border row is e_param, its right-hand side 0): an
            iterative user solver's round-off must not move the parameter off its value */
-        s->rhs_[s->prob.param_index] = 0;
-        corr = psb__norm_w(s, s->rhs_);
+        s->internal_.rhs[s->prob.param_index] = 0;
+        corr = psb__norm_w(s, s->internal_.rhs);
         /* backtracking on ||H||: full steps when they reduce it, which is the usual case */
         for (k = 0; k < 12; k++, lambda *= 0.5) {
             double trial;
-            for (i = 0; i < np1; i++) yt[i] = yc[i] - lambda * s->rhs_[i];
-            r = psb__residual(s, yt, s->res2_);
+            for (i = 0; i < np1; i++) yt[i] = yc[i] - lambda * s->internal_.rhs[i];
+            r = psb__residual(s, yt, s->internal_.res2);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) continue;
-            trial = psb__norm2(s->res2_, n);
+            trial = psb__norm2(s->internal_.res2, n);
             if (trial <= (1 - 1e-4 * lambda) * res || k == 11) {
                 res = trial;
                 break;
@@ -3911,7 +3769,7 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
         }
         if (r != PSB_SUCCESS) return r;
         psb__copy(yc, yt, np1);
-        memcpy(s->res_, s->res2_, (size_t)n * sizeof(double));
+        memcpy(s->internal_.res, s->internal_.res2, (size_t)n * sizeof(double));
         if ((res <= s->opt.tol_residual || psb__at_rounding(s, lambda * corr, res, res_before)) &&
             lambda * corr <= s->opt.tol_correction) {
             if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "Newton iterate overflowed");
@@ -3929,18 +3787,18 @@ PSCBRANCH_DEF psb_result psb_tangent(psb_solver *s, const double *y, const doubl
     if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
-    if (!psb__all_finite(y, s->np1_) || (ref && !psb__all_finite(ref, s->np1_)))
+    if (!psb__all_finite(y, s->internal_.np1) || (ref && !psb__all_finite(ref, s->internal_.np1)))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or ref contains NaN or Inf");
     r0 = PSB__VEC(s, PSB__V_REF);
     if (ref) {
         if (!(psb__norm_w(s, ref) > 0)) return psb__fail(s, PSB_ERR_INPUT, "ref is zero");
-        psb__copy(r0, ref, s->np1_);
+        psb__copy(r0, ref, s->internal_.np1);
     } else {
-        memset(r0, 0, (size_t)s->np1_ * sizeof *r0);
+        memset(r0, 0, (size_t)s->internal_.np1 * sizeof *r0);
         r0[s->prob.param_index] = 1;
     }
     r = psb__tangent(s, y, r0, PSB__VEC(s, PSB__V_T));
-    if (r == PSB_SUCCESS) psb__copy(t, PSB__VEC(s, PSB__V_T), s->np1_);
+    if (r == PSB_SUCCESS) psb__copy(t, PSB__VEC(s, PSB__V_T), s->internal_.np1);
     return r;
 }
 
@@ -3948,7 +3806,7 @@ PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *i
 {
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
-    return psb__correct(s, y, t, iterations);
+    return psb__correct(s, y, t, 0, NULL, iterations);
 }
 
 /* Step size for the next step after a step of size h that took iters corrector iterations. */
@@ -3970,23 +3828,23 @@ PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h
     /* on copies: the caller's couple and h stay as they were unless a step is accepted */
     yc = PSB__VEC(s, PSB__V_IO_Y);
     tc = PSB__VEC(s, PSB__V_IO_T);
-    psb__copy(yc, y, s->np1_);
-    psb__copy(tc, t, s->np1_);
+    psb__copy(yc, y, s->internal_.np1);
+    psb__copy(tc, t, s->internal_.np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     psb__faults_reset(s);
     r = psb__try_step(s, yc, tc, &hh, s->opt.h_min, &iters);
     /* no trial converged and difference Jacobians were singular: a fault when dH(y) has no
        tangent either (rank < N), the curve's when it has (a kink turned the trials across the
        bordering row, as psb__correct tells apart with an analytic Jacobian) */
-    if (r == PSB_ERR_STEP_TOO_SMALL && s->n_ok_ == 0 && s->faults_[3] > 0) {
+    if (r == PSB_ERR_STEP_TOO_SMALL && s->internal_.n_ok == 0 && s->internal_.faults[3] > 0) {
         psb_result rt = psb__tangent(s, y, t, tc);
         if (rt == PSB_ERR_SINGULAR) return psb__faults_code(s, "psb_step");
         if (psb__is_fatal(rt)) return rt;
         return psb__fail(s, r, "no trial step converged down to h_min");
     }
     if (r != PSB_SUCCESS) return r;
-    psb__copy(y, yc, s->np1_);
-    psb__copy(t, tc, s->np1_);
+    psb__copy(y, yc, s->internal_.np1);
+    psb__copy(t, tc, s->internal_.np1);
     *h = psb__adapt(s, hh, iters);
     return r;
 }
@@ -3997,7 +3855,7 @@ PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h
 static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const double *t_before,
                                   const double *dir, double h_floor)
 {
-    int np1 = s->np1_, sign, iters, i;
+    int np1 = s->internal_.np1, sign, iters, i;
     double *yd = PSB__VEC(s, PSB__V_SW_Y), *td = PSB__VEC(s, PSB__V_SW_T), h;
     psb_result r;
     for (sign = 1; sign >= -1; sign -= 2) {
@@ -4034,7 +3892,7 @@ static int psb__switch_fresh(psb_solver *s, const double *dir, int *n_tried)
     int k, n = *n_tried < PSB__SW_RING ? *n_tried : PSB__SW_RING;
     for (k = 0; k < n; k++)
         if (fabs(psb__cos_w(s, dir, PSB__VEC(s, PSB__V_SW_L + k))) >= 1 - 1e-9) return 0;
-    psb__copy(PSB__VEC(s, PSB__V_SW_L + *n_tried % PSB__SW_RING), dir, s->np1_);
+    psb__copy(PSB__VEC(s, PSB__V_SW_L + *n_tried % PSB__SW_RING), dir, s->internal_.np1);
     ++*n_tried;
     return 1;
 }
@@ -4046,7 +3904,7 @@ static int psb__switch_fresh(psb_solver *s, const double *dir, int *n_tried)
 static psb_result psb__switch_pass(psb_solver *s, double *y, double *t, const double *t_before,
                                    double c_done, double c_sw)
 {
-    int np1 = s->np1_, i, k, pass, n_tried = 0;
+    int np1 = s->internal_.np1, i, k, pass, n_tried = 0;
     double *dir = PSB__VEC(s, PSB__V_SW_D), *probe = PSB__VEC(s, PSB__V_SW_P);
     double *t1 = PSB__VEC(s, PSB__V_SW_A), *q = PSB__VEC(s, PSB__V_SW_B), delta;
     psb_result r;
@@ -4127,13 +3985,13 @@ PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t)
     /* on copies: the caller's couple stays as it was unless the switch succeeds */
     yc = PSB__VEC(s, PSB__V_IO_Y);
     tc = PSB__VEC(s, PSB__V_IO_T);
-    psb__copy(yc, y, s->np1_);
-    psb__copy(tc, t, s->np1_);
+    psb__copy(yc, y, s->internal_.np1);
+    psb__copy(tc, t, s->internal_.np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     r = psb__switch(s, yc, tc, NULL);
     if (r != PSB_SUCCESS) return r;
-    psb__copy(y, yc, s->np1_);
-    psb__copy(t, tc, s->np1_);
+    psb__copy(y, yc, s->internal_.np1);
+    psb__copy(t, tc, s->internal_.np1);
     return r;
 }
 
@@ -4190,7 +4048,7 @@ static double psb__angle_w(const psb_solver *s, const double *a, const double *b
 static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0, const double *t1,
                                double h, double expect)
 {
-    int np1 = s->np1_, iters;
+    int np1 = s->internal_.np1, iters;
     double *ya = PSB__VEC(s, PSB__V_K_YA), *ta = PSB__VEC(s, PSB__V_K_TA);
     double *yt = PSB__VEC(s, PSB__V_K_Y), *tt = PSB__VEC(s, PSB__V_K_T);
     double theta = psb__angle_w(s, t0, t1), hs = 0.5 * h, trial, half_theta;
@@ -4302,7 +4160,7 @@ static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0
 static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, const double *t1,
                             double h, double expect)
 {
-    int np1 = s->np1_, found = psb__locate_kink_in(s, y0, t0, t1, h, expect), depth, inner;
+    int np1 = s->internal_.np1, found = psb__locate_kink_in(s, y0, t0, t1, h, expect), depth, inner;
     double *ya = PSB__VEC(s, PSB__V_K_YA), *ta = PSB__VEC(s, PSB__V_K_TA);
     double *sy = PSB__VEC(s, PSB__V_SW_A), *st = PSB__VEC(s, PSB__V_SW_B), d;
     for (depth = 0; found == 1 && depth < 8 && psb__cos_w(s, t0, ta) < s->opt.c_diff; depth++) {
@@ -4338,7 +4196,7 @@ static int psb__fold_beyond_bound(const psb_solver *s, const psb_trace_options *
    the chord; on success y1 holds it. */
 static psb_result psb__land_on_bound(psb_solver *s, const double *y0, double *y1, double bound)
 {
-    int p = s->prob.param_index, np1 = s->np1_, i;
+    int p = s->prob.param_index, np1 = s->internal_.np1, i;
     double *yb = PSB__VEC(s, PSB__V_TR_B), frac = (bound - y0[p]) / (y1[p] - y0[p]);
     psb_result r;
     for (i = 0; i < np1; i++) yb[i] = y0[i] + frac * (y1[i] - y0[i]);
@@ -4366,7 +4224,7 @@ typedef struct psb__mon {
 
 static psb_result psb__monitor(psb_solver *s, psb__mon *m)
 {
-    int np1 = s->np1_, i, k;
+    int np1 = s->internal_.np1, i, k;
     double sign = 1, logabs = 0;
     psb_result r;
     if (s->prob.linear == PSB_LINEAR_DENSE) {
@@ -4374,24 +4232,24 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
     } else if (s->prob.linear == PSB_LINEAR_BANDED) {
         /* factors of A + sigma I (A nearly singular) would move a zero of det B by ~sigma: A
            is factored as it is (exactly singular: det B = 0) */
-        if (s->shifted_) {
+        if (s->internal_.shifted) {
             r = psb__band_prepare(s, 0.0);
-            s->shifted_ = 0;
+            s->internal_.shifted = 0;
             if (r == PSB_ERR_SINGULAR) {
-                s->border_ok_ = s->bv_ok_ = 0; /* no usable factors: the next solve refactors */
+                s->internal_.border_ok = s->internal_.bv_ok = 0; /* no usable factors: the next solve refactors */
                 m->sign[0] = m->sign[1] = 1;
                 m->logabs[0] = m->logabs[1] = -700;
                 return PSB_SUCCESS;
             }
             if (r != PSB_SUCCESS) return r;
         }
-        if (!s->border_ok_) {
+        if (!s->internal_.border_ok) {
             r = psb__band_border(s, NULL);
             if (r != PSB_SUCCESS) return r;
         }
         sign = psb__factors_det(s, &logabs);
     } else {
-        double *x = s->rhs_, q[2];
+        double *x = s->internal_.rhs, q[2];
         int attempt;
         for (attempt = 0; attempt < 2; attempt++) { /* a user solver's failure may be passing */
             psb__copy(x, PSB__VEC(s, PSB__V_SP_B1), np1);
@@ -4404,7 +4262,7 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
             return psb__fail(s, PSB_ERR_NONFINITE, "solver.solve gave NaN or Inf");
         for (k = 0; k < 2; k++) {
             const double *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
-            q[k] = s->sp_d_[k];
+            q[k] = s->internal_.sp_d[k];
             for (i = 0; i < np1; i++) q[k] -= c[i] * x[(size_t)k * (size_t)np1 + (size_t)i];
         }
         for (k = 0; k < 2; k++) {
@@ -4429,37 +4287,37 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
 static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const double *base,
                                  const double *dir, double value)
 {
-    int n = s->n_, np1 = s->np1_, it, i;
-    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->work_, res_prev;
+    int n = s->internal_.n, np1 = s->internal_.np1, it, i;
+    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->internal_.work, res_prev;
     psb_result r;
     psb__copy(yc, y, np1);
-    r = psb__residual(s, yc, s->res_);
+    r = psb__residual(s, yc, s->internal_.res);
     if (r != PSB_SUCCESS) return r;
-    res_prev = psb__norm2(s->res_, n);
+    res_prev = psb__norm2(s->internal_.res, n);
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res, g = 0;
         s->stats.n_newton++;
-        r = psb__jacobian(s, yc, s->res_);
+        r = psb__jacobian(s, yc, s->internal_.res);
         if (r != PSB_SUCCESS) return r;
         for (i = 0; i < np1; i++) {
             double d = yc[i] - base[i];
-            row[i] = s->w_[i] * (dir ? dir[i] : d);
+            row[i] = s->internal_.w[i] * (dir ? dir[i] : d);
             g += row[i] * (dir ? d : 0.5 * d);
         }
         g -= dir ? value : 0.5 * value * value;
         r = psb__factor_bordered(s, row, NULL);
         if (r != PSB_SUCCESS) return r;
-        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
-        s->rhs_[n] = g;
-        memset(s->rhs_ + np1, 0, (size_t)np1 * sizeof(double));
-        s->rhs_[np1 + n] = 1;
-        r = psb__solve_factored(s, s->rhs_, 2);
+        memcpy(s->internal_.rhs, s->internal_.res, (size_t)n * sizeof(double));
+        s->internal_.rhs[n] = g;
+        memset(s->internal_.rhs + np1, 0, (size_t)np1 * sizeof(double));
+        s->internal_.rhs[np1 + n] = 1;
+        r = psb__solve_factored(s, s->internal_.rhs, 2);
         if (r != PSB_SUCCESS) return r;
-        for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
-        corr = psb_norm_w(s, s->rhs_);
-        r = psb__residual(s, yc, s->res_);
+        for (i = 0; i < np1; i++) yc[i] -= s->internal_.rhs[i];
+        corr = psb_norm_w(s, s->internal_.rhs);
+        r = psb__residual(s, yc, s->internal_.res);
         if (r != PSB_SUCCESS) return r;
-        res = psb__norm2(s->res_, n);
+        res = psb__norm2(s->internal_.res, n);
         /* not on the contraction estimate: the tangent and the test function come from the
            factors at the iterate before the last correction, which must be as small as the
            location's precision */
@@ -4467,9 +4325,9 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
             corr <= s->opt.tol_correction) {
             if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "Newton iterate overflowed");
             if (t) {
-                psb__copy(t, s->rhs_ + np1, np1);
+                psb__copy(t, s->internal_.rhs + np1, np1);
                 if (!psb__normalize_w(s, t)) {
-                    s->last_fail_ = PSB__FAIL_SINGULAR;
+                    s->internal_.last_fail = PSB__FAIL_SINGULAR;
                     return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
                 }
             }
@@ -4478,7 +4336,7 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
         }
         res_prev = res;
     }
-    s->last_fail_ = PSB__FAIL_CONVERGE;
+    s->internal_.last_fail = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Newton on the constrained system did not converge");
 }
 
@@ -4495,10 +4353,10 @@ typedef struct psb__sp_fn {
 /* A trace's on_point callback, marked as running (psb__trace_busy). */
 static int psb__call_point(psb_solver *s, const psb_trace_options *to, const psb_point *p)
 {
-    int outer = s->in_trace_callback_, rc;
-    s->in_trace_callback_ = 1;
+    int outer = s->internal_.in_trace_callback, rc;
+    s->internal_.in_trace_callback = 1;
     rc = to->on_point(p, to->point_user);
-    s->in_trace_callback_ = outer;
+    s->internal_.in_trace_callback = outer;
     return rc;
 }
 
@@ -4507,7 +4365,7 @@ static int psb__call_point(psb_solver *s, const psb_trace_options *to, const psb
 static psb_result psb__trace_busy(psb_solver *s, const char *what)
 {
     char buf[160];
-    if (!s->in_trace_callback_) return PSB_SUCCESS;
+    if (!s->internal_.in_trace_callback) return PSB_SUCCESS;
     snprintf(buf, sizeof buf, "%s called from a callback of a trace on the same solver (use another solver)", what);
     return psb__fail(s, PSB_ERR_INPUT, buf);
 }
@@ -4515,11 +4373,11 @@ static psb_result psb__trace_busy(psb_solver *s, const char *what)
 static psb_result psb__event_values(psb_solver *s, const psb_trace_options *to, const double *y,
                                     double *g)
 {
-    int outer = s->in_trace_callback_, rc;
+    int outer = s->internal_.in_trace_callback, rc;
     psb_result r;
-    s->in_trace_callback_ = 1;
+    s->internal_.in_trace_callback = 1;
     rc = to->event(y, g, to->event_user);
-    s->in_trace_callback_ = outer;
+    s->internal_.in_trace_callback = outer;
     r = psb__callback_code(s, rc, "event callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
     if (!psb__all_finite(g, (size_t)to->n_events))
@@ -4575,13 +4433,13 @@ static int psb__on_bracket(const psb_solver *s, const double *ya, const double *
 {
     double len = 0, turn = 0, off = 0, tdev = 0, bound;
     int i;
-    for (i = 0; i < s->np1_; i++) {
+    for (i = 0; i < s->internal_.np1; i++) {
         double dy = yb[i] - ya[i], dt = tb[i] - ta[i];
         double ey = ye[i] - ya[i] - lambda * dy, et = te[i] - ta[i] - lambda * dt;
-        len += s->w_[i] * dy * dy;
-        turn += s->w_[i] * dt * dt;
-        off += s->w_[i] * ey * ey;
-        tdev += s->w_[i] * et * et;
+        len += s->internal_.w[i] * dy * dy;
+        turn += s->internal_.w[i] * dt * dt;
+        off += s->internal_.w[i] * ey * ey;
+        tdev += s->internal_.w[i] * et * et;
     }
     bound = 0.5 * sqrt(turn) + 0.05;
     return psb__cos_w(s, te, ta) >= s->opt.c_min && psb__cos_w(s, te, tb) >= s->opt.c_min &&
@@ -4603,7 +4461,7 @@ static psb_result psb__bracket_point(psb_solver *s, const double *y0, const doub
                                      const double *ya, const double *ta, double sb, const double *yb,
                                      const double *tb, int far_b, double *sm, double *ye, double *te)
 {
-    int np1 = s->np1_, k, i, user_singular = 0;
+    int np1 = s->internal_.np1, k, i, user_singular = 0;
     double w = sb - sa, ca = psb_dot_w(s, t0, ta), cb = psb_dot_w(s, t0, tb);
     for (k = 0; k < 12; k++) {
         double l = (*sm - sa) / w, l2 = l * l, l3 = l2 * l, h00, h10, h01, h11;
@@ -4641,13 +4499,13 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
                                      const double *t0, const double *y1, double tol,
                                      double *precision, double *fend_abs, double *f01_abs)
 {
-    int np1 = s->np1_, iter, side = 0, bisect = 0, evals = 0, found = 0, i;
+    int np1 = s->internal_.np1, iter, side = 0, bisect = 0, evals = 0, found = 0, i;
     double *ya = PSB__VEC(s, PSB__V_SP_YA), *ta = PSB__VEC(s, PSB__V_SP_TA);
     double *yb = PSB__VEC(s, PSB__V_SP_YB), *tb = PSB__VEC(s, PSB__V_SP_TB);
     double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
     double sa = 0, sb = 0, fa, fb, ga, gb, width_before = 0;
     psb_result r;
-    for (i = 0; i < np1; i++) sb += s->w_[i] * t0[i] * (y1[i] - y0[i]);
+    for (i = 0; i < np1; i++) sb += s->internal_.w[i] * t0[i] * (y1[i] - y0[i]);
     if (!(sb > 0)) return PSB_NONSMOOTH_END;
     psb__copy(ya, y0, np1);
     r = psb__newton_on(s, ya, ta, y0, t0, 0);
@@ -4734,12 +4592,12 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
 static psb_result psb__branch_directions(psb_solver *s, const double *y0, const double *t0,
                                          double span)
 {
-    int np1 = s->np1_, i, k, it;
+    int np1 = s->internal_.np1, i, k, it;
     double *ys = PSB__VEC(s, PSB__V_SP_Y), *ts = PSB__VEC(s, PSB__V_SP_T), *ks = PSB__VEC(s, PSB__V_SP_K);
     double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
     double *tsum = PSB__VEC(s, PSB__V_SP_TA), *kb = PSB__VEC(s, PSB__V_SP_TB), sstar = 0, delta, c;
     psb_result r = PSB_ERR_SINGULAR;
-    for (i = 0; i < np1; i++) sstar += s->w_[i] * t0[i] * (ys[i] - y0[i]);
+    for (i = 0; i < np1; i++) sstar += s->internal_.w[i] * t0[i] * (ys[i] - y0[i]);
     delta = fmin(1e-5 * span, 0.25 * fmin(sstar, span - sstar));
     memset(tsum, 0, (size_t)np1 * sizeof(double));
     for (k = -1; k <= 1 && delta > 0; k += 2) {
@@ -4757,7 +4615,7 @@ static psb_result psb__branch_directions(psb_solver *s, const double *y0, const 
     if (r != PSB_SUCCESS) return r;
     psb__copy(ts, tsum, np1);
     psb__normalize_w(s, ts);
-    for (i = 0; i < np1; i++) ks[i] = psb__gauss(s->rng_);
+    for (i = 0; i < np1; i++) ks[i] = psb__gauss(s->internal_.rng);
     for (it = 0; it < 2; it++) {
         psb__copy(kb, ks, np1);
         r = psb__solve_factored(s, ks, 1);
@@ -4791,8 +4649,8 @@ static psb_result psb__monitor_at(psb_solver *s, const double *y, const double *
     int i;
     psb_result r = psb__jacobian(s, y, NULL);
     if (r != PSB_SUCCESS) return r;
-    for (i = 0; i < s->np1_; i++) s->work_[i] = s->w_[i] * t[i];
-    r = psb__factor_bordered(s, s->work_, NULL);
+    for (i = 0; i < s->internal_.np1; i++) s->internal_.work[i] = s->internal_.w[i] * t[i];
+    r = psb__factor_bordered(s, s->internal_.work, NULL);
     if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_BANDED) r = psb__band_border(s, NULL);
     if (r != PSB_SUCCESS) return r;
     return psb__monitor(s, m);
@@ -4806,12 +4664,12 @@ static psb_result psb__detect_start(psb_solver *s, psb__detector *d, const doubl
     unsigned long long seed = s->opt.seed;
     int k, i;
     psb_result r;
-    for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
+    for (k = 0; k < 4; k++) s->internal_.rng[k] = psb__splitmix(&seed);
     for (k = 0; k < 2; k++) {
         double *b = PSB__VEC(s, k ? PSB__V_SP_B2 : PSB__V_SP_B1), *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
-        for (i = 0; i < s->np1_; i++) b[i] = psb__gauss(s->rng_);
-        for (i = 0; i < s->np1_; i++) c[i] = psb__gauss(s->rng_);
-        s->sp_d_[k] = psb__gauss(s->rng_);
+        for (i = 0; i < s->internal_.np1; i++) b[i] = psb__gauss(s->internal_.rng);
+        for (i = 0; i < s->internal_.np1; i++) c[i] = psb__gauss(s->internal_.rng);
+        s->internal_.sp_d[k] = psb__gauss(s->internal_.rng);
     }
     d->mon_on = (to->detect & (PSB_DETECT_BRANCH | PSB_DETECT_PC1)) != 0;
     d->mon_old_ok = 0;
@@ -4952,7 +4810,7 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
         }
         if (r == PSB_SUCCESS && (detect & PSB_DETECT_BRANCH)) {
             double span = 0;
-            for (k = 0; k < s->np1_; k++) span += s->w_[k] * t0[k] * (y1[k] - y0[k]);
+            for (k = 0; k < s->internal_.np1; k++) span += s->internal_.w[k] * t0[k] * (y1[k] - y0[k]);
             r = psb__branch_directions(s, y0, t0, span);
             if (psb__sp_fault(s, r, 0)) return r;
             psb__special_init(d, PSB_SPECIAL_BRANCH, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
@@ -5011,7 +4869,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     if (opts.locate_kinks < 0 || opts.locate_kinks > 2)
         return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "trace options: locate_kinks must be 0, 1 or 2");
     if (opts.max_steps == 0) opts.max_steps = 10000;
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     p = s->prob.param_index;
     if (opts.param_min != opts.param_min || opts.param_max != opts.param_max)
         return rep->end = psb__fail(s, PSB_ERR_INPUT, "trace options: param_min or param_max is NaN");
@@ -5213,11 +5071,11 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             /* the start lies on the last chord, and the curve already went further than it */
             int i;
             double *d = PSB__VEC(s, PSB__V_TR_B), seg2 = pt.h * pt.h, proj = 0, dist2 = 0, x;
-            for (i = 0; i < np1; i++) proj += s->w_[i] * (yc[i] - yold[i]) * (ystart[i] - yold[i]);
+            for (i = 0; i < np1; i++) proj += s->internal_.w[i] * (yc[i] - yold[i]) * (ystart[i] - yold[i]);
             x = seg2 > 0 ? proj / seg2 : -1;
             if (x >= 0 && x <= 1 && travelled > 4 * sqrt(seg2)) {
                 for (i = 0; i < np1; i++) d[i] = yold[i] + x * (yc[i] - yold[i]) - ystart[i];
-                for (i = 0; i < np1; i++) dist2 += s->w_[i] * d[i] * d[i];
+                for (i = 0; i < np1; i++) dist2 += s->internal_.w[i] * d[i] * d[i];
                 if (dist2 <= 0.0025 * seg2 + s->opt.tol_correction * s->opt.tol_correction) {
                     rep->end = PSB_LOOP_CLOSED;
                     goto done;
@@ -5249,8 +5107,8 @@ static double psb__auto_branch_h(const psb_solver *s, const double *y)
 {
     int j;
     double step = 0, h;
-    for (j = 0; j < s->np1_; j++) {
-        double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
+    for (j = 0; j < s->internal_.np1; j++) {
+        double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->internal_.w[j]);
         if (sj > step) step = sj;
     }
     h = s->branch.expert.h_fd_steps * step;
@@ -5260,9 +5118,9 @@ static double psb__auto_branch_h(const psb_solver *s, const double *y)
 
 static void psb__branch_h(psb_solver *s, const double *y)
 {
-    if (!s->branch_h_auto_) return;
+    if (!s->internal_.branch_h_auto) return;
     s->branch.h = psb__auto_branch_h(s, y);
-    if (s->branch_h_min_auto_) s->branch.h_min = s->branch.h / 16384.0;
+    if (s->internal_.branch_h_min_auto) s->branch.h_min = s->branch.h / 16384.0;
 }
 
 /* Resolves and checks the branching options of a call into s->branch (left as it was when
@@ -5274,8 +5132,8 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->branch = b;
     /* finite differences and h left at 0: h follows the difference steps at each point */
-    s->branch_h_auto_ = b.h == 0;
-    s->branch_h_min_auto_ = b.h_min == 0;
+    s->internal_.branch_h_auto = b.h == 0;
+    s->internal_.branch_h_min_auto = b.h_min == 0;
     return PSB_SUCCESS;
 }
 
@@ -5295,7 +5153,7 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
    point). */
 static int psb__fd_smooth_stall(psb_solver *s, const double *yc, const double *tin, double *ya, double *ta)
 {
-    int np1 = s->np1_, side, scale, i;
+    int np1 = s->internal_.np1, side, scale, i;
     double *yb = PSB__VEC(s, PSB__V_BR_P), *tb = PSB__VEC(s, PSB__V_BR_Q), *ub = PSB__VEC(s, PSB__V_BR_V);
     double d = 32 * s->opt.tol_correction / sqrt(2 * (1 - s->opt.c_diff)), agree = 1 - 0.25 * (1 - s->opt.c_diff);
     for (scale = 0; scale < 2; scale++) {
@@ -5308,14 +5166,14 @@ static int psb__fd_smooth_stall(psb_solver *s, const double *yc, const double *t
             psb__axpy_to(yp, yc, side * delta, tin, np1);
             psb__copy(tp, tin, np1);
             s->stats.n_pc_steps++;
-            r = psb__correct(s, yp, tp, NULL);
+            r = psb__correct(s, yp, tp, 0, NULL, NULL);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS && psb__correct_fault(s, r)) { /* the test cannot tell: no success */
                 psb__note_fault(s, r);
                 return psb__faults_code(s, "Algorithm 2.1, the chords through the end point");
             }
             along = 0;
-            for (i = 0; i < np1; i++) along += s->w_[i] * (yp[i] - yc[i]) * tin[i];
+            for (i = 0; i < np1; i++) along += s->internal_.w[i] * (yp[i] - yc[i]) * tin[i];
             converged = r == PSB_SUCCESS && side * along >= 0.5 * delta;
         }
         if (!converged) continue;
@@ -5337,7 +5195,7 @@ static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *p
     double h, *yc, *tc, *yt, *tt, *tin;
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     yc = PSB__VEC(s, PSB__V_BR_Y0);
     tc = PSB__VEC(s, PSB__V_BR_T0);
     yt = PSB__VEC(s, PSB__V_BR_Y);
@@ -5361,7 +5219,7 @@ follow:
             psb__axpy_to(yt, yc, h, tc, np1);
             psb__copy(tt, tc, np1);
             s->stats.n_pc_steps++;
-            r = psb__correct(s, yt, tt, NULL);
+            r = psb__correct(s, yt, tt, 0, NULL, NULL);
             if (psb__is_fatal(r)) return r;
             /* a fault at the last trial leaves the end point unlocated (one that a later trial
                outlived cost nothing: the same h is tried again after every move) */
@@ -5376,7 +5234,7 @@ follow:
             if (moved) {
                 double ahead = 0;
                 int i;
-                for (i = 0; i < np1; i++) ahead += s->w_[i] * (yt[i] - yc[i]) * tc[i];
+                for (i = 0; i < np1; i++) ahead += s->internal_.w[i] * (yt[i] - yc[i]) * tc[i];
                 moved = ahead >= 0.5 * h;
             }
             /* a step that fails the entering tangent's test alone: the branch goes on,
@@ -5432,13 +5290,13 @@ follow:
             psb__axpy_to(yt, yc, -back, tc, np1);
             psb__copy(tt, tc, np1);
             s->stats.n_pc_steps++;
-            r = psb__correct(s, yt, tt, NULL);
+            r = psb__correct(s, yt, tt, 0, NULL, NULL);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS && psb__correct_fault(s, r)) {
                 psb__note_fault(s, r);
                 return psb__faults_code(s, "Algorithm 2.1, the tangent behind the end point");
             }
-            for (i = 0; i < np1; i++) behind += s->w_[i] * (yc[i] - yt[i]) * tc[i];
+            for (i = 0; i < np1; i++) behind += s->internal_.w[i] * (yc[i] - yt[i]) * tc[i];
             repaired = r == PSB_SUCCESS && behind >= 0.5 * back && psb__cos_w(s, tt, tc) >= s->opt.c_min;
         }
         if (!repaired)
@@ -5527,19 +5385,19 @@ static void psb__jmemo_key(const psb_solver *s, unsigned long long *key)
     key[0] = 0xcbf29ce484222325ull;
     key[1] = 0;
     if (s->prob.linear == PSB_LINEAR_DENSE) {
-        psb__hash_doubles(s->jac_, (size_t)s->n_ * (size_t)s->np1_, key);
+        psb__hash_doubles(s->internal_.jac, (size_t)s->internal_.n * (size_t)s->internal_.np1, key);
     } else {
-        psb__hash_doubles(s->band_, (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->n_, key);
-        psb__hash_doubles(s->dparam_, (size_t)s->n_, key);
+        psb__hash_doubles(s->internal_.band, (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->internal_.n, key);
+        psb__hash_doubles(s->internal_.dparam, (size_t)s->internal_.n, key);
     }
 }
 
 /* The Jacobian memo's entry with this key, or -1. */
 static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
 {
-    int m, stored = s->jmemo_n_ < s->memo_cap_ ? s->jmemo_n_ : s->memo_cap_;
+    int m, stored = s->internal_.jmemo_n < s->internal_.memo_cap ? s->internal_.jmemo_n : s->internal_.memo_cap;
     for (m = 0; m < stored; m++)
-        if (s->jmemo_key_[2 * m] == key[0] && s->jmemo_key_[2 * m + 1] == key[1]) return m;
+        if (s->internal_.jmemo_key[2 * m] == key[0] && s->internal_.jmemo_key[2 * m + 1] == key[1]) return m;
     return -1;
 }
 
@@ -5549,14 +5407,14 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
    the dot product). */
 static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const double *ref, double *t, int *m)
 {
-    int i, np1 = s->np1_;
+    int i, np1 = s->internal_.np1;
     const double *tm;
     double dot;
     *m = psb__jmemo_find(s, key);
-    s->jmemo_looks_++;
-    s->jmemo_hits_ += *m >= 0;
+    s->internal_.jmemo_looks++;
+    s->internal_.jmemo_hits += *m >= 0;
     if (*m < 0) return 0;
-    tm = s->jmemo_t_ + (size_t)*m * (size_t)np1;
+    tm = s->internal_.jmemo_t + (size_t)*m * (size_t)np1;
     dot = psb__dot_w(s, tm, ref);
     if (!(fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, ref))) return 0;
     for (i = 0; i < np1; i++) t[i] = dot < 0 ? -tm[i] : tm[i];
@@ -5567,12 +5425,12 @@ static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const do
    makes room when the memo is full). */
 static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t, int sign)
 {
-    int m = s->jmemo_n_ % s->memo_cap_;
-    s->jmemo_key_[2 * m] = key[0];
-    s->jmemo_key_[2 * m + 1] = key[1];
-    s->jmemo_sign_[m] = (signed char)sign;
-    psb__copy(s->jmemo_t_ + (size_t)m * (size_t)s->np1_, t, s->np1_);
-    s->jmemo_n_++;
+    int m = s->internal_.jmemo_n % s->internal_.memo_cap;
+    s->internal_.jmemo_key[2 * m] = key[0];
+    s->internal_.jmemo_key[2 * m + 1] = key[1];
+    s->internal_.jmemo_sign[m] = (signed char)sign;
+    psb__copy(s->internal_.jmemo_t + (size_t)m * (size_t)s->internal_.np1, t, s->internal_.np1);
+    s->internal_.jmemo_n++;
 }
 
 /* Whether the memo keys by dH's hash: it can (analytic dH, dense or banded), and it pays. A
@@ -5580,7 +5438,7 @@ static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const
    hash per tangent for nothing: after 64 look-ups in a call, it needs a hit in 8. */
 static int psb__jmemo_hashing(const psb_solver *s)
 {
-    return s->jmemo_dh_ && !(s->jmemo_looks_ >= 64 && 8 * s->jmemo_hits_ < s->jmemo_looks_);
+    return s->internal_.jmemo_dh && !(s->internal_.jmemo_looks >= 64 && 8 * s->internal_.jmemo_hits < s->internal_.jmemo_looks);
 }
 
 /* The memo's key of the piece at y (problem.piece, set), *known 0 when the callback knows no
@@ -5595,33 +5453,263 @@ static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long l
     return PSB_SUCCESS;
 }
 
+/* An Algorithm 2.2 trial's watch on the corrector (psb__try_tangent): it records the tangents
+   of the trial's iterates (path), cuts the trial once one of them is a tangent whose trial is
+   known (psb__path_memo_cut, psb__trial_known), stores the tangents it computes in the
+   Jacobian memo, and, with y0 set, runs the conic test (psb__conic_excess): every iterate of
+   a run on pieces conic about y0, which makes a trial that failed there fail at every smaller
+   step as well. */
+typedef struct psb__trial_watch {
+    psb__corr_watch base;
+    const double *ts;  /* the found branches' tangents, nts of them */
+    int nts, own;      /* and the trial's own known entry (-1: none), for the cut */
+    const double *y0;  /* the point for the conic test (NULL: none) */
+    int conic_ok;      /* every iterate of the current run passed the conic test */
+    int armed;         /* the test runs: a step of the trial was rejected already */
+    int path_n;        /* tangents recorded in s->internal_.path for the current step */
+    unsigned long long store_key[2], dh_key[2]; /* the current iterate's memo key, dH's hash */
+    int by_piece;      /* store_key is a piece id */
+    int pmemo_check;   /* the next tangent is compared with the piece memo's (BR_MT) */
+} psb__trial_watch;
+
+/* Whether a piece's tangent may decide (psb__path_memo_cut): the memo's pieces checked that
+   many times and found nearly linear. */
+static int psb__pmemo_trusted(const psb_solver *s, int checks)
+{
+    return s->internal_.pmemo_checks >= checks && s->internal_.pmemo_drift <= acos(s->opt.c_diff) / 8;
+}
+
+/* The memo's cut of an Algorithm 2.2 trial (watched by tw) at its corrector iterate y, bordered by
+   t: the tangent this iteration would compute is the unit kernel of dH(y), oriented by t, and
+   Algorithm 2.2's memo (psb__sample_tangent) may hold it already, keyed by y's piece id
+   (before dH is formed, dh_key NULL; *by_piece set when the callback gave one) or by dH's
+   hash (dh_key, of the dH just formed; *by_piece as the first call left it). If that
+   tangent's trial is known, the corrector's cut (psb__correct_run) applies without the
+   factorisation. As with sample tangents, the memo's tangent only decides this skip.
+   A dH hash gives the tangent of the same dH. A piece id gives one from another point of the
+   piece, which is the tangent here only where H is nearly linear across the piece (the block:
+   no cut decided otherwise in 390 checked); on a curved piece the wrong verdict can cost a
+   branch (curved random LCPs). So a piece's tangent decides a cut only after the memo has met
+   4 tangents computed at trial iterates of pieces it held, and found them all within an
+   eighth of c_diff's angle of its own (pmemo_drift, measured by the corrector).
+   key gets the key under which the corrector stores the tangent it computes (zero when there
+   is none or the memo holds it).
+   Returns 1 (cut), 0, or a fatal or fault code from the piece callback (< 0). */
+static int psb__path_memo_cut(psb_solver *s, psb__trial_watch *tw, const double *y, const double *t,
+                              const unsigned long long *dh_key)
+{
+    unsigned long long *key = tw->store_key;
+    int *by_piece = &tw->by_piece;
+    int m, got;
+    double *x = PSB__VEC(s, PSB__V_BR_MT);
+    if (!dh_key) {
+        psb_result r;
+        key[0] = key[1] = 0;
+        *by_piece = 0;
+        if (!s->prob.piece) return 0;
+        r = psb__piece_key(s, y, key, by_piece);
+        if (r != PSB_SUCCESS) return r;
+        if (!*by_piece) return 0;
+    } else {
+        if (*by_piece || !psb__jmemo_hashing(s)) return 0;
+        key[0] = dh_key[0];
+        key[1] = dh_key[1];
+    }
+    got = psb__jmemo_get(s, key, t, x, &m);
+    if (m >= 0) key[0] = key[1] = 0; /* held already: nothing to store */
+    if (!got) return 0;
+    if (*by_piece && !psb__pmemo_trusted(s, 4)) {
+        tw->pmemo_check = 1; /* no cut yet: the watch compares the next tangent with x */
+        return 0;
+    }
+    return psb__trial_known(s, x, tw->ts, tw->nts, NULL, tw->own);
+}
+
+/* How far from cones about y0 Algorithm 2.2's trials may see H before the run is made again
+   with a smaller h_init (psb__find_branches): a landing point's chord from y0 against its
+   tangent (radians), or an iterate's psb__conic_excess. */
+#define PSB__CHORD_TURN 0.05
+
+/* Whether Algorithm 2.2's run still watches for H off the cones about y0 (cone_defect): H(y0)
+   is held, the evidence is not in yet, and a rerun could still follow (h_init / 16 stays above
+   8 h, psb__find_branches). */
+static int psb__cone_watched(const psb_solver *s)
+{
+    return s->internal_.conic_h0_ok && s->internal_.cone_defect <= PSB__CHORD_TURN &&
+           s->branch.h_init / 16 >= 8 * s->branch.h;
+}
+
+/* Records an excess of psb__conic_excess in cone_defect (HUGE_VAL, no scale, tells nothing). */
+static void psb__note_cone_excess(psb_solver *s, double excess)
+{
+    if (excess > s->internal_.cone_defect && excess < HUGE_VAL) s->internal_.cone_defect = excess;
+}
+
+/* How far H is from affine through y0 at a point y of an Algorithm 2.2 trial whose dH(y) was
+   just formed and H(y) is in res: the largest row error of H(y) = H(y0) + dH(y) (y - y0)
+   beyond rounding (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| +
+   |H(y0)|), relative to the step's own scale max_i (|dH| |y - y0|)_i; HUGE_VAL for NaN, or
+   for an error where the step has no scale. The conic test of the trials
+   (psb__try_tangent), first half, asks at most 10^-6: y0 lies within Algorithm 2.1's
+   precision of the kink, not on it, and its pieces' affine maps meet there to that order;
+   Algorithm 2.2's rerun asks more (psb__cone_tolerance). The conic test's second half
+   (psb__correct_run, with dH(y)'s hash): dH is the same, bit for bit, at the point of the
+   segment from y0 to y at distance s->branch.h from y0. Pieces of a
+   piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
+   the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
+   the same H scaled: the same run. */
+static double psb__conic_excess(const psb_solver *s, const double *y0, const double *y)
+{
+    int n = s->internal_.n, np1 = s->internal_.np1, i, j;
+    const double *h0 = PSB__VEC(s, PSB__V_BR_H0);
+    double excess = 0, step = 0; /* the largest row error beyond rounding, and row size */
+    for (i = 0; i < n; i++) {
+        double sum = 0, size = 0, scale = fabs(s->internal_.res[i]) + fabs(h0[i]);
+        if (s->prob.linear == PSB_LINEAR_DENSE) {
+            for (j = 0; j < np1; j++) {
+                double a = s->internal_.jac[(size_t)i + (size_t)j * (size_t)n];
+                sum += a * (y[j] - y0[j]);
+                size += fabs(a * (y[j] - y0[j]));
+                scale += fabs(a) * (fabs(y[j]) + fabs(y0[j]));
+            }
+        } else {
+            int kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
+            int lo = i - kl > 0 ? i - kl : 0, hi = i + ku < n - 1 ? i + ku : n - 1;
+            for (j = lo; j <= hi; j++) { /* state column j is y component j, or j + 1 past p */
+                int c = j < p ? j : j + 1;
+                double a = s->internal_.band[PSB_BAND_INDEX(ku, ld, i, j)];
+                sum += a * (y[c] - y0[c]);
+                size += fabs(a * (y[c] - y0[c]));
+                scale += fabs(a) * (fabs(y[c]) + fabs(y0[c]));
+            }
+            sum += s->internal_.dparam[i] * (y[p] - y0[p]);
+            size += fabs(s->internal_.dparam[i] * (y[p] - y0[p]));
+            scale += fabs(s->internal_.dparam[i]) * (fabs(y[p]) + fabs(y0[p]));
+        }
+        sum = fabs(s->internal_.res[i] - h0[i] - sum) - 1024 * DBL_EPSILON * scale;
+        if (isnan(sum)) return HUGE_VAL;
+        if (sum > excess) excess = sum;
+        if (size > step) step = size;
+    }
+    return step > 0 ? excess / step : excess > 0 ? HUGE_VAL : 0;
+}
+
+
+static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_event e,
+                               const double *y, const double *t, int sign)
+{
+    psb__trial_watch *tw = (psb__trial_watch *)(void *)w;
+    int np1 = s->internal_.np1, i, cut = 0;
+    switch (e) {
+    case PSB__CORR_STEP:
+        tw->path_n = 0; /* the path of this step alone */
+        return 0;
+    case PSB__CORR_START:
+        tw->conic_ok = tw->y0 != NULL && tw->armed;
+        return 0;
+    case PSB__CORR_ITERATE:
+        tw->pmemo_check = 0;
+        tw->store_key[0] = tw->store_key[1] = tw->dh_key[0] = tw->dh_key[1] = 0;
+        tw->by_piece = 0;
+        cut = psb__path_memo_cut(s, tw, y, t, NULL);
+        break;
+    case PSB__CORR_JACOBIAN:
+        if (tw->conic_ok || (!tw->by_piece && psb__jmemo_hashing(s))) psb__jmemo_key(s, tw->dh_key);
+        if (tw->y0) { /* before the memo's cut, which the test may void */
+            int watch = psb__cone_watched(s) && psb__dist_w(s, y, tw->y0) <= 2 * s->branch.h_init;
+            if (tw->conic_ok || watch) {
+                double excess = psb__conic_excess(s, tw->y0, y);
+                if (tw->conic_ok) tw->conic_ok = excess <= 1e-6;
+                if (watch) psb__note_cone_excess(s, excess);
+            }
+        }
+        cut = psb__path_memo_cut(s, tw, y, t, tw->dh_key);
+        break;
+    case PSB__CORR_SOLVED:
+        if (tw->conic_ok) { /* the point s->branch.h from y0 towards this iterate */
+            double dist = psb__dist_w(s, y, tw->y0), *pe = PSB__VEC(s, PSB__V_BR_PE);
+            tw->conic_ok = dist > s->branch.h;
+            for (i = 0; i < np1 && tw->conic_ok; i++)
+                pe[i] = tw->y0[i] + s->branch.h / dist * (y[i] - tw->y0[i]);
+        }
+        return 0;
+    case PSB__CORR_TANGENT:
+        if (tw->path_n < PSB__PATH_MAX)
+            psb__copy(s->internal_.path + (size_t)tw->path_n++ * (size_t)np1, t, np1);
+        if ((tw->store_key[0] || tw->store_key[1]) && (!tw->by_piece || psb__pmemo_trusted(s, 0)))
+            psb__jmemo_store(s, tw->store_key, t, sign);
+        if (tw->pmemo_check) {
+            double drift = psb__angle_w(s, t, PSB__VEC(s, PSB__V_BR_MT));
+            tw->pmemo_check = 0;
+            s->internal_.pmemo_checks++;
+            if (!(drift <= s->internal_.pmemo_drift)) s->internal_.pmemo_drift = drift; /* NaN: never cuts */
+        }
+        return psb__trial_known(s, t, tw->ts, tw->nts, NULL, tw->own);
+    case PSB__CORR_CORRECTED:
+        if (tw->conic_ok) { /* psb__conic_excess's second half */
+            unsigned long long key[2] = {0, 0};
+            psb_result r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_PE), NULL);
+            if (psb__is_fatal(r)) return r;
+            if (r == PSB_SUCCESS) psb__jmemo_key(s, key);
+            tw->conic_ok = r == PSB_SUCCESS && key[0] == tw->dh_key[0] && key[1] == tw->dh_key[1];
+        }
+        return 0;
+    case PSB__CORR_REJECTED:
+        /* a trial that failed for the curve's sake on H conic about y0: no convergence, or
+           the jump or cosine test, where every iterate passed both halves of the conic test
+           (a turn ends the run before its last iterate's second half) */
+        if (tw->y0 && tw->conic_ok &&
+            (s->internal_.last_fail == PSB__FAIL_CONVERGE || s->internal_.last_fail == PSB__FAIL_COSINE))
+            return 1;
+        /* the test costs a Jacobian and two hashes per iteration: only for trials that have
+           failed once (most trials land, or are cut, at their first step) */
+        tw->armed = tw->y0 != NULL;
+        return 0;
+    }
+    if (cut > 0) s->internal_.memo_cuts++;
+    return cut;
+}
+
+/* A watch for a trial from y0 (conic test with y0; NULL: none) that cuts on the found
+   branches' tangents ts (nts of them) and the trial's own known entry own (-1: none). */
+static void psb__trial_watch_init(psb__trial_watch *tw, const double *ts, int nts, int own,
+                                  const double *y0)
+{
+    memset(tw, 0, sizeof *tw);
+    tw->base.fn = psb__trial_watch_fn;
+    tw->ts = ts;
+    tw->nts = nts;
+    tw->own = own;
+    tw->y0 = y0;
+}
+
 /* The tangent at sample point pt, formed there (difference steps below s->branch.h / 1000). */
 static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const double *ref, double *t)
 {
     psb_result r;
-    s->fd_cap_ = 1e-3 * s->branch.h;
+    s->internal_.fd_cap = 1e-3 * s->branch.h;
     r = psb__tangent(s, pt, ref, t);
-    s->fd_cap_ = 0;
+    s->internal_.fd_cap = 0;
     return r;
 }
 
 /* Records psb__conic_excess at p, the screening point of an Algorithm 2.2 trial from
-   s->cone_probe_ (y0), in cone_defect_; dH(p) was just formed (psb__sample_tangent). The
+   y0 (NULL: nothing to do), in cone_defect; dH(p) was just formed (psb__sample_tangent). The
    screen takes the tangent at p for the trial's, which holds on cones about y0 alone, and p
    may lie beyond a kink that the trial's own iterates never meet (kinks 2e-3 from y0,
    h_init 1e-2: 2 of 4 branches, every trial cut). Only while the run watches
    (psb__cone_watched). It costs H(p). Returns PSB_SUCCESS or a fatal code; a fault is noted. */
-static psb_result psb__probe_cone(psb_solver *s, const double *p)
+static psb_result psb__probe_cone(psb_solver *s, const double *y0, const double *p)
 {
     psb_result r;
-    if (!s->cone_probe_ || !psb__cone_watched(s)) return PSB_SUCCESS;
-    r = psb__residual(s, p, s->res_);
+    if (!y0 || !psb__cone_watched(s)) return PSB_SUCCESS;
+    r = psb__residual(s, p, s->internal_.res);
     if (r != PSB_SUCCESS) {
         if (psb__is_fatal(r)) return r;
         psb__note_fault(s, r);
         return PSB_SUCCESS;
     }
-    psb__note_cone_excess(s, psb__conic_excess(s, s->cone_probe_, p));
+    psb__note_cone_excess(s, psb__conic_excess(s, y0, p));
     return PSB_SUCCESS;
 }
 
@@ -5648,7 +5736,7 @@ static psb_result psb__probe_cone(psb_solver *s, const double *p)
    those of the tangent at the first point, and a tangent that goes on to be used is computed
    at its own point. */
 static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t,
-                                      int *from_memo)
+                                      int *from_memo, const double *cone_y0)
 {
     psb_result r;
     unsigned long long key[2];
@@ -5664,17 +5752,17 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
         r = psb__jacobian(s, pt, NULL);
         if (r != PSB_SUCCESS) return r;
         psb__jmemo_key(s, key);
-        r = psb__probe_cone(s, pt);
+        r = psb__probe_cone(s, cone_y0, pt);
         if (r != PSB_SUCCESS) return r;
     }
     if (psb__jmemo_get(s, key, ref, t, &m) && from_memo) {
         s->stats.n_tangent_reused++;
-        s->n_ok_++;
+        s->internal_.n_ok++;
         *from_memo = by_piece ? 2 : 1;
         return PSB_SUCCESS;
     }
     r = by_piece ? psb__sample_tangent_at(s, pt, ref, t) : psb__tangent_from_jacobian(s, ref, t);
-    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, key, t, s->tangent_sign_);
+    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, key, t, s->internal_.tangent_sign);
     return r;
 }
 
@@ -5692,47 +5780,47 @@ static psb_result psb__sample_refresh(psb_solver *s, int from_memo, const double
 /* Whether t is within c_diff of a tangent tried before in this call (the memo). */
 static int psb__memo_seen(const psb_solver *s, const double *t)
 {
-    int m, stored = s->memo_n_ < s->memo_cap_ ? s->memo_n_ : s->memo_cap_;
+    int m, stored = s->internal_.memo_n < s->internal_.memo_cap ? s->internal_.memo_n : s->internal_.memo_cap;
     double nt = psb__norm_w(s, t);
     for (m = 0; m < stored; m++)
-        if (fabs(psb__cos_w_na(s, t, nt, s->memo_ + (size_t)m * (size_t)s->np1_)) >= s->opt.c_diff) return 1;
+        if (fabs(psb__cos_w_na(s, t, nt, s->internal_.memo + (size_t)m * (size_t)s->internal_.np1)) >= s->opt.c_diff) return 1;
     return 0;
 }
 
 /* Whether a trial along the unit direction x would repeat one whose outcome is known: x is
    within c_diff of a found branch's tangent (the trial lands on that branch), of a direction
-   whose trial was made (known_, entry `own` left out: -1 or the trial asking), of `done` (NULL
+   whose trial was made (known, entry `own` left out: -1 or the trial asking), of `done` (NULL
    or the current tangent's sign already handled), or, either way round, of a tangent handled
-   before (memo_). */
+   before (memo). */
 static int psb__trial_known(const psb_solver *s, const double *x, const double *ts, int n_ts,
                             const double *done, int own)
 {
-    int m, np1 = s->np1_, stored = s->known_n_ < s->memo_cap_ ? s->known_n_ : s->memo_cap_;
+    int m, np1 = s->internal_.np1, stored = s->internal_.known_n < s->internal_.memo_cap ? s->internal_.known_n : s->internal_.memo_cap;
     double nx = psb__norm_w(s, x);
     for (m = 0; m < n_ts; m++)
         if (psb__cos_w_na(s, x, nx, ts + (size_t)m * (size_t)np1) >= s->opt.c_diff) return 1;
     for (m = 0; m < stored; m++)
-        if (m != own && psb__cos_w_na(s, x, nx, s->known_ + (size_t)m * (size_t)np1) >= s->opt.c_diff)
+        if (m != own && psb__cos_w_na(s, x, nx, s->internal_.known + (size_t)m * (size_t)np1) >= s->opt.c_diff)
             return 1;
     if (done && psb__cos_w_na(s, x, nx, done) >= s->opt.c_diff) return 1;
     return psb__memo_seen(s, x);
 }
 
-/* Adds x to one of psb_find_branches' stores (memo_ or known_, *count entries so far); when
+/* Adds x to one of psb_find_branches' stores (memo or known, *count entries so far); when
    full, the oldest entry makes room. */
 static void psb__store_add(const psb_solver *s, double *store, int *count, const double *x)
 {
-    psb__copy(store + (size_t)(*count % s->memo_cap_) * (size_t)s->np1_, x, s->np1_);
+    psb__copy(store + (size_t)(*count % s->internal_.memo_cap) * (size_t)s->internal_.np1, x, s->internal_.np1);
     (*count)++;
 }
 
 /* The faults counted so far into a branching report. */
 static void psb__report_faults(const psb_solver *s, psb_branch_report *rep)
 {
-    rep->n_failed_callback = s->faults_[0];
-    rep->n_failed_nonfinite = s->faults_[1];
-    rep->n_failed_singular = s->faults_[2];
-    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+    rep->n_failed_callback = s->internal_.faults[0];
+    rep->n_failed_nonfinite = s->internal_.faults[1];
+    rep->n_failed_singular = s->internal_.faults[2];
+    rep->n_failed = s->internal_.faults[0] + s->internal_.faults[1] + s->internal_.faults[2];
 }
 
 /* The angle between t and the chord from y0 to y (at distance d > 0), whose unit vector goes
@@ -5741,7 +5829,7 @@ static double psb__chord_angle(const psb_solver *s, const double *y0, const doub
                                const double *t, double *c)
 {
     int k;
-    for (k = 0; k < s->np1_; k++) c[k] = (y[k] - y0[k]) / d;
+    for (k = 0; k < s->internal_.np1; k++) c[k] = (y[k] - y0[k]) / d;
     return psb__angle_w(s, c, t);
 }
 
@@ -5760,7 +5848,7 @@ static double psb__chord_angle(const psb_solver *s, const double *y0, const doub
 static int psb__same_curved_branch(psb_solver *s, const double *y0, const double *yb, const double *tb,
                                    const double *ysj, const double *tsj)
 {
-    int np1 = s->np1_, k;
+    int np1 = s->internal_.np1, k;
     double *z = PSB__VEC(s, PSB__V_BR_S), d = psb__dist_w(s, yb, y0), dj = psb__dist_w(s, ysj, y0);
     double a_b, a_j = 0;
     psb_result r;
@@ -5806,8 +5894,9 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                                    int max_branches, double *ys, double *ts,
                                    psb_branch_report *rep, int *overflow)
 {
-    int np1 = s->np1_, k, sign, iters, cut, from_memo;
+    int np1 = s->internal_.np1, k, sign, iters, cut, from_memo, own, watched;
     long memo_cuts;
+    psb__trial_watch tw;
     double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
     double *pk = PSB__VEC(s, PSB__V_BR_S), *kx = PSB__VEC(s, PSB__V_BR_K);
     psb_result r;
@@ -5820,15 +5909,13 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     for (sign = 1; sign >= -1; sign -= 2) {
         double hh = s->branch.h_init, dotp, dist, turn;
         int j, is_new = 1;
-        s->path_own_ = -1;
+        own = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
         if (!s->branch.expert.no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
-            s->cone_probe_ = y0;
-            r = psb__sample_tangent(s, pk, tb, kx, &from_memo);
-            s->cone_probe_ = NULL;
+            r = psb__sample_tangent(s, pk, tb, kx, &from_memo, y0);
             if (psb__is_fatal(r)) return r;
             /* no tangent at p (singular there): the trial along tb as printed */
             if (r == PSB_SUCCESS) {
@@ -5842,8 +5929,8 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                 }
             }
             if (r == PSB_SUCCESS) {
-                s->path_own_ = s->known_n_ % s->memo_cap_;
-                psb__store_add(s, s->known_, &s->known_n_, kx);
+                own = s->internal_.known_n % s->internal_.memo_cap;
+                psb__store_add(s, s->internal_.known, &s->internal_.known_n, kx);
                 psb__copy(tb, kx, np1);
             }
         }
@@ -5852,32 +5939,29 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         /* not with finite differences: the corrector's quotients (steps not held below
            branch_h / 1000 as at sample points) can mix the pieces at its iterates, and
            recorded their paths cost complete sets (random LCPs, N = 8: 196 of 236, not 214) */
-        s->path_on_ = !s->branch.expert.no_screen && !psb__fd_jacobian(&s->prob);
-        s->path_ts_ = ts;
-        s->path_nts_ = rep->n_branches;
-        s->conic_y0_ = s->path_on_ && s->conic_h0_ok_ ? y0 : NULL;
-        memo_cuts = s->memo_cuts_;
-        r = psb__try_step_from(s, yb, tb, &hh, s->branch.expert.trial_h_min, &iters, y0);
-        rep->n_cut_memo += s->memo_cuts_ - memo_cuts;
-        s->path_on_ = 0;
-        s->conic_y0_ = NULL;
+        watched = !s->branch.expert.no_screen && !psb__fd_jacobian(&s->prob);
+        psb__trial_watch_init(&tw, ts, rep->n_branches, own, s->internal_.conic_h0_ok ? y0 : NULL);
+        memo_cuts = s->internal_.memo_cuts;
+        r = psb__try_step_from(s, yb, tb, &hh, s->branch.expert.trial_h_min, &iters, y0,
+                               watched ? &tw.base : NULL);
+        rep->n_cut_memo += s->internal_.memo_cuts - memo_cuts;
         if (psb__is_fatal(r)) return r;
         if (psb__note_fault(s, r)) continue;
         /* cut at iteration i: the trial is then a trial along k_i scaled up, whose outcome is
            known (k_i passes the screen): it lands on a found branch, or repeats a trial made
            before, which found no branch that is not known now; having spent i iterations it
            can do no better. Nor can the trials along its k_j, j < i: they are known too */
-        cut = r != PSB_SUCCESS && s->last_fail_ == PSB__FAIL_KNOWN;
+        cut = r != PSB_SUCCESS && s->internal_.last_fail == PSB__FAIL_KNOWN;
         rep->n_cut += cut;
         if (r != PSB_SUCCESS && !cut) continue;
         /* after iteration i the trial is in the state a trial along its tangent k_i starts
            in, scaled up: that trial would land on the same ray, sooner and nearer, so the
            k_i of a trial that landed or was cut are known too (a failed trial's are not: with
            i more iterations to spare the trial along k_i might converge) */
-        for (j = 0; j < s->path_n_; j++) {
-            const double *ki = s->path_ + (size_t)j * (size_t)np1;
+        for (j = 0; watched && j < tw.path_n; j++) {
+            const double *ki = s->internal_.path + (size_t)j * (size_t)np1;
             if (!psb__trial_known(s, ki, ts, rep->n_branches, NULL, -1))
-                psb__store_add(s, s->known_, &s->known_n_, ki);
+                psb__store_add(s, s->internal_.known, &s->internal_.known_n, ki);
         }
         if (cut) continue;
         /* a point closer to y0 than the sampling distance h tells nothing reliable about the
@@ -5886,12 +5970,12 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (dist < s->branch.h) continue;
         /* Step 5(i): orient away from the point */
         dotp = 0;
-        for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
+        for (k = 0; k < np1; k++) dotp += s->internal_.w[k] * tb[k] * (yb[k] - y0[k]);
         if (dotp < 0)
             for (k = 0; k < np1; k++) tb[k] = -tb[k];
         turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
-        if (turn > s->chord_turn_max_) s->chord_turn_max_ = turn;
-        if (turn < s->chord_turn_min_) s->chord_turn_min_ = turn;
+        if (turn > s->internal_.chord_turn_max) s->internal_.chord_turn_max = turn;
+        if (turn < s->internal_.chord_turn_min) s->internal_.chord_turn_min = turn;
         /* Step 5(ii): a new branch unless it is within c_diff of a known one */
         for (j = 0; j < rep->n_branches; j++)
             if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
@@ -5910,7 +5994,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
         rep->n_branches++;
     }
-    if (!s->branch.expert.no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
+    if (!s->branch.expert.no_memo) psb__store_add(s, s->internal_.memo, &s->internal_.memo_n, tt);
     return PSB_SUCCESS;
 }
 
@@ -5922,11 +6006,11 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
 static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t, int *sign)
 {
     unsigned long long key[2];
-    int m, known = 0, np1 = s->np1_;
+    int m, known = 0, np1 = s->internal_.np1;
     double dot;
     psb_result r;
     *sign = 0;
-    if (s->jmemo_n_ == 0) return PSB_SUCCESS;
+    if (s->internal_.jmemo_n == 0) return PSB_SUCCESS;
     if (s->prob.piece) {
         r = psb__piece_key(s, p, key, &known);
         if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
@@ -5938,16 +6022,16 @@ static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t
         psb__jmemo_key(s, key);
     }
     m = psb__jmemo_find(s, key);
-    if (m < 0 || !s->jmemo_sign_[m]) return PSB_SUCCESS;
-    dot = psb__cos_w(s, s->jmemo_t_ + (size_t)m * (size_t)np1, t);
-    if (fabs(dot) >= s->opt.c_diff) *sign = dot > 0 ? s->jmemo_sign_[m] : -s->jmemo_sign_[m];
+    if (m < 0 || !s->internal_.jmemo_sign[m]) return PSB_SUCCESS;
+    dot = psb__cos_w(s, s->internal_.jmemo_t + (size_t)m * (size_t)np1, t);
+    if (fabs(dot) >= s->opt.c_diff) *sign = dot > 0 ? s->internal_.jmemo_sign[m] : -s->internal_.jmemo_sign[m];
     return PSB_SUCCESS;
 }
 
 /* Whether the branches found (ys, ts: outward tangents, branch 0 the incoming one, ys[0] = y0)
    cannot be all of them: an odd count (section 6, "An odd count"), or an even one whose
    outward signs sgn det [dH; (W t)^T] do not add up to 0, as those of a complete set do
-   (section 6, PC1). Dense and banded backends: each branch's sign once (branch_sign_), at its
+   (section 6, PC1). Dense and banded backends: each branch's sign once (branch_sign), at its
    landing point (branch 0's on its tangent, as far from y0 as branch 1's): from the memo where
    the point's piece or dH has an entry of known sign (psb__memo_sign), else by a bordered
    factorisation there, difference steps as at sample points. Where a sign cannot be told
@@ -5956,10 +6040,10 @@ static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t
 static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, int n_branches,
                            psb_result *fatal)
 {
-    int np1 = s->np1_, j, sum = 0;
+    int np1 = s->internal_.np1, j, sum = 0;
     if (n_branches % 2 != 0) return 1;
-    if (s->prob.linear == PSB_LINEAR_USER || n_branches > 64 || s->branch_signs_n_ < 0) return 0;
-    for (j = s->branch_signs_n_; j < n_branches; j++) {
+    if (s->prob.linear == PSB_LINEAR_USER || n_branches > 64 || s->internal_.branch_signs_n < 0) return 0;
+    for (j = s->internal_.branch_signs_n; j < n_branches; j++) {
         const double *tj = ts + (size_t)j * (size_t)np1, *p = ys + (size_t)j * (size_t)np1;
         psb__mon m;
         psb_result r;
@@ -5969,7 +6053,7 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
             psb__axpy_to(q, ys, d > 0 ? d : s->branch.h, tj, np1);
             p = q;
         }
-        s->fd_cap_ = 1e-3 * s->branch.h;
+        s->internal_.fd_cap = 1e-3 * s->branch.h;
         r = psb__memo_sign(s, p, tj, &sign);
         if (r == PSB_SUCCESS && !sign) {
             r = psb__monitor_at(s, p, tj, &m);
@@ -5977,20 +6061,20 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
             if (r == PSB_SUCCESS && !(m.logabs[0] > -700)) r = PSB_ERR_SINGULAR;
             if (r == PSB_SUCCESS) sign = m.sign[0] < 0 ? -1 : 1;
         }
-        s->fd_cap_ = 0;
+        s->internal_.fd_cap = 0;
         if (psb__is_fatal(r)) {
             *fatal = r;
             return 0;
         }
         s->message[0] = 0; /* a failed look-up or factorisation here tells nothing */
         if (r != PSB_SUCCESS) {
-            s->branch_signs_n_ = -1; /* no verdict: the count's */
+            s->internal_.branch_signs_n = -1; /* no verdict: the count's */
             return 0;
         }
-        s->branch_sign_[j] = (signed char)sign;
-        s->branch_signs_n_ = j + 1;
+        s->internal_.branch_sign[j] = (signed char)sign;
+        s->internal_.branch_signs_n = j + 1;
     }
-    for (j = 0; j < n_branches; j++) sum += s->branch_sign_[j];
+    for (j = 0; j < n_branches; j++) sum += s->internal_.branch_sign[j];
     return sum != 0;
 }
 
@@ -5999,7 +6083,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
                              int max_branches, double *ys, double *ts, psb_branch_report *rep,
                              int *overflow)
 {
-    int np1 = s->np1_, i, k, from_memo, n_dir = s->sweep_n_dir_ ? s->sweep_n_dir_ : s->branch.n_dir;
+    int np1 = s->internal_.np1, i, k, from_memo, n_dir = s->internal_.sweep_n_dir ? s->internal_.sweep_n_dir : s->branch.n_dir;
     double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
     double *tprev = PSB__VEC(s, PSB__V_BR_TP), *pt = PSB__VEC(s, PSB__V_BR_P);
     double h = s->branch.h, *q = PSB__VEC(s, PSB__V_BR_Q);
@@ -6015,12 +6099,12 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
     for (i = 0; i < n_dir; i++) {
-        double alpha = 6.283185307179586 * (i + s->sweep_offset_) / n_dir;
+        double alpha = 6.283185307179586 * (i + s->internal_.sweep_offset) / n_dir;
         for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
         rep->n_tangents++;
-        r = psb__sample_tangent(s, pt, v, tt, &from_memo);
+        r = psb__sample_tangent(s, pt, v, tt, &from_memo, NULL);
         if (psb__is_fatal(r)) return r;
         if (r != PSB_SUCCESS) {
             psb__note_fault(s, r);
@@ -6053,14 +6137,14 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
    (0,1), (0,2), (1,2), (0,3), ... */
 static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, int *pj)
 {
-    int i, j, np1 = s->np1_, nb = n_br < 64 ? n_br : 64;
+    int i, j, np1 = s->internal_.np1, nb = n_br < 64 ? n_br : 64;
     double best = -1;
     *pi = -1;
     for (j = 1; j < nb; j++)
         for (i = 0; i < j; i++) {
             int bit = j * (j - 1) / 2 + i;
             double c;
-            if (s->pairs_done_[bit / 64] >> (bit % 64) & 1u) continue;
+            if (s->internal_.pairs_done[bit / 64] >> (bit % 64) & 1u) continue;
             c = fabs(psb__cos_w(s, ts + (size_t)i * (size_t)np1, ts + (size_t)j * (size_t)np1));
             if (!s->branch.expert.paper_sweep) c = 1 - c;
             if (c > best) {
@@ -6071,7 +6155,7 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
         }
     if (*pi < 0) return 0;
     i = *pj * (*pj - 1) / 2 + *pi;
-    s->pairs_done_[i / 64] |= 1ull << (i % 64);
+    s->internal_.pairs_done[i / 64] |= 1ull << (i % 64);
     return 1;
 }
 
@@ -6087,7 +6171,7 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
     if (s->branch.expert.restart == PSB_RESTART_GLOBAL || (s->branch.expert.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
         return NULL;
     if (s->branch.expert.restart == PSB_RESTART_PAPER) return prev;
-    psb__copy(t1, ts + (size_t)(n_rand / 2 % n_br) * (size_t)s->np1_, s->np1_);
+    psb__copy(t1, ts + (size_t)(n_rand / 2 % n_br) * (size_t)s->internal_.np1, s->internal_.np1);
     return t1;
 }
 
@@ -6115,7 +6199,7 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
 static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, double *ts,
                                  psb_branch_report *rep, int *overflow, int dense)
 {
-    int np1 = s->np1_, k, span, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
+    int np1 = s->internal_.np1, k, span, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
     int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, spans_in_all, pi, pj;
     int counted_before = rep->n_span;
     long pc_before;
@@ -6144,7 +6228,7 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
                 double *rnd = PSB__VEC(s, PSB__V_BR_V), *prev = PSB__VEC(s, PSB__V_BR_TT);
                 const double *centre;
                 /* z / sqrt(w) with z standard normal is isotropic for <.,.>_w */
-                for (k = 0; k < np1; k++) rnd[k] = psb__gauss(s->rng_) / sqrt(s->w_[k]);
+                for (k = 0; k < np1; k++) rnd[k] = psb__gauss(s->internal_.rng) / sqrt(s->internal_.w[k]);
                 if (!psb__normalize_w(s, rnd)) continue;
                 psb__copy(prev, t2, np1);
                 centre = psb__restart_centre(s, ts, rep->n_branches, rep->n_rand, prev, t1);
@@ -6153,7 +6237,7 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
                     pt[k] = yc[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
-                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL);
+                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL, NULL);
                 if (psb__is_fatal(r)) {
                     fatal = r;
                     break;
@@ -6231,7 +6315,7 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     if (r != PSB_SUCCESS) return r;
     if (!ys || !ts) return psb__fail(s, PSB_ERR_NULL, "ys or ts is NULL");
     if (max_branches < 1) return psb__fail(s, PSB_ERR_SIZE, "max_branches must be >= 1");
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     yc = PSB__VEC(s, PSB__V_BR_Y0);
     tc = PSB__VEC(s, PSB__V_BR_T0);
     t1 = PSB__VEC(s, PSB__V_BR_T1);
@@ -6242,32 +6326,32 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
     psb__branch_h(s, yc);
     /* H(y0) for the trials' conic test (psb__conic_excess); the test is off without it */
-    s->conic_h0_ok_ = 0;
-    if (s->jmemo_dh_ && !s->branch.expert.no_screen) {
+    s->internal_.conic_h0_ok = 0;
+    if (s->internal_.jmemo_dh && !s->branch.expert.no_screen) {
         r = psb__residual(s, yc, PSB__VEC(s, PSB__V_BR_H0));
         if (psb__is_fatal(r)) return r;
-        s->conic_h0_ok_ = r == PSB_SUCCESS;
+        s->internal_.conic_h0_ok = r == PSB_SUCCESS;
     }
     seed = s->opt.seed;
-    for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
-    s->memo_n_ = 0;
-    s->known_n_ = 0;
-    s->jmemo_n_ = 0;
-    s->jmemo_looks_ = s->jmemo_hits_ = 0;
-    s->pmemo_checks_ = s->pmemo_check_on_ = 0;
-    s->pmemo_drift_ = 0;
-    s->cone_defect_ = 0;
-    s->chord_turn_max_ = 0;
-    s->chord_turn_min_ = HUGE_VAL;
-    memset(s->pairs_done_, 0, sizeof s->pairs_done_);
-    s->branch_signs_n_ = 0;
+    for (k = 0; k < 4; k++) s->internal_.rng[k] = psb__splitmix(&seed);
+    s->internal_.memo_n = 0;
+    s->internal_.known_n = 0;
+    s->internal_.jmemo_n = 0;
+    s->internal_.jmemo_looks = s->internal_.jmemo_hits = 0;
+    s->internal_.pmemo_checks = 0;
+    s->internal_.pmemo_drift = 0;
+    s->internal_.cone_defect = 0;
+    s->internal_.chord_turn_max = 0;
+    s->internal_.chord_turn_min = HUGE_VAL;
+    memset(s->internal_.pairs_done, 0, sizeof s->internal_.pairs_done);
+    s->internal_.branch_signs_n = 0;
     psb__faults_reset(s);
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
     psb__axpy_to(pt, yc, s->branch.h, tc, np1);
     rep->n_tangents++;
-    r = psb__sample_tangent(s, pt, tc, t2, NULL);
+    r = psb__sample_tangent(s, pt, tc, t2, NULL, NULL);
     if (r != PSB_SUCCESS) {
         if (psb__note_fault(s, r)) psb__report_faults(s, rep); /* n_failed > 0 on every fault */
         return r;
@@ -6290,19 +6374,19 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
 static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, double *ts,
                                   psb_branch_report *rep, int *overflow)
 {
-    int level, pi, pj, np1 = s->np1_;
+    int level, pi, pj, np1 = s->internal_.np1;
     long budget;
     psb_result r;
-    memset(s->pairs_done_, 0, sizeof s->pairs_done_);
-    s->sweep_offset_ = 0.5;
+    memset(s->internal_.pairs_done, 0, sizeof s->internal_.pairs_done);
+    s->internal_.sweep_offset = 0.5;
     r = psb__span_loop(s, max_branches, ys, ts, rep, overflow, 1);
     budget = 2 * rep->n_tangents;
     for (level = 2; level <= 3 && r == PSB_SUCCESS && !*overflow && psb__unbalanced(s, ys, ts, rep->n_branches, &r);
          level++) {
-        memset(s->pairs_done_, 0, sizeof s->pairs_done_);
-        s->sweep_n_dir_ = s->branch.n_dir << (level - 1);
+        memset(s->internal_.pairs_done, 0, sizeof s->internal_.pairs_done);
+        s->internal_.sweep_n_dir = s->branch.n_dir << (level - 1);
         while (!*overflow && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
-               rep->n_tangents + s->sweep_n_dir_ <= budget && psb__unbalanced(s, ys, ts, rep->n_branches, &r) &&
+               rep->n_tangents + s->internal_.sweep_n_dir <= budget && psb__unbalanced(s, ys, ts, rep->n_branches, &r) &&
                psb__next_pair(s, ts, rep->n_branches, &pi, &pj)) {
             long pc_before = rep->n_pc;
             r = psb__sweep(s, PSB__VEC(s, PSB__V_BR_Y0), ts + (size_t)pi * (size_t)np1,
@@ -6312,8 +6396,8 @@ static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, d
             else rep->n_span_idle++;
         }
     }
-    s->sweep_offset_ = 0;
-    s->sweep_n_dir_ = 0;
+    s->internal_.sweep_offset = 0;
+    s->internal_.sweep_n_dir = 0;
     return r;
 }
 
@@ -6326,7 +6410,7 @@ static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, d
    1e-2: 2 of 4 branches lost). There 8 times the straightest landing's turn, at least 1e-3. */
 static double psb__cone_tolerance(const psb_solver *s)
 {
-    double tol = 8 * s->chord_turn_min_;
+    double tol = 8 * s->internal_.chord_turn_min;
     return tol < 1e-3 ? 1e-3 : tol > PSB__CHORD_TURN ? PSB__CHORD_TURN : tol;
 }
 
@@ -6337,7 +6421,7 @@ static double psb__cone_tolerance(const psb_solver *s)
    all, on a curved one by curvature x distance / 2): trials reach other points' branches and
    the screen skips real ones (kinks 1e-3 apart, h_init 1e-2: 2 of 4 branches, or 4 for 2).
    So when a landing point's chord turns by more than PSB__CHORD_TURN from its tangent, or a
-   trial's iterate or screening point finds H that far from conic (cone_defect_), or the
+   trial's iterate or screening point finds H that far from conic (cone_defect), or the
    count is odd (manual, "An odd count"; a branch that ended at a nearby kink's tells no turn),
    the run is made again with h_init / 16, up to 3 times (h_init stays above 8 h); an odd count
    that the smaller h_init kept ends it. */
@@ -6353,7 +6437,7 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
         int turned;
         r = psb__find_branches_once(s, y0, t0, max_branches, ys, ts, rep);
         if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h) break;
-        turned = s->chord_turn_max_ > PSB__CHORD_TURN || s->cone_defect_ > psb__cone_tolerance(s);
+        turned = s->internal_.chord_turn_max > PSB__CHORD_TURN || s->internal_.cone_defect > psb__cone_tolerance(s);
         /* an odd count that a smaller h_init kept is no kink's doing: on cones the run
            is the same, scaled */
         if (!turned && (rep->n_branches % 2 == 0 || rep->n_branches == before)) break;
@@ -6394,7 +6478,7 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
                                     int *landed, int max_branches, double *ys, double *ts,
                                     psb_branch_report *rep, int *overflow)
 {
-    int np1 = s->np1_, j, m;
+    int np1 = s->internal_.np1, j, m;
     double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
     psb_result res;
     for (m = 0; m < np1; m++) yb[m] = y[m] + r * v[m];
@@ -6430,14 +6514,14 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
    Returns the number of directions in ks (PSB__KERNEL_MAX at most), at least 1. */
 static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, double r, double *ks)
 {
-    int np1 = s->np1_, kdim = 1, i, j, it, attempt;
-    double *yq = PSB__VEC(s, PSB__V_BR_P), *row = s->work_, *v = ks + (size_t)kdim * (size_t)np1;
+    int np1 = s->internal_.np1, kdim = 1, i, j, it, attempt;
+    double *yq = PSB__VEC(s, PSB__V_BR_P), *row = s->internal_.work, *v = ks + (size_t)kdim * (size_t)np1;
     psb_result res = PSB_ERR_SINGULAR;
     for (attempt = 0; attempt < 3 && res != PSB_SUCCESS; attempt++) {
         psb__axpy_to(yq, y, 1e-4 * r * pow(4.0, attempt), t, np1);
         res = psb__jacobian(s, yq, NULL);
         if (res != PSB_SUCCESS) break;
-        for (i = 0; i < np1; i++) row[i] = s->w_[i] * t[i];
+        for (i = 0; i < np1; i++) row[i] = s->internal_.w[i] * t[i];
         res = psb__factor_bordered(s, row, NULL);
     }
     if (res != PSB_SUCCESS) { /* the kernel beyond ks[0] unknown: a fault may hide branches */
@@ -6447,7 +6531,7 @@ static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, dou
     while (kdim < PSB__KERNEL_MAX) {
         double before, after;
         v = ks + (size_t)kdim * (size_t)np1;
-        for (i = 0; i < np1; i++) v[i] = psb__gauss(s->rng_) / sqrt(s->w_[i]);
+        for (i = 0; i < np1; i++) v[i] = psb__gauss(s->internal_.rng) / sqrt(s->internal_.w[i]);
         for (it = 0; it < 2; it++) {
             res = psb__solve_factored(s, v, 1);
             if (res != PSB_SUCCESS) psb__note_fault(s, res);
@@ -6478,7 +6562,7 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
                                     int kdim, double r, int max_branches, double *ys, double *ts,
                                     psb_branch_report *rep, int *overflow, int *traced)
 {
-    int np1 = s->np1_, n_trial = 2 * s->branch.n_dir, i, j, m;
+    int np1 = s->internal_.np1, n_trial = 2 * s->branch.n_dir, i, j, m;
     double *v = PSB__VEC(s, PSB__V_BR_TT);
     psb_result res;
     *traced = 0;
@@ -6490,10 +6574,10 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
         if (res != PSB_SUCCESS) return res;
     }
     for (i = 0; kdim > 1 && i < n_trial * kdim * kdim; i++) {
-        double g = psb__gauss(s->rng_);
+        double g = psb__gauss(s->internal_.rng);
         for (m = 0; m < np1; m++) v[m] = g * t[m];
         for (j = 0; j < kdim; j++) {
-            g = psb__gauss(s->rng_);
+            g = psb__gauss(s->internal_.rng);
             for (m = 0; m < np1; m++) v[m] += g * ks[(size_t)j * (size_t)np1 + (size_t)m];
         }
         if (!psb__normalize_w(s, v)) continue;
@@ -6518,7 +6602,7 @@ static int psb__inner_walk_point(const psb_point *pt, void *user)
     double along = 0;
     int i;
     if (pt->flags & PSB_POINT_KINK) return w->kink = 1;
-    for (i = 0; i < w->s->np1_; i++) along += w->s->w_[i] * (pt->y[i] - w->y0[i]) * w->u[i];
+    for (i = 0; i < w->s->internal_.np1; i++) along += w->s->internal_.w[i] * (pt->y[i] - w->y0[i]) * w->u[i];
     return along <= w->stop;
 }
 
@@ -6531,16 +6615,16 @@ static int psb__inner_walk_point(const psb_point *pt, void *user)
 static double psb__switch_inner_kink(psb_solver *s, const double *y0, double r, const double *ysk,
                                      const double *tsk)
 {
-    int np1 = s->np1_, i;
+    int np1 = s->internal_.np1, i;
     double *y = PSB__VEC(s, PSB__V_BR_Y), *t = PSB__VEC(s, PSB__V_BR_T), *u = PSB__VEC(s, PSB__V_BR_S);
     double d = psb__dist_w(s, ysk, y0), h_init = s->opt.h_init, h_max = s->opt.h_max;
     psb_trace_options to;
     psb_trace_report tr;
     psb__inner_walk walk;
     psb_result res;
-    long faults[4], n_ok = s->n_ok_;
+    long faults[4], n_ok = s->internal_.n_ok;
     if (!(d > 0.5 * r)) return r;
-    memcpy(faults, s->faults_, sizeof faults);
+    memcpy(faults, s->internal_.faults, sizeof faults);
     for (i = 0; i < np1; i++) u[i] = (ysk[i] - y0[i]) / d;
     psb__copy(y, ysk, np1);
     for (i = 0; i < np1; i++) t[i] = -tsk[i];
@@ -6563,8 +6647,8 @@ static double psb__switch_inner_kink(psb_solver *s, const double *y0, double r, 
     if (psb__is_fatal(res)) return res;
     /* the sweep's own fault accounting, plus a fault of the walk's: a kink it missed for it
        may be a branch lost */
-    memcpy(s->faults_, faults, sizeof faults);
-    s->n_ok_ = n_ok;
+    memcpy(s->internal_.faults, faults, sizeof faults);
+    s->internal_.n_ok = n_ok;
     if (res == PSB_ERR_CALLBACK_FAILED || res == PSB_ERR_NONFINITE) psb__note_fault(s, res);
     s->message[0] = 0;
     if (res != PSB_NONSMOOTH_END && !walk.kink) return r;
@@ -6588,7 +6672,7 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     if (res != PSB_SUCCESS) return res;
     if (!kernel || !ys || !ts) return psb__fail(s, PSB_ERR_NULL, "kernel, ys or ts is NULL");
     if (max_branches < 1) return psb__fail(s, PSB_ERR_SIZE, "max_branches must be >= 1");
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     if (!psb__all_finite(kernel, (size_t)np1)) return psb__fail(s, PSB_ERR_NONFINITE, "kernel contains NaN or Inf");
     yc = PSB__VEC(s, PSB__V_BR_Y0);
     tc = PSB__VEC(s, PSB__V_BR_T0);
@@ -6600,7 +6684,7 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     for (i = 0; i < np1; i++) kc[i] = kernel[i] - c * tc[i];
     if (!psb__normalize_w(s, kc)) return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
     seed = s->opt.seed;
-    for (i = 0; i < 4; i++) s->rng_[i] = psb__splitmix(&seed);
+    for (i = 0; i < 4; i++) s->internal_.rng[i] = psb__splitmix(&seed);
     psb__faults_reset(s);
     kdim = psb__kernel_dirs(s, yc, tc, s->branch.h_init, kc);
     rep->n_tangents = kdim;
@@ -6755,7 +6839,7 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
     if (eo) o = *eo;
     else memset(&o, 0, sizeof o);
     if ((bad = psb__check_evolve_options(&o)) != NULL) return psb__fail(s, PSB_ERR_OPTIONS, bad);
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     p = s->prob.param_index;
     if (!psb__all_finite(y, np1) || !psb__finite(param_next))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or param_next contains NaN or Inf");
@@ -6802,8 +6886,8 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
     r = psb_tangent(s, yc, NULL, tc);
     if (r == PSB_SUCCESS && !up)
         for (i = 0; i < np1; i++) tc[i] = -tc[i];
-    if (r == PSB_SUCCESS) r = psb__residual(s, yc, s->res_);
-    if (r == PSB_SUCCESS && psb__norm2(s->res_, s->n_) > s->opt.tol_residual) {
+    if (r == PSB_SUCCESS) r = psb__residual(s, yc, s->internal_.res);
+    if (r == PSB_SUCCESS && psb__norm2(s->internal_.res, s->internal_.n) > s->opt.tol_residual) {
         /* a polish of the previous solution; a move longer than a step means it was none */
         r = psb_correct(s, yc, tc, NULL);
         /* (a fault, a NaN or a singular matrix is reported as such, not as a bad y) */
@@ -6991,7 +7075,7 @@ typedef struct psb__explorer {
     double away_r; /* kink: a return to the origin is an arrival there, not the edge's start */
 } psb__explorer;
 
-#define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->np1_)
+#define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->internal_.np1)
 
 /* node_tol at node nd: as set or resolved; with differences and h following the point, 16
    times h at the node (Algorithm 2.1 stops about a difference step short of the point, often
@@ -6999,7 +7083,7 @@ typedef struct psb__explorer {
    every edge was traced twice). */
 static double psb__explore_tol(const psb__explorer *x, const psb_node *nd)
 {
-    return x->node_tol > 0 || !x->s->branch_h_auto_ ? x->node_tol : 16 * psb__auto_branch_h(x->s, nd->y);
+    return x->node_tol > 0 || !x->s->internal_.branch_h_auto ? x->node_tol : 16 * psb__auto_branch_h(x->s, nd->y);
 }
 
 /* Whether y is within tolerance of node nd (precision: y's own location error). */
@@ -7021,7 +7105,7 @@ static int psb__explore_add_node(psb__explorer *x, psb_node_kind kind, const dou
     }
     nd = d->nodes + d->n_nodes;
     nd->kind = kind;
-    psb__copy(nd->y, y, x->s->np1_);
+    psb__copy(nd->y, y, x->s->internal_.np1);
     nd->precision = precision;
     nd->param = y[x->s->prob.param_index];
     nd->edge = edge;
@@ -7075,15 +7159,15 @@ static psb_result psb__explore_end_on_bound(psb__explorer *x, int e, const doubl
 static double psb__explore_chord_cos(const psb__explorer *x, const psb_node *nd, int kb, const double *y)
 {
     const psb_solver *s = x->s;
-    int np1 = s->np1_, i;
+    int np1 = s->internal_.np1, i;
     const double *ys = nd->ys + (size_t)kb * (size_t)np1, *ts = nd->ts + (size_t)kb * (size_t)np1;
     double dot = 0, na = 0, nb = 0;
     int at_node = psb__dist_w(s, ys, nd->y) <= psb__explore_tol(x, nd);
     for (i = 0; i < np1; i++) {
         double a = y[i] - nd->y[i], b = at_node ? ts[i] : ys[i] - nd->y[i];
-        dot += s->w_[i] * a * b;
-        na += s->w_[i] * a * a;
-        nb += s->w_[i] * b * b;
+        dot += s->internal_.w[i] * a * b;
+        na += s->internal_.w[i] * a * a;
+        nb += s->internal_.w[i] * b * b;
     }
     return na > 0 && nb > 0 ? dot / sqrt(na * nb) : -2;
 }
@@ -7098,7 +7182,7 @@ static int psb__explore_arrival_branch(const psb__explorer *x, const psb_node *n
     int k, best = -1;
     *best_cos = -2;
     for (k = 0; k < nd->n_branches; k++) {
-        double c = -psb__cos_w(x->s, t, nd->ts + (size_t)k * (size_t)x->s->np1_);
+        double c = -psb__cos_w(x->s, t, nd->ts + (size_t)k * (size_t)x->s->internal_.np1);
         if (c > *best_cos) {
             *best_cos = c;
             best = k;
@@ -7112,7 +7196,7 @@ static void psb__explore_arrive(psb__explorer *x, int e, int j, const double *t)
     psb_solver *s = x->s;
     psb_node *nd = x->d->nodes + j;
     psb_edge *ed = x->d->edges + e;
-    int np1 = s->np1_, k;
+    int np1 = s->internal_.np1, k;
     double best_cos;
     int best = psb__explore_arrival_branch(x, nd, t, &best_cos);
     if (best >= 0 && best_cos < s->opt.c_diff && best_cos < s->opt.c_min) best = -1;
@@ -7147,7 +7231,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     psb_node *nd;
     psb_branch_report br;
     psb_node_kind kind = kink ? PSB_NODE_PC1 : x->stop_kind;
-    int np1 = s->np1_, j, k, nb;
+    int np1 = s->internal_.np1, j, k, nb;
     int plain_possible = kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok); /* two branches: an ordinary kink */
     double precision = x->stop_precision, *before = PSB__XVEC(x, PSB__X_P);
     psb_result r = PSB_SUCCESS;
@@ -7253,7 +7337,7 @@ static int psb__explore_turned_back(const psb__explorer *x, const double *t)
    come back to. */
 static int psb__explore_at_origin(psb__explorer *x, const double *y, const double *t, double precision)
 {
-    int np1 = x->s->np1_;
+    int np1 = x->s->internal_.np1;
     const psb_node *nf = x->d->nodes + x->from;
     if (!psb__explore_near(x, nf, y, precision)) return -1;
     if (!x->away || psb__explore_turned_back(x, t) || !psb__explore_near(x, nf, y, 0)) return 0;
@@ -7268,7 +7352,7 @@ static int psb__explore_at_origin(psb__explorer *x, const double *y, const doubl
    or PC1 point (other than the one the edge leaves) stops the trace for the branching. */
 static int psb__explore_special(psb__explorer *x, const psb_special *sp)
 {
-    int np1 = x->s->np1_, j;
+    int np1 = x->s->internal_.np1, j;
     if (sp->kind == PSB_SPECIAL_BRANCH || sp->kind == PSB_SPECIAL_PC1) {
         int at = psb__explore_at_origin(x, sp->y, sp->t, sp->precision);
         if (at >= 0) return at;
@@ -7299,7 +7383,7 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
 static int psb__explore_passed(const psb__explorer *x, const double *prev, const psb_point *pt)
 {
     const psb_solver *s = x->s;
-    int np1 = s->np1_, j, i;
+    int np1 = s->internal_.np1, j, i;
     double seg2 = pt->h * pt->h;
     for (j = 0; j < x->d->n_nodes; j++) {
         const psb_node *nd = x->d->nodes + j;
@@ -7307,12 +7391,12 @@ static int psb__explore_passed(const psb__explorer *x, const double *prev, const
         if (j == x->from ? !x->away || psb__explore_turned_back(x, pt->t)
                          : nd->kind != PSB_NODE_NONSMOOTH && nd->kind != PSB_NODE_BRANCH && nd->kind != PSB_NODE_PC1)
             continue;
-        for (i = 0; i < np1; i++) proj += s->w_[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
+        for (i = 0; i < np1; i++) proj += s->internal_.w[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
         a = seg2 > 0 ? proj / seg2 : 0;
         a = a < 0 ? 0 : (a > 1 ? 1 : a);
         for (i = 0; i < np1; i++) {
             double di = prev[i] + a * (pt->y[i] - prev[i]) - nd->y[i];
-            dist2 += s->w_[i] * di * di;
+            dist2 += s->internal_.w[i] * di * di;
         }
         tol = psb__explore_tol(x, nd) + 4 * nd->precision + 1e-3 * pt->h;
         if (dist2 <= tol * tol) return j;
@@ -7325,7 +7409,7 @@ static int psb__explore_point(const psb_point *pt, void *user)
     psb__explorer *x = (psb__explorer *)user;
     psb_solver *s = x->s;
     const psb_explore_options *eo = x->eo;
-    int np1 = s->np1_, i;
+    int np1 = s->internal_.np1, i;
     if (pt->flags & PSB_POINT_KINK) {
         int at = psb__explore_at_origin(x, pt->y, pt->t, 0);
         if (at >= 0) return at;
@@ -7365,7 +7449,7 @@ static int psb__explore_point(const psb_point *pt, void *user)
     if (eo->state_max > 0) {
         double sum = 0;
         for (i = 0; i < np1; i++)
-            if (i != s->prob.param_index) sum += s->w_[i] * pt->y[i] * pt->y[i];
+            if (i != s->prob.param_index) sum += s->internal_.w[i] * pt->y[i] * pt->y[i];
         if (sqrt(sum) > eo->state_max) {
             x->stop = PSB__XS_BOX;
             return 1;
@@ -7389,7 +7473,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     psb_edge *ed;
     psb_trace_options to = x->eo->trace;
     psb_trace_report rep;
-    int np1 = s->np1_, e, resume;
+    int np1 = s->internal_.np1, e, resume;
     long steps_left;
     double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
     psb_result r;
@@ -7597,12 +7681,12 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_explore");
     if (r != PSB_SUCCESS) return r;
     if (!d || !d->nodes || !d->work_) return psb__fail(s, PSB_ERR_NULL, "the diagram is NULL or not set up");
-    if (d->n != s->n_) return psb__fail(s, PSB_ERR_SIZE, "the diagram's n differs from the problem's");
+    if (d->n != s->internal_.n) return psb__fail(s, PSB_ERR_SIZE, "the diagram's n differs from the problem's");
     if (!eo) {
         memset(&local, 0, sizeof local);
         eo = &local;
     }
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     p = s->prob.param_index;
     bad = psb__check_explore(eo, np1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
