@@ -1220,38 +1220,46 @@ typedef struct psb_stats {
 } psb_stats;
 
 /* ---- the solver: caller-owned state, all memory set up at init ------------------------ */
+/* Algorithm 2.2's working state (psb_find_branches): its memos, its cone test and its sweep's
+   bookkeeping. Storage set up at init; each run starts it afresh (psb__find_branches). */
+typedef struct psb__sweep_state {
+    double *memo;            /* tangents whose trials were made in this run (memo_n) */
+    double *known;           /* tangents whose trials' outcomes are known (known_n, a ring) */
+    int memo_n, known_n, memo_cap; /* entries stored, and the capacity of each memo */
+    double *jmemo_t;         /* Jacobian memo: the unit tangent of each entry's dH */
+    unsigned long long *jmemo_key; /* its keys: two 64-bit hashes of dH, or a piece id */
+    signed char *jmemo_sign; /* its outward sign sgn det [dH; (W t)^T], 0 if not known */
+    int jmemo_n;             /* its entries stored so far */
+    int jmemo_dh;            /* its keys may hash dH (psb__jmemo_usable); else piece ids */
+    long jmemo_looks, jmemo_hits; /* its look-ups and hits in the current run */
+    long memo_cuts;          /* trials cut by psb__path_memo_cut, in all */
+    int pmemo_checks;        /* piece memo against a trial's own tangents: pairs compared in */
+    double pmemo_drift;      /* the current run, and the largest angle between them */
+    double *path;            /* a trial's corrector tangents (psb__trial_watch) */
+    int conic_h0_ok;         /* H(y0) is held for the conic test (PSB__V_BR_H0) */
+    double cone_defect;      /* how far the trials saw H depart from cones about y0 (largest
+                                psb__conic_excess) */
+    double chord_turn_max, chord_turn_min; /* the landing points' chords from y0 against
+                                              their tangents */
+    unsigned long long pairs_done[32]; /* pairs (i, j), i < j < 64, of found branches swept,
+                                          bit j (j - 1) / 2 + i */
+    signed char branch_sign[64]; /* the outward signs of found branches 0 .. */
+    int branch_signs_n;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
+    double sweep_offset; /* span directions at angles 2 pi (i + offset) / n, */
+    int sweep_n_dir;     /* i < n = this (0: n_dir) */
+} psb__sweep_state;
+
 /* The solver's working storage and the algorithms' state: private, treat as opaque. */
 typedef struct psb__internal {
-    int n, np1, ldlu, shifted, memo_n, memo_cap, known_n;
-    int jmemo_n;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
-    int jmemo_dh;                /* its keys may hash dH (psb__jmemo_usable); else piece ids */
-    long jmemo_looks, jmemo_hits; /* its look-ups and hits in the current call */
-    long memo_cuts;              /* trials cut by psb__path_memo_cut, in all */
-    int pmemo_checks;            /* piece memo against a trial's own tangents: pairs */
-    double pmemo_drift;          /* compared in the current call, the largest angle between */
-                                  /* them; a pair pending in BR_MT (psb__path_memo_cut) */
-    double cone_defect;          /* Algorithm 2.2's run: how far its trials saw H depart from
-                                     cones about y0 (psb__conic_excess, largest) */
-    double chord_turn_max, chord_turn_min; /* and its landing points' chords from y0 against
-                                     their tangents (psb__find_branches) */
-    unsigned long long *jmemo_key; /* two 64-bit hashes of dH per entry (memo_cap entries) */
-    int conic_h0_ok;        /* psb_find_branches holds H(y0) for it */
-    double *jmemo_t;             /* the unit tangent of each entry's dH */
-    signed char *jmemo_sign;     /* its outward sign sgn det [dH; (W t)^T], 0 if not known */
+    int n, np1, ldlu, shifted;
     int tangent_sign;            /* that of the last psb__tangent_from_jacobian's tangent */
-    unsigned long long pairs_done[32]; /* Algorithm 2.2: pairs (i, j), i < j < 64, of found
-                                           branches swept, bit j (j - 1) / 2 + i */
-    signed char branch_sign[64]; /* Algorithm 2.2: the outward signs of found branches 0 .. */
-    int branch_signs_n;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
-    double sweep_offset; /* Algorithm 2.2: span directions at angles 2 pi (i + offset) / n, */
-    int sweep_n_dir;     /* i < n = this (0: n_dir) */
     int band_ok, bv_ok, border_ok; /* banded: band holds dH/dx at yfac / bv is
                                          A^{-1} dpfac / delta is current */
     int branch_h_auto, branch_h_min_auto; /* follow the point (see psb__branch_h) */
     double fd_cap;   /* > 0: largest difference step (weighted), see psb__sample_tangent */
     double *w;
     double *jac, *mat, *rhs, *res, *res2, *work, *tau, *vec;
-    double *band, *lu, *dparam, *row, *bv, *bx, *bres, *yfac, *fdh, *memo, *known, *path;
+    double *band, *lu, *dparam, *row, *bv, *bx, *bres, *yfac, *fdh;
     double *bandpair[2], *afac, *dpfac; /* band is one of the pair; afac the one lu holds */
     double *gbw;                           /* banded: the LU's panel multipliers */
     double delta, mnorm, bamp;
@@ -1265,6 +1273,7 @@ typedef struct psb__internal {
                         difference Jacobians, a fault only when n_ok = 0 (psb__note_fault) */
     long n_ok;      /* tangents and corrector runs of the current algorithm that succeeded */
     int in_trace_callback; /* a trace's on_point or event callback is running (psb__trace_busy) */
+    psb__sweep_state sweep; /* Algorithm 2.2's */
     unsigned ready; /* PSB__READY between a successful init and psb_solver_free */
 } psb__internal;
 
@@ -2344,15 +2353,15 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
     PSB__TAKE(yfac, np1);
     PSB__TAKE(fdh, n);
     PSB__TAKE(vec, (size_t)PSB__NVEC * np1);
-    PSB__TAKE(memo, (size_t)psb__memo_capacity(p->n) * np1);
-    PSB__TAKE(known, (size_t)psb__memo_capacity(p->n) * np1);
-    PSB__TAKE(path, (size_t)PSB__PATH_MAX * np1);
+    PSB__TAKE(sweep.memo, (size_t)psb__memo_capacity(p->n) * np1);
+    PSB__TAKE(sweep.known, (size_t)psb__memo_capacity(p->n) * np1);
+    PSB__TAKE(sweep.path, (size_t)PSB__PATH_MAX * np1);
     if (psb__jmemo_usable(p) || p->piece) {
         size_t cap = (size_t)psb__memo_capacity(p->n);
-        PSB__TAKE(jmemo_t, cap * np1);
-        if (s) s->internal_.jmemo_key = (unsigned long long *)(void *)(base + off);
+        PSB__TAKE(sweep.jmemo_t, cap * np1);
+        if (s) s->internal_.sweep.jmemo_key = (unsigned long long *)(void *)(base + off);
         off += 2 * cap; /* the keys: 8 bytes each, as a double */
-        if (s) s->internal_.jmemo_sign = (signed char *)(void *)(base + off);
+        if (s) s->internal_.sweep.jmemo_sign = (signed char *)(void *)(base + off);
         off += (cap + sizeof(double) - 1) / sizeof(double);
     }
     if (p->linear == PSB_LINEAR_DENSE) {
@@ -2413,8 +2422,8 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     s->internal_.n = p->n;
     s->internal_.np1 = p->n + 1;
     s->internal_.ldlu = 2 * p->kl + p->ku + 1;
-    s->internal_.memo_cap = psb__memo_capacity(p->n);
-    s->internal_.jmemo_dh = psb__jmemo_usable(p);
+    s->internal_.sweep.memo_cap = psb__memo_capacity(p->n);
+    s->internal_.sweep.jmemo_dh = psb__jmemo_usable(p);
     psb__layout(p, s, memory);
     s->internal_.band = s->internal_.bandpair[0];
     if (p->band_lean) s->internal_.bandpair[1] = NULL;
@@ -3444,13 +3453,13 @@ static int psb__is_fatal(psb_result r)
            r == PSB_ERR_NOMEM;
 }
 
-static int psb__trial_known(const psb_solver *s, const double *x, const double *ts, int n_ts,
+static int psb__trial_known(const psb_solver *s, const psb__sweep_state *sw, const double *x, const double *ts, int n_ts,
                             const double *done, int own);
 static void psb__jmemo_key(const psb_solver *s, unsigned long long *key);
-static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key);
-static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t, int sign);
-static int psb__jmemo_hashing(const psb_solver *s);
-static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const double *ref, double *t, int *m);
+static int psb__jmemo_find(const psb__sweep_state *sw, const unsigned long long *key);
+static void psb__jmemo_store(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *t, int sign);
+static int psb__jmemo_hashing(const psb__sweep_state *sw);
+static int psb__jmemo_get(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *ref, double *t, int *m);
 static double psb__angle_w(const psb_solver *s, const double *a, const double *b);
 static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known);
 
@@ -5393,11 +5402,11 @@ static void psb__jmemo_key(const psb_solver *s, unsigned long long *key)
 }
 
 /* The Jacobian memo's entry with this key, or -1. */
-static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
+static int psb__jmemo_find(const psb__sweep_state *sw, const unsigned long long *key)
 {
-    int m, stored = s->internal_.jmemo_n < s->internal_.memo_cap ? s->internal_.jmemo_n : s->internal_.memo_cap;
+    int m, stored = sw->jmemo_n < sw->memo_cap ? sw->jmemo_n : sw->memo_cap;
     for (m = 0; m < stored; m++)
-        if (s->internal_.jmemo_key[2 * m] == key[0] && s->internal_.jmemo_key[2 * m + 1] == key[1]) return m;
+        if (sw->jmemo_key[2 * m] == key[0] && sw->jmemo_key[2 * m + 1] == key[1]) return m;
     return -1;
 }
 
@@ -5405,16 +5414,16 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
    its tangent oriented by ref in t, 0 when there is none or ref is (nearly) orthogonal to it
    (then the orientation is the computed tangent's, psb__tangent_from_jacobian, not a sign of
    the dot product). */
-static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const double *ref, double *t, int *m)
+static int psb__jmemo_get(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *ref, double *t, int *m)
 {
     int i, np1 = s->internal_.np1;
     const double *tm;
     double dot;
-    *m = psb__jmemo_find(s, key);
-    s->internal_.jmemo_looks++;
-    s->internal_.jmemo_hits += *m >= 0;
+    *m = psb__jmemo_find(sw, key);
+    sw->jmemo_looks++;
+    sw->jmemo_hits += *m >= 0;
     if (*m < 0) return 0;
-    tm = s->internal_.jmemo_t + (size_t)*m * (size_t)np1;
+    tm = sw->jmemo_t + (size_t)*m * (size_t)np1;
     dot = psb__dot_w(s, tm, ref);
     if (!(fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, ref))) return 0;
     for (i = 0; i < np1; i++) t[i] = dot < 0 ? -tm[i] : tm[i];
@@ -5423,22 +5432,22 @@ static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const do
 
 /* Stores the unit tangent t and its outward sign (0: not known) under key (the oldest entry
    makes room when the memo is full). */
-static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t, int sign)
+static void psb__jmemo_store(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *t, int sign)
 {
-    int m = s->internal_.jmemo_n % s->internal_.memo_cap;
-    s->internal_.jmemo_key[2 * m] = key[0];
-    s->internal_.jmemo_key[2 * m + 1] = key[1];
-    s->internal_.jmemo_sign[m] = (signed char)sign;
-    psb__copy(s->internal_.jmemo_t + (size_t)m * (size_t)s->internal_.np1, t, s->internal_.np1);
-    s->internal_.jmemo_n++;
+    int m = sw->jmemo_n % sw->memo_cap;
+    sw->jmemo_key[2 * m] = key[0];
+    sw->jmemo_key[2 * m + 1] = key[1];
+    sw->jmemo_sign[m] = (signed char)sign;
+    psb__copy(sw->jmemo_t + (size_t)m * (size_t)s->internal_.np1, t, s->internal_.np1);
+    sw->jmemo_n++;
 }
 
 /* Whether the memo keys by dH's hash: it can (analytic dH, dense or banded), and it pays. A
    memo that rarely hits (sample points mostly in pieces of their own, as on the block) costs a
    hash per tangent for nothing: after 64 look-ups in a call, it needs a hit in 8. */
-static int psb__jmemo_hashing(const psb_solver *s)
+static int psb__jmemo_hashing(const psb__sweep_state *sw)
 {
-    return s->internal_.jmemo_dh && !(s->internal_.jmemo_looks >= 64 && 8 * s->internal_.jmemo_hits < s->internal_.jmemo_looks);
+    return sw->jmemo_dh && !(sw->jmemo_looks >= 64 && 8 * sw->jmemo_hits < sw->jmemo_looks);
 }
 
 /* The memo's key of the piece at y (problem.piece, set), *known 0 when the callback knows no
@@ -5461,12 +5470,13 @@ static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long l
    step as well. */
 typedef struct psb__trial_watch {
     psb__corr_watch base;
+    psb__sweep_state *sw; /* the run's memos (psb_find_branches) */
     const double *ts;  /* the found branches' tangents, nts of them */
     int nts, own;      /* and the trial's own known entry (-1: none), for the cut */
     const double *y0;  /* the point for the conic test (NULL: none) */
     int conic_ok;      /* every iterate of the current run passed the conic test */
     int armed;         /* the test runs: a step of the trial was rejected already */
-    int path_n;        /* tangents recorded in s->internal_.path for the current step */
+    int path_n;        /* tangents recorded in sw->path for the current step */
     unsigned long long store_key[2], dh_key[2]; /* the current iterate's memo key, dH's hash */
     int by_piece;      /* store_key is a piece id */
     int pmemo_check;   /* the next tangent is compared with the piece memo's (BR_MT) */
@@ -5474,9 +5484,9 @@ typedef struct psb__trial_watch {
 
 /* Whether a piece's tangent may decide (psb__path_memo_cut): the memo's pieces checked that
    many times and found nearly linear. */
-static int psb__pmemo_trusted(const psb_solver *s, int checks)
+static int psb__pmemo_trusted(const psb_solver *s, const psb__sweep_state *sw, int checks)
 {
-    return s->internal_.pmemo_checks >= checks && s->internal_.pmemo_drift <= acos(s->opt.c_diff) / 8;
+    return sw->pmemo_checks >= checks && sw->pmemo_drift <= acos(s->opt.c_diff) / 8;
 }
 
 /* The memo's cut of an Algorithm 2.2 trial (watched by tw) at its corrector iterate y, bordered by
@@ -5495,7 +5505,7 @@ static int psb__pmemo_trusted(const psb_solver *s, int checks)
    key gets the key under which the corrector stores the tangent it computes (zero when there
    is none or the memo holds it).
    Returns 1 (cut), 0, or a fatal or fault code from the piece callback (< 0). */
-static int psb__path_memo_cut(psb_solver *s, psb__trial_watch *tw, const double *y, const double *t,
+static int psb__path_memo_cut(psb_solver *s, psb__sweep_state *sw, psb__trial_watch *tw, const double *y, const double *t,
                               const unsigned long long *dh_key)
 {
     unsigned long long *key = tw->store_key;
@@ -5511,18 +5521,18 @@ static int psb__path_memo_cut(psb_solver *s, psb__trial_watch *tw, const double 
         if (r != PSB_SUCCESS) return r;
         if (!*by_piece) return 0;
     } else {
-        if (*by_piece || !psb__jmemo_hashing(s)) return 0;
+        if (*by_piece || !psb__jmemo_hashing(sw)) return 0;
         key[0] = dh_key[0];
         key[1] = dh_key[1];
     }
-    got = psb__jmemo_get(s, key, t, x, &m);
+    got = psb__jmemo_get(s, sw, key, t, x, &m);
     if (m >= 0) key[0] = key[1] = 0; /* held already: nothing to store */
     if (!got) return 0;
-    if (*by_piece && !psb__pmemo_trusted(s, 4)) {
+    if (*by_piece && !psb__pmemo_trusted(s, sw, 4)) {
         tw->pmemo_check = 1; /* no cut yet: the watch compares the next tangent with x */
         return 0;
     }
-    return psb__trial_known(s, x, tw->ts, tw->nts, NULL, tw->own);
+    return psb__trial_known(s, sw, x, tw->ts, tw->nts, NULL, tw->own);
 }
 
 /* How far from cones about y0 Algorithm 2.2's trials may see H before the run is made again
@@ -5533,16 +5543,16 @@ static int psb__path_memo_cut(psb_solver *s, psb__trial_watch *tw, const double 
 /* Whether Algorithm 2.2's run still watches for H off the cones about y0 (cone_defect): H(y0)
    is held, the evidence is not in yet, and a rerun could still follow (h_init / 16 stays above
    8 h, psb__find_branches). */
-static int psb__cone_watched(const psb_solver *s)
+static int psb__cone_watched(const psb_solver *s, const psb__sweep_state *sw)
 {
-    return s->internal_.conic_h0_ok && s->internal_.cone_defect <= PSB__CHORD_TURN &&
+    return sw->conic_h0_ok && sw->cone_defect <= PSB__CHORD_TURN &&
            s->branch.h_init / 16 >= 8 * s->branch.h;
 }
 
 /* Records an excess of psb__conic_excess in cone_defect (HUGE_VAL, no scale, tells nothing). */
-static void psb__note_cone_excess(psb_solver *s, double excess)
+static void psb__note_cone_excess(psb__sweep_state *sw, double excess)
 {
-    if (excess > s->internal_.cone_defect && excess < HUGE_VAL) s->internal_.cone_defect = excess;
+    if (excess > sw->cone_defect && excess < HUGE_VAL) sw->cone_defect = excess;
 }
 
 /* How far H is from affine through y0 at a point y of an Algorithm 2.2 trial whose dH(y) was
@@ -5599,6 +5609,7 @@ static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_even
                                const double *y, const double *t, int sign)
 {
     psb__trial_watch *tw = (psb__trial_watch *)(void *)w;
+    psb__sweep_state *sw = tw->sw;
     int np1 = s->internal_.np1, i, cut = 0;
     switch (e) {
     case PSB__CORR_STEP:
@@ -5611,19 +5622,19 @@ static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_even
         tw->pmemo_check = 0;
         tw->store_key[0] = tw->store_key[1] = tw->dh_key[0] = tw->dh_key[1] = 0;
         tw->by_piece = 0;
-        cut = psb__path_memo_cut(s, tw, y, t, NULL);
+        cut = psb__path_memo_cut(s, sw, tw, y, t, NULL);
         break;
     case PSB__CORR_JACOBIAN:
-        if (tw->conic_ok || (!tw->by_piece && psb__jmemo_hashing(s))) psb__jmemo_key(s, tw->dh_key);
+        if (tw->conic_ok || (!tw->by_piece && psb__jmemo_hashing(sw))) psb__jmemo_key(s, tw->dh_key);
         if (tw->y0) { /* before the memo's cut, which the test may void */
-            int watch = psb__cone_watched(s) && psb__dist_w(s, y, tw->y0) <= 2 * s->branch.h_init;
+            int watch = psb__cone_watched(s, sw) && psb__dist_w(s, y, tw->y0) <= 2 * s->branch.h_init;
             if (tw->conic_ok || watch) {
                 double excess = psb__conic_excess(s, tw->y0, y);
                 if (tw->conic_ok) tw->conic_ok = excess <= 1e-6;
-                if (watch) psb__note_cone_excess(s, excess);
+                if (watch) psb__note_cone_excess(sw, excess);
             }
         }
-        cut = psb__path_memo_cut(s, tw, y, t, tw->dh_key);
+        cut = psb__path_memo_cut(s, sw, tw, y, t, tw->dh_key);
         break;
     case PSB__CORR_SOLVED:
         if (tw->conic_ok) { /* the point s->branch.h from y0 towards this iterate */
@@ -5635,16 +5646,16 @@ static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_even
         return 0;
     case PSB__CORR_TANGENT:
         if (tw->path_n < PSB__PATH_MAX)
-            psb__copy(s->internal_.path + (size_t)tw->path_n++ * (size_t)np1, t, np1);
-        if ((tw->store_key[0] || tw->store_key[1]) && (!tw->by_piece || psb__pmemo_trusted(s, 0)))
-            psb__jmemo_store(s, tw->store_key, t, sign);
+            psb__copy(sw->path + (size_t)tw->path_n++ * (size_t)np1, t, np1);
+        if ((tw->store_key[0] || tw->store_key[1]) && (!tw->by_piece || psb__pmemo_trusted(s, sw, 0)))
+            psb__jmemo_store(s, sw, tw->store_key, t, sign);
         if (tw->pmemo_check) {
             double drift = psb__angle_w(s, t, PSB__VEC(s, PSB__V_BR_MT));
             tw->pmemo_check = 0;
-            s->internal_.pmemo_checks++;
-            if (!(drift <= s->internal_.pmemo_drift)) s->internal_.pmemo_drift = drift; /* NaN: never cuts */
+            sw->pmemo_checks++;
+            if (!(drift <= sw->pmemo_drift)) sw->pmemo_drift = drift; /* NaN: never cuts */
         }
-        return psb__trial_known(s, t, tw->ts, tw->nts, NULL, tw->own);
+        return psb__trial_known(s, sw, t, tw->ts, tw->nts, NULL, tw->own);
     case PSB__CORR_CORRECTED:
         if (tw->conic_ok) { /* psb__conic_excess's second half */
             unsigned long long key[2] = {0, 0};
@@ -5666,17 +5677,18 @@ static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_even
         tw->armed = tw->y0 != NULL;
         return 0;
     }
-    if (cut > 0) s->internal_.memo_cuts++;
+    if (cut > 0) sw->memo_cuts++;
     return cut;
 }
 
-/* A watch for a trial from y0 (conic test with y0; NULL: none) that cuts on the found
+/* A watch for a trial of the run sw from y0 (conic test with y0; NULL: none) that cuts on the found
    branches' tangents ts (nts of them) and the trial's own known entry own (-1: none). */
-static void psb__trial_watch_init(psb__trial_watch *tw, const double *ts, int nts, int own,
-                                  const double *y0)
+static void psb__trial_watch_init(psb__trial_watch *tw, psb__sweep_state *sw, const double *ts,
+                                  int nts, int own, const double *y0)
 {
     memset(tw, 0, sizeof *tw);
     tw->base.fn = psb__trial_watch_fn;
+    tw->sw = sw;
     tw->ts = ts;
     tw->nts = nts;
     tw->own = own;
@@ -5699,17 +5711,17 @@ static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const 
    may lie beyond a kink that the trial's own iterates never meet (kinks 2e-3 from y0,
    h_init 1e-2: 2 of 4 branches, every trial cut). Only while the run watches
    (psb__cone_watched). It costs H(p). Returns PSB_SUCCESS or a fatal code; a fault is noted. */
-static psb_result psb__probe_cone(psb_solver *s, const double *y0, const double *p)
+static psb_result psb__probe_cone(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *p)
 {
     psb_result r;
-    if (!y0 || !psb__cone_watched(s)) return PSB_SUCCESS;
+    if (!y0 || !psb__cone_watched(s, sw)) return PSB_SUCCESS;
     r = psb__residual(s, p, s->internal_.res);
     if (r != PSB_SUCCESS) {
         if (psb__is_fatal(r)) return r;
         psb__note_fault(s, r);
         return PSB_SUCCESS;
     }
-    psb__note_cone_excess(s, psb__conic_excess(s, y0, p));
+    psb__note_cone_excess(sw, psb__conic_excess(s, y0, p));
     return PSB_SUCCESS;
 }
 
@@ -5735,7 +5747,7 @@ static psb_result psb__probe_cone(psb_solver *s, const double *y0, const double 
    problems where Algorithm 2.2 can tell branches apart at all; the skips it decides are
    those of the tangent at the first point, and a tangent that goes on to be used is computed
    at its own point. */
-static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t,
+static psb_result psb__sample_tangent(psb_solver *s, psb__sweep_state *sw, const double *pt, const double *ref, double *t,
                                       int *from_memo, const double *cone_y0)
 {
     psb_result r;
@@ -5746,23 +5758,23 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
         r = psb__piece_key(s, pt, key, &by_piece);
         if (r != PSB_SUCCESS) return r;
     }
-    if (!by_piece && !psb__jmemo_hashing(s)) return psb__sample_tangent_at(s, pt, ref, t);
+    if (!by_piece && !psb__jmemo_hashing(sw)) return psb__sample_tangent_at(s, pt, ref, t);
     if (!by_piece) {
         s->stats.n_tangents++;
         r = psb__jacobian(s, pt, NULL);
         if (r != PSB_SUCCESS) return r;
         psb__jmemo_key(s, key);
-        r = psb__probe_cone(s, cone_y0, pt);
+        r = psb__probe_cone(s, sw, cone_y0, pt);
         if (r != PSB_SUCCESS) return r;
     }
-    if (psb__jmemo_get(s, key, ref, t, &m) && from_memo) {
+    if (psb__jmemo_get(s, sw, key, ref, t, &m) && from_memo) {
         s->stats.n_tangent_reused++;
         s->internal_.n_ok++;
         *from_memo = by_piece ? 2 : 1;
         return PSB_SUCCESS;
     }
     r = by_piece ? psb__sample_tangent_at(s, pt, ref, t) : psb__tangent_from_jacobian(s, ref, t);
-    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, key, t, s->internal_.tangent_sign);
+    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, sw, key, t, s->internal_.tangent_sign);
     return r;
 }
 
@@ -5778,12 +5790,12 @@ static psb_result psb__sample_refresh(psb_solver *s, int from_memo, const double
 }
 
 /* Whether t is within c_diff of a tangent tried before in this call (the memo). */
-static int psb__memo_seen(const psb_solver *s, const double *t)
+static int psb__memo_seen(const psb_solver *s, const psb__sweep_state *sw, const double *t)
 {
-    int m, stored = s->internal_.memo_n < s->internal_.memo_cap ? s->internal_.memo_n : s->internal_.memo_cap;
+    int m, stored = sw->memo_n < sw->memo_cap ? sw->memo_n : sw->memo_cap;
     double nt = psb__norm_w(s, t);
     for (m = 0; m < stored; m++)
-        if (fabs(psb__cos_w_na(s, t, nt, s->internal_.memo + (size_t)m * (size_t)s->internal_.np1)) >= s->opt.c_diff) return 1;
+        if (fabs(psb__cos_w_na(s, t, nt, sw->memo + (size_t)m * (size_t)s->internal_.np1)) >= s->opt.c_diff) return 1;
     return 0;
 }
 
@@ -5792,25 +5804,25 @@ static int psb__memo_seen(const psb_solver *s, const double *t)
    whose trial was made (known, entry `own` left out: -1 or the trial asking), of `done` (NULL
    or the current tangent's sign already handled), or, either way round, of a tangent handled
    before (memo). */
-static int psb__trial_known(const psb_solver *s, const double *x, const double *ts, int n_ts,
+static int psb__trial_known(const psb_solver *s, const psb__sweep_state *sw, const double *x, const double *ts, int n_ts,
                             const double *done, int own)
 {
-    int m, np1 = s->internal_.np1, stored = s->internal_.known_n < s->internal_.memo_cap ? s->internal_.known_n : s->internal_.memo_cap;
+    int m, np1 = s->internal_.np1, stored = sw->known_n < sw->memo_cap ? sw->known_n : sw->memo_cap;
     double nx = psb__norm_w(s, x);
     for (m = 0; m < n_ts; m++)
         if (psb__cos_w_na(s, x, nx, ts + (size_t)m * (size_t)np1) >= s->opt.c_diff) return 1;
     for (m = 0; m < stored; m++)
-        if (m != own && psb__cos_w_na(s, x, nx, s->internal_.known + (size_t)m * (size_t)np1) >= s->opt.c_diff)
+        if (m != own && psb__cos_w_na(s, x, nx, sw->known + (size_t)m * (size_t)np1) >= s->opt.c_diff)
             return 1;
     if (done && psb__cos_w_na(s, x, nx, done) >= s->opt.c_diff) return 1;
-    return psb__memo_seen(s, x);
+    return psb__memo_seen(s, sw, x);
 }
 
 /* Adds x to one of psb_find_branches' stores (memo or known, *count entries so far); when
    full, the oldest entry makes room. */
-static void psb__store_add(const psb_solver *s, double *store, int *count, const double *x)
+static void psb__store_add(const psb_solver *s, const psb__sweep_state *sw, double *store, int *count, const double *x)
 {
-    psb__copy(store + (size_t)(*count % s->internal_.memo_cap) * (size_t)s->internal_.np1, x, s->internal_.np1);
+    psb__copy(store + (size_t)(*count % sw->memo_cap) * (size_t)s->internal_.np1, x, s->internal_.np1);
     (*count)++;
 }
 
@@ -5890,7 +5902,7 @@ static int psb__same_curved_branch(psb_solver *s, const double *y0, const double
    are the tangents of its corrector iterations when it lands (the same argument, iteration
    by iteration). On smooth pieces the argument holds to O(h). Block M800, Tables 1-2
    settings: same spans and branches, n_pc 14-49% lower, factorisations 19-29%. */
-static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double *tt,
+static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *tt,
                                    int max_branches, double *ys, double *ts,
                                    psb_branch_report *rep, int *overflow)
 {
@@ -5902,7 +5914,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
     psb_result r;
     /* the trials from y0 along +-tt depend on y0 and tt alone: a tangent within c_diff of one
        tried before in this call (any span) repeats its trials and their verdict */
-    if (!s->branch.expert.no_memo && psb__memo_seen(s, tt)) {
+    if (!s->branch.expert.no_memo && psb__memo_seen(s, sw, tt)) {
         rep->n_memo++;
         return PSB_SUCCESS;
     }
@@ -5915,11 +5927,11 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (!s->branch.expert.no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
-            r = psb__sample_tangent(s, pk, tb, kx, &from_memo, y0);
+            r = psb__sample_tangent(s, sw, pk, tb, kx, &from_memo, y0);
             if (psb__is_fatal(r)) return r;
             /* no tangent at p (singular there): the trial along tb as printed */
             if (r == PSB_SUCCESS) {
-                if (psb__trial_known(s, kx, ts, rep->n_branches, sign < 0 ? tt : NULL, -1)) {
+                if (psb__trial_known(s, sw, kx, ts, rep->n_branches, sign < 0 ? tt : NULL, -1)) {
                     rep->n_screened++;
                     continue;
                 }
@@ -5929,8 +5941,8 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                 }
             }
             if (r == PSB_SUCCESS) {
-                own = s->internal_.known_n % s->internal_.memo_cap;
-                psb__store_add(s, s->internal_.known, &s->internal_.known_n, kx);
+                own = sw->known_n % sw->memo_cap;
+                psb__store_add(s, sw, sw->known, &sw->known_n, kx);
                 psb__copy(tb, kx, np1);
             }
         }
@@ -5940,11 +5952,11 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
            branch_h / 1000 as at sample points) can mix the pieces at its iterates, and
            recorded their paths cost complete sets (random LCPs, N = 8: 196 of 236, not 214) */
         watched = !s->branch.expert.no_screen && !psb__fd_jacobian(&s->prob);
-        psb__trial_watch_init(&tw, ts, rep->n_branches, own, s->internal_.conic_h0_ok ? y0 : NULL);
-        memo_cuts = s->internal_.memo_cuts;
+        psb__trial_watch_init(&tw, sw, ts, rep->n_branches, own, sw->conic_h0_ok ? y0 : NULL);
+        memo_cuts = sw->memo_cuts;
         r = psb__try_step_from(s, yb, tb, &hh, s->branch.expert.trial_h_min, &iters, y0,
                                watched ? &tw.base : NULL);
-        rep->n_cut_memo += s->internal_.memo_cuts - memo_cuts;
+        rep->n_cut_memo += sw->memo_cuts - memo_cuts;
         if (psb__is_fatal(r)) return r;
         if (psb__note_fault(s, r)) continue;
         /* cut at iteration i: the trial is then a trial along k_i scaled up, whose outcome is
@@ -5959,9 +5971,9 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
            k_i of a trial that landed or was cut are known too (a failed trial's are not: with
            i more iterations to spare the trial along k_i might converge) */
         for (j = 0; watched && j < tw.path_n; j++) {
-            const double *ki = s->internal_.path + (size_t)j * (size_t)np1;
-            if (!psb__trial_known(s, ki, ts, rep->n_branches, NULL, -1))
-                psb__store_add(s, s->internal_.known, &s->internal_.known_n, ki);
+            const double *ki = sw->path + (size_t)j * (size_t)np1;
+            if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1))
+                psb__store_add(s, sw, sw->known, &sw->known_n, ki);
         }
         if (cut) continue;
         /* a point closer to y0 than the sampling distance h tells nothing reliable about the
@@ -5974,8 +5986,8 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (dotp < 0)
             for (k = 0; k < np1; k++) tb[k] = -tb[k];
         turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
-        if (turn > s->internal_.chord_turn_max) s->internal_.chord_turn_max = turn;
-        if (turn < s->internal_.chord_turn_min) s->internal_.chord_turn_min = turn;
+        if (turn > sw->chord_turn_max) sw->chord_turn_max = turn;
+        if (turn < sw->chord_turn_min) sw->chord_turn_min = turn;
         /* Step 5(ii): a new branch unless it is within c_diff of a known one */
         for (j = 0; j < rep->n_branches; j++)
             if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
@@ -5994,7 +6006,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
         rep->n_branches++;
     }
-    if (!s->branch.expert.no_memo) psb__store_add(s, s->internal_.memo, &s->internal_.memo_n, tt);
+    if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);
     return PSB_SUCCESS;
 }
 
@@ -6003,14 +6015,14 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
    and its tangent lies along t (on a piece of a piecewise-linear H it is t's, up to
    orientation; on a smooth piece near y0 nearly so, and the sign holds short of a fold).
    *sign 0 otherwise. Returns PSB_SUCCESS or a fatal code (a failing evaluation tells nothing). */
-static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t, int *sign)
+static psb_result psb__memo_sign(psb_solver *s, psb__sweep_state *sw, const double *p, const double *t, int *sign)
 {
     unsigned long long key[2];
     int m, known = 0, np1 = s->internal_.np1;
     double dot;
     psb_result r;
     *sign = 0;
-    if (s->internal_.jmemo_n == 0) return PSB_SUCCESS;
+    if (sw->jmemo_n == 0) return PSB_SUCCESS;
     if (s->prob.piece) {
         r = psb__piece_key(s, p, key, &known);
         if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
@@ -6021,10 +6033,10 @@ static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t
         if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
         psb__jmemo_key(s, key);
     }
-    m = psb__jmemo_find(s, key);
-    if (m < 0 || !s->internal_.jmemo_sign[m]) return PSB_SUCCESS;
-    dot = psb__cos_w(s, s->internal_.jmemo_t + (size_t)m * (size_t)np1, t);
-    if (fabs(dot) >= s->opt.c_diff) *sign = dot > 0 ? s->internal_.jmemo_sign[m] : -s->internal_.jmemo_sign[m];
+    m = psb__jmemo_find(sw, key);
+    if (m < 0 || !sw->jmemo_sign[m]) return PSB_SUCCESS;
+    dot = psb__cos_w(s, sw->jmemo_t + (size_t)m * (size_t)np1, t);
+    if (fabs(dot) >= s->opt.c_diff) *sign = dot > 0 ? sw->jmemo_sign[m] : -sw->jmemo_sign[m];
     return PSB_SUCCESS;
 }
 
@@ -6037,13 +6049,13 @@ static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t
    factorisation there, difference steps as at sample points. Where a sign cannot be told
    (user backend, over 64 branches, a failing evaluation or factorisation) the count alone
    decides. A fatal code goes to *fatal (and 0 is returned). */
-static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, int n_branches,
+static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys, const double *ts, int n_branches,
                            psb_result *fatal)
 {
     int np1 = s->internal_.np1, j, sum = 0;
     if (n_branches % 2 != 0) return 1;
-    if (s->prob.linear == PSB_LINEAR_USER || n_branches > 64 || s->internal_.branch_signs_n < 0) return 0;
-    for (j = s->internal_.branch_signs_n; j < n_branches; j++) {
+    if (s->prob.linear == PSB_LINEAR_USER || n_branches > 64 || sw->branch_signs_n < 0) return 0;
+    for (j = sw->branch_signs_n; j < n_branches; j++) {
         const double *tj = ts + (size_t)j * (size_t)np1, *p = ys + (size_t)j * (size_t)np1;
         psb__mon m;
         psb_result r;
@@ -6054,7 +6066,7 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
             p = q;
         }
         s->internal_.fd_cap = 1e-3 * s->branch.h;
-        r = psb__memo_sign(s, p, tj, &sign);
+        r = psb__memo_sign(s, sw, p, tj, &sign);
         if (r == PSB_SUCCESS && !sign) {
             r = psb__monitor_at(s, p, tj, &m);
             /* banded factors of an exactly singular A tell no sign (psb__monitor's -700) */
@@ -6068,22 +6080,22 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
         }
         s->message[0] = 0; /* a failed look-up or factorisation here tells nothing */
         if (r != PSB_SUCCESS) {
-            s->internal_.branch_signs_n = -1; /* no verdict: the count's */
+            sw->branch_signs_n = -1; /* no verdict: the count's */
             return 0;
         }
-        s->internal_.branch_sign[j] = (signed char)sign;
-        s->internal_.branch_signs_n = j + 1;
+        sw->branch_sign[j] = (signed char)sign;
+        sw->branch_signs_n = j + 1;
     }
-    for (j = 0; j < n_branches; j++) sum += s->internal_.branch_sign[j];
+    for (j = 0; j < n_branches; j++) sum += sw->branch_sign[j];
     return sum != 0;
 }
 
 /* One span of Algorithm 2.2 (Steps 2-7) with the spanning tangents t1, t2. */
-static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, const double *t2,
+static psb_result psb__sweep(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t1, const double *t2,
                              int max_branches, double *ys, double *ts, psb_branch_report *rep,
                              int *overflow)
 {
-    int np1 = s->internal_.np1, i, k, from_memo, n_dir = s->internal_.sweep_n_dir ? s->internal_.sweep_n_dir : s->branch.n_dir;
+    int np1 = s->internal_.np1, i, k, from_memo, n_dir = sw->sweep_n_dir ? sw->sweep_n_dir : s->branch.n_dir;
     double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
     double *tprev = PSB__VEC(s, PSB__V_BR_TP), *pt = PSB__VEC(s, PSB__V_BR_P);
     double h = s->branch.h, *q = PSB__VEC(s, PSB__V_BR_Q);
@@ -6099,12 +6111,12 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
     for (i = 0; i < n_dir; i++) {
-        double alpha = 6.283185307179586 * (i + s->internal_.sweep_offset) / n_dir;
+        double alpha = 6.283185307179586 * (i + sw->sweep_offset) / n_dir;
         for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
         rep->n_tangents++;
-        r = psb__sample_tangent(s, pt, v, tt, &from_memo, NULL);
+        r = psb__sample_tangent(s, sw, pt, v, tt, &from_memo, NULL);
         if (psb__is_fatal(r)) return r;
         if (r != PSB_SUCCESS) {
             psb__note_fault(s, r);
@@ -6114,7 +6126,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         /* a tangent tried before is skipped by psb__try_tangent; one that will be tried is
            the recomputed one (psb__sample_tangent) */
-        if (from_memo && (s->branch.expert.no_memo || !psb__memo_seen(s, tt))) {
+        if (from_memo && (s->branch.expert.no_memo || !psb__memo_seen(s, sw, tt))) {
             r = psb__sample_refresh(s, from_memo, pt, v, tt);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) {
@@ -6123,7 +6135,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
             }
         }
         psb__copy(tprev, tt, np1);
-        r = psb__try_tangent(s, y0, tt, max_branches, ys, ts, rep, overflow);
+        r = psb__try_tangent(s, sw, y0, tt, max_branches, ys, ts, rep, overflow);
         if (r != PSB_SUCCESS) return r;
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
     }
@@ -6135,7 +6147,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
    n_span < 250); 0 when all were swept. Orthogonalised sweep: the smallest |cosine| first;
    printed sweep: the largest first (section 6, "Order of the pairs"); ties in the order
    (0,1), (0,2), (1,2), (0,3), ... */
-static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, int *pj)
+static int psb__next_pair(psb_solver *s, psb__sweep_state *sw, const double *ts, int n_br, int *pi, int *pj)
 {
     int i, j, np1 = s->internal_.np1, nb = n_br < 64 ? n_br : 64;
     double best = -1;
@@ -6144,7 +6156,7 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
         for (i = 0; i < j; i++) {
             int bit = j * (j - 1) / 2 + i;
             double c;
-            if (s->internal_.pairs_done[bit / 64] >> (bit % 64) & 1u) continue;
+            if (sw->pairs_done[bit / 64] >> (bit % 64) & 1u) continue;
             c = fabs(psb__cos_w(s, ts + (size_t)i * (size_t)np1, ts + (size_t)j * (size_t)np1));
             if (!s->branch.expert.paper_sweep) c = 1 - c;
             if (c > best) {
@@ -6155,7 +6167,7 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
         }
     if (*pi < 0) return 0;
     i = *pj * (*pj - 1) / 2 + *pi;
-    s->internal_.pairs_done[i / 64] |= 1ull << (i % 64);
+    sw->pairs_done[i / 64] |= 1ull << (i % 64);
     return 1;
 }
 
@@ -6196,30 +6208,31 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
    transversal the branches come in pairs, so one is missing).
    dense: the count stayed odd (psb__odd_sweeps): the spans again, pairs first (span 0 too),
    while the count is odd, up to n_span counted spans. Returns PSB_SUCCESS or a fatal code. */
-static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, double *ts,
+static psb_result psb__span_loop(psb_solver *s, psb__sweep_state *sw, const double *y0, int max_branches,
+                                 double *ys, double *ts,
                                  psb_branch_report *rep, int *overflow, int dense)
 {
     int np1 = s->internal_.np1, k, span, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
     int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, spans_in_all, pi, pj;
     int counted_before = rep->n_span;
     long pc_before;
-    double *yc = PSB__VEC(s, PSB__V_BR_Y0), *t1 = PSB__VEC(s, PSB__V_BR_T1);
+    double *t1 = PSB__VEC(s, PSB__V_BR_T1);
     double *t2 = PSB__VEC(s, PSB__V_BR_T2), *pt = PSB__VEC(s, PSB__V_BR_P);
     psb_result r, fatal = PSB_SUCCESS;
     extend = s->branch.n_span_max > s->branch.n_span;
     spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
     if (dense) spans_in_all = 4 * s->branch.n_span;
     for (span = 0; (dense ? rep->n_span - counted_before < s->branch.n_span &&
-                                psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)
+                                psb__unbalanced(s, sw, ys, ts, rep->n_branches, &fatal)
                           : rep->n_span < s->branch.n_span ||
                                 (extend && rep->n_span < s->branch.n_span_max &&
                                  (rep->n_span < 3 * rep->span_last_new ||
-                                  psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)))) &&
+                                  psb__unbalanced(s, sw, ys, ts, rep->n_branches, &fatal)))) &&
                    span - idle_pair_spans < spans_in_all; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
         if (span > 0 || dense) {
-            pair_span = !pair_stale && psb__next_pair(s, ts, rep->n_branches, &pi, &pj);
+            pair_span = !pair_stale && psb__next_pair(s, sw, ts, rep->n_branches, &pi, &pj);
             if (pair_span) {
                 psb__copy(t1, ts + (size_t)pi * (size_t)np1, np1);
                 psb__copy(t2, ts + (size_t)pj * (size_t)np1, np1);
@@ -6234,10 +6247,10 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
                 centre = psb__restart_centre(s, ts, rep->n_branches, rep->n_rand, prev, t1);
                 global = !centre;
                 for (k = 0; k < np1; k++)
-                    pt[k] = yc[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
+                    pt[k] = y0[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
-                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL, NULL);
+                r = psb__sample_tangent(s, sw, pt, global ? prev : centre, t2, NULL, NULL);
                 if (psb__is_fatal(r)) {
                     fatal = r;
                     break;
@@ -6252,12 +6265,12 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
                    branch t_j whose region holds the random point, the tangent is t_j = t~1,
                    and the plane would be t~1's and rounding noise's. The random direction
                    spans a fresh one */
-                if (global ? !s->branch.expert.no_memo && psb__memo_seen(s, t2)
+                if (global ? !s->branch.expert.no_memo && psb__memo_seen(s, sw, t2)
                            : s->branch.expert.restart == PSB_RESTART_MIXED && fabs(psb__cos_w(s, t2, t1)) >= s->opt.c_diff)
                     psb__copy(t2, rnd, np1);
             }
         }
-        r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, overflow);
+        r = psb__sweep(s, sw, y0, t1, t2, max_branches, ys, ts, rep, overflow);
         if (r != PSB_SUCCESS) {
             fatal = r;
             break;
@@ -6267,7 +6280,7 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
             rep->n_span_idle++;
             if (pair_span) idle_pair_spans++;
             else if (++idle_spans_in_a_row >= 2 * s->branch.n_span &&
-                     !((extend || dense) && psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)))
+                     !((extend || dense) && psb__unbalanced(s, sw, ys, ts, rep->n_branches, &fatal)))
                 break;
             if (fatal != PSB_SUCCESS) break;
             continue;
@@ -6301,13 +6314,14 @@ static psb_result psb__sweeps_end(psb_solver *s, psb_branch_report *rep, psb_res
 }
 
 /* One run of Algorithm 2.2 with the options in s->branch (psb__find_branches). */
-static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const double *t0,
+static psb_result psb__find_branches_once(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t0,
                                           int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
     int np1, k, overflow = 0;
     unsigned long long seed;
-    double *yc, *tc, *t1, *t2, *pt;
+    const double *yc = y0;
+    double *tc, *t1, *t2, *pt;
     psb_result r;
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
@@ -6316,42 +6330,40 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     if (!ys || !ts) return psb__fail(s, PSB_ERR_NULL, "ys or ts is NULL");
     if (max_branches < 1) return psb__fail(s, PSB_ERR_SIZE, "max_branches must be >= 1");
     np1 = s->internal_.np1;
-    yc = PSB__VEC(s, PSB__V_BR_Y0);
     tc = PSB__VEC(s, PSB__V_BR_T0);
     t1 = PSB__VEC(s, PSB__V_BR_T1);
     t2 = PSB__VEC(s, PSB__V_BR_T2);
     pt = PSB__VEC(s, PSB__V_BR_P);
-    psb__copy(yc, y0, np1);
     psb__copy(tc, t0, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
     psb__branch_h(s, yc);
     /* H(y0) for the trials' conic test (psb__conic_excess); the test is off without it */
-    s->internal_.conic_h0_ok = 0;
-    if (s->internal_.jmemo_dh && !s->branch.expert.no_screen) {
+    sw->conic_h0_ok = 0;
+    if (sw->jmemo_dh && !s->branch.expert.no_screen) {
         r = psb__residual(s, yc, PSB__VEC(s, PSB__V_BR_H0));
         if (psb__is_fatal(r)) return r;
-        s->internal_.conic_h0_ok = r == PSB_SUCCESS;
+        sw->conic_h0_ok = r == PSB_SUCCESS;
     }
     seed = s->opt.seed;
     for (k = 0; k < 4; k++) s->internal_.rng[k] = psb__splitmix(&seed);
-    s->internal_.memo_n = 0;
-    s->internal_.known_n = 0;
-    s->internal_.jmemo_n = 0;
-    s->internal_.jmemo_looks = s->internal_.jmemo_hits = 0;
-    s->internal_.pmemo_checks = 0;
-    s->internal_.pmemo_drift = 0;
-    s->internal_.cone_defect = 0;
-    s->internal_.chord_turn_max = 0;
-    s->internal_.chord_turn_min = HUGE_VAL;
-    memset(s->internal_.pairs_done, 0, sizeof s->internal_.pairs_done);
-    s->internal_.branch_signs_n = 0;
+    sw->memo_n = 0;
+    sw->known_n = 0;
+    sw->jmemo_n = 0;
+    sw->jmemo_looks = sw->jmemo_hits = 0;
+    sw->pmemo_checks = 0;
+    sw->pmemo_drift = 0;
+    sw->cone_defect = 0;
+    sw->chord_turn_max = 0;
+    sw->chord_turn_min = HUGE_VAL;
+    memset(sw->pairs_done, 0, sizeof sw->pairs_done);
+    sw->branch_signs_n = 0;
     psb__faults_reset(s);
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
     psb__axpy_to(pt, yc, s->branch.h, tc, np1);
     rep->n_tangents++;
-    r = psb__sample_tangent(s, pt, tc, t2, NULL, NULL);
+    r = psb__sample_tangent(s, sw, pt, tc, t2, NULL, NULL);
     if (r != PSB_SUCCESS) {
         if (psb__note_fault(s, r)) psb__report_faults(s, rep); /* n_failed > 0 on every fault */
         return r;
@@ -6360,7 +6372,7 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     psb__copy(ts, t1, np1);
     rep->n_branches = 1;
 
-    r = psb__span_loop(s, max_branches, ys, ts, rep, &overflow, 0);
+    r = psb__span_loop(s, sw, yc, max_branches, ys, ts, rep, &overflow, 0);
     return psb__sweeps_end(s, rep, r, overflow);
 }
 
@@ -6371,33 +6383,34 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
    each halfway between two swept before, as long as these have not sampled more tangents
    than the call had before them (with many branches their pairs are many). Returns
    PSB_SUCCESS or a fatal code. */
-static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, double *ts,
+static psb_result psb__odd_sweeps(psb_solver *s, psb__sweep_state *sw, const double *y0, int max_branches,
+                                  double *ys, double *ts,
                                   psb_branch_report *rep, int *overflow)
 {
     int level, pi, pj, np1 = s->internal_.np1;
     long budget;
     psb_result r;
-    memset(s->internal_.pairs_done, 0, sizeof s->internal_.pairs_done);
-    s->internal_.sweep_offset = 0.5;
-    r = psb__span_loop(s, max_branches, ys, ts, rep, overflow, 1);
+    memset(sw->pairs_done, 0, sizeof sw->pairs_done);
+    sw->sweep_offset = 0.5;
+    r = psb__span_loop(s, sw, y0, max_branches, ys, ts, rep, overflow, 1);
     budget = 2 * rep->n_tangents;
-    for (level = 2; level <= 3 && r == PSB_SUCCESS && !*overflow && psb__unbalanced(s, ys, ts, rep->n_branches, &r);
+    for (level = 2; level <= 3 && r == PSB_SUCCESS && !*overflow && psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r);
          level++) {
-        memset(s->internal_.pairs_done, 0, sizeof s->internal_.pairs_done);
-        s->internal_.sweep_n_dir = s->branch.n_dir << (level - 1);
+        memset(sw->pairs_done, 0, sizeof sw->pairs_done);
+        sw->sweep_n_dir = s->branch.n_dir << (level - 1);
         while (!*overflow && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
-               rep->n_tangents + s->internal_.sweep_n_dir <= budget && psb__unbalanced(s, ys, ts, rep->n_branches, &r) &&
-               psb__next_pair(s, ts, rep->n_branches, &pi, &pj)) {
+               rep->n_tangents + sw->sweep_n_dir <= budget && psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r) &&
+               psb__next_pair(s, sw, ts, rep->n_branches, &pi, &pj)) {
             long pc_before = rep->n_pc;
-            r = psb__sweep(s, PSB__VEC(s, PSB__V_BR_Y0), ts + (size_t)pi * (size_t)np1,
+            r = psb__sweep(s, sw, y0, ts + (size_t)pi * (size_t)np1,
                            ts + (size_t)pj * (size_t)np1, max_branches, ys, ts, rep, overflow);
             if (r != PSB_SUCCESS) break;
             if (rep->n_pc > pc_before) rep->n_span++;
             else rep->n_span_idle++;
         }
     }
-    s->internal_.sweep_offset = 0;
-    s->internal_.sweep_n_dir = 0;
+    sw->sweep_offset = 0;
+    sw->sweep_n_dir = 0;
     return r;
 }
 
@@ -6408,9 +6421,9 @@ static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, d
    pieces bend nowhere and an excess tells a kink: a kink at distance a from y0 shows about
    a / h_init times its angle (1.9e-2 to 3.4e-2 for a loop within 1.4e-3 of y0 at h_init
    1e-2: 2 of 4 branches lost). There 8 times the straightest landing's turn, at least 1e-3. */
-static double psb__cone_tolerance(const psb_solver *s)
+static double psb__cone_tolerance(const psb__sweep_state *sw)
 {
-    double tol = 8 * s->internal_.chord_turn_min;
+    double tol = 8 * sw->chord_turn_min;
     return tol < 1e-3 ? 1e-3 : tol > PSB__CHORD_TURN ? PSB__CHORD_TURN : tol;
 }
 
@@ -6425,19 +6438,20 @@ static double psb__cone_tolerance(const psb_solver *s)
    count is odd (manual, "An odd count"; a branch that ended at a nearby kink's tells no turn),
    the run is made again with h_init / 16, up to 3 times (h_init stays above 8 h); an odd count
    that the smaller h_init kept ends it. */
-static psb_result psb__find_branches(psb_solver *s, const double *y0, const double *t0,
+static psb_result psb__find_branches(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t0,
                                      int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
-    double h_init = s->branch.h_init;
+    double h_init = s->branch.h_init, *y0c = PSB__VEC(s, PSB__V_BR_Y0);
     int round, before = -1;
     psb_branch_report local;
     psb_result r = PSB_SUCCESS;
     if (!rep) rep = &local;
+    psb__copy(y0c, y0, s->internal_.np1); /* held apart: ys may alias the caller's y0 */
     for (round = 0; round < 4; round++) {
         int turned;
-        r = psb__find_branches_once(s, y0, t0, max_branches, ys, ts, rep);
+        r = psb__find_branches_once(s, sw, y0c, t0, max_branches, ys, ts, rep);
         if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h) break;
-        turned = s->internal_.chord_turn_max > PSB__CHORD_TURN || s->internal_.cone_defect > psb__cone_tolerance(s);
+        turned = sw->chord_turn_max > PSB__CHORD_TURN || sw->cone_defect > psb__cone_tolerance(sw);
         /* an odd count that a smaller h_init kept is no kink's doing: on cones the run
            is the same, scaled */
         if (!turned && (rep->n_branches % 2 == 0 || rep->n_branches == before)) break;
@@ -6447,14 +6461,14 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
     /* not with patience (the caller chose to stop early), nor past max_pc */
     if (r == PSB_SUCCESS && s->branch.n_span_max > s->branch.n_span && !s->branch.expert.no_memo &&
         !s->branch.expert.patience && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
-        psb__unbalanced(s, ys, ts, rep->n_branches, &r)) {
+        psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r)) {
         int overflow = 0, counted = rep->n_span;
-        r = psb__odd_sweeps(s, max_branches, ys, ts, rep, &overflow);
+        r = psb__odd_sweeps(s, sw, y0c, max_branches, ys, ts, rep, &overflow);
         rep->n_span_odd = rep->n_span - counted;
         r = psb__sweeps_end(s, rep, r, overflow);
     }
     if ((r == PSB_SUCCESS || r == PSB_BRANCH_CAPACITY) && rep->n_branches % 2 == 0)
-        rep->unbalanced = psb__unbalanced(s, ys, ts, rep->n_branches, &r);
+        rep->unbalanced = psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r);
     s->branch.h_init = h_init;
     return r;
 }
@@ -6749,7 +6763,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     if (rep) memset(rep, 0, sizeof *rep);
     r = psb__check_couple(s, y0, t0);
     if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
-    return r == PSB_SUCCESS ? psb__find_branches(s, y0, t0, max_branches, ys, ts, rep) : r;
+    return r == PSB_SUCCESS ? psb__find_branches(s, &s->internal_.sweep, y0, t0, max_branches, ys, ts, rep) : r;
 }
 
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
@@ -7270,13 +7284,13 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
            (reseeded: the same result as without the look) */
         int n_span = s->branch.n_span, n_span_max = s->branch.n_span_max;
         s->branch.n_span = s->branch.n_span_max = x->eo->kink_spans;
-        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
         s->branch.n_span = n_span;
         s->branch.n_span_max = n_span_max;
         if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY || br.unbalanced))
-            r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+            r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
     } else {
-        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
     }
     d->n_branchings++;
     if (r < 0) {
