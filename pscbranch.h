@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /* pscbranch.h - v0.11.0 - piecewise-smooth continuation and numerical branching - MIT license
 
-   Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
-   folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
-   method of T. Ligursky and Y. Renard (restarted predictor-corrector of CMAME 280 (2014);
-   Algorithms 2.1 and 2.2 of "A method of piecewise-smooth numerical branching", ZAMM 97 (2017)).
-   Frictional contact is the motivating case; helpers for it are included.
+   Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through folds
+   and kinks, and finds every smooth branch leaving a nonsmooth point, with the method of T.
+   Ligursky and Y. Renard (CMAME 280 (2014); Algorithms 2.1 and 2.2 of "A method of piecewise-
+   smooth numerical branching", ZAMM 97 (2017)). It also locates folds, branch points and events,
+   switches at smooth branch points, explores whole diagrams and steps quasi-static evolutions
+   through snap-throughs. Frictional contact is the motivating case; helpers for it are included.
 
    In exactly one C or C++ file:       #define PSCBRANCH_IMPLEMENTATION
                                        #include "pscbranch.h"
@@ -36,937 +37,367 @@
      psb_solver_free(&s);                               // (ys + k*3, ts + k*3), branch 0 incoming
    examples/01_branching.c is this program in full.
 
-   CONTENTS
-     1. Concepts             4. Result codes             7. Contact helpers
-     2. The API at a glance  5. Options and defaults     8. Compile-time macros
-     3. Callbacks            6. Algorithms and choices   9. Revision history
+   CONTENTS  1. Concepts             4. Result codes             7. Contact helpers
+             2. The API at a glance  5. Options and defaults     8. Compile-time macros
+             3. Callbacks            6. Algorithms
 
-   1. CONCEPTS
-   -----------
+   1. CONCEPTS ------------------------------------------------------------------------------------
    y = (state, parameter) has N+1 components; problem.param_index says which one is the load
    parameter (psb_problem_init: the last). A couple (y, t) is a point with H(y) ~ 0 and a unit
    tangent t, dH(y) t = 0, ||t||_w = 1, whose sign is the direction of travel.
-   Weighted inner product <a,b>_w = sum_i w_i a_i b_i, with w_i = kappa for the state and 1 for the
-   parameter (or options.weights). Every norm, cosine and normalisation uses it: predictor,
-   corrector, acceptance cosine, Algorithms 2.1 and 2.2, loop detection. Step sizes and
-   tol_correction are lengths in it, so y in units far from 1 wants weights 1/u_i^2, u_i the
-   size of component i (a diagram in units of 1e-8 or 1e8, or with components in units of
-   1e-14 and 1e14 side by side, then comes out as in units of 1),
-   and with differences, whose steps are fd_step max(1, |y_j|), components far below 1 want
-   fd_step times their size; H's units need nothing (see tol_residual).
+   Weighted inner product <a,b>_w = sum_i w_i a_i b_i, w_i = options.kappa for the state and 1 for
+   the parameter (or options.weights). Every norm, cosine and normalisation in y uses it, so step
+   sizes, tol_correction and branching lengths are lengths in it: y in units far from 1 wants
+   weights 1/u_i^2, u_i the size of component i. Weighting some unknowns (e.g. multipliers) far
+   below the others makes pieces that differ only there look alike. H's units need no weight,
+   but tol_residual is absolute (section 5).
    H is PC^1: continuous, and near every point equal to one of finitely many C^1 selections. The
-   Jacobian callback returns the gradient of a selection that is active at y (the B-Jacobian
-   element of the piece y lies on); with finite differences (jacobian = NULL) a step that crosses
-   a kink mixes pieces, so give an analytic selection gradient when branching at kinks. Without
-   one, the h of Algorithms 2.1 and 2.2 (psb_branch_options.h) defaults, at each call, to 10^4
-   difference steps at the point, 10^4 max_j fd_step max(1, |y_j|) sqrt(w_j) within [h_min,
-   h_init / 8] (1.5e-4 near the origin with forward differences; s->branch.h shows the last
-   value; central differences reach the cap), so that the sample points of Algorithm 2.2 seldom
-   lie within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more
-   when the branch runs close to a piece boundary), keeps the tangent it entered with while it
-   moves (and tells a smooth turn from the end point by chords, section 6), and returns the
-   branch's tangent 16 h back; the tangents Algorithm 2.2 samples at
-   y0 + h v use difference steps below h / 1000. The branch sets then come out
-   about as with the analytic Jacobian (docs/branching-notes.md).
+   Jacobian callback returns the gradient of a selection active at y (a B-Jacobian element).
+   Without one, dH comes from finite differences, column j stepping fd_step max(1, |y_j|) (rescale
+   components far below 1); a quotient whose step crosses a kink mixes pieces, so give an analytic
+   selection gradient when branching at kinks. With differences and h left at 0, the h of
+   Algorithms 2.1 and 2.2 follows the point (10^4 difference steps, within [h_min, h_init / 8]),
+   Algorithm 2.2 samples tangents with steps below h / 1000 and Algorithm 2.1 keeps its entering
+   tangent: branch sets come out about as with an analytic dH.
    A kink is a point where a curve passes from one piece to another with a different tangent; a
-   nonsmooth point (bifurcation) is one where more than two smooth branches meet. Algorithms 2.1
-   and 2.2 assume the paper's (I)-(III): near the point the solutions form one-sided smooth
-   branches in distinct regions, every selection's gradient has full rank, and the kernels of
-   two different selections meet only in 0.
+   nonsmooth point (a PC^1 bifurcation) is one where more than two smooth branches meet.
+   Algorithms 2.1 and 2.2 assume the paper's (I)-(III): near the point the solutions form
+   one-sided smooth branches in distinct regions, every selection's gradient has full rank, and
+   the kernels of two different selections meet only in 0.
 
-   2. THE API AT A GLANCE (every function validates its arguments and returns psb_result)
-   ----------------------
-   psb_problem_init, psb_options_resolve    describe the problem; see the resolved options
-   psb_branch_options_resolve   the branching options a call will use (s->branch: the last)
-   psb_solver_init / _init_with_memory / _free    caller-owned state; all memory at init
-   psb_solver_memory_size(problem)                bytes for _init_with_memory
-   psb_solve_at_param   Newton on H(y) = 0 with the parameter held fixed (a starting point)
-   psb_tangent          unit tangent at y, oriented by a reference direction
-   psb_correct          Moore-Penrose corrector of a couple
-   psb_step             one predictor-corrector step with step control
-   psb_switch_tangent   the simple tangent switch at a couple where steps fail
-   psb_trace            the driver: from (y, t) to a bound, budget, end point, loop or failure
-   psb_locate_end       Algorithm 2.1: approach the end point of a branch
-   psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
-   psb_branch_point_switch  every branch through a smooth branch point psb_trace located
-   psb_evolve_step      one time step of a quasi-static evolution: Newton, else continuation
-                        in the load through folds (section 6, "Quasi-static evolution")
-   psb_explore          the whole diagram from one couple: every branch reachable through
-                        nonsmooth, PC1 and smooth branch points, as a graph (section 6,
-                        "Exploring the whole diagram")
-   psb_diagram_init / _init_with_memory / _free, psb_diagram_memory_size   the graph's storage
-   psb_diagram_write_json, _write_csv   the graph as JSON and CSV (with PSCBRANCH_STDIO)
-   psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
-   Inputs are never modified on failure (psb_trace: y and t hold the last accepted couple once
-   a step was accepted); what each function writes on failure is in its declaration. A freed
-   or uninitialised solver makes every call return PSB_ERR_NULL (psb_dot_w/_norm_w: NaN).
-   No function allocates except psb_solver_init and psb_diagram_init. Single operations (solve,
-   tangent, correct, step, switch, locate_end, find_branches) may be called from a point or
-   event callback of psb_trace on the same solver; psb_trace, psb_explore, psb_evolve_step and
-   psb_branch_point_switch may not (they would reuse the trace's scratch vectors): there they
-   return PSB_ERR_INPUT and leave the outer trace as it was.
-   The solver is not thread-safe; distinct solvers are independent (no global state).
+   2. THE API AT A GLANCE (most functions return psb_result) --------------------------------------
+   psb_problem_init             zero a psb_problem; set N, callbacks, param_index = N (void)
+   psb_options_resolve, psb_branch_options_resolve   the options a solver, a call would use
+   psb_solver_memory_size       bytes psb_solver_init_with_memory needs (0: invalid problem)
+   psb_solver_init, psb_solver_init_with_memory   set up a solver: allocated, or on your memory
+   psb_solver_free              release it (void); later calls return PSB_ERR_NULL
+   psb_solver_message, psb_result_string   the last failure's diagnostic; a code's meaning
+   psb_dot_w, psb_norm_w        weighted inner product and norm (double; NaN on bad arguments)
+   psb_solve_at_param           Newton on H(y) = 0 with the parameter held: a starting point
+   psb_tangent                  unit tangent at y, oriented by a reference direction
+   psb_correct                  Moore-Penrose corrector of a couple
+   psb_step                     one predictor-corrector step with step control
+   psb_switch_tangent           the tangent switch at a couple where steps fail
+   psb_trace                    the driver: from (y, t) to a bound, budget, end point or loop
+   psb_locate_end               Algorithm 2.1: approach the end point of a branch
+   psb_find_branches            Algorithm 2.2 with restarts: the branches leaving that point
+   psb_branch_point_switch      the branches through a smooth branch point psb_trace located
+   psb_evolve_step              one time step of a quasi-static evolution, through folds
+   psb_explore                  every branch reachable from one couple, as a graph
+   psb_diagram_init, _init_with_memory, _free, _memory_size   the graph's storage
+   psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv (PSCBRANCH_STDIO)
+   psb_proj_*, psb_ac2d_*, psb_fc3d_*, psb_fc_nat_error, psb_contact_convert: section 7
+   Inputs are never modified on failure, but psb_trace's (y, t) hold the last accepted couple once
+   a step was accepted, the branching calls' (ys, ts) the branches found so far, psb_explore's
+   diagram the graph so far. Only psb_solver_init and psb_diagram_init allocate. Single operations
+   (psb_solve_at_param, _tangent, _correct, _step, _switch_tangent, _locate_end, _find_branches)
+   may be called from a point or event callback of psb_trace on the same solver; psb_trace,
+   psb_explore, psb_evolve_step and psb_branch_point_switch there return PSB_ERR_INPUT and leave
+   the trace as it was. A solver is not thread-safe, but there is no global state: distinct
+   solvers may run in distinct threads. Same inputs, options and seed: same results, bit for bit.
+   psb_solver is caller-owned; public: prob (fd_step resolved), opt (resolved), branch (the latest
+   branching call's resolved options), stats (cumulative counters) and message; internal_ (type
+   psb__internal) is opaque. A freed solver, or one whose init failed, gives PSB_ERR_NULL.
 
-   3. CALLBACKS
-   ------------
-   int residual(const double *y, double *h, void *user)           h = H(y), N values
-   int jacobian(const double *y, double *jac, int ld, void *user) N x (N+1), column-major,
-                                                                   jac[i + j*ld], all entries
-   Return 0 on success; > 0 for a recoverable failure (the trial step is rejected and shortened;
-   where no retry exists the call returns PSB_ERR_CALLBACK_FAILED); < 0 to stop at once
-   (PSB_ERR_CALLBACK, the last accepted couple is kept). NaN or Inf in h or jac is treated like a
-   recoverable failure and reported as PSB_ERR_NONFINITE when no retry succeeds. A failed trial
-   tells nothing about the curve: an outcome that rests on one (an end point, no move of
-   Algorithm 2.1, a branch set with a failed trial) is reported as that failure, never as an
-   end point or a success; so is a Jacobian of rank < N (analytic or user solver; differences
-   only when nothing succeeded: their quotients mix the pieces near every kink).
-   int on_point(const psb_point *p, void *user) is called by psb_trace for the start, every
-   accepted point, and (locate_kinks) every kink; a nonzero return stops the trace there.
-   p->flags: PSB_POINT_START, _FOLD (the parameter component of t changed sign; p->fold_param
-   estimates the limit point), _SWITCH (reached through the tangent switch), _BOUND (exactly on a
-   parameter bound), _KINK (the last couple before a kink, located to h_min), _SPECIAL (a
-   located special point, p->special; its own call, before the accepted point that follows it,
-   p->index = that point's index; only with psb_trace_options.detect, section 6 "Special
-   points on the path").
-   int event(const double *y, double *g, void *user)   g = the n_events event values at y
-   (PSB_DETECT_EVENTS); 0 ok, < 0 stops (PSB_ERR_CALLBACK), > 0 or NaN/Inf ends the trace
-   with PSB_ERR_CALLBACK_FAILED / PSB_ERR_NONFINITE, also inside a location (a point missed
-   or mislocated would otherwise pass for a result).
+   3. CALLBACKS -----------------------------------------------------------------------------------
+   int residual(const double *y, double *h, void *user)             h = H(y), N values
+   int jacobian(const double *y, double *jac, int ld, void *user)   dense: all of dH(y), N x
+       (N+1) column-major, (i, j) at jac[i + j*ld]; NULL: finite differences
+   int band_jacobian(const double *y, double *band, int ldband, double *dparam, void *user)
+       banded: A = dH/dx at band[PSB_BAND_INDEX(ku, ldband, i, j)] (zeroed on entry; state column
+       j is y_j below param_index, else y_{j+1}), dparam = dH/dparameter; NULL: differences
+   solver.factor(y, row, ctx), solver.solve(b, nrhs, ctx)   user backend: factor B = [dH(y);
+       row^T] (you form dH), then solve in place, nrhs <= 2 columns of N+1; > 0: singular
+   int piece(const double *y, unsigned long long *id, void *user)   optional: an id shared only
+       by points where one C^1 selection gives H; > 0: not known here
+   Return 0 on success; > 0 for a recoverable failure (the trial is rejected and shortened; with
+   no retry left, PSB_ERR_CALLBACK_FAILED); < 0 to stop at once (PSB_ERR_CALLBACK). NaN or Inf
+   counts as recoverable (then PSB_ERR_NONFINITE). A failed trial tells nothing about the curve:
+   an outcome that rests on one (an end point, a branch set) is reported as that failure, never
+   as a success; so is a Jacobian of rank < N (with differences only when nothing succeeded).
+   int on_point(const psb_point *p, void *user)   psb_trace's start, accepted points, located
+   kinks and special points; nonzero stops (PSB_STOPPED). p->flags: PSB_POINT_START; _FOLD (t's
+   parameter component changed sign; p->fold_param estimates the limit point); _SWITCH (after a
+   tangent switch); _BOUND (exactly on a bound); _KINK (the last couple before a kink, within
+   h_min); _SPECIAL (p->special, reported before the accepted point that follows it).
+   int event(const double *y, double *g, void *user)   the n_events values g(y); < 0 stops
+   (PSB_ERR_CALLBACK), > 0 or NaN/Inf fails the trace (PSB_ERR_CALLBACK_FAILED, _NONFINITE).
 
-   4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`)
-   ---------------
-   PSB_SUCCESS           0  done
-   PSB_PARAM_BOUND       1  trace landed exactly on param_min or param_max
-   PSB_STEP_BUDGET       2  trace used max_steps accepted steps
-   PSB_NONSMOOTH_END     3  steps failed down to h_min and the tangent switch found no
-                            continuation (or no_switch was set): an end point; never when a
-                            callback, a NaN or a rank-deficient dH failed a trial there
-   PSB_STOPPED           4  the point callback returned nonzero
-   PSB_LOOP_CLOSED       5  (detect_loop) the curve came back to its start
-   PSB_BRANCH_CAPACITY   6  more branches than max_branches; the first ones are returned
-   PSB_ERR_NULL         -1  a required pointer is NULL
-   PSB_ERR_SIZE         -2  n < 1, param_index outside [0, n], max_branches < 1, piece id ...
-   PSB_ERR_OPTIONS      -3  inconsistent options (psb_solver_message says which)
-   PSB_ERR_NOMEM        -4  allocation failed, or the caller's memory block is too small
-   PSB_ERR_CALLBACK     -5  a callback returned < 0
-   PSB_ERR_CALLBACK_FAILED -6  a callback returned > 0 with no smaller step to try
-   PSB_ERR_NONFINITE    -7  NaN or Inf in the input or from a callback
-   PSB_ERR_SINGULAR     -8  singular matrix: dH(y) has rank < N (no unique tangent), or a
-                            bordered system has no solution; solver.factor/.solve returned
-                            > 0 or gave NaN
-   PSB_ERR_LAPACK       -9  LAPACK rejected an argument (a bug in pscbranch: please report)
+   4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`) -------------------
+   PSB_SUCCESS              0  done
+   PSB_PARAM_BOUND          1  trace landed exactly on param_min or param_max
+   PSB_STEP_BUDGET          2  trace used max_steps; psb_explore: max_traces or max_points
+   PSB_NONSMOOTH_END        3  an end point: steps failed, the switch too (or no_switch); no fault
+   PSB_STOPPED              4  a point callback returned nonzero, or stop_at
+   PSB_LOOP_CLOSED          5  (detect_loop) the curve came back to its start
+   PSB_BRANCH_CAPACITY      6  more branches than room, or a diagram full: what fits is kept
+   PSB_ERR_NULL            -1  a required pointer is NULL, or the solver is not initialised
+   PSB_ERR_SIZE            -2  a size or index out of range (n, param_index, kl, max_branches...)
+   PSB_ERR_OPTIONS         -3  invalid or inconsistent options (the message names the field)
+   PSB_ERR_NOMEM           -4  allocation failed, or the caller's memory block is too small
+   PSB_ERR_CALLBACK        -5  a callback returned < 0
+   PSB_ERR_CALLBACK_FAILED -6  a callback returned > 0 where no smaller step was left to try
+   PSB_ERR_NONFINITE       -7  NaN or Inf in the input or from a callback
+   PSB_ERR_SINGULAR        -8  rank(dH) < N, or a bordered system (or solver.factor) singular
+   PSB_ERR_LAPACK          -9  LAPACK rejected an argument (a bug in pscbranch: please report)
    PSB_ERR_NO_CONVERGENCE -10  Newton / corrector iterations did not converge
    PSB_ERR_STEP_TOO_SMALL -11  psb_step: every trial down to h_min failed
-   PSB_ERR_INPUT       -12  invalid numerical input: zero tangent, r <= 0, start out of bounds,
-                            NaN trace bounds
-   After a failure psb_solver_message(s) holds a one-line diagnostic.
+   PSB_ERR_INPUT          -12  bad numbers (zero t, start out of bounds), or a call from a trace
 
-   5. OPTIONS AND DEFAULTS (every zero field takes the default in brackets)
-   -----------------------
-   Four groups, each where it is used: the problem (how dH is formed and factored), psb_options
-   (the continuation, given once to psb_solver_init), psb_trace_options (each trace), and
-   psb_branch_options (each call of Algorithm 2.1, 2.2 or the branch point switch; inside
-   psb_explore_options as .branch). Every real must be finite (NaN and Inf give
-   PSB_ERR_OPTIONS, the message names the field); psb_options_resolve and
-   psb_branch_options_resolve show the values used.
-   psb_problem, linear algebra: linear [PSB_LINEAR_DENSE], kl, ku, band_lean, solver (section
-   6), and the finite-difference Jacobian when no Jacobian callback is given:
-   fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
-                                    column j steps fd_step * max(1, |y_j|), 0 < fd_step < 1
-   piece [NULL]                     the smooth piece at y (psb_piece_fn): Algorithm 2.2's
-                                    piece memo (section 6)
-   psb_options, the continuation (psb_solver_init; s->opt holds them resolved):
-   kappa [1], weights [NULL]        the weighted inner product (section 1); each in
-                                    [1e-290, 1e290]
-   h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 1e-290 <= h_min <= h_init <= h_max.
-                                    Every length and tolerance here and in psb_branch_options
-                                    is at least 1e-290 (with subnormal ones the lengths formed
-                                    from them lose their digits and Algorithm 2.1 reported a
-                                    precision of 0, fuzz_api)
-   h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
-                                    corrector iterations; shrink after a rejected trial;
-                                    1 <= h_inc <= 100, 1e-3 <= h_dec <= 0.9 (bounded
-                                    shrinking). A step's trials are h, h h_dec, ... down to
-                                    h_min: where a rejected h is below h_min / h_dec the next
-                                    would fall below h_min, and the step fails (a trace then
-                                    ends there), so keep h_min well below h_max h_dec
-   max_iter [10]                    corrector iterations per trial; max_iter, iter_threshold
-                                    <= PSB_MAX_ITER_LIMIT (1000)
-   tol_residual [1e-10]             ||H(y)||_2 at convergence. Absolute; where H's rounding
-                                    lies above it (terms of 1e6 and more) a point is also
-                                    converged once the correction is below tol_correction and
-                                    ||H|| stops falling (section 6), so large units need no
-                                    setting. Where H's terms are far below 1, set it to ~1e-10
-                                    times their size (terms of 1e-6: points near y0 that solve
-                                    nothing pass, and Algorithm 2.2 takes them for branches)
-   tol_correction [1e-10]           distance to the solution at convergence, ||.||_w: the last
-                                    correction or its contraction estimate (section 6)
-   c_min [0.9]                      least cosine between the tangents before and after a step
-   switch_delta_min [h_min], switch_delta_max [h_init]   probe distances of the tangent switch
-   switch_no_sweep [0]              1: no sweep around a kink when nothing lies straight ahead
-   switch_n_dir [20]                directions of that sweep (<= PSB_MAX_DIR_LIMIT, 10000)
-   c_diff [0.99999]                 cosine above which two tangents are one branch (the switch,
-                                    the kink test, Algorithms 2.1 and 2.2)
-   seed [0]                         the generator of the random spans of Algorithm 2.2
-                                    (xoshiro256**), and of psb_trace's random borders
-   psb_trace_options (per call): param_min, param_max (bounds, none when min >= max),
-   max_steps [10000], no_switch, detect_loop, locate_kinks, on_point; detect [0: no detector;
-   a PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4, EVENTS 8, ALL 15], stop_at [0; bit
-   1u << PSB_SPECIAL_*: stop on that special point's couple, PSB_STOPPED], locate_tol [1e-10,
-   ||.||_w along the curve], n_events, event, event_user, event_work (3 n_events doubles of
-   the caller's) (section 6).
-   psb_branch_options (per call, NULL: all defaults; checked at the call, which leaves its
-   inputs and s->branch as they were on PSB_ERR_OPTIONS; s->branch: the values the last call
-   used; h_min and h_init in brackets are psb_options'):
-   as_printed [0]                   1: Algorithm 2.2 as printed: sets paper_sweep, no_memo,
-                                    no_screen and restart = PSB_RESTART_PAPER (any other
-                                    restart: PSB_ERR_OPTIONS), hence a fixed n_span; each
-                                    other field keeps its meaning. What stays the library's
-                                    (section 6): Algorithm 2.1's retry of h after a move and
-                                    its tests against the entering tangent and for a move
-                                    ahead; the trials' tests (a landing closer than h is
-                                    discarded, one on a ray from y0 is kept)
-   h [h_min; with finite differences h_fd_steps steps, see section 1]
-                                    h of Algorithms 2.1 and 2.2 (the paper: the continuation's
-                                    smallest step)
-   h_fd_steps [1e4]                 those steps (resolved: 0 when not used)
-   h_min [h / 2^14]                 precision of Algorithm 2.1; 1e-290 <= h_min < h
-   h_init [h_init]                  first step of each trial step of Algorithm 2.2 (made
-                                    smaller where a branch shows a kink within it: section
-                                    6, "Kinks within h_init"); the sphere's radius of
-                                    psb_branch_point_switch
-   n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
-                                    at 0: at least 15, then on until twice as many counted
-                                    spans as the last new branch took have found nothing
-                                    and the count is even, up to n_span_max [60] (section
-                                    6, "Sweep length", "An odd count"); a value set here is
-                                    kept as given (n_span_max [n_span]). n_dir, n_span,
-                                    n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000).
-                                    Resolved, n_span < n_span_max says the length adapts
-   paper_sweep [0]                  1: directions exactly as printed, pairs of found branches
-                                    closest first (see section 6)
-   trial_h_min [h_min]              trial steps of Algorithm 2.2 give up below this step. Near
-                                    the point the solution set is, to first order, a cone:
-                                    a trial rejected at h is rejected at h/2 as well, so
-                                    h_init (one trial per direction) finds the same
-                                    branches at a fraction of the cost
-   patience [0], max_pc [0]         adaptive end of the sweep: stop after that many
-                                    spans in a row without a new branch / at that n_pc.
-                                    A thin branch can wait for a late pair or a lucky
-                                    random span: on the paper's block, patience 3 sometimes
-                                    stops one branch short, 5 did not in the runs of
-                                    docs/branching-notes.md; leave 0 where a missed branch
-                                    costs more than spans
-   no_memo [0]                      0: a direction whose tangent is within c_diff of one
-                                    tried earlier in the call is not tried again (its trials
-                                    from y0 are the same steps; report.n_memo counts them;
-                                    same branches, fewer trials); 1: as printed
-   no_screen [0]                    0: each trial starts along the tangent at its predictor
-                                    point y0 + h_init (+-t), and is skipped when that tangent
-                                    is a found branch's or was tried (section 6; report.
-                                    n_screened), and ends when a corrector iteration's tangent
-                                    is (report.n_cut); 1: along +-t to the end, as printed
-   restart [PSB_RESTART_MIXED]      random spans: _PAPER (as printed), _GLOBAL (uniform), or
-                                    _MIXED: uniform and near found branches, alternately
-   The paper's values for its contact examples: c_diff = 0.99999 (psb_options); h = 5e-7,
-   h_min = h / 2^14, h_init = 5e-4, n_dir = 20, n_span = 15 (psb_branch_options).
+   5. OPTIONS AND DEFAULTS (a zero field takes the default in brackets) ---------------------------
+   In psb_options and psb_branch_options every real must be finite, every length and tolerance at
+   least 1e-290 (PSB_ERR_OPTIONS names the field); psb_options_resolve and _branch_options_resolve
+   show the values used. psb_problem (psb_solver_init; s->prob keeps a copy with fd_step set):
+     param_index [psb_problem_init: N]  the load parameter's component, 0..N (0 means y[0])
+     linear [PSB_LINEAR_DENSE] PSB_LINEAR_DENSE (N <= 46000), _BANDED or _USER (section 6)
+     kl, ku [0]                banded: sub- and super-diagonals of A = dH/dx, in [0, N-1]
+     band_jacobian [NULL]      banded: A and dH/dparameter (section 3); NULL: differences
+     band_lean [0]             banded: 1 keeps one copy of A ((kl+ku+1) N doubles less, less reuse)
+     solver [none]             user backend: factor and solve (both required), ctx
+     fd_step [1.49e-8; central 6.06e-6]  differences: column j steps fd_step max(1, |y_j|); < 1
+     fd_central [0]            1: central differences (2 (N+1) residuals a Jacobian, not N+1)
+     piece [NULL]              the smooth piece's id at y: Algorithm 2.2's piece memo
+   psb_options (psb_solver_init; s->opt holds them resolved):
+     kappa [1]                 weight of each state component, in [1e-290, 1e290]
+     weights [NULL]            N+1 weights replacing kappa and 1, in [1e-290, 1e290]; copied
+     h_init [1e-2]             first step, and the first after each tangent switch
+     h_min [1e-6]              smallest trial step; h_min <= h_init <= h_max
+     h_max [1e-1]              largest step
+     h_inc [1.3]               growth after a step of < iter_threshold iterations, in [1, 100]
+     h_dec [0.5]               shrink after a rejected trial, in [1e-3, 0.9]
+     max_iter [10]             corrector iterations per trial, <= PSB_MAX_ITER_LIMIT (1000)
+     iter_threshold [4]        see h_inc; <= 1000
+     tol_residual [1e-10]      ||H(y)||_2 at convergence, absolute (below)
+     tol_correction [1e-10]    distance to the solution at convergence, ||.||_w
+     c_min [0.9]               least cosine between a step's tangents, in (-1, 1)
+     switch_delta_min [h_min]  first probe distance of the tangent switch
+     switch_delta_max [h_init] last probe distance, >= switch_delta_min
+     switch_no_sweep [0]       1: no sweep around a kink when nothing lies straight ahead
+     switch_n_dir [20]         directions of that sweep, <= PSB_MAX_DIR_LIMIT (10000)
+     c_diff [0.99999]          cosine above which two tangents are one branch, in (0, 1)
+     seed [0]                  seed of the random draws (Algorithm 2.2, branch point switch...)
+   A step tries h, h h_dec, ... down to h_min: keep h_min well below h_max h_dec. Where H's terms
+   are large, a point also converges once its correction is below tol_correction and ||H|| stops
+   falling; where they are far below 1, set tol_residual to ~1e-10 times their size (else non-
+   solutions pass for branches in Algorithm 2.2).
+   psb_trace_options (each psb_trace; NULL: defaults):
+     param_min, param_max [none]  bounds on y[param_index] (none when min >= max); may be +-inf
+     max_steps [10000]         accepted steps
+     no_switch [0]             1: end (PSB_NONSMOOTH_END) where steps fail, no tangent switch
+     detect_loop [0]           1: end (PSB_LOOP_CLOSED) when the curve returns to its start
+     locate_kinks [0]          1: locate the first kink of each step; 2: each, up to 8 a step
+     on_point, point_user [NULL]  the point callback (section 3) and its pointer
+     detect [0: none]          PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4 (not _USER), EVENTS 8
+     stop_at [0]               bit 1u << PSB_SPECIAL_*: stop (PSB_STOPPED) on such a point
+     locate_tol [1e-10]        precision of a special point, ||.||_w along the curve
+     n_events [0]              number of event functions (PSB_DETECT_EVENTS)
+     event, event_user [NULL]  the event callback (needed with n_events > 0) and its pointer
+     event_work [NULL]         3 n_events doubles of the caller's (needed with n_events > 0)
+   psb_branch_options (the branching calls, NULL: defaults; checked at each call; h_min, h_init
+   in brackets are psb_options'; the paper: h 5e-7, h_min h/2^14, h_init 5e-4, n_dir 20, n_span 15):
+     h [h_min; differences: expert.h_fd_steps steps at the point]  h of Algorithms 2.1, 2.2
+     h_min [h / 2^14]          precision of Algorithm 2.1; h_min < h
+     h_init [h_init]           first step of Algorithm 2.2's trials; branch point switch: r
+     n_dir [20]                directions per span (branch point switch: 2 n_dir), <= 10000
+     n_span [15]               counted spans, <= 10000; left at 0 (memo on), the length adapts
+     n_span_max [60 if n_span is 0 and the memo is on, else n_span]  above n_span: adapts
+     max_pc [0: none]          stop the sweep once n_pc reaches this budget
+     expert (psb_branch_expert) for reproducing the paper and for experiments; a user leaves it 0:
+     expert.as_printed [0]     1: as printed: the next three 1, restart _PAPER (_GLOBAL refused)
+     expert.paper_sweep [0]    1: directions sin(a) t~1 + cos(a) t~2 as printed; closest pair first
+     expert.no_memo [0]        1: every direction tried (no idle spans; fixed length by default)
+     expert.no_screen [0]      1: each trial along its sampled tangent (no screening, no cuts)
+     expert.restart [PSB_RESTART_MIXED]  random spans: _MIXED, _PAPER (Remark 2.3(ii)), _GLOBAL
+     expert.h_fd_steps [1e4]   differences, h left at 0: h in difference steps, in [1, 1e8]
+     expert.trial_h_min [h_min]  Algorithm 2.2's trial steps give up below this step
+     expert.patience [0: never]  stop after that many counted spans in a row found no branch
+   psb_explore_options (psb_explore; NULL: defaults):
+     trace [0]                 each trace's bounds, max_steps, detect (0: all), locate_tol, events
+     branch [0]                the psb_branch_options of every branching
+     no_detect [0]             1: no detectors (nodes only where traces end, and at kinks)
+     box_min, box_max [NULL]   N+1 values each: a trace ends at its first point outside the box
+     state_max [0: none]       a trace ends where the state part of y exceeds it in ||.||_w
+     one_direction [0]         1: from the start along t only, not -t
+     max_traces [0: max_edges] edges traced in all
+     max_points [0: none]      accepted points in all
+     branch_at_kinks [0]       1: locate every kink a trace passes and branch there
+     kink_spans [0: full]      branch_at_kinks: a first look at a kink with this many spans
+     node_tol [16 branch.h; differences: 16 h at the node]  branching points this close: one node
+     on_point, point_user [NULL]  int on_point(int edge, const psb_point *p, void *user)
+   psb_evolve_options (psb_evolve_step; NULL: defaults):
+     mode [PSB_EVOLVE_AUTO]    AUTO: Newton, else continuation; _NEWTON or _CONTINUATION only
+     newton_max_iter [20]      Newton's iterations at the new parameter, <= 1000
+     newton_max_jump [0: any]  AUTO: a Newton solution farther than this (||.||_w) is refused
+     param_min, param_max [none]  the path's range (none when min >= max); y, target inside
+     max_steps [10000]         accepted continuation steps
+     max_length [0: none]      longest continuation path, ||.||_w
+     no_switch [0]             1: the path does not pass kinks
+     on_point, point_user [NULL]  every point of the path; nonzero: PSB_ERR_CALLBACK
 
-   6. ALGORITHMS AND CHOICES
-   -------------------------
-   What each part does and why, briefly; the measurements behind the choices are in
-   docs/branching-notes.md and docs/benchmarks.md.
-   Linear algebra (problem.linear). Every factorisation is of a bordered matrix
-   B = [dH(y); row^T], (N+1) x (N+1), and serves all right-hand sides of its iteration.
-   PSB_LINEAR_DENSE: dgetrf/dgetrs on B, dlacn2 for the tangent's conditioning test, memory
-     ~ 2 (N+1)^2 doubles. problem.jacobian fills dH (or finite differences, N+1 residuals).
-   PSB_LINEAR_BANDED: for dH/dx with bandwidths kl, ku (number the unknowns so that coupled
-     ones are close: node by node in finite elements). problem.band_jacobian fills the band
-     and dH/dparameter (or finite differences by column groups: kl+ku+2 residuals). B is
-     solved by block elimination on the LU of the band: w = A^{-1} dH/dparameter once per
-     factorisation, then one banded solve per right-hand side (none for the tangent's). The LU
-     is the header's own, dgbtrf's algorithm in panels of four columns (each column to the
-     right of a panel takes its four eliminations in one pass): the same pivots and, against
-     reference LAPACK, the same factors bit for bit, faster (SSE2 where the compiler targets
-     it; PSCBRANCH_NO_SIMD: plain loops, PSCBRANCH_USE_DGBTRF: LAPACK's dgbtrf, say for a
-     tuned LAPACK). A corrector iteration costs one LU and one pass of forward and back
-     substitution over its factors, which solves for w and the Newton right-hand side
-     together (dgbtrs' operations, in its order, at about half the cost of two dgbtrs). At a
-     fold A alone is singular while B is not. Block elimination amplifies the banded solves'
-     errors by at most g = (|d| + sum |c_j w_j|) / |d - c.w| (the cancellation in the Schur
-     complement); where g <= 16 the solution is used as it comes (the LU solve is backward
-     stable), elsewhere it is checked by its residual in B and refined; if A is exactly
-     singular or refinement stalls, A + sigma I (sigma = sqrt(eps) ||B||) is factored instead
-     and the refinement against the true B converges geometrically. A is kept beside its
-     factors, and an A bit-identical to the factored one (H piecewise linear: both points in
-     one piece; or the same point again) reuses them, w included when dH/dparameter is
-     unchanged too: stats.n_factor_reused counts these, and the results are exactly those of
-     factoring again. Memory ~ (4 kl + 3 ku + 50) N, or (3 kl + 2 ku + 50) N with
-     problem.band_lean (one copy of A, reused only at the same y), plus the memos of
-     Algorithm 2.2 (at most 12 MB, below).
-   PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
-     in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
-     solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
-     other border rows. contrib/psb_sparse.h (outside this header: it needs SuiteSparse) is
-     such a solver: UMFPACK or KLU on B itself, from the pattern of dH/dx and a callback for
-     its values; the fill-reducing ordering is computed once, every factorisation pivots over
-     all of B (exact at folds, where A alone is singular), factors are kept where dH repeats
-     (a new border row by a rank-one update), each solution is checked by its backward
-     error. Its top comment is its manual; examples/fe_solvers.h uses it.
-     contrib/psb_mumps.h is another, for MUMPS: the pattern of dH/dy once (coordinates, the
-     parameter column included) and a callback for its values; MUMPS's analysis once per
-     solver object, a numeric factorisation per factor call, a singular or non-finite B > 0
-     (so the tangent fallbacks apply); the factorisation can spread over MPI ranks while the
-     continuation runs on rank 0 (psb_mumps_main; mpirun -np K). contrib/psb_condense.h is
-     for Jacobians that vary with y in a few rows only (linear elasticity with contact): the
-     constant rows are factored once (UMFPACK) and each factor call factors the dense Schur
-     complement on the varying rows' unknowns, exact at folds as well.
-   PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
-   scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
-   Tangent. The bordered system [dH(y); (W r)^T] t = e_{N+1} (r the reference direction) is
-   solved; if it is singular (r orthogonal to the kernel) or, dense, its reciprocal condition
-   number is below sqrt(eps) (estimated as dgecon does, for B with its columns in the weights'
-   units and its rows then scaled to a largest entry of 1), the dense backend takes the kernel
-   from the QR factorisation of dH(y)^T (dgeqr2/dorm2r), which is exact at folds (rank < N gives
-   PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
-   scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
-   Predictor-corrector. Prediction (y + h t, t). Each corrector iteration factors
-   B = [dH(y); (W t)^T] once and solves B [dy, v] = [[H(y); 0], [0; 1]] (one dgetrs, two
-   right-hand sides): y -= dy, t = v / ||v||_w (Moore-Penrose / Gauss-Newton on the curve,
-   point and tangent together). Converged when ||H(y)||_2 <= tol_residual and the distance
-   to the solution is below tol_correction: ||dy||_w <= tol_correction, or, from the second
-   iteration on, the contraction theta = ||dy_k|| / ||dy_k-1|| <= 1/2 bounds what is left,
-   theta ||dy_k|| / (1 - theta) <= tol_correction (Newton's usual a-posteriori estimate; it
-   spares the iteration that only confirms a correction of 1e-8 shrank to 1e-15); or when
-   ||dy||_w <= tol_correction and ||H|| fell by less than half in the iteration: it is H's
-   rounding, above tol_residual where H's terms are large (the same test ends the Newton
-   solves of Algorithm 2.1, the detectors and psb_solve_at_param). A trial is
-   accepted when it converged within max_iter, the corrected point lies within h of the
-   prediction (a longer jump landed on another part of the curve), and cos_w(t_new, t) >=
-   c_min; otherwise h *= h_dec until h < h_min. A branch that runs within a step of the one
-   traced, past a kink where that one turns sharply, can still take the corrector (a review:
-   a wedge with a line 0.01 beside its apex, h 0.1: the trace went on along the line, and the
-   explorer called the apex a smooth branch point); bound h_max below such distances. An
-   iterate farther than 4 h from the
-   prediction ends the trial at once (at kinks the corrector otherwise hops between the far
-   kernels of pieces until max_iter).
-   Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
-   switch_delta_max: t~ = tangent at y + delta t; once cos_w(t~, t) < c_diff, try steps from y
-   along +t~ then -t~ (from h_init down to h_min) and accept the first couple that does not go
-   back along the incoming branch (cos_w(t_new, -t) < c_diff; when the point was itself just
-   reached by a switch, nor along the branch before that one). If nothing lies straight ahead
-   (at a sharp turn the region beyond the kink holds no branch), the plane of -t and the tangent
-   ahead is swept in switch_n_dir directions at three probe distances, as Algorithm 2.2 does,
-   with trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). If that
-   finds nothing, both are repeated with the directions they left out that differ from t
-   beyond a tangent's rounding (cosine in [c_diff, 1 - 1e-12)): steps also fail at kinks that
-   turn by less than acos(c_diff) when a thin wedge of other pieces lies straight ahead (the
-   corrector cycles between them), and such a kink is no end point. Each pass skips a
-   direction equal (to 1e-9 in cosine, either sign) to one of the last 8 it tried: its steps
-   would end as they did. At a point where more than two branches meet, the trace continues on
-   one of them: use Algorithms 2.1 and 2.2 to get them all. A cluster of kinks closer together
-   than the probes resolve may end the trace there (PSB_NONSMOOTH_END; at a limit point of the
-   triangle's fold curve on M65536, three kinks within 4e-8 along it): Algorithms 2.1-2.2, or a
-   trace from the curve's other end (examples/triangle.c, --fold-trace), go on from there.
-   Continuation restarts at h_init.
-   The tangent switch and the deduplication of branches compare tangents in the weighted norm:
-   two pieces that differ only in components of tiny weight look alike there, so do not weight
-   any group of unknowns (e.g. multipliers) far below the others.
-   Folds: a sign change of t[param] between accepted points. The estimate is the extremum of
-   the cubic Hermite interpolant of the parameter in the chord length (exact to O(h^4) on smooth
-   folds); at a fold that is a kink (reached by a switch) it is the parameter of the last point
-   before the kink.
-   Kinks (locate_kinks): a smooth turn halves with the step, a kink does not. After a step whose
-   tangents differ by more than c_diff, a half step tells the two apart; a kink is then located
-   by bisection to h_min and, with an analytic dH, confirmed by a step of 2 h_min across it,
-   which turns by the whole angle at a kink and next to nothing on a smooth curve (where the
-   curvature grows from near 0 across the step, the half step turns by only 1/4 of the whole
-   and looks like a kink); then it is reported (the trace continues past it unless told to
-   stop). A step may pass several kinks: where the half step's turn looks smooth, the quarter
-   and three-quarter steps tell a smooth turn from two kinks, and the first kink of the step is
-   the one located. A trace that stops at kinks (psb_explore with branch_at_kinks) thus meets
-   each; locate_kinks = 2 also searches the rest of each step past each kink (up to 8 a step),
-   which costs: the triangle's fold study at M4096, whose steps pass several contact switches
-   each, 592 -> 1378 factorisations (644 with 1).
-   Bounds: a step that crosses a bound is replaced by Newton at the bound (psb_solve_at_param
-   from the chord), so the last point lies exactly on it.
-   Algorithm 2.1 as in the paper, except that after a successful move the same h is tried again
-   before it is halved: the paper's version moves at most h in all and so cannot reach an
-   end point that the continuation left farther away. Step 4 also compares the new tangent with
-   the one the call entered with, so turns below c_diff cannot add up, and a move must land at
-   least h/2 ahead (a corrector falling back from beyond the end point onto the branch behind
-   it passes the cosine test over and over). With finite differences the tangent is not
-   updated while moving and the one returned is computed 16 h back: quotients within a
-   step of the point mix its pieces. Where the moves stall, two chords through the point
-   (from corrected points 256 h_min behind and ahead, then 64 h_min, farther where
-   tol_correction asks it; not from quotients) tell an end point, where they differ by the
-   kink's angle, from a smooth point where the branch turned by more than c_diff's angle
-   since the start, where they agree to half of it: from there it follows on along the chord
-   (curved random LCPs, starts 2e-5 to 2e-3 up the branch: 38 of 64 returned a smooth point
-   as the end point before, none now).
-   Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
-   deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc, with these
-   choices:
-   (psb_branch_options.as_printed = 1 turns off each choice below that has a switch: the even
-   sweep, the memo and with it idle spans and the adaptive length, screening and cuts, the
-   mixed restarts.)
-   - Trials. A trial that converges closer to y0 than h is discarded: there pieces that merely
-     touch the end point are active, and their tangents would pass for new branches. A trial
-     whose corrector converges but fails the jump or cosine test of continuation is still taken
-     when the point lies, within 8 trial steps of y0, on the line through y0 along its own
-     tangent (|cosine| >= c_diff): it is a point of a branch leaving y0, only not the one the
-     trial pointed at (near a nonsmooth point the corrector often crosses into a neighbouring
-     piece). Trial steps give up below trial_h_min: near y0 the solution set is, to
-     first order, a cone, so a trial rejected at h is rejected at h/2 as well.
-   - Curved branches. A trial lands anywhere from h to h_init away from y0, and over that
-     distance a branch of curvature kappa turns its tangent by kappa h_init, beyond c_diff's
-     angle for kappa > 0.5 at the defaults: the tangent test alone takes the incoming branch,
-     met again, for a new one. So a landing point whose tangent misses a found branch's by
-     less than c_diff's angle plus 4 (a + a_j), a and a_j how far each point's chord from
-     y0 leaves its tangent (kappa d / 2 at distance d; 0 on straight branches, which skip
-     this), is compared where the branches cross the sphere through it around y0: Newton on
-     that sphere from y0 along the found branch's chord lands on the found branch's crossing,
-     the landing point itself when the two are one (within c_diff's angle seen from y0).
-   - Sweep. The directions v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1
-     (and of its norm): the same plane, swept evenly. As printed (paper_sweep = 1), two nearly
-     parallel spanning tangents bunch the n_dir directions around them and leave most of the
-     plane unvisited.
-   - Restarts, as in Section 3: (1) the pairs (t_i, t_j) of branches found so far; (2) then
-     random spans. Order of the pairs: the orthogonalised sweep spreads its directions evenly
-     over a pair's plane, and two close branches span little more than planes already swept,
-     so the pair with the smallest |cosine| comes first; the printed sweep samples finest in
-     the narrow wedge between close tangents, so with paper_sweep the largest |cosine| comes
-     first. Random spans: Remark 2.3(ii) perturbs the previous t~2 by 0.1 of a random vector
-     and so only explores near spans already swept (PSB_RESTART_PAPER); uniform directions
-     (PSB_RESTART_GLOBAL) reach far regions but rarely a thin region beside a found branch.
-     PSB_RESTART_MIXED (the default) alternates both kinds: a uniform draw (first), then a
-     span through a found branch t_j (j = 0, 1, ... in turn) with t~2 the tangent at
-     y0 + h (t_j + 0.1 r), r uniformly random. When the tangent at a uniform draw was tried
-     before, t~2 is that random direction itself: on a piecewise-linear H the tangents are the
-     pieces' finitely many directions, and the plane of two of them revisits swept ground.
-     When the tangent beside t_j is t_j (within c_diff: the random point lies in t_j's region),
-     t~2 is r: the span through t_j and its own tangent swept the plane of t_j and the rounding
-     left when t_j is taken out of its copy, a direction set by the last bits, and mostly tried
-     nothing (absolute value equations A x - |x| = b g, N = 6, 59 684 entries: incomplete 43
-     -> 10, of them silent, with an even count, 41 -> 10; Algorithm 2.2's factorisations 0.3%
-     more).
-   - Memo of tried tangents (no_memo = 0). The trials of a direction are steps from y0
-     along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
-     of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
-     min(256, max(32, 2^19 / (N+1))) tangents are kept (the oldest give way). Branch sets are
-     those of the full run; spans later than the first mostly revisit regions, so n_pc falls.
-   - Jacobian memo (analytic dH, dense or banded backend). The tangent at a sample point is
-     the kernel of dH there, and on a piecewise-linear H every point of a piece has the same
-     dH, bit for bit. So the sample points' dH are hashed (128 bits from every entry) and a
-     dH seen before in the call gives its tangent without a factorisation
-     (stats.n_tangent_reused; as many entries as the memo of tried tangents; after 64
-     look-ups with fewer than one hit in 8 the call stops hashing). A remembered
-     tangent only decides skips (tried before, screened, the previous direction's region);
-     one that goes on to a trial is recomputed from the same dH, because the rounding of a
-     different bordering row can steer a sweep elsewhere on degenerate problems. Each entry
-     also keeps its tangent's outward sign, sgn det [dH; (W t)^T] from the LU factors that
-     made it, for the found branches' signs ("An odd count", below).
-   - Conic stop (with screening, analytic dH). A trial step that fails (no convergence, the
-     jump or cosine test) is retried with h_dec times the step down to trial_h_min. Where the
-     pieces its corrector met are cones with apex y0, a smaller step is the same run scaled
-     and fails alike; so at each iterate y the trial checks that H is affine through y0 there
-     (H(y) = H(y0) + dH(y) (y - y0) to rounding and 10^-6 of the step, y0 being a kink only
-     to Algorithm 2.1's precision) and that dH is the same, bit for bit, at the point of the
-     segment [y0, y] at distance h from y0 (polyhedral pieces: the segment lies in y's
-     piece): one more Jacobian per iteration, from a trial's second step on. When every
-     iterate of that step passes, the trial ends there. Both: bench_branching, same branches
-     and n_pc, Algorithm 2.2's factorisations 4.7-8.5 times fewer; the block's trials end by
-     the cut already and its sample points fall in pieces of their own (many contact nodes
-     change state at y0): the same factorisations, 0.3% more instructions.
-   - Piece memo (problem.piece set; any Jacobian and backend). The tangent at a sample point
-     is that of its piece's dH, and you can often name the piece cheaply where the library
-     cannot see it: on a contact problem, the contact nodes' pieces (the helpers' *piece
-     outputs). A sample point whose piece was met before in the call takes that point's
-     tangent, with no Jacobian and no factorisation, for the skips alone (as the Jacobian
-     memo's); a tangent that goes on to a trial is computed at its own point. On a piece
-     where H is smooth but not linear, the two points lie within 2 h_init of each other, so
-     their tangents differ by about the curvature times that, which must stay well below
-     c_diff's angle (4.5e-3 rad by default). Two points with one id must lie in one C1 piece
-     of H (else a skip can be wrong); giving different ids to one piece only costs
-     factorisations. A return > 0 (piece not known) computes the tangent. The hyperelastic
-     block (examples/fe.h's fe_psb_piece): the same spans, n_pc and branches in the 36
-     settings of Tables 1-2 with and without it; M200 1072 -> 795 factorisations, M800
-     1253 -> 1015, M12800 2323 -> 2235 (at y0 every contact node is at its vertex, and the
-     sample points spread over ever more combinations of their pieces as the mesh refines).
-   - Screened trials (no_screen = 0). Near y0 the pieces are, to first order, cones
-     with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
-     lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
-     a trial along k, scaled, and cones scale. So the trial along x can land on no branch the
-     trial along k misses. Each trial therefore costs a tangent at p first: when k is within
-     c_diff of a found branch's tangent, of a direction tried before (either sign) or of a k
-     whose trial was made, the trial is skipped (report.n_screened); otherwise it goes along
-     k, and k is remembered (up to the memo's count of them). After iteration i a trial is, in
-     the same way, a trial along its corrector tangent k_i scaled up: the k_i of the first 8
-     iterations of a trial that landed are remembered too (analytic Jacobians only: difference
-     quotients at the iterates can mix pieces). A skipped trial costs one factorisation
-     instead of a corrector run.
-   - Cut trials (the same option, analytic Jacobians). Once a trial's corrector tangent k_i
-     would be screened (the trial's own k aside), the trial's outcome is known: it lands on
-     that found branch, or repeats a trial made before, which found no branch that is not
-     known by now; having spent i iterations, it can do no better. It stops there (counted in
-     n_pc and in report.n_cut), and its k_j, j <= i, are remembered.
-   - The memo's cut (with the Jacobian or piece memo). k_i is the tangent of dH at the
-     iterate, and the memo may hold it: before factorising, the trial looks the iterate's
-     piece id up (or, with no id there, dH's hash once dH is formed); a held tangent that would
-     be screened cuts the trial with no factorisation (report.n_cut_memo), and the corrector
-     stores each tangent it computes. A dH hash is exact. A piece id gives a tangent from
-     another point of the piece: the first 4 held tangents met at trial iterates are compared
-     with those computed there, and a piece's tangent cuts only while every such pair in the
-     call lies within an eighth of c_diff's angle (on curved pieces a wrong verdict lost a
-     branch: curved random LCPs, which now keep their sets; the block: 0 of 390 verdicts
-     differ). The same branches; Algorithm 2.2's factorisations: the block M800, inputs 1-3,
-     627-639 -> 496-509 (0.9.0: 865-876), n_pc the same (in 4 of 12 Tables 1-2 settings 1-3
-     apart: near c_diff's angle a piece's tangent can decide otherwise); bench_branching 3-9%
-     fewer, n_pc the same.
-   - Kinks within h_init. The trials and their screen take the pieces for cones with apex y0 out
-     to h_init. Where another kink lies closer, a trial lands beyond it, on that point's
-     branches, and the screen skips real trials. A branch leaving y0 runs along its chord from
-     y0 (a curved one turns from it by curvature x distance / 2), so a landing point whose
-     tangent turns from its chord by more than 0.05 rad shows it. So does a point where a trial
-     meets H off the cones: at a trial's iterate within 2 h_init of y0, or at its screening
-     point (dH hashed there, one residual more), H(y0) differs from H's affine map at that
-     point, H(y) + dH(y) (y0 - y), by more than 0.05 of the step's own terms (|dH| |y - y0|, row
-     by row; curvature x distance / 2 on smooth pieces, as for the chord); where some landing
-     point's chord runs straight along its tangent (H piecewise linear), by more than 8 times
-     that landing's turn, at least 1e-3 (a kink a from y0 shows about a / h_init times its
-     angle). Trials cut or screened land nowhere, and on loops of pieces shorter than h_init
-     every trial of the missing branches was cut. And an odd count (above) most likely misses a
-     branch, which may have ended at the nearby kink with no turn to show. Either way the run is
-     made again with h_init / 16, up to 3 times while h_init stays above 8 h (s->branch keeps
-     the caller's h_init, the report is the last run's); an odd count that the smaller h_init
-     kept ends it (on cones the run is the same, scaled). An audit's piecewise-affine systems
-     with kinks 1e-3 to 1e-1 apart (psb_explore, 175 compared; with this rule and two fixes to
-     psb_explore's loops): exact diagrams 90 -> 156, wrong with n_odd > 0 70 -> 9, wrong with no
-     sign 9 -> 8; the same scaled by 1e-6 and 1e6 (92): 50 -> 84, 39 -> 3, 2 -> 3. With the
-     off-cone test (and psb_explore's edges away from their origin once past a kink): 169, 4, 2
-     of the 175; 1022, 30, 10 of 1062 over six such sets (917, 62, 78 without them); scaled, two
-     sets (182): 173, 7, 1 (160, 8, 12). Where kinks lie closer than h_init, a smaller h_init is
-     still the surer setting. The block and the examples never turn so far nor end odd (the same
-     runs); bench_branching: the same sets, and where a count stays odd one more run (random
-     LCPs N = 10: 1566 -> 1648 factorisations in Algorithm 2.2; the as-printed rows 11-21%
-     more).
-   - Idle spans (memo on). A span all of whose tangents were tried before (or whose trials
-     were all screened) tries nothing; it costs n_dir tangents and does not count against
-     n_span (report.n_span_idle): on problems whose pairs of branches span planes that meet
-     no third branch's region, counted idle spans used up n_span before the random spans
-     came. After an idle span of two known branches the next span is random, not the next
-     pair. 2 n_span idle random spans in a row (in R^2 all spans after the first), or 4 n_span
-     spans in all (8 n_span when the length adapts), end the sweep; idle spans of pairs count
-     in neither (each is followed by a random span, which bounds them). While the set found is
-     odd or unbalanced ("An odd count", below), when the length adapts and in the sweeps that
-     follow it, only the spans in all end it.
-   - Sweep length (n_span left at 0). Where regions are thin, new branches thin out slowly,
-     and the span that brought the last new branch measures how thin they are. So the sweep
-     goes on past 15 counted spans until twice as many again have found nothing (fewer than 3
-     times the span of the last new branch), up to 60 (8 n_span spans in all, idle ones
-     included). Runs whose branches all came by span 5 end at 15, or sooner where 2 n_span
-     idle random spans come in a row ("Idle spans" above; 28 of the 43 incomplete entries of
-     the absolute value equations audit, N = 6, ended so before the spans beside a found
-     branch were mended, "Restarts" above). A value set by the caller is kept, so the
-     paper's n_span means what it says.
-   - An odd count. Near y0 the branches cross a small sphere around it where H, restricted to
-     the sphere (dimension N, into R^N), vanishes; where they cross it transversally (each
-     branch inside a piece whose dH has rank N), that map's zeros come in even number, as a
-     map of a closed manifold into R^N has mod-2 degree 0. So with the length adapting an
-     odd count keeps the sweep going to n_span_max: random LCPs (bench_branching), complete
-     sets N = 8 232 -> 234 of 236, N = 10 230 -> 244 of 254, at 5% more n_pc; of the
-     incomplete runs before, 22 of 28 had an odd count, none of the complete ones. A count
-     still odd there (after the runs with a smaller h_init, see "Kinks within h_init") sweeps
-     once more, the pairs of found branches first, then random spans, with every direction
-     halfway between two of the first sweep's, up to n_span counted spans; then the spans of
-     the pairs with 2 n_dir and then 4 n_dir directions, each halfway between two swept
-     before; all while the count is odd, not with patience set, within max_pc
-     (report.n_span_odd): the missing region is most often thin and lies between directions
-     already sampled. bench_branching: random LCPs N = 10 242 -> 251 of 254 complete,
-     contact systems N = 12 87 -> 90 of 90, at most 2.1% more Algorithm 2.2 factorisations;
-     1346 contact ray entries (docs/branching-notes.md): odd counts 17 -> 8 (4 of the 8 a ray
-     within c_diff's angle of another). An odd count returned (report.n_branches,
-     psb_diagram.n_odd) most likely misses a branch, unless one runs along a piece boundary or
-     y0 is not a regular point of its pieces.
-     Unbalanced signs. Counted with orientation (PC1 above), each transversal branch carries
-     its outward sign sgn det [dH; (W t)^T], and the signs of a complete set add up to 0. An
-     even count whose signs do not cancel misses branches too (two of one sign, most often),
-     and the sweeps treat it as an odd one: on to n_span_max, then the sweeps again, while
-     the set is odd or unbalanced (not the reruns with a smaller h_init). Each branch's sign
-     is taken once, when the sweep would end, at its landing point (branch 0's on its
-     tangent): from the memo where the point's piece or dH has an entry (every factorisation
-     that makes a memoised tangent keeps det B's sign, O(N) from the LU factors; not from
-     shifted banded factors nor the dense QR fallback), else by a bordered factorisation there
-     (difference steps as at sample points; banded factors of an exactly singular dH/dx tell
-     none); dense and banded backends only. report.unbalanced tells a set left so. A missing
-     pair of opposite signs (the thin regions, mostly) leaves the sum unchanged, so a balanced
-     even count is no proof. Measured against the rule of the odd count alone (OpenBLAS, one
-     thread, side by side): the absolute value equations' audit, N = 6, every ray of 10 000
-     problems entered, 10 -> 2 incomplete entries of 59 684 (the same factorisations);
-     bench_branching random LCPs N = 10 248 -> 249 of 254 complete, contact systems N = 16
-     87 -> 88 of 88, every other row's sets the same, Algorithm 2.2's factorisations with the
-     defaults 0-1% more (the memo gives the signs), with differences 0.1-3.4% (no memo: a
-     factorisation a branch); psb_explore on 2000 entries a family (seed 77), contact systems
-     of 3 and 4 nodes 1991 -> 1992 and 1982 -> 1986 exact diagrams, random LCPs N = 8 1979 ->
-     1980; the block: the same six branches from every input and seed of Tables 1-2, 0-4
-     factorisations more a run.
-   - Adaptive end (patience, max_pc): stop after that many counted spans in a
-     row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
-     pair or a lucky random span.
-   Branch sets of problems in higher dimensions than the paper's planar scenario can have
-   regions that are thin cones, which a sweep can miss: raise n_span or n_dir for them
-   (docs/branching-notes.md measures how complete the search is).
-   Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
-   at every psb_find_branches call, so equal inputs give bit-identical results.
-   Quasi-static evolution (psb_evolve_step). Ligursky & Renard, "A continuation problem for
-   computing solutions of discretised evolution problems with application to plane quasi-static
-   contact problems with friction", CMAME 280 (2014). Time step k of a discretised
-   evolution solves H_k(u, lambda_k) = 0, where H_k holds the previous state (friction in
-   increments, u_t - u_t^{k-1}, the user's data through problem.user). Newton from u_{k-1}
-   fails where a small change of the load makes the solution jump (a snap-through): no
-   solution lies near u_{k-1}, or Newton lands on a far one. The paper's remedy: (u_{k-1},
-   lambda_{k-1}) solves H_k = 0 too (a zero increment sticks, and the previous forces satisfy
-   Coulomb's law), so the step becomes a PC^1 continuation problem in the load: trace the
-   curve H_k = 0 from there, through folds and kinks, to its first point at lambda_k.
-   psb_evolve_step: mode AUTO tries Newton at lambda_k from u_{k-1} (newton_max_iter) and
-   keeps its solution unless it lies farther than newton_max_jump; otherwise (or with mode
-   CONTINUATION) the tangent at y is turned towards lambda_k, the start polished by the
-   corrector (a move beyond h_init: PSB_ERR_INPUT, y was no solution), and psb_trace runs
-   with its bound at lambda_k, where it lands exactly. The other side is unbounded: at a
-   snap-through the path turns back at a fold and usually passes below lambda_{k-1} before
-   it rises to lambda_k (tests/test_quasistatic.c: from 1 back to 5/6, then to 1.05), so a
-   bound there would stop every snap; param_min/param_max bound it where the load has a
-   physical range. A path that ends elsewhere (max_steps, max_length, a closed loop, an
-   end point, the range's far bound) is a failure, PSB_ERR_NO_CONVERGENCE, with the
-   trace's end in report.trace_end; y keeps u_{k-1} (psb_trace alone leaves its last
-   couple). The report gives the folds passed (snap_through), kinks, path length, load
-   range covered, jump, how far Newton's solution lay from the path's end, and the step's
-   counters. A function rather than a pattern, because those four points (orientation,
-   one-sided bounds, telling the target bound from the far one, y untouched on failure) are
-   easy to get wrong; it takes three vectors of the solver's memory. Update the step's data
-   between calls, never during one (Newton and the trace evaluate the same H_k). Measured:
-   the slider of tests/test_quasistatic.c, plain Newton stepping halved to 1e-6 never passes
-   its fold, the fallback lands to 1e-12 and gives the folds to 1e-10; examples/quasistatic.c,
-   triangle M256, plain stepping stalls at lambda = 0.48862, the snap step 0.45 -> 0.50 passes
-   folds at 0.48863 and 0.44028 for 68 factorisations (a Newton step: 2).
+   6. ALGORITHMS ----------------------------------------------------------------------------------
+   Linear algebra (problem.linear). Every system is bordered, B = [dH(y); row^T] (row = W t in the
+   corrector), so B stays regular at folds, where dH/dx is singular; one factorisation serves all
+   right-hand sides of an iteration. PSB_LINEAR_DENSE: dgetrf/dgetrs on B, ~2 (N+1)^2 doubles.
+   PSB_LINEAR_BANDED: A = dH/dx with kl sub- and ku super-diagonals (number coupled unknowns close
+   together), ~(4 kl + 3 ku) N doubles; B by block elimination, w = A^{-1} dH/dparameter once per
+   factorisation, then one banded solve per right-hand side. The LU is dgbtrf's algorithm in panels
+   of four columns (reference dgbtrf's factors, bit for bit). Where the Schur complement d - c.w
+   cancels (g = (|d| + sum |c_j w_j|) / |d - c.w| > 16: near folds) a solution is checked by its
+   residual in B and refined; where A is singular or refinement stalls, A + sqrt(eps) ||B|| I is
+   factored and refined against B. A bit-identical A (piecewise-linear H) reuses its factors
+   (stats.n_factor_reused). PSB_LINEAR_USER: problem.solver factors B in its own storage; contrib/
+   has three (outside this header): psb_sparse.h (UMFPACK, KLU), psb_mumps.h (MUMPS over MPI
+   ranks), psb_condense.h (static condensation where dH varies in a few rows). Every solver also
+   holds ~100 vectors of N+1 and Algorithm 2.2's memos, 2 or 3 x c (N+1) doubles, c = min(256,
+   max(32, 2^19 / (N+1))).
 
-   Special points on the path (psb_trace_options.detect; off by default, and then the trace is
-   what it was, bit for bit; with detectors on, its accepted points are the same too). Between
-   two accepted couples (y0, t0), (y1, t1) the trace looks for
-     PSB_SPECIAL_FOLD       t[param] changed sign on a smooth piece: located;
-     PSB_SPECIAL_FOLD_KINK  t[param] changed sign across a kink: the couple before the kink;
-     PSB_SPECIAL_BRANCH     the sign of det [dH; (W t)^T] changed on a smooth piece: located,
-                            with the second kernel direction, for psb_branch_point_switch;
-     PSB_SPECIAL_PC1        that sign changed across a kink: the couple before the kink, for
-                            psb_locate_end + psb_find_branches;
-     PSB_SPECIAL_EVENT      an event value g_k changed sign: located, with its direction;
-   and reports each by its own on_point call (PSB_POINT_SPECIAL, p->special: kind, y, t,
-   kernel, param = y[param_index], precision, event, direction), in that order within one
-   step, before the accepted point. stop_at ends the trace on the special point's couple.
-   PSB_POINT_FOLD and fold_param (the Hermite estimate) are kept as they were.
-   Why det [dH; (W t)^T]: it is continuous along a smooth curve oriented by its direction of
-   travel (t does not flip at a fold, W > 0 keeps the sign of <W t, t>), and vanishes exactly
-   where dH loses rank, so a simple branch point crossed flips it. Dense: the sign and log|.|
-   come from the corrector's last LU (product of sign U_ii and of the row swaps, O(N));
-   banded: det A of the band LU times the Schur complement d - c.w (factors of A + sigma I
-   would move the zero by ~sigma, so there A is factored as it is). No factorisation is
-   added per step, except one at the start and one at the accepted point after a kink (the
-   corrector's last factorisation may belong to the other piece there). The user backend
-   (factor/solve only) gets tau_k = 1 / (d_k - c_k^T B^{-1} b_k) = det B / det [B b_k;
-   c_k^T d_k] for two borders drawn from the generator (reseeded from options.seed at each
-   psb_trace call; one solve with two right-hand sides per step). A tau also changes sign at
-   its own poles, and a pole next to a zero hides both: a sign change of either tau is
-   located, and kept when |tau| shrank there (a zero), not grew (a pole).
-   Location: the curve between the couples is parameterised by s = <t0, y - y0>_w, each point
-   by Newton on H(y) = 0, <t0, y - y0>_w = s, converged on a last correction <= tol_correction
-   (the tangent and the test function come from the factors before it), predicted by the cubic
-   Hermite interpolate of the bracket's ends (an error of the order of the bracket to the
-   fourth). Near a branch point that plane cuts every branch, and Newton may land on another
-   one (two circles crossing at 60 degrees: points on the wrong circle made a bracket 2e-4 off
-   the crossing, reported to 1e-10): a point is used only when it continues the ends' curve,
-   within |ta - tb| / 2 + 0.05 of their interpolated tangent (and c_min of each) and
-   w (|ta - tb| / 2 + 0.05) of their chord (w the bracket's length; a smooth curve departs by
-   its sagitta, w |ta - tb| / 8); otherwise s moves halfway to the end farther from the zero,
-   up to 12 times, then the bracket reached is kept. The bracket shrinks by the Illinois
-   variant of regula falsi, bisecting when two evaluations did not halve it, each point at
-   least min(locate_tol, w) / 4 inside (as in Brent's method: an end converging on the zero
-   alone would leave the other where it was), until its ends lie within locate_tol of each
-   other: precision is their distance (both on the traced curve, so a true bound), the point
-   the end with the smaller |test function|. Crossing circles (dH = 0 at the crossing, steps
-   up to 0.2, angles 60 and 35 degrees, three backends): both points within 3.3e-11, precision
-   <= 1e-10, the four half-arcs; the kink test of a step that turned by more than c_diff,
-   whose half step ended at the crossing on the other circle, tries 3/8 and 5/8 of the step
-   before calling it a kink. A branch point's tangent is the mean of the tangents at
-   s* -+ delta (delta = 1e-5 of the step; the one at s* is off by eps cond B), its kernel two
-   steps of inverse iteration with B at s* + delta, made w-orthogonal to t. Measured
-   (tests/test_detect.c): pitchfork and transcritical points on
-   all three backends to 1e-11 in the parameter, folds of the unit circle at l = +-1 with x
-   within 1e-10, events within 1e-10; a fold costs ~23 factorisations, an event ~18, a
-   branch point ~17 (dense; user backend ~75, a pole of a tau located and dropped on the
-   way: a location is abandoned once |tau| exceeds 1e3 times its values at the ends).
-   Kinks: a fold or a det change in a step that took the tangent switch, that locate_kinks
-   found a kink in, or whose tangents differ by more than c_diff and where the kink test of
-   locate_kinks finds one, is at a kink: FOLD_KINK / PC1, with the couple before it within
-   h_min / h_dec (the triangle's fold problem: both limit points, M64 gamma = 0.6666458 and
-   0.5654145 at h_min 1e-9).
-   Straight through: a det sign change in a step whose tangent did not turn is located as
-   above; where |det| jumped there instead of passing zero (at the bracket's end it exceeds
-   1e3 times the secants' slope times the bracket's width), the trace went straight through a
-   nonsmooth point (two pieces with one tangent, r and -r both branches): PC1, the bracket's
-   end before it with the bracket's width, psb_special.located = 1 (psb_locate_end looks for a
-   turn and finds none there: give the couple to psb_find_branches as it is). A zero within
-   1e3 widths of an end is not told apart from a jump. (H = C|y| + D y, N = 2, with r and -r
-   rays: the smooth switch had given three of its four rays.)
-   Limits of sign tests: two sign changes within one step cancel and are not seen (pitchforks
-   at l = 0 and 0.02 on x = 0 with steps of 0.1: none; with h_max 1e-3: both); a branch point
-   where det keeps its sign (three branches crossing, x (x - l) (x + l)) is not seen. Lower
-   h_max where branch points may lie close together.
-   PC1 (Ligursky and Renard's test of det [dH_j; t_j^T] det [dH_j+1; t_j+1^T] < 0 across a
-   kink): orient every branch leaving the point outwards; their signs add up to 0 (H maps
-   a small sphere around the point to R^N, and the signed count of zeros of such a map is
-   0), so at an ordinary kink (two branches) the test is never positive, and it is positive
-   exactly when the incoming and outgoing branches have the same outward sign: a sufficient
-   test of more than two branches, not a necessary one. Generated piecewise-linear families
-   (min(x, M x + q g), N = 2-4, kappa 0.3-4, traced through the origin): at 241 points with
-   4 or more branches the test was positive 139 times and detected all 139; at 215 ordinary
-   kinks no false alarm; every nonsmooth fold found (206 of 206). The block of Section 3
-   (M20x40), traced from each input branch through its nonsmooth point (six branches) to
-   gamma = 1: PC1 reported from input 3 (gamma = -1.6e-10, within 2e-9 of the kink), not from
-   inputs 1 and 2, where the switch continued on a branch of the other outward sign. A trace
-   that must not miss such points stops at its kinks (locate_kinks) and runs Algorithm 2.2. Not with the user backend
-   (PSB_ERR_OPTIONS): its factor callback forms dH itself, so neither the determinant nor
-   the authors' path of convex combinations of the two bordered matrices is available, and
-   tau's sign jumps with the matrix. With finite differences the last couple before a kink
-   lies within h_min of it, where quotients can mix the pieces: give an analytic selection
-   gradient (as for branching).
-   Cost of monitoring (all detectors, whole runs): block M20x40 (approach and six branches to
-   |gamma| = 1) 1258 -> 1286 factorisations (1.02x), no special point on the way; triangle
-   fold problem M16 177 -> 184 (1.04x), M64 1175 -> 1185 (1.01x), its two limit points.
-   bench/bench_detect (make bench; banded, one trace each): block M200 approach 130 -> 137
-   (1.05x), M800 123 -> 124 (1.01x); triangle fold problem n = 64 1169 -> 1179 (1.01x), both
-   limit points; the accepted points bit-identical.
-   psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
-   through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t + sin a
-   k), r = h_init (psb_branch_options), 2 n_dir angles (-t first, then +t: branches 0 and 1
-   are the traced curve, a failed one kept as (y*, -t or +t)), is corrected by Newton on the
-   sphere ||y - y*||_w = r: each trial lands where a branch crosses the sphere, and two
-   landings within r sqrt(2 (1 - c_diff)) of each other are one branch. A crossing does not
-   depend on where the trial started, so curved branches are told apart as straight ones are
-   (landing points of trial steps, anywhere from h_min to h away, were not: the tangents of
-   one parabola differed by more than c_diff). With fewer than four branches, or -t or +t not
-   landing, the circle is tried again at r/8 and r/64; -t and +t landing at none of the three
-   is PSB_ERR_NO_CONVERGENCE (y* is not on the traced curve, or h_init is far too large). The
-   branches are traced from their crossings outwards, so each new one is first walked back
-   towards y* (psb_trace with no_switch and locate_kinks, steps of r/8 to r/4, to within r/64
-   of y*): a kink on the way, such as a PC1 point of a contact branch, brings the sweep again
-   at a quarter of its distance (up to 3 times), so that the branch's trace meets it (a PC1
-   point 0.02 from a transcritical point, r = 0.05: psb_explore found neither it nor its
-   branches before 0.11.0; the walks cost 03_pitchforks 9% more factorisations). All
-   crossings in the plane are found (four lines through a point: eight half-lines). The kernel
-   may be larger (symmetric problems: several pitchforks at one point): two steps of inverse
-   iteration with B at y* + 1e-4 r t from random vectors give up to 3 more directions, each
-   kept while its part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector
-   of B, ~1e-8 for the others); with kdim of them, 2 n_dir kdim^2 random directions of the
-   kernel are tried besides the circle (three pitchforks at the origin, a kernel of dimension
-   4: all 28 half-branches, the 26 half-parabolas with their analytic tangents).
+   Corrector and tangent. The tangent at y solves [dH(y); (W r)^T] t = e_{N+1}, r the reference
+   direction; where that is singular or (dense) its scaled condition estimate exceeds 1/sqrt(eps),
+   the dense backend takes the kernel of dH(y) from a QR factorisation (exact at folds; rank < N:
+   PSB_ERR_SINGULAR), the others border with e_param, then a fixed row; t is normalised with
+   <t, r>_w >= 0. The corrector factors B = [dH(y); (W t)^T] once per iteration and solves B [dy,
+   v] = [[H(y); 0], [0; 1]]: y -= dy, t = v / ||v||_w. It converges when ||H(y)||_2 <= tol_residual
+   and the distance to the solution (||dy||_w, or Newton's estimate theta ||dy|| / (1 - theta) for
+   a contraction theta <= 1/2) is below tol_correction, or when ||dy||_w <= tol_correction and
+   ||H|| fell by less than half (H's rounding; every Newton solve here accepts it). A trial step
+   predicts y + h t and is accepted when the corrector converged within max_iter, within h of the
+   prediction (a longer jump landed elsewhere on the curve), with a tangent within c_min of t;
+   otherwise h *= h_dec, down to h_min. An iterate 4 h away ends a trial (not Algorithm 2.2's: at
+   kinks the corrector would hop between far kernels). A branch within a step of the traced one can
+   still take the corrector: keep h_max below the distances between branches.
 
-   Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
-   reach and returns the graph: nodes are special points, edges the branch segments between.
-   Start at a regular point: a start at a branch point itself is traced along +-t only.
-     psb_diagram d;  psb_explore_options eo = {0};      // zero fields: defaults
-     psb_diagram_init(&d, n, 64, 128, 16);              // nodes, edges, branches per node
-     eo.trace.param_min = -1;  eo.trace.param_max = 1;  // each trace's options
-     eo.branch_at_kinks = 1;                            // contact problems: see below
-     eo.on_point = save_point;                          // (edge, psb_point): the curves
-     if (psb_explore(&s, y, t, &eo, &d) < 0) puts(psb_solver_message(&s));
-     for (int i = 0; i < d.n_nodes; i++) {              // start, nonsmooth, branch, pc1,
-         const psb_node *nd = &d.nodes[i];              // fold, event, bound, budget, failure
-         printf("%s at %g, %d branches\n", psb_node_kind_string(nd->kind), nd->param,
-                nd->n_branches);                        // nd->ts: their tangents, outwards
-     }
-     for (int i = 0; i < d.n_edges; i++)                // from -> to, how it ended
-         printf("%d -> %d %s\n", d.edges[i].from, d.edges[i].to,
-                psb_edge_end_string(d.edges[i].end));
-     psb_diagram_free(&d);
-   examples/02_explore.c (a PC1 point a trace passes through), 03_pitchforks.c (smooth, closed
-   form), block --explore and triangle --explore show it in full.
-   The queue is the nodes' untraced branches (branch_edge[k] = -1), taken in the order the
-   nodes were made, the start's directions first (+t, then -t unless one_direction; from a
-   start on a parameter bound, the direction leaving it is left out). Each is traced
-   (eo.trace: bounds, max_steps, detectors, with detect_loop on) until it ends: on a bound or
-   out of the box or state_max (a bound node), at its budget, in a failure (node and edge say
-   which; exploring goes on, only a callback's stop ends it), back at its start (a loop), or
-   at a branching point: where the trace ends (PSB_NONSMOOTH_END) or a PC1 point is reported,
-   Algorithm 2.1 and 2.2 (a nonsmooth or pc1 node); at a smooth branch point,
-   psb_branch_point_switch (a branch node). Branch 0 of a new node is the one the edge arrived
-   by; the others join the queue. Folds and events are nodes on their edge (node.edge) and do
-   not end it. So nothing is traced twice, a branching point within node_tol + 4 (the two
-   precisions) of a known node is that node, and the edge arrives by the node's branch whose
-   tangent is closest to the way it came (taken above c_diff, else the best above c_min, else
-   added as a new branch); and a trace whose chord passes within that distance (plus 1e-3 of
-   the chord) of a known node arrives there too: a piecewise-linear branch goes straight
-   through a point where it has no kink, and the detectors may see nothing there (the way on
-   is made one of the node's branches if it is not). node_tol defaults to 16 eo.branch.h
-   (with differences and h following the point, to 16 times h at the node). Where Algorithm
-   2.2 finds two branches at a point the trace stopped at (the switch failed, or a kink with
-   branch_at_kinks), the point is an ordinary kink (d.n_kinks_plain): no node, the edge goes on
-   along the other branch, with a fold node there when the parameter turns (a limit point at a
-   kink, which the tangent switch would have reported). Unless their outward signs do not
-   cancel (report.unbalanced, section 6 "An odd count"; after the full sweep where kink_spans
-   looked first): two of one sign are not all, and the point is a node, counted in d.n_odd
-   (a 4-node contact system of an audit, 2 of 2400 entries: two of four rays, success and
-   n_odd 0 before).
-   Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
-   and outgoing branches have opposite outward signs it is silent. The block's and the
-   triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
-   from branch 1 to branch 4 at gamma = 0 (their tangents' cosine -0.999), no switch, no
-   special point; the crossing kinks min(x_i, g - x_i) with k odd likewise. With
-   branch_at_kinks every kink a trace passes is located (locate_kinks) and gets Algorithms 2.1
-   and 2.2; one with two branches is ordinary (d.n_kinks_plain) and the edge goes on along the
-   other. It costs an Algorithm 2.2 per kink, so it suits problems whose branches have few
-   kinks: block M200, one point, its branches none: 1088 factorisations against the hand-
-   driven run's 1070 (1.02x), the same six end points to 1.3e-14; triangle M1024, the four
-   branches; crossing kinks k = 2-4 and random complementarity problems N = 3-4, every ray
-   once (tests/test_explore.c: 24 of 24 random ones complete). kink_spans = 1 looks at a kink
-   with one span first and sweeps in full only where it found other than two branches: block
-   M800, whose branches pass two ordinary kinks, 2756 -> 1573 factorisations (1.26x the hand-
-   driven run's 1250; M200 1.15x, the look costing ~105 at the point itself). The look can
-   miss a point whose first span (the incoming branch and the tangent beyond) meets no third
-   branch's region: the crossing kinks (their rays pairwise span planes meeting no other
-   ray's) pass for ordinary, random complementarity problems 21 of 24 complete.
-   Budgets and capacities: max_traces, max_points and a point callback returning nonzero stop
-   exploring (PSB_STEP_BUDGET, PSB_STOPPED); nodes, edges or branches at a node running out
-   give PSB_BRANCH_CAPACITY (d.truncated) after tracing what fits; d.n_queued counts the
-   branches left. d.n_odd counts the branching nodes left with an odd number of branches
-   or with outward signs that do not cancel ("An odd count", above): the call still returns
-   PSB_SUCCESS, since a branch along a piece boundary can make a count odd, but such a node
-   most likely misses a branch; raise branch.n_dir or n_span_max. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
-   doubles, set up once; psb_explore allocates nothing and uses the solver's scratch (so not
-   from a point callback of psb_trace). Same inputs and seed, the same graph bit for bit.
-   Output (PSCBRANCH_STDIO). psb_diagram_write_json writes
-     {"format": "pscbranch-diagram", "version": 1, "n": N, "param_index": p,
-      "complete": true when no branch was left and nothing was cut,
-      "odd_nodes": d.n_odd (branching nodes with an odd number of branches, or whose
-                  outward signs do not cancel, section 6),
-      "nodes": [{"id", "kind" (psb_node_kind_string), "param", "precision", "edge", "event",
-                 "direction", "y": [N+1], "branches": [{"edge" (-1: untraced), "y", "t"}]}],
-      "edges": [{"id", "from", "from_branch", "to" (-1: no room), "to_branch",
-                 "end" (psb_edge_end_string), "result" (the psb_result code), "points",
-                 "length"}]}
-   with numbers to 17 digits; psb_diagram_write_csv two tables, nodes (id, kind, param,
-   precision, edge, event, direction, n_branches, n_untraced, y0 .. yN) and edges (id, from,
-   from_branch, to, to_branch, end, result, points, length). The accepted points are the
-   point callback's to keep (the examples write edge, parameter, state value rows;
-   examples/explore_out.h, with a gnuplot script of the parameter-state plane).
+   Trace and its detectors. psb_trace takes steps, h growing by h_inc after a step of fewer than
+   iter_threshold iterations, up to h_max. Where every trial fails down to h_min, the tangent
+   switch probes the tangent t~ at y + delta t, delta doubling from switch_delta_min to
+   switch_delta_max; once cos(t~, t) < c_diff it tries steps along +t~, then -t~, and takes the
+   first couple that does not go back along the incoming branch. With nothing straight ahead it
+   sweeps the plane of -t and the tangent ahead (switch_n_dir directions, three probe distances),
+   then both again for tangents within c_diff of t but beyond rounding; nothing found, and no
+   fault: PSB_NONSMOOTH_END. Where more than two branches meet the trace goes on along one or ends:
+   Algorithms 2.1 and 2.2 give them all. Folds: t[param] changes sign, estimated at the extremum of
+   the cubic Hermite interpolant. Kinks (locate_kinks): after a step that turned by more than
+   c_diff's angle, half (and quarter) steps tell a kink, whose turn does not shrink with the step,
+   from a smooth turn; bisection locates it to h_min, a step of 2 h_min across confirms it
+   (analytic dH). Bounds: a step across one gives way to Newton at the bound. Special points on the
+   path (detect; the accepted points stay the same): FOLD (located), FOLD_KINK (the couple before
+   the kink), BRANCH (sgn det [dH; (W t)^T] changed on a smooth piece: located, with the kernel
+   direction), PC1 (it changed across a kink: the couple before it), EVENT (located). The
+   determinant, continuous along a curve oriented by its travel, vanishes where dH loses rank; its
+   sign comes from the corrector's LU in O(N) (the user backend watches det B / det
+   [B b_k; c_k^T d_k] for two random borders instead: no PC1). A location is Illinois regula falsi
+   along the curve, each point checked to be on the bracket's own branch, to locate_tol. A det jump
+   in a step that did not turn is a nonsmooth point passed straight through: PC1 with
+   special->located = 1 (give it to psb_find_branches as it is). Unseen: two sign changes in one
+   step (lower h_max), a branch point where det keeps its sign. PC1: the outward signs of the
+   branches leaving a nonsmooth point add up to 0, so the test fires only where more than two meet,
+   though not at all such points: a trace that must miss none stops at its kinks and runs Algorithm
+   2.2.
 
-   7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
-   ------------------
-   Every projection returns its value, one element of its B-Jacobian and a piece id; value and
-   Jacobian always come from the same piece (a smooth formula valid on a closed region). Argument
-   piece_request: PSB_PIECE_DEFAULT (-1) = automatic choice (rules below); k >= 0 = evaluate piece
-   k's formula at the point (continuation uses this to enumerate the pieces around a kink; a piece
-   that is not active there is evaluated by the extension of its formula). The *_active functions
-   return a bitmask (bit k = piece k) of the pieces whose closure contains the point within tol.
-   Jacobians are column-major. Bad input: PSB_ERR_NULL, PSB_ERR_NONFINITE (NaN/Inf, also overflow
-   inside), PSB_ERR_INPUT (r, rho <= 0; mu, F < 0; a > b; tol < 0), PSB_ERR_SIZE (piece id, dim).
-   Success means every output asked for (non-NULL) is finite; where the true value overflows
-   (e.g. De Saxce's u_N + mu |u_T| > DBL_MAX, or dP/dx of the disk at a subnormal x) the
-   helper returns PSB_ERR_NONFINITE and writes no output. Subnormal and huge arguments are
-   scaled where the result is representable (the cone with mu up to 1e308).
+   Algorithm 2.1 (psb_locate_end). As in the paper, h is halved from branch h to h_min, y moving to
+   the correction of y + h t whenever that converges with a tangent within c_diff of t. After a
+   move the same h is tried again (the printed version moves at most h in all); a move must land
+   h/2 ahead with a tangent within c_diff of the entering one too (no falling back, no turns adding
+   up), and a branch that only turned smoothly is followed on. With differences the entering
+   tangent is kept, stalls are told from smooth turns by chords, and t is the branch's tangent 16 h
+   back. y then approximates the end point (*precision: the last h tried), t points along the
+   branch into it; more than 1000 moves: PSB_ERR_NO_CONVERGENCE.
 
-   Half-lines. The papers' (x)_- is min(x,0), the projection onto ]-inf,0]; other texts write
-   max(-x,0) for the negative part. Here the names say the set:
-     psb_proj_nonpos(x): P = min(x,0);   psb_proj_nonneg(x): P = max(x,0).
-     Pieces PSB_HALF_IN (P = x, P' = 1), PSB_HALF_OUT (P = 0, P' = 0).
-     Kink x = 0: default IN (a point of the set is its own projection, Jacobian 1).
+   Algorithm 2.2 (psb_find_branches). As in the paper, with Section 3's restarts: branch 0 is
+   (y0, -t0); each span of two tangents t~1, t~2 is swept in n_dir directions v, the tangent at
+   y0 + h v sampled (skipped where it repeats the previous one), and trial steps from y0 along it
+   both ways (h_init down to trial_h_min) land on branches; a landing h or more from y0 is new if
+   its outward tangent differs from every found one's by more than c_diff (on curved branches the
+   sphere through it decides), and one on a ray from y0 along its own tangent counts even where the
+   step tests fail. Choices (expert switches; as_printed undoes them): Sweep: t~2 is made
+   w-orthogonal to t~1, so directions spread evenly. Restarts: pairs of found branches, the most
+   nearly orthogonal first; then random spans, MIXED alternating uniform draws with spans beside a
+   found branch t_j (the tangent at y0 + h (t_j + 0.1 r), r random). Memos: a tangent within c_diff
+   of one tried in the call is skipped (n_memo); points with a bit-identical analytic dH, or one
+   piece id (Piece memo), share a tangent, which only decides skips. Screening: near y0 the pieces
+   are, to first order, cones with apex y0, and cones scale: a trial along x from y0 + h_init x
+   lands as the trial along k, the tangent there. So trials go along k, skipped when k is a found
+   branch's or a known trial's (n_screened), and stop once an iteration's tangent is (n_cut,
+   analytic dH; The memo's cut: before its factorisation), or after a step that failed on pieces
+   checked to be conic. Sweep length (n_span left at 0): spans that try nothing new do not count;
+   the sweep goes on while fewer than 3 times the last new branch's span have passed, up to
+   n_span_max. An odd count: branches crossing a small sphere about y0 transversally come in even
+   number, their outward signs adding up to 0; an odd or unbalanced set most likely misses
+   branches, so an adapting sweep goes on to n_span_max, then between the directions swept (not
+   with patience). An odd rep.n_branches or rep.unbalanced flags what is left; a balanced set
+   proves nothing. Kinks within h_init: the cones reach the next kink only; a landing chord turning
+   from its tangent by over 0.05 rad, H off its affine map through y0, or an odd count restart the
+   run with h_init / 16 (up to 3 times, staying >= 8 h). Random numbers: xoshiro256**, reseeded
+   from options.seed at each call. Thin regions may need more n_span or n_dir
+   (docs/branching-notes.md).
 
-   Interval, psb_proj_interval(x, a, b), a <= b: P = min(max(x,a),b); d = (dP/dx, dP/da, dP/db).
-     Pieces IN (x; 1,0,0), LOWER (a; 0,1,0), UPPER (b; 0,0,1).
-     Default: x < a LOWER, x > b UPPER, a <= x <= b IN; but a == b -> LOWER (or UPPER if x > b):
-     {a} has no interior, and a constant piece is what a separated 2D node needs (friction
-     interval [F s, -F s] with s = 0).
+   Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
+   to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
+   (cos a t + sin a k), r = branch h_init, 2 n_dir angles (-t, then +t first: branches 0 and 1, the
+   traced curve), are corrected by Newton on the sphere ||y - y*||_w = r to where a branch crosses
+   it, whatever its curvature (within r sqrt(2 (1 - c_diff)): one branch); fewer than 4 branches,
+   or -t or +t lost: r/8, then r/64 (both lost: PSB_ERR_NO_CONVERGENCE). Each branch is walked back
+   towards y*; a kink on the way brings the sweep inside it (three rounds at most). A larger
+   kernel: up to 3 more directions by inverse iteration, 2 n_dir kdim^2 random trials in it.
 
-   Disk, psb_proj_disk(x, s), x in R^2, radius s (s <= 0: the set {0}).
-     IN: P = x, dP/dx = I, dP/ds = 0.
-     BOUNDARY: P = s d, d = x/|x|, dP/dx = (s/|x|)(I - d d^T), dP/ds = d.
-     ZERO: P = 0, dP/dx = 0, dP/ds = 0.
-     Default: s <= 0 ZERO; |x| <= s IN; else BOUNDARY. At x = 0 BOUNDARY uses d = e1 and
-     s/|x| -> 0 (its limit along x = t e1, s = o(t)); no division by zero.
+   Exploring the whole diagram (psb_explore). From a regular couple it traces every branch it can
+   reach: nodes are special points, edges the segments between. The queue is the untraced branches,
+   nodes in order, the start's +t and -t first. An edge ends at a bound or the box (a bound node),
+   its budget, a failure (exploring goes on; the call returns the first failed edge's code), its
+   start (a loop), or a branching point: Algorithms 2.1 and 2.2 where the trace ends or reports PC1
+   (nonsmooth, pc1 nodes), the branch point switch at a smooth branch point (branch node); branch 0
+   is the one arrived by, the others join the queue. Folds and events are nodes on their edge. A
+   branching point within node_tol + 4 (both precisions) of a node, or a chord passing that close,
+   arrives there: nothing is traced twice. Two branches whose signs cancel make an ordinary kink
+   (d->n_kinks_plain): the edge goes on. Odd or unbalanced nodes count in d->n_odd (they most
+   likely miss a branch). PC1 is silent where the branches a trace joins have opposite outward
+   signs (the paper's block): branch_at_kinks branches at every kink (an Algorithm 2.2 each;
+   kink_spans looks first with fewer spans, and can miss a point whose first span meets no third
+   branch). psb_diagram_write_json's keys: format, version, n, param_index, complete, odd_nodes,
+   nodes (id, kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id,
+   from, from_branch, to, to_branch, end, result, points, length); psb_diagram_write_csv writes the
+   two tables.
 
-   Coulomb cone, psb_proj_cone(x, mu), K = {|x_T| <= mu x_N}, x = (x_N, x_T) in R^3, mu >= 0;
-     polar cone K° = {mu |x_T| <= -x_N}. With t = |x_T|, d = x_T/t, c = (x_N + mu t)/(1+mu^2):
-     IN: P = x, J = I.      POLAR: P = 0, J = 0.
-     BOUNDARY: P = c (1, mu d),
-       J = [[1, mu d^T], [mu d, mu^2 d d^T]]/(1+mu^2) + (mu c/t) [[0,0],[0, I - d d^T]].
-     Default: mu > 0 and x in K -> IN; else x in K° -> POLAR; else BOUNDARY.
-     At x_T = 0 BOUNDARY uses d = e1 and mu c/t = mu^2/(1+mu^2) (its limit at the apex along
-     x_N = 0; the TT block is then isotropic). mu = 0: K is the half-line x_T = 0, x_N >= 0;
-     IN has empty interior, is never the default nor reported active (but can be requested);
-     BOUNDARY gives P = (x_N, 0, 0), J = diag(1,0,0) without dividing by t.
+   Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves
+   H_k(u, lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls
+   only). Where Newton from u_{k-1} fails (a snap-through), Ligursky and Renard trace H_k = 0 from
+   (u_{k-1}, lambda_{k-1}), which solves it too, through folds and kinks to its first point at
+   lambda_k. Mode AUTO tries Newton first (kept unless farther than newton_max_jump); else y is
+   polished (a move over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, where it
+   lands exactly, and free on the other side (the path may pass below lambda_{k-1}). A path that
+   ends elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end), y kept.
 
-   Sign conventions.
-     Haslinger et al. (paper 000, 2D): nu is the unit normal pointing into the foundation, tau the
-     tangent; displacements u_nu, u_tau; non-penetration u_nu <= g (gap g, 0 in the paper);
-     multipliers lambda_nu <= 0 (the contact force on the body is B^T lambda); friction opposes
-     u_tau: a node sliding towards +tau has lambda_tau = F lambda_nu.
-     Acary et al. (paper 003, 2D/3D): N points out of the obstacle, reactions r in K (r_N >= 0),
-     u_N >= 0 separating, sliding: r_T = -alpha u_T.
-     psb_contact_convert(dim, force, disp, g): r = -lambda, u_N = g - u_nu, u_T = -u_tau (the
-     frame (N, T) = (-nu, -tau) plus the gap). It is its own inverse. Under it
-       H_000 = F_ac/rho with rho_N = rho_T = r,  dH/dlambda = -(1/r) dF/dr,  dH/du = -(1/r) dF/du.
+   7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
+   Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
+   one piece: piece_request PSB_PIECE_DEFAULT (-1) picks it by the rules below, k >= 0 takes piece
+   k's formula. Failures write nothing: PSB_ERR_NULL, _NONFINITE (also on overflow), _INPUT, _SIZE.
+   psb_proj_nonpos: min(x, 0); psb_proj_nonneg: max(x, 0). Pieces IN (x), OUT (0); x = 0: IN.
+   psb_proj_interval: min(max(x, a), b); IN, LOWER, UPPER (a == b: LOWER, or UPPER if x > b).
+   psb_proj_disk: onto {|x| <= s} in R^2 (s <= 0: {0}); IN, BOUNDARY (s x / |x|), ZERO.
+   psb_proj_cone: onto {|x_T| <= mu x_N} in R^3; IN, POLAR (0), BOUNDARY; mu = 0: IN never default.
+   psb_proj_half_active, _interval_active, _disk_active, _cone_active: the pieces active within tol.
+   psb_ac2d_node, _active, _state: a node's 2D Alart-Curnier residual (Haslinger et al.) with its
+     2 x 4 Jacobian and piece; its active pieces; its contact state.
+   psb_fc3d_ac, _jm, _nat: a contact's 3D Alart-Curnier, Jean-Moreau residuals and natural map with
+     De Saxce's velocity (psb_fc3d_desaxce) (Acary et al.); psb_fc_nat_error: their eq. (15).
+   psb_contact_convert: between the two conventions (r = -lam, u_N = g - u_n, u_T = -u_t).
 
-   2D Alart-Curnier node, eq. (2) of 000 (multipliers <= 0), psb_ac2d_node(u_n, u_t, lam_n, lam_t,
-   r, F, g, piece_request, res, jac, piece):
-     x_n = lam_n - r (u_n - g),  s = min(x_n, 0),  x_t = lam_t - r u_t,
-     res[0] = -(1/r)(lam_n - s),  res[1] = -(1/r)(lam_t - P_[F s, -F s](x_t)).
-     jac = d res/d(u_n, u_t, lam_n, lam_t), 2x4 column-major (jac[0..1] = d/du_n ...).
-     Piece = PSB_AC2D_PIECE(pn, pi) = pn + 2 pi (pn: nonpos piece of x_n, pi: interval piece).
-     Default = defaults of both projections. psb_ac2d_active lists the composite pieces (pairs of
-     active pieces, minus (OUT, IN) and, for F = 0, (., IN): the interval has no interior there).
-     psb_ac2d_state: SEPARATED if s = 0 (x_n >= 0), STICK if |x_t| <= F|s|, SLIP_POS if x_t < F s
-     (slides towards +tau, lam_t = F s), SLIP_NEG if x_t > -F s.
-
-   3D per-contact residuals (003, reactions in K), Jacobians jr = df/dr, ju = df/du (3x3):
-     psb_fc3d_ac, eq. (11): x_N = r_N - rho_n u_N,  f_N = r_N - max(x_N, 0),
-       f_T = r_T - P_D(mu max(x_N,0))(r_T - rho_t u_T).   Piece pn + 2 pd.
-     psb_fc3d_jm, eq. (12): same with the disk radius mu max(r_N, 0).   Piece pn + 2 pr + 4 pd.
-     psb_fc3d_nat, eq. (13): f = r - P_K(r - rho uhat), uhat = u + mu |u_T| e_N (De Saxce,
-       psb_fc3d_desaxce; at u_T = 0 d|u_T|/du_T is taken as e1).   Piece = cone piece.
-     Disk default inside (11)/(12): ZERO where the radius is identically 0 (its half-line piece
-     OUT, or mu = 0); where the radius is exactly 0 but can grow, BOUNDARY (IN if x_T = 0).
-     The standalone disk default (ZERO at s = 0) would not be a B-limit of the composite there.
-     psb_fc_nat_error(dim, nc, r, u, mu, |q|): eq. (15), |F_nat(r)|/|q| with rho = 1 and
-     u = W r + q given; |q| <= 0 gives the absolute |F_nat(r)| (use it when q is ~ 0). 2D
-     contacts (N, T) are 3D ones with T2 = 0, which every projection above preserves.
-
-   Paper notes. The extracted 003 writes K^alpha with |r_N^alpha|; the cone is {|r_T| <= mu r_N}
-   as in its (1). In 000, (2) is used as printed; zeros of each row were re-derived (r_N, u_N
-   complementarity; Coulomb with the interval [F s, -F s], s <= 0).
-
-   8. COMPILE-TIME MACROS (define before including the header)
-   ----------------------
+   8. COMPILE-TIME MACROS (define before including the header) ------------------------------------
    PSCBRANCH_IMPLEMENTATION   in exactly one file: compile the implementation there
    PSCBRANCH_STATIC           make every function static (a private copy per file)
-   PSCBRANCH_DEF              the linkage decorator of every public function [extern]
-   PSCBRANCH_MALLOC(size), PSCBRANCH_FREE(ptr)   the allocator of psb_solver_init [malloc,
-                              free]; define both or neither
+   PSCBRANCH_DEF              the linkage of every public function [extern; static with _STATIC]
+   PSCBRANCH_MALLOC(size), PSCBRANCH_FREE(ptr)   the allocator of psb_solver_init and
+                              psb_diagram_init [malloc, free]; define both or neither
    PSCBRANCH_LAPACK_INT       the Fortran INTEGER of your LAPACK [int]; long for ILP64
    PSCBRANCH_FORTRAN(name)    the symbol of a LAPACK routine [name##_]
    PSCBRANCH_NO_FORTRAN_STRLEN  for a LAPACK whose character arguments carry no hidden length
-   PSCBRANCH_STRLEN_ONE       (defined by the header) the hidden length of a one-character
-                              argument, to end your own calls with: dgetrs_("N", ...,
-                              &info PSCBRANCH_STRLEN_ONE) works with either kind of LAPACK
-   PSCBRANCH_USE_DGBTRF       the banded backend factors with LAPACK's dgbtrf instead of the
-                              header's own LU (same factors with reference LAPACK)
-   PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (results are the same)
-   PSCBRANCH_STDIO            with the implementation: psb_diagram_write_json and _csv (the
-                              only functions that take a FILE *; the rest never prints)
-   LAPACK routines used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf with
-   PSCBRANCH_USE_DGBTRF).
-
-   9. REVISION HISTORY
-   -------------------
-   See CHANGELOG.md (one entry per release, with 0.x compatibility notes).
+   PSCBRANCH_USE_DGBTRF       the banded backend calls LAPACK's dgbtrf (say, a tuned LAPACK)
+   PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (the same results)
+   PSCBRANCH_STDIO            declares and defines psb_diagram_write_json and _csv (FILE *)
+   Defined here: PSCBRANCH_VERSION_MAJOR, _MINOR, _PATCH, _STRING; PSCBRANCH_STRLEN_ONE, for
+   your LAPACK calls (dgetrs_("N", ..., &info PSCBRANCH_STRLEN_ONE)); the guards PSCBRANCH_H,
+   PSCBRANCH_IMPLEMENTATION_DONE. LAPACK used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf).
 */
+
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
 
@@ -1044,7 +475,7 @@ typedef int (*psb_piece_fn)(const double *y, unsigned long long *id, void *user)
    j < param_index, j+1 otherwise), has kl sub- and ku super-diagonals. Fill A(i, j) for
    max(0, j-ku) <= i <= min(n-1, j+kl) at band[PSB_BAND_INDEX(ku, ldband, i, j)] (LAPACK's
    band layout, ldband >= kl+ku+1: use the ldband given; the block arrives zeroed) and
-   dparam[i] = dH_i/dparameter. It may be called twice at the same y (manual, section 6). */
+   dparam[i] = dH_i/dparameter. It may be called twice at the same y (manual, section 3). */
 typedef int (*psb_band_jacobian_fn)(const double *y, double *band, int ldband, double *dparam,
                                     void *user);
 #define PSB_BAND_INDEX(ku, ldband, i, j) ((size_t)((ku) + (i) - (j)) + (size_t)(j) * (size_t)(ldband))
@@ -1105,7 +536,7 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
    PSB_RESTART_PAPER:  the previous t~2 plus 0.1 times a random unit vector, t~1 kept
                        (Remark 2.3(ii));
    PSB_RESTART_GLOBAL: a random unit vector, uniform on the sphere of the weighted norm, t~1 kept;
-   PSB_RESTART_MIXED:  alternately GLOBAL's and (0.8.0) t_j plus 0.1 times a random unit vector,
+   PSB_RESTART_MIXED:  alternately GLOBAL's and t_j plus 0.1 times a random unit vector,
                        with t~1 = t_j, the found branches' tangents in turn. */
 typedef enum psb_restart { PSB_RESTART_MIXED = 0, PSB_RESTART_PAPER = 1, PSB_RESTART_GLOBAL = 2 } psb_restart;
 
@@ -1251,30 +682,37 @@ typedef struct psb__sweep_state {
 
 /* The solver's working storage and the algorithms' state: private, treat as opaque. */
 typedef struct psb__internal {
-    int n, np1, ldlu, shifted;
-    int tangent_sign;            /* that of the last psb__tangent_from_jacobian's tangent */
-    int band_ok, bv_ok, border_ok; /* banded: band holds dH/dx at yfac / bv is
-                                         A^{-1} dpfac / delta is current */
-    int branch_h_auto, branch_h_min_auto; /* follow the point (see psb__branch_h) */
-    double fd_cap;   /* > 0: largest difference step (weighted), see psb__sample_tangent */
-    double *w;
-    double *jac, *mat, *rhs, *res, *res2, *work, *tau, *vec;
-    double *band, *lu, *dparam, *row, *bv, *bx, *bres, *yfac, *fdh;
-    double *bandpair[2], *afac, *dpfac; /* band is one of the pair; afac the one lu holds */
-    double *gbw;                           /* banded: the LU's panel multipliers */
-    double delta, mnorm, bamp;
-    void *ipiv, *iwork; /* LAPACK integers */
-    void *owned;
-    unsigned long long rng[4];
-    int last_fail;
-    double sp_d[2]; /* psb_trace's detectors: the corners d of the random borders (user backend) */
-    long faults[4]; /* trials of the current algorithm that failed because of a fault, by
-                        cause: callback > 0, NaN/Inf, singular Jacobian; [3]: singular
-                        difference Jacobians, a fault only when n_ok = 0 (psb__note_fault) */
-    long n_ok;      /* tangents and corrector runs of the current algorithm that succeeded */
+    /* sizes, weights, memory */
+    int n, np1;            /* N and N + 1 */
+    double *w;             /* the weights of <.,.>_w, N + 1 */
+    double *vec;           /* the named scratch vectors PSB__V_*, N + 1 each */
+    double *rhs, *res, *res2, *work; /* right-hand sides, H values, a bordering row's work */
+    void *owned;           /* the allocation psb_solver_init made (NULL: caller's memory) */
+    unsigned ready;        /* PSB__READY between a successful init and psb_solver_free */
+    unsigned long long rng[4]; /* xoshiro256** state, reseeded from options.seed per call */
+    /* linear algebra: dense */
+    double *jac, *mat, *tau; /* dH (N x (N+1)), B or its LU, QR's scalars */
+    void *ipiv, *iwork;    /* LAPACK integers */
+    /* linear algebra: banded */
+    int ldlu, shifted;     /* the LU's leading dimension; A + sigma I was factored */
+    int band_ok, bv_ok, border_ok; /* band holds dH/dx at yfac / bv is A^{-1} dpfac /
+                                      delta is current */
+    double *bandpair[2], *band, *afac; /* two copies of A; band is one, afac the one lu holds */
+    double *lu, *gbw, *dparam, *dpfac, *row, *bv, *bx, *bres, *yfac, *fdh;
+    double delta, mnorm, bamp; /* the Schur complement, ||B||, the amplification bound */
+    int tangent_sign;      /* that of the last psb__tangent_from_jacobian's tangent */
+    /* outcome of the current algorithm's trials */
+    int last_fail;         /* why the last corrector run or trial step failed (PSB__FAIL_*) */
+    long faults[4];        /* trials that failed because of a fault, by cause: callback > 0,
+                              NaN/Inf, singular Jacobian; [3]: singular difference Jacobians,
+                              a fault only when n_ok = 0 (psb__note_fault) */
+    long n_ok;             /* tangents and corrector runs that succeeded */
+    /* the algorithms' own */
     int in_trace_callback; /* a trace's on_point or event callback is running (psb__trace_busy) */
+    double sp_d[2];        /* psb_trace's detectors: the corners d of the random borders (user
+                              backend) */
+    int branch_h_auto, branch_h_min_auto; /* the branching h follows the point (psb__branch_h) */
     psb__sweep_state sweep; /* Algorithm 2.2's */
-    unsigned ready; /* PSB__READY between a successful init and psb_solver_free */
 } psb__internal;
 
 typedef struct psb_solver {
@@ -1999,6 +1437,10 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
 #error "define both PSCBRANCH_MALLOC and PSCBRANCH_FREE, or neither"
 #endif
 
+/* ==== Foundations ===============================================================================
+   LAPACK's symbols, the scratch vectors, options and their checks, the solver's memory,
+   weighted vector helpers, failure bookkeeping. Nothing here knows an algorithm. */
+
 /* ---- LAPACK through its Fortran symbols ---------------------------------------------------
    PSCBRANCH_LAPACK_INT: the Fortran INTEGER (int; long for ILP64 builds).
    PSCBRANCH_FORTRAN(name): the symbol of a routine (name##_ for gfortran and most builds).
@@ -2079,9 +1521,9 @@ enum {
     PSB__NVEC
 };
 /* Entries of each of psb_find_branches' stores, the tangents tried (memo), the directions
-   whose trial is known (known) and the Jacobian memo (jmemo_t, analytic dH only): the block
-   M800 fills 200-220 of the first two in 10 spans; the three are held to 12 MB together (more
-   only at the floor of 32 entries, N > 16000) */
+   whose trial is known (known) and the Jacobian memo (jmemo_t, analytic dH only): a few hundred
+   entries serve a sweep; the three are held to 12 MB together (more only at the floor of 32
+   entries, N > 16000) */
 static int psb__memo_capacity(int n)
 {
     int cap = (int)((1L << 19) / ((long)n + 1));
@@ -2237,8 +1679,7 @@ static const char *psb__check_options(const psb_options *o, int np1)
 {
     int i;
     /* a weight far from the normal range takes its precision with it: w t^2 formed for a
-       scaled t (psb__norm_w) underflows, and a subnormal w = 5e-324 normalised t to a norm
-       of 1.008 (fuzz_api) */
+       scaled t (psb__norm_w) underflows, and a subnormal w normalises t to a norm other than 1 */
 #define PSB__WEIGHT_OK(x) ((x) >= 1e-290 && (x) <= 1e290)
     /* lengths and tolerances: normal numbers with room below them (section 5) */
 #define PSB__LEN(x) ((x) >= 1e-290 && psb__finite(x)) /* false for NaN and Inf */
@@ -2529,7 +1970,7 @@ static double psb__norm2(const double *a, int n)
 /* Weighted cosine of the angle between a and b (0 when either vanishes), with ||a||_w given
    as na (< 0: computed here). One pass forms the sums psb__norm_w and psb__dot_w would, term for
    term in the same order, so the value is theirs bit for bit; Algorithm 2.2 compares each trial
-   direction with every stored one, which made these passes a third of the triangle M4096's run. */
+   direction with every stored one, so these passes are hot. */
 static double psb__cos_w_na(const psb_solver *s, const double *a, double na, const double *b)
 {
     double saa = 0, sbb = 0, sab = 0, nb;
@@ -2628,6 +2069,10 @@ static psb_result psb__faults_code(psb_solver *s, const char *what)
     return PSB_SUCCESS;
 }
 
+/* ==== Linear algebra (dense, banded, user) ======================================================
+   H and dH (analytic or finite differences) and the bordered matrix B = [dH; row^T]:
+   factored by the backend problem.linear selects, solved, its determinant's sign. */
+
 /* H(y) into out (n). */
 static psb_result psb__residual(psb_solver *s, const double *y, double *out)
 {
@@ -2646,16 +2091,16 @@ static psb_result psb__residual(psb_solver *s, const double *y, double *out)
 
 /* The difference step for component j at value x: fd_step max(1, |x|), at most fd_cap in the
    weighted norm when that is set. */
-static double psb__fd_step(const psb_solver *s, int j, double x)
+static double psb__fd_step(const psb_solver *s, int j, double x, double fd_cap)
 {
     double step = s->prob.fd_step * (fabs(x) > 1 ? fabs(x) : 1.0);
-    if (s->internal_.fd_cap > 0 && step * sqrt(s->internal_.w[j]) > s->internal_.fd_cap) step = s->internal_.fd_cap / sqrt(s->internal_.w[j]);
+    if (fd_cap > 0 && step * sqrt(s->internal_.w[j]) > fd_cap) step = fd_cap / sqrt(s->internal_.w[j]);
     return step;
 }
 
 /* dH(y) into s->internal_.jac (n x (n+1), ld n). h_at_y: H(y) if the caller has it (forward differences
    reuse it), else NULL. */
-static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const double *h_at_y)
+static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const double *h_at_y, double fd_cap)
 {
     int n = s->internal_.n, np1 = s->internal_.np1, i, j, rc;
     psb_result r;
@@ -2679,7 +2124,7 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
         }
         psb__copy(yp, y, np1);
         for (j = 0; j < np1; j++) {
-            double step = psb__fd_step(s, j, y[j]);
+            double step = psb__fd_step(s, j, y[j], fd_cap);
             double *col = s->internal_.jac + (size_t)j * (size_t)n, hp, hm;
             volatile double probe = y[j] + step; /* the step actually representable */
             hp = probe - y[j];
@@ -2807,7 +2252,7 @@ static psb_result psb__band_callback(psb_solver *s, const double *y)
 }
 
 /* A = dH/dx at y into band, the buffer of the pair that lu's factors did not come from. */
-static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const double *h_at_y)
+static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const double *h_at_y, double fd_cap)
 {
     int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
     int i, j, g;
@@ -2839,11 +2284,11 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
             if (g < ld) {
                 for (j = g; j < n; j += ld) {
                     int c = psb__ycol(s, j);
-                    volatile double probe = y[c] + psb__fd_step(s, c, y[c]);
+                    volatile double probe = y[c] + psb__fd_step(s, c, y[c], fd_cap);
                     steps[j] = probe - y[c];
                 }
             } else {
-                volatile double probe = y[p] + psb__fd_step(s, p, y[p]);
+                volatile double probe = y[p] + psb__fd_step(s, p, y[p], fd_cap);
                 steps[0] = probe - y[p];
             }
             /* side 1: y + steps into hp; side -1 (central): y - steps into res2 (not res:
@@ -3263,13 +2708,18 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
 
 /* dH(y) for the next factorisation. h_at_y: H(y) if the caller has it (finite differences
    reuse it), else NULL. */
-static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_at_y)
+static psb_result psb__jacobian_capped(psb_solver *s, const double *y, const double *h_at_y, double fd_cap)
 {
     switch (s->prob.linear) {
-    case PSB_LINEAR_BANDED: s->stats.n_jacobian++; return psb__jacobian_banded(s, y, h_at_y);
+    case PSB_LINEAR_BANDED: s->stats.n_jacobian++; return psb__jacobian_banded(s, y, h_at_y, fd_cap);
     case PSB_LINEAR_USER: psb__copy(s->internal_.yfac, y, s->internal_.np1); return PSB_SUCCESS;
-    default: return psb__jacobian_dense(s, y, h_at_y);
+    default: return psb__jacobian_dense(s, y, h_at_y, fd_cap);
     }
+}
+
+static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_at_y)
+{
+    return psb__jacobian_capped(s, y, h_at_y, 0);
 }
 
 /* Factors [dH(y); row^T] for the y of the last psb__jacobian. rcond (dense only, may be NULL):
@@ -3390,6 +2840,10 @@ static int psb__factors_det(const psb_solver *s, double *logabs)
 }
 
 /* Unit tangent at y oriented by ref (both n+1); y's Jacobian is evaluated here. */
+/* ==== Corrector and tangent =====================================================================
+   The tangent (a bordered solve, QR at folds) and the Moore-Penrose corrector; a caller
+   watches a corrector run through psb__corr_watch, never through solver fields. */
+
 /* psb__tangent's work once dH(y) is formed (psb__jacobian). Also sets tangent_sign, the
    outward sign sgn det [dH; (W t)^T] of the t returned (0 where the factors do not tell it):
    x solves [dH; row^T] x = e_(n+1), so row.x = 1 > 0 and det [dH; (W x)^T] has det B's sign. */
@@ -3438,13 +2892,21 @@ static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, d
     return PSB_SUCCESS;
 }
 
-static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref, double *t)
+/* The unit tangent at y oriented by ref; difference steps (no Jacobian callback) at most
+   fd_cap in the weighted norm when fd_cap > 0. */
+static psb_result psb__tangent_capped(psb_solver *s, const double *y, const double *ref, double *t,
+                                      double fd_cap)
 {
     psb_result r;
     s->stats.n_tangents++;
-    r = psb__jacobian(s, y, NULL);
+    r = psb__jacobian_capped(s, y, NULL, fd_cap);
     if (r != PSB_SUCCESS) return r;
     return psb__tangent_from_jacobian(s, ref, t);
+}
+
+static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref, double *t)
+{
+    return psb__tangent_capped(s, y, ref, t, 0);
 }
 
 static int psb__is_fatal(psb_result r)
@@ -3452,16 +2914,6 @@ static int psb__is_fatal(psb_result r)
     return r == PSB_ERR_CALLBACK || r == PSB_ERR_LAPACK || r == PSB_ERR_NULL ||
            r == PSB_ERR_NOMEM;
 }
-
-static int psb__trial_known(const psb_solver *s, const psb__sweep_state *sw, const double *x, const double *ts, int n_ts,
-                            const double *done, int own);
-static void psb__jmemo_key(const psb_solver *s, unsigned long long *key);
-static int psb__jmemo_find(const psb__sweep_state *sw, const unsigned long long *key);
-static void psb__jmemo_store(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *t, int sign);
-static int psb__jmemo_hashing(const psb__sweep_state *sw);
-static int psb__jmemo_get(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *ref, double *t, int *m);
-static double psb__angle_w(const psb_solver *s, const double *a, const double *b);
-static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known);
 
 /* Whether Newton has reached what H's rounding allows though ||H|| > tol_residual: the last
    correction is below tol_correction (the point lies that close to the solution) and the
@@ -3650,10 +3102,8 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
         s->stats.n_pc_steps++;
         if (watch) watch->fn(watch, s, PSB__CORR_STEP, yt, tt, 0);
         /* a step is accepted within hh of its prediction: an iterate 4 hh away is lost (at
-           a kink the corrector hops between pieces' far kernels until max_iter; PL contact,
-           5 nodes: the trace to a branch point 10406 -> 2548 factorisations, the same trials
-           and outcomes). Not for Algorithm 2.2's trials, which accept a landing anywhere on a
-           ray from ray_from */
+           a kink the corrector hops between pieces' far kernels until max_iter). Not for
+           Algorithm 2.2's trials, which accept a landing anywhere on a ray from ray_from */
         r = psb__correct(s, yt, tt, ray_from ? 0 : 4 * hh, watch, iters);
         if (psb__is_fatal(r)) return r;
         if (r == PSB_SUCCESS) {
@@ -3818,6 +3268,10 @@ PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *i
     return psb__correct(s, y, t, 0, NULL, iterations);
 }
 
+/* ==== Trace and its detectors ===================================================================
+   psb_step, the tangent switch, kinks, folds, bounds, the special-point detectors
+   (psb__detector, the trace's own state) and psb_trace, the driver. */
+
 /* Step size for the next step after a step of size h that took iters corrector iterations. */
 static double psb__adapt(const psb_solver *s, double h, int iters)
 {
@@ -3891,11 +3345,9 @@ static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const dou
 /* Whether the switch tries dir: not when it is, to rounding, a direction (either sign) it tried
    among the last PSB__SW_RING of this pass (*n_tried counts them). In a piece every probe's
    tangent is the same, and a try from y along it with a floor at least that try's (the floors
-   only grow within a pass) ends as that try did: a later pass tried 3 switch_n_dir copies of one
-   failing direction in 6 s where the first took 11 ms; at a cluster of kinks on triangle M65536
-   the straight-ahead probes tried one direction 24 times, each halving h from h_init to h_min;
-   in bench_branching's traces to a branch point 43% of the tries repeated one of the pass, 91%
-   of those within the last 8. */
+   only grow within a pass) ends as that try did, and at a cluster of kinks the probes meet the
+   same direction many times, each try halving h from h_init to h_min; most repeats fall
+   within the last 8. */
 static int psb__switch_fresh(psb_solver *s, const double *dir, int *n_tried)
 {
     int k, n = *n_tried < PSB__SW_RING ? *n_tried : PSB__SW_RING;
@@ -4082,8 +3534,7 @@ static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0
         half_theta = psb__angle_w(s, t0, tt);
         if (half_theta >= 0.25 * theta && half_theta <= 0.75 * theta) {
             /* Two kinks, one in each half, give the half step their middle piece's tangent
-               (theta / 2 for equal angles) and went by unseen (a review: x = 0.05 (|g| +
-               |g - 0.05|), no kink reported). A smooth turn grows strictly along the step, so
+               (theta / 2 for equal angles) and would go by unseen. A smooth turn grows strictly along the step, so
                the tangents after a quarter and three quarters of it lie apart from their
                neighbours (t0, the half step's, t1), by theta / 16 or more for turns growing
                like any power s^q of the length with the half step's turn in the band (q in
@@ -4146,8 +3597,7 @@ static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0
        the curvature grows from near 0 across the step (then the half step turns by 1/4 of
        the whole), and a located "kink" on a smooth branch stops a trace before nothing.
        Not with difference quotients: next to a kink they mix its pieces, the step's tangent
-       is off by as much, and the test then passes kinks by (random LCPs, N = 10: 2 of 254
-       entries more ended short of their branching point) */
+       is off by as much, and the test then passes kinks by */
     if (!psb__fd_jacobian(&s->prob)) {
         psb__copy(yt, ya, np1);
         psb__copy(tt, ta, np1);
@@ -4162,9 +3612,8 @@ static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0
 
 /* psb__locate_kink_in for the first kink of the step: the one it locates is where the turn
    from t0 reaches a quarter of the whole, and where the tangent had turned by more than c_diff's
-   angle before it, the stretch from y0 to it is searched again (a review: a four-branch point
-   0.06 before an ordinary kink, in one step; the trace located the far kink only, and the
-   explorer never looked at the point). The located couple is kept in the switch's scratch,
+   angle before it, the stretch from y0 to it is searched again (a branching point just before
+   an ordinary kink, in one step, would otherwise be passed for the far kink). The located couple is kept in the switch's scratch,
    idle here, while the stretch before it is searched. */
 static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, const double *t1,
                             double h, double expect)
@@ -4653,10 +4102,11 @@ typedef struct psb__detector {
 } psb__detector;
 
 /* The test function at (y, t) by a factorisation of its own (start point, bound landing). */
-static psb_result psb__monitor_at(psb_solver *s, const double *y, const double *t, psb__mon *m)
+static psb_result psb__monitor_at(psb_solver *s, const double *y, const double *t, psb__mon *m,
+                                  double fd_cap)
 {
     int i;
-    psb_result r = psb__jacobian(s, y, NULL);
+    psb_result r = psb__jacobian_capped(s, y, NULL, fd_cap);
     if (r != PSB_SUCCESS) return r;
     for (i = 0; i < s->internal_.np1; i++) s->internal_.work[i] = s->internal_.w[i] * t[i];
     r = psb__factor_bordered(s, s->internal_.work, NULL);
@@ -4683,7 +4133,7 @@ static psb_result psb__detect_start(psb_solver *s, psb__detector *d, const doubl
     d->mon_on = (to->detect & (PSB_DETECT_BRANCH | PSB_DETECT_PC1)) != 0;
     d->mon_old_ok = 0;
     if (d->mon_on) {
-        r = psb__monitor_at(s, y, t, &d->mon_old);
+        r = psb__monitor_at(s, y, t, &d->mon_old, 0);
         if (psb__sp_fault(s, r, 1)) return r;
         d->mon_old_ok = r == PSB_SUCCESS;
     }
@@ -4855,6 +4305,182 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
     return 0;
 }
 
+/* The detectors' test function at the accepted couple (y, t), by a factorisation there.
+   Returns PSB_SUCCESS, or the fault or fatal code that ends the trace. */
+static psb_result psb__trace_monitor_at(psb_solver *s, psb__detector *det, const double *y, const double *t)
+{
+    psb_result r = psb__monitor_at(s, y, t, &det->mon_new, 0);
+    if (psb__sp_fault(s, r, 1)) return r;
+    det->mon_new_ok = r == PSB_SUCCESS;
+    return PSB_SUCCESS;
+}
+
+/* A fold between the accepted couples (yold, told) and (yc, tc): t[param] changed sign.
+   Records its estimate in *pt and rep (at a kink reached by the switch, yold's parameter). */
+static void psb__trace_fold(psb_solver *s, psb_trace_report *rep, psb_point *pt, const double *yold,
+                            const double *told, const double *yc, const double *tc)
+{
+    int p = s->prob.param_index;
+    pt->fold_param = 0;
+    if (told[p] * tc[p] >= 0) return;
+    pt->flags |= PSB_POINT_FOLD;
+    pt->fold_param = (pt->flags & PSB_POINT_SWITCH) ? yold[p] : psb__fold_param(s, yold, told, yc, tc);
+    if (rep->n_folds < PSB_MAX_FOLDS) rep->fold_params[rep->n_folds] = pt->fold_param;
+    rep->n_folds++;
+}
+
+/* psb_trace's options, checked against the start y, with max_steps' default, into *opts. */
+static psb_result psb__trace_options(psb_solver *s, const psb_trace_options *to, const double *y,
+                                     psb_trace_options *opts)
+{
+    int p = s->prob.param_index;
+    if (to) *opts = *to;
+    else memset(opts, 0, sizeof *opts);
+    if (opts->max_steps < 0) return psb__fail(s, PSB_ERR_OPTIONS, "trace options: max_steps must be >= 0");
+    if (opts->locate_kinks < 0 || opts->locate_kinks > 2)
+        return psb__fail(s, PSB_ERR_OPTIONS, "trace options: locate_kinks must be 0, 1 or 2");
+    if (opts->max_steps == 0) opts->max_steps = 10000;
+    if (opts->param_min != opts->param_min || opts->param_max != opts->param_max)
+        return psb__fail(s, PSB_ERR_INPUT, "trace options: param_min or param_max is NaN");
+    if (opts->param_min < opts->param_max && (!(y[p] >= opts->param_min) || !(y[p] <= opts->param_max)))
+        return psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
+    if (opts->detect < 0 || opts->detect > PSB_DETECT_ALL || !(opts->locate_tol >= 0) ||
+        !psb__finite(opts->locate_tol))
+        return psb__fail(s, PSB_ERR_OPTIONS, "detect must be a PSB_DETECT_* mask and locate_tol >= 0");
+    if ((opts->detect & PSB_DETECT_PC1) && s->prob.linear == PSB_LINEAR_USER)
+        return psb__fail(s, PSB_ERR_OPTIONS, "PSB_DETECT_PC1 needs the dense or banded backend");
+    if (opts->n_events < 0) return psb__fail(s, PSB_ERR_SIZE, "n_events must be >= 0");
+    if ((opts->detect & PSB_DETECT_EVENTS) && opts->n_events > 0 && (!opts->event || !opts->event_work))
+        return psb__fail(s, PSB_ERR_NULL, "event or event_work is NULL");
+    return PSB_SUCCESS;
+}
+
+/* Reports the kinks of an accepted step from (yold, told) to (yc, tc), the first (kink set)
+   in K_YA/K_TA; with locate_kinks = 2 it searches the rest of the step past each (up to 8),
+   and leaves the first in K_YA/K_TA again for the detectors (TR_KY/TR_KT keep it across the
+   callbacks: a point callback may call psb_switch_tangent, whose scratch SW_* is). Returns 1
+   when the trace ends (rep->end set; (yc, tc) the couple it ends on), else 0. */
+static int psb__trace_kinks(psb_solver *s, const psb_trace_options *opts, psb_trace_report *rep,
+                            int kink, int switched, const double *yold, const double *told,
+                            double *yc, double *tc)
+{
+    int np1 = s->internal_.np1, n_step_kinks, first = kink;
+    psb_result r;
+    for (n_step_kinks = 0; kink; n_step_kinks++) {
+        psb_point kp;
+        double *yp = PSB__VEC(s, PSB__V_SW_C), *tp = PSB__VEC(s, PSB__V_SW_D), hp = 4 * s->opt.h_min;
+        int past_iters;
+        memset(&kp, 0, sizeof kp);
+        kp.y = PSB__VEC(s, PSB__V_K_YA);
+        kp.t = PSB__VEC(s, PSB__V_K_TA);
+        kp.index = rep->steps;
+        kp.flags = PSB_POINT_KINK;
+        rep->n_kinks++;
+        if (opts->on_point && psb__call_point(s, opts, &kp)) {
+            psb__copy(yc, kp.y, np1);
+            psb__copy(tc, kp.t, np1);
+            rep->end = PSB_STOPPED;
+            return 1;
+        }
+        /* a later kink of the same step: the rest of the step is searched from a couple just
+           past this one (the switch's scratch, idle here but in the callback above) */
+        kink = 0;
+        if (opts->locate_kinks < 2 || switched || n_step_kinks >= 7) break;
+        if (n_step_kinks == 0) {
+            psb__copy(PSB__VEC(s, PSB__V_TR_KY), kp.y, np1);
+            psb__copy(PSB__VEC(s, PSB__V_TR_KT), kp.t, np1);
+        }
+        psb__copy(yp, kp.y, np1);
+        psb__copy(tp, kp.t, np1);
+        r = psb__try_step(s, yp, tp, &hp, hp, &past_iters);
+        if (psb__is_fatal(r) || psb__is_fault(r)) {
+            psb__copy(yc, yold, np1);
+            psb__copy(tc, told, np1);
+            rep->end = r;
+            return 1;
+        }
+        if (r == PSB_SUCCESS && psb__cos_w(s, tp, kp.t) < s->opt.c_diff && psb__cos_w(s, tp, tc) < s->opt.c_diff &&
+            psb__dist_w(s, yp, yc) > 4 * s->opt.h_min) {
+            int found = psb__locate_kink(s, yp, tp, tc, psb__dist_w(s, yp, yc), -1);
+            if (found < 0) {
+                psb__copy(yc, yold, np1);
+                psb__copy(tc, told, np1);
+                rep->end = (psb_result)found;
+                return 1;
+            }
+            kink = found;
+        }
+    }
+    if (first && n_step_kinks > 0 && opts->locate_kinks) {
+        psb__copy(PSB__VEC(s, PSB__V_K_YA), PSB__VEC(s, PSB__V_TR_KY), np1);
+        psb__copy(PSB__VEC(s, PSB__V_K_TA), PSB__VEC(s, PSB__V_TR_KT), np1);
+    }
+    return 0;
+}
+
+/* A step from (yold, told) that left the parameter bounds to (yc, tc): lands on the bound it
+   crossed (flags gets PSB_POINT_BOUND), or ends the trace leaving through the bound it
+   started on. Returns 0 (landed), 1 (the trace ends: rep->end set, (yc, tc) the couple it ends
+   on), or 2: (yc, tc) back at yold, to try the shorter step *h (counted in *landings_failed:
+   a tangent switch that crosses the bound again restarts at h_init, so this could loop). */
+static int psb__trace_bound(psb_solver *s, const psb_trace_options *opts, psb_trace_report *rep,
+                            psb__detector *det, const double *yold, const double *told, double *yc,
+                            double *tc, double *h, int *landings_failed, int *flags)
+{
+    int np1 = s->internal_.np1, p = s->prob.param_index;
+    double bound = yc[p] > opts->param_max ? opts->param_max : opts->param_min;
+    psb_result r;
+    if (yold[p] == bound) { /* leaving through the bound we started on */
+        psb__copy(yc, yold, np1);
+        psb__copy(tc, told, np1);
+        rep->end = PSB_PARAM_BOUND;
+        return 1;
+    }
+    r = psb__land_on_bound(s, yold, yc, bound);
+    /* (a singular Newton matrix there is a fold at the bound: a shorter step may land) */
+    if (!psb__is_fatal(r) && r != PSB_ERR_CALLBACK_FAILED && r != PSB_ERR_NONFINITE) {
+        if (r == PSB_SUCCESS) r = psb__tangent(s, yc, tc, tc);
+        if (!psb__is_fatal(r) && !psb__is_fault(r) && r != PSB_SUCCESS) {
+            psb__copy(yc, yold, np1);
+            psb__copy(tc, told, np1);
+            *h *= s->opt.h_dec;
+            if (*h >= s->opt.h_min && ++*landings_failed <= 64) return 2;
+            rep->end = psb__fail(s, PSB_ERR_NO_CONVERGENCE, "could not land on the parameter bound");
+            return 1;
+        }
+    }
+    if (r != PSB_SUCCESS) {
+        psb__copy(yc, yold, np1);
+        psb__copy(tc, told, np1);
+        rep->end = r;
+        return 1;
+    }
+    *flags |= PSB_POINT_BOUND;
+    if (det->mon_on) {
+        r = psb__trace_monitor_at(s, det, yc, tc);
+        if (r != PSB_SUCCESS) {
+            rep->end = r;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Whether the trace closed a loop: its start lies on the last chord (yold, yc) of length seg,
+   and the curve went further than that chord already (travelled). */
+static int psb__trace_loop_closed(psb_solver *s, const double *yold, const double *yc,
+                                  const double *ystart, double seg, double travelled)
+{
+    int i, np1 = s->internal_.np1;
+    double *d = PSB__VEC(s, PSB__V_TR_B), seg2 = seg * seg, proj = 0, dist2 = 0, x;
+    for (i = 0; i < np1; i++) proj += s->internal_.w[i] * (yc[i] - yold[i]) * (ystart[i] - yold[i]);
+    x = seg2 > 0 ? proj / seg2 : -1;
+    if (!(x >= 0 && x <= 1 && travelled > 4 * sqrt(seg2))) return 0;
+    for (i = 0; i < np1; i++) d[i] = yold[i] + x * (yc[i] - yold[i]) - ystart[i];
+    for (i = 0; i < np1; i++) dist2 += s->internal_.w[i] * d[i] * d[i];
+    return dist2 <= 0.0025 * seg2 + s->opt.tol_correction * s->opt.tol_correction;
+}
+
 PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                                    const psb_trace_options *to, psb_trace_report *rep)
 {
@@ -4862,7 +4488,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     psb_trace_report local;
     psb_point pt;
     psb__detector det;
-    int np1, p, bounded, iters, flags, kink, step_kink, n_step_kinks, just_switched = 0, landings_failed = 0;
+    int np1, p, bounded, iters, flags, kink, step_kink, just_switched = 0, landings_failed = 0;
     double turn_rate = -1; /* the last smooth step's turn per length (-1: none known) */
     double h, h_step = 0, travelled = 0;
     double *yc, *tc, *yold, *told, *ystart, *tkink;
@@ -4872,46 +4498,22 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     r = psb__check_couple(s, y, t);
     if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_trace");
     if (r != PSB_SUCCESS) return rep->end = r;
-    if (to) opts = *to;
-    else memset(&opts, 0, sizeof opts);
-    if (opts.max_steps < 0) return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "trace options: max_steps must be >= 0");
-    if (opts.locate_kinks < 0 || opts.locate_kinks > 2)
-        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "trace options: locate_kinks must be 0, 1 or 2");
-    if (opts.max_steps == 0) opts.max_steps = 10000;
+    r = psb__trace_options(s, to, y, &opts);
+    if (r != PSB_SUCCESS) return rep->end = r;
     np1 = s->internal_.np1;
     p = s->prob.param_index;
-    if (opts.param_min != opts.param_min || opts.param_max != opts.param_max)
-        return rep->end = psb__fail(s, PSB_ERR_INPUT, "trace options: param_min or param_max is NaN");
     bounded = opts.param_min < opts.param_max;
-    if (bounded && (!(y[p] >= opts.param_min) || !(y[p] <= opts.param_max)))
-        return rep->end = psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
-    if (opts.detect < 0 || opts.detect > PSB_DETECT_ALL || !(opts.locate_tol >= 0) ||
-        !psb__finite(opts.locate_tol))
-        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "detect must be a PSB_DETECT_* mask and locate_tol >= 0");
-    if ((opts.detect & PSB_DETECT_PC1) && s->prob.linear == PSB_LINEAR_USER)
-        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "PSB_DETECT_PC1 needs the dense or banded backend");
-    if (opts.n_events < 0) return rep->end = psb__fail(s, PSB_ERR_SIZE, "n_events must be >= 0");
-    if ((opts.detect & PSB_DETECT_EVENTS) && opts.n_events > 0 && (!opts.event || !opts.event_work))
-        return rep->end = psb__fail(s, PSB_ERR_NULL, "event or event_work is NULL");
-    yc = PSB__VEC(s, PSB__V_TR_Y);
-    tc = PSB__VEC(s, PSB__V_TR_T);
-    yold = PSB__VEC(s, PSB__V_TR_Y0);
-    told = PSB__VEC(s, PSB__V_TR_T0);
-    ystart = PSB__VEC(s, PSB__V_TR_S);
-    tkink = PSB__VEC(s, PSB__V_TR_K);
+    yc = PSB__VEC(s, PSB__V_TR_Y), tc = PSB__VEC(s, PSB__V_TR_T);
+    yold = PSB__VEC(s, PSB__V_TR_Y0), told = PSB__VEC(s, PSB__V_TR_T0);
+    ystart = PSB__VEC(s, PSB__V_TR_S), tkink = PSB__VEC(s, PSB__V_TR_K);
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
     psb__normalize_w(s, tc);
     psb__copy(ystart, yc, np1);
     h = s->opt.h_init;
     memset(&det, 0, sizeof det);
-    det.s = s;
-    det.to = &opts;
-    det.rep = rep;
-    if (opts.detect) {
-        r = psb__detect_start(s, &det, yc, tc);
-        if (r != PSB_SUCCESS) { rep->end = r; goto done; }
-    }
+    det.s = s, det.to = &opts, det.rep = rep;
+    if (opts.detect && (r = psb__detect_start(s, &det, yc, tc)) != PSB_SUCCESS) { rep->end = r; goto done; }
     memset(&pt, 0, sizeof pt);
     pt.y = yc;
     pt.t = tc;
@@ -4931,8 +4533,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             if (opts.no_switch) { rep->end = PSB_NONSMOOTH_END; goto done; }
             r = psb__switch(s, yc, tc, just_switched ? tkink : NULL);
             psb__copy(tkink, told, np1);
-            if (r == PSB_NONSMOOTH_END) { rep->end = r; goto done; }
-            if (r != PSB_SUCCESS) { rep->end = r; goto done; }
+            if (r != PSB_SUCCESS) { rep->end = r; goto done; } /* PSB_NONSMOOTH_END too */
             /* the test function from the factors of the switch step's last corrector iteration */
             flags |= PSB_POINT_SWITCH;
             rep->n_switches++;
@@ -4971,96 +4572,27 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             }
             h = psb__adapt(s, h, iters);
         }
-        step_kink = kink; /* the step's first kink, for the detectors (K_YA/K_TA, kept in TR_KY/TR_KT:
-                             a point callback may call psb_switch_tangent, whose scratch SW_* is) */
-        for (n_step_kinks = 0; kink; n_step_kinks++) {
-            psb_point kp;
-            double *yp = PSB__VEC(s, PSB__V_SW_C), *tp = PSB__VEC(s, PSB__V_SW_D), hp = 4 * s->opt.h_min;
-            int past_iters;
-            memset(&kp, 0, sizeof kp);
-            kp.y = PSB__VEC(s, PSB__V_K_YA);
-            kp.t = PSB__VEC(s, PSB__V_K_TA);
-            kp.index = rep->steps;
-            kp.flags = PSB_POINT_KINK;
-            rep->n_kinks++;
-            if (opts.on_point && psb__call_point(s, &opts, &kp)) {
-                psb__copy(yc, kp.y, np1);
-                psb__copy(tc, kp.t, np1);
-                rep->end = PSB_STOPPED;
-                goto done;
-            }
-            /* A later kink of the same step (a review: two kinks 0.05 apart, one reported):
-               the rest of the step is searched from a couple just past this one (the
-               switch's scratch, idle here but in the callback above) */
-            kink = 0;
-            if (opts.locate_kinks < 2 || (flags & PSB_POINT_SWITCH) || n_step_kinks >= 7) break;
-            if (n_step_kinks == 0) {
-                psb__copy(PSB__VEC(s, PSB__V_TR_KY), kp.y, np1);
-                psb__copy(PSB__VEC(s, PSB__V_TR_KT), kp.t, np1);
-            }
-            psb__copy(yp, kp.y, np1);
-            psb__copy(tp, kp.t, np1);
-            r = psb__try_step(s, yp, tp, &hp, hp, &past_iters);
-            if (psb__is_fatal(r) || psb__is_fault(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
-            if (r == PSB_SUCCESS && psb__cos_w(s, tp, kp.t) < s->opt.c_diff && psb__cos_w(s, tp, tc) < s->opt.c_diff &&
-                psb__dist_w(s, yp, yc) > 4 * s->opt.h_min) {
-                int found = psb__locate_kink(s, yp, tp, tc, psb__dist_w(s, yp, yc), -1);
-                if (found < 0) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = (psb_result)found; goto done; }
-                kink = found;
-            }
-        }
-        if (step_kink && n_step_kinks > 0 && opts.locate_kinks) {
-            psb__copy(PSB__VEC(s, PSB__V_K_YA), PSB__VEC(s, PSB__V_TR_KY), np1);
-            psb__copy(PSB__VEC(s, PSB__V_K_TA), PSB__VEC(s, PSB__V_TR_KT), np1);
-        }
+        step_kink = kink; /* the step's first kink, for the detectors */
+        if (psb__trace_kinks(s, &opts, rep, kink, (flags & PSB_POINT_SWITCH) != 0, yold, told, yc, tc)) goto done;
         /* across a kink the corrector's last factorisation may be at an iterate on the other
            piece: the test function then costs a factorisation at the accepted point */
         if (det.mon_on && ((flags & PSB_POINT_SWITCH) || psb__cos_w(s, told, tc) < s->opt.c_diff)) {
-            r = psb__monitor_at(s, yc, tc, &det.mon_new);
-            if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
-            det.mon_new_ok = r == PSB_SUCCESS;
+            r = psb__trace_monitor_at(s, &det, yc, tc);
+            if (r != PSB_SUCCESS) { rep->end = r; goto done; }
         }
         if (bounded && (yc[p] > opts.param_max || yc[p] < opts.param_min)) {
-            double bound = yc[p] > opts.param_max ? opts.param_max : opts.param_min;
-            if (yold[p] == bound) { /* leaving through the bound we started on */
-                psb__copy(yc, yold, np1);
-                psb__copy(tc, told, np1);
-                rep->end = PSB_PARAM_BOUND;
-                goto done;
-            }
-            r = psb__land_on_bound(s, yold, yc, bound);
-            /* (a singular Newton matrix there is a fold at the bound: a shorter step may land) */
-            if (psb__is_fatal(r) || r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
-            if (r == PSB_SUCCESS) r = psb__tangent(s, yc, tc, tc);
-            if (psb__is_fatal(r) || psb__is_fault(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
-            if (r != PSB_SUCCESS) {
-                /* land by a shorter step next time; counted, since a tangent switch that
-                   crosses the bound again restarts at h_init (fuzz_api: a loop without end) */
-                psb__copy(yc, yold, np1);
-                psb__copy(tc, told, np1);
-                h *= s->opt.h_dec;
-                if (h < s->opt.h_min || ++landings_failed > 64) { rep->end = psb__fail(s, PSB_ERR_NO_CONVERGENCE, "could not land on the parameter bound"); goto done; }
-                continue;
-            }
-            flags |= PSB_POINT_BOUND;
-            if (det.mon_on) {
-                r = psb__monitor_at(s, yc, tc, &det.mon_new);
-                if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
-                det.mon_new_ok = r == PSB_SUCCESS;
-            }
+            int landed = psb__trace_bound(s, &opts, rep, &det, yold, told, yc, tc, &h, &landings_failed, &flags);
+            if (landed == 1) goto done;
+            if (landed == 2) continue;
         }
         just_switched = (flags & PSB_POINT_SWITCH) != 0;
         landings_failed = 0;
         rep->steps++;
         pt.h = psb__dist_w(s, yold, yc);
         travelled += pt.h;
-        pt.fold_param = 0;
-        if (told[p] * tc[p] < 0) {
-            flags |= PSB_POINT_FOLD;
-            pt.fold_param = (flags & PSB_POINT_SWITCH) ? yold[p] : psb__fold_param(s, yold, told, yc, tc);
-            if (rep->n_folds < PSB_MAX_FOLDS) rep->fold_params[rep->n_folds] = pt.fold_param;
-            rep->n_folds++;
-        }
+        pt.flags = flags;
+        psb__trace_fold(s, rep, &pt, yold, told, yc, tc);
+        flags = pt.flags;
         if (opts.detect) {
             int stop = psb__detect_step(s, &det, yold, told, yc, tc,
                                         (flags & PSB_POINT_SWITCH) ? 2 : step_kink, h_step, rep->steps);
@@ -5076,20 +4608,9 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         pt.flags = flags;
         if (opts.on_point && psb__call_point(s, &opts, &pt)) { rep->end = PSB_STOPPED; goto done; }
         if (flags & PSB_POINT_BOUND) { rep->end = PSB_PARAM_BOUND; goto done; }
-        if (opts.detect_loop && rep->steps >= 3) {
-            /* the start lies on the last chord, and the curve already went further than it */
-            int i;
-            double *d = PSB__VEC(s, PSB__V_TR_B), seg2 = pt.h * pt.h, proj = 0, dist2 = 0, x;
-            for (i = 0; i < np1; i++) proj += s->internal_.w[i] * (yc[i] - yold[i]) * (ystart[i] - yold[i]);
-            x = seg2 > 0 ? proj / seg2 : -1;
-            if (x >= 0 && x <= 1 && travelled > 4 * sqrt(seg2)) {
-                for (i = 0; i < np1; i++) d[i] = yold[i] + x * (yc[i] - yold[i]) - ystart[i];
-                for (i = 0; i < np1; i++) dist2 += s->internal_.w[i] * d[i] * d[i];
-                if (dist2 <= 0.0025 * seg2 + s->opt.tol_correction * s->opt.tol_correction) {
-                    rep->end = PSB_LOOP_CLOSED;
-                    goto done;
-                }
-            }
+        if (opts.detect_loop && rep->steps >= 3 && psb__trace_loop_closed(s, yold, yc, ystart, pt.h, travelled)) {
+            rep->end = PSB_LOOP_CLOSED;
+            goto done;
         }
     }
     rep->end = PSB_STEP_BUDGET;
@@ -5103,6 +4624,10 @@ done:
     rep->h = h;
     return rep->end;
 }
+
+/* ==== Algorithm 2.1 (psb_locate_end) ============================================================
+   The branching calls' h (psb__branch_h) and Algorithm 2.1: approach the end point of
+   a branch. */
 
 /* Sets s->branch.h (and h_min) for Algorithms 2.1-2.2 at y. With finite differences and h
    left to its default: 10^4 times the largest difference step at y measured in
@@ -5320,6 +4845,18 @@ follow:
     return PSB_SUCCESS;
 }
 
+PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
+                                        const psb_branch_options *bo, double *precision)
+{
+    psb_result r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__locate_end(s, y, t, precision) : r;
+}
+
+/* ==== Algorithm 2.2 (psb_find_branches) =========================================================
+   Every branch leaving a nonsmooth point, with its working state in psb__sweep_state
+   (memos, cone test, sweep bookkeeping), passed down as an argument. */
+
 /* splitmix64 seeds xoshiro256**: a small, fast generator with a fixed, portable sequence. */
 static unsigned long long psb__splitmix(unsigned long long *x)
 {
@@ -5452,6 +4989,8 @@ static int psb__jmemo_hashing(const psb__sweep_state *sw)
 
 /* The memo's key of the piece at y (problem.piece, set), *known 0 when the callback knows no
    id there (> 0). */
+
+/* The piece id of y from problem.piece, as a memo key (*known 0: the callback named none). */
 static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known)
 {
     int rc = s->prob.piece(y, key, s->prob.user);
@@ -5461,6 +5000,9 @@ static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long l
     if (!*known) key[0] = key[1] = 0;
     return PSB_SUCCESS;
 }
+
+static int psb__trial_known(const psb_solver *s, const psb__sweep_state *sw, const double *x,
+                            const double *ts, int n_ts, const double *done, int own);
 
 /* An Algorithm 2.2 trial's watch on the corrector (psb__try_tangent): it records the tangents
    of the trial's iterates (path), cuts the trial once one of them is a tangent whose trial is
@@ -5497,9 +5039,8 @@ static int psb__pmemo_trusted(const psb_solver *s, const psb__sweep_state *sw, i
    tangent's trial is known, the corrector's cut (psb__correct_run) applies without the
    factorisation. As with sample tangents, the memo's tangent only decides this skip.
    A dH hash gives the tangent of the same dH. A piece id gives one from another point of the
-   piece, which is the tangent here only where H is nearly linear across the piece (the block:
-   no cut decided otherwise in 390 checked); on a curved piece the wrong verdict can cost a
-   branch (curved random LCPs). So a piece's tangent decides a cut only after the memo has met
+   piece, which is the tangent here only where H is nearly linear across the piece; on a curved
+   piece the wrong verdict can cost a branch. So a piece's tangent decides a cut only after the memo has met
    4 tangents computed at trial iterates of pieces it held, and found them all within an
    eighth of c_diff's angle of its own (pmemo_drift, measured by the corrector).
    key gets the key under which the corrector stores the tangent it computes (zero when there
@@ -5698,18 +5239,14 @@ static void psb__trial_watch_init(psb__trial_watch *tw, psb__sweep_state *sw, co
 /* The tangent at sample point pt, formed there (difference steps below s->branch.h / 1000). */
 static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const double *ref, double *t)
 {
-    psb_result r;
-    s->internal_.fd_cap = 1e-3 * s->branch.h;
-    r = psb__tangent(s, pt, ref, t);
-    s->internal_.fd_cap = 0;
-    return r;
+    return psb__tangent_capped(s, pt, ref, t, 1e-3 * s->branch.h);
 }
 
 /* Records psb__conic_excess at p, the screening point of an Algorithm 2.2 trial from
    y0 (NULL: nothing to do), in cone_defect; dH(p) was just formed (psb__sample_tangent). The
    screen takes the tangent at p for the trial's, which holds on cones about y0 alone, and p
-   may lie beyond a kink that the trial's own iterates never meet (kinks 2e-3 from y0,
-   h_init 1e-2: 2 of 4 branches, every trial cut). Only while the run watches
+   may lie beyond a kink that the trial's own iterates never meet (a kink nearer y0 than
+   h_init: branches lost, every trial cut). Only while the run watches
    (psb__cone_watched). It costs H(p). Returns PSB_SUCCESS or a fatal code; a fault is noted. */
 static psb_result psb__probe_cone(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *p)
 {
@@ -5900,8 +5437,8 @@ static int psb__same_curved_branch(psb_solver *s, const double *y0, const double
    factorisation, stands for the trial: when k's trial is known (psb__trial_known) the trial is
    skipped (report.n_screened), otherwise the trial is made along k and k remembered, and so
    are the tangents of its corrector iterations when it lands (the same argument, iteration
-   by iteration). On smooth pieces the argument holds to O(h). Block M800, Tables 1-2
-   settings: same spans and branches, n_pc 14-49% lower, factorisations 19-29%. */
+   by iteration). On smooth pieces the argument holds to O(h); the figures are in
+   docs/branching-notes.md. */
 static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *tt,
                                    int max_branches, double *ys, double *ts,
                                    psb_branch_report *rep, int *overflow)
@@ -5950,7 +5487,7 @@ static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const do
         rep->n_pc++;
         /* not with finite differences: the corrector's quotients (steps not held below
            branch_h / 1000 as at sample points) can mix the pieces at its iterates, and
-           recorded their paths cost complete sets (random LCPs, N = 8: 196 of 236, not 214) */
+           recorded paths then cost branches */
         watched = !s->branch.expert.no_screen && !psb__fd_jacobian(&s->prob);
         psb__trial_watch_init(&tw, sw, ts, rep->n_branches, own, sw->conic_h0_ok ? y0 : NULL);
         memo_cuts = sw->memo_cuts;
@@ -6065,15 +5602,13 @@ static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys
             psb__axpy_to(q, ys, d > 0 ? d : s->branch.h, tj, np1);
             p = q;
         }
-        s->internal_.fd_cap = 1e-3 * s->branch.h;
         r = psb__memo_sign(s, sw, p, tj, &sign);
-        if (r == PSB_SUCCESS && !sign) {
-            r = psb__monitor_at(s, p, tj, &m);
+        if (r == PSB_SUCCESS && !sign) { /* difference steps below h / 1000, as at sample points */
+            r = psb__monitor_at(s, p, tj, &m, 1e-3 * s->branch.h);
             /* banded factors of an exactly singular A tell no sign (psb__monitor's -700) */
             if (r == PSB_SUCCESS && !(m.logabs[0] > -700)) r = PSB_ERR_SINGULAR;
             if (r == PSB_SUCCESS) sign = m.sign[0] < 0 ? -1 : 1;
         }
-        s->internal_.fd_cap = 0;
         if (psb__is_fatal(r)) {
             *fatal = r;
             return 0;
@@ -6145,7 +5680,7 @@ static psb_result psb__sweep(psb_solver *s, psb__sweep_state *sw, const double *
 /* Section 3, strategy (1): the next pair (i, j), i < j, of the found branches ts (n_br) to
    span a sweep, each once, among the first 64 (their 2016 pairs outlast any sweep with
    n_span < 250); 0 when all were swept. Orthogonalised sweep: the smallest |cosine| first;
-   printed sweep: the largest first (section 6, "Order of the pairs"); ties in the order
+   printed sweep: the largest first (section 6, "Restarts"); ties in the order
    (0,1), (0,2), (1,2), (0,3), ... */
 static int psb__next_pair(psb_solver *s, psb__sweep_state *sw, const double *ts, int n_br, int *pi, int *pj)
 {
@@ -6175,7 +5710,7 @@ static int psb__next_pair(psb_solver *s, psb__sweep_state *sw, const double *ts,
    y0 + h r, r uniformly random; else at y0 + h (d + 0.1 r) for the d returned. Remark 2.3(ii)
    perturbs the previous t~2 (prev) and keeps t~1: PSB_RESTART_PAPER. Uniform draws reach
    regions no span found so far comes near, but rarely the thin ones beside found branches
-   (section 6, "Random spans"), so PSB_RESTART_MIXED alternates them, uniform first, with
+   (section 6, "Restarts"), so PSB_RESTART_MIXED alternates them, uniform first, with
    perturbations of the found branches' tangents ts (n_br) in turn, each spanned with t~1 = it. */
 static const double *psb__restart_centre(const psb_solver *s, const double *ts, int n_br, int n_rand,
                                          const double *prev, double *t1)
@@ -6199,7 +5734,7 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
    bound the tangents spent.
    Idle spans of pairs count in neither: each is followed by a random span, so they are
    bounded by those, and counted they ended the sweep on the crossing kinks, k = 5, before
-   its random spans had found every ray (section 6, "Idle spans").
+   its random spans had found every ray (section 6, "Sweep length").
    n_span left at its default (memo on): the sweep goes on past n_span until it has gone
    twice as many counted spans without a new branch as it took to find the last one, up
    to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
@@ -6419,8 +5954,7 @@ static psb_result psb__odd_sweeps(psb_solver *s, psb__sweep_state *sw, const dou
    curvature x d / 2, as a landing point's chord turn is, so PSB__CHORD_TURN for both. Where
    some landing point's chord runs straight along its tangent (a piecewise-linear H), the
    pieces bend nowhere and an excess tells a kink: a kink at distance a from y0 shows about
-   a / h_init times its angle (1.9e-2 to 3.4e-2 for a loop within 1.4e-3 of y0 at h_init
-   1e-2: 2 of 4 branches lost). There 8 times the straightest landing's turn, at least 1e-3. */
+   a / h_init times its angle. There 8 times the straightest landing's turn, at least 1e-3. */
 static double psb__cone_tolerance(const psb__sweep_state *sw)
 {
     double tol = 8 * sw->chord_turn_min;
@@ -6432,7 +5966,7 @@ static double psb__cone_tolerance(const psb__sweep_state *sw)
    kink lies closer, a trial's landing point lies beyond it, and the branch's chord from y0
    turns away from its tangent there by about the kink's angle (on a straight branch not at
    all, on a curved one by curvature x distance / 2): trials reach other points' branches and
-   the screen skips real ones (kinks 1e-3 apart, h_init 1e-2: 2 of 4 branches, or 4 for 2).
+   the screen skips real ones.
    So when a landing point's chord turns by more than PSB__CHORD_TURN from its tangent, or a
    trial's iterate or screening point finds H that far from conic (cone_defect), or the
    count is odd (manual, "An odd count"; a branch that ended at a nearby kink's tells no turn),
@@ -6472,6 +6006,20 @@ static psb_result psb__find_branches(psb_solver *s, psb__sweep_state *sw, const 
     s->branch.h_init = h_init;
     return r;
 }
+
+PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
+                                           const psb_branch_options *bo, int max_branches,
+                                           double *ys, double *ts, psb_branch_report *rep)
+{
+    psb_result r;
+    if (rep) memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y0, t0);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__find_branches(s, &s->internal_.sweep, y0, t0, max_branches, ys, ts, rep) : r;
+}
+
+/* ==== Branch point switch (psb_branch_point_switch) =============================================
+   Every branch through a smooth branch point: Newton on spheres around it. */
 
 /* ---- switching at a smooth branch point ----------------------------------------------------
    Near a branch point y* the solutions lie, to first order, on lines through y* in the kernel
@@ -6745,27 +6293,6 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
 
-/* ---- the branching calls: their options resolved into s->branch, then the algorithm ---- */
-
-PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
-                                        const psb_branch_options *bo, double *precision)
-{
-    psb_result r = psb__check_couple(s, y, t);
-    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
-    return r == PSB_SUCCESS ? psb__locate_end(s, y, t, precision) : r;
-}
-
-PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
-                                           const psb_branch_options *bo, int max_branches,
-                                           double *ys, double *ts, psb_branch_report *rep)
-{
-    psb_result r;
-    if (rep) memset(rep, 0, sizeof *rep);
-    r = psb__check_couple(s, y0, t0);
-    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
-    return r == PSB_SUCCESS ? psb__find_branches(s, &s->internal_.sweep, y0, t0, max_branches, ys, ts, rep) : r;
-}
-
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
                                                  const double *kernel, const psb_branch_options *bo,
                                                  int max_branches, double *ys, double *ts,
@@ -6779,184 +6306,8 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     return r == PSB_SUCCESS ? psb__branch_point_switch(s, y, t, kernel, max_branches, ys, ts, rep) : r;
 }
 
-/* ==== quasi-static evolution ============================================================== */
-
-/* Counters spent since `before`. */
-static psb_stats psb__stats_since(const psb_solver *s, const psb_stats *before)
-{
-    psb_stats d = s->stats;
-    d.n_residual -= before->n_residual;
-    d.n_jacobian -= before->n_jacobian;
-    d.n_factor -= before->n_factor;
-    d.n_factor_reused -= before->n_factor_reused;
-    d.n_pc_steps -= before->n_pc_steps;
-    d.n_newton -= before->n_newton;
-    d.n_rejected -= before->n_rejected;
-    d.n_switches -= before->n_switches;
-    d.n_tangents -= before->n_tangents;
-    d.n_tangent_reused -= before->n_tangent_reused;
-    return d;
-}
-
-/* psb_evolve_step's point callback: measures the path, enforces max_length, calls the user's. */
-typedef struct psb__evolve_ctx {
-    const psb_evolve_options *eo;
-    int p, user_stop, too_long;
-    double length, low, high;
-} psb__evolve_ctx;
-
-static int psb__evolve_point(const psb_point *pt, void *user)
-{
-    psb__evolve_ctx *c = (psb__evolve_ctx *)user;
-    double g = pt->y[c->p];
-    c->length += pt->h;
-    if (g < c->low) c->low = g;
-    if (g > c->high) c->high = g;
-    if (c->eo->on_point && c->eo->on_point(pt, c->eo->point_user)) return c->user_stop = 1;
-    if (c->eo->max_length > 0 && c->length > c->eo->max_length && !(pt->flags & PSB_POINT_BOUND))
-        return c->too_long = 1;
-    return 0;
-}
-
-static const char *psb__check_evolve_options(const psb_evolve_options *o)
-{
-    if (o->mode < PSB_EVOLVE_AUTO || o->mode > PSB_EVOLVE_CONTINUATION) return "mode is not a psb_evolve_mode";
-    if (o->newton_max_iter < 0 || o->newton_max_iter > PSB_MAX_ITER_LIMIT)
-        return "newton_max_iter must lie in [0, PSB_MAX_ITER_LIMIT]";
-    if (!(o->newton_max_jump >= 0)) return "newton_max_jump must be >= 0 (0: any)";
-    if (o->param_min != o->param_min || o->param_max != o->param_max) return "param_min or param_max is NaN";
-    if (o->max_steps < 0) return "max_steps < 0";
-    if (!(o->max_length >= 0)) return "max_length must be >= 0 (0: no limit)";
-    return NULL;
-}
-
-PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
-                                         const psb_evolve_options *eo, psb_evolve_report *rep)
-{
-    psb_evolve_options o;
-    psb_evolve_report local;
-    psb_trace_options to;
-    psb_trace_report tr;
-    psb__evolve_ctx ctx;
-    psb_stats before;
-    const char *bad;
-    int np1, p, ranged, up, i;
-    double g0, far, *yn, *yc, *tc;
-    psb_result r;
-    if (!rep) rep = &local;
-    memset(rep, 0, sizeof *rep);
-    rep->newton_jump = rep->newton_gap = -1;
-    if (!psb__ready(s)) return PSB_ERR_NULL;
-    s->message[0] = 0;
-    if (psb__trace_busy(s, "psb_evolve_step")) return PSB_ERR_INPUT;
-    if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
-    if (eo) o = *eo;
-    else memset(&o, 0, sizeof o);
-    if ((bad = psb__check_evolve_options(&o)) != NULL) return psb__fail(s, PSB_ERR_OPTIONS, bad);
-    np1 = s->internal_.np1;
-    p = s->prob.param_index;
-    if (!psb__all_finite(y, np1) || !psb__finite(param_next))
-        return psb__fail(s, PSB_ERR_NONFINITE, "y or param_next contains NaN or Inf");
-    g0 = y[p];
-    ranged = o.param_min < o.param_max;
-    if (ranged && (g0 < o.param_min || g0 > o.param_max || param_next < o.param_min || param_next > o.param_max))
-        return psb__fail(s, PSB_ERR_INPUT, "y's parameter or param_next lies outside [param_min, param_max]");
-    if (o.newton_max_iter == 0) o.newton_max_iter = 20;
-    if (o.max_steps == 0) o.max_steps = 10000;
-    before = s->stats;
-    rep->param_low = rep->param_high = g0;
-    yn = PSB__VEC(s, PSB__V_EV_N);
-    yc = PSB__VEC(s, PSB__V_EV_Y);
-    tc = PSB__VEC(s, PSB__V_EV_T);
-
-    /* plain time stepping: Newton at param_next from the previous state */
-    if (o.mode != PSB_EVOLVE_CONTINUATION || param_next == g0) {
-        rep->newton_run = 1;
-        psb__copy(yn, y, np1);
-        yn[p] = param_next;
-        r = rep->newton = psb_solve_at_param(s, yn, o.newton_max_iter);
-        if (r == PSB_SUCCESS) {
-            yn[p] = param_next;
-            rep->newton_jump = psb__dist_w(s, y, yn);
-            if (o.mode == PSB_EVOLVE_NEWTON || param_next == g0 || o.newton_max_jump == 0 ||
-                rep->newton_jump <= o.newton_max_jump) {
-                rep->method = PSB_EVOLVE_NEWTON;
-                rep->jump = rep->newton_jump;
-                rep->param_low = fmin(g0, param_next);
-                rep->param_high = fmax(g0, param_next);
-                rep->cost = psb__stats_since(s, &before);
-                psb__copy(y, yn, np1);
-                return PSB_SUCCESS;
-            }
-        } else if (psb__is_fatal(r) || o.mode == PSB_EVOLVE_NEWTON || param_next == g0) {
-            rep->cost = psb__stats_since(s, &before);
-            return r;
-        }
-    }
-
-    /* the step's continuation problem: from (y, lambda_{k-1}) along the curve to param_next */
-    up = param_next > g0;
-    psb__copy(yc, y, np1);
-    r = psb_tangent(s, yc, NULL, tc);
-    if (r == PSB_SUCCESS && !up)
-        for (i = 0; i < np1; i++) tc[i] = -tc[i];
-    if (r == PSB_SUCCESS) r = psb__residual(s, yc, s->internal_.res);
-    if (r == PSB_SUCCESS && psb__norm2(s->internal_.res, s->internal_.n) > s->opt.tol_residual) {
-        /* a polish of the previous solution; a move longer than a step means it was none */
-        r = psb_correct(s, yc, tc, NULL);
-        /* (a fault, a NaN or a singular matrix is reported as such, not as a bad y) */
-        if ((r != PSB_SUCCESS && !psb__is_fatal(r) && !psb__is_fault(r)) ||
-            (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
-            r = psb__fail(s, PSB_ERR_INPUT, "y does not solve H(y) = 0 (no solution within h_init of it)");
-    }
-    if (r != PSB_SUCCESS) {
-        rep->cost = psb__stats_since(s, &before);
-        return r;
-    }
-    memset(&to, 0, sizeof to);
-    far = up ? (ranged ? o.param_min : -DBL_MAX) : (ranged ? o.param_max : DBL_MAX);
-    to.param_min = up ? far : param_next;
-    to.param_max = up ? param_next : far;
-    to.max_steps = o.max_steps;
-    to.no_switch = o.no_switch;
-    to.detect_loop = 1;
-    to.on_point = psb__evolve_point;
-    to.point_user = &ctx;
-    memset(&ctx, 0, sizeof ctx);
-    ctx.eo = &o;
-    ctx.p = p;
-    ctx.low = ctx.high = yc[p];
-    r = psb_trace(s, yc, tc, &to, &tr);
-    rep->trace_end = r;
-    rep->steps = tr.steps;
-    rep->n_folds = tr.n_folds;
-    for (i = 0; i < tr.n_folds && i < PSB_MAX_FOLDS; i++) rep->fold_params[i] = tr.fold_params[i];
-    rep->snap_through = tr.n_folds > 0;
-    rep->n_switches = tr.n_switches;
-    rep->path_length = ctx.length;
-    rep->param_low = fmin(ctx.low, g0);
-    rep->param_high = fmax(ctx.high, g0);
-    rep->cost = psb__stats_since(s, &before);
-    if (r == PSB_PARAM_BOUND && fabs(yc[p] - param_next) < fabs(yc[p] - far)) {
-        yc[p] = param_next;
-        rep->method = PSB_EVOLVE_CONTINUATION;
-        rep->jump = psb__dist_w(s, y, yc);
-        if (rep->newton_run && rep->newton == PSB_SUCCESS) rep->newton_gap = psb__dist_w(s, yn, yc);
-        psb__copy(y, yc, np1);
-        s->message[0] = 0;
-        return PSB_SUCCESS;
-    }
-    if (ctx.user_stop) return psb__fail(s, PSB_ERR_CALLBACK, "on_point stopped the step");
-    if (r < 0) return r;
-    return psb__fail(s, PSB_ERR_NO_CONVERGENCE,
-                     r == PSB_PARAM_BOUND ? "the path left [param_min, param_max] before param_next"
-                     : r == PSB_STEP_BUDGET ? "the path used max_steps before param_next"
-                     : ctx.too_long ? "the path grew longer than max_length before param_next"
-                     : r == PSB_LOOP_CLOSED ? "the path closed a loop without reaching param_next"
-                     : "the path ended at a point the tangent switch could not pass");
-}
-
-/* ==== exploring the whole diagram ========================================================== */
+/* ==== Exploring the whole diagram (psb_explore) =================================================
+   The explorer's queue and graph (psb__explorer) over psb_trace and the branching calls. */
 
 /* Scratch vectors of the explorer (n+1 each), after the nodes' storage: the couple being
    traced, the couple where a trace stopped for a branching (a kink's or a detector's), the
@@ -7869,7 +7220,186 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
 }
 #endif
 
-/* ==== contact helpers ==================================================================== */
+/* ==== Quasi-static evolution (psb_evolve_step) ==================================================
+   One time step: Newton at the new load, else continuation in the load through folds. */
+
+/* Counters spent since `before`. */
+static psb_stats psb__stats_since(const psb_solver *s, const psb_stats *before)
+{
+    psb_stats d = s->stats;
+    d.n_residual -= before->n_residual;
+    d.n_jacobian -= before->n_jacobian;
+    d.n_factor -= before->n_factor;
+    d.n_factor_reused -= before->n_factor_reused;
+    d.n_pc_steps -= before->n_pc_steps;
+    d.n_newton -= before->n_newton;
+    d.n_rejected -= before->n_rejected;
+    d.n_switches -= before->n_switches;
+    d.n_tangents -= before->n_tangents;
+    d.n_tangent_reused -= before->n_tangent_reused;
+    return d;
+}
+
+/* psb_evolve_step's point callback: measures the path, enforces max_length, calls the user's. */
+typedef struct psb__evolve_ctx {
+    const psb_evolve_options *eo;
+    int p, user_stop, too_long;
+    double length, low, high;
+} psb__evolve_ctx;
+
+static int psb__evolve_point(const psb_point *pt, void *user)
+{
+    psb__evolve_ctx *c = (psb__evolve_ctx *)user;
+    double g = pt->y[c->p];
+    c->length += pt->h;
+    if (g < c->low) c->low = g;
+    if (g > c->high) c->high = g;
+    if (c->eo->on_point && c->eo->on_point(pt, c->eo->point_user)) return c->user_stop = 1;
+    if (c->eo->max_length > 0 && c->length > c->eo->max_length && !(pt->flags & PSB_POINT_BOUND))
+        return c->too_long = 1;
+    return 0;
+}
+
+static const char *psb__check_evolve_options(const psb_evolve_options *o)
+{
+    if (o->mode < PSB_EVOLVE_AUTO || o->mode > PSB_EVOLVE_CONTINUATION) return "mode is not a psb_evolve_mode";
+    if (o->newton_max_iter < 0 || o->newton_max_iter > PSB_MAX_ITER_LIMIT)
+        return "newton_max_iter must lie in [0, PSB_MAX_ITER_LIMIT]";
+    if (!(o->newton_max_jump >= 0)) return "newton_max_jump must be >= 0 (0: any)";
+    if (o->param_min != o->param_min || o->param_max != o->param_max) return "param_min or param_max is NaN";
+    if (o->max_steps < 0) return "max_steps < 0";
+    if (!(o->max_length >= 0)) return "max_length must be >= 0 (0: no limit)";
+    return NULL;
+}
+
+PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
+                                         const psb_evolve_options *eo, psb_evolve_report *rep)
+{
+    psb_evolve_options o;
+    psb_evolve_report local;
+    psb_trace_options to;
+    psb_trace_report tr;
+    psb__evolve_ctx ctx;
+    psb_stats before;
+    const char *bad;
+    int np1, p, ranged, up, i;
+    double g0, far, *yn, *yc, *tc;
+    psb_result r;
+    if (!rep) rep = &local;
+    memset(rep, 0, sizeof *rep);
+    rep->newton_jump = rep->newton_gap = -1;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
+    s->message[0] = 0;
+    if (psb__trace_busy(s, "psb_evolve_step")) return PSB_ERR_INPUT;
+    if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
+    if (eo) o = *eo;
+    else memset(&o, 0, sizeof o);
+    if ((bad = psb__check_evolve_options(&o)) != NULL) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    np1 = s->internal_.np1;
+    p = s->prob.param_index;
+    if (!psb__all_finite(y, np1) || !psb__finite(param_next))
+        return psb__fail(s, PSB_ERR_NONFINITE, "y or param_next contains NaN or Inf");
+    g0 = y[p];
+    ranged = o.param_min < o.param_max;
+    if (ranged && (g0 < o.param_min || g0 > o.param_max || param_next < o.param_min || param_next > o.param_max))
+        return psb__fail(s, PSB_ERR_INPUT, "y's parameter or param_next lies outside [param_min, param_max]");
+    if (o.newton_max_iter == 0) o.newton_max_iter = 20;
+    if (o.max_steps == 0) o.max_steps = 10000;
+    before = s->stats;
+    rep->param_low = rep->param_high = g0;
+    yn = PSB__VEC(s, PSB__V_EV_N);
+    yc = PSB__VEC(s, PSB__V_EV_Y);
+    tc = PSB__VEC(s, PSB__V_EV_T);
+
+    /* plain time stepping: Newton at param_next from the previous state */
+    if (o.mode != PSB_EVOLVE_CONTINUATION || param_next == g0) {
+        rep->newton_run = 1;
+        psb__copy(yn, y, np1);
+        yn[p] = param_next;
+        r = rep->newton = psb_solve_at_param(s, yn, o.newton_max_iter);
+        if (r == PSB_SUCCESS) {
+            yn[p] = param_next;
+            rep->newton_jump = psb__dist_w(s, y, yn);
+            if (o.mode == PSB_EVOLVE_NEWTON || param_next == g0 || o.newton_max_jump == 0 ||
+                rep->newton_jump <= o.newton_max_jump) {
+                rep->method = PSB_EVOLVE_NEWTON;
+                rep->jump = rep->newton_jump;
+                rep->param_low = fmin(g0, param_next);
+                rep->param_high = fmax(g0, param_next);
+                rep->cost = psb__stats_since(s, &before);
+                psb__copy(y, yn, np1);
+                return PSB_SUCCESS;
+            }
+        } else if (psb__is_fatal(r) || o.mode == PSB_EVOLVE_NEWTON || param_next == g0) {
+            rep->cost = psb__stats_since(s, &before);
+            return r;
+        }
+    }
+
+    /* the step's continuation problem: from (y, lambda_{k-1}) along the curve to param_next */
+    up = param_next > g0;
+    psb__copy(yc, y, np1);
+    r = psb_tangent(s, yc, NULL, tc);
+    if (r == PSB_SUCCESS && !up)
+        for (i = 0; i < np1; i++) tc[i] = -tc[i];
+    if (r == PSB_SUCCESS) r = psb__residual(s, yc, s->internal_.res);
+    if (r == PSB_SUCCESS && psb__norm2(s->internal_.res, s->internal_.n) > s->opt.tol_residual) {
+        /* a polish of the previous solution; a move longer than a step means it was none */
+        r = psb_correct(s, yc, tc, NULL);
+        /* (a fault, a NaN or a singular matrix is reported as such, not as a bad y) */
+        if ((r != PSB_SUCCESS && !psb__is_fatal(r) && !psb__is_fault(r)) ||
+            (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
+            r = psb__fail(s, PSB_ERR_INPUT, "y does not solve H(y) = 0 (no solution within h_init of it)");
+    }
+    if (r != PSB_SUCCESS) {
+        rep->cost = psb__stats_since(s, &before);
+        return r;
+    }
+    memset(&to, 0, sizeof to);
+    far = up ? (ranged ? o.param_min : -DBL_MAX) : (ranged ? o.param_max : DBL_MAX);
+    to.param_min = up ? far : param_next;
+    to.param_max = up ? param_next : far;
+    to.max_steps = o.max_steps;
+    to.no_switch = o.no_switch;
+    to.detect_loop = 1;
+    to.on_point = psb__evolve_point;
+    to.point_user = &ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.eo = &o;
+    ctx.p = p;
+    ctx.low = ctx.high = yc[p];
+    r = psb_trace(s, yc, tc, &to, &tr);
+    rep->trace_end = r;
+    rep->steps = tr.steps;
+    rep->n_folds = tr.n_folds;
+    for (i = 0; i < tr.n_folds && i < PSB_MAX_FOLDS; i++) rep->fold_params[i] = tr.fold_params[i];
+    rep->snap_through = tr.n_folds > 0;
+    rep->n_switches = tr.n_switches;
+    rep->path_length = ctx.length;
+    rep->param_low = fmin(ctx.low, g0);
+    rep->param_high = fmax(ctx.high, g0);
+    rep->cost = psb__stats_since(s, &before);
+    if (r == PSB_PARAM_BOUND && fabs(yc[p] - param_next) < fabs(yc[p] - far)) {
+        yc[p] = param_next;
+        rep->method = PSB_EVOLVE_CONTINUATION;
+        rep->jump = psb__dist_w(s, y, yc);
+        if (rep->newton_run && rep->newton == PSB_SUCCESS) rep->newton_gap = psb__dist_w(s, yn, yc);
+        psb__copy(y, yc, np1);
+        s->message[0] = 0;
+        return PSB_SUCCESS;
+    }
+    if (ctx.user_stop) return psb__fail(s, PSB_ERR_CALLBACK, "on_point stopped the step");
+    if (r < 0) return r;
+    return psb__fail(s, PSB_ERR_NO_CONVERGENCE,
+                     r == PSB_PARAM_BOUND ? "the path left [param_min, param_max] before param_next"
+                     : r == PSB_STEP_BUDGET ? "the path used max_steps before param_next"
+                     : ctx.too_long ? "the path grew longer than max_length before param_next"
+                     : r == PSB_LOOP_CLOSED ? "the path closed a loop without reaching param_next"
+                     : "the path ended at a point the tangent switch could not pass");
+}
+
+/* ==== Contact helpers =============================================================================
+   Projections, complementarity functions and their Jacobians for frictional contact. */
 /* The helpers' one exit: values are computed into locals, and copied to the caller's outputs
    (dst NULL: not asked for) only when every asked-for value is finite. So a helper never
    returns success with Inf or NaN (overflow inside gives PSB_ERR_NONFINITE), and writes no
