@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /* pscbranch.h - v0.11.0 - piecewise-smooth continuation and numerical branching - MIT license
 
-   Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through smooth
-   folds and through kinks, and finds every smooth branch leaving a nonsmooth point, with the
-   method of T. Ligursky and Y. Renard (restarted predictor-corrector of CMAME 280 (2014);
-   Algorithms 2.1 and 2.2 of "A method of piecewise-smooth numerical branching", ZAMM 97 (2017)).
-   Frictional contact is the motivating case; helpers for it are included.
+   Traces piecewise-smooth (PC^1) solution curves of H(y) = 0, H: R^{N+1} -> R^N, through folds
+   and kinks, and finds every smooth branch leaving a nonsmooth point, with the method of T.
+   Ligursky and Y. Renard (CMAME 280 (2014); Algorithms 2.1 and 2.2 of "A method of piecewise-
+   smooth numerical branching", ZAMM 97 (2017)). It also locates folds, branch points and events,
+   switches at smooth branch points, explores whole diagrams and steps quasi-static evolutions
+   through snap-throughs. Frictional contact is the motivating case; helpers for it are included.
 
    In exactly one C or C++ file:       #define PSCBRANCH_IMPLEMENTATION
                                        #include "pscbranch.h"
@@ -36,937 +37,367 @@
      psb_solver_free(&s);                               // (ys + k*3, ts + k*3), branch 0 incoming
    examples/01_branching.c is this program in full.
 
-   CONTENTS
-     1. Concepts             4. Result codes             7. Contact helpers
-     2. The API at a glance  5. Options and defaults     8. Compile-time macros
-     3. Callbacks            6. Algorithms and choices   9. Revision history
+   CONTENTS  1. Concepts             4. Result codes             7. Contact helpers
+             2. The API at a glance  5. Options and defaults     8. Compile-time macros
+             3. Callbacks            6. Algorithms
 
-   1. CONCEPTS
-   -----------
+   1. CONCEPTS ------------------------------------------------------------------------------------
    y = (state, parameter) has N+1 components; problem.param_index says which one is the load
    parameter (psb_problem_init: the last). A couple (y, t) is a point with H(y) ~ 0 and a unit
    tangent t, dH(y) t = 0, ||t||_w = 1, whose sign is the direction of travel.
-   Weighted inner product <a,b>_w = sum_i w_i a_i b_i, with w_i = kappa for the state and 1 for the
-   parameter (or options.weights). Every norm, cosine and normalisation uses it: predictor,
-   corrector, acceptance cosine, Algorithms 2.1 and 2.2, loop detection. Step sizes and
-   tol_correction are lengths in it, so y in units far from 1 wants weights 1/u_i^2, u_i the
-   size of component i (a diagram in units of 1e-8 or 1e8, or with components in units of
-   1e-14 and 1e14 side by side, then comes out as in units of 1),
-   and with differences, whose steps are fd_step max(1, |y_j|), components far below 1 want
-   fd_step times their size; H's units need nothing (see tol_residual).
+   Weighted inner product <a,b>_w = sum_i w_i a_i b_i, w_i = options.kappa for the state and 1 for
+   the parameter (or options.weights). Every norm, cosine and normalisation in y uses it, so step
+   sizes, tol_correction and branching lengths are lengths in it: y in units far from 1 wants
+   weights 1/u_i^2, u_i the size of component i. Weighting some unknowns (e.g. multipliers) far
+   below the others makes pieces that differ only there look alike. H's units need no weight,
+   but tol_residual is absolute (section 5).
    H is PC^1: continuous, and near every point equal to one of finitely many C^1 selections. The
-   Jacobian callback returns the gradient of a selection that is active at y (the B-Jacobian
-   element of the piece y lies on); with finite differences (jacobian = NULL) a step that crosses
-   a kink mixes pieces, so give an analytic selection gradient when branching at kinks. Without
-   one, the h of Algorithms 2.1 and 2.2 (psb_branch_options.h) defaults, at each call, to 10^4
-   difference steps at the point, 10^4 max_j fd_step max(1, |y_j|) sqrt(w_j) within [h_min,
-   h_init / 8] (1.5e-4 near the origin with forward differences; s->branch.h shows the last
-   value; central differences reach the cap), so that the sample points of Algorithm 2.2 seldom
-   lie within a step of a piece boundary; Algorithm 2.1 ends about a step from the point (more
-   when the branch runs close to a piece boundary), keeps the tangent it entered with while it
-   moves (and tells a smooth turn from the end point by chords, section 6), and returns the
-   branch's tangent 16 h back; the tangents Algorithm 2.2 samples at
-   y0 + h v use difference steps below h / 1000. The branch sets then come out
-   about as with the analytic Jacobian (docs/branching-notes.md).
+   Jacobian callback returns the gradient of a selection active at y (a B-Jacobian element).
+   Without one, dH comes from finite differences, column j stepping fd_step max(1, |y_j|) (rescale
+   components far below 1); a quotient whose step crosses a kink mixes pieces, so give an analytic
+   selection gradient when branching at kinks. With differences and h left at 0, the h of
+   Algorithms 2.1 and 2.2 follows the point (10^4 difference steps, within [h_min, h_init / 8]),
+   Algorithm 2.2 samples tangents with steps below h / 1000 and Algorithm 2.1 keeps its entering
+   tangent: branch sets come out about as with an analytic dH.
    A kink is a point where a curve passes from one piece to another with a different tangent; a
-   nonsmooth point (bifurcation) is one where more than two smooth branches meet. Algorithms 2.1
-   and 2.2 assume the paper's (I)-(III): near the point the solutions form one-sided smooth
-   branches in distinct regions, every selection's gradient has full rank, and the kernels of
-   two different selections meet only in 0.
+   nonsmooth point (a PC^1 bifurcation) is one where more than two smooth branches meet.
+   Algorithms 2.1 and 2.2 assume the paper's (I)-(III): near the point the solutions form
+   one-sided smooth branches in distinct regions, every selection's gradient has full rank, and
+   the kernels of two different selections meet only in 0.
 
-   2. THE API AT A GLANCE (every function validates its arguments and returns psb_result)
-   ----------------------
-   psb_problem_init, psb_options_resolve    describe the problem; see the resolved options
-   psb_branch_options_resolve   the branching options a call will use (s->branch: the last)
-   psb_solver_init / _init_with_memory / _free    caller-owned state; all memory at init
-   psb_solver_memory_size(problem)                bytes for _init_with_memory
-   psb_solve_at_param   Newton on H(y) = 0 with the parameter held fixed (a starting point)
-   psb_tangent          unit tangent at y, oriented by a reference direction
-   psb_correct          Moore-Penrose corrector of a couple
-   psb_step             one predictor-corrector step with step control
-   psb_switch_tangent   the simple tangent switch at a couple where steps fail
-   psb_trace            the driver: from (y, t) to a bound, budget, end point, loop or failure
-   psb_locate_end       Algorithm 2.1: approach the end point of a branch
-   psb_find_branches    Algorithm 2.2 + Section 3 restarts: every branch leaving the point
-   psb_branch_point_switch  every branch through a smooth branch point psb_trace located
-   psb_evolve_step      one time step of a quasi-static evolution: Newton, else continuation
-                        in the load through folds (section 6, "Quasi-static evolution")
-   psb_explore          the whole diagram from one couple: every branch reachable through
-                        nonsmooth, PC1 and smooth branch points, as a graph (section 6,
-                        "Exploring the whole diagram")
-   psb_diagram_init / _init_with_memory / _free, psb_diagram_memory_size   the graph's storage
-   psb_diagram_write_json, _write_csv   the graph as JSON and CSV (with PSCBRANCH_STDIO)
-   psb_dot_w, psb_norm_w, psb_result_string, psb_solver_message
-   Inputs are never modified on failure (psb_trace: y and t hold the last accepted couple once
-   a step was accepted); what each function writes on failure is in its declaration. A freed
-   or uninitialised solver makes every call return PSB_ERR_NULL (psb_dot_w/_norm_w: NaN).
-   No function allocates except psb_solver_init and psb_diagram_init. Single operations (solve,
-   tangent, correct, step, switch, locate_end, find_branches) may be called from a point or
-   event callback of psb_trace on the same solver; psb_trace, psb_explore, psb_evolve_step and
-   psb_branch_point_switch may not (they would reuse the trace's scratch vectors): there they
-   return PSB_ERR_INPUT and leave the outer trace as it was.
-   The solver is not thread-safe; distinct solvers are independent (no global state).
+   2. THE API AT A GLANCE (most functions return psb_result) --------------------------------------
+   psb_problem_init             zero a psb_problem; set N, callbacks, param_index = N (void)
+   psb_options_resolve, psb_branch_options_resolve   the options a solver, a call would use
+   psb_solver_memory_size       bytes psb_solver_init_with_memory needs (0: invalid problem)
+   psb_solver_init, psb_solver_init_with_memory   set up a solver: allocated, or on your memory
+   psb_solver_free              release it (void); later calls return PSB_ERR_NULL
+   psb_solver_message, psb_result_string   the last failure's diagnostic; a code's meaning
+   psb_dot_w, psb_norm_w        weighted inner product and norm (double; NaN on bad arguments)
+   psb_solve_at_param           Newton on H(y) = 0 with the parameter held: a starting point
+   psb_tangent                  unit tangent at y, oriented by a reference direction
+   psb_correct                  Moore-Penrose corrector of a couple
+   psb_step                     one predictor-corrector step with step control
+   psb_switch_tangent           the tangent switch at a couple where steps fail
+   psb_trace                    the driver: from (y, t) to a bound, budget, end point or loop
+   psb_locate_end               Algorithm 2.1: approach the end point of a branch
+   psb_find_branches            Algorithm 2.2 with restarts: the branches leaving that point
+   psb_branch_point_switch      the branches through a smooth branch point psb_trace located
+   psb_evolve_step              one time step of a quasi-static evolution, through folds
+   psb_explore                  every branch reachable from one couple, as a graph
+   psb_diagram_init, _init_with_memory, _free, _memory_size   the graph's storage
+   psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv (PSCBRANCH_STDIO)
+   psb_proj_*, psb_ac2d_*, psb_fc3d_*, psb_fc_nat_error, psb_contact_convert: section 7
+   Inputs are never modified on failure, but psb_trace's (y, t) hold the last accepted couple once
+   a step was accepted, the branching calls' (ys, ts) the branches found so far, psb_explore's
+   diagram the graph so far. Only psb_solver_init and psb_diagram_init allocate. Single operations
+   (psb_solve_at_param, _tangent, _correct, _step, _switch_tangent, _locate_end, _find_branches)
+   may be called from a point or event callback of psb_trace on the same solver; psb_trace,
+   psb_explore, psb_evolve_step and psb_branch_point_switch there return PSB_ERR_INPUT and leave
+   the trace as it was. A solver is not thread-safe, but there is no global state: distinct
+   solvers may run in distinct threads. Same inputs, options and seed: same results, bit for bit.
+   psb_solver is caller-owned; public: prob (fd_step resolved), opt (resolved), branch (the latest
+   branching call's resolved options), stats (cumulative counters) and message; internal_ (type
+   psb__internal) is opaque. A freed solver, or one whose init failed, gives PSB_ERR_NULL.
 
-   3. CALLBACKS
-   ------------
-   int residual(const double *y, double *h, void *user)           h = H(y), N values
-   int jacobian(const double *y, double *jac, int ld, void *user) N x (N+1), column-major,
-                                                                   jac[i + j*ld], all entries
-   Return 0 on success; > 0 for a recoverable failure (the trial step is rejected and shortened;
-   where no retry exists the call returns PSB_ERR_CALLBACK_FAILED); < 0 to stop at once
-   (PSB_ERR_CALLBACK, the last accepted couple is kept). NaN or Inf in h or jac is treated like a
-   recoverable failure and reported as PSB_ERR_NONFINITE when no retry succeeds. A failed trial
-   tells nothing about the curve: an outcome that rests on one (an end point, no move of
-   Algorithm 2.1, a branch set with a failed trial) is reported as that failure, never as an
-   end point or a success; so is a Jacobian of rank < N (analytic or user solver; differences
-   only when nothing succeeded: their quotients mix the pieces near every kink).
-   int on_point(const psb_point *p, void *user) is called by psb_trace for the start, every
-   accepted point, and (locate_kinks) every kink; a nonzero return stops the trace there.
-   p->flags: PSB_POINT_START, _FOLD (the parameter component of t changed sign; p->fold_param
-   estimates the limit point), _SWITCH (reached through the tangent switch), _BOUND (exactly on a
-   parameter bound), _KINK (the last couple before a kink, located to h_min), _SPECIAL (a
-   located special point, p->special; its own call, before the accepted point that follows it,
-   p->index = that point's index; only with psb_trace_options.detect, section 6 "Special
-   points on the path").
-   int event(const double *y, double *g, void *user)   g = the n_events event values at y
-   (PSB_DETECT_EVENTS); 0 ok, < 0 stops (PSB_ERR_CALLBACK), > 0 or NaN/Inf ends the trace
-   with PSB_ERR_CALLBACK_FAILED / PSB_ERR_NONFINITE, also inside a location (a point missed
-   or mislocated would otherwise pass for a result).
+   3. CALLBACKS -----------------------------------------------------------------------------------
+   int residual(const double *y, double *h, void *user)             h = H(y), N values
+   int jacobian(const double *y, double *jac, int ld, void *user)   dense: all of dH(y), N x
+       (N+1) column-major, (i, j) at jac[i + j*ld]; NULL: finite differences
+   int band_jacobian(const double *y, double *band, int ldband, double *dparam, void *user)
+       banded: A = dH/dx at band[PSB_BAND_INDEX(ku, ldband, i, j)] (zeroed on entry; state column
+       j is y_j below param_index, else y_{j+1}), dparam = dH/dparameter; NULL: differences
+   solver.factor(y, row, ctx), solver.solve(b, nrhs, ctx)   user backend: factor B = [dH(y);
+       row^T] (you form dH), then solve in place, nrhs <= 2 columns of N+1; > 0: singular
+   int piece(const double *y, unsigned long long *id, void *user)   optional: an id shared only
+       by points where one C^1 selection gives H; > 0: not known here
+   Return 0 on success; > 0 for a recoverable failure (the trial is rejected and shortened; with
+   no retry left, PSB_ERR_CALLBACK_FAILED); < 0 to stop at once (PSB_ERR_CALLBACK). NaN or Inf
+   counts as recoverable (then PSB_ERR_NONFINITE). A failed trial tells nothing about the curve:
+   an outcome that rests on one (an end point, a branch set) is reported as that failure, never
+   as a success; so is a Jacobian of rank < N (with differences only when nothing succeeded).
+   int on_point(const psb_point *p, void *user)   psb_trace's start, accepted points, located
+   kinks and special points; nonzero stops (PSB_STOPPED). p->flags: PSB_POINT_START; _FOLD (t's
+   parameter component changed sign; p->fold_param estimates the limit point); _SWITCH (after a
+   tangent switch); _BOUND (exactly on a bound); _KINK (the last couple before a kink, within
+   h_min); _SPECIAL (p->special, reported before the accepted point that follows it).
+   int event(const double *y, double *g, void *user)   the n_events values g(y); < 0 stops
+   (PSB_ERR_CALLBACK), > 0 or NaN/Inf fails the trace (PSB_ERR_CALLBACK_FAILED, _NONFINITE).
 
-   4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`)
-   ---------------
-   PSB_SUCCESS           0  done
-   PSB_PARAM_BOUND       1  trace landed exactly on param_min or param_max
-   PSB_STEP_BUDGET       2  trace used max_steps accepted steps
-   PSB_NONSMOOTH_END     3  steps failed down to h_min and the tangent switch found no
-                            continuation (or no_switch was set): an end point; never when a
-                            callback, a NaN or a rank-deficient dH failed a trial there
-   PSB_STOPPED           4  the point callback returned nonzero
-   PSB_LOOP_CLOSED       5  (detect_loop) the curve came back to its start
-   PSB_BRANCH_CAPACITY   6  more branches than max_branches; the first ones are returned
-   PSB_ERR_NULL         -1  a required pointer is NULL
-   PSB_ERR_SIZE         -2  n < 1, param_index outside [0, n], max_branches < 1, piece id ...
-   PSB_ERR_OPTIONS      -3  inconsistent options (psb_solver_message says which)
-   PSB_ERR_NOMEM        -4  allocation failed, or the caller's memory block is too small
-   PSB_ERR_CALLBACK     -5  a callback returned < 0
-   PSB_ERR_CALLBACK_FAILED -6  a callback returned > 0 with no smaller step to try
-   PSB_ERR_NONFINITE    -7  NaN or Inf in the input or from a callback
-   PSB_ERR_SINGULAR     -8  singular matrix: dH(y) has rank < N (no unique tangent), or a
-                            bordered system has no solution; solver.factor/.solve returned
-                            > 0 or gave NaN
-   PSB_ERR_LAPACK       -9  LAPACK rejected an argument (a bug in pscbranch: please report)
+   4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`) -------------------
+   PSB_SUCCESS              0  done
+   PSB_PARAM_BOUND          1  trace landed exactly on param_min or param_max
+   PSB_STEP_BUDGET          2  trace used max_steps; psb_explore: max_traces or max_points
+   PSB_NONSMOOTH_END        3  an end point: steps failed, the switch too (or no_switch); no fault
+   PSB_STOPPED              4  a point callback returned nonzero, or stop_at
+   PSB_LOOP_CLOSED          5  (detect_loop) the curve came back to its start
+   PSB_BRANCH_CAPACITY      6  more branches than room, or a diagram full: what fits is kept
+   PSB_ERR_NULL            -1  a required pointer is NULL, or the solver is not initialised
+   PSB_ERR_SIZE            -2  a size or index out of range (n, param_index, kl, max_branches...)
+   PSB_ERR_OPTIONS         -3  invalid or inconsistent options (the message names the field)
+   PSB_ERR_NOMEM           -4  allocation failed, or the caller's memory block is too small
+   PSB_ERR_CALLBACK        -5  a callback returned < 0
+   PSB_ERR_CALLBACK_FAILED -6  a callback returned > 0 where no smaller step was left to try
+   PSB_ERR_NONFINITE       -7  NaN or Inf in the input or from a callback
+   PSB_ERR_SINGULAR        -8  rank(dH) < N, or a bordered system (or solver.factor) singular
+   PSB_ERR_LAPACK          -9  LAPACK rejected an argument (a bug in pscbranch: please report)
    PSB_ERR_NO_CONVERGENCE -10  Newton / corrector iterations did not converge
    PSB_ERR_STEP_TOO_SMALL -11  psb_step: every trial down to h_min failed
-   PSB_ERR_INPUT       -12  invalid numerical input: zero tangent, r <= 0, start out of bounds,
-                            NaN trace bounds
-   After a failure psb_solver_message(s) holds a one-line diagnostic.
+   PSB_ERR_INPUT          -12  bad numbers (zero t, start out of bounds), or a call from a trace
 
-   5. OPTIONS AND DEFAULTS (every zero field takes the default in brackets)
-   -----------------------
-   Four groups, each where it is used: the problem (how dH is formed and factored), psb_options
-   (the continuation, given once to psb_solver_init), psb_trace_options (each trace), and
-   psb_branch_options (each call of Algorithm 2.1, 2.2 or the branch point switch; inside
-   psb_explore_options as .branch). Every real must be finite (NaN and Inf give
-   PSB_ERR_OPTIONS, the message names the field); psb_options_resolve and
-   psb_branch_options_resolve show the values used.
-   psb_problem, linear algebra: linear [PSB_LINEAR_DENSE], kl, ku, band_lean, solver (section
-   6), and the finite-difference Jacobian when no Jacobian callback is given:
-   fd_step [1.49e-8 forward, 6.06e-6 central], fd_central [0]
-                                    column j steps fd_step * max(1, |y_j|), 0 < fd_step < 1
-   piece [NULL]                     the smooth piece at y (psb_piece_fn): Algorithm 2.2's
-                                    piece memo (section 6)
-   psb_options, the continuation (psb_solver_init; s->opt holds them resolved):
-   kappa [1], weights [NULL]        the weighted inner product (section 1); each in
-                                    [1e-290, 1e290]
-   h_init [1e-2], h_min [1e-6], h_max [1e-1]      step sizes: 1e-290 <= h_min <= h_init <= h_max.
-                                    Every length and tolerance here and in psb_branch_options
-                                    is at least 1e-290 (with subnormal ones the lengths formed
-                                    from them lose their digits and Algorithm 2.1 reported a
-                                    precision of 0, fuzz_api)
-   h_inc [1.3], h_dec [0.5]         growth after a step that took < iter_threshold [4]
-                                    corrector iterations; shrink after a rejected trial;
-                                    1 <= h_inc <= 100, 1e-3 <= h_dec <= 0.9 (bounded
-                                    shrinking). A step's trials are h, h h_dec, ... down to
-                                    h_min: where a rejected h is below h_min / h_dec the next
-                                    would fall below h_min, and the step fails (a trace then
-                                    ends there), so keep h_min well below h_max h_dec
-   max_iter [10]                    corrector iterations per trial; max_iter, iter_threshold
-                                    <= PSB_MAX_ITER_LIMIT (1000)
-   tol_residual [1e-10]             ||H(y)||_2 at convergence. Absolute; where H's rounding
-                                    lies above it (terms of 1e6 and more) a point is also
-                                    converged once the correction is below tol_correction and
-                                    ||H|| stops falling (section 6), so large units need no
-                                    setting. Where H's terms are far below 1, set it to ~1e-10
-                                    times their size (terms of 1e-6: points near y0 that solve
-                                    nothing pass, and Algorithm 2.2 takes them for branches)
-   tol_correction [1e-10]           distance to the solution at convergence, ||.||_w: the last
-                                    correction or its contraction estimate (section 6)
-   c_min [0.9]                      least cosine between the tangents before and after a step
-   switch_delta_min [h_min], switch_delta_max [h_init]   probe distances of the tangent switch
-   switch_no_sweep [0]              1: no sweep around a kink when nothing lies straight ahead
-   switch_n_dir [20]                directions of that sweep (<= PSB_MAX_DIR_LIMIT, 10000)
-   c_diff [0.99999]                 cosine above which two tangents are one branch (the switch,
-                                    the kink test, Algorithms 2.1 and 2.2)
-   seed [0]                         the generator of the random spans of Algorithm 2.2
-                                    (xoshiro256**), and of psb_trace's random borders
-   psb_trace_options (per call): param_min, param_max (bounds, none when min >= max),
-   max_steps [10000], no_switch, detect_loop, locate_kinks, on_point; detect [0: no detector;
-   a PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4, EVENTS 8, ALL 15], stop_at [0; bit
-   1u << PSB_SPECIAL_*: stop on that special point's couple, PSB_STOPPED], locate_tol [1e-10,
-   ||.||_w along the curve], n_events, event, event_user, event_work (3 n_events doubles of
-   the caller's) (section 6).
-   psb_branch_options (per call, NULL: all defaults; checked at the call, which leaves its
-   inputs and s->branch as they were on PSB_ERR_OPTIONS; s->branch: the values the last call
-   used; h_min and h_init in brackets are psb_options'):
-   as_printed [0]                   1: Algorithm 2.2 as printed: sets paper_sweep, no_memo,
-                                    no_screen and restart = PSB_RESTART_PAPER (any other
-                                    restart: PSB_ERR_OPTIONS), hence a fixed n_span; each
-                                    other field keeps its meaning. What stays the library's
-                                    (section 6): Algorithm 2.1's retry of h after a move and
-                                    its tests against the entering tangent and for a move
-                                    ahead; the trials' tests (a landing closer than h is
-                                    discarded, one on a ray from y0 is kept)
-   h [h_min; with finite differences h_fd_steps steps, see section 1]
-                                    h of Algorithms 2.1 and 2.2 (the paper: the continuation's
-                                    smallest step)
-   h_fd_steps [1e4]                 those steps (resolved: 0 when not used)
-   h_min [h / 2^14]                 precision of Algorithm 2.1; 1e-290 <= h_min < h
-   h_init [h_init]                  first step of each trial step of Algorithm 2.2 (made
-                                    smaller where a branch shows a kink within it: section
-                                    6, "Kinks within h_init"); the sphere's radius of
-                                    psb_branch_point_switch
-   n_dir [20], n_span [15]          directions per span; spans (restarts + 1). n_span left
-                                    at 0: at least 15, then on until twice as many counted
-                                    spans as the last new branch took have found nothing
-                                    and the count is even, up to n_span_max [60] (section
-                                    6, "Sweep length", "An odd count"); a value set here is
-                                    kept as given (n_span_max [n_span]). n_dir, n_span,
-                                    n_span_max <= PSB_MAX_DIR_LIMIT, _SPAN_LIMIT (10000).
-                                    Resolved, n_span < n_span_max says the length adapts
-   paper_sweep [0]                  1: directions exactly as printed, pairs of found branches
-                                    closest first (see section 6)
-   trial_h_min [h_min]              trial steps of Algorithm 2.2 give up below this step. Near
-                                    the point the solution set is, to first order, a cone:
-                                    a trial rejected at h is rejected at h/2 as well, so
-                                    h_init (one trial per direction) finds the same
-                                    branches at a fraction of the cost
-   patience [0], max_pc [0]         adaptive end of the sweep: stop after that many
-                                    spans in a row without a new branch / at that n_pc.
-                                    A thin branch can wait for a late pair or a lucky
-                                    random span: on the paper's block, patience 3 sometimes
-                                    stops one branch short, 5 did not in the runs of
-                                    docs/branching-notes.md; leave 0 where a missed branch
-                                    costs more than spans
-   no_memo [0]                      0: a direction whose tangent is within c_diff of one
-                                    tried earlier in the call is not tried again (its trials
-                                    from y0 are the same steps; report.n_memo counts them;
-                                    same branches, fewer trials); 1: as printed
-   no_screen [0]                    0: each trial starts along the tangent at its predictor
-                                    point y0 + h_init (+-t), and is skipped when that tangent
-                                    is a found branch's or was tried (section 6; report.
-                                    n_screened), and ends when a corrector iteration's tangent
-                                    is (report.n_cut); 1: along +-t to the end, as printed
-   restart [PSB_RESTART_MIXED]      random spans: _PAPER (as printed), _GLOBAL (uniform), or
-                                    _MIXED: uniform and near found branches, alternately
-   The paper's values for its contact examples: c_diff = 0.99999 (psb_options); h = 5e-7,
-   h_min = h / 2^14, h_init = 5e-4, n_dir = 20, n_span = 15 (psb_branch_options).
+   5. OPTIONS AND DEFAULTS (a zero field takes the default in brackets) ---------------------------
+   In psb_options and psb_branch_options every real must be finite, every length and tolerance at
+   least 1e-290 (PSB_ERR_OPTIONS names the field); psb_options_resolve and _branch_options_resolve
+   show the values used. psb_problem (psb_solver_init; s->prob keeps a copy with fd_step set):
+     param_index [psb_problem_init: N]  the load parameter's component, 0..N (0 means y[0])
+     linear [PSB_LINEAR_DENSE] PSB_LINEAR_DENSE (N <= 46000), _BANDED or _USER (section 6)
+     kl, ku [0]                banded: sub- and super-diagonals of A = dH/dx, in [0, N-1]
+     band_jacobian [NULL]      banded: A and dH/dparameter (section 3); NULL: differences
+     band_lean [0]             banded: 1 keeps one copy of A ((kl+ku+1) N doubles less, less reuse)
+     solver [none]             user backend: factor and solve (both required), ctx
+     fd_step [1.49e-8; central 6.06e-6]  differences: column j steps fd_step max(1, |y_j|); < 1
+     fd_central [0]            1: central differences (2 (N+1) residuals a Jacobian, not N+1)
+     piece [NULL]              the smooth piece's id at y: Algorithm 2.2's piece memo
+   psb_options (psb_solver_init; s->opt holds them resolved):
+     kappa [1]                 weight of each state component, in [1e-290, 1e290]
+     weights [NULL]            N+1 weights replacing kappa and 1, in [1e-290, 1e290]; copied
+     h_init [1e-2]             first step, and the first after each tangent switch
+     h_min [1e-6]              smallest trial step; h_min <= h_init <= h_max
+     h_max [1e-1]              largest step
+     h_inc [1.3]               growth after a step of < iter_threshold iterations, in [1, 100]
+     h_dec [0.5]               shrink after a rejected trial, in [1e-3, 0.9]
+     max_iter [10]             corrector iterations per trial, <= PSB_MAX_ITER_LIMIT (1000)
+     iter_threshold [4]        see h_inc; <= 1000
+     tol_residual [1e-10]      ||H(y)||_2 at convergence, absolute (below)
+     tol_correction [1e-10]    distance to the solution at convergence, ||.||_w
+     c_min [0.9]               least cosine between a step's tangents, in (-1, 1)
+     switch_delta_min [h_min]  first probe distance of the tangent switch
+     switch_delta_max [h_init] last probe distance, >= switch_delta_min
+     switch_no_sweep [0]       1: no sweep around a kink when nothing lies straight ahead
+     switch_n_dir [20]         directions of that sweep, <= PSB_MAX_DIR_LIMIT (10000)
+     c_diff [0.99999]          cosine above which two tangents are one branch, in (0, 1)
+     seed [0]                  seed of the random draws (Algorithm 2.2, branch point switch...)
+   A step tries h, h h_dec, ... down to h_min: keep h_min well below h_max h_dec. Where H's terms
+   are large, a point also converges once its correction is below tol_correction and ||H|| stops
+   falling; where they are far below 1, set tol_residual to ~1e-10 times their size (else non-
+   solutions pass for branches in Algorithm 2.2).
+   psb_trace_options (each psb_trace; NULL: defaults):
+     param_min, param_max [none]  bounds on y[param_index] (none when min >= max); may be +-inf
+     max_steps [10000]         accepted steps
+     no_switch [0]             1: end (PSB_NONSMOOTH_END) where steps fail, no tangent switch
+     detect_loop [0]           1: end (PSB_LOOP_CLOSED) when the curve returns to its start
+     locate_kinks [0]          1: locate the first kink of each step; 2: each, up to 8 a step
+     on_point, point_user [NULL]  the point callback (section 3) and its pointer
+     detect [0: none]          PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4 (not _USER), EVENTS 8
+     stop_at [0]               bit 1u << PSB_SPECIAL_*: stop (PSB_STOPPED) on such a point
+     locate_tol [1e-10]        precision of a special point, ||.||_w along the curve
+     n_events [0]              number of event functions (PSB_DETECT_EVENTS)
+     event, event_user [NULL]  the event callback (needed with n_events > 0) and its pointer
+     event_work [NULL]         3 n_events doubles of the caller's (needed with n_events > 0)
+   psb_branch_options (the branching calls, NULL: defaults; checked at each call; h_min, h_init
+   in brackets are psb_options'; the paper: h 5e-7, h_min h/2^14, h_init 5e-4, n_dir 20, n_span 15):
+     h [h_min; differences: expert.h_fd_steps steps at the point]  h of Algorithms 2.1, 2.2
+     h_min [h / 2^14]          precision of Algorithm 2.1; h_min < h
+     h_init [h_init]           first step of Algorithm 2.2's trials; branch point switch: r
+     n_dir [20]                directions per span (branch point switch: 2 n_dir), <= 10000
+     n_span [15]               counted spans, <= 10000; left at 0 (memo on), the length adapts
+     n_span_max [60 if n_span is 0 and the memo is on, else n_span]  above n_span: adapts
+     max_pc [0: none]          stop the sweep once n_pc reaches this budget
+     expert (psb_branch_expert) for reproducing the paper and for experiments; a user leaves it 0:
+     expert.as_printed [0]     1: as printed: the next three 1, restart _PAPER (_GLOBAL refused)
+     expert.paper_sweep [0]    1: directions sin(a) t~1 + cos(a) t~2 as printed; closest pair first
+     expert.no_memo [0]        1: every direction tried (no idle spans; fixed length by default)
+     expert.no_screen [0]      1: each trial along its sampled tangent (no screening, no cuts)
+     expert.restart [PSB_RESTART_MIXED]  random spans: _MIXED, _PAPER (Remark 2.3(ii)), _GLOBAL
+     expert.h_fd_steps [1e4]   differences, h left at 0: h in difference steps, in [1, 1e8]
+     expert.trial_h_min [h_min]  Algorithm 2.2's trial steps give up below this step
+     expert.patience [0: never]  stop after that many counted spans in a row found no branch
+   psb_explore_options (psb_explore; NULL: defaults):
+     trace [0]                 each trace's bounds, max_steps, detect (0: all), locate_tol, events
+     branch [0]                the psb_branch_options of every branching
+     no_detect [0]             1: no detectors (nodes only where traces end, and at kinks)
+     box_min, box_max [NULL]   N+1 values each: a trace ends at its first point outside the box
+     state_max [0: none]       a trace ends where the state part of y exceeds it in ||.||_w
+     one_direction [0]         1: from the start along t only, not -t
+     max_traces [0: max_edges] edges traced in all
+     max_points [0: none]      accepted points in all
+     branch_at_kinks [0]       1: locate every kink a trace passes and branch there
+     kink_spans [0: full]      branch_at_kinks: a first look at a kink with this many spans
+     node_tol [16 branch.h; differences: 16 h at the node]  branching points this close: one node
+     on_point, point_user [NULL]  int on_point(int edge, const psb_point *p, void *user)
+   psb_evolve_options (psb_evolve_step; NULL: defaults):
+     mode [PSB_EVOLVE_AUTO]    AUTO: Newton, else continuation; _NEWTON or _CONTINUATION only
+     newton_max_iter [20]      Newton's iterations at the new parameter, <= 1000
+     newton_max_jump [0: any]  AUTO: a Newton solution farther than this (||.||_w) is refused
+     param_min, param_max [none]  the path's range (none when min >= max); y, target inside
+     max_steps [10000]         accepted continuation steps
+     max_length [0: none]      longest continuation path, ||.||_w
+     no_switch [0]             1: the path does not pass kinks
+     on_point, point_user [NULL]  every point of the path; nonzero: PSB_ERR_CALLBACK
 
-   6. ALGORITHMS AND CHOICES
-   -------------------------
-   What each part does and why, briefly; the measurements behind the choices are in
-   docs/branching-notes.md and docs/benchmarks.md.
-   Linear algebra (problem.linear). Every factorisation is of a bordered matrix
-   B = [dH(y); row^T], (N+1) x (N+1), and serves all right-hand sides of its iteration.
-   PSB_LINEAR_DENSE: dgetrf/dgetrs on B, dlacn2 for the tangent's conditioning test, memory
-     ~ 2 (N+1)^2 doubles. problem.jacobian fills dH (or finite differences, N+1 residuals).
-   PSB_LINEAR_BANDED: for dH/dx with bandwidths kl, ku (number the unknowns so that coupled
-     ones are close: node by node in finite elements). problem.band_jacobian fills the band
-     and dH/dparameter (or finite differences by column groups: kl+ku+2 residuals). B is
-     solved by block elimination on the LU of the band: w = A^{-1} dH/dparameter once per
-     factorisation, then one banded solve per right-hand side (none for the tangent's). The LU
-     is the header's own, dgbtrf's algorithm in panels of four columns (each column to the
-     right of a panel takes its four eliminations in one pass): the same pivots and, against
-     reference LAPACK, the same factors bit for bit, faster (SSE2 where the compiler targets
-     it; PSCBRANCH_NO_SIMD: plain loops, PSCBRANCH_USE_DGBTRF: LAPACK's dgbtrf, say for a
-     tuned LAPACK). A corrector iteration costs one LU and one pass of forward and back
-     substitution over its factors, which solves for w and the Newton right-hand side
-     together (dgbtrs' operations, in its order, at about half the cost of two dgbtrs). At a
-     fold A alone is singular while B is not. Block elimination amplifies the banded solves'
-     errors by at most g = (|d| + sum |c_j w_j|) / |d - c.w| (the cancellation in the Schur
-     complement); where g <= 16 the solution is used as it comes (the LU solve is backward
-     stable), elsewhere it is checked by its residual in B and refined; if A is exactly
-     singular or refinement stalls, A + sigma I (sigma = sqrt(eps) ||B||) is factored instead
-     and the refinement against the true B converges geometrically. A is kept beside its
-     factors, and an A bit-identical to the factored one (H piecewise linear: both points in
-     one piece; or the same point again) reuses them, w included when dH/dparameter is
-     unchanged too: stats.n_factor_reused counts these, and the results are exactly those of
-     factoring again. Memory ~ (4 kl + 3 ku + 50) N, or (3 kl + 2 ku + 50) N with
-     problem.band_lean (one copy of A, reused only at the same y), plus the memos of
-     Algorithm 2.2 (at most 12 MB, below).
-   PSB_LINEAR_USER: problem.solver.factor(y, row, ctx) factors B (it evaluates dH(y) itself,
-     in any storage: a sparse direct solver such as UMFPACK, MUMPS or PARDISO plugs in here),
-     solver.solve(b, nrhs, ctx) solves in place. Tangent fallbacks (below) re-factor with
-     other border rows. contrib/psb_sparse.h (outside this header: it needs SuiteSparse) is
-     such a solver: UMFPACK or KLU on B itself, from the pattern of dH/dx and a callback for
-     its values; the fill-reducing ordering is computed once, every factorisation pivots over
-     all of B (exact at folds, where A alone is singular), factors are kept where dH repeats
-     (a new border row by a rank-one update), each solution is checked by its backward
-     error. Its top comment is its manual; examples/fe_solvers.h uses it.
-     contrib/psb_mumps.h is another, for MUMPS: the pattern of dH/dy once (coordinates, the
-     parameter column included) and a callback for its values; MUMPS's analysis once per
-     solver object, a numeric factorisation per factor call, a singular or non-finite B > 0
-     (so the tangent fallbacks apply); the factorisation can spread over MPI ranks while the
-     continuation runs on rank 0 (psb_mumps_main; mpirun -np K). contrib/psb_condense.h is
-     for Jacobians that vary with y in a few rows only (linear elasticity with contact): the
-     constant rows are factored once (UMFPACK) and each factor call factors the dense Schur
-     complement on the varying rows' unknowns, exact at folds as well.
-   PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
-   scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
-   Tangent. The bordered system [dH(y); (W r)^T] t = e_{N+1} (r the reference direction) is
-   solved; if it is singular (r orthogonal to the kernel) or, dense, its reciprocal condition
-   number is below sqrt(eps) (estimated as dgecon does, for B with its columns in the weights'
-   units and its rows then scaled to a largest entry of 1), the dense backend takes the kernel
-   from the QR factorisation of dH(y)^T (dgeqr2/dorm2r), which is exact at folds (rank < N gives
-   PSB_ERR_SINGULAR); the others border with e_param, then with a fixed generic row. t is then
-   scaled to ||t||_w = 1 and turned so that <t, r>_w >= 0.
-   Predictor-corrector. Prediction (y + h t, t). Each corrector iteration factors
-   B = [dH(y); (W t)^T] once and solves B [dy, v] = [[H(y); 0], [0; 1]] (one dgetrs, two
-   right-hand sides): y -= dy, t = v / ||v||_w (Moore-Penrose / Gauss-Newton on the curve,
-   point and tangent together). Converged when ||H(y)||_2 <= tol_residual and the distance
-   to the solution is below tol_correction: ||dy||_w <= tol_correction, or, from the second
-   iteration on, the contraction theta = ||dy_k|| / ||dy_k-1|| <= 1/2 bounds what is left,
-   theta ||dy_k|| / (1 - theta) <= tol_correction (Newton's usual a-posteriori estimate; it
-   spares the iteration that only confirms a correction of 1e-8 shrank to 1e-15); or when
-   ||dy||_w <= tol_correction and ||H|| fell by less than half in the iteration: it is H's
-   rounding, above tol_residual where H's terms are large (the same test ends the Newton
-   solves of Algorithm 2.1, the detectors and psb_solve_at_param). A trial is
-   accepted when it converged within max_iter, the corrected point lies within h of the
-   prediction (a longer jump landed on another part of the curve), and cos_w(t_new, t) >=
-   c_min; otherwise h *= h_dec until h < h_min. A branch that runs within a step of the one
-   traced, past a kink where that one turns sharply, can still take the corrector (a review:
-   a wedge with a line 0.01 beside its apex, h 0.1: the trace went on along the line, and the
-   explorer called the apex a smooth branch point); bound h_max below such distances. An
-   iterate farther than 4 h from the
-   prediction ends the trial at once (at kinks the corrector otherwise hops between the far
-   kernels of pieces until max_iter).
-   Simple tangent switch (at h < h_min). For delta = switch_delta_min, 2 delta, ... up to
-   switch_delta_max: t~ = tangent at y + delta t; once cos_w(t~, t) < c_diff, try steps from y
-   along +t~ then -t~ (from h_init down to h_min) and accept the first couple that does not go
-   back along the incoming branch (cos_w(t_new, -t) < c_diff; when the point was itself just
-   reached by a switch, nor along the branch before that one). If nothing lies straight ahead
-   (at a sharp turn the region beyond the kink holds no branch), the plane of -t and the tangent
-   ahead is swept in switch_n_dir directions at three probe distances, as Algorithm 2.2 does,
-   with trial steps down to max(h_min, delta/64) (switch_no_sweep = 1 stops instead). If that
-   finds nothing, both are repeated with the directions they left out that differ from t
-   beyond a tangent's rounding (cosine in [c_diff, 1 - 1e-12)): steps also fail at kinks that
-   turn by less than acos(c_diff) when a thin wedge of other pieces lies straight ahead (the
-   corrector cycles between them), and such a kink is no end point. Each pass skips a
-   direction equal (to 1e-9 in cosine, either sign) to one of the last 8 it tried: its steps
-   would end as they did. At a point where more than two branches meet, the trace continues on
-   one of them: use Algorithms 2.1 and 2.2 to get them all. A cluster of kinks closer together
-   than the probes resolve may end the trace there (PSB_NONSMOOTH_END; at a limit point of the
-   triangle's fold curve on M65536, three kinks within 4e-8 along it): Algorithms 2.1-2.2, or a
-   trace from the curve's other end (examples/triangle.c, --fold-trace), go on from there.
-   Continuation restarts at h_init.
-   The tangent switch and the deduplication of branches compare tangents in the weighted norm:
-   two pieces that differ only in components of tiny weight look alike there, so do not weight
-   any group of unknowns (e.g. multipliers) far below the others.
-   Folds: a sign change of t[param] between accepted points. The estimate is the extremum of
-   the cubic Hermite interpolant of the parameter in the chord length (exact to O(h^4) on smooth
-   folds); at a fold that is a kink (reached by a switch) it is the parameter of the last point
-   before the kink.
-   Kinks (locate_kinks): a smooth turn halves with the step, a kink does not. After a step whose
-   tangents differ by more than c_diff, a half step tells the two apart; a kink is then located
-   by bisection to h_min and, with an analytic dH, confirmed by a step of 2 h_min across it,
-   which turns by the whole angle at a kink and next to nothing on a smooth curve (where the
-   curvature grows from near 0 across the step, the half step turns by only 1/4 of the whole
-   and looks like a kink); then it is reported (the trace continues past it unless told to
-   stop). A step may pass several kinks: where the half step's turn looks smooth, the quarter
-   and three-quarter steps tell a smooth turn from two kinks, and the first kink of the step is
-   the one located. A trace that stops at kinks (psb_explore with branch_at_kinks) thus meets
-   each; locate_kinks = 2 also searches the rest of each step past each kink (up to 8 a step),
-   which costs: the triangle's fold study at M4096, whose steps pass several contact switches
-   each, 592 -> 1378 factorisations (644 with 1).
-   Bounds: a step that crosses a bound is replaced by Newton at the bound (psb_solve_at_param
-   from the chord), so the last point lies exactly on it.
-   Algorithm 2.1 as in the paper, except that after a successful move the same h is tried again
-   before it is halved: the paper's version moves at most h in all and so cannot reach an
-   end point that the continuation left farther away. Step 4 also compares the new tangent with
-   the one the call entered with, so turns below c_diff cannot add up, and a move must land at
-   least h/2 ahead (a corrector falling back from beyond the end point onto the branch behind
-   it passes the cosine test over and over). With finite differences the tangent is not
-   updated while moving and the one returned is computed 16 h back: quotients within a
-   step of the point mix its pieces. Where the moves stall, two chords through the point
-   (from corrected points 256 h_min behind and ahead, then 64 h_min, farther where
-   tol_correction asks it; not from quotients) tell an end point, where they differ by the
-   kink's angle, from a smooth point where the branch turned by more than c_diff's angle
-   since the start, where they agree to half of it: from there it follows on along the chord
-   (curved random LCPs, starts 2e-5 to 2e-3 up the branch: 38 of 64 returned a smooth point
-   as the end point before, none now).
-   Algorithm 2.2 as in the paper (Steps 1-7; |cosine| test of Step 4; orientation and
-   deduplication by c_diff of Step 5), every trial step of Step 5/6 counted in n_pc, with these
-   choices:
-   (psb_branch_options.as_printed = 1 turns off each choice below that has a switch: the even
-   sweep, the memo and with it idle spans and the adaptive length, screening and cuts, the
-   mixed restarts.)
-   - Trials. A trial that converges closer to y0 than h is discarded: there pieces that merely
-     touch the end point are active, and their tangents would pass for new branches. A trial
-     whose corrector converges but fails the jump or cosine test of continuation is still taken
-     when the point lies, within 8 trial steps of y0, on the line through y0 along its own
-     tangent (|cosine| >= c_diff): it is a point of a branch leaving y0, only not the one the
-     trial pointed at (near a nonsmooth point the corrector often crosses into a neighbouring
-     piece). Trial steps give up below trial_h_min: near y0 the solution set is, to
-     first order, a cone, so a trial rejected at h is rejected at h/2 as well.
-   - Curved branches. A trial lands anywhere from h to h_init away from y0, and over that
-     distance a branch of curvature kappa turns its tangent by kappa h_init, beyond c_diff's
-     angle for kappa > 0.5 at the defaults: the tangent test alone takes the incoming branch,
-     met again, for a new one. So a landing point whose tangent misses a found branch's by
-     less than c_diff's angle plus 4 (a + a_j), a and a_j how far each point's chord from
-     y0 leaves its tangent (kappa d / 2 at distance d; 0 on straight branches, which skip
-     this), is compared where the branches cross the sphere through it around y0: Newton on
-     that sphere from y0 along the found branch's chord lands on the found branch's crossing,
-     the landing point itself when the two are one (within c_diff's angle seen from y0).
-   - Sweep. The directions v = sin(a) t~1 + cos(a) q use q = t~2 made w-orthogonal to t~1
-     (and of its norm): the same plane, swept evenly. As printed (paper_sweep = 1), two nearly
-     parallel spanning tangents bunch the n_dir directions around them and leave most of the
-     plane unvisited.
-   - Restarts, as in Section 3: (1) the pairs (t_i, t_j) of branches found so far; (2) then
-     random spans. Order of the pairs: the orthogonalised sweep spreads its directions evenly
-     over a pair's plane, and two close branches span little more than planes already swept,
-     so the pair with the smallest |cosine| comes first; the printed sweep samples finest in
-     the narrow wedge between close tangents, so with paper_sweep the largest |cosine| comes
-     first. Random spans: Remark 2.3(ii) perturbs the previous t~2 by 0.1 of a random vector
-     and so only explores near spans already swept (PSB_RESTART_PAPER); uniform directions
-     (PSB_RESTART_GLOBAL) reach far regions but rarely a thin region beside a found branch.
-     PSB_RESTART_MIXED (the default) alternates both kinds: a uniform draw (first), then a
-     span through a found branch t_j (j = 0, 1, ... in turn) with t~2 the tangent at
-     y0 + h (t_j + 0.1 r), r uniformly random. When the tangent at a uniform draw was tried
-     before, t~2 is that random direction itself: on a piecewise-linear H the tangents are the
-     pieces' finitely many directions, and the plane of two of them revisits swept ground.
-     When the tangent beside t_j is t_j (within c_diff: the random point lies in t_j's region),
-     t~2 is r: the span through t_j and its own tangent swept the plane of t_j and the rounding
-     left when t_j is taken out of its copy, a direction set by the last bits, and mostly tried
-     nothing (absolute value equations A x - |x| = b g, N = 6, 59 684 entries: incomplete 43
-     -> 10, of them silent, with an even count, 41 -> 10; Algorithm 2.2's factorisations 0.3%
-     more).
-   - Memo of tried tangents (no_memo = 0). The trials of a direction are steps from y0
-     along +-t, t the tangent at its sample point, so they depend on t alone; a t within c_diff
-     of one tried before in the same call (any span) is skipped and counted in n_memo. Up to
-     min(256, max(32, 2^19 / (N+1))) tangents are kept (the oldest give way). Branch sets are
-     those of the full run; spans later than the first mostly revisit regions, so n_pc falls.
-   - Jacobian memo (analytic dH, dense or banded backend). The tangent at a sample point is
-     the kernel of dH there, and on a piecewise-linear H every point of a piece has the same
-     dH, bit for bit. So the sample points' dH are hashed (128 bits from every entry) and a
-     dH seen before in the call gives its tangent without a factorisation
-     (stats.n_tangent_reused; as many entries as the memo of tried tangents; after 64
-     look-ups with fewer than one hit in 8 the call stops hashing). A remembered
-     tangent only decides skips (tried before, screened, the previous direction's region);
-     one that goes on to a trial is recomputed from the same dH, because the rounding of a
-     different bordering row can steer a sweep elsewhere on degenerate problems. Each entry
-     also keeps its tangent's outward sign, sgn det [dH; (W t)^T] from the LU factors that
-     made it, for the found branches' signs ("An odd count", below).
-   - Conic stop (with screening, analytic dH). A trial step that fails (no convergence, the
-     jump or cosine test) is retried with h_dec times the step down to trial_h_min. Where the
-     pieces its corrector met are cones with apex y0, a smaller step is the same run scaled
-     and fails alike; so at each iterate y the trial checks that H is affine through y0 there
-     (H(y) = H(y0) + dH(y) (y - y0) to rounding and 10^-6 of the step, y0 being a kink only
-     to Algorithm 2.1's precision) and that dH is the same, bit for bit, at the point of the
-     segment [y0, y] at distance h from y0 (polyhedral pieces: the segment lies in y's
-     piece): one more Jacobian per iteration, from a trial's second step on. When every
-     iterate of that step passes, the trial ends there. Both: bench_branching, same branches
-     and n_pc, Algorithm 2.2's factorisations 4.7-8.5 times fewer; the block's trials end by
-     the cut already and its sample points fall in pieces of their own (many contact nodes
-     change state at y0): the same factorisations, 0.3% more instructions.
-   - Piece memo (problem.piece set; any Jacobian and backend). The tangent at a sample point
-     is that of its piece's dH, and you can often name the piece cheaply where the library
-     cannot see it: on a contact problem, the contact nodes' pieces (the helpers' *piece
-     outputs). A sample point whose piece was met before in the call takes that point's
-     tangent, with no Jacobian and no factorisation, for the skips alone (as the Jacobian
-     memo's); a tangent that goes on to a trial is computed at its own point. On a piece
-     where H is smooth but not linear, the two points lie within 2 h_init of each other, so
-     their tangents differ by about the curvature times that, which must stay well below
-     c_diff's angle (4.5e-3 rad by default). Two points with one id must lie in one C1 piece
-     of H (else a skip can be wrong); giving different ids to one piece only costs
-     factorisations. A return > 0 (piece not known) computes the tangent. The hyperelastic
-     block (examples/fe.h's fe_psb_piece): the same spans, n_pc and branches in the 36
-     settings of Tables 1-2 with and without it; M200 1072 -> 795 factorisations, M800
-     1253 -> 1015, M12800 2323 -> 2235 (at y0 every contact node is at its vertex, and the
-     sample points spread over ever more combinations of their pieces as the mesh refines).
-   - Screened trials (no_screen = 0). Near y0 the pieces are, to first order, cones
-     with apex y0. The first corrector iteration of a trial along x, from p = y0 + h_init x,
-     lands on the ray along k, the tangent at p, with k as its next bordering row: the start of
-     a trial along k, scaled, and cones scale. So the trial along x can land on no branch the
-     trial along k misses. Each trial therefore costs a tangent at p first: when k is within
-     c_diff of a found branch's tangent, of a direction tried before (either sign) or of a k
-     whose trial was made, the trial is skipped (report.n_screened); otherwise it goes along
-     k, and k is remembered (up to the memo's count of them). After iteration i a trial is, in
-     the same way, a trial along its corrector tangent k_i scaled up: the k_i of the first 8
-     iterations of a trial that landed are remembered too (analytic Jacobians only: difference
-     quotients at the iterates can mix pieces). A skipped trial costs one factorisation
-     instead of a corrector run.
-   - Cut trials (the same option, analytic Jacobians). Once a trial's corrector tangent k_i
-     would be screened (the trial's own k aside), the trial's outcome is known: it lands on
-     that found branch, or repeats a trial made before, which found no branch that is not
-     known by now; having spent i iterations, it can do no better. It stops there (counted in
-     n_pc and in report.n_cut), and its k_j, j <= i, are remembered.
-   - The memo's cut (with the Jacobian or piece memo). k_i is the tangent of dH at the
-     iterate, and the memo may hold it: before factorising, the trial looks the iterate's
-     piece id up (or, with no id there, dH's hash once dH is formed); a held tangent that would
-     be screened cuts the trial with no factorisation (report.n_cut_memo), and the corrector
-     stores each tangent it computes. A dH hash is exact. A piece id gives a tangent from
-     another point of the piece: the first 4 held tangents met at trial iterates are compared
-     with those computed there, and a piece's tangent cuts only while every such pair in the
-     call lies within an eighth of c_diff's angle (on curved pieces a wrong verdict lost a
-     branch: curved random LCPs, which now keep their sets; the block: 0 of 390 verdicts
-     differ). The same branches; Algorithm 2.2's factorisations: the block M800, inputs 1-3,
-     627-639 -> 496-509 (0.9.0: 865-876), n_pc the same (in 4 of 12 Tables 1-2 settings 1-3
-     apart: near c_diff's angle a piece's tangent can decide otherwise); bench_branching 3-9%
-     fewer, n_pc the same.
-   - Kinks within h_init. The trials and their screen take the pieces for cones with apex y0 out
-     to h_init. Where another kink lies closer, a trial lands beyond it, on that point's
-     branches, and the screen skips real trials. A branch leaving y0 runs along its chord from
-     y0 (a curved one turns from it by curvature x distance / 2), so a landing point whose
-     tangent turns from its chord by more than 0.05 rad shows it. So does a point where a trial
-     meets H off the cones: at a trial's iterate within 2 h_init of y0, or at its screening
-     point (dH hashed there, one residual more), H(y0) differs from H's affine map at that
-     point, H(y) + dH(y) (y0 - y), by more than 0.05 of the step's own terms (|dH| |y - y0|, row
-     by row; curvature x distance / 2 on smooth pieces, as for the chord); where some landing
-     point's chord runs straight along its tangent (H piecewise linear), by more than 8 times
-     that landing's turn, at least 1e-3 (a kink a from y0 shows about a / h_init times its
-     angle). Trials cut or screened land nowhere, and on loops of pieces shorter than h_init
-     every trial of the missing branches was cut. And an odd count (above) most likely misses a
-     branch, which may have ended at the nearby kink with no turn to show. Either way the run is
-     made again with h_init / 16, up to 3 times while h_init stays above 8 h (s->branch keeps
-     the caller's h_init, the report is the last run's); an odd count that the smaller h_init
-     kept ends it (on cones the run is the same, scaled). An audit's piecewise-affine systems
-     with kinks 1e-3 to 1e-1 apart (psb_explore, 175 compared; with this rule and two fixes to
-     psb_explore's loops): exact diagrams 90 -> 156, wrong with n_odd > 0 70 -> 9, wrong with no
-     sign 9 -> 8; the same scaled by 1e-6 and 1e6 (92): 50 -> 84, 39 -> 3, 2 -> 3. With the
-     off-cone test (and psb_explore's edges away from their origin once past a kink): 169, 4, 2
-     of the 175; 1022, 30, 10 of 1062 over six such sets (917, 62, 78 without them); scaled, two
-     sets (182): 173, 7, 1 (160, 8, 12). Where kinks lie closer than h_init, a smaller h_init is
-     still the surer setting. The block and the examples never turn so far nor end odd (the same
-     runs); bench_branching: the same sets, and where a count stays odd one more run (random
-     LCPs N = 10: 1566 -> 1648 factorisations in Algorithm 2.2; the as-printed rows 11-21%
-     more).
-   - Idle spans (memo on). A span all of whose tangents were tried before (or whose trials
-     were all screened) tries nothing; it costs n_dir tangents and does not count against
-     n_span (report.n_span_idle): on problems whose pairs of branches span planes that meet
-     no third branch's region, counted idle spans used up n_span before the random spans
-     came. After an idle span of two known branches the next span is random, not the next
-     pair. 2 n_span idle random spans in a row (in R^2 all spans after the first), or 4 n_span
-     spans in all (8 n_span when the length adapts), end the sweep; idle spans of pairs count
-     in neither (each is followed by a random span, which bounds them). While the set found is
-     odd or unbalanced ("An odd count", below), when the length adapts and in the sweeps that
-     follow it, only the spans in all end it.
-   - Sweep length (n_span left at 0). Where regions are thin, new branches thin out slowly,
-     and the span that brought the last new branch measures how thin they are. So the sweep
-     goes on past 15 counted spans until twice as many again have found nothing (fewer than 3
-     times the span of the last new branch), up to 60 (8 n_span spans in all, idle ones
-     included). Runs whose branches all came by span 5 end at 15, or sooner where 2 n_span
-     idle random spans come in a row ("Idle spans" above; 28 of the 43 incomplete entries of
-     the absolute value equations audit, N = 6, ended so before the spans beside a found
-     branch were mended, "Restarts" above). A value set by the caller is kept, so the
-     paper's n_span means what it says.
-   - An odd count. Near y0 the branches cross a small sphere around it where H, restricted to
-     the sphere (dimension N, into R^N), vanishes; where they cross it transversally (each
-     branch inside a piece whose dH has rank N), that map's zeros come in even number, as a
-     map of a closed manifold into R^N has mod-2 degree 0. So with the length adapting an
-     odd count keeps the sweep going to n_span_max: random LCPs (bench_branching), complete
-     sets N = 8 232 -> 234 of 236, N = 10 230 -> 244 of 254, at 5% more n_pc; of the
-     incomplete runs before, 22 of 28 had an odd count, none of the complete ones. A count
-     still odd there (after the runs with a smaller h_init, see "Kinks within h_init") sweeps
-     once more, the pairs of found branches first, then random spans, with every direction
-     halfway between two of the first sweep's, up to n_span counted spans; then the spans of
-     the pairs with 2 n_dir and then 4 n_dir directions, each halfway between two swept
-     before; all while the count is odd, not with patience set, within max_pc
-     (report.n_span_odd): the missing region is most often thin and lies between directions
-     already sampled. bench_branching: random LCPs N = 10 242 -> 251 of 254 complete,
-     contact systems N = 12 87 -> 90 of 90, at most 2.1% more Algorithm 2.2 factorisations;
-     1346 contact ray entries (docs/branching-notes.md): odd counts 17 -> 8 (4 of the 8 a ray
-     within c_diff's angle of another). An odd count returned (report.n_branches,
-     psb_diagram.n_odd) most likely misses a branch, unless one runs along a piece boundary or
-     y0 is not a regular point of its pieces.
-     Unbalanced signs. Counted with orientation (PC1 above), each transversal branch carries
-     its outward sign sgn det [dH; (W t)^T], and the signs of a complete set add up to 0. An
-     even count whose signs do not cancel misses branches too (two of one sign, most often),
-     and the sweeps treat it as an odd one: on to n_span_max, then the sweeps again, while
-     the set is odd or unbalanced (not the reruns with a smaller h_init). Each branch's sign
-     is taken once, when the sweep would end, at its landing point (branch 0's on its
-     tangent): from the memo where the point's piece or dH has an entry (every factorisation
-     that makes a memoised tangent keeps det B's sign, O(N) from the LU factors; not from
-     shifted banded factors nor the dense QR fallback), else by a bordered factorisation there
-     (difference steps as at sample points; banded factors of an exactly singular dH/dx tell
-     none); dense and banded backends only. report.unbalanced tells a set left so. A missing
-     pair of opposite signs (the thin regions, mostly) leaves the sum unchanged, so a balanced
-     even count is no proof. Measured against the rule of the odd count alone (OpenBLAS, one
-     thread, side by side): the absolute value equations' audit, N = 6, every ray of 10 000
-     problems entered, 10 -> 2 incomplete entries of 59 684 (the same factorisations);
-     bench_branching random LCPs N = 10 248 -> 249 of 254 complete, contact systems N = 16
-     87 -> 88 of 88, every other row's sets the same, Algorithm 2.2's factorisations with the
-     defaults 0-1% more (the memo gives the signs), with differences 0.1-3.4% (no memo: a
-     factorisation a branch); psb_explore on 2000 entries a family (seed 77), contact systems
-     of 3 and 4 nodes 1991 -> 1992 and 1982 -> 1986 exact diagrams, random LCPs N = 8 1979 ->
-     1980; the block: the same six branches from every input and seed of Tables 1-2, 0-4
-     factorisations more a run.
-   - Adaptive end (patience, max_pc): stop after that many counted spans in a
-     row without a new branch, or at that n_pc. A heuristic: a thin branch can wait for a late
-     pair or a lucky random span.
-   Branch sets of problems in higher dimensions than the paper's planar scenario can have
-   regions that are thin cones, which a sweep can miss: raise n_span or n_dir for them
-   (docs/branching-notes.md measures how complete the search is).
-   Random numbers: splitmix64-seeded xoshiro256**, Box-Muller normals; reseeded from options.seed
-   at every psb_find_branches call, so equal inputs give bit-identical results.
-   Quasi-static evolution (psb_evolve_step). Ligursky & Renard, "A continuation problem for
-   computing solutions of discretised evolution problems with application to plane quasi-static
-   contact problems with friction", CMAME 280 (2014). Time step k of a discretised
-   evolution solves H_k(u, lambda_k) = 0, where H_k holds the previous state (friction in
-   increments, u_t - u_t^{k-1}, the user's data through problem.user). Newton from u_{k-1}
-   fails where a small change of the load makes the solution jump (a snap-through): no
-   solution lies near u_{k-1}, or Newton lands on a far one. The paper's remedy: (u_{k-1},
-   lambda_{k-1}) solves H_k = 0 too (a zero increment sticks, and the previous forces satisfy
-   Coulomb's law), so the step becomes a PC^1 continuation problem in the load: trace the
-   curve H_k = 0 from there, through folds and kinks, to its first point at lambda_k.
-   psb_evolve_step: mode AUTO tries Newton at lambda_k from u_{k-1} (newton_max_iter) and
-   keeps its solution unless it lies farther than newton_max_jump; otherwise (or with mode
-   CONTINUATION) the tangent at y is turned towards lambda_k, the start polished by the
-   corrector (a move beyond h_init: PSB_ERR_INPUT, y was no solution), and psb_trace runs
-   with its bound at lambda_k, where it lands exactly. The other side is unbounded: at a
-   snap-through the path turns back at a fold and usually passes below lambda_{k-1} before
-   it rises to lambda_k (tests/test_quasistatic.c: from 1 back to 5/6, then to 1.05), so a
-   bound there would stop every snap; param_min/param_max bound it where the load has a
-   physical range. A path that ends elsewhere (max_steps, max_length, a closed loop, an
-   end point, the range's far bound) is a failure, PSB_ERR_NO_CONVERGENCE, with the
-   trace's end in report.trace_end; y keeps u_{k-1} (psb_trace alone leaves its last
-   couple). The report gives the folds passed (snap_through), kinks, path length, load
-   range covered, jump, how far Newton's solution lay from the path's end, and the step's
-   counters. A function rather than a pattern, because those four points (orientation,
-   one-sided bounds, telling the target bound from the far one, y untouched on failure) are
-   easy to get wrong; it takes three vectors of the solver's memory. Update the step's data
-   between calls, never during one (Newton and the trace evaluate the same H_k). Measured:
-   the slider of tests/test_quasistatic.c, plain Newton stepping halved to 1e-6 never passes
-   its fold, the fallback lands to 1e-12 and gives the folds to 1e-10; examples/quasistatic.c,
-   triangle M256, plain stepping stalls at lambda = 0.48862, the snap step 0.45 -> 0.50 passes
-   folds at 0.48863 and 0.44028 for 68 factorisations (a Newton step: 2).
+   6. ALGORITHMS ----------------------------------------------------------------------------------
+   Linear algebra (problem.linear). Every system is bordered, B = [dH(y); row^T] (row = W t in the
+   corrector), so B stays regular at folds, where dH/dx is singular; one factorisation serves all
+   right-hand sides of an iteration. PSB_LINEAR_DENSE: dgetrf/dgetrs on B, ~2 (N+1)^2 doubles.
+   PSB_LINEAR_BANDED: A = dH/dx with kl sub- and ku super-diagonals (number coupled unknowns close
+   together), ~(4 kl + 3 ku) N doubles; B by block elimination, w = A^{-1} dH/dparameter once per
+   factorisation, then one banded solve per right-hand side. The LU is dgbtrf's algorithm in panels
+   of four columns (reference dgbtrf's factors, bit for bit). Where the Schur complement d - c.w
+   cancels (g = (|d| + sum |c_j w_j|) / |d - c.w| > 16: near folds) a solution is checked by its
+   residual in B and refined; where A is singular or refinement stalls, A + sqrt(eps) ||B|| I is
+   factored and refined against B. A bit-identical A (piecewise-linear H) reuses its factors
+   (stats.n_factor_reused). PSB_LINEAR_USER: problem.solver factors B in its own storage; contrib/
+   has three (outside this header): psb_sparse.h (UMFPACK, KLU), psb_mumps.h (MUMPS over MPI
+   ranks), psb_condense.h (static condensation where dH varies in a few rows). Every solver also
+   holds ~100 vectors of N+1 and Algorithm 2.2's memos, 2 or 3 x c (N+1) doubles, c = min(256,
+   max(32, 2^19 / (N+1))).
 
-   Special points on the path (psb_trace_options.detect; off by default, and then the trace is
-   what it was, bit for bit; with detectors on, its accepted points are the same too). Between
-   two accepted couples (y0, t0), (y1, t1) the trace looks for
-     PSB_SPECIAL_FOLD       t[param] changed sign on a smooth piece: located;
-     PSB_SPECIAL_FOLD_KINK  t[param] changed sign across a kink: the couple before the kink;
-     PSB_SPECIAL_BRANCH     the sign of det [dH; (W t)^T] changed on a smooth piece: located,
-                            with the second kernel direction, for psb_branch_point_switch;
-     PSB_SPECIAL_PC1        that sign changed across a kink: the couple before the kink, for
-                            psb_locate_end + psb_find_branches;
-     PSB_SPECIAL_EVENT      an event value g_k changed sign: located, with its direction;
-   and reports each by its own on_point call (PSB_POINT_SPECIAL, p->special: kind, y, t,
-   kernel, param = y[param_index], precision, event, direction), in that order within one
-   step, before the accepted point. stop_at ends the trace on the special point's couple.
-   PSB_POINT_FOLD and fold_param (the Hermite estimate) are kept as they were.
-   Why det [dH; (W t)^T]: it is continuous along a smooth curve oriented by its direction of
-   travel (t does not flip at a fold, W > 0 keeps the sign of <W t, t>), and vanishes exactly
-   where dH loses rank, so a simple branch point crossed flips it. Dense: the sign and log|.|
-   come from the corrector's last LU (product of sign U_ii and of the row swaps, O(N));
-   banded: det A of the band LU times the Schur complement d - c.w (factors of A + sigma I
-   would move the zero by ~sigma, so there A is factored as it is). No factorisation is
-   added per step, except one at the start and one at the accepted point after a kink (the
-   corrector's last factorisation may belong to the other piece there). The user backend
-   (factor/solve only) gets tau_k = 1 / (d_k - c_k^T B^{-1} b_k) = det B / det [B b_k;
-   c_k^T d_k] for two borders drawn from the generator (reseeded from options.seed at each
-   psb_trace call; one solve with two right-hand sides per step). A tau also changes sign at
-   its own poles, and a pole next to a zero hides both: a sign change of either tau is
-   located, and kept when |tau| shrank there (a zero), not grew (a pole).
-   Location: the curve between the couples is parameterised by s = <t0, y - y0>_w, each point
-   by Newton on H(y) = 0, <t0, y - y0>_w = s, converged on a last correction <= tol_correction
-   (the tangent and the test function come from the factors before it), predicted by the cubic
-   Hermite interpolate of the bracket's ends (an error of the order of the bracket to the
-   fourth). Near a branch point that plane cuts every branch, and Newton may land on another
-   one (two circles crossing at 60 degrees: points on the wrong circle made a bracket 2e-4 off
-   the crossing, reported to 1e-10): a point is used only when it continues the ends' curve,
-   within |ta - tb| / 2 + 0.05 of their interpolated tangent (and c_min of each) and
-   w (|ta - tb| / 2 + 0.05) of their chord (w the bracket's length; a smooth curve departs by
-   its sagitta, w |ta - tb| / 8); otherwise s moves halfway to the end farther from the zero,
-   up to 12 times, then the bracket reached is kept. The bracket shrinks by the Illinois
-   variant of regula falsi, bisecting when two evaluations did not halve it, each point at
-   least min(locate_tol, w) / 4 inside (as in Brent's method: an end converging on the zero
-   alone would leave the other where it was), until its ends lie within locate_tol of each
-   other: precision is their distance (both on the traced curve, so a true bound), the point
-   the end with the smaller |test function|. Crossing circles (dH = 0 at the crossing, steps
-   up to 0.2, angles 60 and 35 degrees, three backends): both points within 3.3e-11, precision
-   <= 1e-10, the four half-arcs; the kink test of a step that turned by more than c_diff,
-   whose half step ended at the crossing on the other circle, tries 3/8 and 5/8 of the step
-   before calling it a kink. A branch point's tangent is the mean of the tangents at
-   s* -+ delta (delta = 1e-5 of the step; the one at s* is off by eps cond B), its kernel two
-   steps of inverse iteration with B at s* + delta, made w-orthogonal to t. Measured
-   (tests/test_detect.c): pitchfork and transcritical points on
-   all three backends to 1e-11 in the parameter, folds of the unit circle at l = +-1 with x
-   within 1e-10, events within 1e-10; a fold costs ~23 factorisations, an event ~18, a
-   branch point ~17 (dense; user backend ~75, a pole of a tau located and dropped on the
-   way: a location is abandoned once |tau| exceeds 1e3 times its values at the ends).
-   Kinks: a fold or a det change in a step that took the tangent switch, that locate_kinks
-   found a kink in, or whose tangents differ by more than c_diff and where the kink test of
-   locate_kinks finds one, is at a kink: FOLD_KINK / PC1, with the couple before it within
-   h_min / h_dec (the triangle's fold problem: both limit points, M64 gamma = 0.6666458 and
-   0.5654145 at h_min 1e-9).
-   Straight through: a det sign change in a step whose tangent did not turn is located as
-   above; where |det| jumped there instead of passing zero (at the bracket's end it exceeds
-   1e3 times the secants' slope times the bracket's width), the trace went straight through a
-   nonsmooth point (two pieces with one tangent, r and -r both branches): PC1, the bracket's
-   end before it with the bracket's width, psb_special.located = 1 (psb_locate_end looks for a
-   turn and finds none there: give the couple to psb_find_branches as it is). A zero within
-   1e3 widths of an end is not told apart from a jump. (H = C|y| + D y, N = 2, with r and -r
-   rays: the smooth switch had given three of its four rays.)
-   Limits of sign tests: two sign changes within one step cancel and are not seen (pitchforks
-   at l = 0 and 0.02 on x = 0 with steps of 0.1: none; with h_max 1e-3: both); a branch point
-   where det keeps its sign (three branches crossing, x (x - l) (x + l)) is not seen. Lower
-   h_max where branch points may lie close together.
-   PC1 (Ligursky and Renard's test of det [dH_j; t_j^T] det [dH_j+1; t_j+1^T] < 0 across a
-   kink): orient every branch leaving the point outwards; their signs add up to 0 (H maps
-   a small sphere around the point to R^N, and the signed count of zeros of such a map is
-   0), so at an ordinary kink (two branches) the test is never positive, and it is positive
-   exactly when the incoming and outgoing branches have the same outward sign: a sufficient
-   test of more than two branches, not a necessary one. Generated piecewise-linear families
-   (min(x, M x + q g), N = 2-4, kappa 0.3-4, traced through the origin): at 241 points with
-   4 or more branches the test was positive 139 times and detected all 139; at 215 ordinary
-   kinks no false alarm; every nonsmooth fold found (206 of 206). The block of Section 3
-   (M20x40), traced from each input branch through its nonsmooth point (six branches) to
-   gamma = 1: PC1 reported from input 3 (gamma = -1.6e-10, within 2e-9 of the kink), not from
-   inputs 1 and 2, where the switch continued on a branch of the other outward sign. A trace
-   that must not miss such points stops at its kinks (locate_kinks) and runs Algorithm 2.2. Not with the user backend
-   (PSB_ERR_OPTIONS): its factor callback forms dH itself, so neither the determinant nor
-   the authors' path of convex combinations of the two bordered matrices is available, and
-   tau's sign jumps with the matrix. With finite differences the last couple before a kink
-   lies within h_min of it, where quotients can mix the pieces: give an analytic selection
-   gradient (as for branching).
-   Cost of monitoring (all detectors, whole runs): block M20x40 (approach and six branches to
-   |gamma| = 1) 1258 -> 1286 factorisations (1.02x), no special point on the way; triangle
-   fold problem M16 177 -> 184 (1.04x), M64 1175 -> 1185 (1.01x), its two limit points.
-   bench/bench_detect (make bench; banded, one trace each): block M200 approach 130 -> 137
-   (1.05x), M800 123 -> 124 (1.01x); triangle fold problem n = 64 1169 -> 1179 (1.01x), both
-   limit points; the accepted points bit-identical.
-   psb_branch_point_switch. Near a branch point y* the solutions lie, to first order, on lines
-   through y* in the plane of t and the kernel direction k. The circle y* + r (cos a t + sin a
-   k), r = h_init (psb_branch_options), 2 n_dir angles (-t first, then +t: branches 0 and 1
-   are the traced curve, a failed one kept as (y*, -t or +t)), is corrected by Newton on the
-   sphere ||y - y*||_w = r: each trial lands where a branch crosses the sphere, and two
-   landings within r sqrt(2 (1 - c_diff)) of each other are one branch. A crossing does not
-   depend on where the trial started, so curved branches are told apart as straight ones are
-   (landing points of trial steps, anywhere from h_min to h away, were not: the tangents of
-   one parabola differed by more than c_diff). With fewer than four branches, or -t or +t not
-   landing, the circle is tried again at r/8 and r/64; -t and +t landing at none of the three
-   is PSB_ERR_NO_CONVERGENCE (y* is not on the traced curve, or h_init is far too large). The
-   branches are traced from their crossings outwards, so each new one is first walked back
-   towards y* (psb_trace with no_switch and locate_kinks, steps of r/8 to r/4, to within r/64
-   of y*): a kink on the way, such as a PC1 point of a contact branch, brings the sweep again
-   at a quarter of its distance (up to 3 times), so that the branch's trace meets it (a PC1
-   point 0.02 from a transcritical point, r = 0.05: psb_explore found neither it nor its
-   branches before 0.11.0; the walks cost 03_pitchforks 9% more factorisations). All
-   crossings in the plane are found (four lines through a point: eight half-lines). The kernel
-   may be larger (symmetric problems: several pitchforks at one point): two steps of inverse
-   iteration with B at y* + 1e-4 r t from random vectors give up to 3 more directions, each
-   kept while its part outside t and the known ones exceeds 1e-3 (O(1) for a near-null vector
-   of B, ~1e-8 for the others); with kdim of them, 2 n_dir kdim^2 random directions of the
-   kernel are tried besides the circle (three pitchforks at the origin, a kernel of dimension
-   4: all 28 half-branches, the 26 half-parabolas with their analytic tangents).
+   Corrector and tangent. The tangent at y solves [dH(y); (W r)^T] t = e_{N+1}, r the reference
+   direction; where that is singular or (dense) its scaled condition estimate exceeds 1/sqrt(eps),
+   the dense backend takes the kernel of dH(y) from a QR factorisation (exact at folds; rank < N:
+   PSB_ERR_SINGULAR), the others border with e_param, then a fixed row; t is normalised with
+   <t, r>_w >= 0. The corrector factors B = [dH(y); (W t)^T] once per iteration and solves B [dy,
+   v] = [[H(y); 0], [0; 1]]: y -= dy, t = v / ||v||_w. It converges when ||H(y)||_2 <= tol_residual
+   and the distance to the solution (||dy||_w, or Newton's estimate theta ||dy|| / (1 - theta) for
+   a contraction theta <= 1/2) is below tol_correction, or when ||dy||_w <= tol_correction and
+   ||H|| fell by less than half (H's rounding; every Newton solve here accepts it). A trial step
+   predicts y + h t and is accepted when the corrector converged within max_iter, within h of the
+   prediction (a longer jump landed elsewhere on the curve), with a tangent within c_min of t;
+   otherwise h *= h_dec, down to h_min. An iterate 4 h away ends a trial (not Algorithm 2.2's: at
+   kinks the corrector would hop between far kernels). A branch within a step of the traced one can
+   still take the corrector: keep h_max below the distances between branches.
 
-   Exploring the whole diagram (psb_explore). From one couple it traces every branch it can
-   reach and returns the graph: nodes are special points, edges the branch segments between.
-   Start at a regular point: a start at a branch point itself is traced along +-t only.
-     psb_diagram d;  psb_explore_options eo = {0};      // zero fields: defaults
-     psb_diagram_init(&d, n, 64, 128, 16);              // nodes, edges, branches per node
-     eo.trace.param_min = -1;  eo.trace.param_max = 1;  // each trace's options
-     eo.branch_at_kinks = 1;                            // contact problems: see below
-     eo.on_point = save_point;                          // (edge, psb_point): the curves
-     if (psb_explore(&s, y, t, &eo, &d) < 0) puts(psb_solver_message(&s));
-     for (int i = 0; i < d.n_nodes; i++) {              // start, nonsmooth, branch, pc1,
-         const psb_node *nd = &d.nodes[i];              // fold, event, bound, budget, failure
-         printf("%s at %g, %d branches\n", psb_node_kind_string(nd->kind), nd->param,
-                nd->n_branches);                        // nd->ts: their tangents, outwards
-     }
-     for (int i = 0; i < d.n_edges; i++)                // from -> to, how it ended
-         printf("%d -> %d %s\n", d.edges[i].from, d.edges[i].to,
-                psb_edge_end_string(d.edges[i].end));
-     psb_diagram_free(&d);
-   examples/02_explore.c (a PC1 point a trace passes through), 03_pitchforks.c (smooth, closed
-   form), block --explore and triangle --explore show it in full.
-   The queue is the nodes' untraced branches (branch_edge[k] = -1), taken in the order the
-   nodes were made, the start's directions first (+t, then -t unless one_direction; from a
-   start on a parameter bound, the direction leaving it is left out). Each is traced
-   (eo.trace: bounds, max_steps, detectors, with detect_loop on) until it ends: on a bound or
-   out of the box or state_max (a bound node), at its budget, in a failure (node and edge say
-   which; exploring goes on, only a callback's stop ends it), back at its start (a loop), or
-   at a branching point: where the trace ends (PSB_NONSMOOTH_END) or a PC1 point is reported,
-   Algorithm 2.1 and 2.2 (a nonsmooth or pc1 node); at a smooth branch point,
-   psb_branch_point_switch (a branch node). Branch 0 of a new node is the one the edge arrived
-   by; the others join the queue. Folds and events are nodes on their edge (node.edge) and do
-   not end it. So nothing is traced twice, a branching point within node_tol + 4 (the two
-   precisions) of a known node is that node, and the edge arrives by the node's branch whose
-   tangent is closest to the way it came (taken above c_diff, else the best above c_min, else
-   added as a new branch); and a trace whose chord passes within that distance (plus 1e-3 of
-   the chord) of a known node arrives there too: a piecewise-linear branch goes straight
-   through a point where it has no kink, and the detectors may see nothing there (the way on
-   is made one of the node's branches if it is not). node_tol defaults to 16 eo.branch.h
-   (with differences and h following the point, to 16 times h at the node). Where Algorithm
-   2.2 finds two branches at a point the trace stopped at (the switch failed, or a kink with
-   branch_at_kinks), the point is an ordinary kink (d.n_kinks_plain): no node, the edge goes on
-   along the other branch, with a fold node there when the parameter turns (a limit point at a
-   kink, which the tangent switch would have reported). Unless their outward signs do not
-   cancel (report.unbalanced, section 6 "An odd count"; after the full sweep where kink_spans
-   looked first): two of one sign are not all, and the point is a node, counted in d.n_odd
-   (a 4-node contact system of an audit, 2 of 2400 entries: two of four rays, success and
-   n_odd 0 before).
-   Why branch_at_kinks. The PC1 test (above) is sufficient, not necessary: where the incoming
-   and outgoing branches have opposite outward signs it is silent. The block's and the
-   triangle's points are such: on the block M200 the trace from gamma = -1 goes straight on
-   from branch 1 to branch 4 at gamma = 0 (their tangents' cosine -0.999), no switch, no
-   special point; the crossing kinks min(x_i, g - x_i) with k odd likewise. With
-   branch_at_kinks every kink a trace passes is located (locate_kinks) and gets Algorithms 2.1
-   and 2.2; one with two branches is ordinary (d.n_kinks_plain) and the edge goes on along the
-   other. It costs an Algorithm 2.2 per kink, so it suits problems whose branches have few
-   kinks: block M200, one point, its branches none: 1088 factorisations against the hand-
-   driven run's 1070 (1.02x), the same six end points to 1.3e-14; triangle M1024, the four
-   branches; crossing kinks k = 2-4 and random complementarity problems N = 3-4, every ray
-   once (tests/test_explore.c: 24 of 24 random ones complete). kink_spans = 1 looks at a kink
-   with one span first and sweeps in full only where it found other than two branches: block
-   M800, whose branches pass two ordinary kinks, 2756 -> 1573 factorisations (1.26x the hand-
-   driven run's 1250; M200 1.15x, the look costing ~105 at the point itself). The look can
-   miss a point whose first span (the incoming branch and the tangent beyond) meets no third
-   branch's region: the crossing kinks (their rays pairwise span planes meeting no other
-   ray's) pass for ordinary, random complementarity problems 21 of 24 complete.
-   Budgets and capacities: max_traces, max_points and a point callback returning nonzero stop
-   exploring (PSB_STEP_BUDGET, PSB_STOPPED); nodes, edges or branches at a node running out
-   give PSB_BRANCH_CAPACITY (d.truncated) after tracing what fits; d.n_queued counts the
-   branches left. d.n_odd counts the branching nodes left with an odd number of branches
-   or with outward signs that do not cancel ("An odd count", above): the call still returns
-   PSB_SUCCESS, since a branch along a piece boundary can make a count odd, but such a node
-   most likely misses a branch; raise branch.n_dir or n_span_max. Memory: psb_diagram_memory_size, about max_nodes (2 max_branches + 1) (n+1)
-   doubles, set up once; psb_explore allocates nothing and uses the solver's scratch (so not
-   from a point callback of psb_trace). Same inputs and seed, the same graph bit for bit.
-   Output (PSCBRANCH_STDIO). psb_diagram_write_json writes
-     {"format": "pscbranch-diagram", "version": 1, "n": N, "param_index": p,
-      "complete": true when no branch was left and nothing was cut,
-      "odd_nodes": d.n_odd (branching nodes with an odd number of branches, or whose
-                  outward signs do not cancel, section 6),
-      "nodes": [{"id", "kind" (psb_node_kind_string), "param", "precision", "edge", "event",
-                 "direction", "y": [N+1], "branches": [{"edge" (-1: untraced), "y", "t"}]}],
-      "edges": [{"id", "from", "from_branch", "to" (-1: no room), "to_branch",
-                 "end" (psb_edge_end_string), "result" (the psb_result code), "points",
-                 "length"}]}
-   with numbers to 17 digits; psb_diagram_write_csv two tables, nodes (id, kind, param,
-   precision, edge, event, direction, n_branches, n_untraced, y0 .. yN) and edges (id, from,
-   from_branch, to, to_branch, end, result, points, length). The accepted points are the
-   point callback's to keep (the examples write edge, parameter, state value rows;
-   examples/explore_out.h, with a gnuplot script of the parameter-state plane).
+   Trace and its detectors. psb_trace takes steps, h growing by h_inc after a step of fewer than
+   iter_threshold iterations, up to h_max. Where every trial fails down to h_min, the tangent
+   switch probes the tangent t~ at y + delta t, delta doubling from switch_delta_min to
+   switch_delta_max; once cos(t~, t) < c_diff it tries steps along +t~, then -t~, and takes the
+   first couple that does not go back along the incoming branch. With nothing straight ahead it
+   sweeps the plane of -t and the tangent ahead (switch_n_dir directions, three probe distances),
+   then both again for tangents within c_diff of t but beyond rounding; nothing found, and no
+   fault: PSB_NONSMOOTH_END. Where more than two branches meet the trace goes on along one or ends:
+   Algorithms 2.1 and 2.2 give them all. Folds: t[param] changes sign, estimated at the extremum of
+   the cubic Hermite interpolant. Kinks (locate_kinks): after a step that turned by more than
+   c_diff's angle, half (and quarter) steps tell a kink, whose turn does not shrink with the step,
+   from a smooth turn; bisection locates it to h_min, a step of 2 h_min across confirms it
+   (analytic dH). Bounds: a step across one gives way to Newton at the bound. Special points on the
+   path (detect; the accepted points stay the same): FOLD (located), FOLD_KINK (the couple before
+   the kink), BRANCH (sgn det [dH; (W t)^T] changed on a smooth piece: located, with the kernel
+   direction), PC1 (it changed across a kink: the couple before it), EVENT (located). The
+   determinant, continuous along a curve oriented by its travel, vanishes where dH loses rank; its
+   sign comes from the corrector's LU in O(N) (the user backend watches det B / det
+   [B b_k; c_k^T d_k] for two random borders instead: no PC1). A location is Illinois regula falsi
+   along the curve, each point checked to be on the bracket's own branch, to locate_tol. A det jump
+   in a step that did not turn is a nonsmooth point passed straight through: PC1 with
+   special->located = 1 (give it to psb_find_branches as it is). Unseen: two sign changes in one
+   step (lower h_max), a branch point where det keeps its sign. PC1: the outward signs of the
+   branches leaving a nonsmooth point add up to 0, so the test fires only where more than two meet,
+   though not at all such points: a trace that must miss none stops at its kinks and runs Algorithm
+   2.2.
 
-   7. CONTACT HELPERS (frictional contact as a PC^1 system H(y) = 0)
-   ------------------
-   Every projection returns its value, one element of its B-Jacobian and a piece id; value and
-   Jacobian always come from the same piece (a smooth formula valid on a closed region). Argument
-   piece_request: PSB_PIECE_DEFAULT (-1) = automatic choice (rules below); k >= 0 = evaluate piece
-   k's formula at the point (continuation uses this to enumerate the pieces around a kink; a piece
-   that is not active there is evaluated by the extension of its formula). The *_active functions
-   return a bitmask (bit k = piece k) of the pieces whose closure contains the point within tol.
-   Jacobians are column-major. Bad input: PSB_ERR_NULL, PSB_ERR_NONFINITE (NaN/Inf, also overflow
-   inside), PSB_ERR_INPUT (r, rho <= 0; mu, F < 0; a > b; tol < 0), PSB_ERR_SIZE (piece id, dim).
-   Success means every output asked for (non-NULL) is finite; where the true value overflows
-   (e.g. De Saxce's u_N + mu |u_T| > DBL_MAX, or dP/dx of the disk at a subnormal x) the
-   helper returns PSB_ERR_NONFINITE and writes no output. Subnormal and huge arguments are
-   scaled where the result is representable (the cone with mu up to 1e308).
+   Algorithm 2.1 (psb_locate_end). As in the paper, h is halved from branch h to h_min, y moving to
+   the correction of y + h t whenever that converges with a tangent within c_diff of t. After a
+   move the same h is tried again (the printed version moves at most h in all); a move must land
+   h/2 ahead with a tangent within c_diff of the entering one too (no falling back, no turns adding
+   up), and a branch that only turned smoothly is followed on. With differences the entering
+   tangent is kept, stalls are told from smooth turns by chords, and t is the branch's tangent 16 h
+   back. y then approximates the end point (*precision: the last h tried), t points along the
+   branch into it; more than 1000 moves: PSB_ERR_NO_CONVERGENCE.
 
-   Half-lines. The papers' (x)_- is min(x,0), the projection onto ]-inf,0]; other texts write
-   max(-x,0) for the negative part. Here the names say the set:
-     psb_proj_nonpos(x): P = min(x,0);   psb_proj_nonneg(x): P = max(x,0).
-     Pieces PSB_HALF_IN (P = x, P' = 1), PSB_HALF_OUT (P = 0, P' = 0).
-     Kink x = 0: default IN (a point of the set is its own projection, Jacobian 1).
+   Algorithm 2.2 (psb_find_branches). As in the paper, with Section 3's restarts: branch 0 is
+   (y0, -t0); each span of two tangents t~1, t~2 is swept in n_dir directions v, the tangent at
+   y0 + h v sampled (skipped where it repeats the previous one), and trial steps from y0 along it
+   both ways (h_init down to trial_h_min) land on branches; a landing h or more from y0 is new if
+   its outward tangent differs from every found one's by more than c_diff (on curved branches the
+   sphere through it decides), and one on a ray from y0 along its own tangent counts even where the
+   step tests fail. Choices (expert switches; as_printed undoes them): Sweep: t~2 is made
+   w-orthogonal to t~1, so directions spread evenly. Restarts: pairs of found branches, the most
+   nearly orthogonal first; then random spans, MIXED alternating uniform draws with spans beside a
+   found branch t_j (the tangent at y0 + h (t_j + 0.1 r), r random). Memos: a tangent within c_diff
+   of one tried in the call is skipped (n_memo); points with a bit-identical analytic dH, or one
+   piece id (Piece memo), share a tangent, which only decides skips. Screening: near y0 the pieces
+   are, to first order, cones with apex y0, and cones scale: a trial along x from y0 + h_init x
+   lands as the trial along k, the tangent there. So trials go along k, skipped when k is a found
+   branch's or a known trial's (n_screened), and stop once an iteration's tangent is (n_cut,
+   analytic dH; The memo's cut: before its factorisation), or after a step that failed on pieces
+   checked to be conic. Sweep length (n_span left at 0): spans that try nothing new do not count;
+   the sweep goes on while fewer than 3 times the last new branch's span have passed, up to
+   n_span_max. An odd count: branches crossing a small sphere about y0 transversally come in even
+   number, their outward signs adding up to 0; an odd or unbalanced set most likely misses
+   branches, so an adapting sweep goes on to n_span_max, then between the directions swept (not
+   with patience). An odd rep.n_branches or rep.unbalanced flags what is left; a balanced set
+   proves nothing. Kinks within h_init: the cones reach the next kink only; a landing chord turning
+   from its tangent by over 0.05 rad, H off its affine map through y0, or an odd count restart the
+   run with h_init / 16 (up to 3 times, staying >= 8 h). Random numbers: xoshiro256**, reseeded
+   from options.seed at each call. Thin regions may need more n_span or n_dir
+   (docs/branching-notes.md).
 
-   Interval, psb_proj_interval(x, a, b), a <= b: P = min(max(x,a),b); d = (dP/dx, dP/da, dP/db).
-     Pieces IN (x; 1,0,0), LOWER (a; 0,1,0), UPPER (b; 0,0,1).
-     Default: x < a LOWER, x > b UPPER, a <= x <= b IN; but a == b -> LOWER (or UPPER if x > b):
-     {a} has no interior, and a constant piece is what a separated 2D node needs (friction
-     interval [F s, -F s] with s = 0).
+   Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
+   to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
+   (cos a t + sin a k), r = branch h_init, 2 n_dir angles (-t, then +t first: branches 0 and 1, the
+   traced curve), are corrected by Newton on the sphere ||y - y*||_w = r to where a branch crosses
+   it, whatever its curvature (within r sqrt(2 (1 - c_diff)): one branch); fewer than 4 branches,
+   or -t or +t lost: r/8, then r/64 (both lost: PSB_ERR_NO_CONVERGENCE). Each branch is walked back
+   towards y*; a kink on the way brings the sweep inside it (three rounds at most). A larger
+   kernel: up to 3 more directions by inverse iteration, 2 n_dir kdim^2 random trials in it.
 
-   Disk, psb_proj_disk(x, s), x in R^2, radius s (s <= 0: the set {0}).
-     IN: P = x, dP/dx = I, dP/ds = 0.
-     BOUNDARY: P = s d, d = x/|x|, dP/dx = (s/|x|)(I - d d^T), dP/ds = d.
-     ZERO: P = 0, dP/dx = 0, dP/ds = 0.
-     Default: s <= 0 ZERO; |x| <= s IN; else BOUNDARY. At x = 0 BOUNDARY uses d = e1 and
-     s/|x| -> 0 (its limit along x = t e1, s = o(t)); no division by zero.
+   Exploring the whole diagram (psb_explore). From a regular couple it traces every branch it can
+   reach: nodes are special points, edges the segments between. The queue is the untraced branches,
+   nodes in order, the start's +t and -t first. An edge ends at a bound or the box (a bound node),
+   its budget, a failure (exploring goes on; the call returns the first failed edge's code), its
+   start (a loop), or a branching point: Algorithms 2.1 and 2.2 where the trace ends or reports PC1
+   (nonsmooth, pc1 nodes), the branch point switch at a smooth branch point (branch node); branch 0
+   is the one arrived by, the others join the queue. Folds and events are nodes on their edge. A
+   branching point within node_tol + 4 (both precisions) of a node, or a chord passing that close,
+   arrives there: nothing is traced twice. Two branches whose signs cancel make an ordinary kink
+   (d->n_kinks_plain): the edge goes on. Odd or unbalanced nodes count in d->n_odd (they most
+   likely miss a branch). PC1 is silent where the branches a trace joins have opposite outward
+   signs (the paper's block): branch_at_kinks branches at every kink (an Algorithm 2.2 each;
+   kink_spans looks first with fewer spans, and can miss a point whose first span meets no third
+   branch). psb_diagram_write_json's keys: format, version, n, param_index, complete, odd_nodes,
+   nodes (id, kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id,
+   from, from_branch, to, to_branch, end, result, points, length); psb_diagram_write_csv writes the
+   two tables.
 
-   Coulomb cone, psb_proj_cone(x, mu), K = {|x_T| <= mu x_N}, x = (x_N, x_T) in R^3, mu >= 0;
-     polar cone K° = {mu |x_T| <= -x_N}. With t = |x_T|, d = x_T/t, c = (x_N + mu t)/(1+mu^2):
-     IN: P = x, J = I.      POLAR: P = 0, J = 0.
-     BOUNDARY: P = c (1, mu d),
-       J = [[1, mu d^T], [mu d, mu^2 d d^T]]/(1+mu^2) + (mu c/t) [[0,0],[0, I - d d^T]].
-     Default: mu > 0 and x in K -> IN; else x in K° -> POLAR; else BOUNDARY.
-     At x_T = 0 BOUNDARY uses d = e1 and mu c/t = mu^2/(1+mu^2) (its limit at the apex along
-     x_N = 0; the TT block is then isotropic). mu = 0: K is the half-line x_T = 0, x_N >= 0;
-     IN has empty interior, is never the default nor reported active (but can be requested);
-     BOUNDARY gives P = (x_N, 0, 0), J = diag(1,0,0) without dividing by t.
+   Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves
+   H_k(u, lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls
+   only). Where Newton from u_{k-1} fails (a snap-through), Ligursky and Renard trace H_k = 0 from
+   (u_{k-1}, lambda_{k-1}), which solves it too, through folds and kinks to its first point at
+   lambda_k. Mode AUTO tries Newton first (kept unless farther than newton_max_jump); else y is
+   polished (a move over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, where it
+   lands exactly, and free on the other side (the path may pass below lambda_{k-1}). A path that
+   ends elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end), y kept.
 
-   Sign conventions.
-     Haslinger et al. (paper 000, 2D): nu is the unit normal pointing into the foundation, tau the
-     tangent; displacements u_nu, u_tau; non-penetration u_nu <= g (gap g, 0 in the paper);
-     multipliers lambda_nu <= 0 (the contact force on the body is B^T lambda); friction opposes
-     u_tau: a node sliding towards +tau has lambda_tau = F lambda_nu.
-     Acary et al. (paper 003, 2D/3D): N points out of the obstacle, reactions r in K (r_N >= 0),
-     u_N >= 0 separating, sliding: r_T = -alpha u_T.
-     psb_contact_convert(dim, force, disp, g): r = -lambda, u_N = g - u_nu, u_T = -u_tau (the
-     frame (N, T) = (-nu, -tau) plus the gap). It is its own inverse. Under it
-       H_000 = F_ac/rho with rho_N = rho_T = r,  dH/dlambda = -(1/r) dF/dr,  dH/du = -(1/r) dF/du.
+   7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
+   Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
+   one piece: piece_request PSB_PIECE_DEFAULT (-1) picks it by the rules below, k >= 0 takes piece
+   k's formula. Failures write nothing: PSB_ERR_NULL, _NONFINITE (also on overflow), _INPUT, _SIZE.
+   psb_proj_nonpos: min(x, 0); psb_proj_nonneg: max(x, 0). Pieces IN (x), OUT (0); x = 0: IN.
+   psb_proj_interval: min(max(x, a), b); IN, LOWER, UPPER (a == b: LOWER, or UPPER if x > b).
+   psb_proj_disk: onto {|x| <= s} in R^2 (s <= 0: {0}); IN, BOUNDARY (s x / |x|), ZERO.
+   psb_proj_cone: onto {|x_T| <= mu x_N} in R^3; IN, POLAR (0), BOUNDARY; mu = 0: IN never default.
+   psb_proj_half_active, _interval_active, _disk_active, _cone_active: the pieces active within tol.
+   psb_ac2d_node, _active, _state: a node's 2D Alart-Curnier residual (Haslinger et al.) with its
+     2 x 4 Jacobian and piece; its active pieces; its contact state.
+   psb_fc3d_ac, _jm, _nat: a contact's 3D Alart-Curnier, Jean-Moreau residuals and natural map with
+     De Saxce's velocity (psb_fc3d_desaxce) (Acary et al.); psb_fc_nat_error: their eq. (15).
+   psb_contact_convert: between the two conventions (r = -lam, u_N = g - u_n, u_T = -u_t).
 
-   2D Alart-Curnier node, eq. (2) of 000 (multipliers <= 0), psb_ac2d_node(u_n, u_t, lam_n, lam_t,
-   r, F, g, piece_request, res, jac, piece):
-     x_n = lam_n - r (u_n - g),  s = min(x_n, 0),  x_t = lam_t - r u_t,
-     res[0] = -(1/r)(lam_n - s),  res[1] = -(1/r)(lam_t - P_[F s, -F s](x_t)).
-     jac = d res/d(u_n, u_t, lam_n, lam_t), 2x4 column-major (jac[0..1] = d/du_n ...).
-     Piece = PSB_AC2D_PIECE(pn, pi) = pn + 2 pi (pn: nonpos piece of x_n, pi: interval piece).
-     Default = defaults of both projections. psb_ac2d_active lists the composite pieces (pairs of
-     active pieces, minus (OUT, IN) and, for F = 0, (., IN): the interval has no interior there).
-     psb_ac2d_state: SEPARATED if s = 0 (x_n >= 0), STICK if |x_t| <= F|s|, SLIP_POS if x_t < F s
-     (slides towards +tau, lam_t = F s), SLIP_NEG if x_t > -F s.
-
-   3D per-contact residuals (003, reactions in K), Jacobians jr = df/dr, ju = df/du (3x3):
-     psb_fc3d_ac, eq. (11): x_N = r_N - rho_n u_N,  f_N = r_N - max(x_N, 0),
-       f_T = r_T - P_D(mu max(x_N,0))(r_T - rho_t u_T).   Piece pn + 2 pd.
-     psb_fc3d_jm, eq. (12): same with the disk radius mu max(r_N, 0).   Piece pn + 2 pr + 4 pd.
-     psb_fc3d_nat, eq. (13): f = r - P_K(r - rho uhat), uhat = u + mu |u_T| e_N (De Saxce,
-       psb_fc3d_desaxce; at u_T = 0 d|u_T|/du_T is taken as e1).   Piece = cone piece.
-     Disk default inside (11)/(12): ZERO where the radius is identically 0 (its half-line piece
-     OUT, or mu = 0); where the radius is exactly 0 but can grow, BOUNDARY (IN if x_T = 0).
-     The standalone disk default (ZERO at s = 0) would not be a B-limit of the composite there.
-     psb_fc_nat_error(dim, nc, r, u, mu, |q|): eq. (15), |F_nat(r)|/|q| with rho = 1 and
-     u = W r + q given; |q| <= 0 gives the absolute |F_nat(r)| (use it when q is ~ 0). 2D
-     contacts (N, T) are 3D ones with T2 = 0, which every projection above preserves.
-
-   Paper notes. The extracted 003 writes K^alpha with |r_N^alpha|; the cone is {|r_T| <= mu r_N}
-   as in its (1). In 000, (2) is used as printed; zeros of each row were re-derived (r_N, u_N
-   complementarity; Coulomb with the interval [F s, -F s], s <= 0).
-
-   8. COMPILE-TIME MACROS (define before including the header)
-   ----------------------
+   8. COMPILE-TIME MACROS (define before including the header) ------------------------------------
    PSCBRANCH_IMPLEMENTATION   in exactly one file: compile the implementation there
    PSCBRANCH_STATIC           make every function static (a private copy per file)
-   PSCBRANCH_DEF              the linkage decorator of every public function [extern]
-   PSCBRANCH_MALLOC(size), PSCBRANCH_FREE(ptr)   the allocator of psb_solver_init [malloc,
-                              free]; define both or neither
+   PSCBRANCH_DEF              the linkage of every public function [extern; static with _STATIC]
+   PSCBRANCH_MALLOC(size), PSCBRANCH_FREE(ptr)   the allocator of psb_solver_init and
+                              psb_diagram_init [malloc, free]; define both or neither
    PSCBRANCH_LAPACK_INT       the Fortran INTEGER of your LAPACK [int]; long for ILP64
    PSCBRANCH_FORTRAN(name)    the symbol of a LAPACK routine [name##_]
    PSCBRANCH_NO_FORTRAN_STRLEN  for a LAPACK whose character arguments carry no hidden length
-   PSCBRANCH_STRLEN_ONE       (defined by the header) the hidden length of a one-character
-                              argument, to end your own calls with: dgetrs_("N", ...,
-                              &info PSCBRANCH_STRLEN_ONE) works with either kind of LAPACK
-   PSCBRANCH_USE_DGBTRF       the banded backend factors with LAPACK's dgbtrf instead of the
-                              header's own LU (same factors with reference LAPACK)
-   PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (results are the same)
-   PSCBRANCH_STDIO            with the implementation: psb_diagram_write_json and _csv (the
-                              only functions that take a FILE *; the rest never prints)
-   LAPACK routines used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf with
-   PSCBRANCH_USE_DGBTRF).
-
-   9. REVISION HISTORY
-   -------------------
-   See CHANGELOG.md (one entry per release, with 0.x compatibility notes).
+   PSCBRANCH_USE_DGBTRF       the banded backend calls LAPACK's dgbtrf (say, a tuned LAPACK)
+   PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (the same results)
+   PSCBRANCH_STDIO            declares and defines psb_diagram_write_json and _csv (FILE *)
+   Defined here: PSCBRANCH_VERSION_MAJOR, _MINOR, _PATCH, _STRING; PSCBRANCH_STRLEN_ONE, for
+   your LAPACK calls (dgetrs_("N", ..., &info PSCBRANCH_STRLEN_ONE)); the guards PSCBRANCH_H,
+   PSCBRANCH_IMPLEMENTATION_DONE. LAPACK used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf).
 */
+
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
 
@@ -1044,7 +475,7 @@ typedef int (*psb_piece_fn)(const double *y, unsigned long long *id, void *user)
    j < param_index, j+1 otherwise), has kl sub- and ku super-diagonals. Fill A(i, j) for
    max(0, j-ku) <= i <= min(n-1, j+kl) at band[PSB_BAND_INDEX(ku, ldband, i, j)] (LAPACK's
    band layout, ldband >= kl+ku+1: use the ldband given; the block arrives zeroed) and
-   dparam[i] = dH_i/dparameter. It may be called twice at the same y (manual, section 6). */
+   dparam[i] = dH_i/dparameter. It may be called twice at the same y (manual, section 3). */
 typedef int (*psb_band_jacobian_fn)(const double *y, double *band, int ldband, double *dparam,
                                     void *user);
 #define PSB_BAND_INDEX(ku, ldband, i, j) ((size_t)((ku) + (i) - (j)) + (size_t)(j) * (size_t)(ldband))
@@ -1105,7 +536,7 @@ PSCBRANCH_DEF void psb_problem_init(psb_problem *p, int n, psb_residual_fn resid
    PSB_RESTART_PAPER:  the previous t~2 plus 0.1 times a random unit vector, t~1 kept
                        (Remark 2.3(ii));
    PSB_RESTART_GLOBAL: a random unit vector, uniform on the sphere of the weighted norm, t~1 kept;
-   PSB_RESTART_MIXED:  alternately GLOBAL's and (0.8.0) t_j plus 0.1 times a random unit vector,
+   PSB_RESTART_MIXED:  alternately GLOBAL's and t_j plus 0.1 times a random unit vector,
                        with t~1 = t_j, the found branches' tangents in turn. */
 typedef enum psb_restart { PSB_RESTART_MIXED = 0, PSB_RESTART_PAPER = 1, PSB_RESTART_GLOBAL = 2 } psb_restart;
 
@@ -1220,6 +651,70 @@ typedef struct psb_stats {
 } psb_stats;
 
 /* ---- the solver: caller-owned state, all memory set up at init ------------------------ */
+/* Algorithm 2.2's working state (psb_find_branches): its memos, its cone test and its sweep's
+   bookkeeping. Storage set up at init; each run starts it afresh (psb__find_branches). */
+typedef struct psb__sweep_state {
+    double *memo;            /* tangents whose trials were made in this run (memo_n) */
+    double *known;           /* tangents whose trials' outcomes are known (known_n, a ring) */
+    int memo_n, known_n, memo_cap; /* entries stored, and the capacity of each memo */
+    double *jmemo_t;         /* Jacobian memo: the unit tangent of each entry's dH */
+    unsigned long long *jmemo_key; /* its keys: two 64-bit hashes of dH, or a piece id */
+    signed char *jmemo_sign; /* its outward sign sgn det [dH; (W t)^T], 0 if not known */
+    int jmemo_n;             /* its entries stored so far */
+    int jmemo_dh;            /* its keys may hash dH (psb__jmemo_usable); else piece ids */
+    long jmemo_looks, jmemo_hits; /* its look-ups and hits in the current run */
+    long memo_cuts;          /* trials cut by psb__path_memo_cut, in all */
+    int pmemo_checks;        /* piece memo against a trial's own tangents: pairs compared in */
+    double pmemo_drift;      /* the current run, and the largest angle between them */
+    double *path;            /* a trial's corrector tangents (psb__trial_watch) */
+    int conic_h0_ok;         /* H(y0) is held for the conic test (PSB__V_BR_H0) */
+    double cone_defect;      /* how far the trials saw H depart from cones about y0 (largest
+                                psb__conic_excess) */
+    double chord_turn_max, chord_turn_min; /* the landing points' chords from y0 against
+                                              their tangents */
+    unsigned long long pairs_done[32]; /* pairs (i, j), i < j < 64, of found branches swept,
+                                          bit j (j - 1) / 2 + i */
+    signed char branch_sign[64]; /* the outward signs of found branches 0 .. */
+    int branch_signs_n;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
+    double sweep_offset; /* span directions at angles 2 pi (i + offset) / n, */
+    int sweep_n_dir;     /* i < n = this (0: n_dir) */
+} psb__sweep_state;
+
+/* The solver's working storage and the algorithms' state: private, treat as opaque. */
+typedef struct psb__internal {
+    /* sizes, weights, memory */
+    int n, np1;            /* N and N + 1 */
+    double *w;             /* the weights of <.,.>_w, N + 1 */
+    double *vec;           /* the named scratch vectors PSB__V_*, N + 1 each */
+    double *rhs, *res, *res2, *work; /* right-hand sides, H values, a bordering row's work */
+    void *owned;           /* the allocation psb_solver_init made (NULL: caller's memory) */
+    unsigned ready;        /* PSB__READY between a successful init and psb_solver_free */
+    unsigned long long rng[4]; /* xoshiro256** state, reseeded from options.seed per call */
+    /* linear algebra: dense */
+    double *jac, *mat, *tau; /* dH (N x (N+1)), B or its LU, QR's scalars */
+    void *ipiv, *iwork;    /* LAPACK integers */
+    /* linear algebra: banded */
+    int ldlu, shifted;     /* the LU's leading dimension; A + sigma I was factored */
+    int band_ok, bv_ok, border_ok; /* band holds dH/dx at yfac / bv is A^{-1} dpfac /
+                                      delta is current */
+    double *bandpair[2], *band, *afac; /* two copies of A; band is one, afac the one lu holds */
+    double *lu, *gbw, *dparam, *dpfac, *row, *bv, *bx, *bres, *yfac, *fdh;
+    double delta, mnorm, bamp; /* the Schur complement, ||B||, the amplification bound */
+    int tangent_sign;      /* that of the last psb__tangent_from_jacobian's tangent */
+    /* outcome of the current algorithm's trials */
+    int last_fail;         /* why the last corrector run or trial step failed (PSB__FAIL_*) */
+    long faults[4];        /* trials that failed because of a fault, by cause: callback > 0,
+                              NaN/Inf, singular Jacobian; [3]: singular difference Jacobians,
+                              a fault only when n_ok = 0 (psb__note_fault) */
+    long n_ok;             /* tangents and corrector runs that succeeded */
+    /* the algorithms' own */
+    int in_trace_callback; /* a trace's on_point or event callback is running (psb__trace_busy) */
+    double sp_d[2];        /* psb_trace's detectors: the corners d of the random borders (user
+                              backend) */
+    int branch_h_auto, branch_h_min_auto; /* the branching h follows the point (psb__branch_h) */
+    psb__sweep_state sweep; /* Algorithm 2.2's */
+} psb__internal;
+
 typedef struct psb_solver {
     psb_problem prob; /* fd_step resolved */
     psb_options opt;  /* resolved */
@@ -1229,61 +724,7 @@ typedef struct psb_solver {
                                   2.1 and 2.2; the branch point switch uses neither) */
     psb_stats stats;  /* cumulative; zero it whenever you like */
     char message[200]; /* diagnostic of the last failure ("" when none) */
-    /* private */
-    int n_, np1_, ldlu_, shifted_, memo_n_, memo_cap_, known_n_;
-    int jmemo_n_;                 /* Algorithm 2.2's Jacobian memo: entries stored so far */
-    int jmemo_dh_;                /* its keys may hash dH (psb__jmemo_usable); else piece ids */
-    long jmemo_looks_, jmemo_hits_; /* its look-ups and hits in the current call */
-    long memo_cuts_;              /* trials cut by psb__path_memo_cut, in all */
-    int pmemo_checks_, pmemo_check_on_; /* piece memo against a trial's own tangents: pairs */
-    double pmemo_drift_;          /* compared in the current call, the largest angle between */
-                                  /* them; a pair pending in BR_MT (psb__path_memo_cut) */
-    double cone_defect_;          /* Algorithm 2.2's run: how far its trials saw H depart from
-                                     cones about y0 (psb__conic_excess, largest) */
-    double chord_turn_max_, chord_turn_min_; /* and its landing points' chords from y0 against
-                                     their tangents (psb__find_branches) */
-    const double *cone_probe_;    /* y0 while a trial's screening point is sampled, else NULL */
-    unsigned long long *jmemo_key_; /* two 64-bit hashes of dH per entry (memo_cap_ entries) */
-    const double *conic_y0_; /* Algorithm 2.2's trial under way: its y0 (psb__correct_run's
-                                conic test, see psb__try_tangent); NULL otherwise */
-    int conic_ok_;           /* every iterate of the last corrector run passed that test */
-    int conic_armed_;        /* the test runs: a step of the trial was rejected already */
-    double corr_reach_;      /* > 0: the corrector gives up once an iterate lies farther than
-                                this from its start (psb__try_step_from) */
-    int conic_h0_ok_;        /* psb_find_branches holds H(y0) for it */
-    double *jmemo_t_;             /* the unit tangent of each entry's dH */
-    signed char *jmemo_sign_;     /* its outward sign sgn det [dH; (W t)^T], 0 if not known */
-    int tangent_sign_;            /* that of the last psb__tangent_from_jacobian's tangent */
-    int path_on_, path_n_; /* the corrector records its tangents (Algorithm 2.2's trials) */
-    const double *path_ts_; /* with path_on_: the found branches' tangents (path_nts_) and the */
-    int path_nts_, path_own_; /* trial's own known_ entry, for the cut (psb__try_tangent) */
-    unsigned long long pairs_done_[32]; /* Algorithm 2.2: pairs (i, j), i < j < 64, of found
-                                           branches swept, bit j (j - 1) / 2 + i */
-    signed char branch_sign_[64]; /* Algorithm 2.2: the outward signs of found branches 0 .. */
-    int branch_signs_n_;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
-    double sweep_offset_; /* Algorithm 2.2: span directions at angles 2 pi (i + offset) / n, */
-    int sweep_n_dir_;     /* i < n = this (0: n_dir) */
-    int band_ok_, bv_ok_, border_ok_; /* banded: band_ holds dH/dx at yfac_ / bv_ is
-                                         A^{-1} dpfac_ / delta_ is current */
-    int branch_h_auto_, branch_h_min_auto_; /* follow the point (see psb__branch_h) */
-    double fd_cap_;   /* > 0: largest difference step (weighted), see psb__sample_tangent */
-    double *w_;
-    double *jac_, *mat_, *rhs_, *res_, *res2_, *work_, *tau_, *vec_;
-    double *band_, *lu_, *dparam_, *row_, *bv_, *bx_, *bres_, *yfac_, *fdh_, *memo_, *known_, *path_;
-    double *bandpair_[2], *afac_, *dpfac_; /* band_ is one of the pair; afac_ the one lu_ holds */
-    double *gbw_;                           /* banded: the LU's panel multipliers */
-    double delta_, mnorm_, bamp_;
-    void *ipiv_, *iwork_; /* LAPACK integers */
-    void *owned_;
-    unsigned long long rng_[4];
-    int last_fail_;
-    double sp_d_[2]; /* psb_trace's detectors: the corners d of the random borders (user backend) */
-    long faults_[4]; /* trials of the current algorithm that failed because of a fault, by
-                        cause: callback > 0, NaN/Inf, singular Jacobian; [3]: singular
-                        difference Jacobians, a fault only when n_ok_ = 0 (psb__note_fault) */
-    long n_ok_;      /* tangents and corrector runs of the current algorithm that succeeded */
-    int in_trace_callback_; /* a trace's on_point or event callback is running (psb__trace_busy) */
-    unsigned ready_; /* PSB__READY between a successful init and psb_solver_free */
+    psb__internal internal_; /* private: treat as opaque */
 } psb_solver;
 
 /* Returns *bo (or all defaults when bo is NULL) with every zero field replaced by what the
@@ -1996,6 +1437,10 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
 #error "define both PSCBRANCH_MALLOC and PSCBRANCH_FREE, or neither"
 #endif
 
+/* ==== Foundations ===============================================================================
+   LAPACK's symbols, the scratch vectors, options and their checks, the solver's memory,
+   weighted vector helpers, failure bookkeeping. Nothing here knows an algorithm. */
+
 /* ---- LAPACK through its Fortran symbols ---------------------------------------------------
    PSCBRANCH_LAPACK_INT: the Fortran INTEGER (int; long for ILP64 builds).
    PSCBRANCH_FORTRAN(name): the symbol of a routine (name##_ for gfortran and most builds).
@@ -2075,16 +1520,16 @@ enum {
     PSB__V_BR_MT, /* a trial's memo tangent (psb__path_memo_cut) */
     PSB__NVEC
 };
-/* Entries of each of psb_find_branches' stores, the tangents tried (memo_), the directions
-   whose trial is known (known_) and the Jacobian memo (jmemo_t_, analytic dH only): the block
-   M800 fills 200-220 of the first two in 10 spans; the three are held to 12 MB together (more
-   only at the floor of 32 entries, N > 16000) */
+/* Entries of each of psb_find_branches' stores, the tangents tried (memo), the directions
+   whose trial is known (known) and the Jacobian memo (jmemo_t, analytic dH only): a few hundred
+   entries serve a sweep; the three are held to 12 MB together (more only at the floor of 32
+   entries, N > 16000) */
 static int psb__memo_capacity(int n)
 {
     int cap = (int)((1L << 19) / ((long)n + 1));
     return cap < 32 ? 32 : cap > 256 ? 256 : cap;
 }
-#define PSB__VEC(s, k) ((s)->vec_ + (size_t)(k) * (size_t)(s)->np1_)
+#define PSB__VEC(s, k) ((s)->internal_.vec + (size_t)(k) * (size_t)(s)->internal_.np1)
 /* Corrector tangents a trial of Algorithm 2.2 records (its first iterations'; see
    psb__try_tangent) */
 #define PSB__PATH_MAX 8
@@ -2099,7 +1544,7 @@ static int psb__memo_capacity(int n)
    succeeded is it a fault. */
 enum { PSB__FAIL_NONE, PSB__FAIL_CONVERGE, PSB__FAIL_NONFINITE, PSB__FAIL_CALLBACK,
        PSB__FAIL_SINGULAR, PSB__FAIL_COSINE, PSB__FAIL_KNOWN, PSB__FAIL_TURN, PSB__FAIL_FD_RANK };
-#define PSB__READY 0x70736231u /* psb_solver.ready_ of an initialised solver */
+#define PSB__READY 0x70736231u /* psb_solver.internal_.ready of an initialised solver */
 
 PSCBRANCH_DEF const char *psb_result_string(psb_result code)
 {
@@ -2180,7 +1625,7 @@ PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_opt
                                                             const psb_solver *s)
 {
     psb_branch_options b;
-    int ready = s && s->ready_ == PSB__READY, fd = ready && psb__fd_jacobian(&s->prob);
+    int ready = s && s->internal_.ready == PSB__READY, fd = ready && psb__fd_jacobian(&s->prob);
     double h_min = ready ? s->opt.h_min : 1e-6, h_init = ready ? s->opt.h_init : 1e-2;
     if (bo) b = *bo;
     else memset(&b, 0, sizeof b);
@@ -2234,8 +1679,7 @@ static const char *psb__check_options(const psb_options *o, int np1)
 {
     int i;
     /* a weight far from the normal range takes its precision with it: w t^2 formed for a
-       scaled t (psb__norm_w) underflows, and a subnormal w = 5e-324 normalised t to a norm
-       of 1.008 (fuzz_api) */
+       scaled t (psb__norm_w) underflows, and a subnormal w normalises t to a norm other than 1 */
 #define PSB__WEIGHT_OK(x) ((x) >= 1e-290 && (x) <= 1e290)
     /* lengths and tolerances: normal numbers with room below them (section 5) */
 #define PSB__LEN(x) ((x) >= 1e-290 && psb__finite(x)) /* false for NaN and Inf */
@@ -2339,51 +1783,51 @@ static size_t psb__layout(const psb_problem *p, psb_solver *s, void *memory)
     double *base = (double *)memory;
 #define PSB__TAKE(field, count)                                                                    \
     do {                                                                                           \
-        if (s) s->field = base + off;                                                              \
+        if (s) s->internal_.field = base + off;                                                              \
         off += (count);                                                                            \
     } while (0)
-    PSB__TAKE(w_, np1);
-    PSB__TAKE(rhs_, 2 * np1);
-    PSB__TAKE(res_, n);
-    PSB__TAKE(res2_, n);
-    PSB__TAKE(work_, 4 * np1);
-    PSB__TAKE(yfac_, np1);
-    PSB__TAKE(fdh_, n);
-    PSB__TAKE(vec_, (size_t)PSB__NVEC * np1);
-    PSB__TAKE(memo_, (size_t)psb__memo_capacity(p->n) * np1);
-    PSB__TAKE(known_, (size_t)psb__memo_capacity(p->n) * np1);
-    PSB__TAKE(path_, (size_t)PSB__PATH_MAX * np1);
+    PSB__TAKE(w, np1);
+    PSB__TAKE(rhs, 2 * np1);
+    PSB__TAKE(res, n);
+    PSB__TAKE(res2, n);
+    PSB__TAKE(work, 4 * np1);
+    PSB__TAKE(yfac, np1);
+    PSB__TAKE(fdh, n);
+    PSB__TAKE(vec, (size_t)PSB__NVEC * np1);
+    PSB__TAKE(sweep.memo, (size_t)psb__memo_capacity(p->n) * np1);
+    PSB__TAKE(sweep.known, (size_t)psb__memo_capacity(p->n) * np1);
+    PSB__TAKE(sweep.path, (size_t)PSB__PATH_MAX * np1);
     if (psb__jmemo_usable(p) || p->piece) {
         size_t cap = (size_t)psb__memo_capacity(p->n);
-        PSB__TAKE(jmemo_t_, cap * np1);
-        if (s) s->jmemo_key_ = (unsigned long long *)(void *)(base + off);
+        PSB__TAKE(sweep.jmemo_t, cap * np1);
+        if (s) s->internal_.sweep.jmemo_key = (unsigned long long *)(void *)(base + off);
         off += 2 * cap; /* the keys: 8 bytes each, as a double */
-        if (s) s->jmemo_sign_ = (signed char *)(void *)(base + off);
+        if (s) s->internal_.sweep.jmemo_sign = (signed char *)(void *)(base + off);
         off += (cap + sizeof(double) - 1) / sizeof(double);
     }
     if (p->linear == PSB_LINEAR_DENSE) {
-        PSB__TAKE(jac_, n * np1);
-        PSB__TAKE(mat_, np1 * np1);
-        PSB__TAKE(tau_, np1);
+        PSB__TAKE(jac, n * np1);
+        PSB__TAKE(mat, np1 * np1);
+        PSB__TAKE(tau, np1);
         ints = 2 * np1;
     } else if (p->linear == PSB_LINEAR_BANDED) {
-        PSB__TAKE(bandpair_[0], (kl + ku + 1) * n);
-        PSB__TAKE(bandpair_[1], p->band_lean ? 0 : (kl + ku + 1) * n);
-        PSB__TAKE(dpfac_, n);
-        PSB__TAKE(lu_, (2 * kl + ku + 1) * n);
-        PSB__TAKE(dparam_, n);
-        PSB__TAKE(row_, np1);
-        PSB__TAKE(bv_, n);
-        PSB__TAKE(bx_, np1);
-        PSB__TAKE(bres_, np1);
-        PSB__TAKE(gbw_, (kl + PSB__GB_NB) * PSB__GB_NB);
+        PSB__TAKE(bandpair[0], (kl + ku + 1) * n);
+        PSB__TAKE(bandpair[1], p->band_lean ? 0 : (kl + ku + 1) * n);
+        PSB__TAKE(dpfac, n);
+        PSB__TAKE(lu, (2 * kl + ku + 1) * n);
+        PSB__TAKE(dparam, n);
+        PSB__TAKE(row, np1);
+        PSB__TAKE(bv, n);
+        PSB__TAKE(bx, np1);
+        PSB__TAKE(bres, np1);
+        PSB__TAKE(gbw, (kl + PSB__GB_NB) * PSB__GB_NB);
         ints = n;
     }
 #undef PSB__TAKE
     off = psb__align(off * sizeof(double));
     if (s) {
-        s->ipiv_ = (char *)memory + off;
-        s->iwork_ = p->linear == PSB_LINEAR_DENSE ? (void *)((psb__lint *)s->ipiv_ + np1) : NULL;
+        s->internal_.ipiv = (char *)memory + off;
+        s->internal_.iwork = p->linear == PSB_LINEAR_DENSE ? (void *)((psb__lint *)s->internal_.ipiv + np1) : NULL;
     }
     return off + psb__align(ints * sizeof(psb__lint));
 }
@@ -2416,19 +1860,19 @@ PSCBRANCH_DEF psb_result psb_solver_init_with_memory(psb_solver *s, const psb_pr
     if (s->prob.fd_step == 0) s->prob.fd_step = p->fd_central ? 6.0554544523933395e-06 : 1.4901161193847656e-08;
     if (!(s->prob.fd_step > 0) || !(s->prob.fd_step < 1))
         return psb__fail(s, PSB_ERR_OPTIONS, "problem.fd_step must lie in (0, 1)");
-    s->n_ = p->n;
-    s->np1_ = p->n + 1;
-    s->ldlu_ = 2 * p->kl + p->ku + 1;
-    s->memo_cap_ = psb__memo_capacity(p->n);
-    s->jmemo_dh_ = psb__jmemo_usable(p);
+    s->internal_.n = p->n;
+    s->internal_.np1 = p->n + 1;
+    s->internal_.ldlu = 2 * p->kl + p->ku + 1;
+    s->internal_.sweep.memo_cap = psb__memo_capacity(p->n);
+    s->internal_.sweep.jmemo_dh = psb__jmemo_usable(p);
     psb__layout(p, s, memory);
-    s->band_ = s->bandpair_[0];
-    if (p->band_lean) s->bandpair_[1] = NULL;
-    for (i = 0; i < s->np1_; i++)
-        s->w_[i] = s->opt.weights ? s->opt.weights[i]
+    s->internal_.band = s->internal_.bandpair[0];
+    if (p->band_lean) s->internal_.bandpair[1] = NULL;
+    for (i = 0; i < s->internal_.np1; i++)
+        s->internal_.w[i] = s->opt.weights ? s->opt.weights[i]
                                   : (i == p->param_index ? 1.0 : s->opt.kappa);
     s->opt.weights = NULL; /* copied: the caller's array need not outlive init */
-    s->ready_ = PSB__READY;
+    s->internal_.ready = PSB__READY;
     s->branch = psb_branch_options_resolve(NULL, s);
     return PSB_SUCCESS;
 }
@@ -2453,7 +1897,7 @@ PSCBRANCH_DEF psb_result psb_solver_init(psb_solver *s, const psb_problem *p,
         PSCBRANCH_FREE(mem);
         return r;
     }
-    s->owned_ = mem;
+    s->internal_.owned = mem;
     return r;
 }
 
@@ -2461,7 +1905,7 @@ PSCBRANCH_DEF void psb_solver_free(psb_solver *s)
 {
     psb_stats stats;
     if (!s) return;
-    if (s->ready_ == PSB__READY && s->owned_) PSCBRANCH_FREE(s->owned_);
+    if (s->internal_.ready == PSB__READY && s->internal_.owned) PSCBRANCH_FREE(s->internal_.owned);
     /* every pointer into the block goes, so that a later call fails cleanly (PSB_ERR_NULL);
        the counters stay readable */
     stats = s->stats;
@@ -2476,13 +1920,13 @@ static double psb__dot_w(const psb_solver *s, const double *a, const double *b)
 {
     double sum = 0;
     int i;
-    for (i = 0; i < s->np1_; i++) sum += s->w_[i] * a[i] * b[i];
+    for (i = 0; i < s->internal_.np1; i++) sum += s->internal_.w[i] * a[i] * b[i];
     return sum;
 }
 
 PSCBRANCH_DEF double psb_dot_w(const psb_solver *s, const double *a, const double *b)
 {
-    if (!s || s->ready_ != PSB__READY || !s->w_ || !a || !b) return NAN;
+    if (!s || s->internal_.ready != PSB__READY || !s->internal_.w || !a || !b) return NAN;
     return psb__dot_w(s, a, b);
 }
 
@@ -2493,16 +1937,16 @@ static double psb__norm_w(const psb_solver *s, const double *a)
     double sum = psb__dot_w(s, a, a), big = 0, scaled = 0;
     int i;
     if (sum >= 1e-290 && sum <= 1e290) return sqrt(sum);
-    for (i = 0; i < s->np1_; i++)
+    for (i = 0; i < s->internal_.np1; i++)
         if (fabs(a[i]) > big) big = fabs(a[i]);
     if (!(big > 0) || !psb__finite(big)) return sqrt(sum); /* zero, or NaN/Inf */
-    for (i = 0; i < s->np1_; i++) scaled += s->w_[i] * (a[i] / big) * (a[i] / big);
+    for (i = 0; i < s->internal_.np1; i++) scaled += s->internal_.w[i] * (a[i] / big) * (a[i] / big);
     return big * sqrt(scaled);
 }
 
 PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a)
 {
-    if (!s || s->ready_ != PSB__READY || !s->w_ || !a) return NAN;
+    if (!s || s->internal_.ready != PSB__READY || !s->internal_.w || !a) return NAN;
     return psb__norm_w(s, a);
 }
 
@@ -2511,7 +1955,7 @@ static double psb__dist_w(const psb_solver *s, const double *a, const double *b)
 {
     double sum = 0;
     int i;
-    for (i = 0; i < s->np1_; i++) sum += s->w_[i] * (a[i] - b[i]) * (a[i] - b[i]);
+    for (i = 0; i < s->internal_.np1; i++) sum += s->internal_.w[i] * (a[i] - b[i]) * (a[i] - b[i]);
     return sqrt(sum);
 }
 
@@ -2526,13 +1970,13 @@ static double psb__norm2(const double *a, int n)
 /* Weighted cosine of the angle between a and b (0 when either vanishes), with ||a||_w given
    as na (< 0: computed here). One pass forms the sums psb__norm_w and psb__dot_w would, term for
    term in the same order, so the value is theirs bit for bit; Algorithm 2.2 compares each trial
-   direction with every stored one, which made these passes a third of the triangle M4096's run. */
+   direction with every stored one, so these passes are hot. */
 static double psb__cos_w_na(const psb_solver *s, const double *a, double na, const double *b)
 {
     double saa = 0, sbb = 0, sab = 0, nb;
-    const double *w = s->w_;
+    const double *w = s->internal_.w;
     int i;
-    for (i = 0; i < s->np1_; i++) {
+    for (i = 0; i < s->internal_.np1; i++) {
         double wa = w[i] * a[i];
         saa += wa * a[i];
         sab += wa * b[i];
@@ -2562,7 +2006,7 @@ static int psb__normalize_w(const psb_solver *s, double *a)
     double nrm = psb__norm_w(s, a);
     int i;
     if (!(nrm > 0) || !psb__finite(nrm)) return 0;
-    for (i = 0; i < s->np1_; i++) a[i] /= nrm;
+    for (i = 0; i < s->internal_.np1; i++) a[i] /= nrm;
     return 1;
 }
 
@@ -2571,7 +2015,7 @@ static psb_result psb__callback_code(psb_solver *s, int rc, const char *which)
 {
     if (rc == 0) return PSB_SUCCESS;
     if (rc < 0) return psb__fail(s, PSB_ERR_CALLBACK, which);
-    s->last_fail_ = PSB__FAIL_CALLBACK;
+    s->internal_.last_fail = PSB__FAIL_CALLBACK;
     return psb__fail(s, PSB_ERR_CALLBACK_FAILED, which);
 }
 
@@ -2587,8 +2031,8 @@ static int psb__is_fault(psb_result r)
 /* Starts the count of faults of an algorithm (psb__note_fault, psb__faults_code). */
 static void psb__faults_reset(psb_solver *s)
 {
-    memset(s->faults_, 0, sizeof s->faults_);
-    s->n_ok_ = 0;
+    memset(s->internal_.faults, 0, sizeof s->internal_.faults);
+    s->internal_.n_ok = 0;
 }
 
 /* Counts a failed trial or tangent of the current algorithm when its code r is a fault;
@@ -2597,10 +2041,10 @@ static int psb__note_fault(psb_solver *s, psb_result r)
 {
     if (!psb__is_fault(r)) return 0;
     if (r == PSB_ERR_SINGULAR && psb__fd_jacobian(&s->prob)) {
-        s->faults_[3]++;
+        s->internal_.faults[3]++;
         return 0;
     }
-    s->faults_[r == PSB_ERR_CALLBACK_FAILED ? 0 : r == PSB_ERR_NONFINITE ? 1 : 2]++;
+    s->internal_.faults[r == PSB_ERR_CALLBACK_FAILED ? 0 : r == PSB_ERR_NONFINITE ? 1 : 2]++;
     return 1;
 }
 
@@ -2611,19 +2055,23 @@ static psb_result psb__faults_code(psb_solver *s, const char *what)
 {
     static const psb_result codes[3] = {PSB_ERR_CALLBACK_FAILED, PSB_ERR_NONFINITE, PSB_ERR_SINGULAR};
     int k;
-    if (s->n_ok_ == 0 && s->faults_[3] > 0) {
-        s->faults_[2] += s->faults_[3];
-        s->faults_[3] = 0;
+    if (s->internal_.n_ok == 0 && s->internal_.faults[3] > 0) {
+        s->internal_.faults[2] += s->internal_.faults[3];
+        s->internal_.faults[3] = 0;
     }
     for (k = 0; k < 3; k++)
-        if (s->faults_[k]) {
+        if (s->internal_.faults[k]) {
             char buf[160];
             snprintf(buf, sizeof buf, "%s: failed trials: callback > 0 %ld, NaN/Inf %ld, "
-                     "singular dH or solver.factor %ld", what, s->faults_[0], s->faults_[1], s->faults_[2]);
+                     "singular dH or solver.factor %ld", what, s->internal_.faults[0], s->internal_.faults[1], s->internal_.faults[2]);
             return psb__fail(s, codes[k], buf);
         }
     return PSB_SUCCESS;
 }
+
+/* ==== Linear algebra (dense, banded, user) ======================================================
+   H and dH (analytic or finite differences) and the bordered matrix B = [dH; row^T]:
+   factored by the backend problem.linear selects, solved, its determinant's sign. */
 
 /* H(y) into out (n). */
 static psb_result psb__residual(psb_solver *s, const double *y, double *out)
@@ -2634,35 +2082,35 @@ static psb_result psb__residual(psb_solver *s, const double *y, double *out)
     rc = s->prob.residual(y, out, s->prob.user);
     r = psb__callback_code(s, rc, "residual callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
-    if (!psb__all_finite(out, s->n_)) {
-        s->last_fail_ = PSB__FAIL_NONFINITE;
+    if (!psb__all_finite(out, s->internal_.n)) {
+        s->internal_.last_fail = PSB__FAIL_NONFINITE;
         return psb__fail(s, PSB_ERR_NONFINITE, "residual callback returned NaN or Inf");
     }
     return PSB_SUCCESS;
 }
 
-/* The difference step for component j at value x: fd_step max(1, |x|), at most fd_cap_ in the
+/* The difference step for component j at value x: fd_step max(1, |x|), at most fd_cap in the
    weighted norm when that is set. */
-static double psb__fd_step(const psb_solver *s, int j, double x)
+static double psb__fd_step(const psb_solver *s, int j, double x, double fd_cap)
 {
     double step = s->prob.fd_step * (fabs(x) > 1 ? fabs(x) : 1.0);
-    if (s->fd_cap_ > 0 && step * sqrt(s->w_[j]) > s->fd_cap_) step = s->fd_cap_ / sqrt(s->w_[j]);
+    if (fd_cap > 0 && step * sqrt(s->internal_.w[j]) > fd_cap) step = fd_cap / sqrt(s->internal_.w[j]);
     return step;
 }
 
-/* dH(y) into s->jac_ (n x (n+1), ld n). h_at_y: H(y) if the caller has it (forward differences
+/* dH(y) into s->internal_.jac (n x (n+1), ld n). h_at_y: H(y) if the caller has it (forward differences
    reuse it), else NULL. */
-static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const double *h_at_y)
+static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const double *h_at_y, double fd_cap)
 {
-    int n = s->n_, np1 = s->np1_, i, j, rc;
+    int n = s->internal_.n, np1 = s->internal_.np1, i, j, rc;
     psb_result r;
     s->stats.n_jacobian++;
     if (s->prob.jacobian) {
-        rc = s->prob.jacobian(y, s->jac_, n, s->prob.user);
+        rc = s->prob.jacobian(y, s->internal_.jac, n, s->prob.user);
         r = psb__callback_code(s, rc, "jacobian callback returned nonzero");
         if (r != PSB_SUCCESS) return r;
-        if (!psb__all_finite(s->jac_, n * np1)) {
-            s->last_fail_ = PSB__FAIL_NONFINITE;
+        if (!psb__all_finite(s->internal_.jac, n * np1)) {
+            s->internal_.last_fail = PSB__FAIL_NONFINITE;
             return psb__fail(s, PSB_ERR_NONFINITE, "jacobian callback returned NaN or Inf");
         }
         return PSB_SUCCESS;
@@ -2670,26 +2118,26 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
     {
         double *yp = PSB__VEC(s, PSB__V_FD);
         if (!s->prob.fd_central && !h_at_y) {
-            r = psb__residual(s, y, s->res2_);
+            r = psb__residual(s, y, s->internal_.res2);
             if (r != PSB_SUCCESS) return r;
-            h_at_y = s->res2_;
+            h_at_y = s->internal_.res2;
         }
         psb__copy(yp, y, np1);
         for (j = 0; j < np1; j++) {
-            double step = psb__fd_step(s, j, y[j]);
-            double *col = s->jac_ + (size_t)j * (size_t)n, hp, hm;
+            double step = psb__fd_step(s, j, y[j], fd_cap);
+            double *col = s->internal_.jac + (size_t)j * (size_t)n, hp, hm;
             volatile double probe = y[j] + step; /* the step actually representable */
             hp = probe - y[j];
             yp[j] = y[j] + hp;
             r = psb__residual(s, yp, col);
             if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
             if (s->prob.fd_central) {
-                /* res2_, not res_: callers hold H(y) in res_ across this call */
+                /* res2, not res: callers hold H(y) in res across this call */
                 yp[j] = y[j] - hp;
                 hm = hp;
-                r = psb__residual(s, yp, s->res2_);
+                r = psb__residual(s, yp, s->internal_.res2);
                 if (r != PSB_SUCCESS) { yp[j] = y[j]; return r; }
-                for (i = 0; i < n; i++) col[i] = (col[i] - s->res2_[i]) / (hp + hm);
+                for (i = 0; i < n; i++) col[i] = (col[i] - s->internal_.res2[i]) / (hp + hm);
             } else {
                 for (i = 0; i < n; i++) col[i] = (col[i] - h_at_y[i]) / hp;
             }
@@ -2699,7 +2147,7 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
     return PSB_SUCCESS;
 }
 
-/* Builds [jac; row^T] in mat_ ((n+1) x (n+1)) and LU-factors it.
+/* Builds [jac; row^T] in mat ((n+1) x (n+1)) and LU-factors it.
    Returns PSB_SUCCESS or PSB_ERR_SINGULAR; *rcond (if not NULL) gets the reciprocal condition
    number of R B C in the 1-norm (dlacn2's estimate, as dgecon's, with the same LU): C scales
    column j by 1 / sqrt(w_j), the units the weights declare, and R then each row to a largest
@@ -2708,19 +2156,19 @@ static psb_result psb__jacobian_dense(psb_solver *s, const double *y, const doub
    tangent's bordered system look singular (PSB_ERR_SINGULAR). */
 static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rcond)
 {
-    int n = s->n_, np1 = s->np1_, i, j;
+    int n = s->internal_.n, np1 = s->internal_.np1, i, j;
     psb__lint m = np1, info = 0, kase = 0, isave[3], one = 1;
-    double anorm = 0, est = 0, *v = s->work_, *x = s->work_ + np1, *rs = s->work_ + 2 * np1,
-           *cs = s->work_ + 3 * np1;
+    double anorm = 0, est = 0, *v = s->internal_.work, *x = s->internal_.work + np1, *rs = s->internal_.work + 2 * np1,
+           *cs = s->internal_.work + 3 * np1;
     if (rcond)
         for (i = 0; i < np1; i++) rs[i] = 0;
     for (j = 0; j < np1; j++) {
-        double *dst = s->mat_ + (size_t)j * (size_t)np1;
-        const double *src = s->jac_ + (size_t)j * (size_t)n;
+        double *dst = s->internal_.mat + (size_t)j * (size_t)np1;
+        const double *src = s->internal_.jac + (size_t)j * (size_t)n;
         memcpy(dst, src, (size_t)n * sizeof *dst);
         dst[n] = row[j];
         if (rcond) {
-            cs[j] = 1 / sqrt(s->w_[j]);
+            cs[j] = 1 / sqrt(s->internal_.w[j]);
             for (i = 0; i < np1; i++)
                 if (fabs(dst[i]) * cs[j] > rs[i]) rs[i] = fabs(dst[i]) * cs[j];
         }
@@ -2728,26 +2176,26 @@ static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rc
     if (rcond) {
         for (i = 0; i < np1; i++) rs[i] = rs[i] > 0 ? 1 / rs[i] : 1;
         for (j = 0; j < np1; j++) {
-            const double *col = s->mat_ + (size_t)j * (size_t)np1;
+            const double *col = s->internal_.mat + (size_t)j * (size_t)np1;
             double colsum = 0;
             for (i = 0; i < np1; i++) colsum += rs[i] * fabs(col[i]) * cs[j];
             if (colsum > anorm) anorm = colsum;
         }
     }
     s->stats.n_factor++;
-    PSCBRANCH_FORTRAN(dgetrf)(&m, &m, s->mat_, &m, (psb__lint *)s->ipiv_, &info);
+    PSCBRANCH_FORTRAN(dgetrf)(&m, &m, s->internal_.mat, &m, (psb__lint *)s->internal_.ipiv, &info);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrf rejected an argument");
     if (info > 0) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix is exactly singular");
     }
     if (rcond) {
         /* ||(R B C)^-1||_1: (R B C)^-1 x = C^-1 B^-1 R^-1 x, its transpose R^-1 B^-T C^-1 x */
         for (;;) {
-            PSCBRANCH_FORTRAN(dlacn2)(&m, v, x, (psb__lint *)s->iwork_, &est, &kase, isave);
+            PSCBRANCH_FORTRAN(dlacn2)(&m, v, x, (psb__lint *)s->internal_.iwork, &est, &kase, isave);
             if (kase == 0) break;
             for (i = 0; i < np1; i++) x[i] /= kase == 1 ? rs[i] : cs[i];
-            PSCBRANCH_FORTRAN(dgetrs)(kase == 1 ? "N" : "T", &m, &one, s->mat_, &m, (psb__lint *)s->ipiv_, x, &m,
+            PSCBRANCH_FORTRAN(dgetrs)(kase == 1 ? "N" : "T", &m, &one, s->internal_.mat, &m, (psb__lint *)s->internal_.ipiv, x, &m,
                                       &info PSB__STRLEN_ONE);
             if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrs rejected an argument");
             for (i = 0; i < np1; i++) x[i] /= kase == 1 ? cs[i] : rs[i];
@@ -2759,11 +2207,11 @@ static psb_result psb__factor_dense(psb_solver *s, const double *row, double *rc
 
 static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 {
-    psb__lint m = s->np1_, nr = nrhs, info = 0;
-    PSCBRANCH_FORTRAN(dgetrs)("N", &m, &nr, s->mat_, &m, (psb__lint *)s->ipiv_, b, &m, &info PSB__STRLEN_ONE);
+    psb__lint m = s->internal_.np1, nr = nrhs, info = 0;
+    PSCBRANCH_FORTRAN(dgetrs)("N", &m, &nr, s->internal_.mat, &m, (psb__lint *)s->internal_.ipiv, b, &m, &info PSB__STRLEN_ONE);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgetrs rejected an argument");
-    if (!psb__all_finite(b, s->np1_ * nrhs)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+    if (!psb__all_finite(b, s->internal_.np1 * nrhs)) {
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "solution of the bordered system is not finite");
     }
     return PSB_SUCCESS;
@@ -2787,88 +2235,88 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
 /* state column j <-> y component */
 static int psb__ycol(const psb_solver *s, int j) { return j < s->prob.param_index ? j : j + 1; }
 
-/* band_jacobian at y into band_ and dparam_ (zeroed by the caller). Every entry is checked,
+/* band_jacobian at y into band and dparam (zeroed by the caller). Every entry is checked,
    since an Inf on the diagonal factors into finite, wrong solutions. */
 static psb_result psb__band_callback(psb_solver *s, const double *y)
 {
     int ld = s->prob.kl + s->prob.ku + 1;
-    size_t size = (size_t)ld * (size_t)s->n_;
-    psb_result r = psb__callback_code(s, s->prob.band_jacobian(y, s->band_, ld, s->dparam_, s->prob.user),
+    size_t size = (size_t)ld * (size_t)s->internal_.n;
+    psb_result r = psb__callback_code(s, s->prob.band_jacobian(y, s->internal_.band, ld, s->internal_.dparam, s->prob.user),
                                       "band_jacobian callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
-    if (!psb__all_finite(s->band_, size) || !psb__all_finite(s->dparam_, (size_t)s->n_)) {
-        s->last_fail_ = PSB__FAIL_NONFINITE;
+    if (!psb__all_finite(s->internal_.band, size) || !psb__all_finite(s->internal_.dparam, (size_t)s->internal_.n)) {
+        s->internal_.last_fail = PSB__FAIL_NONFINITE;
         return psb__fail(s, PSB_ERR_NONFINITE, "band_jacobian callback returned NaN or Inf");
     }
     return PSB_SUCCESS;
 }
 
-/* A = dH/dx at y into band_, the buffer of the pair that lu_'s factors did not come from. */
-static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const double *h_at_y)
+/* A = dH/dx at y into band, the buffer of the pair that lu's factors did not come from. */
+static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const double *h_at_y, double fd_cap)
 {
-    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
+    int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
     int i, j, g;
     psb_result r;
-    if (!s->bandpair_[1]) s->afac_ = NULL; /* one buffer: the factors' A is overwritten */
-    s->band_ = s->afac_ == s->bandpair_[0] ? s->bandpair_[1] : s->bandpair_[0];
-    s->band_ok_ = 0;
-    psb__copy(s->yfac_, y, s->np1_);
-    memset(s->band_, 0, (size_t)ld * (size_t)n * sizeof(double));
-    memset(s->dparam_, 0, (size_t)n * sizeof(double));
+    if (!s->internal_.bandpair[1]) s->internal_.afac = NULL; /* one buffer: the factors' A is overwritten */
+    s->internal_.band = s->internal_.afac == s->internal_.bandpair[0] ? s->internal_.bandpair[1] : s->internal_.bandpair[0];
+    s->internal_.band_ok = 0;
+    psb__copy(s->internal_.yfac, y, s->internal_.np1);
+    memset(s->internal_.band, 0, (size_t)ld * (size_t)n * sizeof(double));
+    memset(s->internal_.dparam, 0, (size_t)n * sizeof(double));
     if (s->prob.band_jacobian) {
         r = psb__band_callback(s, y);
-        s->band_ok_ = r == PSB_SUCCESS;
+        s->internal_.band_ok = r == PSB_SUCCESS;
         return r;
     }
     /* finite differences, Curtis-Powell-Reid: state columns j = g, g + ld, g + 2 ld, ... touch
        disjoint rows, so one residual serves the whole group (two when central) */
     {
-        double *yp = PSB__VEC(s, PSB__V_FD), *hp = s->fdh_, *steps = s->bx_, scale;
+        double *yp = PSB__VEC(s, PSB__V_FD), *hp = s->internal_.fdh, *steps = s->internal_.bx, scale;
         const double *base;
         int central = s->prob.fd_central;
         if (!h_at_y && !central) {
-            r = psb__residual(s, y, s->res2_);
+            r = psb__residual(s, y, s->internal_.res2);
             if (r != PSB_SUCCESS) return r;
-            h_at_y = s->res2_;
+            h_at_y = s->internal_.res2;
         }
         for (g = 0; g <= ld; g++) {
             int side;
             if (g < ld) {
                 for (j = g; j < n; j += ld) {
                     int c = psb__ycol(s, j);
-                    volatile double probe = y[c] + psb__fd_step(s, c, y[c]);
+                    volatile double probe = y[c] + psb__fd_step(s, c, y[c], fd_cap);
                     steps[j] = probe - y[c];
                 }
             } else {
-                volatile double probe = y[p] + psb__fd_step(s, p, y[p]);
+                volatile double probe = y[p] + psb__fd_step(s, p, y[p], fd_cap);
                 steps[0] = probe - y[p];
             }
-            /* side 1: y + steps into hp; side -1 (central): y - steps into res2_ (not res_:
+            /* side 1: y + steps into hp; side -1 (central): y - steps into res2 (not res:
                callers hold H(y) there across this call) */
             for (side = 1; side >= (central ? -1 : 1); side -= 2) {
-                psb__copy(yp, y, s->np1_);
+                psb__copy(yp, y, s->internal_.np1);
                 if (g < ld) {
                     for (j = g; j < n; j += ld) yp[psb__ycol(s, j)] += side * steps[j];
                 } else {
                     yp[p] += side * steps[0];
                 }
-                r = psb__residual(s, yp, side > 0 ? hp : s->res2_);
+                r = psb__residual(s, yp, side > 0 ? hp : s->internal_.res2);
                 if (r != PSB_SUCCESS) return r;
             }
-            base = central ? s->res2_ : h_at_y;
+            base = central ? s->internal_.res2 : h_at_y;
             scale = central ? 2 : 1;
             if (g < ld) {
                 for (j = g; j < n; j += ld) {
                     int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
                     for (i = lo; i <= hi; i++)
-                        s->band_[PSB_BAND_INDEX(ku, ld, i, j)] = (hp[i] - base[i]) / (scale * steps[j]);
+                        s->internal_.band[PSB_BAND_INDEX(ku, ld, i, j)] = (hp[i] - base[i]) / (scale * steps[j]);
                 }
             } else {
-                for (i = 0; i < n; i++) s->dparam_[i] = (hp[i] - base[i]) / (scale * steps[0]);
+                for (i = 0; i < n; i++) s->internal_.dparam[i] = (hp[i] - base[i]) / (scale * steps[0]);
             }
         }
     }
-    s->band_ok_ = 1;
+    s->internal_.band_ok = 1;
     return PSB_SUCCESS;
 }
 
@@ -2986,43 +2434,43 @@ static int psb__gbtrf(int n, int kl, int ku, double *ab, int ldab, psb__lint *ip
 }
 #endif
 
-/* LU of A + shift I into lu_ (dgbtrf layout: kl extra rows on top), unless lu_ holds the
+/* LU of A + shift I into lu (dgbtrf layout: kl extra rows on top), unless lu holds the
    unshifted factors of a bit-identical A already. */
 static psb_result psb__band_lu(psb_solver *s, double shift)
 {
-    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
+    int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
     size_t size = (size_t)ld * (size_t)n;
     long info;
-    if (!s->band_ok_) return psb__fail(s, PSB_ERR_INPUT, "no Jacobian to factor");
-    if (shift == 0 && s->afac_ &&
-        (s->afac_ == s->band_ || !memcmp(s->afac_, s->band_, size * sizeof(double)))) {
+    if (!s->internal_.band_ok) return psb__fail(s, PSB_ERR_INPUT, "no Jacobian to factor");
+    if (shift == 0 && s->internal_.afac &&
+        (s->internal_.afac == s->internal_.band || !memcmp(s->internal_.afac, s->internal_.band, size * sizeof(double)))) {
         s->stats.n_factor_reused++;
         return PSB_SUCCESS;
     }
-    s->afac_ = NULL;
-    s->bv_ok_ = 0;
+    s->internal_.afac = NULL;
+    s->internal_.bv_ok = 0;
     for (j = 0; j < n; j++) {
-        double *dst = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+        double *dst = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu;
         memset(dst, 0, (size_t)kl * sizeof(double));
-        memcpy(dst + kl, s->band_ + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
+        memcpy(dst + kl, s->internal_.band + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
         dst[kl + ku] += shift;
     }
     s->stats.n_factor++;
 #ifdef PSCBRANCH_USE_DGBTRF
     {
-        psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->ldlu_, linfo = 0;
-        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->lu_, &ldlu, (psb__lint *)s->ipiv_, &linfo);
+        psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->internal_.ldlu, linfo = 0;
+        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->internal_.lu, &ldlu, (psb__lint *)s->internal_.ipiv, &linfo);
         if (linfo < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
         info = (long)linfo;
     }
 #else
-    info = psb__gbtrf(n, kl, ku, s->lu_, s->ldlu_, (psb__lint *)s->ipiv_, s->gbw_);
+    info = psb__gbtrf(n, kl, ku, s->internal_.lu, s->internal_.ldlu, (psb__lint *)s->internal_.ipiv, s->internal_.gbw);
 #endif
     if (info > 0) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "banded block is exactly singular");
     }
-    if (shift == 0) s->afac_ = s->band_;
+    if (shift == 0) s->internal_.afac = s->internal_.band;
     return PSB_SUCCESS;
 }
 
@@ -3059,10 +2507,10 @@ static void psb__band_axpy(int m, const double *PSB__RESTRICT c, double a, doubl
    (reference BLAS, -O2): 0.52x at n = 462, kl = ku = 22; 0.48x at n = 1806, kl = ku = 45. */
 static void psb__band_subst(const psb_solver *s, double *x, double *y)
 {
-    int n = s->n_, kl = s->prob.kl, kv = kl + s->prob.ku, j;
-    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
+    int n = s->internal_.n, kl = s->prob.kl, kv = kl + s->prob.ku, j;
+    const psb__lint *ipiv = (const psb__lint *)s->internal_.ipiv;
     for (j = 0; kl > 0 && j < n - 1; j++) {
-        const double *col = s->lu_ + (size_t)j * (size_t)s->ldlu_ + kv + 1;
+        const double *col = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu + kv + 1;
         int l = (int)ipiv[j] - 1;
         if (l != j) {
             double tmp = x[l];
@@ -3073,7 +2521,7 @@ static void psb__band_subst(const psb_solver *s, double *x, double *y)
                        y ? y + j + 1 : NULL);
     }
     for (j = n - 1; j >= 0; j--) {
-        const double *col = s->lu_ + (size_t)j * (size_t)s->ldlu_;
+        const double *col = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu;
         int above = j < kv ? j : kv; /* U's entries above the diagonal in column j */
         x[j] /= col[kv];
         if (y) y[j] /= col[kv];
@@ -3082,14 +2530,14 @@ static void psb__band_subst(const psb_solver *s, double *x, double *y)
     }
 }
 
-/* Factors A (shifted if asked) for the border row in row_; w = A^{-1} b and delta = d - c.w
+/* Factors A (shifted if asked) for the border row in row; w = A^{-1} b and delta = d - c.w
    follow with the first solve (psb__band_border), in the same pass as its right-hand side. */
 static psb_result psb__band_prepare(psb_solver *s, double shift)
 {
     psb_result r = psb__band_lu(s, shift);
     if (r != PSB_SUCCESS) return r;
-    if (s->bv_ok_ && memcmp(s->dpfac_, s->dparam_, (size_t)s->n_ * sizeof(double))) s->bv_ok_ = 0;
-    s->border_ok_ = 0;
+    if (s->internal_.bv_ok && memcmp(s->internal_.dpfac, s->internal_.dparam, (size_t)s->internal_.n * sizeof(double))) s->internal_.bv_ok = 0;
+    s->internal_.border_ok = 0;
     return PSB_SUCCESS;
 }
 
@@ -3097,31 +2545,31 @@ static psb_result psb__band_prepare(psb_solver *s, double shift)
    in the same pass over the factors. */
 static psb_result psb__band_border(psb_solver *s, double *x)
 {
-    int n = s->n_, j;
+    int n = s->internal_.n, j;
     double delta;
-    if (s->bv_ok_) {
+    if (s->internal_.bv_ok) {
         if (x) psb__band_subst(s, x, NULL);
     } else {
-        memcpy(s->dpfac_, s->dparam_, (size_t)n * sizeof(double));
-        memcpy(s->bv_, s->dparam_, (size_t)n * sizeof(double));
-        psb__band_subst(s, s->bv_, x);
-        s->bv_ok_ = 1;
+        memcpy(s->internal_.dpfac, s->internal_.dparam, (size_t)n * sizeof(double));
+        memcpy(s->internal_.bv, s->internal_.dparam, (size_t)n * sizeof(double));
+        psb__band_subst(s, s->internal_.bv, x);
+        s->internal_.bv_ok = 1;
     }
-    delta = s->row_[s->prob.param_index];
-    s->bamp_ = fabs(delta);
+    delta = s->internal_.row[s->prob.param_index];
+    s->internal_.bamp = fabs(delta);
     for (j = 0; j < n; j++) {
-        delta -= s->row_[psb__ycol(s, j)] * s->bv_[j];
-        s->bamp_ += fabs(s->row_[psb__ycol(s, j)] * s->bv_[j]);
+        delta -= s->internal_.row[psb__ycol(s, j)] * s->internal_.bv[j];
+        s->internal_.bamp += fabs(s->internal_.row[psb__ycol(s, j)] * s->internal_.bv[j]);
     }
-    if (!psb__finite(delta) || delta == 0 || !psb__all_finite(s->bv_, (size_t)n)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+    if (!psb__finite(delta) || delta == 0 || !psb__all_finite(s->internal_.bv, (size_t)n)) {
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered banded system is singular");
     }
     /* cancellation in delta = d - c.w: the factor by which block elimination can amplify the
        banded solves' errors (large only near a fold, where A is nearly singular) */
-    s->bamp_ /= fabs(delta);
-    s->delta_ = delta;
-    s->border_ok_ = 1;
+    s->internal_.bamp /= fabs(delta);
+    s->internal_.delta = delta;
+    s->internal_.border_ok = 1;
     return PSB_SUCCESS;
 }
 
@@ -3129,17 +2577,17 @@ static psb_result psb__band_border(psb_solver *s, double *x)
    only where one of them is needed (near folds), not in every corrector iteration. */
 static double psb__band_mnorm(psb_solver *s)
 {
-    int n = s->n_, ld = s->prob.kl + s->prob.ku + 1, i, j;
+    int n = s->internal_.n, ld = s->prob.kl + s->prob.ku + 1, i, j;
     double bnorm = 0, sum;
-    if (s->mnorm_ >= 0) return s->mnorm_;
+    if (s->internal_.mnorm >= 0) return s->internal_.mnorm;
     for (j = 0; j < n; j++) {
-        const double *col = s->band_ + (size_t)j * (size_t)ld;
-        for (sum = fabs(s->row_[psb__ycol(s, j)]), i = 0; i < ld; i++) sum += fabs(col[i]);
+        const double *col = s->internal_.band + (size_t)j * (size_t)ld;
+        for (sum = fabs(s->internal_.row[psb__ycol(s, j)]), i = 0; i < ld; i++) sum += fabs(col[i]);
         if (sum > bnorm) bnorm = sum;
     }
-    for (sum = fabs(s->row_[s->prob.param_index]), i = 0; i < n; i++) sum += fabs(s->dparam_[i]);
-    s->mnorm_ = sum > bnorm ? sum : bnorm;
-    return s->mnorm_;
+    for (sum = fabs(s->internal_.row[s->prob.param_index]), i = 0; i < n; i++) sum += fabs(s->internal_.dparam[i]);
+    s->internal_.mnorm = sum > bnorm ? sum : bnorm;
+    return s->internal_.mnorm;
 }
 
 static double psb__band_shift(psb_solver *s)
@@ -3152,16 +2600,16 @@ static double psb__band_shift(psb_solver *s)
 static psb_result psb__band_prepare_shifted(psb_solver *s)
 {
     psb_result r = psb__band_prepare(s, psb__band_shift(s));
-    s->shifted_ = r == PSB_SUCCESS;
+    s->internal_.shifted = r == PSB_SUCCESS;
     return r;
 }
 
 static psb_result psb__factor_banded(psb_solver *s, const double *row)
 {
     psb_result r;
-    psb__copy(s->row_, row, s->np1_);
-    s->mnorm_ = -1;
-    s->shifted_ = 0;
+    psb__copy(s->internal_.row, row, s->internal_.np1);
+    s->internal_.mnorm = -1;
+    s->internal_.shifted = 0;
     r = psb__band_prepare(s, 0.0);
     return r == PSB_ERR_SINGULAR ? psb__band_prepare_shifted(s) : r;
 }
@@ -3171,26 +2619,26 @@ static psb_result psb__factor_banded(psb_solver *s, const double *row)
    on the unshifted factors, A is refactored shifted. */
 static psb_result psb__band_apply(psb_solver *s, const double *rhs, double *z)
 {
-    int n = s->n_, j, p = s->prob.param_index, zero_f = 1;
-    double xi = rhs[n], *x = s->work_ + s->np1_; /* work_[0, np1) holds the caller's rhs */
+    int n = s->internal_.n, j, p = s->prob.param_index, zero_f = 1;
+    double xi = rhs[n], *x = s->internal_.work + s->internal_.np1; /* work[0, np1) holds the caller's rhs */
     psb_result r;
     for (j = 0; j < n && zero_f; j++) zero_f = rhs[j] == 0;
     for (;;) {
         if (zero_f) memset(x, 0, (size_t)n * sizeof(double));
         else memcpy(x, rhs, (size_t)n * sizeof(double));
-        if (s->border_ok_) {
+        if (s->internal_.border_ok) {
             if (!zero_f) psb__band_subst(s, x, NULL);
             break;
         }
         r = psb__band_border(s, zero_f ? NULL : x);
         if (r == PSB_SUCCESS) break;
-        if (r != PSB_ERR_SINGULAR || s->shifted_) return r;
+        if (r != PSB_ERR_SINGULAR || s->internal_.shifted) return r;
         r = psb__band_prepare_shifted(s);
         if (r != PSB_SUCCESS) return r;
     }
-    for (j = 0; j < n; j++) xi -= s->row_[psb__ycol(s, j)] * x[j];
-    xi /= s->delta_;
-    for (j = 0; j < n; j++) z[psb__ycol(s, j)] = x[j] - s->bv_[j] * xi;
+    for (j = 0; j < n; j++) xi -= s->internal_.row[psb__ycol(s, j)] * x[j];
+    xi /= s->internal_.delta;
+    for (j = 0; j < n; j++) z[psb__ycol(s, j)] = x[j] - s->internal_.bv[j] * xi;
     z[p] = xi;
     return PSB_SUCCESS;
 }
@@ -3198,15 +2646,15 @@ static psb_result psb__band_apply(psb_solver *s, const double *rhs, double *z)
 /* res = rhs - B z with the unshifted B; returns ||res||_inf. */
 static double psb__band_residual(const psb_solver *s, const double *rhs, const double *z, double *res)
 {
-    int n = s->n_, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, i, j, p = s->prob.param_index;
+    int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, i, j, p = s->prob.param_index;
     double big = 0, last = rhs[n];
-    for (i = 0; i < n; i++) res[i] = rhs[i] - s->dparam_[i] * z[p];
+    for (i = 0; i < n; i++) res[i] = rhs[i] - s->internal_.dparam[i] * z[p];
     for (j = 0; j < n; j++) {
         double zj = z[psb__ycol(s, j)];
         int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
-        for (i = lo; i <= hi; i++) res[i] -= s->band_[PSB_BAND_INDEX(ku, ld, i, j)] * zj;
+        for (i = lo; i <= hi; i++) res[i] -= s->internal_.band[PSB_BAND_INDEX(ku, ld, i, j)] * zj;
     }
-    for (i = 0; i <= n; i++) last -= s->row_[i] * z[i];
+    for (i = 0; i <= n; i++) last -= s->internal_.row[i] * z[i];
     res[n] = last;
     for (i = 0; i <= n; i++)
         if (fabs(res[i]) > big || res[i] != res[i]) big = res[i] != res[i] ? HUGE_VAL : fabs(res[i]);
@@ -3215,24 +2663,24 @@ static double psb__band_residual(const psb_solver *s, const double *rhs, const d
 
 static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
 {
-    int np1 = s->np1_, k, it, i;
+    int np1 = s->internal_.np1, k, it, i;
     for (k = 0; k < nrhs; k++) {
-        double *rhs = s->bres_, *z = b + (size_t)k * (size_t)np1, *dz = s->bx_;
+        double *rhs = s->internal_.bres, *z = b + (size_t)k * (size_t)np1, *dz = s->internal_.bx;
         double bnorm = 0, znorm, resn, prev = HUGE_VAL;
-        int max_it = s->shifted_ ? 30 : 4, done = 0;
+        int max_it = s->internal_.shifted ? 30 : 4, done = 0;
         psb_result r;
         /* keep the right-hand side: the solution overwrites it */
-        memcpy(s->work_, z, (size_t)np1 * sizeof(double));
+        memcpy(s->internal_.work, z, (size_t)np1 * sizeof(double));
         for (i = 0; i < np1; i++) bnorm = fabs(z[i]) > bnorm ? fabs(z[i]) : bnorm;
-        r = psb__band_apply(s, s->work_, z);
+        r = psb__band_apply(s, s->internal_.work, z);
         if (r != PSB_SUCCESS) return r;
         /* far from folds block elimination is as accurate as the LU solve itself (backward stable):
            the residual check and refinement are for a nearly singular A only */
-        if (!s->shifted_ && s->bamp_ <= 16) continue;
+        if (!s->internal_.shifted && s->internal_.bamp <= 16) continue;
         for (it = 0; it <= max_it && !done; it++) {
             znorm = 0;
             for (i = 0; i < np1; i++) znorm = fabs(z[i]) > znorm ? fabs(z[i]) : znorm;
-            resn = psb__band_residual(s, s->work_, z, rhs);
+            resn = psb__band_residual(s, s->internal_.work, z, rhs);
             if (resn <= 32 * DBL_EPSILON * (psb__band_mnorm(s) * znorm + bnorm)) { done = 1; break; }
             if (!(resn < 0.5 * prev) && it >= 2) break; /* stalled */
             prev = resn;
@@ -3241,15 +2689,15 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
             for (i = 0; i < np1; i++) z[i] += dz[i];
         }
         if (!done) {
-            if (!s->shifted_) {
+            if (!s->internal_.shifted) {
                 /* nearly singular A: refactor shifted, restart this column */
                 r = psb__band_prepare_shifted(s);
                 if (r != PSB_SUCCESS) return r;
-                memcpy(z, s->work_, (size_t)np1 * sizeof(double));
+                memcpy(z, s->internal_.work, (size_t)np1 * sizeof(double));
                 k--;
                 continue;
             }
-            s->last_fail_ = PSB__FAIL_SINGULAR;
+            s->internal_.last_fail = PSB__FAIL_SINGULAR;
             return psb__fail(s, PSB_ERR_SINGULAR, "bordered banded system: refinement did not converge");
         }
     }
@@ -3260,13 +2708,18 @@ static psb_result psb__solve_banded(psb_solver *s, double *b, int nrhs)
 
 /* dH(y) for the next factorisation. h_at_y: H(y) if the caller has it (finite differences
    reuse it), else NULL. */
-static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_at_y)
+static psb_result psb__jacobian_capped(psb_solver *s, const double *y, const double *h_at_y, double fd_cap)
 {
     switch (s->prob.linear) {
-    case PSB_LINEAR_BANDED: s->stats.n_jacobian++; return psb__jacobian_banded(s, y, h_at_y);
-    case PSB_LINEAR_USER: psb__copy(s->yfac_, y, s->np1_); return PSB_SUCCESS;
-    default: return psb__jacobian_dense(s, y, h_at_y);
+    case PSB_LINEAR_BANDED: s->stats.n_jacobian++; return psb__jacobian_banded(s, y, h_at_y, fd_cap);
+    case PSB_LINEAR_USER: psb__copy(s->internal_.yfac, y, s->internal_.np1); return PSB_SUCCESS;
+    default: return psb__jacobian_dense(s, y, h_at_y, fd_cap);
     }
+}
+
+static psb_result psb__jacobian(psb_solver *s, const double *y, const double *h_at_y)
+{
+    return psb__jacobian_capped(s, y, h_at_y, 0);
 }
 
 /* Factors [dH(y); row^T] for the y of the last psb__jacobian. rcond (dense only, may be NULL):
@@ -3281,10 +2734,10 @@ static psb_result psb__factor_bordered(psb_solver *s, const double *row, double 
     case PSB_LINEAR_USER:
         s->stats.n_factor++;
         s->stats.n_jacobian++;
-        rc = s->prob.solver.factor(s->yfac_, row, s->prob.solver.ctx);
+        rc = s->prob.solver.factor(s->internal_.yfac, row, s->prob.solver.ctx);
         r = psb__callback_code(s, rc, "solver.factor returned nonzero");
         if (r == PSB_ERR_CALLBACK_FAILED) {
-            s->last_fail_ = PSB__FAIL_SINGULAR;
+            s->internal_.last_fail = PSB__FAIL_SINGULAR;
             return psb__fail(s, PSB_ERR_SINGULAR, "solver.factor reported a singular matrix");
         }
         return r;
@@ -3302,56 +2755,56 @@ static psb_result psb__solve_factored(psb_solver *s, double *b, int nrhs)
         rc = s->prob.solver.solve(b, nrhs, s->prob.solver.ctx);
         r = psb__callback_code(s, rc, "solver.solve returned nonzero");
         if (r == PSB_ERR_CALLBACK_FAILED) {
-            s->last_fail_ = PSB__FAIL_SINGULAR;
+            s->internal_.last_fail = PSB__FAIL_SINGULAR;
             r = psb__fail(s, PSB_ERR_SINGULAR, "solver.solve failed");
         }
         break;
     default: return psb__solve_dense(s, b, nrhs);
     }
-    if (r == PSB_SUCCESS && !psb__all_finite(b, s->np1_ * nrhs)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+    if (r == PSB_SUCCESS && !psb__all_finite(b, s->internal_.np1 * nrhs)) {
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "solution of the bordered system is not finite");
     }
     return r;
 }
 
-/* Kernel of s->jac_ through the QR factorisation of its transpose: the last column of Q spans
+/* Kernel of s->internal_.jac through the QR factorisation of its transpose: the last column of Q spans
    the orthogonal complement of range(jac^T) = ker(jac) when jac has rank n. Factored as
    (R jac C)^T, C scaling column j by 1 / sqrt(w_j) and R then each row to a largest entry of 1,
    so that the rank test does not depend on the units of y or H; t = C z from its kernel z. */
 static psb_result psb__kernel_qr(psb_solver *s, double *t)
 {
-    int n = s->n_, np1 = s->np1_, i, j;
+    int n = s->internal_.n, np1 = s->internal_.np1, i, j;
     psb__lint m = np1, nn = n, one = 1, info = 0;
-    double rmax = 0, rmin = HUGE_VAL, *rs = s->work_; /* taken before dgeqr2 uses it */
+    double rmax = 0, rmin = HUGE_VAL, *rs = s->internal_.work; /* taken before dgeqr2 uses it */
     for (i = 0; i < n; i++) {
         double big = 0;
         for (j = 0; j < np1; j++)
-            if (fabs(s->jac_[i + (size_t)j * (size_t)n]) / sqrt(s->w_[j]) > big)
-                big = fabs(s->jac_[i + (size_t)j * (size_t)n]) / sqrt(s->w_[j]);
+            if (fabs(s->internal_.jac[i + (size_t)j * (size_t)n]) / sqrt(s->internal_.w[j]) > big)
+                big = fabs(s->internal_.jac[i + (size_t)j * (size_t)n]) / sqrt(s->internal_.w[j]);
         rs[i] = big > 0 ? 1 / big : 1;
     }
     for (j = 0; j < np1; j++)
         for (i = 0; i < n; i++)
-            s->mat_[j + (size_t)i * (size_t)np1] = rs[i] * s->jac_[i + (size_t)j * (size_t)n] / sqrt(s->w_[j]);
+            s->internal_.mat[j + (size_t)i * (size_t)np1] = rs[i] * s->internal_.jac[i + (size_t)j * (size_t)n] / sqrt(s->internal_.w[j]);
     s->stats.n_factor++;
-    PSCBRANCH_FORTRAN(dgeqr2)(&m, &nn, s->mat_, &m, s->tau_, s->work_, &info);
+    PSCBRANCH_FORTRAN(dgeqr2)(&m, &nn, s->internal_.mat, &m, s->internal_.tau, s->internal_.work, &info);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgeqr2 rejected an argument");
     for (i = 0; i < n; i++) {
-        double d = fabs(s->mat_[i + (size_t)i * (size_t)np1]);
+        double d = fabs(s->internal_.mat[i + (size_t)i * (size_t)np1]);
         if (d > rmax) rmax = d;
         if (d < rmin) rmin = d;
     }
     if (!(rmin > rmax * DBL_EPSILON * np1)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "Jacobian has rank < n: no unique tangent");
     }
     memset(t, 0, (size_t)np1 * sizeof *t);
     t[n] = 1;
-    PSCBRANCH_FORTRAN(dorm2r)("L", "N", &m, &one, &nn, s->mat_, &m, s->tau_, t, &m, s->work_,
+    PSCBRANCH_FORTRAN(dorm2r)("L", "N", &m, &one, &nn, s->internal_.mat, &m, s->internal_.tau, t, &m, s->internal_.work,
                               &info PSB__STRLEN_ONE PSB__STRLEN_ONE);
     if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dorm2r rejected an argument");
-    for (j = 0; j < np1; j++) t[j] /= sqrt(s->w_[j]);
+    for (j = 0; j < np1; j++) t[j] /= sqrt(s->internal_.w[j]);
     return PSB_SUCCESS;
 }
 
@@ -3360,25 +2813,25 @@ static psb_result psb__kernel_qr(psb_solver *s, double *t)
    c.w), the parameter column moved last); 0 where the factors do not tell it. O(N). */
 static int psb__factors_det(const psb_solver *s, double *logabs)
 {
-    int n = s->n_, np1 = s->np1_, i, sign = 1;
-    const psb__lint *ipiv = (const psb__lint *)s->ipiv_;
+    int n = s->internal_.n, np1 = s->internal_.np1, i, sign = 1;
+    const psb__lint *ipiv = (const psb__lint *)s->internal_.ipiv;
     double la = 0;
     if (s->prob.linear == PSB_LINEAR_DENSE) {
         for (i = 0; i < np1; i++) {
-            double u = s->mat_[i + (size_t)i * (size_t)np1];
+            double u = s->internal_.mat[i + (size_t)i * (size_t)np1];
             if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
             if (logabs) la += log(fabs(u));
         }
-    } else if (s->prob.linear == PSB_LINEAR_BANDED && !s->shifted_ && s->border_ok_) {
+    } else if (s->prob.linear == PSB_LINEAR_BANDED && !s->internal_.shifted && s->internal_.border_ok) {
         int kv = s->prob.kl + s->prob.ku;
         for (i = 0; i < n; i++) {
-            double u = s->lu_[(size_t)kv + (size_t)i * (size_t)s->ldlu_];
+            double u = s->internal_.lu[(size_t)kv + (size_t)i * (size_t)s->internal_.ldlu];
             if ((u < 0) != (ipiv[i] != i + 1)) sign = -sign;
             if (logabs) la += log(fabs(u));
         }
-        if (s->delta_ < 0) sign = -sign;
+        if (s->internal_.delta < 0) sign = -sign;
         if ((n - s->prob.param_index) % 2) sign = -sign;
-        if (logabs) la += log(fabs(s->delta_));
+        if (logabs) la += log(fabs(s->internal_.delta));
     } else {
         return 0;
     }
@@ -3387,20 +2840,24 @@ static int psb__factors_det(const psb_solver *s, double *logabs)
 }
 
 /* Unit tangent at y oriented by ref (both n+1); y's Jacobian is evaluated here. */
-/* psb__tangent's work once dH(y) is formed (psb__jacobian). Also sets tangent_sign_, the
+/* ==== Corrector and tangent =====================================================================
+   The tangent (a bordered solve, QR at folds) and the Moore-Penrose corrector; a caller
+   watches a corrector run through psb__corr_watch, never through solver fields. */
+
+/* psb__tangent's work once dH(y) is formed (psb__jacobian). Also sets tangent_sign, the
    outward sign sgn det [dH; (W t)^T] of the t returned (0 where the factors do not tell it):
    x solves [dH; row^T] x = e_(n+1), so row.x = 1 > 0 and det [dH; (W x)^T] has det B's sign. */
 static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, double *t)
 {
-    int np1 = s->np1_, i, attempt, sign = 0;
-    double rcond = 0, *row = s->rhs_ + np1, *x = s->rhs_;
+    int np1 = s->internal_.np1, i, attempt, sign = 0;
+    double rcond = 0, *row = s->internal_.rhs + np1, *x = s->internal_.rhs;
     psb_result r;
-    s->tangent_sign_ = 0;
+    s->internal_.tangent_sign = 0;
     /* bordered with ref; if that is singular (ref orthogonal to the kernel), the dense backend
        asks QR of dH^T, the others border with e_param, then with a fixed generic row */
     for (attempt = 0; attempt < 3; attempt++) {
         for (i = 0; i < np1; i++)
-            row[i] = s->w_[i] * (attempt == 0 ? ref[i]
+            row[i] = s->internal_.w[i] * (attempt == 0 ? ref[i]
                                  : attempt == 1 ? (double)(i == s->prob.param_index)
                                                 : 1.0 + 0.1 * (i % 7));
         r = psb__factor_bordered(s, row, &rcond);
@@ -3426,158 +2883,36 @@ static psb_result psb__tangent_from_jacobian(psb_solver *s, const double *ref, d
         sign = -sign;
     }
     if (!psb__normalize_w(s, x)) {
-        s->last_fail_ = PSB__FAIL_SINGULAR;
+        s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
     }
     psb__copy(t, x, np1);
-    s->tangent_sign_ = sign;
-    s->n_ok_++;
+    s->internal_.tangent_sign = sign;
+    s->internal_.n_ok++;
     return PSB_SUCCESS;
+}
+
+/* The unit tangent at y oriented by ref; difference steps (no Jacobian callback) at most
+   fd_cap in the weighted norm when fd_cap > 0. */
+static psb_result psb__tangent_capped(psb_solver *s, const double *y, const double *ref, double *t,
+                                      double fd_cap)
+{
+    psb_result r;
+    s->stats.n_tangents++;
+    r = psb__jacobian_capped(s, y, NULL, fd_cap);
+    if (r != PSB_SUCCESS) return r;
+    return psb__tangent_from_jacobian(s, ref, t);
 }
 
 static psb_result psb__tangent(psb_solver *s, const double *y, const double *ref, double *t)
 {
-    psb_result r;
-    s->stats.n_tangents++;
-    r = psb__jacobian(s, y, NULL);
-    if (r != PSB_SUCCESS) return r;
-    return psb__tangent_from_jacobian(s, ref, t);
+    return psb__tangent_capped(s, y, ref, t, 0);
 }
 
 static int psb__is_fatal(psb_result r)
 {
     return r == PSB_ERR_CALLBACK || r == PSB_ERR_LAPACK || r == PSB_ERR_NULL ||
            r == PSB_ERR_NOMEM;
-}
-
-static int psb__trial_known(const psb_solver *s, const double *x, const double *ts, int n_ts,
-                            const double *done, int own);
-static void psb__jmemo_key(const psb_solver *s, unsigned long long *key);
-static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key);
-static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t, int sign);
-static int psb__jmemo_hashing(const psb_solver *s);
-static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const double *ref, double *t, int *m);
-static double psb__angle_w(const psb_solver *s, const double *a, const double *b);
-static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known);
-
-/* Whether a piece's tangent may decide (psb__path_memo_cut): the memo's pieces checked that
-   many times and found nearly linear. */
-static int psb__pmemo_trusted(const psb_solver *s, int checks)
-{
-    return s->pmemo_checks_ >= checks && s->pmemo_drift_ <= acos(s->opt.c_diff) / 8;
-}
-
-/* The memo's cut of an Algorithm 2.2 trial (path_on_) at its corrector iterate y, bordered by
-   t: the tangent this iteration would compute is the unit kernel of dH(y), oriented by t, and
-   Algorithm 2.2's memo (psb__sample_tangent) may hold it already, keyed by y's piece id
-   (before dH is formed, dh_key NULL; *by_piece set when the callback gave one) or by dH's
-   hash (dh_key, of the dH just formed; *by_piece as the first call left it). If that
-   tangent's trial is known, the corrector's cut (psb__correct_run) applies without the
-   factorisation. As with sample tangents, the memo's tangent only decides this skip.
-   A dH hash gives the tangent of the same dH. A piece id gives one from another point of the
-   piece, which is the tangent here only where H is nearly linear across the piece (the block:
-   no cut decided otherwise in 390 checked); on a curved piece the wrong verdict can cost a
-   branch (curved random LCPs). So a piece's tangent decides a cut only after the memo has met
-   4 tangents computed at trial iterates of pieces it held, and found them all within an
-   eighth of c_diff's angle of its own (pmemo_drift_, measured by the corrector).
-   key gets the key under which the corrector stores the tangent it computes (zero when there
-   is none or the memo holds it).
-   Returns 1 (cut), 0, or a fatal or fault code from the piece callback (< 0). */
-static int psb__path_memo_cut(psb_solver *s, const double *y, const double *t,
-                              const unsigned long long *dh_key, unsigned long long *key, int *by_piece)
-{
-    int m, got;
-    double *x = PSB__VEC(s, PSB__V_BR_MT);
-    if (!dh_key) {
-        psb_result r;
-        key[0] = key[1] = 0;
-        *by_piece = 0;
-        if (!s->prob.piece) return 0;
-        r = psb__piece_key(s, y, key, by_piece);
-        if (r != PSB_SUCCESS) return r;
-        if (!*by_piece) return 0;
-    } else {
-        if (*by_piece || !psb__jmemo_hashing(s)) return 0;
-        key[0] = dh_key[0];
-        key[1] = dh_key[1];
-    }
-    got = psb__jmemo_get(s, key, t, x, &m);
-    if (m >= 0) key[0] = key[1] = 0; /* held already: nothing to store */
-    if (!got) return 0;
-    if (*by_piece && !psb__pmemo_trusted(s, 4)) {
-        s->pmemo_check_on_ = 1; /* no cut yet: the corrector compares its tangent with x */
-        return 0;
-    }
-    return psb__trial_known(s, x, s->path_ts_, s->path_nts_, NULL, s->path_own_);
-}
-
-/* How far from cones about y0 Algorithm 2.2's trials may see H before the run is made again
-   with a smaller h_init (psb__find_branches): a landing point's chord from y0 against its
-   tangent (radians), or an iterate's psb__conic_excess. */
-#define PSB__CHORD_TURN 0.05
-
-/* Whether Algorithm 2.2's run still watches for H off the cones about y0 (cone_defect_): H(y0)
-   is held, the evidence is not in yet, and a rerun could still follow (h_init / 16 stays above
-   8 h, psb__find_branches). */
-static int psb__cone_watched(const psb_solver *s)
-{
-    return s->conic_h0_ok_ && s->cone_defect_ <= PSB__CHORD_TURN &&
-           s->branch.h_init / 16 >= 8 * s->branch.h;
-}
-
-/* Records an excess of psb__conic_excess in cone_defect_ (HUGE_VAL, no scale, tells nothing). */
-static void psb__note_cone_excess(psb_solver *s, double excess)
-{
-    if (excess > s->cone_defect_ && excess < HUGE_VAL) s->cone_defect_ = excess;
-}
-
-/* How far H is from affine through y0 at a point y of an Algorithm 2.2 trial whose dH(y) was
-   just formed and H(y) is in res_: the largest row error of H(y) = H(y0) + dH(y) (y - y0)
-   beyond rounding (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| +
-   |H(y0)|), relative to the step's own scale max_i (|dH| |y - y0|)_i; HUGE_VAL for NaN, or
-   for an error where the step has no scale. The conic test of the trials
-   (psb__try_tangent), first half, asks at most 10^-6: y0 lies within Algorithm 2.1's
-   precision of the kink, not on it, and its pieces' affine maps meet there to that order;
-   Algorithm 2.2's rerun asks more (psb__cone_tolerance). The conic test's second half
-   (psb__correct_run, with dH(y)'s hash): dH is the same, bit for bit, at the point of the
-   segment from y0 to y at distance s->branch.h from y0. Pieces of a
-   piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
-   the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
-   the same H scaled: the same run. */
-static double psb__conic_excess(const psb_solver *s, const double *y0, const double *y)
-{
-    int n = s->n_, np1 = s->np1_, i, j;
-    const double *h0 = PSB__VEC(s, PSB__V_BR_H0);
-    double excess = 0, step = 0; /* the largest row error beyond rounding, and row size */
-    for (i = 0; i < n; i++) {
-        double sum = 0, size = 0, scale = fabs(s->res_[i]) + fabs(h0[i]);
-        if (s->prob.linear == PSB_LINEAR_DENSE) {
-            for (j = 0; j < np1; j++) {
-                double a = s->jac_[(size_t)i + (size_t)j * (size_t)n];
-                sum += a * (y[j] - y0[j]);
-                size += fabs(a * (y[j] - y0[j]));
-                scale += fabs(a) * (fabs(y[j]) + fabs(y0[j]));
-            }
-        } else {
-            int kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
-            int lo = i - kl > 0 ? i - kl : 0, hi = i + ku < n - 1 ? i + ku : n - 1;
-            for (j = lo; j <= hi; j++) { /* state column j is y component j, or j + 1 past p */
-                int c = j < p ? j : j + 1;
-                double a = s->band_[PSB_BAND_INDEX(ku, ld, i, j)];
-                sum += a * (y[c] - y0[c]);
-                size += fabs(a * (y[c] - y0[c]));
-                scale += fabs(a) * (fabs(y[c]) + fabs(y0[c]));
-            }
-            sum += s->dparam_[i] * (y[p] - y0[p]);
-            size += fabs(s->dparam_[i] * (y[p] - y0[p]));
-            scale += fabs(s->dparam_[i]) * (fabs(y[p]) + fabs(y0[p]));
-        }
-        sum = fabs(s->res_[i] - h0[i] - sum) - 1024 * DBL_EPSILON * scale;
-        if (isnan(sum)) return HUGE_VAL;
-        if (sum > excess) excess = sum;
-        if (size > step) step = size;
-    }
-    return step > 0 ? excess / step : excess > 0 ? HUGE_VAL : 0;
 }
 
 /* Whether Newton has reached what H's rounding allows though ||H|| > tol_residual: the last
@@ -3590,115 +2925,105 @@ static int psb__at_rounding(const psb_solver *s, double corr, double res, double
     return corr <= s->opt.tol_correction && res >= 0.5 * res_before;
 }
 
-/* Moore-Penrose corrector on internal copies; (y, t) replaced only on convergence. With
-   path_on_ (Algorithm 2.2's trials) it records its tangents and stops as soon as one is a
-   tangent whose trial's outcome is known (the cut, see psb__try_tangent; last_fail_
-   PSB__FAIL_KNOWN). */
-static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *iterations)
+/* What a caller watches in a corrector run beyond convergence (Algorithm 2.2's trials watch
+   for a known outcome and for pieces that are not cones about their point). The corrector
+   calls fn at each event with the couple named there; fn returns 0 to go on, 1 when the run
+   can end because its outcome is known (at ITERATE, JACOBIAN and TANGENT: last_fail KNOWN; at
+   REJECTED: psb__try_step_from tries no smaller step), or a result code < 0 that ends it. */
+typedef enum psb__corr_event {
+    PSB__CORR_STEP,      /* psb__try_step_from begins a trial step */
+    PSB__CORR_START,     /* the run begins: H at its start is in res */
+    PSB__CORR_ITERATE,   /* an iterate (y, t), before dH(y) is formed */
+    PSB__CORR_JACOBIAN,  /* dH(y) formed at the iterate (y, t), H(y) in res */
+    PSB__CORR_SOLVED,    /* the iteration's bordered system solved; y still the iterate */
+    PSB__CORR_TANGENT,   /* the next iterate (y, t), t normalised; sign: det of the B factored */
+    PSB__CORR_CORRECTED, /* before H at that iterate is evaluated (only < 0 counts) */
+    PSB__CORR_REJECTED   /* psb__try_step_from rejected a trial step (last_fail says why) */
+} psb__corr_event;
+typedef struct psb__corr_watch psb__corr_watch;
+struct psb__corr_watch {
+    int (*fn)(psb__corr_watch *w, psb_solver *s, psb__corr_event e, const double *y,
+              const double *t, int sign);
+};
+
+/* Moore-Penrose corrector on internal copies; (y, t) replaced only on convergence. reach > 0:
+   the run gives up once an iterate lies farther than reach from y. watch (may be NULL) sees
+   the run's events (psb__corr_watch). */
+static psb_result psb__correct_run(psb_solver *s, double *y, double *t, double reach,
+                                   psb__corr_watch *watch, int *iterations)
 {
-    int n = s->n_, np1 = s->np1_, it, i;
-    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->work_, corr_prev = 0, res_prev;
+    int n = s->internal_.n, np1 = s->internal_.np1, it, i;
+    double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->internal_.work, corr_prev = 0, res_prev;
     psb_result r;
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "zero tangent");
-    r = psb__residual(s, yc, s->res_);
+    r = psb__residual(s, yc, s->internal_.res);
     if (r != PSB_SUCCESS) return r;
-    res_prev = psb__norm2(s->res_, n);
-    s->conic_ok_ = s->conic_y0_ != NULL && s->conic_armed_;
+    res_prev = psb__norm2(s->internal_.res, n);
+    if (watch) watch->fn(watch, s, PSB__CORR_START, yc, tc, 0);
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res;
-        unsigned long long store_key[2] = {0, 0}, dh_key[2] = {0, 0}; /* dH's hash: once */
-        int cut = 0, by_piece = 0, tc_sign;
+        int cut = 0, tc_sign;
         s->stats.n_newton++;
-        s->pmemo_check_on_ = 0;
-        if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, NULL, store_key, &by_piece);
+        if (watch) cut = watch->fn(watch, s, PSB__CORR_ITERATE, yc, tc, 0);
         if (cut == 0) {
-            r = psb__jacobian(s, yc, s->res_);
+            r = psb__jacobian(s, yc, s->internal_.res);
             if (r != PSB_SUCCESS) return r;
-            if (s->conic_ok_ || (s->path_on_ && !by_piece && psb__jmemo_hashing(s))) psb__jmemo_key(s, dh_key);
-            if (s->conic_y0_) { /* before the memo's cut, which the test may void */
-                int watch = psb__cone_watched(s) &&
-                            psb__dist_w(s, yc, s->conic_y0_) <= 2 * s->branch.h_init;
-                if (s->conic_ok_ || watch) {
-                    double excess = psb__conic_excess(s, s->conic_y0_, yc);
-                    if (s->conic_ok_) s->conic_ok_ = excess <= 1e-6;
-                    if (watch) psb__note_cone_excess(s, excess);
-                }
-            }
-            if (s->path_on_) cut = psb__path_memo_cut(s, yc, tc, dh_key, store_key, &by_piece);
+            if (watch) cut = watch->fn(watch, s, PSB__CORR_JACOBIAN, yc, tc, 0);
         }
         if (cut < 0) return (psb_result)cut;
         if (cut) {
             *iterations = it;
-            s->memo_cuts_++;
-            s->last_fail_ = PSB__FAIL_KNOWN;
+            s->internal_.last_fail = PSB__FAIL_KNOWN;
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
-        for (i = 0; i < np1; i++) row[i] = s->w_[i] * tc[i];
+        for (i = 0; i < np1; i++) row[i] = s->internal_.w[i] * tc[i];
         r = psb__factor_bordered(s, row, NULL);
         if (r != PSB_SUCCESS) return r;
         /* two right-hand sides, one factorisation: [H(y); 0] and [0; 1] */
-        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
-        s->rhs_[n] = 0;
-        memset(s->rhs_ + np1, 0, (size_t)np1 * sizeof(double));
-        s->rhs_[np1 + n] = 1;
-        r = psb__solve_factored(s, s->rhs_, 2);
+        memcpy(s->internal_.rhs, s->internal_.res, (size_t)n * sizeof(double));
+        s->internal_.rhs[n] = 0;
+        memset(s->internal_.rhs + np1, 0, (size_t)np1 * sizeof(double));
+        s->internal_.rhs[np1 + n] = 1;
+        r = psb__solve_factored(s, s->internal_.rhs, 2);
         if (r != PSB_SUCCESS) return r;
         tc_sign = psb__factors_det(s, NULL); /* row.tc = 1: det [dH; (W tc)^T] has det B's sign */
-        if (s->conic_ok_) { /* the point s->branch.h from y0 towards this iterate */
-            double dist = psb__dist_w(s, yc, s->conic_y0_), *pe = PSB__VEC(s, PSB__V_BR_PE);
-            s->conic_ok_ = dist > s->branch.h;
-            for (i = 0; i < np1 && s->conic_ok_; i++)
-                pe[i] = s->conic_y0_[i] + s->branch.h / dist * (yc[i] - s->conic_y0_[i]);
-        }
-        for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
-        psb__copy(tc, s->rhs_ + np1, np1);
-        if (s->corr_reach_ > 0) {
+        if (watch) watch->fn(watch, s, PSB__CORR_SOLVED, yc, tc, tc_sign);
+        for (i = 0; i < np1; i++) yc[i] -= s->internal_.rhs[i];
+        psb__copy(tc, s->internal_.rhs + np1, np1);
+        if (reach > 0) {
             double away = psb__dist_w(s, yc, y);
             /* a non-finite iterate goes on to the fault checks below */
-            if (away > s->corr_reach_ && psb__finite(away)) {
+            if (away > reach && psb__finite(away)) {
                 *iterations = it;
-                s->last_fail_ = PSB__FAIL_CONVERGE;
+                s->internal_.last_fail = PSB__FAIL_CONVERGE;
                 return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector iterate left the step's reach");
             }
         }
         if (!psb__normalize_w(s, tc)) {
-            s->last_fail_ = PSB__FAIL_SINGULAR;
+            s->internal_.last_fail = PSB__FAIL_SINGULAR;
             return psb__fail(s, PSB_ERR_SINGULAR, "corrector tangent vanished");
         }
-        if (s->path_on_ && s->path_n_ < PSB__PATH_MAX)
-            psb__copy(s->path_ + (size_t)s->path_n_++ * (size_t)np1, tc, np1);
-        if ((store_key[0] || store_key[1]) && (!by_piece || psb__pmemo_trusted(s, 0)))
-            psb__jmemo_store(s, store_key, tc, tc_sign);
-        if (s->pmemo_check_on_) {
-            double drift = psb__angle_w(s, tc, PSB__VEC(s, PSB__V_BR_MT));
-            s->pmemo_check_on_ = 0;
-            s->pmemo_checks_++;
-            if (!(drift <= s->pmemo_drift_)) s->pmemo_drift_ = drift; /* NaN: never cuts */
-        }
         *iterations = it;
-        if (s->path_on_ && psb__trial_known(s, tc, s->path_ts_, s->path_nts_, NULL, s->path_own_)) {
-            s->last_fail_ = PSB__FAIL_KNOWN;
+        if (watch && watch->fn(watch, s, PSB__CORR_TANGENT, yc, tc, tc_sign)) {
+            s->internal_.last_fail = PSB__FAIL_KNOWN;
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial's outcome known");
         }
-        corr = psb__norm_w(s, s->rhs_);
-        if (s->conic_ok_) { /* psb__conic_excess's second half */
-            unsigned long long key[2] = {0, 0};
-            r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_PE), NULL);
-            if (psb__is_fatal(r)) return r;
-            if (r == PSB_SUCCESS) psb__jmemo_key(s, key);
-            s->conic_ok_ = r == PSB_SUCCESS && key[0] == dh_key[0] && key[1] == dh_key[1];
+        corr = psb__norm_w(s, s->internal_.rhs);
+        if (watch) {
+            int w = watch->fn(watch, s, PSB__CORR_CORRECTED, yc, tc, 0);
+            if (w < 0) return (psb_result)w;
         }
-        r = psb__residual(s, yc, s->res_);
+        r = psb__residual(s, yc, s->internal_.res);
         if (r != PSB_SUCCESS) return r;
-        res = psb__norm2(s->res_, n);
+        res = psb__norm2(s->internal_.res, n);
         if ((res <= s->opt.tol_residual &&
              (corr <= s->opt.tol_correction ||
               (it > 1 && corr <= 0.5 * corr_prev && corr * corr <= (corr_prev - corr) * s->opt.tol_correction))) ||
             psb__at_rounding(s, corr, res, res_prev)) {
-            /* a residual that vanishes at an overflowed iterate (steps of ~1e300, fuzz_api) is
-               no solution */
+            /* a residual that vanishes at an overflowed iterate (steps of ~1e300) is no
+               solution */
             if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "corrector iterate overflowed");
             psb__copy(y, yc, np1);
             psb__copy(t, tc, np1);
@@ -3707,40 +3032,41 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, int *ite
         corr_prev = corr;
         res_prev = res;
     }
-    s->last_fail_ = PSB__FAIL_CONVERGE;
+    s->internal_.last_fail = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "corrector did not converge in max_iter iterations");
 }
 
 /* The corrector; *iterations (may be NULL) gets the iterations spent, also on failure. A
    singular bordered matrix is geometry when dH has a tangent where it happened (the curve
-   turned across the bordering row: last_fail_ TURN), a fault when it has none (rank < N, or a
-   solver.factor that fails with any row: last_fail_ SINGULAR); the extra tangent costs a
+   turned across the bordering row: last_fail TURN), a fault when it has none (rank < N, or a
+   solver.factor that fails with any row: last_fail SINGULAR); the extra tangent costs a
    factorisation only on that failure. With differences it is never a fault (FD_RANK). */
-static psb_result psb__correct(psb_solver *s, double *y, double *t, int *iterations)
+static psb_result psb__correct(psb_solver *s, double *y, double *t, double reach,
+                               psb__corr_watch *watch, int *iterations)
 {
     int its = 0;
-    psb_result r = psb__correct_run(s, y, t, &its), rt;
+    psb_result r = psb__correct_run(s, y, t, reach, watch, &its), rt;
     if (iterations) *iterations = its;
-    if (r == PSB_SUCCESS) s->n_ok_++;
+    if (r == PSB_SUCCESS) s->internal_.n_ok++;
     if (r != PSB_ERR_SINGULAR) return r;
     if (psb__fd_jacobian(&s->prob)) { /* either way no fault (FD_RANK): spare the test */
-        s->last_fail_ = PSB__FAIL_FD_RANK;
-        s->faults_[3]++;
+        s->internal_.last_fail = PSB__FAIL_FD_RANK;
+        s->internal_.faults[3]++;
         return r;
     }
-    rt = psb__tangent(s, PSB__VEC(s, PSB__V_Y), PSB__VEC(s, PSB__V_T), s->rhs_);
+    rt = psb__tangent(s, PSB__VEC(s, PSB__V_Y), PSB__VEC(s, PSB__V_T), s->internal_.rhs);
     if (rt == PSB_SUCCESS) {
-        s->last_fail_ = PSB__FAIL_TURN;
+        s->internal_.last_fail = PSB__FAIL_TURN;
         return psb__fail(s, PSB_ERR_SINGULAR, "bordered matrix singular: the tangent turned across the bordering row");
     }
-    if (rt == PSB_ERR_SINGULAR) s->last_fail_ = PSB__FAIL_SINGULAR;
+    if (rt == PSB_ERR_SINGULAR) s->internal_.last_fail = PSB__FAIL_SINGULAR;
     return rt;
 }
 
 /* Whether psb__correct's failure r was a fault (psb__is_fault, its SINGULAR told apart). */
 static int psb__correct_fault(const psb_solver *s, psb_result r)
 {
-    return psb__is_fault(r) && s->last_fail_ != PSB__FAIL_TURN && s->last_fail_ != PSB__FAIL_FD_RANK;
+    return psb__is_fault(r) && s->internal_.last_fail != PSB__FAIL_TURN && s->internal_.last_fail != PSB__FAIL_FD_RANK;
 }
 
 /* Whether y1 lies on the line through y0 along t (|cosine| >= c_diff), at most dmax away. */
@@ -3749,7 +3075,7 @@ static int psb__on_ray(psb_solver *s, const double *y0, const double *y1, const 
 {
     double *d = PSB__VEC(s, PSB__V_FD), dn;
     int i;
-    for (i = 0; i < s->np1_; i++) d[i] = y1[i] - y0[i];
+    for (i = 0; i < s->internal_.np1; i++) d[i] = y1[i] - y0[i];
     dn = psb__norm_w(s, d);
     return dn > 0 && dn <= dmax && fabs(psb__dot_w(s, d, t)) >= s->opt.c_diff * dn * psb__norm_w(s, t);
 }
@@ -3759,29 +3085,26 @@ static int psb__on_ray(psb_solver *s, const double *y0, const double *y1, const 
    ray_from (Algorithm 2.2's trials, else NULL): a converged point that fails the jump or the
    cosine test is accepted all the same when it lies, within 8 steps of ray_from, on the line
    through ray_from along its own tangent (|cosine| >= c_diff): a point of a branch leaving
-   ray_from, wherever the corrector found it. */
+   ray_from, wherever the corrector found it. watch (may be NULL) sees each corrector run
+   and each rejection (psb__corr_watch). */
 static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double *h,
-                                    double h_floor, int *iters, const double *ray_from)
+                                    double h_floor, int *iters, const double *ray_from,
+                                    psb__corr_watch *watch)
 {
-    int np1 = s->np1_;
+    int np1 = s->internal_.np1;
     double *yt = PSB__VEC(s, PSB__V_STEP_Y), *tt = PSB__VEC(s, PSB__V_STEP_T), hh = *h;
     psb_result fault = PSB_SUCCESS; /* the first fault among the failed trials */
-    s->last_fail_ = PSB__FAIL_NONE;
-    s->conic_armed_ = 0;
+    s->internal_.last_fail = PSB__FAIL_NONE;
     while (hh >= h_floor) {
         psb_result r;
         psb__axpy_to(yt, y, hh, t, np1);
         psb__copy(tt, t, np1);
         s->stats.n_pc_steps++;
-        s->path_n_ = 0; /* the path of this step alone */
+        if (watch) watch->fn(watch, s, PSB__CORR_STEP, yt, tt, 0);
         /* a step is accepted within hh of its prediction: an iterate 4 hh away is lost (at
-           a kink the corrector hops between pieces' far kernels until max_iter; PL contact,
-           5 nodes: the trace to a branch point 10406 -> 2548 factorisations, the same trials
-           and outcomes). Not for Algorithm 2.2's trials, which accept a landing anywhere on a
-           ray from ray_from */
-        s->corr_reach_ = ray_from ? 0 : 4 * hh;
-        r = psb__correct(s, yt, tt, iters);
-        s->corr_reach_ = 0;
+           a kink the corrector hops between pieces' far kernels until max_iter). Not for
+           Algorithm 2.2's trials, which accept a landing anywhere on a ray from ray_from */
+        r = psb__correct(s, yt, tt, ray_from ? 0 : 4 * hh, watch, iters);
         if (psb__is_fatal(r)) return r;
         if (r == PSB_SUCCESS) {
             /* a corrector that travelled farther than the step jumped to another part of the
@@ -3790,7 +3113,7 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
             int i;
             for (i = 0; i < np1; i++) {
                 double d = yt[i] - y[i] - hh * t[i];
-                jump += s->w_[i] * d * d;
+                jump += s->internal_.w[i] * d * d;
             }
             if ((sqrt(jump) <= hh && psb__cos_w(s, tt, t) >= s->opt.c_min) ||
                 (ray_from && psb__on_ray(s, ray_from, yt, tt, 8 * hh))) {
@@ -3799,23 +3122,17 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
                 *h = hh;
                 return PSB_SUCCESS;
             }
-            s->last_fail_ = PSB__FAIL_COSINE;
+            s->internal_.last_fail = PSB__FAIL_COSINE;
         } else if (fault == PSB_SUCCESS && psb__correct_fault(s, r)) {
             fault = r;
         }
         s->stats.n_rejected++;
         /* a cut trial: a smaller step is the same trial scaled down */
-        if (s->last_fail_ == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
-        /* so is one that failed for the curve's sake on H conic about y0 (psb__try_tangent):
-           no convergence, or the jump or cosine test, where every iterate passed both halves of
-           psb__conic_excess (a turn ends the run before its last iterate's second half) */
-        if (s->conic_y0_ && s->conic_ok_ &&
-            (s->last_fail_ == PSB__FAIL_CONVERGE || s->last_fail_ == PSB__FAIL_COSINE))
+        if (s->internal_.last_fail == PSB__FAIL_KNOWN) return PSB_ERR_NO_CONVERGENCE;
+        /* so is one that the watch knows smaller steps repeat */
+        if (watch && watch->fn(watch, s, PSB__CORR_REJECTED, yt, tt, 0))
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "trial step failed on pieces conic about "
                                                          "the point: smaller steps repeat it");
-        /* the test costs a Jacobian and two hashes per iteration: only for trials that have
-           failed once (most trials land, or are cut, at their first step) */
-        s->conic_armed_ = s->conic_y0_ != NULL;
         hh *= s->opt.h_dec;
     }
     /* a trial that failed because of a fault might have converged: the steps did not run out
@@ -3831,7 +3148,7 @@ static psb_result psb__try_step_from(psb_solver *s, double *y, double *t, double
 static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, double h_floor,
                                 int *iters)
 {
-    return psb__try_step_from(s, y, t, h, h_floor, iters, NULL);
+    return psb__try_step_from(s, y, t, h, h_floor, iters, NULL, NULL);
 }
 
 /* Whether s is an initialised solver (not freed). A non-NULL s that is not gets the message
@@ -3839,7 +3156,7 @@ static psb_result psb__try_step(psb_solver *s, double *y, double *t, double *h, 
 static int psb__ready(psb_solver *s)
 {
     if (!s) return 0;
-    if (s->ready_ == PSB__READY && s->vec_) return 1;
+    if (s->internal_.ready == PSB__READY && s->internal_.vec) return 1;
     psb__fail(s, PSB_ERR_NULL, "solver not initialised (or freed)");
     return 0;
 }
@@ -3849,7 +3166,7 @@ static psb_result psb__check_couple(psb_solver *s, const void *y, const void *t)
     if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
-    if (!psb__all_finite((const double *)y, s->np1_) || !psb__all_finite((const double *)t, s->np1_))
+    if (!psb__all_finite((const double *)y, s->internal_.np1) || !psb__all_finite((const double *)t, s->internal_.np1))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or t contains NaN or Inf");
     {
         double nt = psb__norm_w(s, (const double *)t);
@@ -3867,10 +3184,10 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
     if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
-    if (!psb__all_finite(y, s->np1_)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
+    if (!psb__all_finite(y, s->internal_.np1)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
     if (max_iter > PSB_MAX_ITER_LIMIT) return psb__fail(s, PSB_ERR_INPUT, "max_iter > PSB_MAX_ITER_LIMIT");
-    n = s->n_;
-    np1 = s->np1_;
+    n = s->internal_.n;
+    np1 = s->internal_.np1;
     if (max_iter <= 0) max_iter = 50;
     yc = PSB__VEC(s, PSB__V_Y);
     yt = PSB__VEC(s, PSB__V_T);
@@ -3878,32 +3195,32 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
     memset(row, 0, (size_t)np1 * sizeof *row);
     row[s->prob.param_index] = 1;
     psb__copy(yc, y, np1);
-    r = psb__residual(s, yc, s->res_);
+    r = psb__residual(s, yc, s->internal_.res);
     if (r != PSB_SUCCESS) return r;
-    res = psb__norm2(s->res_, n);
+    res = psb__norm2(s->internal_.res, n);
     for (it = 1; it <= max_iter; it++) {
         double corr, lambda = 1, res_before = res;
         s->stats.n_newton++;
-        r = psb__jacobian(s, yc, s->res_);
+        r = psb__jacobian(s, yc, s->internal_.res);
         if (r != PSB_SUCCESS) return r;
         r = psb__factor_bordered(s, row, NULL);
         if (r != PSB_SUCCESS) return r;
-        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
-        s->rhs_[n] = 0;
-        r = psb__solve_factored(s, s->rhs_, 1);
+        memcpy(s->internal_.rhs, s->internal_.res, (size_t)n * sizeof(double));
+        s->internal_.rhs[n] = 0;
+        r = psb__solve_factored(s, s->internal_.rhs, 1);
         if (r != PSB_SUCCESS) return r;
         /* zero in exact arithmetic (the border row is e_param, its right-hand side 0): an
            iterative user solver's round-off must not move the parameter off its value */
-        s->rhs_[s->prob.param_index] = 0;
-        corr = psb__norm_w(s, s->rhs_);
+        s->internal_.rhs[s->prob.param_index] = 0;
+        corr = psb__norm_w(s, s->internal_.rhs);
         /* backtracking on ||H||: full steps when they reduce it, which is the usual case */
         for (k = 0; k < 12; k++, lambda *= 0.5) {
             double trial;
-            for (i = 0; i < np1; i++) yt[i] = yc[i] - lambda * s->rhs_[i];
-            r = psb__residual(s, yt, s->res2_);
+            for (i = 0; i < np1; i++) yt[i] = yc[i] - lambda * s->internal_.rhs[i];
+            r = psb__residual(s, yt, s->internal_.res2);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) continue;
-            trial = psb__norm2(s->res2_, n);
+            trial = psb__norm2(s->internal_.res2, n);
             if (trial <= (1 - 1e-4 * lambda) * res || k == 11) {
                 res = trial;
                 break;
@@ -3911,7 +3228,7 @@ PSCBRANCH_DEF psb_result psb_solve_at_param(psb_solver *s, double *y, int max_it
         }
         if (r != PSB_SUCCESS) return r;
         psb__copy(yc, yt, np1);
-        memcpy(s->res_, s->res2_, (size_t)n * sizeof(double));
+        memcpy(s->internal_.res, s->internal_.res2, (size_t)n * sizeof(double));
         if ((res <= s->opt.tol_residual || psb__at_rounding(s, lambda * corr, res, res_before)) &&
             lambda * corr <= s->opt.tol_correction) {
             if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "Newton iterate overflowed");
@@ -3929,18 +3246,18 @@ PSCBRANCH_DEF psb_result psb_tangent(psb_solver *s, const double *y, const doubl
     if (!psb__ready(s)) return PSB_ERR_NULL;
     s->message[0] = 0;
     if (!y || !t) return psb__fail(s, PSB_ERR_NULL, "y or t is NULL");
-    if (!psb__all_finite(y, s->np1_) || (ref && !psb__all_finite(ref, s->np1_)))
+    if (!psb__all_finite(y, s->internal_.np1) || (ref && !psb__all_finite(ref, s->internal_.np1)))
         return psb__fail(s, PSB_ERR_NONFINITE, "y or ref contains NaN or Inf");
     r0 = PSB__VEC(s, PSB__V_REF);
     if (ref) {
         if (!(psb__norm_w(s, ref) > 0)) return psb__fail(s, PSB_ERR_INPUT, "ref is zero");
-        psb__copy(r0, ref, s->np1_);
+        psb__copy(r0, ref, s->internal_.np1);
     } else {
-        memset(r0, 0, (size_t)s->np1_ * sizeof *r0);
+        memset(r0, 0, (size_t)s->internal_.np1 * sizeof *r0);
         r0[s->prob.param_index] = 1;
     }
     r = psb__tangent(s, y, r0, PSB__VEC(s, PSB__V_T));
-    if (r == PSB_SUCCESS) psb__copy(t, PSB__VEC(s, PSB__V_T), s->np1_);
+    if (r == PSB_SUCCESS) psb__copy(t, PSB__VEC(s, PSB__V_T), s->internal_.np1);
     return r;
 }
 
@@ -3948,8 +3265,12 @@ PSCBRANCH_DEF psb_result psb_correct(psb_solver *s, double *y, double *t, int *i
 {
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
-    return psb__correct(s, y, t, iterations);
+    return psb__correct(s, y, t, 0, NULL, iterations);
 }
+
+/* ==== Trace and its detectors ===================================================================
+   psb_step, the tangent switch, kinks, folds, bounds, the special-point detectors
+   (psb__detector, the trace's own state) and psb_trace, the driver. */
 
 /* Step size for the next step after a step of size h that took iters corrector iterations. */
 static double psb__adapt(const psb_solver *s, double h, int iters)
@@ -3970,23 +3291,23 @@ PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h
     /* on copies: the caller's couple and h stay as they were unless a step is accepted */
     yc = PSB__VEC(s, PSB__V_IO_Y);
     tc = PSB__VEC(s, PSB__V_IO_T);
-    psb__copy(yc, y, s->np1_);
-    psb__copy(tc, t, s->np1_);
+    psb__copy(yc, y, s->internal_.np1);
+    psb__copy(tc, t, s->internal_.np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     psb__faults_reset(s);
     r = psb__try_step(s, yc, tc, &hh, s->opt.h_min, &iters);
     /* no trial converged and difference Jacobians were singular: a fault when dH(y) has no
        tangent either (rank < N), the curve's when it has (a kink turned the trials across the
        bordering row, as psb__correct tells apart with an analytic Jacobian) */
-    if (r == PSB_ERR_STEP_TOO_SMALL && s->n_ok_ == 0 && s->faults_[3] > 0) {
+    if (r == PSB_ERR_STEP_TOO_SMALL && s->internal_.n_ok == 0 && s->internal_.faults[3] > 0) {
         psb_result rt = psb__tangent(s, y, t, tc);
         if (rt == PSB_ERR_SINGULAR) return psb__faults_code(s, "psb_step");
         if (psb__is_fatal(rt)) return rt;
         return psb__fail(s, r, "no trial step converged down to h_min");
     }
     if (r != PSB_SUCCESS) return r;
-    psb__copy(y, yc, s->np1_);
-    psb__copy(t, tc, s->np1_);
+    psb__copy(y, yc, s->internal_.np1);
+    psb__copy(t, tc, s->internal_.np1);
     *h = psb__adapt(s, hh, iters);
     return r;
 }
@@ -3997,7 +3318,7 @@ PSCBRANCH_DEF psb_result psb_step(psb_solver *s, double *y, double *t, double *h
 static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const double *t_before,
                                   const double *dir, double h_floor)
 {
-    int np1 = s->np1_, sign, iters, i;
+    int np1 = s->internal_.np1, sign, iters, i;
     double *yd = PSB__VEC(s, PSB__V_SW_Y), *td = PSB__VEC(s, PSB__V_SW_T), h;
     psb_result r;
     for (sign = 1; sign >= -1; sign -= 2) {
@@ -4024,17 +3345,15 @@ static psb_result psb__switch_try(psb_solver *s, double *y, double *t, const dou
 /* Whether the switch tries dir: not when it is, to rounding, a direction (either sign) it tried
    among the last PSB__SW_RING of this pass (*n_tried counts them). In a piece every probe's
    tangent is the same, and a try from y along it with a floor at least that try's (the floors
-   only grow within a pass) ends as that try did: a later pass tried 3 switch_n_dir copies of one
-   failing direction in 6 s where the first took 11 ms; at a cluster of kinks on triangle M65536
-   the straight-ahead probes tried one direction 24 times, each halving h from h_init to h_min;
-   in bench_branching's traces to a branch point 43% of the tries repeated one of the pass, 91%
-   of those within the last 8. */
+   only grow within a pass) ends as that try did, and at a cluster of kinks the probes meet the
+   same direction many times, each try halving h from h_init to h_min; most repeats fall
+   within the last 8. */
 static int psb__switch_fresh(psb_solver *s, const double *dir, int *n_tried)
 {
     int k, n = *n_tried < PSB__SW_RING ? *n_tried : PSB__SW_RING;
     for (k = 0; k < n; k++)
         if (fabs(psb__cos_w(s, dir, PSB__VEC(s, PSB__V_SW_L + k))) >= 1 - 1e-9) return 0;
-    psb__copy(PSB__VEC(s, PSB__V_SW_L + *n_tried % PSB__SW_RING), dir, s->np1_);
+    psb__copy(PSB__VEC(s, PSB__V_SW_L + *n_tried % PSB__SW_RING), dir, s->internal_.np1);
     ++*n_tried;
     return 1;
 }
@@ -4046,7 +3365,7 @@ static int psb__switch_fresh(psb_solver *s, const double *dir, int *n_tried)
 static psb_result psb__switch_pass(psb_solver *s, double *y, double *t, const double *t_before,
                                    double c_done, double c_sw)
 {
-    int np1 = s->np1_, i, k, pass, n_tried = 0;
+    int np1 = s->internal_.np1, i, k, pass, n_tried = 0;
     double *dir = PSB__VEC(s, PSB__V_SW_D), *probe = PSB__VEC(s, PSB__V_SW_P);
     double *t1 = PSB__VEC(s, PSB__V_SW_A), *q = PSB__VEC(s, PSB__V_SW_B), delta;
     psb_result r;
@@ -4127,13 +3446,13 @@ PSCBRANCH_DEF psb_result psb_switch_tangent(psb_solver *s, double *y, double *t)
     /* on copies: the caller's couple stays as it was unless the switch succeeds */
     yc = PSB__VEC(s, PSB__V_IO_Y);
     tc = PSB__VEC(s, PSB__V_IO_T);
-    psb__copy(yc, y, s->np1_);
-    psb__copy(tc, t, s->np1_);
+    psb__copy(yc, y, s->internal_.np1);
+    psb__copy(tc, t, s->internal_.np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     r = psb__switch(s, yc, tc, NULL);
     if (r != PSB_SUCCESS) return r;
-    psb__copy(y, yc, s->np1_);
-    psb__copy(t, tc, s->np1_);
+    psb__copy(y, yc, s->internal_.np1);
+    psb__copy(t, tc, s->internal_.np1);
     return r;
 }
 
@@ -4190,7 +3509,7 @@ static double psb__angle_w(const psb_solver *s, const double *a, const double *b
 static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0, const double *t1,
                                double h, double expect)
 {
-    int np1 = s->np1_, iters;
+    int np1 = s->internal_.np1, iters;
     double *ya = PSB__VEC(s, PSB__V_K_YA), *ta = PSB__VEC(s, PSB__V_K_TA);
     double *yt = PSB__VEC(s, PSB__V_K_Y), *tt = PSB__VEC(s, PSB__V_K_T);
     double theta = psb__angle_w(s, t0, t1), hs = 0.5 * h, trial, half_theta;
@@ -4215,8 +3534,7 @@ static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0
         half_theta = psb__angle_w(s, t0, tt);
         if (half_theta >= 0.25 * theta && half_theta <= 0.75 * theta) {
             /* Two kinks, one in each half, give the half step their middle piece's tangent
-               (theta / 2 for equal angles) and went by unseen (a review: x = 0.05 (|g| +
-               |g - 0.05|), no kink reported). A smooth turn grows strictly along the step, so
+               (theta / 2 for equal angles) and would go by unseen. A smooth turn grows strictly along the step, so
                the tangents after a quarter and three quarters of it lie apart from their
                neighbours (t0, the half step's, t1), by theta / 16 or more for turns growing
                like any power s^q of the length with the half step's turn in the band (q in
@@ -4279,8 +3597,7 @@ static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0
        the curvature grows from near 0 across the step (then the half step turns by 1/4 of
        the whole), and a located "kink" on a smooth branch stops a trace before nothing.
        Not with difference quotients: next to a kink they mix its pieces, the step's tangent
-       is off by as much, and the test then passes kinks by (random LCPs, N = 10: 2 of 254
-       entries more ended short of their branching point) */
+       is off by as much, and the test then passes kinks by */
     if (!psb__fd_jacobian(&s->prob)) {
         psb__copy(yt, ya, np1);
         psb__copy(tt, ta, np1);
@@ -4295,14 +3612,13 @@ static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0
 
 /* psb__locate_kink_in for the first kink of the step: the one it locates is where the turn
    from t0 reaches a quarter of the whole, and where the tangent had turned by more than c_diff's
-   angle before it, the stretch from y0 to it is searched again (a review: a four-branch point
-   0.06 before an ordinary kink, in one step; the trace located the far kink only, and the
-   explorer never looked at the point). The located couple is kept in the switch's scratch,
+   angle before it, the stretch from y0 to it is searched again (a branching point just before
+   an ordinary kink, in one step, would otherwise be passed for the far kink). The located couple is kept in the switch's scratch,
    idle here, while the stretch before it is searched. */
 static int psb__locate_kink(psb_solver *s, const double *y0, const double *t0, const double *t1,
                             double h, double expect)
 {
-    int np1 = s->np1_, found = psb__locate_kink_in(s, y0, t0, t1, h, expect), depth, inner;
+    int np1 = s->internal_.np1, found = psb__locate_kink_in(s, y0, t0, t1, h, expect), depth, inner;
     double *ya = PSB__VEC(s, PSB__V_K_YA), *ta = PSB__VEC(s, PSB__V_K_TA);
     double *sy = PSB__VEC(s, PSB__V_SW_A), *st = PSB__VEC(s, PSB__V_SW_B), d;
     for (depth = 0; found == 1 && depth < 8 && psb__cos_w(s, t0, ta) < s->opt.c_diff; depth++) {
@@ -4338,7 +3654,7 @@ static int psb__fold_beyond_bound(const psb_solver *s, const psb_trace_options *
    the chord; on success y1 holds it. */
 static psb_result psb__land_on_bound(psb_solver *s, const double *y0, double *y1, double bound)
 {
-    int p = s->prob.param_index, np1 = s->np1_, i;
+    int p = s->prob.param_index, np1 = s->internal_.np1, i;
     double *yb = PSB__VEC(s, PSB__V_TR_B), frac = (bound - y0[p]) / (y1[p] - y0[p]);
     psb_result r;
     for (i = 0; i < np1; i++) yb[i] = y0[i] + frac * (y1[i] - y0[i]);
@@ -4366,7 +3682,7 @@ typedef struct psb__mon {
 
 static psb_result psb__monitor(psb_solver *s, psb__mon *m)
 {
-    int np1 = s->np1_, i, k;
+    int np1 = s->internal_.np1, i, k;
     double sign = 1, logabs = 0;
     psb_result r;
     if (s->prob.linear == PSB_LINEAR_DENSE) {
@@ -4374,24 +3690,24 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
     } else if (s->prob.linear == PSB_LINEAR_BANDED) {
         /* factors of A + sigma I (A nearly singular) would move a zero of det B by ~sigma: A
            is factored as it is (exactly singular: det B = 0) */
-        if (s->shifted_) {
+        if (s->internal_.shifted) {
             r = psb__band_prepare(s, 0.0);
-            s->shifted_ = 0;
+            s->internal_.shifted = 0;
             if (r == PSB_ERR_SINGULAR) {
-                s->border_ok_ = s->bv_ok_ = 0; /* no usable factors: the next solve refactors */
+                s->internal_.border_ok = s->internal_.bv_ok = 0; /* no usable factors: the next solve refactors */
                 m->sign[0] = m->sign[1] = 1;
                 m->logabs[0] = m->logabs[1] = -700;
                 return PSB_SUCCESS;
             }
             if (r != PSB_SUCCESS) return r;
         }
-        if (!s->border_ok_) {
+        if (!s->internal_.border_ok) {
             r = psb__band_border(s, NULL);
             if (r != PSB_SUCCESS) return r;
         }
         sign = psb__factors_det(s, &logabs);
     } else {
-        double *x = s->rhs_, q[2];
+        double *x = s->internal_.rhs, q[2];
         int attempt;
         for (attempt = 0; attempt < 2; attempt++) { /* a user solver's failure may be passing */
             psb__copy(x, PSB__VEC(s, PSB__V_SP_B1), np1);
@@ -4404,7 +3720,7 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
             return psb__fail(s, PSB_ERR_NONFINITE, "solver.solve gave NaN or Inf");
         for (k = 0; k < 2; k++) {
             const double *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
-            q[k] = s->sp_d_[k];
+            q[k] = s->internal_.sp_d[k];
             for (i = 0; i < np1; i++) q[k] -= c[i] * x[(size_t)k * (size_t)np1 + (size_t)i];
         }
         for (k = 0; k < 2; k++) {
@@ -4429,37 +3745,37 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
 static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const double *base,
                                  const double *dir, double value)
 {
-    int n = s->n_, np1 = s->np1_, it, i;
-    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->work_, res_prev;
+    int n = s->internal_.n, np1 = s->internal_.np1, it, i;
+    double *yc = PSB__VEC(s, PSB__V_Y), *row = s->internal_.work, res_prev;
     psb_result r;
     psb__copy(yc, y, np1);
-    r = psb__residual(s, yc, s->res_);
+    r = psb__residual(s, yc, s->internal_.res);
     if (r != PSB_SUCCESS) return r;
-    res_prev = psb__norm2(s->res_, n);
+    res_prev = psb__norm2(s->internal_.res, n);
     for (it = 1; it <= s->opt.max_iter; it++) {
         double corr, res, g = 0;
         s->stats.n_newton++;
-        r = psb__jacobian(s, yc, s->res_);
+        r = psb__jacobian(s, yc, s->internal_.res);
         if (r != PSB_SUCCESS) return r;
         for (i = 0; i < np1; i++) {
             double d = yc[i] - base[i];
-            row[i] = s->w_[i] * (dir ? dir[i] : d);
+            row[i] = s->internal_.w[i] * (dir ? dir[i] : d);
             g += row[i] * (dir ? d : 0.5 * d);
         }
         g -= dir ? value : 0.5 * value * value;
         r = psb__factor_bordered(s, row, NULL);
         if (r != PSB_SUCCESS) return r;
-        memcpy(s->rhs_, s->res_, (size_t)n * sizeof(double));
-        s->rhs_[n] = g;
-        memset(s->rhs_ + np1, 0, (size_t)np1 * sizeof(double));
-        s->rhs_[np1 + n] = 1;
-        r = psb__solve_factored(s, s->rhs_, 2);
+        memcpy(s->internal_.rhs, s->internal_.res, (size_t)n * sizeof(double));
+        s->internal_.rhs[n] = g;
+        memset(s->internal_.rhs + np1, 0, (size_t)np1 * sizeof(double));
+        s->internal_.rhs[np1 + n] = 1;
+        r = psb__solve_factored(s, s->internal_.rhs, 2);
         if (r != PSB_SUCCESS) return r;
-        for (i = 0; i < np1; i++) yc[i] -= s->rhs_[i];
-        corr = psb_norm_w(s, s->rhs_);
-        r = psb__residual(s, yc, s->res_);
+        for (i = 0; i < np1; i++) yc[i] -= s->internal_.rhs[i];
+        corr = psb_norm_w(s, s->internal_.rhs);
+        r = psb__residual(s, yc, s->internal_.res);
         if (r != PSB_SUCCESS) return r;
-        res = psb__norm2(s->res_, n);
+        res = psb__norm2(s->internal_.res, n);
         /* not on the contraction estimate: the tangent and the test function come from the
            factors at the iterate before the last correction, which must be as small as the
            location's precision */
@@ -4467,9 +3783,9 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
             corr <= s->opt.tol_correction) {
             if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "Newton iterate overflowed");
             if (t) {
-                psb__copy(t, s->rhs_ + np1, np1);
+                psb__copy(t, s->internal_.rhs + np1, np1);
                 if (!psb__normalize_w(s, t)) {
-                    s->last_fail_ = PSB__FAIL_SINGULAR;
+                    s->internal_.last_fail = PSB__FAIL_SINGULAR;
                     return psb__fail(s, PSB_ERR_SINGULAR, "tangent vanished");
                 }
             }
@@ -4478,7 +3794,7 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
         }
         res_prev = res;
     }
-    s->last_fail_ = PSB__FAIL_CONVERGE;
+    s->internal_.last_fail = PSB__FAIL_CONVERGE;
     return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Newton on the constrained system did not converge");
 }
 
@@ -4495,10 +3811,10 @@ typedef struct psb__sp_fn {
 /* A trace's on_point callback, marked as running (psb__trace_busy). */
 static int psb__call_point(psb_solver *s, const psb_trace_options *to, const psb_point *p)
 {
-    int outer = s->in_trace_callback_, rc;
-    s->in_trace_callback_ = 1;
+    int outer = s->internal_.in_trace_callback, rc;
+    s->internal_.in_trace_callback = 1;
     rc = to->on_point(p, to->point_user);
-    s->in_trace_callback_ = outer;
+    s->internal_.in_trace_callback = outer;
     return rc;
 }
 
@@ -4507,7 +3823,7 @@ static int psb__call_point(psb_solver *s, const psb_trace_options *to, const psb
 static psb_result psb__trace_busy(psb_solver *s, const char *what)
 {
     char buf[160];
-    if (!s->in_trace_callback_) return PSB_SUCCESS;
+    if (!s->internal_.in_trace_callback) return PSB_SUCCESS;
     snprintf(buf, sizeof buf, "%s called from a callback of a trace on the same solver (use another solver)", what);
     return psb__fail(s, PSB_ERR_INPUT, buf);
 }
@@ -4515,11 +3831,11 @@ static psb_result psb__trace_busy(psb_solver *s, const char *what)
 static psb_result psb__event_values(psb_solver *s, const psb_trace_options *to, const double *y,
                                     double *g)
 {
-    int outer = s->in_trace_callback_, rc;
+    int outer = s->internal_.in_trace_callback, rc;
     psb_result r;
-    s->in_trace_callback_ = 1;
+    s->internal_.in_trace_callback = 1;
     rc = to->event(y, g, to->event_user);
-    s->in_trace_callback_ = outer;
+    s->internal_.in_trace_callback = outer;
     r = psb__callback_code(s, rc, "event callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
     if (!psb__all_finite(g, (size_t)to->n_events))
@@ -4575,13 +3891,13 @@ static int psb__on_bracket(const psb_solver *s, const double *ya, const double *
 {
     double len = 0, turn = 0, off = 0, tdev = 0, bound;
     int i;
-    for (i = 0; i < s->np1_; i++) {
+    for (i = 0; i < s->internal_.np1; i++) {
         double dy = yb[i] - ya[i], dt = tb[i] - ta[i];
         double ey = ye[i] - ya[i] - lambda * dy, et = te[i] - ta[i] - lambda * dt;
-        len += s->w_[i] * dy * dy;
-        turn += s->w_[i] * dt * dt;
-        off += s->w_[i] * ey * ey;
-        tdev += s->w_[i] * et * et;
+        len += s->internal_.w[i] * dy * dy;
+        turn += s->internal_.w[i] * dt * dt;
+        off += s->internal_.w[i] * ey * ey;
+        tdev += s->internal_.w[i] * et * et;
     }
     bound = 0.5 * sqrt(turn) + 0.05;
     return psb__cos_w(s, te, ta) >= s->opt.c_min && psb__cos_w(s, te, tb) >= s->opt.c_min &&
@@ -4603,7 +3919,7 @@ static psb_result psb__bracket_point(psb_solver *s, const double *y0, const doub
                                      const double *ya, const double *ta, double sb, const double *yb,
                                      const double *tb, int far_b, double *sm, double *ye, double *te)
 {
-    int np1 = s->np1_, k, i, user_singular = 0;
+    int np1 = s->internal_.np1, k, i, user_singular = 0;
     double w = sb - sa, ca = psb_dot_w(s, t0, ta), cb = psb_dot_w(s, t0, tb);
     for (k = 0; k < 12; k++) {
         double l = (*sm - sa) / w, l2 = l * l, l3 = l2 * l, h00, h10, h01, h11;
@@ -4641,13 +3957,13 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
                                      const double *t0, const double *y1, double tol,
                                      double *precision, double *fend_abs, double *f01_abs)
 {
-    int np1 = s->np1_, iter, side = 0, bisect = 0, evals = 0, found = 0, i;
+    int np1 = s->internal_.np1, iter, side = 0, bisect = 0, evals = 0, found = 0, i;
     double *ya = PSB__VEC(s, PSB__V_SP_YA), *ta = PSB__VEC(s, PSB__V_SP_TA);
     double *yb = PSB__VEC(s, PSB__V_SP_YB), *tb = PSB__VEC(s, PSB__V_SP_TB);
     double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
     double sa = 0, sb = 0, fa, fb, ga, gb, width_before = 0;
     psb_result r;
-    for (i = 0; i < np1; i++) sb += s->w_[i] * t0[i] * (y1[i] - y0[i]);
+    for (i = 0; i < np1; i++) sb += s->internal_.w[i] * t0[i] * (y1[i] - y0[i]);
     if (!(sb > 0)) return PSB_NONSMOOTH_END;
     psb__copy(ya, y0, np1);
     r = psb__newton_on(s, ya, ta, y0, t0, 0);
@@ -4734,12 +4050,12 @@ static psb_result psb__locate_change(psb_solver *s, psb__sp_fn *fn, const double
 static psb_result psb__branch_directions(psb_solver *s, const double *y0, const double *t0,
                                          double span)
 {
-    int np1 = s->np1_, i, k, it;
+    int np1 = s->internal_.np1, i, k, it;
     double *ys = PSB__VEC(s, PSB__V_SP_Y), *ts = PSB__VEC(s, PSB__V_SP_T), *ks = PSB__VEC(s, PSB__V_SP_K);
     double *ye = PSB__VEC(s, PSB__V_SP_YE), *te = PSB__VEC(s, PSB__V_SP_TE);
     double *tsum = PSB__VEC(s, PSB__V_SP_TA), *kb = PSB__VEC(s, PSB__V_SP_TB), sstar = 0, delta, c;
     psb_result r = PSB_ERR_SINGULAR;
-    for (i = 0; i < np1; i++) sstar += s->w_[i] * t0[i] * (ys[i] - y0[i]);
+    for (i = 0; i < np1; i++) sstar += s->internal_.w[i] * t0[i] * (ys[i] - y0[i]);
     delta = fmin(1e-5 * span, 0.25 * fmin(sstar, span - sstar));
     memset(tsum, 0, (size_t)np1 * sizeof(double));
     for (k = -1; k <= 1 && delta > 0; k += 2) {
@@ -4757,7 +4073,7 @@ static psb_result psb__branch_directions(psb_solver *s, const double *y0, const 
     if (r != PSB_SUCCESS) return r;
     psb__copy(ts, tsum, np1);
     psb__normalize_w(s, ts);
-    for (i = 0; i < np1; i++) ks[i] = psb__gauss(s->rng_);
+    for (i = 0; i < np1; i++) ks[i] = psb__gauss(s->internal_.rng);
     for (it = 0; it < 2; it++) {
         psb__copy(kb, ks, np1);
         r = psb__solve_factored(s, ks, 1);
@@ -4786,13 +4102,14 @@ typedef struct psb__detector {
 } psb__detector;
 
 /* The test function at (y, t) by a factorisation of its own (start point, bound landing). */
-static psb_result psb__monitor_at(psb_solver *s, const double *y, const double *t, psb__mon *m)
+static psb_result psb__monitor_at(psb_solver *s, const double *y, const double *t, psb__mon *m,
+                                  double fd_cap)
 {
     int i;
-    psb_result r = psb__jacobian(s, y, NULL);
+    psb_result r = psb__jacobian_capped(s, y, NULL, fd_cap);
     if (r != PSB_SUCCESS) return r;
-    for (i = 0; i < s->np1_; i++) s->work_[i] = s->w_[i] * t[i];
-    r = psb__factor_bordered(s, s->work_, NULL);
+    for (i = 0; i < s->internal_.np1; i++) s->internal_.work[i] = s->internal_.w[i] * t[i];
+    r = psb__factor_bordered(s, s->internal_.work, NULL);
     if (r == PSB_SUCCESS && s->prob.linear == PSB_LINEAR_BANDED) r = psb__band_border(s, NULL);
     if (r != PSB_SUCCESS) return r;
     return psb__monitor(s, m);
@@ -4806,17 +4123,17 @@ static psb_result psb__detect_start(psb_solver *s, psb__detector *d, const doubl
     unsigned long long seed = s->opt.seed;
     int k, i;
     psb_result r;
-    for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
+    for (k = 0; k < 4; k++) s->internal_.rng[k] = psb__splitmix(&seed);
     for (k = 0; k < 2; k++) {
         double *b = PSB__VEC(s, k ? PSB__V_SP_B2 : PSB__V_SP_B1), *c = PSB__VEC(s, k ? PSB__V_SP_C2 : PSB__V_SP_C1);
-        for (i = 0; i < s->np1_; i++) b[i] = psb__gauss(s->rng_);
-        for (i = 0; i < s->np1_; i++) c[i] = psb__gauss(s->rng_);
-        s->sp_d_[k] = psb__gauss(s->rng_);
+        for (i = 0; i < s->internal_.np1; i++) b[i] = psb__gauss(s->internal_.rng);
+        for (i = 0; i < s->internal_.np1; i++) c[i] = psb__gauss(s->internal_.rng);
+        s->internal_.sp_d[k] = psb__gauss(s->internal_.rng);
     }
     d->mon_on = (to->detect & (PSB_DETECT_BRANCH | PSB_DETECT_PC1)) != 0;
     d->mon_old_ok = 0;
     if (d->mon_on) {
-        r = psb__monitor_at(s, y, t, &d->mon_old);
+        r = psb__monitor_at(s, y, t, &d->mon_old, 0);
         if (psb__sp_fault(s, r, 1)) return r;
         d->mon_old_ok = r == PSB_SUCCESS;
     }
@@ -4952,7 +4269,7 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
         }
         if (r == PSB_SUCCESS && (detect & PSB_DETECT_BRANCH)) {
             double span = 0;
-            for (k = 0; k < s->np1_; k++) span += s->w_[k] * t0[k] * (y1[k] - y0[k]);
+            for (k = 0; k < s->internal_.np1; k++) span += s->internal_.w[k] * t0[k] * (y1[k] - y0[k]);
             r = psb__branch_directions(s, y0, t0, span);
             if (psb__sp_fault(s, r, 0)) return r;
             psb__special_init(d, PSB_SPECIAL_BRANCH, PSB__VEC(s, PSB__V_SP_Y), PSB__VEC(s, PSB__V_SP_T), p);
@@ -4988,6 +4305,182 @@ static int psb__detect_step(psb_solver *s, psb__detector *d, const double *y0, c
     return 0;
 }
 
+/* The detectors' test function at the accepted couple (y, t), by a factorisation there.
+   Returns PSB_SUCCESS, or the fault or fatal code that ends the trace. */
+static psb_result psb__trace_monitor_at(psb_solver *s, psb__detector *det, const double *y, const double *t)
+{
+    psb_result r = psb__monitor_at(s, y, t, &det->mon_new, 0);
+    if (psb__sp_fault(s, r, 1)) return r;
+    det->mon_new_ok = r == PSB_SUCCESS;
+    return PSB_SUCCESS;
+}
+
+/* A fold between the accepted couples (yold, told) and (yc, tc): t[param] changed sign.
+   Records its estimate in *pt and rep (at a kink reached by the switch, yold's parameter). */
+static void psb__trace_fold(psb_solver *s, psb_trace_report *rep, psb_point *pt, const double *yold,
+                            const double *told, const double *yc, const double *tc)
+{
+    int p = s->prob.param_index;
+    pt->fold_param = 0;
+    if (told[p] * tc[p] >= 0) return;
+    pt->flags |= PSB_POINT_FOLD;
+    pt->fold_param = (pt->flags & PSB_POINT_SWITCH) ? yold[p] : psb__fold_param(s, yold, told, yc, tc);
+    if (rep->n_folds < PSB_MAX_FOLDS) rep->fold_params[rep->n_folds] = pt->fold_param;
+    rep->n_folds++;
+}
+
+/* psb_trace's options, checked against the start y, with max_steps' default, into *opts. */
+static psb_result psb__trace_options(psb_solver *s, const psb_trace_options *to, const double *y,
+                                     psb_trace_options *opts)
+{
+    int p = s->prob.param_index;
+    if (to) *opts = *to;
+    else memset(opts, 0, sizeof *opts);
+    if (opts->max_steps < 0) return psb__fail(s, PSB_ERR_OPTIONS, "trace options: max_steps must be >= 0");
+    if (opts->locate_kinks < 0 || opts->locate_kinks > 2)
+        return psb__fail(s, PSB_ERR_OPTIONS, "trace options: locate_kinks must be 0, 1 or 2");
+    if (opts->max_steps == 0) opts->max_steps = 10000;
+    if (opts->param_min != opts->param_min || opts->param_max != opts->param_max)
+        return psb__fail(s, PSB_ERR_INPUT, "trace options: param_min or param_max is NaN");
+    if (opts->param_min < opts->param_max && (!(y[p] >= opts->param_min) || !(y[p] <= opts->param_max)))
+        return psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
+    if (opts->detect < 0 || opts->detect > PSB_DETECT_ALL || !(opts->locate_tol >= 0) ||
+        !psb__finite(opts->locate_tol))
+        return psb__fail(s, PSB_ERR_OPTIONS, "detect must be a PSB_DETECT_* mask and locate_tol >= 0");
+    if ((opts->detect & PSB_DETECT_PC1) && s->prob.linear == PSB_LINEAR_USER)
+        return psb__fail(s, PSB_ERR_OPTIONS, "PSB_DETECT_PC1 needs the dense or banded backend");
+    if (opts->n_events < 0) return psb__fail(s, PSB_ERR_SIZE, "n_events must be >= 0");
+    if ((opts->detect & PSB_DETECT_EVENTS) && opts->n_events > 0 && (!opts->event || !opts->event_work))
+        return psb__fail(s, PSB_ERR_NULL, "event or event_work is NULL");
+    return PSB_SUCCESS;
+}
+
+/* Reports the kinks of an accepted step from (yold, told) to (yc, tc), the first (kink set)
+   in K_YA/K_TA; with locate_kinks = 2 it searches the rest of the step past each (up to 8),
+   and leaves the first in K_YA/K_TA again for the detectors (TR_KY/TR_KT keep it across the
+   callbacks: a point callback may call psb_switch_tangent, whose scratch SW_* is). Returns 1
+   when the trace ends (rep->end set; (yc, tc) the couple it ends on), else 0. */
+static int psb__trace_kinks(psb_solver *s, const psb_trace_options *opts, psb_trace_report *rep,
+                            int kink, int switched, const double *yold, const double *told,
+                            double *yc, double *tc)
+{
+    int np1 = s->internal_.np1, n_step_kinks, first = kink;
+    psb_result r;
+    for (n_step_kinks = 0; kink; n_step_kinks++) {
+        psb_point kp;
+        double *yp = PSB__VEC(s, PSB__V_SW_C), *tp = PSB__VEC(s, PSB__V_SW_D), hp = 4 * s->opt.h_min;
+        int past_iters;
+        memset(&kp, 0, sizeof kp);
+        kp.y = PSB__VEC(s, PSB__V_K_YA);
+        kp.t = PSB__VEC(s, PSB__V_K_TA);
+        kp.index = rep->steps;
+        kp.flags = PSB_POINT_KINK;
+        rep->n_kinks++;
+        if (opts->on_point && psb__call_point(s, opts, &kp)) {
+            psb__copy(yc, kp.y, np1);
+            psb__copy(tc, kp.t, np1);
+            rep->end = PSB_STOPPED;
+            return 1;
+        }
+        /* a later kink of the same step: the rest of the step is searched from a couple just
+           past this one (the switch's scratch, idle here but in the callback above) */
+        kink = 0;
+        if (opts->locate_kinks < 2 || switched || n_step_kinks >= 7) break;
+        if (n_step_kinks == 0) {
+            psb__copy(PSB__VEC(s, PSB__V_TR_KY), kp.y, np1);
+            psb__copy(PSB__VEC(s, PSB__V_TR_KT), kp.t, np1);
+        }
+        psb__copy(yp, kp.y, np1);
+        psb__copy(tp, kp.t, np1);
+        r = psb__try_step(s, yp, tp, &hp, hp, &past_iters);
+        if (psb__is_fatal(r) || psb__is_fault(r)) {
+            psb__copy(yc, yold, np1);
+            psb__copy(tc, told, np1);
+            rep->end = r;
+            return 1;
+        }
+        if (r == PSB_SUCCESS && psb__cos_w(s, tp, kp.t) < s->opt.c_diff && psb__cos_w(s, tp, tc) < s->opt.c_diff &&
+            psb__dist_w(s, yp, yc) > 4 * s->opt.h_min) {
+            int found = psb__locate_kink(s, yp, tp, tc, psb__dist_w(s, yp, yc), -1);
+            if (found < 0) {
+                psb__copy(yc, yold, np1);
+                psb__copy(tc, told, np1);
+                rep->end = (psb_result)found;
+                return 1;
+            }
+            kink = found;
+        }
+    }
+    if (first && n_step_kinks > 0 && opts->locate_kinks) {
+        psb__copy(PSB__VEC(s, PSB__V_K_YA), PSB__VEC(s, PSB__V_TR_KY), np1);
+        psb__copy(PSB__VEC(s, PSB__V_K_TA), PSB__VEC(s, PSB__V_TR_KT), np1);
+    }
+    return 0;
+}
+
+/* A step from (yold, told) that left the parameter bounds to (yc, tc): lands on the bound it
+   crossed (flags gets PSB_POINT_BOUND), or ends the trace leaving through the bound it
+   started on. Returns 0 (landed), 1 (the trace ends: rep->end set, (yc, tc) the couple it ends
+   on), or 2: (yc, tc) back at yold, to try the shorter step *h (counted in *landings_failed:
+   a tangent switch that crosses the bound again restarts at h_init, so this could loop). */
+static int psb__trace_bound(psb_solver *s, const psb_trace_options *opts, psb_trace_report *rep,
+                            psb__detector *det, const double *yold, const double *told, double *yc,
+                            double *tc, double *h, int *landings_failed, int *flags)
+{
+    int np1 = s->internal_.np1, p = s->prob.param_index;
+    double bound = yc[p] > opts->param_max ? opts->param_max : opts->param_min;
+    psb_result r;
+    if (yold[p] == bound) { /* leaving through the bound we started on */
+        psb__copy(yc, yold, np1);
+        psb__copy(tc, told, np1);
+        rep->end = PSB_PARAM_BOUND;
+        return 1;
+    }
+    r = psb__land_on_bound(s, yold, yc, bound);
+    /* (a singular Newton matrix there is a fold at the bound: a shorter step may land) */
+    if (!psb__is_fatal(r) && r != PSB_ERR_CALLBACK_FAILED && r != PSB_ERR_NONFINITE) {
+        if (r == PSB_SUCCESS) r = psb__tangent(s, yc, tc, tc);
+        if (!psb__is_fatal(r) && !psb__is_fault(r) && r != PSB_SUCCESS) {
+            psb__copy(yc, yold, np1);
+            psb__copy(tc, told, np1);
+            *h *= s->opt.h_dec;
+            if (*h >= s->opt.h_min && ++*landings_failed <= 64) return 2;
+            rep->end = psb__fail(s, PSB_ERR_NO_CONVERGENCE, "could not land on the parameter bound");
+            return 1;
+        }
+    }
+    if (r != PSB_SUCCESS) {
+        psb__copy(yc, yold, np1);
+        psb__copy(tc, told, np1);
+        rep->end = r;
+        return 1;
+    }
+    *flags |= PSB_POINT_BOUND;
+    if (det->mon_on) {
+        r = psb__trace_monitor_at(s, det, yc, tc);
+        if (r != PSB_SUCCESS) {
+            rep->end = r;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Whether the trace closed a loop: its start lies on the last chord (yold, yc) of length seg,
+   and the curve went further than that chord already (travelled). */
+static int psb__trace_loop_closed(psb_solver *s, const double *yold, const double *yc,
+                                  const double *ystart, double seg, double travelled)
+{
+    int i, np1 = s->internal_.np1;
+    double *d = PSB__VEC(s, PSB__V_TR_B), seg2 = seg * seg, proj = 0, dist2 = 0, x;
+    for (i = 0; i < np1; i++) proj += s->internal_.w[i] * (yc[i] - yold[i]) * (ystart[i] - yold[i]);
+    x = seg2 > 0 ? proj / seg2 : -1;
+    if (!(x >= 0 && x <= 1 && travelled > 4 * sqrt(seg2))) return 0;
+    for (i = 0; i < np1; i++) d[i] = yold[i] + x * (yc[i] - yold[i]) - ystart[i];
+    for (i = 0; i < np1; i++) dist2 += s->internal_.w[i] * d[i] * d[i];
+    return dist2 <= 0.0025 * seg2 + s->opt.tol_correction * s->opt.tol_correction;
+}
+
 PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
                                    const psb_trace_options *to, psb_trace_report *rep)
 {
@@ -4995,7 +4488,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     psb_trace_report local;
     psb_point pt;
     psb__detector det;
-    int np1, p, bounded, iters, flags, kink, step_kink, n_step_kinks, just_switched = 0, landings_failed = 0;
+    int np1, p, bounded, iters, flags, kink, step_kink, just_switched = 0, landings_failed = 0;
     double turn_rate = -1; /* the last smooth step's turn per length (-1: none known) */
     double h, h_step = 0, travelled = 0;
     double *yc, *tc, *yold, *told, *ystart, *tkink;
@@ -5005,46 +4498,22 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
     r = psb__check_couple(s, y, t);
     if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_trace");
     if (r != PSB_SUCCESS) return rep->end = r;
-    if (to) opts = *to;
-    else memset(&opts, 0, sizeof opts);
-    if (opts.max_steps < 0) return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "trace options: max_steps must be >= 0");
-    if (opts.locate_kinks < 0 || opts.locate_kinks > 2)
-        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "trace options: locate_kinks must be 0, 1 or 2");
-    if (opts.max_steps == 0) opts.max_steps = 10000;
-    np1 = s->np1_;
+    r = psb__trace_options(s, to, y, &opts);
+    if (r != PSB_SUCCESS) return rep->end = r;
+    np1 = s->internal_.np1;
     p = s->prob.param_index;
-    if (opts.param_min != opts.param_min || opts.param_max != opts.param_max)
-        return rep->end = psb__fail(s, PSB_ERR_INPUT, "trace options: param_min or param_max is NaN");
     bounded = opts.param_min < opts.param_max;
-    if (bounded && (!(y[p] >= opts.param_min) || !(y[p] <= opts.param_max)))
-        return rep->end = psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
-    if (opts.detect < 0 || opts.detect > PSB_DETECT_ALL || !(opts.locate_tol >= 0) ||
-        !psb__finite(opts.locate_tol))
-        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "detect must be a PSB_DETECT_* mask and locate_tol >= 0");
-    if ((opts.detect & PSB_DETECT_PC1) && s->prob.linear == PSB_LINEAR_USER)
-        return rep->end = psb__fail(s, PSB_ERR_OPTIONS, "PSB_DETECT_PC1 needs the dense or banded backend");
-    if (opts.n_events < 0) return rep->end = psb__fail(s, PSB_ERR_SIZE, "n_events must be >= 0");
-    if ((opts.detect & PSB_DETECT_EVENTS) && opts.n_events > 0 && (!opts.event || !opts.event_work))
-        return rep->end = psb__fail(s, PSB_ERR_NULL, "event or event_work is NULL");
-    yc = PSB__VEC(s, PSB__V_TR_Y);
-    tc = PSB__VEC(s, PSB__V_TR_T);
-    yold = PSB__VEC(s, PSB__V_TR_Y0);
-    told = PSB__VEC(s, PSB__V_TR_T0);
-    ystart = PSB__VEC(s, PSB__V_TR_S);
-    tkink = PSB__VEC(s, PSB__V_TR_K);
+    yc = PSB__VEC(s, PSB__V_TR_Y), tc = PSB__VEC(s, PSB__V_TR_T);
+    yold = PSB__VEC(s, PSB__V_TR_Y0), told = PSB__VEC(s, PSB__V_TR_T0);
+    ystart = PSB__VEC(s, PSB__V_TR_S), tkink = PSB__VEC(s, PSB__V_TR_K);
     psb__copy(yc, y, np1);
     psb__copy(tc, t, np1);
     psb__normalize_w(s, tc);
     psb__copy(ystart, yc, np1);
     h = s->opt.h_init;
     memset(&det, 0, sizeof det);
-    det.s = s;
-    det.to = &opts;
-    det.rep = rep;
-    if (opts.detect) {
-        r = psb__detect_start(s, &det, yc, tc);
-        if (r != PSB_SUCCESS) { rep->end = r; goto done; }
-    }
+    det.s = s, det.to = &opts, det.rep = rep;
+    if (opts.detect && (r = psb__detect_start(s, &det, yc, tc)) != PSB_SUCCESS) { rep->end = r; goto done; }
     memset(&pt, 0, sizeof pt);
     pt.y = yc;
     pt.t = tc;
@@ -5064,8 +4533,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             if (opts.no_switch) { rep->end = PSB_NONSMOOTH_END; goto done; }
             r = psb__switch(s, yc, tc, just_switched ? tkink : NULL);
             psb__copy(tkink, told, np1);
-            if (r == PSB_NONSMOOTH_END) { rep->end = r; goto done; }
-            if (r != PSB_SUCCESS) { rep->end = r; goto done; }
+            if (r != PSB_SUCCESS) { rep->end = r; goto done; } /* PSB_NONSMOOTH_END too */
             /* the test function from the factors of the switch step's last corrector iteration */
             flags |= PSB_POINT_SWITCH;
             rep->n_switches++;
@@ -5104,96 +4572,27 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             }
             h = psb__adapt(s, h, iters);
         }
-        step_kink = kink; /* the step's first kink, for the detectors (K_YA/K_TA, kept in TR_KY/TR_KT:
-                             a point callback may call psb_switch_tangent, whose scratch SW_* is) */
-        for (n_step_kinks = 0; kink; n_step_kinks++) {
-            psb_point kp;
-            double *yp = PSB__VEC(s, PSB__V_SW_C), *tp = PSB__VEC(s, PSB__V_SW_D), hp = 4 * s->opt.h_min;
-            int past_iters;
-            memset(&kp, 0, sizeof kp);
-            kp.y = PSB__VEC(s, PSB__V_K_YA);
-            kp.t = PSB__VEC(s, PSB__V_K_TA);
-            kp.index = rep->steps;
-            kp.flags = PSB_POINT_KINK;
-            rep->n_kinks++;
-            if (opts.on_point && psb__call_point(s, &opts, &kp)) {
-                psb__copy(yc, kp.y, np1);
-                psb__copy(tc, kp.t, np1);
-                rep->end = PSB_STOPPED;
-                goto done;
-            }
-            /* A later kink of the same step (a review: two kinks 0.05 apart, one reported):
-               the rest of the step is searched from a couple just past this one (the
-               switch's scratch, idle here but in the callback above) */
-            kink = 0;
-            if (opts.locate_kinks < 2 || (flags & PSB_POINT_SWITCH) || n_step_kinks >= 7) break;
-            if (n_step_kinks == 0) {
-                psb__copy(PSB__VEC(s, PSB__V_TR_KY), kp.y, np1);
-                psb__copy(PSB__VEC(s, PSB__V_TR_KT), kp.t, np1);
-            }
-            psb__copy(yp, kp.y, np1);
-            psb__copy(tp, kp.t, np1);
-            r = psb__try_step(s, yp, tp, &hp, hp, &past_iters);
-            if (psb__is_fatal(r) || psb__is_fault(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
-            if (r == PSB_SUCCESS && psb__cos_w(s, tp, kp.t) < s->opt.c_diff && psb__cos_w(s, tp, tc) < s->opt.c_diff &&
-                psb__dist_w(s, yp, yc) > 4 * s->opt.h_min) {
-                int found = psb__locate_kink(s, yp, tp, tc, psb__dist_w(s, yp, yc), -1);
-                if (found < 0) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = (psb_result)found; goto done; }
-                kink = found;
-            }
-        }
-        if (step_kink && n_step_kinks > 0 && opts.locate_kinks) {
-            psb__copy(PSB__VEC(s, PSB__V_K_YA), PSB__VEC(s, PSB__V_TR_KY), np1);
-            psb__copy(PSB__VEC(s, PSB__V_K_TA), PSB__VEC(s, PSB__V_TR_KT), np1);
-        }
+        step_kink = kink; /* the step's first kink, for the detectors */
+        if (psb__trace_kinks(s, &opts, rep, kink, (flags & PSB_POINT_SWITCH) != 0, yold, told, yc, tc)) goto done;
         /* across a kink the corrector's last factorisation may be at an iterate on the other
            piece: the test function then costs a factorisation at the accepted point */
         if (det.mon_on && ((flags & PSB_POINT_SWITCH) || psb__cos_w(s, told, tc) < s->opt.c_diff)) {
-            r = psb__monitor_at(s, yc, tc, &det.mon_new);
-            if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
-            det.mon_new_ok = r == PSB_SUCCESS;
+            r = psb__trace_monitor_at(s, &det, yc, tc);
+            if (r != PSB_SUCCESS) { rep->end = r; goto done; }
         }
         if (bounded && (yc[p] > opts.param_max || yc[p] < opts.param_min)) {
-            double bound = yc[p] > opts.param_max ? opts.param_max : opts.param_min;
-            if (yold[p] == bound) { /* leaving through the bound we started on */
-                psb__copy(yc, yold, np1);
-                psb__copy(tc, told, np1);
-                rep->end = PSB_PARAM_BOUND;
-                goto done;
-            }
-            r = psb__land_on_bound(s, yold, yc, bound);
-            /* (a singular Newton matrix there is a fold at the bound: a shorter step may land) */
-            if (psb__is_fatal(r) || r == PSB_ERR_CALLBACK_FAILED || r == PSB_ERR_NONFINITE) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
-            if (r == PSB_SUCCESS) r = psb__tangent(s, yc, tc, tc);
-            if (psb__is_fatal(r) || psb__is_fault(r)) { psb__copy(yc, yold, np1); psb__copy(tc, told, np1); rep->end = r; goto done; }
-            if (r != PSB_SUCCESS) {
-                /* land by a shorter step next time; counted, since a tangent switch that
-                   crosses the bound again restarts at h_init (fuzz_api: a loop without end) */
-                psb__copy(yc, yold, np1);
-                psb__copy(tc, told, np1);
-                h *= s->opt.h_dec;
-                if (h < s->opt.h_min || ++landings_failed > 64) { rep->end = psb__fail(s, PSB_ERR_NO_CONVERGENCE, "could not land on the parameter bound"); goto done; }
-                continue;
-            }
-            flags |= PSB_POINT_BOUND;
-            if (det.mon_on) {
-                r = psb__monitor_at(s, yc, tc, &det.mon_new);
-                if (psb__sp_fault(s, r, 1)) { rep->end = r; goto done; }
-                det.mon_new_ok = r == PSB_SUCCESS;
-            }
+            int landed = psb__trace_bound(s, &opts, rep, &det, yold, told, yc, tc, &h, &landings_failed, &flags);
+            if (landed == 1) goto done;
+            if (landed == 2) continue;
         }
         just_switched = (flags & PSB_POINT_SWITCH) != 0;
         landings_failed = 0;
         rep->steps++;
         pt.h = psb__dist_w(s, yold, yc);
         travelled += pt.h;
-        pt.fold_param = 0;
-        if (told[p] * tc[p] < 0) {
-            flags |= PSB_POINT_FOLD;
-            pt.fold_param = (flags & PSB_POINT_SWITCH) ? yold[p] : psb__fold_param(s, yold, told, yc, tc);
-            if (rep->n_folds < PSB_MAX_FOLDS) rep->fold_params[rep->n_folds] = pt.fold_param;
-            rep->n_folds++;
-        }
+        pt.flags = flags;
+        psb__trace_fold(s, rep, &pt, yold, told, yc, tc);
+        flags = pt.flags;
         if (opts.detect) {
             int stop = psb__detect_step(s, &det, yold, told, yc, tc,
                                         (flags & PSB_POINT_SWITCH) ? 2 : step_kink, h_step, rep->steps);
@@ -5209,20 +4608,9 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
         pt.flags = flags;
         if (opts.on_point && psb__call_point(s, &opts, &pt)) { rep->end = PSB_STOPPED; goto done; }
         if (flags & PSB_POINT_BOUND) { rep->end = PSB_PARAM_BOUND; goto done; }
-        if (opts.detect_loop && rep->steps >= 3) {
-            /* the start lies on the last chord, and the curve already went further than it */
-            int i;
-            double *d = PSB__VEC(s, PSB__V_TR_B), seg2 = pt.h * pt.h, proj = 0, dist2 = 0, x;
-            for (i = 0; i < np1; i++) proj += s->w_[i] * (yc[i] - yold[i]) * (ystart[i] - yold[i]);
-            x = seg2 > 0 ? proj / seg2 : -1;
-            if (x >= 0 && x <= 1 && travelled > 4 * sqrt(seg2)) {
-                for (i = 0; i < np1; i++) d[i] = yold[i] + x * (yc[i] - yold[i]) - ystart[i];
-                for (i = 0; i < np1; i++) dist2 += s->w_[i] * d[i] * d[i];
-                if (dist2 <= 0.0025 * seg2 + s->opt.tol_correction * s->opt.tol_correction) {
-                    rep->end = PSB_LOOP_CLOSED;
-                    goto done;
-                }
-            }
+        if (opts.detect_loop && rep->steps >= 3 && psb__trace_loop_closed(s, yold, yc, ystart, pt.h, travelled)) {
+            rep->end = PSB_LOOP_CLOSED;
+            goto done;
         }
     }
     rep->end = PSB_STEP_BUDGET;
@@ -5237,6 +4625,10 @@ done:
     return rep->end;
 }
 
+/* ==== Algorithm 2.1 (psb_locate_end) ============================================================
+   The branching calls' h (psb__branch_h) and Algorithm 2.1: approach the end point of
+   a branch. */
+
 /* Sets s->branch.h (and h_min) for Algorithms 2.1-2.2 at y. With finite differences and h
    left to its default: 10^4 times the largest difference step at y measured in
    the weighted norm, max_j fd_step max(1, |y_j|) sqrt(w_j), within [h_min, h_init / 8 (s->branch)]
@@ -5249,8 +4641,8 @@ static double psb__auto_branch_h(const psb_solver *s, const double *y)
 {
     int j;
     double step = 0, h;
-    for (j = 0; j < s->np1_; j++) {
-        double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->w_[j]);
+    for (j = 0; j < s->internal_.np1; j++) {
+        double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->internal_.w[j]);
         if (sj > step) step = sj;
     }
     h = s->branch.expert.h_fd_steps * step;
@@ -5260,9 +4652,9 @@ static double psb__auto_branch_h(const psb_solver *s, const double *y)
 
 static void psb__branch_h(psb_solver *s, const double *y)
 {
-    if (!s->branch_h_auto_) return;
+    if (!s->internal_.branch_h_auto) return;
     s->branch.h = psb__auto_branch_h(s, y);
-    if (s->branch_h_min_auto_) s->branch.h_min = s->branch.h / 16384.0;
+    if (s->internal_.branch_h_min_auto) s->branch.h_min = s->branch.h / 16384.0;
 }
 
 /* Resolves and checks the branching options of a call into s->branch (left as it was when
@@ -5274,8 +4666,8 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->branch = b;
     /* finite differences and h left at 0: h follows the difference steps at each point */
-    s->branch_h_auto_ = b.h == 0;
-    s->branch_h_min_auto_ = b.h_min == 0;
+    s->internal_.branch_h_auto = b.h == 0;
+    s->internal_.branch_h_min_auto = b.h_min == 0;
     return PSB_SUCCESS;
 }
 
@@ -5295,7 +4687,7 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
    point). */
 static int psb__fd_smooth_stall(psb_solver *s, const double *yc, const double *tin, double *ya, double *ta)
 {
-    int np1 = s->np1_, side, scale, i;
+    int np1 = s->internal_.np1, side, scale, i;
     double *yb = PSB__VEC(s, PSB__V_BR_P), *tb = PSB__VEC(s, PSB__V_BR_Q), *ub = PSB__VEC(s, PSB__V_BR_V);
     double d = 32 * s->opt.tol_correction / sqrt(2 * (1 - s->opt.c_diff)), agree = 1 - 0.25 * (1 - s->opt.c_diff);
     for (scale = 0; scale < 2; scale++) {
@@ -5308,14 +4700,14 @@ static int psb__fd_smooth_stall(psb_solver *s, const double *yc, const double *t
             psb__axpy_to(yp, yc, side * delta, tin, np1);
             psb__copy(tp, tin, np1);
             s->stats.n_pc_steps++;
-            r = psb__correct(s, yp, tp, NULL);
+            r = psb__correct(s, yp, tp, 0, NULL, NULL);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS && psb__correct_fault(s, r)) { /* the test cannot tell: no success */
                 psb__note_fault(s, r);
                 return psb__faults_code(s, "Algorithm 2.1, the chords through the end point");
             }
             along = 0;
-            for (i = 0; i < np1; i++) along += s->w_[i] * (yp[i] - yc[i]) * tin[i];
+            for (i = 0; i < np1; i++) along += s->internal_.w[i] * (yp[i] - yc[i]) * tin[i];
             converged = r == PSB_SUCCESS && side * along >= 0.5 * delta;
         }
         if (!converged) continue;
@@ -5337,7 +4729,7 @@ static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *p
     double h, *yc, *tc, *yt, *tt, *tin;
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     yc = PSB__VEC(s, PSB__V_BR_Y0);
     tc = PSB__VEC(s, PSB__V_BR_T0);
     yt = PSB__VEC(s, PSB__V_BR_Y);
@@ -5361,7 +4753,7 @@ follow:
             psb__axpy_to(yt, yc, h, tc, np1);
             psb__copy(tt, tc, np1);
             s->stats.n_pc_steps++;
-            r = psb__correct(s, yt, tt, NULL);
+            r = psb__correct(s, yt, tt, 0, NULL, NULL);
             if (psb__is_fatal(r)) return r;
             /* a fault at the last trial leaves the end point unlocated (one that a later trial
                outlived cost nothing: the same h is tried again after every move) */
@@ -5376,7 +4768,7 @@ follow:
             if (moved) {
                 double ahead = 0;
                 int i;
-                for (i = 0; i < np1; i++) ahead += s->w_[i] * (yt[i] - yc[i]) * tc[i];
+                for (i = 0; i < np1; i++) ahead += s->internal_.w[i] * (yt[i] - yc[i]) * tc[i];
                 moved = ahead >= 0.5 * h;
             }
             /* a step that fails the entering tangent's test alone: the branch goes on,
@@ -5432,13 +4824,13 @@ follow:
             psb__axpy_to(yt, yc, -back, tc, np1);
             psb__copy(tt, tc, np1);
             s->stats.n_pc_steps++;
-            r = psb__correct(s, yt, tt, NULL);
+            r = psb__correct(s, yt, tt, 0, NULL, NULL);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS && psb__correct_fault(s, r)) {
                 psb__note_fault(s, r);
                 return psb__faults_code(s, "Algorithm 2.1, the tangent behind the end point");
             }
-            for (i = 0; i < np1; i++) behind += s->w_[i] * (yc[i] - yt[i]) * tc[i];
+            for (i = 0; i < np1; i++) behind += s->internal_.w[i] * (yc[i] - yt[i]) * tc[i];
             repaired = r == PSB_SUCCESS && behind >= 0.5 * back && psb__cos_w(s, tt, tc) >= s->opt.c_min;
         }
         if (!repaired)
@@ -5452,6 +4844,18 @@ follow:
     s->message[0] = 0;
     return PSB_SUCCESS;
 }
+
+PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
+                                        const psb_branch_options *bo, double *precision)
+{
+    psb_result r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__locate_end(s, y, t, precision) : r;
+}
+
+/* ==== Algorithm 2.2 (psb_find_branches) =========================================================
+   Every branch leaving a nonsmooth point, with its working state in psb__sweep_state
+   (memos, cone test, sweep bookkeeping), passed down as an argument. */
 
 /* splitmix64 seeds xoshiro256**: a small, fast generator with a fixed, portable sequence. */
 static unsigned long long psb__splitmix(unsigned long long *x)
@@ -5527,19 +4931,19 @@ static void psb__jmemo_key(const psb_solver *s, unsigned long long *key)
     key[0] = 0xcbf29ce484222325ull;
     key[1] = 0;
     if (s->prob.linear == PSB_LINEAR_DENSE) {
-        psb__hash_doubles(s->jac_, (size_t)s->n_ * (size_t)s->np1_, key);
+        psb__hash_doubles(s->internal_.jac, (size_t)s->internal_.n * (size_t)s->internal_.np1, key);
     } else {
-        psb__hash_doubles(s->band_, (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->n_, key);
-        psb__hash_doubles(s->dparam_, (size_t)s->n_, key);
+        psb__hash_doubles(s->internal_.band, (size_t)(s->prob.kl + s->prob.ku + 1) * (size_t)s->internal_.n, key);
+        psb__hash_doubles(s->internal_.dparam, (size_t)s->internal_.n, key);
     }
 }
 
 /* The Jacobian memo's entry with this key, or -1. */
-static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
+static int psb__jmemo_find(const psb__sweep_state *sw, const unsigned long long *key)
 {
-    int m, stored = s->jmemo_n_ < s->memo_cap_ ? s->jmemo_n_ : s->memo_cap_;
+    int m, stored = sw->jmemo_n < sw->memo_cap ? sw->jmemo_n : sw->memo_cap;
     for (m = 0; m < stored; m++)
-        if (s->jmemo_key_[2 * m] == key[0] && s->jmemo_key_[2 * m + 1] == key[1]) return m;
+        if (sw->jmemo_key[2 * m] == key[0] && sw->jmemo_key[2 * m + 1] == key[1]) return m;
     return -1;
 }
 
@@ -5547,16 +4951,16 @@ static int psb__jmemo_find(const psb_solver *s, const unsigned long long *key)
    its tangent oriented by ref in t, 0 when there is none or ref is (nearly) orthogonal to it
    (then the orientation is the computed tangent's, psb__tangent_from_jacobian, not a sign of
    the dot product). */
-static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const double *ref, double *t, int *m)
+static int psb__jmemo_get(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *ref, double *t, int *m)
 {
-    int i, np1 = s->np1_;
+    int i, np1 = s->internal_.np1;
     const double *tm;
     double dot;
-    *m = psb__jmemo_find(s, key);
-    s->jmemo_looks_++;
-    s->jmemo_hits_ += *m >= 0;
+    *m = psb__jmemo_find(sw, key);
+    sw->jmemo_looks++;
+    sw->jmemo_hits += *m >= 0;
     if (*m < 0) return 0;
-    tm = s->jmemo_t_ + (size_t)*m * (size_t)np1;
+    tm = sw->jmemo_t + (size_t)*m * (size_t)np1;
     dot = psb__dot_w(s, tm, ref);
     if (!(fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, ref))) return 0;
     for (i = 0; i < np1; i++) t[i] = dot < 0 ? -tm[i] : tm[i];
@@ -5565,26 +4969,28 @@ static int psb__jmemo_get(psb_solver *s, const unsigned long long *key, const do
 
 /* Stores the unit tangent t and its outward sign (0: not known) under key (the oldest entry
    makes room when the memo is full). */
-static void psb__jmemo_store(psb_solver *s, const unsigned long long *key, const double *t, int sign)
+static void psb__jmemo_store(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *t, int sign)
 {
-    int m = s->jmemo_n_ % s->memo_cap_;
-    s->jmemo_key_[2 * m] = key[0];
-    s->jmemo_key_[2 * m + 1] = key[1];
-    s->jmemo_sign_[m] = (signed char)sign;
-    psb__copy(s->jmemo_t_ + (size_t)m * (size_t)s->np1_, t, s->np1_);
-    s->jmemo_n_++;
+    int m = sw->jmemo_n % sw->memo_cap;
+    sw->jmemo_key[2 * m] = key[0];
+    sw->jmemo_key[2 * m + 1] = key[1];
+    sw->jmemo_sign[m] = (signed char)sign;
+    psb__copy(sw->jmemo_t + (size_t)m * (size_t)s->internal_.np1, t, s->internal_.np1);
+    sw->jmemo_n++;
 }
 
 /* Whether the memo keys by dH's hash: it can (analytic dH, dense or banded), and it pays. A
    memo that rarely hits (sample points mostly in pieces of their own, as on the block) costs a
    hash per tangent for nothing: after 64 look-ups in a call, it needs a hit in 8. */
-static int psb__jmemo_hashing(const psb_solver *s)
+static int psb__jmemo_hashing(const psb__sweep_state *sw)
 {
-    return s->jmemo_dh_ && !(s->jmemo_looks_ >= 64 && 8 * s->jmemo_hits_ < s->jmemo_looks_);
+    return sw->jmemo_dh && !(sw->jmemo_looks >= 64 && 8 * sw->jmemo_hits < sw->jmemo_looks);
 }
 
 /* The memo's key of the piece at y (problem.piece, set), *known 0 when the callback knows no
    id there (> 0). */
+
+/* The piece id of y from problem.piece, as a memo key (*known 0: the callback named none). */
 static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long long *key, int *known)
 {
     int rc = s->prob.piece(y, key, s->prob.user);
@@ -5595,33 +5001,264 @@ static psb_result psb__piece_key(psb_solver *s, const double *y, unsigned long l
     return PSB_SUCCESS;
 }
 
+static int psb__trial_known(const psb_solver *s, const psb__sweep_state *sw, const double *x,
+                            const double *ts, int n_ts, const double *done, int own);
+
+/* An Algorithm 2.2 trial's watch on the corrector (psb__try_tangent): it records the tangents
+   of the trial's iterates (path), cuts the trial once one of them is a tangent whose trial is
+   known (psb__path_memo_cut, psb__trial_known), stores the tangents it computes in the
+   Jacobian memo, and, with y0 set, runs the conic test (psb__conic_excess): every iterate of
+   a run on pieces conic about y0, which makes a trial that failed there fail at every smaller
+   step as well. */
+typedef struct psb__trial_watch {
+    psb__corr_watch base;
+    psb__sweep_state *sw; /* the run's memos (psb_find_branches) */
+    const double *ts;  /* the found branches' tangents, nts of them */
+    int nts, own;      /* and the trial's own known entry (-1: none), for the cut */
+    const double *y0;  /* the point for the conic test (NULL: none) */
+    int conic_ok;      /* every iterate of the current run passed the conic test */
+    int armed;         /* the test runs: a step of the trial was rejected already */
+    int path_n;        /* tangents recorded in sw->path for the current step */
+    unsigned long long store_key[2], dh_key[2]; /* the current iterate's memo key, dH's hash */
+    int by_piece;      /* store_key is a piece id */
+    int pmemo_check;   /* the next tangent is compared with the piece memo's (BR_MT) */
+} psb__trial_watch;
+
+/* Whether a piece's tangent may decide (psb__path_memo_cut): the memo's pieces checked that
+   many times and found nearly linear. */
+static int psb__pmemo_trusted(const psb_solver *s, const psb__sweep_state *sw, int checks)
+{
+    return sw->pmemo_checks >= checks && sw->pmemo_drift <= acos(s->opt.c_diff) / 8;
+}
+
+/* The memo's cut of an Algorithm 2.2 trial (watched by tw) at its corrector iterate y, bordered by
+   t: the tangent this iteration would compute is the unit kernel of dH(y), oriented by t, and
+   Algorithm 2.2's memo (psb__sample_tangent) may hold it already, keyed by y's piece id
+   (before dH is formed, dh_key NULL; *by_piece set when the callback gave one) or by dH's
+   hash (dh_key, of the dH just formed; *by_piece as the first call left it). If that
+   tangent's trial is known, the corrector's cut (psb__correct_run) applies without the
+   factorisation. As with sample tangents, the memo's tangent only decides this skip.
+   A dH hash gives the tangent of the same dH. A piece id gives one from another point of the
+   piece, which is the tangent here only where H is nearly linear across the piece; on a curved
+   piece the wrong verdict can cost a branch. So a piece's tangent decides a cut only after the memo has met
+   4 tangents computed at trial iterates of pieces it held, and found them all within an
+   eighth of c_diff's angle of its own (pmemo_drift, measured by the corrector).
+   key gets the key under which the corrector stores the tangent it computes (zero when there
+   is none or the memo holds it).
+   Returns 1 (cut), 0, or a fatal or fault code from the piece callback (< 0). */
+static int psb__path_memo_cut(psb_solver *s, psb__sweep_state *sw, psb__trial_watch *tw, const double *y, const double *t,
+                              const unsigned long long *dh_key)
+{
+    unsigned long long *key = tw->store_key;
+    int *by_piece = &tw->by_piece;
+    int m, got;
+    double *x = PSB__VEC(s, PSB__V_BR_MT);
+    if (!dh_key) {
+        psb_result r;
+        key[0] = key[1] = 0;
+        *by_piece = 0;
+        if (!s->prob.piece) return 0;
+        r = psb__piece_key(s, y, key, by_piece);
+        if (r != PSB_SUCCESS) return r;
+        if (!*by_piece) return 0;
+    } else {
+        if (*by_piece || !psb__jmemo_hashing(sw)) return 0;
+        key[0] = dh_key[0];
+        key[1] = dh_key[1];
+    }
+    got = psb__jmemo_get(s, sw, key, t, x, &m);
+    if (m >= 0) key[0] = key[1] = 0; /* held already: nothing to store */
+    if (!got) return 0;
+    if (*by_piece && !psb__pmemo_trusted(s, sw, 4)) {
+        tw->pmemo_check = 1; /* no cut yet: the watch compares the next tangent with x */
+        return 0;
+    }
+    return psb__trial_known(s, sw, x, tw->ts, tw->nts, NULL, tw->own);
+}
+
+/* How far from cones about y0 Algorithm 2.2's trials may see H before the run is made again
+   with a smaller h_init (psb__find_branches): a landing point's chord from y0 against its
+   tangent (radians), or an iterate's psb__conic_excess. */
+#define PSB__CHORD_TURN 0.05
+
+/* Whether Algorithm 2.2's run still watches for H off the cones about y0 (cone_defect): H(y0)
+   is held, the evidence is not in yet, and a rerun could still follow (h_init / 16 stays above
+   8 h, psb__find_branches). */
+static int psb__cone_watched(const psb_solver *s, const psb__sweep_state *sw)
+{
+    return sw->conic_h0_ok && sw->cone_defect <= PSB__CHORD_TURN &&
+           s->branch.h_init / 16 >= 8 * s->branch.h;
+}
+
+/* Records an excess of psb__conic_excess in cone_defect (HUGE_VAL, no scale, tells nothing). */
+static void psb__note_cone_excess(psb__sweep_state *sw, double excess)
+{
+    if (excess > sw->cone_defect && excess < HUGE_VAL) sw->cone_defect = excess;
+}
+
+/* How far H is from affine through y0 at a point y of an Algorithm 2.2 trial whose dH(y) was
+   just formed and H(y) is in res: the largest row error of H(y) = H(y0) + dH(y) (y - y0)
+   beyond rounding (1024 eps times the terms' magnitudes |dH| (|y| + |y0|) + |H(y)| +
+   |H(y0)|), relative to the step's own scale max_i (|dH| |y - y0|)_i; HUGE_VAL for NaN, or
+   for an error where the step has no scale. The conic test of the trials
+   (psb__try_tangent), first half, asks at most 10^-6: y0 lies within Algorithm 2.1's
+   precision of the kink, not on it, and its pieces' affine maps meet there to that order;
+   Algorithm 2.2's rerun asks more (psb__cone_tolerance). The conic test's second half
+   (psb__correct_run, with dH(y)'s hash): dH is the same, bit for bit, at the point of the
+   segment from y0 to y at distance s->branch.h from y0. Pieces of a
+   piecewise-linear H are polyhedra, convex where one selection of its affine parts holds, so
+   the whole segment then lies in y's piece, and a run scaled towards y0 meets the same dH and
+   the same H scaled: the same run. */
+static double psb__conic_excess(const psb_solver *s, const double *y0, const double *y)
+{
+    int n = s->internal_.n, np1 = s->internal_.np1, i, j;
+    const double *h0 = PSB__VEC(s, PSB__V_BR_H0);
+    double excess = 0, step = 0; /* the largest row error beyond rounding, and row size */
+    for (i = 0; i < n; i++) {
+        double sum = 0, size = 0, scale = fabs(s->internal_.res[i]) + fabs(h0[i]);
+        if (s->prob.linear == PSB_LINEAR_DENSE) {
+            for (j = 0; j < np1; j++) {
+                double a = s->internal_.jac[(size_t)i + (size_t)j * (size_t)n];
+                sum += a * (y[j] - y0[j]);
+                size += fabs(a * (y[j] - y0[j]));
+                scale += fabs(a) * (fabs(y[j]) + fabs(y0[j]));
+            }
+        } else {
+            int kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, p = s->prob.param_index;
+            int lo = i - kl > 0 ? i - kl : 0, hi = i + ku < n - 1 ? i + ku : n - 1;
+            for (j = lo; j <= hi; j++) { /* state column j is y component j, or j + 1 past p */
+                int c = j < p ? j : j + 1;
+                double a = s->internal_.band[PSB_BAND_INDEX(ku, ld, i, j)];
+                sum += a * (y[c] - y0[c]);
+                size += fabs(a * (y[c] - y0[c]));
+                scale += fabs(a) * (fabs(y[c]) + fabs(y0[c]));
+            }
+            sum += s->internal_.dparam[i] * (y[p] - y0[p]);
+            size += fabs(s->internal_.dparam[i] * (y[p] - y0[p]));
+            scale += fabs(s->internal_.dparam[i]) * (fabs(y[p]) + fabs(y0[p]));
+        }
+        sum = fabs(s->internal_.res[i] - h0[i] - sum) - 1024 * DBL_EPSILON * scale;
+        if (isnan(sum)) return HUGE_VAL;
+        if (sum > excess) excess = sum;
+        if (size > step) step = size;
+    }
+    return step > 0 ? excess / step : excess > 0 ? HUGE_VAL : 0;
+}
+
+
+static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_event e,
+                               const double *y, const double *t, int sign)
+{
+    psb__trial_watch *tw = (psb__trial_watch *)(void *)w;
+    psb__sweep_state *sw = tw->sw;
+    int np1 = s->internal_.np1, i, cut = 0;
+    switch (e) {
+    case PSB__CORR_STEP:
+        tw->path_n = 0; /* the path of this step alone */
+        return 0;
+    case PSB__CORR_START:
+        tw->conic_ok = tw->y0 != NULL && tw->armed;
+        return 0;
+    case PSB__CORR_ITERATE:
+        tw->pmemo_check = 0;
+        tw->store_key[0] = tw->store_key[1] = tw->dh_key[0] = tw->dh_key[1] = 0;
+        tw->by_piece = 0;
+        cut = psb__path_memo_cut(s, sw, tw, y, t, NULL);
+        break;
+    case PSB__CORR_JACOBIAN:
+        if (tw->conic_ok || (!tw->by_piece && psb__jmemo_hashing(sw))) psb__jmemo_key(s, tw->dh_key);
+        if (tw->y0) { /* before the memo's cut, which the test may void */
+            int watch = psb__cone_watched(s, sw) && psb__dist_w(s, y, tw->y0) <= 2 * s->branch.h_init;
+            if (tw->conic_ok || watch) {
+                double excess = psb__conic_excess(s, tw->y0, y);
+                if (tw->conic_ok) tw->conic_ok = excess <= 1e-6;
+                if (watch) psb__note_cone_excess(sw, excess);
+            }
+        }
+        cut = psb__path_memo_cut(s, sw, tw, y, t, tw->dh_key);
+        break;
+    case PSB__CORR_SOLVED:
+        if (tw->conic_ok) { /* the point s->branch.h from y0 towards this iterate */
+            double dist = psb__dist_w(s, y, tw->y0), *pe = PSB__VEC(s, PSB__V_BR_PE);
+            tw->conic_ok = dist > s->branch.h;
+            for (i = 0; i < np1 && tw->conic_ok; i++)
+                pe[i] = tw->y0[i] + s->branch.h / dist * (y[i] - tw->y0[i]);
+        }
+        return 0;
+    case PSB__CORR_TANGENT:
+        if (tw->path_n < PSB__PATH_MAX)
+            psb__copy(sw->path + (size_t)tw->path_n++ * (size_t)np1, t, np1);
+        if ((tw->store_key[0] || tw->store_key[1]) && (!tw->by_piece || psb__pmemo_trusted(s, sw, 0)))
+            psb__jmemo_store(s, sw, tw->store_key, t, sign);
+        if (tw->pmemo_check) {
+            double drift = psb__angle_w(s, t, PSB__VEC(s, PSB__V_BR_MT));
+            tw->pmemo_check = 0;
+            sw->pmemo_checks++;
+            if (!(drift <= sw->pmemo_drift)) sw->pmemo_drift = drift; /* NaN: never cuts */
+        }
+        return psb__trial_known(s, sw, t, tw->ts, tw->nts, NULL, tw->own);
+    case PSB__CORR_CORRECTED:
+        if (tw->conic_ok) { /* psb__conic_excess's second half */
+            unsigned long long key[2] = {0, 0};
+            psb_result r = psb__jacobian(s, PSB__VEC(s, PSB__V_BR_PE), NULL);
+            if (psb__is_fatal(r)) return r;
+            if (r == PSB_SUCCESS) psb__jmemo_key(s, key);
+            tw->conic_ok = r == PSB_SUCCESS && key[0] == tw->dh_key[0] && key[1] == tw->dh_key[1];
+        }
+        return 0;
+    case PSB__CORR_REJECTED:
+        /* a trial that failed for the curve's sake on H conic about y0: no convergence, or
+           the jump or cosine test, where every iterate passed both halves of the conic test
+           (a turn ends the run before its last iterate's second half) */
+        if (tw->y0 && tw->conic_ok &&
+            (s->internal_.last_fail == PSB__FAIL_CONVERGE || s->internal_.last_fail == PSB__FAIL_COSINE))
+            return 1;
+        /* the test costs a Jacobian and two hashes per iteration: only for trials that have
+           failed once (most trials land, or are cut, at their first step) */
+        tw->armed = tw->y0 != NULL;
+        return 0;
+    }
+    if (cut > 0) sw->memo_cuts++;
+    return cut;
+}
+
+/* A watch for a trial of the run sw from y0 (conic test with y0; NULL: none) that cuts on the found
+   branches' tangents ts (nts of them) and the trial's own known entry own (-1: none). */
+static void psb__trial_watch_init(psb__trial_watch *tw, psb__sweep_state *sw, const double *ts,
+                                  int nts, int own, const double *y0)
+{
+    memset(tw, 0, sizeof *tw);
+    tw->base.fn = psb__trial_watch_fn;
+    tw->sw = sw;
+    tw->ts = ts;
+    tw->nts = nts;
+    tw->own = own;
+    tw->y0 = y0;
+}
+
 /* The tangent at sample point pt, formed there (difference steps below s->branch.h / 1000). */
 static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const double *ref, double *t)
 {
-    psb_result r;
-    s->fd_cap_ = 1e-3 * s->branch.h;
-    r = psb__tangent(s, pt, ref, t);
-    s->fd_cap_ = 0;
-    return r;
+    return psb__tangent_capped(s, pt, ref, t, 1e-3 * s->branch.h);
 }
 
 /* Records psb__conic_excess at p, the screening point of an Algorithm 2.2 trial from
-   s->cone_probe_ (y0), in cone_defect_; dH(p) was just formed (psb__sample_tangent). The
+   y0 (NULL: nothing to do), in cone_defect; dH(p) was just formed (psb__sample_tangent). The
    screen takes the tangent at p for the trial's, which holds on cones about y0 alone, and p
-   may lie beyond a kink that the trial's own iterates never meet (kinks 2e-3 from y0,
-   h_init 1e-2: 2 of 4 branches, every trial cut). Only while the run watches
+   may lie beyond a kink that the trial's own iterates never meet (a kink nearer y0 than
+   h_init: branches lost, every trial cut). Only while the run watches
    (psb__cone_watched). It costs H(p). Returns PSB_SUCCESS or a fatal code; a fault is noted. */
-static psb_result psb__probe_cone(psb_solver *s, const double *p)
+static psb_result psb__probe_cone(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *p)
 {
     psb_result r;
-    if (!s->cone_probe_ || !psb__cone_watched(s)) return PSB_SUCCESS;
-    r = psb__residual(s, p, s->res_);
+    if (!y0 || !psb__cone_watched(s, sw)) return PSB_SUCCESS;
+    r = psb__residual(s, p, s->internal_.res);
     if (r != PSB_SUCCESS) {
         if (psb__is_fatal(r)) return r;
         psb__note_fault(s, r);
         return PSB_SUCCESS;
     }
-    psb__note_cone_excess(s, psb__conic_excess(s, s->cone_probe_, p));
+    psb__note_cone_excess(sw, psb__conic_excess(s, y0, p));
     return PSB_SUCCESS;
 }
 
@@ -5647,8 +5284,8 @@ static psb_result psb__probe_cone(psb_solver *s, const double *p)
    problems where Algorithm 2.2 can tell branches apart at all; the skips it decides are
    those of the tangent at the first point, and a tangent that goes on to be used is computed
    at its own point. */
-static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const double *ref, double *t,
-                                      int *from_memo)
+static psb_result psb__sample_tangent(psb_solver *s, psb__sweep_state *sw, const double *pt, const double *ref, double *t,
+                                      int *from_memo, const double *cone_y0)
 {
     psb_result r;
     unsigned long long key[2];
@@ -5658,23 +5295,23 @@ static psb_result psb__sample_tangent(psb_solver *s, const double *pt, const dou
         r = psb__piece_key(s, pt, key, &by_piece);
         if (r != PSB_SUCCESS) return r;
     }
-    if (!by_piece && !psb__jmemo_hashing(s)) return psb__sample_tangent_at(s, pt, ref, t);
+    if (!by_piece && !psb__jmemo_hashing(sw)) return psb__sample_tangent_at(s, pt, ref, t);
     if (!by_piece) {
         s->stats.n_tangents++;
         r = psb__jacobian(s, pt, NULL);
         if (r != PSB_SUCCESS) return r;
         psb__jmemo_key(s, key);
-        r = psb__probe_cone(s, pt);
+        r = psb__probe_cone(s, sw, cone_y0, pt);
         if (r != PSB_SUCCESS) return r;
     }
-    if (psb__jmemo_get(s, key, ref, t, &m) && from_memo) {
+    if (psb__jmemo_get(s, sw, key, ref, t, &m) && from_memo) {
         s->stats.n_tangent_reused++;
-        s->n_ok_++;
+        s->internal_.n_ok++;
         *from_memo = by_piece ? 2 : 1;
         return PSB_SUCCESS;
     }
     r = by_piece ? psb__sample_tangent_at(s, pt, ref, t) : psb__tangent_from_jacobian(s, ref, t);
-    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, key, t, s->tangent_sign_);
+    if (r == PSB_SUCCESS && m < 0) psb__jmemo_store(s, sw, key, t, s->internal_.tangent_sign);
     return r;
 }
 
@@ -5690,49 +5327,49 @@ static psb_result psb__sample_refresh(psb_solver *s, int from_memo, const double
 }
 
 /* Whether t is within c_diff of a tangent tried before in this call (the memo). */
-static int psb__memo_seen(const psb_solver *s, const double *t)
+static int psb__memo_seen(const psb_solver *s, const psb__sweep_state *sw, const double *t)
 {
-    int m, stored = s->memo_n_ < s->memo_cap_ ? s->memo_n_ : s->memo_cap_;
+    int m, stored = sw->memo_n < sw->memo_cap ? sw->memo_n : sw->memo_cap;
     double nt = psb__norm_w(s, t);
     for (m = 0; m < stored; m++)
-        if (fabs(psb__cos_w_na(s, t, nt, s->memo_ + (size_t)m * (size_t)s->np1_)) >= s->opt.c_diff) return 1;
+        if (fabs(psb__cos_w_na(s, t, nt, sw->memo + (size_t)m * (size_t)s->internal_.np1)) >= s->opt.c_diff) return 1;
     return 0;
 }
 
 /* Whether a trial along the unit direction x would repeat one whose outcome is known: x is
    within c_diff of a found branch's tangent (the trial lands on that branch), of a direction
-   whose trial was made (known_, entry `own` left out: -1 or the trial asking), of `done` (NULL
+   whose trial was made (known, entry `own` left out: -1 or the trial asking), of `done` (NULL
    or the current tangent's sign already handled), or, either way round, of a tangent handled
-   before (memo_). */
-static int psb__trial_known(const psb_solver *s, const double *x, const double *ts, int n_ts,
+   before (memo). */
+static int psb__trial_known(const psb_solver *s, const psb__sweep_state *sw, const double *x, const double *ts, int n_ts,
                             const double *done, int own)
 {
-    int m, np1 = s->np1_, stored = s->known_n_ < s->memo_cap_ ? s->known_n_ : s->memo_cap_;
+    int m, np1 = s->internal_.np1, stored = sw->known_n < sw->memo_cap ? sw->known_n : sw->memo_cap;
     double nx = psb__norm_w(s, x);
     for (m = 0; m < n_ts; m++)
         if (psb__cos_w_na(s, x, nx, ts + (size_t)m * (size_t)np1) >= s->opt.c_diff) return 1;
     for (m = 0; m < stored; m++)
-        if (m != own && psb__cos_w_na(s, x, nx, s->known_ + (size_t)m * (size_t)np1) >= s->opt.c_diff)
+        if (m != own && psb__cos_w_na(s, x, nx, sw->known + (size_t)m * (size_t)np1) >= s->opt.c_diff)
             return 1;
     if (done && psb__cos_w_na(s, x, nx, done) >= s->opt.c_diff) return 1;
-    return psb__memo_seen(s, x);
+    return psb__memo_seen(s, sw, x);
 }
 
-/* Adds x to one of psb_find_branches' stores (memo_ or known_, *count entries so far); when
+/* Adds x to one of psb_find_branches' stores (memo or known, *count entries so far); when
    full, the oldest entry makes room. */
-static void psb__store_add(const psb_solver *s, double *store, int *count, const double *x)
+static void psb__store_add(const psb_solver *s, const psb__sweep_state *sw, double *store, int *count, const double *x)
 {
-    psb__copy(store + (size_t)(*count % s->memo_cap_) * (size_t)s->np1_, x, s->np1_);
+    psb__copy(store + (size_t)(*count % sw->memo_cap) * (size_t)s->internal_.np1, x, s->internal_.np1);
     (*count)++;
 }
 
 /* The faults counted so far into a branching report. */
 static void psb__report_faults(const psb_solver *s, psb_branch_report *rep)
 {
-    rep->n_failed_callback = s->faults_[0];
-    rep->n_failed_nonfinite = s->faults_[1];
-    rep->n_failed_singular = s->faults_[2];
-    rep->n_failed = s->faults_[0] + s->faults_[1] + s->faults_[2];
+    rep->n_failed_callback = s->internal_.faults[0];
+    rep->n_failed_nonfinite = s->internal_.faults[1];
+    rep->n_failed_singular = s->internal_.faults[2];
+    rep->n_failed = s->internal_.faults[0] + s->internal_.faults[1] + s->internal_.faults[2];
 }
 
 /* The angle between t and the chord from y0 to y (at distance d > 0), whose unit vector goes
@@ -5741,7 +5378,7 @@ static double psb__chord_angle(const psb_solver *s, const double *y0, const doub
                                const double *t, double *c)
 {
     int k;
-    for (k = 0; k < s->np1_; k++) c[k] = (y[k] - y0[k]) / d;
+    for (k = 0; k < s->internal_.np1; k++) c[k] = (y[k] - y0[k]) / d;
     return psb__angle_w(s, c, t);
 }
 
@@ -5760,7 +5397,7 @@ static double psb__chord_angle(const psb_solver *s, const double *y0, const doub
 static int psb__same_curved_branch(psb_solver *s, const double *y0, const double *yb, const double *tb,
                                    const double *ysj, const double *tsj)
 {
-    int np1 = s->np1_, k;
+    int np1 = s->internal_.np1, k;
     double *z = PSB__VEC(s, PSB__V_BR_S), d = psb__dist_w(s, yb, y0), dj = psb__dist_w(s, ysj, y0);
     double a_b, a_j = 0;
     psb_result r;
@@ -5800,39 +5437,38 @@ static int psb__same_curved_branch(psb_solver *s, const double *y0, const double
    factorisation, stands for the trial: when k's trial is known (psb__trial_known) the trial is
    skipped (report.n_screened), otherwise the trial is made along k and k remembered, and so
    are the tangents of its corrector iterations when it lands (the same argument, iteration
-   by iteration). On smooth pieces the argument holds to O(h). Block M800, Tables 1-2
-   settings: same spans and branches, n_pc 14-49% lower, factorisations 19-29%. */
-static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double *tt,
+   by iteration). On smooth pieces the argument holds to O(h); the figures are in
+   docs/branching-notes.md. */
+static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *tt,
                                    int max_branches, double *ys, double *ts,
                                    psb_branch_report *rep, int *overflow)
 {
-    int np1 = s->np1_, k, sign, iters, cut, from_memo;
+    int np1 = s->internal_.np1, k, sign, iters, cut, from_memo, own, watched;
     long memo_cuts;
+    psb__trial_watch tw;
     double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
     double *pk = PSB__VEC(s, PSB__V_BR_S), *kx = PSB__VEC(s, PSB__V_BR_K);
     psb_result r;
     /* the trials from y0 along +-tt depend on y0 and tt alone: a tangent within c_diff of one
        tried before in this call (any span) repeats its trials and their verdict */
-    if (!s->branch.expert.no_memo && psb__memo_seen(s, tt)) {
+    if (!s->branch.expert.no_memo && psb__memo_seen(s, sw, tt)) {
         rep->n_memo++;
         return PSB_SUCCESS;
     }
     for (sign = 1; sign >= -1; sign -= 2) {
         double hh = s->branch.h_init, dotp, dist, turn;
         int j, is_new = 1;
-        s->path_own_ = -1;
+        own = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
         if (!s->branch.expert.no_screen) {
             psb__axpy_to(pk, y0, hh, tb, np1);
             rep->n_tangents++;
-            s->cone_probe_ = y0;
-            r = psb__sample_tangent(s, pk, tb, kx, &from_memo);
-            s->cone_probe_ = NULL;
+            r = psb__sample_tangent(s, sw, pk, tb, kx, &from_memo, y0);
             if (psb__is_fatal(r)) return r;
             /* no tangent at p (singular there): the trial along tb as printed */
             if (r == PSB_SUCCESS) {
-                if (psb__trial_known(s, kx, ts, rep->n_branches, sign < 0 ? tt : NULL, -1)) {
+                if (psb__trial_known(s, sw, kx, ts, rep->n_branches, sign < 0 ? tt : NULL, -1)) {
                     rep->n_screened++;
                     continue;
                 }
@@ -5842,8 +5478,8 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
                 }
             }
             if (r == PSB_SUCCESS) {
-                s->path_own_ = s->known_n_ % s->memo_cap_;
-                psb__store_add(s, s->known_, &s->known_n_, kx);
+                own = sw->known_n % sw->memo_cap;
+                psb__store_add(s, sw, sw->known, &sw->known_n, kx);
                 psb__copy(tb, kx, np1);
             }
         }
@@ -5851,33 +5487,30 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         rep->n_pc++;
         /* not with finite differences: the corrector's quotients (steps not held below
            branch_h / 1000 as at sample points) can mix the pieces at its iterates, and
-           recorded their paths cost complete sets (random LCPs, N = 8: 196 of 236, not 214) */
-        s->path_on_ = !s->branch.expert.no_screen && !psb__fd_jacobian(&s->prob);
-        s->path_ts_ = ts;
-        s->path_nts_ = rep->n_branches;
-        s->conic_y0_ = s->path_on_ && s->conic_h0_ok_ ? y0 : NULL;
-        memo_cuts = s->memo_cuts_;
-        r = psb__try_step_from(s, yb, tb, &hh, s->branch.expert.trial_h_min, &iters, y0);
-        rep->n_cut_memo += s->memo_cuts_ - memo_cuts;
-        s->path_on_ = 0;
-        s->conic_y0_ = NULL;
+           recorded paths then cost branches */
+        watched = !s->branch.expert.no_screen && !psb__fd_jacobian(&s->prob);
+        psb__trial_watch_init(&tw, sw, ts, rep->n_branches, own, sw->conic_h0_ok ? y0 : NULL);
+        memo_cuts = sw->memo_cuts;
+        r = psb__try_step_from(s, yb, tb, &hh, s->branch.expert.trial_h_min, &iters, y0,
+                               watched ? &tw.base : NULL);
+        rep->n_cut_memo += sw->memo_cuts - memo_cuts;
         if (psb__is_fatal(r)) return r;
         if (psb__note_fault(s, r)) continue;
         /* cut at iteration i: the trial is then a trial along k_i scaled up, whose outcome is
            known (k_i passes the screen): it lands on a found branch, or repeats a trial made
            before, which found no branch that is not known now; having spent i iterations it
            can do no better. Nor can the trials along its k_j, j < i: they are known too */
-        cut = r != PSB_SUCCESS && s->last_fail_ == PSB__FAIL_KNOWN;
+        cut = r != PSB_SUCCESS && s->internal_.last_fail == PSB__FAIL_KNOWN;
         rep->n_cut += cut;
         if (r != PSB_SUCCESS && !cut) continue;
         /* after iteration i the trial is in the state a trial along its tangent k_i starts
            in, scaled up: that trial would land on the same ray, sooner and nearer, so the
            k_i of a trial that landed or was cut are known too (a failed trial's are not: with
            i more iterations to spare the trial along k_i might converge) */
-        for (j = 0; j < s->path_n_; j++) {
-            const double *ki = s->path_ + (size_t)j * (size_t)np1;
-            if (!psb__trial_known(s, ki, ts, rep->n_branches, NULL, -1))
-                psb__store_add(s, s->known_, &s->known_n_, ki);
+        for (j = 0; watched && j < tw.path_n; j++) {
+            const double *ki = sw->path + (size_t)j * (size_t)np1;
+            if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1))
+                psb__store_add(s, sw, sw->known, &sw->known_n, ki);
         }
         if (cut) continue;
         /* a point closer to y0 than the sampling distance h tells nothing reliable about the
@@ -5886,12 +5519,12 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         if (dist < s->branch.h) continue;
         /* Step 5(i): orient away from the point */
         dotp = 0;
-        for (k = 0; k < np1; k++) dotp += s->w_[k] * tb[k] * (yb[k] - y0[k]);
+        for (k = 0; k < np1; k++) dotp += s->internal_.w[k] * tb[k] * (yb[k] - y0[k]);
         if (dotp < 0)
             for (k = 0; k < np1; k++) tb[k] = -tb[k];
         turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
-        if (turn > s->chord_turn_max_) s->chord_turn_max_ = turn;
-        if (turn < s->chord_turn_min_) s->chord_turn_min_ = turn;
+        if (turn > sw->chord_turn_max) sw->chord_turn_max = turn;
+        if (turn < sw->chord_turn_min) sw->chord_turn_min = turn;
         /* Step 5(ii): a new branch unless it is within c_diff of a known one */
         for (j = 0; j < rep->n_branches; j++)
             if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
@@ -5910,7 +5543,7 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
         psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
         rep->n_branches++;
     }
-    if (!s->branch.expert.no_memo) psb__store_add(s, s->memo_, &s->memo_n_, tt);
+    if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);
     return PSB_SUCCESS;
 }
 
@@ -5919,14 +5552,14 @@ static psb_result psb__try_tangent(psb_solver *s, const double *y0, const double
    and its tangent lies along t (on a piece of a piecewise-linear H it is t's, up to
    orientation; on a smooth piece near y0 nearly so, and the sign holds short of a fold).
    *sign 0 otherwise. Returns PSB_SUCCESS or a fatal code (a failing evaluation tells nothing). */
-static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t, int *sign)
+static psb_result psb__memo_sign(psb_solver *s, psb__sweep_state *sw, const double *p, const double *t, int *sign)
 {
     unsigned long long key[2];
-    int m, known = 0, np1 = s->np1_;
+    int m, known = 0, np1 = s->internal_.np1;
     double dot;
     psb_result r;
     *sign = 0;
-    if (s->jmemo_n_ == 0) return PSB_SUCCESS;
+    if (sw->jmemo_n == 0) return PSB_SUCCESS;
     if (s->prob.piece) {
         r = psb__piece_key(s, p, key, &known);
         if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
@@ -5937,29 +5570,29 @@ static psb_result psb__memo_sign(psb_solver *s, const double *p, const double *t
         if (r != PSB_SUCCESS) return psb__is_fatal(r) ? r : PSB_SUCCESS;
         psb__jmemo_key(s, key);
     }
-    m = psb__jmemo_find(s, key);
-    if (m < 0 || !s->jmemo_sign_[m]) return PSB_SUCCESS;
-    dot = psb__cos_w(s, s->jmemo_t_ + (size_t)m * (size_t)np1, t);
-    if (fabs(dot) >= s->opt.c_diff) *sign = dot > 0 ? s->jmemo_sign_[m] : -s->jmemo_sign_[m];
+    m = psb__jmemo_find(sw, key);
+    if (m < 0 || !sw->jmemo_sign[m]) return PSB_SUCCESS;
+    dot = psb__cos_w(s, sw->jmemo_t + (size_t)m * (size_t)np1, t);
+    if (fabs(dot) >= s->opt.c_diff) *sign = dot > 0 ? sw->jmemo_sign[m] : -sw->jmemo_sign[m];
     return PSB_SUCCESS;
 }
 
 /* Whether the branches found (ys, ts: outward tangents, branch 0 the incoming one, ys[0] = y0)
    cannot be all of them: an odd count (section 6, "An odd count"), or an even one whose
    outward signs sgn det [dH; (W t)^T] do not add up to 0, as those of a complete set do
-   (section 6, PC1). Dense and banded backends: each branch's sign once (branch_sign_), at its
+   (section 6, PC1). Dense and banded backends: each branch's sign once (branch_sign), at its
    landing point (branch 0's on its tangent, as far from y0 as branch 1's): from the memo where
    the point's piece or dH has an entry of known sign (psb__memo_sign), else by a bordered
    factorisation there, difference steps as at sample points. Where a sign cannot be told
    (user backend, over 64 branches, a failing evaluation or factorisation) the count alone
    decides. A fatal code goes to *fatal (and 0 is returned). */
-static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, int n_branches,
+static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys, const double *ts, int n_branches,
                            psb_result *fatal)
 {
-    int np1 = s->np1_, j, sum = 0;
+    int np1 = s->internal_.np1, j, sum = 0;
     if (n_branches % 2 != 0) return 1;
-    if (s->prob.linear == PSB_LINEAR_USER || n_branches > 64 || s->branch_signs_n_ < 0) return 0;
-    for (j = s->branch_signs_n_; j < n_branches; j++) {
+    if (s->prob.linear == PSB_LINEAR_USER || n_branches > 64 || sw->branch_signs_n < 0) return 0;
+    for (j = sw->branch_signs_n; j < n_branches; j++) {
         const double *tj = ts + (size_t)j * (size_t)np1, *p = ys + (size_t)j * (size_t)np1;
         psb__mon m;
         psb_result r;
@@ -5969,37 +5602,35 @@ static int psb__unbalanced(psb_solver *s, const double *ys, const double *ts, in
             psb__axpy_to(q, ys, d > 0 ? d : s->branch.h, tj, np1);
             p = q;
         }
-        s->fd_cap_ = 1e-3 * s->branch.h;
-        r = psb__memo_sign(s, p, tj, &sign);
-        if (r == PSB_SUCCESS && !sign) {
-            r = psb__monitor_at(s, p, tj, &m);
+        r = psb__memo_sign(s, sw, p, tj, &sign);
+        if (r == PSB_SUCCESS && !sign) { /* difference steps below h / 1000, as at sample points */
+            r = psb__monitor_at(s, p, tj, &m, 1e-3 * s->branch.h);
             /* banded factors of an exactly singular A tell no sign (psb__monitor's -700) */
             if (r == PSB_SUCCESS && !(m.logabs[0] > -700)) r = PSB_ERR_SINGULAR;
             if (r == PSB_SUCCESS) sign = m.sign[0] < 0 ? -1 : 1;
         }
-        s->fd_cap_ = 0;
         if (psb__is_fatal(r)) {
             *fatal = r;
             return 0;
         }
         s->message[0] = 0; /* a failed look-up or factorisation here tells nothing */
         if (r != PSB_SUCCESS) {
-            s->branch_signs_n_ = -1; /* no verdict: the count's */
+            sw->branch_signs_n = -1; /* no verdict: the count's */
             return 0;
         }
-        s->branch_sign_[j] = (signed char)sign;
-        s->branch_signs_n_ = j + 1;
+        sw->branch_sign[j] = (signed char)sign;
+        sw->branch_signs_n = j + 1;
     }
-    for (j = 0; j < n_branches; j++) sum += s->branch_sign_[j];
+    for (j = 0; j < n_branches; j++) sum += sw->branch_sign[j];
     return sum != 0;
 }
 
 /* One span of Algorithm 2.2 (Steps 2-7) with the spanning tangents t1, t2. */
-static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, const double *t2,
+static psb_result psb__sweep(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t1, const double *t2,
                              int max_branches, double *ys, double *ts, psb_branch_report *rep,
                              int *overflow)
 {
-    int np1 = s->np1_, i, k, from_memo, n_dir = s->sweep_n_dir_ ? s->sweep_n_dir_ : s->branch.n_dir;
+    int np1 = s->internal_.np1, i, k, from_memo, n_dir = sw->sweep_n_dir ? sw->sweep_n_dir : s->branch.n_dir;
     double *v = PSB__VEC(s, PSB__V_BR_V), *tt = PSB__VEC(s, PSB__V_BR_TT);
     double *tprev = PSB__VEC(s, PSB__V_BR_TP), *pt = PSB__VEC(s, PSB__V_BR_P);
     double h = s->branch.h, *q = PSB__VEC(s, PSB__V_BR_Q);
@@ -6015,12 +5646,12 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
     for (i = 0; i < n_dir; i++) {
-        double alpha = 6.283185307179586 * (i + s->sweep_offset_) / n_dir;
+        double alpha = 6.283185307179586 * (i + sw->sweep_offset) / n_dir;
         for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
         if (!psb__normalize_w(s, v)) continue;
         psb__axpy_to(pt, y0, h, v, np1);
         rep->n_tangents++;
-        r = psb__sample_tangent(s, pt, v, tt, &from_memo);
+        r = psb__sample_tangent(s, sw, pt, v, tt, &from_memo, NULL);
         if (psb__is_fatal(r)) return r;
         if (r != PSB_SUCCESS) {
             psb__note_fault(s, r);
@@ -6030,7 +5661,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
         if (i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
         /* a tangent tried before is skipped by psb__try_tangent; one that will be tried is
            the recomputed one (psb__sample_tangent) */
-        if (from_memo && (s->branch.expert.no_memo || !psb__memo_seen(s, tt))) {
+        if (from_memo && (s->branch.expert.no_memo || !psb__memo_seen(s, sw, tt))) {
             r = psb__sample_refresh(s, from_memo, pt, v, tt);
             if (psb__is_fatal(r)) return r;
             if (r != PSB_SUCCESS) {
@@ -6039,7 +5670,7 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
             }
         }
         psb__copy(tprev, tt, np1);
-        r = psb__try_tangent(s, y0, tt, max_branches, ys, ts, rep, overflow);
+        r = psb__try_tangent(s, sw, y0, tt, max_branches, ys, ts, rep, overflow);
         if (r != PSB_SUCCESS) return r;
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
     }
@@ -6049,18 +5680,18 @@ static psb_result psb__sweep(psb_solver *s, const double *y0, const double *t1, 
 /* Section 3, strategy (1): the next pair (i, j), i < j, of the found branches ts (n_br) to
    span a sweep, each once, among the first 64 (their 2016 pairs outlast any sweep with
    n_span < 250); 0 when all were swept. Orthogonalised sweep: the smallest |cosine| first;
-   printed sweep: the largest first (section 6, "Order of the pairs"); ties in the order
+   printed sweep: the largest first (section 6, "Restarts"); ties in the order
    (0,1), (0,2), (1,2), (0,3), ... */
-static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, int *pj)
+static int psb__next_pair(psb_solver *s, psb__sweep_state *sw, const double *ts, int n_br, int *pi, int *pj)
 {
-    int i, j, np1 = s->np1_, nb = n_br < 64 ? n_br : 64;
+    int i, j, np1 = s->internal_.np1, nb = n_br < 64 ? n_br : 64;
     double best = -1;
     *pi = -1;
     for (j = 1; j < nb; j++)
         for (i = 0; i < j; i++) {
             int bit = j * (j - 1) / 2 + i;
             double c;
-            if (s->pairs_done_[bit / 64] >> (bit % 64) & 1u) continue;
+            if (sw->pairs_done[bit / 64] >> (bit % 64) & 1u) continue;
             c = fabs(psb__cos_w(s, ts + (size_t)i * (size_t)np1, ts + (size_t)j * (size_t)np1));
             if (!s->branch.expert.paper_sweep) c = 1 - c;
             if (c > best) {
@@ -6071,7 +5702,7 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
         }
     if (*pi < 0) return 0;
     i = *pj * (*pj - 1) / 2 + *pi;
-    s->pairs_done_[i / 64] |= 1ull << (i % 64);
+    sw->pairs_done[i / 64] |= 1ull << (i % 64);
     return 1;
 }
 
@@ -6079,7 +5710,7 @@ static int psb__next_pair(psb_solver *s, const double *ts, int n_br, int *pi, in
    y0 + h r, r uniformly random; else at y0 + h (d + 0.1 r) for the d returned. Remark 2.3(ii)
    perturbs the previous t~2 (prev) and keeps t~1: PSB_RESTART_PAPER. Uniform draws reach
    regions no span found so far comes near, but rarely the thin ones beside found branches
-   (section 6, "Random spans"), so PSB_RESTART_MIXED alternates them, uniform first, with
+   (section 6, "Restarts"), so PSB_RESTART_MIXED alternates them, uniform first, with
    perturbations of the found branches' tangents ts (n_br) in turn, each spanned with t~1 = it. */
 static const double *psb__restart_centre(const psb_solver *s, const double *ts, int n_br, int n_rand,
                                          const double *prev, double *t1)
@@ -6087,7 +5718,7 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
     if (s->branch.expert.restart == PSB_RESTART_GLOBAL || (s->branch.expert.restart == PSB_RESTART_MIXED && n_rand % 2 == 0))
         return NULL;
     if (s->branch.expert.restart == PSB_RESTART_PAPER) return prev;
-    psb__copy(t1, ts + (size_t)(n_rand / 2 % n_br) * (size_t)s->np1_, s->np1_);
+    psb__copy(t1, ts + (size_t)(n_rand / 2 % n_br) * (size_t)s->internal_.np1, s->internal_.np1);
     return t1;
 }
 
@@ -6103,7 +5734,7 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
    bound the tangents spent.
    Idle spans of pairs count in neither: each is followed by a random span, so they are
    bounded by those, and counted they ended the sweep on the crossing kinks, k = 5, before
-   its random spans had found every ray (section 6, "Idle spans").
+   its random spans had found every ray (section 6, "Sweep length").
    n_span left at its default (memo on): the sweep goes on past n_span until it has gone
    twice as many counted spans without a new branch as it took to find the last one, up
    to 4 n_span counted spans (section 6, "Sweep length": where regions are thin, branches
@@ -6112,30 +5743,31 @@ static const double *psb__restart_centre(const psb_solver *s, const double *ts, 
    transversal the branches come in pairs, so one is missing).
    dense: the count stayed odd (psb__odd_sweeps): the spans again, pairs first (span 0 too),
    while the count is odd, up to n_span counted spans. Returns PSB_SUCCESS or a fatal code. */
-static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, double *ts,
+static psb_result psb__span_loop(psb_solver *s, psb__sweep_state *sw, const double *y0, int max_branches,
+                                 double *ys, double *ts,
                                  psb_branch_report *rep, int *overflow, int dense)
 {
-    int np1 = s->np1_, k, span, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
+    int np1 = s->internal_.np1, k, span, global, found_before, idle = 0, pair_span = 0, pair_stale = 0;
     int idle_spans_in_a_row = 0, idle_pair_spans = 0, extend, spans_in_all, pi, pj;
     int counted_before = rep->n_span;
     long pc_before;
-    double *yc = PSB__VEC(s, PSB__V_BR_Y0), *t1 = PSB__VEC(s, PSB__V_BR_T1);
+    double *t1 = PSB__VEC(s, PSB__V_BR_T1);
     double *t2 = PSB__VEC(s, PSB__V_BR_T2), *pt = PSB__VEC(s, PSB__V_BR_P);
     psb_result r, fatal = PSB_SUCCESS;
     extend = s->branch.n_span_max > s->branch.n_span;
     spans_in_all = 4 * s->branch.n_span > 2 * s->branch.n_span_max ? 4 * s->branch.n_span : 2 * s->branch.n_span_max;
     if (dense) spans_in_all = 4 * s->branch.n_span;
     for (span = 0; (dense ? rep->n_span - counted_before < s->branch.n_span &&
-                                psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)
+                                psb__unbalanced(s, sw, ys, ts, rep->n_branches, &fatal)
                           : rep->n_span < s->branch.n_span ||
                                 (extend && rep->n_span < s->branch.n_span_max &&
                                  (rep->n_span < 3 * rep->span_last_new ||
-                                  psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)))) &&
+                                  psb__unbalanced(s, sw, ys, ts, rep->n_branches, &fatal)))) &&
                    span - idle_pair_spans < spans_in_all; span++) {
         found_before = rep->n_branches;
         pc_before = rep->n_pc;
         if (span > 0 || dense) {
-            pair_span = !pair_stale && psb__next_pair(s, ts, rep->n_branches, &pi, &pj);
+            pair_span = !pair_stale && psb__next_pair(s, sw, ts, rep->n_branches, &pi, &pj);
             if (pair_span) {
                 psb__copy(t1, ts + (size_t)pi * (size_t)np1, np1);
                 psb__copy(t2, ts + (size_t)pj * (size_t)np1, np1);
@@ -6144,16 +5776,16 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
                 double *rnd = PSB__VEC(s, PSB__V_BR_V), *prev = PSB__VEC(s, PSB__V_BR_TT);
                 const double *centre;
                 /* z / sqrt(w) with z standard normal is isotropic for <.,.>_w */
-                for (k = 0; k < np1; k++) rnd[k] = psb__gauss(s->rng_) / sqrt(s->w_[k]);
+                for (k = 0; k < np1; k++) rnd[k] = psb__gauss(s->internal_.rng) / sqrt(s->internal_.w[k]);
                 if (!psb__normalize_w(s, rnd)) continue;
                 psb__copy(prev, t2, np1);
                 centre = psb__restart_centre(s, ts, rep->n_branches, rep->n_rand, prev, t1);
                 global = !centre;
                 for (k = 0; k < np1; k++)
-                    pt[k] = yc[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
+                    pt[k] = y0[k] + s->branch.h * (global ? rnd[k] : centre[k] + 0.1 * rnd[k]);
                 rep->n_rand++;
                 rep->n_tangents++;
-                r = psb__sample_tangent(s, pt, global ? prev : centre, t2, NULL);
+                r = psb__sample_tangent(s, sw, pt, global ? prev : centre, t2, NULL, NULL);
                 if (psb__is_fatal(r)) {
                     fatal = r;
                     break;
@@ -6168,12 +5800,12 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
                    branch t_j whose region holds the random point, the tangent is t_j = t~1,
                    and the plane would be t~1's and rounding noise's. The random direction
                    spans a fresh one */
-                if (global ? !s->branch.expert.no_memo && psb__memo_seen(s, t2)
+                if (global ? !s->branch.expert.no_memo && psb__memo_seen(s, sw, t2)
                            : s->branch.expert.restart == PSB_RESTART_MIXED && fabs(psb__cos_w(s, t2, t1)) >= s->opt.c_diff)
                     psb__copy(t2, rnd, np1);
             }
         }
-        r = psb__sweep(s, yc, t1, t2, max_branches, ys, ts, rep, overflow);
+        r = psb__sweep(s, sw, y0, t1, t2, max_branches, ys, ts, rep, overflow);
         if (r != PSB_SUCCESS) {
             fatal = r;
             break;
@@ -6183,7 +5815,7 @@ static psb_result psb__span_loop(psb_solver *s, int max_branches, double *ys, do
             rep->n_span_idle++;
             if (pair_span) idle_pair_spans++;
             else if (++idle_spans_in_a_row >= 2 * s->branch.n_span &&
-                     !((extend || dense) && psb__unbalanced(s, ys, ts, rep->n_branches, &fatal)))
+                     !((extend || dense) && psb__unbalanced(s, sw, ys, ts, rep->n_branches, &fatal)))
                 break;
             if (fatal != PSB_SUCCESS) break;
             continue;
@@ -6217,13 +5849,14 @@ static psb_result psb__sweeps_end(psb_solver *s, psb_branch_report *rep, psb_res
 }
 
 /* One run of Algorithm 2.2 with the options in s->branch (psb__find_branches). */
-static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const double *t0,
+static psb_result psb__find_branches_once(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t0,
                                           int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
     psb_branch_report local;
     int np1, k, overflow = 0;
     unsigned long long seed;
-    double *yc, *tc, *t1, *t2, *pt;
+    const double *yc = y0;
+    double *tc, *t1, *t2, *pt;
     psb_result r;
     if (!rep) rep = &local;
     memset(rep, 0, sizeof *rep);
@@ -6231,43 +5864,41 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     if (r != PSB_SUCCESS) return r;
     if (!ys || !ts) return psb__fail(s, PSB_ERR_NULL, "ys or ts is NULL");
     if (max_branches < 1) return psb__fail(s, PSB_ERR_SIZE, "max_branches must be >= 1");
-    np1 = s->np1_;
-    yc = PSB__VEC(s, PSB__V_BR_Y0);
+    np1 = s->internal_.np1;
     tc = PSB__VEC(s, PSB__V_BR_T0);
     t1 = PSB__VEC(s, PSB__V_BR_T1);
     t2 = PSB__VEC(s, PSB__V_BR_T2);
     pt = PSB__VEC(s, PSB__V_BR_P);
-    psb__copy(yc, y0, np1);
     psb__copy(tc, t0, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
     psb__branch_h(s, yc);
     /* H(y0) for the trials' conic test (psb__conic_excess); the test is off without it */
-    s->conic_h0_ok_ = 0;
-    if (s->jmemo_dh_ && !s->branch.expert.no_screen) {
+    sw->conic_h0_ok = 0;
+    if (sw->jmemo_dh && !s->branch.expert.no_screen) {
         r = psb__residual(s, yc, PSB__VEC(s, PSB__V_BR_H0));
         if (psb__is_fatal(r)) return r;
-        s->conic_h0_ok_ = r == PSB_SUCCESS;
+        sw->conic_h0_ok = r == PSB_SUCCESS;
     }
     seed = s->opt.seed;
-    for (k = 0; k < 4; k++) s->rng_[k] = psb__splitmix(&seed);
-    s->memo_n_ = 0;
-    s->known_n_ = 0;
-    s->jmemo_n_ = 0;
-    s->jmemo_looks_ = s->jmemo_hits_ = 0;
-    s->pmemo_checks_ = s->pmemo_check_on_ = 0;
-    s->pmemo_drift_ = 0;
-    s->cone_defect_ = 0;
-    s->chord_turn_max_ = 0;
-    s->chord_turn_min_ = HUGE_VAL;
-    memset(s->pairs_done_, 0, sizeof s->pairs_done_);
-    s->branch_signs_n_ = 0;
+    for (k = 0; k < 4; k++) s->internal_.rng[k] = psb__splitmix(&seed);
+    sw->memo_n = 0;
+    sw->known_n = 0;
+    sw->jmemo_n = 0;
+    sw->jmemo_looks = sw->jmemo_hits = 0;
+    sw->pmemo_checks = 0;
+    sw->pmemo_drift = 0;
+    sw->cone_defect = 0;
+    sw->chord_turn_max = 0;
+    sw->chord_turn_min = HUGE_VAL;
+    memset(sw->pairs_done, 0, sizeof sw->pairs_done);
+    sw->branch_signs_n = 0;
     psb__faults_reset(s);
 
     /* Step 1: t~1 = -t0, t~2 the tangent beyond the end point; branch 0 is the incoming one */
     for (k = 0; k < np1; k++) t1[k] = -tc[k];
     psb__axpy_to(pt, yc, s->branch.h, tc, np1);
     rep->n_tangents++;
-    r = psb__sample_tangent(s, pt, tc, t2, NULL);
+    r = psb__sample_tangent(s, sw, pt, tc, t2, NULL, NULL);
     if (r != PSB_SUCCESS) {
         if (psb__note_fault(s, r)) psb__report_faults(s, rep); /* n_failed > 0 on every fault */
         return r;
@@ -6276,7 +5907,7 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
     psb__copy(ts, t1, np1);
     rep->n_branches = 1;
 
-    r = psb__span_loop(s, max_branches, ys, ts, rep, &overflow, 0);
+    r = psb__span_loop(s, sw, yc, max_branches, ys, ts, rep, &overflow, 0);
     return psb__sweeps_end(s, rep, r, overflow);
 }
 
@@ -6287,33 +5918,34 @@ static psb_result psb__find_branches_once(psb_solver *s, const double *y0, const
    each halfway between two swept before, as long as these have not sampled more tangents
    than the call had before them (with many branches their pairs are many). Returns
    PSB_SUCCESS or a fatal code. */
-static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, double *ts,
+static psb_result psb__odd_sweeps(psb_solver *s, psb__sweep_state *sw, const double *y0, int max_branches,
+                                  double *ys, double *ts,
                                   psb_branch_report *rep, int *overflow)
 {
-    int level, pi, pj, np1 = s->np1_;
+    int level, pi, pj, np1 = s->internal_.np1;
     long budget;
     psb_result r;
-    memset(s->pairs_done_, 0, sizeof s->pairs_done_);
-    s->sweep_offset_ = 0.5;
-    r = psb__span_loop(s, max_branches, ys, ts, rep, overflow, 1);
+    memset(sw->pairs_done, 0, sizeof sw->pairs_done);
+    sw->sweep_offset = 0.5;
+    r = psb__span_loop(s, sw, y0, max_branches, ys, ts, rep, overflow, 1);
     budget = 2 * rep->n_tangents;
-    for (level = 2; level <= 3 && r == PSB_SUCCESS && !*overflow && psb__unbalanced(s, ys, ts, rep->n_branches, &r);
+    for (level = 2; level <= 3 && r == PSB_SUCCESS && !*overflow && psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r);
          level++) {
-        memset(s->pairs_done_, 0, sizeof s->pairs_done_);
-        s->sweep_n_dir_ = s->branch.n_dir << (level - 1);
+        memset(sw->pairs_done, 0, sizeof sw->pairs_done);
+        sw->sweep_n_dir = s->branch.n_dir << (level - 1);
         while (!*overflow && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
-               rep->n_tangents + s->sweep_n_dir_ <= budget && psb__unbalanced(s, ys, ts, rep->n_branches, &r) &&
-               psb__next_pair(s, ts, rep->n_branches, &pi, &pj)) {
+               rep->n_tangents + sw->sweep_n_dir <= budget && psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r) &&
+               psb__next_pair(s, sw, ts, rep->n_branches, &pi, &pj)) {
             long pc_before = rep->n_pc;
-            r = psb__sweep(s, PSB__VEC(s, PSB__V_BR_Y0), ts + (size_t)pi * (size_t)np1,
+            r = psb__sweep(s, sw, y0, ts + (size_t)pi * (size_t)np1,
                            ts + (size_t)pj * (size_t)np1, max_branches, ys, ts, rep, overflow);
             if (r != PSB_SUCCESS) break;
             if (rep->n_pc > pc_before) rep->n_span++;
             else rep->n_span_idle++;
         }
     }
-    s->sweep_offset_ = 0;
-    s->sweep_n_dir_ = 0;
+    sw->sweep_offset = 0;
+    sw->sweep_n_dir = 0;
     return r;
 }
 
@@ -6322,11 +5954,10 @@ static psb_result psb__odd_sweeps(psb_solver *s, int max_branches, double *ys, d
    curvature x d / 2, as a landing point's chord turn is, so PSB__CHORD_TURN for both. Where
    some landing point's chord runs straight along its tangent (a piecewise-linear H), the
    pieces bend nowhere and an excess tells a kink: a kink at distance a from y0 shows about
-   a / h_init times its angle (1.9e-2 to 3.4e-2 for a loop within 1.4e-3 of y0 at h_init
-   1e-2: 2 of 4 branches lost). There 8 times the straightest landing's turn, at least 1e-3. */
-static double psb__cone_tolerance(const psb_solver *s)
+   a / h_init times its angle. There 8 times the straightest landing's turn, at least 1e-3. */
+static double psb__cone_tolerance(const psb__sweep_state *sw)
 {
-    double tol = 8 * s->chord_turn_min_;
+    double tol = 8 * sw->chord_turn_min;
     return tol < 1e-3 ? 1e-3 : tol > PSB__CHORD_TURN ? PSB__CHORD_TURN : tol;
 }
 
@@ -6335,25 +5966,26 @@ static double psb__cone_tolerance(const psb_solver *s)
    kink lies closer, a trial's landing point lies beyond it, and the branch's chord from y0
    turns away from its tangent there by about the kink's angle (on a straight branch not at
    all, on a curved one by curvature x distance / 2): trials reach other points' branches and
-   the screen skips real ones (kinks 1e-3 apart, h_init 1e-2: 2 of 4 branches, or 4 for 2).
+   the screen skips real ones.
    So when a landing point's chord turns by more than PSB__CHORD_TURN from its tangent, or a
-   trial's iterate or screening point finds H that far from conic (cone_defect_), or the
+   trial's iterate or screening point finds H that far from conic (cone_defect), or the
    count is odd (manual, "An odd count"; a branch that ended at a nearby kink's tells no turn),
    the run is made again with h_init / 16, up to 3 times (h_init stays above 8 h); an odd count
    that the smaller h_init kept ends it. */
-static psb_result psb__find_branches(psb_solver *s, const double *y0, const double *t0,
+static psb_result psb__find_branches(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t0,
                                      int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
-    double h_init = s->branch.h_init;
+    double h_init = s->branch.h_init, *y0c = PSB__VEC(s, PSB__V_BR_Y0);
     int round, before = -1;
     psb_branch_report local;
     psb_result r = PSB_SUCCESS;
     if (!rep) rep = &local;
+    psb__copy(y0c, y0, s->internal_.np1); /* held apart: ys may alias the caller's y0 */
     for (round = 0; round < 4; round++) {
         int turned;
-        r = psb__find_branches_once(s, y0, t0, max_branches, ys, ts, rep);
+        r = psb__find_branches_once(s, sw, y0c, t0, max_branches, ys, ts, rep);
         if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h) break;
-        turned = s->chord_turn_max_ > PSB__CHORD_TURN || s->cone_defect_ > psb__cone_tolerance(s);
+        turned = sw->chord_turn_max > PSB__CHORD_TURN || sw->cone_defect > psb__cone_tolerance(sw);
         /* an odd count that a smaller h_init kept is no kink's doing: on cones the run
            is the same, scaled */
         if (!turned && (rep->n_branches % 2 == 0 || rep->n_branches == before)) break;
@@ -6363,17 +5995,31 @@ static psb_result psb__find_branches(psb_solver *s, const double *y0, const doub
     /* not with patience (the caller chose to stop early), nor past max_pc */
     if (r == PSB_SUCCESS && s->branch.n_span_max > s->branch.n_span && !s->branch.expert.no_memo &&
         !s->branch.expert.patience && !(s->branch.max_pc && rep->n_pc >= s->branch.max_pc) &&
-        psb__unbalanced(s, ys, ts, rep->n_branches, &r)) {
+        psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r)) {
         int overflow = 0, counted = rep->n_span;
-        r = psb__odd_sweeps(s, max_branches, ys, ts, rep, &overflow);
+        r = psb__odd_sweeps(s, sw, y0c, max_branches, ys, ts, rep, &overflow);
         rep->n_span_odd = rep->n_span - counted;
         r = psb__sweeps_end(s, rep, r, overflow);
     }
     if ((r == PSB_SUCCESS || r == PSB_BRANCH_CAPACITY) && rep->n_branches % 2 == 0)
-        rep->unbalanced = psb__unbalanced(s, ys, ts, rep->n_branches, &r);
+        rep->unbalanced = psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r);
     s->branch.h_init = h_init;
     return r;
 }
+
+PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
+                                           const psb_branch_options *bo, int max_branches,
+                                           double *ys, double *ts, psb_branch_report *rep)
+{
+    psb_result r;
+    if (rep) memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y0, t0);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    return r == PSB_SUCCESS ? psb__find_branches(s, &s->internal_.sweep, y0, t0, max_branches, ys, ts, rep) : r;
+}
+
+/* ==== Branch point switch (psb_branch_point_switch) =============================================
+   Every branch through a smooth branch point: Newton on spheres around it. */
 
 /* ---- switching at a smooth branch point ----------------------------------------------------
    Near a branch point y* the solutions lie, to first order, on lines through y* in the kernel
@@ -6394,7 +6040,7 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
                                     int *landed, int max_branches, double *ys, double *ts,
                                     psb_branch_report *rep, int *overflow)
 {
-    int np1 = s->np1_, j, m;
+    int np1 = s->internal_.np1, j, m;
     double *yb = PSB__VEC(s, PSB__V_BR_Y), *tb = PSB__VEC(s, PSB__V_BR_T);
     psb_result res;
     for (m = 0; m < np1; m++) yb[m] = y[m] + r * v[m];
@@ -6430,14 +6076,14 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
    Returns the number of directions in ks (PSB__KERNEL_MAX at most), at least 1. */
 static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, double r, double *ks)
 {
-    int np1 = s->np1_, kdim = 1, i, j, it, attempt;
-    double *yq = PSB__VEC(s, PSB__V_BR_P), *row = s->work_, *v = ks + (size_t)kdim * (size_t)np1;
+    int np1 = s->internal_.np1, kdim = 1, i, j, it, attempt;
+    double *yq = PSB__VEC(s, PSB__V_BR_P), *row = s->internal_.work, *v = ks + (size_t)kdim * (size_t)np1;
     psb_result res = PSB_ERR_SINGULAR;
     for (attempt = 0; attempt < 3 && res != PSB_SUCCESS; attempt++) {
         psb__axpy_to(yq, y, 1e-4 * r * pow(4.0, attempt), t, np1);
         res = psb__jacobian(s, yq, NULL);
         if (res != PSB_SUCCESS) break;
-        for (i = 0; i < np1; i++) row[i] = s->w_[i] * t[i];
+        for (i = 0; i < np1; i++) row[i] = s->internal_.w[i] * t[i];
         res = psb__factor_bordered(s, row, NULL);
     }
     if (res != PSB_SUCCESS) { /* the kernel beyond ks[0] unknown: a fault may hide branches */
@@ -6447,7 +6093,7 @@ static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, dou
     while (kdim < PSB__KERNEL_MAX) {
         double before, after;
         v = ks + (size_t)kdim * (size_t)np1;
-        for (i = 0; i < np1; i++) v[i] = psb__gauss(s->rng_) / sqrt(s->w_[i]);
+        for (i = 0; i < np1; i++) v[i] = psb__gauss(s->internal_.rng) / sqrt(s->internal_.w[i]);
         for (it = 0; it < 2; it++) {
             res = psb__solve_factored(s, v, 1);
             if (res != PSB_SUCCESS) psb__note_fault(s, res);
@@ -6478,7 +6124,7 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
                                     int kdim, double r, int max_branches, double *ys, double *ts,
                                     psb_branch_report *rep, int *overflow, int *traced)
 {
-    int np1 = s->np1_, n_trial = 2 * s->branch.n_dir, i, j, m;
+    int np1 = s->internal_.np1, n_trial = 2 * s->branch.n_dir, i, j, m;
     double *v = PSB__VEC(s, PSB__V_BR_TT);
     psb_result res;
     *traced = 0;
@@ -6490,10 +6136,10 @@ static psb_result psb__sphere_sweep(psb_solver *s, const double *y, const double
         if (res != PSB_SUCCESS) return res;
     }
     for (i = 0; kdim > 1 && i < n_trial * kdim * kdim; i++) {
-        double g = psb__gauss(s->rng_);
+        double g = psb__gauss(s->internal_.rng);
         for (m = 0; m < np1; m++) v[m] = g * t[m];
         for (j = 0; j < kdim; j++) {
-            g = psb__gauss(s->rng_);
+            g = psb__gauss(s->internal_.rng);
             for (m = 0; m < np1; m++) v[m] += g * ks[(size_t)j * (size_t)np1 + (size_t)m];
         }
         if (!psb__normalize_w(s, v)) continue;
@@ -6518,7 +6164,7 @@ static int psb__inner_walk_point(const psb_point *pt, void *user)
     double along = 0;
     int i;
     if (pt->flags & PSB_POINT_KINK) return w->kink = 1;
-    for (i = 0; i < w->s->np1_; i++) along += w->s->w_[i] * (pt->y[i] - w->y0[i]) * w->u[i];
+    for (i = 0; i < w->s->internal_.np1; i++) along += w->s->internal_.w[i] * (pt->y[i] - w->y0[i]) * w->u[i];
     return along <= w->stop;
 }
 
@@ -6531,16 +6177,16 @@ static int psb__inner_walk_point(const psb_point *pt, void *user)
 static double psb__switch_inner_kink(psb_solver *s, const double *y0, double r, const double *ysk,
                                      const double *tsk)
 {
-    int np1 = s->np1_, i;
+    int np1 = s->internal_.np1, i;
     double *y = PSB__VEC(s, PSB__V_BR_Y), *t = PSB__VEC(s, PSB__V_BR_T), *u = PSB__VEC(s, PSB__V_BR_S);
     double d = psb__dist_w(s, ysk, y0), h_init = s->opt.h_init, h_max = s->opt.h_max;
     psb_trace_options to;
     psb_trace_report tr;
     psb__inner_walk walk;
     psb_result res;
-    long faults[4], n_ok = s->n_ok_;
+    long faults[4], n_ok = s->internal_.n_ok;
     if (!(d > 0.5 * r)) return r;
-    memcpy(faults, s->faults_, sizeof faults);
+    memcpy(faults, s->internal_.faults, sizeof faults);
     for (i = 0; i < np1; i++) u[i] = (ysk[i] - y0[i]) / d;
     psb__copy(y, ysk, np1);
     for (i = 0; i < np1; i++) t[i] = -tsk[i];
@@ -6563,8 +6209,8 @@ static double psb__switch_inner_kink(psb_solver *s, const double *y0, double r, 
     if (psb__is_fatal(res)) return res;
     /* the sweep's own fault accounting, plus a fault of the walk's: a kink it missed for it
        may be a branch lost */
-    memcpy(s->faults_, faults, sizeof faults);
-    s->n_ok_ = n_ok;
+    memcpy(s->internal_.faults, faults, sizeof faults);
+    s->internal_.n_ok = n_ok;
     if (res == PSB_ERR_CALLBACK_FAILED || res == PSB_ERR_NONFINITE) psb__note_fault(s, res);
     s->message[0] = 0;
     if (res != PSB_NONSMOOTH_END && !walk.kink) return r;
@@ -6588,7 +6234,7 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     if (res != PSB_SUCCESS) return res;
     if (!kernel || !ys || !ts) return psb__fail(s, PSB_ERR_NULL, "kernel, ys or ts is NULL");
     if (max_branches < 1) return psb__fail(s, PSB_ERR_SIZE, "max_branches must be >= 1");
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     if (!psb__all_finite(kernel, (size_t)np1)) return psb__fail(s, PSB_ERR_NONFINITE, "kernel contains NaN or Inf");
     yc = PSB__VEC(s, PSB__V_BR_Y0);
     tc = PSB__VEC(s, PSB__V_BR_T0);
@@ -6600,7 +6246,7 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     for (i = 0; i < np1; i++) kc[i] = kernel[i] - c * tc[i];
     if (!psb__normalize_w(s, kc)) return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
     seed = s->opt.seed;
-    for (i = 0; i < 4; i++) s->rng_[i] = psb__splitmix(&seed);
+    for (i = 0; i < 4; i++) s->internal_.rng[i] = psb__splitmix(&seed);
     psb__faults_reset(s);
     kdim = psb__kernel_dirs(s, yc, tc, s->branch.h_init, kc);
     rep->n_tangents = kdim;
@@ -6647,27 +6293,6 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     return overflow ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
 
-/* ---- the branching calls: their options resolved into s->branch, then the algorithm ---- */
-
-PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
-                                        const psb_branch_options *bo, double *precision)
-{
-    psb_result r = psb__check_couple(s, y, t);
-    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
-    return r == PSB_SUCCESS ? psb__locate_end(s, y, t, precision) : r;
-}
-
-PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
-                                           const psb_branch_options *bo, int max_branches,
-                                           double *ys, double *ts, psb_branch_report *rep)
-{
-    psb_result r;
-    if (rep) memset(rep, 0, sizeof *rep);
-    r = psb__check_couple(s, y0, t0);
-    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
-    return r == PSB_SUCCESS ? psb__find_branches(s, y0, t0, max_branches, ys, ts, rep) : r;
-}
-
 PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y, const double *t,
                                                  const double *kernel, const psb_branch_options *bo,
                                                  int max_branches, double *ys, double *ts,
@@ -6681,184 +6306,8 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     return r == PSB_SUCCESS ? psb__branch_point_switch(s, y, t, kernel, max_branches, ys, ts, rep) : r;
 }
 
-/* ==== quasi-static evolution ============================================================== */
-
-/* Counters spent since `before`. */
-static psb_stats psb__stats_since(const psb_solver *s, const psb_stats *before)
-{
-    psb_stats d = s->stats;
-    d.n_residual -= before->n_residual;
-    d.n_jacobian -= before->n_jacobian;
-    d.n_factor -= before->n_factor;
-    d.n_factor_reused -= before->n_factor_reused;
-    d.n_pc_steps -= before->n_pc_steps;
-    d.n_newton -= before->n_newton;
-    d.n_rejected -= before->n_rejected;
-    d.n_switches -= before->n_switches;
-    d.n_tangents -= before->n_tangents;
-    d.n_tangent_reused -= before->n_tangent_reused;
-    return d;
-}
-
-/* psb_evolve_step's point callback: measures the path, enforces max_length, calls the user's. */
-typedef struct psb__evolve_ctx {
-    const psb_evolve_options *eo;
-    int p, user_stop, too_long;
-    double length, low, high;
-} psb__evolve_ctx;
-
-static int psb__evolve_point(const psb_point *pt, void *user)
-{
-    psb__evolve_ctx *c = (psb__evolve_ctx *)user;
-    double g = pt->y[c->p];
-    c->length += pt->h;
-    if (g < c->low) c->low = g;
-    if (g > c->high) c->high = g;
-    if (c->eo->on_point && c->eo->on_point(pt, c->eo->point_user)) return c->user_stop = 1;
-    if (c->eo->max_length > 0 && c->length > c->eo->max_length && !(pt->flags & PSB_POINT_BOUND))
-        return c->too_long = 1;
-    return 0;
-}
-
-static const char *psb__check_evolve_options(const psb_evolve_options *o)
-{
-    if (o->mode < PSB_EVOLVE_AUTO || o->mode > PSB_EVOLVE_CONTINUATION) return "mode is not a psb_evolve_mode";
-    if (o->newton_max_iter < 0 || o->newton_max_iter > PSB_MAX_ITER_LIMIT)
-        return "newton_max_iter must lie in [0, PSB_MAX_ITER_LIMIT]";
-    if (!(o->newton_max_jump >= 0)) return "newton_max_jump must be >= 0 (0: any)";
-    if (o->param_min != o->param_min || o->param_max != o->param_max) return "param_min or param_max is NaN";
-    if (o->max_steps < 0) return "max_steps < 0";
-    if (!(o->max_length >= 0)) return "max_length must be >= 0 (0: no limit)";
-    return NULL;
-}
-
-PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
-                                         const psb_evolve_options *eo, psb_evolve_report *rep)
-{
-    psb_evolve_options o;
-    psb_evolve_report local;
-    psb_trace_options to;
-    psb_trace_report tr;
-    psb__evolve_ctx ctx;
-    psb_stats before;
-    const char *bad;
-    int np1, p, ranged, up, i;
-    double g0, far, *yn, *yc, *tc;
-    psb_result r;
-    if (!rep) rep = &local;
-    memset(rep, 0, sizeof *rep);
-    rep->newton_jump = rep->newton_gap = -1;
-    if (!psb__ready(s)) return PSB_ERR_NULL;
-    s->message[0] = 0;
-    if (psb__trace_busy(s, "psb_evolve_step")) return PSB_ERR_INPUT;
-    if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
-    if (eo) o = *eo;
-    else memset(&o, 0, sizeof o);
-    if ((bad = psb__check_evolve_options(&o)) != NULL) return psb__fail(s, PSB_ERR_OPTIONS, bad);
-    np1 = s->np1_;
-    p = s->prob.param_index;
-    if (!psb__all_finite(y, np1) || !psb__finite(param_next))
-        return psb__fail(s, PSB_ERR_NONFINITE, "y or param_next contains NaN or Inf");
-    g0 = y[p];
-    ranged = o.param_min < o.param_max;
-    if (ranged && (g0 < o.param_min || g0 > o.param_max || param_next < o.param_min || param_next > o.param_max))
-        return psb__fail(s, PSB_ERR_INPUT, "y's parameter or param_next lies outside [param_min, param_max]");
-    if (o.newton_max_iter == 0) o.newton_max_iter = 20;
-    if (o.max_steps == 0) o.max_steps = 10000;
-    before = s->stats;
-    rep->param_low = rep->param_high = g0;
-    yn = PSB__VEC(s, PSB__V_EV_N);
-    yc = PSB__VEC(s, PSB__V_EV_Y);
-    tc = PSB__VEC(s, PSB__V_EV_T);
-
-    /* plain time stepping: Newton at param_next from the previous state */
-    if (o.mode != PSB_EVOLVE_CONTINUATION || param_next == g0) {
-        rep->newton_run = 1;
-        psb__copy(yn, y, np1);
-        yn[p] = param_next;
-        r = rep->newton = psb_solve_at_param(s, yn, o.newton_max_iter);
-        if (r == PSB_SUCCESS) {
-            yn[p] = param_next;
-            rep->newton_jump = psb__dist_w(s, y, yn);
-            if (o.mode == PSB_EVOLVE_NEWTON || param_next == g0 || o.newton_max_jump == 0 ||
-                rep->newton_jump <= o.newton_max_jump) {
-                rep->method = PSB_EVOLVE_NEWTON;
-                rep->jump = rep->newton_jump;
-                rep->param_low = fmin(g0, param_next);
-                rep->param_high = fmax(g0, param_next);
-                rep->cost = psb__stats_since(s, &before);
-                psb__copy(y, yn, np1);
-                return PSB_SUCCESS;
-            }
-        } else if (psb__is_fatal(r) || o.mode == PSB_EVOLVE_NEWTON || param_next == g0) {
-            rep->cost = psb__stats_since(s, &before);
-            return r;
-        }
-    }
-
-    /* the step's continuation problem: from (y, lambda_{k-1}) along the curve to param_next */
-    up = param_next > g0;
-    psb__copy(yc, y, np1);
-    r = psb_tangent(s, yc, NULL, tc);
-    if (r == PSB_SUCCESS && !up)
-        for (i = 0; i < np1; i++) tc[i] = -tc[i];
-    if (r == PSB_SUCCESS) r = psb__residual(s, yc, s->res_);
-    if (r == PSB_SUCCESS && psb__norm2(s->res_, s->n_) > s->opt.tol_residual) {
-        /* a polish of the previous solution; a move longer than a step means it was none */
-        r = psb_correct(s, yc, tc, NULL);
-        /* (a fault, a NaN or a singular matrix is reported as such, not as a bad y) */
-        if ((r != PSB_SUCCESS && !psb__is_fatal(r) && !psb__is_fault(r)) ||
-            (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
-            r = psb__fail(s, PSB_ERR_INPUT, "y does not solve H(y) = 0 (no solution within h_init of it)");
-    }
-    if (r != PSB_SUCCESS) {
-        rep->cost = psb__stats_since(s, &before);
-        return r;
-    }
-    memset(&to, 0, sizeof to);
-    far = up ? (ranged ? o.param_min : -DBL_MAX) : (ranged ? o.param_max : DBL_MAX);
-    to.param_min = up ? far : param_next;
-    to.param_max = up ? param_next : far;
-    to.max_steps = o.max_steps;
-    to.no_switch = o.no_switch;
-    to.detect_loop = 1;
-    to.on_point = psb__evolve_point;
-    to.point_user = &ctx;
-    memset(&ctx, 0, sizeof ctx);
-    ctx.eo = &o;
-    ctx.p = p;
-    ctx.low = ctx.high = yc[p];
-    r = psb_trace(s, yc, tc, &to, &tr);
-    rep->trace_end = r;
-    rep->steps = tr.steps;
-    rep->n_folds = tr.n_folds;
-    for (i = 0; i < tr.n_folds && i < PSB_MAX_FOLDS; i++) rep->fold_params[i] = tr.fold_params[i];
-    rep->snap_through = tr.n_folds > 0;
-    rep->n_switches = tr.n_switches;
-    rep->path_length = ctx.length;
-    rep->param_low = fmin(ctx.low, g0);
-    rep->param_high = fmax(ctx.high, g0);
-    rep->cost = psb__stats_since(s, &before);
-    if (r == PSB_PARAM_BOUND && fabs(yc[p] - param_next) < fabs(yc[p] - far)) {
-        yc[p] = param_next;
-        rep->method = PSB_EVOLVE_CONTINUATION;
-        rep->jump = psb__dist_w(s, y, yc);
-        if (rep->newton_run && rep->newton == PSB_SUCCESS) rep->newton_gap = psb__dist_w(s, yn, yc);
-        psb__copy(y, yc, np1);
-        s->message[0] = 0;
-        return PSB_SUCCESS;
-    }
-    if (ctx.user_stop) return psb__fail(s, PSB_ERR_CALLBACK, "on_point stopped the step");
-    if (r < 0) return r;
-    return psb__fail(s, PSB_ERR_NO_CONVERGENCE,
-                     r == PSB_PARAM_BOUND ? "the path left [param_min, param_max] before param_next"
-                     : r == PSB_STEP_BUDGET ? "the path used max_steps before param_next"
-                     : ctx.too_long ? "the path grew longer than max_length before param_next"
-                     : r == PSB_LOOP_CLOSED ? "the path closed a loop without reaching param_next"
-                     : "the path ended at a point the tangent switch could not pass");
-}
-
-/* ==== exploring the whole diagram ========================================================== */
+/* ==== Exploring the whole diagram (psb_explore) =================================================
+   The explorer's queue and graph (psb__explorer) over psb_trace and the branching calls. */
 
 /* Scratch vectors of the explorer (n+1 each), after the nodes' storage: the couple being
    traced, the couple where a trace stopped for a branching (a kink's or a detector's), the
@@ -6991,7 +6440,7 @@ typedef struct psb__explorer {
     double away_r; /* kink: a return to the origin is an arrival there, not the edge's start */
 } psb__explorer;
 
-#define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->np1_)
+#define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->internal_.np1)
 
 /* node_tol at node nd: as set or resolved; with differences and h following the point, 16
    times h at the node (Algorithm 2.1 stops about a difference step short of the point, often
@@ -6999,7 +6448,7 @@ typedef struct psb__explorer {
    every edge was traced twice). */
 static double psb__explore_tol(const psb__explorer *x, const psb_node *nd)
 {
-    return x->node_tol > 0 || !x->s->branch_h_auto_ ? x->node_tol : 16 * psb__auto_branch_h(x->s, nd->y);
+    return x->node_tol > 0 || !x->s->internal_.branch_h_auto ? x->node_tol : 16 * psb__auto_branch_h(x->s, nd->y);
 }
 
 /* Whether y is within tolerance of node nd (precision: y's own location error). */
@@ -7021,7 +6470,7 @@ static int psb__explore_add_node(psb__explorer *x, psb_node_kind kind, const dou
     }
     nd = d->nodes + d->n_nodes;
     nd->kind = kind;
-    psb__copy(nd->y, y, x->s->np1_);
+    psb__copy(nd->y, y, x->s->internal_.np1);
     nd->precision = precision;
     nd->param = y[x->s->prob.param_index];
     nd->edge = edge;
@@ -7075,15 +6524,15 @@ static psb_result psb__explore_end_on_bound(psb__explorer *x, int e, const doubl
 static double psb__explore_chord_cos(const psb__explorer *x, const psb_node *nd, int kb, const double *y)
 {
     const psb_solver *s = x->s;
-    int np1 = s->np1_, i;
+    int np1 = s->internal_.np1, i;
     const double *ys = nd->ys + (size_t)kb * (size_t)np1, *ts = nd->ts + (size_t)kb * (size_t)np1;
     double dot = 0, na = 0, nb = 0;
     int at_node = psb__dist_w(s, ys, nd->y) <= psb__explore_tol(x, nd);
     for (i = 0; i < np1; i++) {
         double a = y[i] - nd->y[i], b = at_node ? ts[i] : ys[i] - nd->y[i];
-        dot += s->w_[i] * a * b;
-        na += s->w_[i] * a * a;
-        nb += s->w_[i] * b * b;
+        dot += s->internal_.w[i] * a * b;
+        na += s->internal_.w[i] * a * a;
+        nb += s->internal_.w[i] * b * b;
     }
     return na > 0 && nb > 0 ? dot / sqrt(na * nb) : -2;
 }
@@ -7098,7 +6547,7 @@ static int psb__explore_arrival_branch(const psb__explorer *x, const psb_node *n
     int k, best = -1;
     *best_cos = -2;
     for (k = 0; k < nd->n_branches; k++) {
-        double c = -psb__cos_w(x->s, t, nd->ts + (size_t)k * (size_t)x->s->np1_);
+        double c = -psb__cos_w(x->s, t, nd->ts + (size_t)k * (size_t)x->s->internal_.np1);
         if (c > *best_cos) {
             *best_cos = c;
             best = k;
@@ -7112,7 +6561,7 @@ static void psb__explore_arrive(psb__explorer *x, int e, int j, const double *t)
     psb_solver *s = x->s;
     psb_node *nd = x->d->nodes + j;
     psb_edge *ed = x->d->edges + e;
-    int np1 = s->np1_, k;
+    int np1 = s->internal_.np1, k;
     double best_cos;
     int best = psb__explore_arrival_branch(x, nd, t, &best_cos);
     if (best >= 0 && best_cos < s->opt.c_diff && best_cos < s->opt.c_min) best = -1;
@@ -7147,7 +6596,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     psb_node *nd;
     psb_branch_report br;
     psb_node_kind kind = kink ? PSB_NODE_PC1 : x->stop_kind;
-    int np1 = s->np1_, j, k, nb;
+    int np1 = s->internal_.np1, j, k, nb;
     int plain_possible = kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok); /* two branches: an ordinary kink */
     double precision = x->stop_precision, *before = PSB__XVEC(x, PSB__X_P);
     psb_result r = PSB_SUCCESS;
@@ -7186,13 +6635,13 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
            (reseeded: the same result as without the look) */
         int n_span = s->branch.n_span, n_span_max = s->branch.n_span_max;
         s->branch.n_span = s->branch.n_span_max = x->eo->kink_spans;
-        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
         s->branch.n_span = n_span;
         s->branch.n_span_max = n_span_max;
         if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY || br.unbalanced))
-            r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+            r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
     } else {
-        r = psb__find_branches(s, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
     }
     d->n_branchings++;
     if (r < 0) {
@@ -7253,7 +6702,7 @@ static int psb__explore_turned_back(const psb__explorer *x, const double *t)
    come back to. */
 static int psb__explore_at_origin(psb__explorer *x, const double *y, const double *t, double precision)
 {
-    int np1 = x->s->np1_;
+    int np1 = x->s->internal_.np1;
     const psb_node *nf = x->d->nodes + x->from;
     if (!psb__explore_near(x, nf, y, precision)) return -1;
     if (!x->away || psb__explore_turned_back(x, t) || !psb__explore_near(x, nf, y, 0)) return 0;
@@ -7268,7 +6717,7 @@ static int psb__explore_at_origin(psb__explorer *x, const double *y, const doubl
    or PC1 point (other than the one the edge leaves) stops the trace for the branching. */
 static int psb__explore_special(psb__explorer *x, const psb_special *sp)
 {
-    int np1 = x->s->np1_, j;
+    int np1 = x->s->internal_.np1, j;
     if (sp->kind == PSB_SPECIAL_BRANCH || sp->kind == PSB_SPECIAL_PC1) {
         int at = psb__explore_at_origin(x, sp->y, sp->t, sp->precision);
         if (at >= 0) return at;
@@ -7299,7 +6748,7 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
 static int psb__explore_passed(const psb__explorer *x, const double *prev, const psb_point *pt)
 {
     const psb_solver *s = x->s;
-    int np1 = s->np1_, j, i;
+    int np1 = s->internal_.np1, j, i;
     double seg2 = pt->h * pt->h;
     for (j = 0; j < x->d->n_nodes; j++) {
         const psb_node *nd = x->d->nodes + j;
@@ -7307,12 +6756,12 @@ static int psb__explore_passed(const psb__explorer *x, const double *prev, const
         if (j == x->from ? !x->away || psb__explore_turned_back(x, pt->t)
                          : nd->kind != PSB_NODE_NONSMOOTH && nd->kind != PSB_NODE_BRANCH && nd->kind != PSB_NODE_PC1)
             continue;
-        for (i = 0; i < np1; i++) proj += s->w_[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
+        for (i = 0; i < np1; i++) proj += s->internal_.w[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
         a = seg2 > 0 ? proj / seg2 : 0;
         a = a < 0 ? 0 : (a > 1 ? 1 : a);
         for (i = 0; i < np1; i++) {
             double di = prev[i] + a * (pt->y[i] - prev[i]) - nd->y[i];
-            dist2 += s->w_[i] * di * di;
+            dist2 += s->internal_.w[i] * di * di;
         }
         tol = psb__explore_tol(x, nd) + 4 * nd->precision + 1e-3 * pt->h;
         if (dist2 <= tol * tol) return j;
@@ -7325,7 +6774,7 @@ static int psb__explore_point(const psb_point *pt, void *user)
     psb__explorer *x = (psb__explorer *)user;
     psb_solver *s = x->s;
     const psb_explore_options *eo = x->eo;
-    int np1 = s->np1_, i;
+    int np1 = s->internal_.np1, i;
     if (pt->flags & PSB_POINT_KINK) {
         int at = psb__explore_at_origin(x, pt->y, pt->t, 0);
         if (at >= 0) return at;
@@ -7365,7 +6814,7 @@ static int psb__explore_point(const psb_point *pt, void *user)
     if (eo->state_max > 0) {
         double sum = 0;
         for (i = 0; i < np1; i++)
-            if (i != s->prob.param_index) sum += s->w_[i] * pt->y[i] * pt->y[i];
+            if (i != s->prob.param_index) sum += s->internal_.w[i] * pt->y[i] * pt->y[i];
         if (sqrt(sum) > eo->state_max) {
             x->stop = PSB__XS_BOX;
             return 1;
@@ -7389,7 +6838,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     psb_edge *ed;
     psb_trace_options to = x->eo->trace;
     psb_trace_report rep;
-    int np1 = s->np1_, e, resume;
+    int np1 = s->internal_.np1, e, resume;
     long steps_left;
     double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
     psb_result r;
@@ -7597,12 +7046,12 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_explore");
     if (r != PSB_SUCCESS) return r;
     if (!d || !d->nodes || !d->work_) return psb__fail(s, PSB_ERR_NULL, "the diagram is NULL or not set up");
-    if (d->n != s->n_) return psb__fail(s, PSB_ERR_SIZE, "the diagram's n differs from the problem's");
+    if (d->n != s->internal_.n) return psb__fail(s, PSB_ERR_SIZE, "the diagram's n differs from the problem's");
     if (!eo) {
         memset(&local, 0, sizeof local);
         eo = &local;
     }
-    np1 = s->np1_;
+    np1 = s->internal_.np1;
     p = s->prob.param_index;
     bad = psb__check_explore(eo, np1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
@@ -7771,7 +7220,186 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
 }
 #endif
 
-/* ==== contact helpers ==================================================================== */
+/* ==== Quasi-static evolution (psb_evolve_step) ==================================================
+   One time step: Newton at the new load, else continuation in the load through folds. */
+
+/* Counters spent since `before`. */
+static psb_stats psb__stats_since(const psb_solver *s, const psb_stats *before)
+{
+    psb_stats d = s->stats;
+    d.n_residual -= before->n_residual;
+    d.n_jacobian -= before->n_jacobian;
+    d.n_factor -= before->n_factor;
+    d.n_factor_reused -= before->n_factor_reused;
+    d.n_pc_steps -= before->n_pc_steps;
+    d.n_newton -= before->n_newton;
+    d.n_rejected -= before->n_rejected;
+    d.n_switches -= before->n_switches;
+    d.n_tangents -= before->n_tangents;
+    d.n_tangent_reused -= before->n_tangent_reused;
+    return d;
+}
+
+/* psb_evolve_step's point callback: measures the path, enforces max_length, calls the user's. */
+typedef struct psb__evolve_ctx {
+    const psb_evolve_options *eo;
+    int p, user_stop, too_long;
+    double length, low, high;
+} psb__evolve_ctx;
+
+static int psb__evolve_point(const psb_point *pt, void *user)
+{
+    psb__evolve_ctx *c = (psb__evolve_ctx *)user;
+    double g = pt->y[c->p];
+    c->length += pt->h;
+    if (g < c->low) c->low = g;
+    if (g > c->high) c->high = g;
+    if (c->eo->on_point && c->eo->on_point(pt, c->eo->point_user)) return c->user_stop = 1;
+    if (c->eo->max_length > 0 && c->length > c->eo->max_length && !(pt->flags & PSB_POINT_BOUND))
+        return c->too_long = 1;
+    return 0;
+}
+
+static const char *psb__check_evolve_options(const psb_evolve_options *o)
+{
+    if (o->mode < PSB_EVOLVE_AUTO || o->mode > PSB_EVOLVE_CONTINUATION) return "mode is not a psb_evolve_mode";
+    if (o->newton_max_iter < 0 || o->newton_max_iter > PSB_MAX_ITER_LIMIT)
+        return "newton_max_iter must lie in [0, PSB_MAX_ITER_LIMIT]";
+    if (!(o->newton_max_jump >= 0)) return "newton_max_jump must be >= 0 (0: any)";
+    if (o->param_min != o->param_min || o->param_max != o->param_max) return "param_min or param_max is NaN";
+    if (o->max_steps < 0) return "max_steps < 0";
+    if (!(o->max_length >= 0)) return "max_length must be >= 0 (0: no limit)";
+    return NULL;
+}
+
+PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
+                                         const psb_evolve_options *eo, psb_evolve_report *rep)
+{
+    psb_evolve_options o;
+    psb_evolve_report local;
+    psb_trace_options to;
+    psb_trace_report tr;
+    psb__evolve_ctx ctx;
+    psb_stats before;
+    const char *bad;
+    int np1, p, ranged, up, i;
+    double g0, far, *yn, *yc, *tc;
+    psb_result r;
+    if (!rep) rep = &local;
+    memset(rep, 0, sizeof *rep);
+    rep->newton_jump = rep->newton_gap = -1;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
+    s->message[0] = 0;
+    if (psb__trace_busy(s, "psb_evolve_step")) return PSB_ERR_INPUT;
+    if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
+    if (eo) o = *eo;
+    else memset(&o, 0, sizeof o);
+    if ((bad = psb__check_evolve_options(&o)) != NULL) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    np1 = s->internal_.np1;
+    p = s->prob.param_index;
+    if (!psb__all_finite(y, np1) || !psb__finite(param_next))
+        return psb__fail(s, PSB_ERR_NONFINITE, "y or param_next contains NaN or Inf");
+    g0 = y[p];
+    ranged = o.param_min < o.param_max;
+    if (ranged && (g0 < o.param_min || g0 > o.param_max || param_next < o.param_min || param_next > o.param_max))
+        return psb__fail(s, PSB_ERR_INPUT, "y's parameter or param_next lies outside [param_min, param_max]");
+    if (o.newton_max_iter == 0) o.newton_max_iter = 20;
+    if (o.max_steps == 0) o.max_steps = 10000;
+    before = s->stats;
+    rep->param_low = rep->param_high = g0;
+    yn = PSB__VEC(s, PSB__V_EV_N);
+    yc = PSB__VEC(s, PSB__V_EV_Y);
+    tc = PSB__VEC(s, PSB__V_EV_T);
+
+    /* plain time stepping: Newton at param_next from the previous state */
+    if (o.mode != PSB_EVOLVE_CONTINUATION || param_next == g0) {
+        rep->newton_run = 1;
+        psb__copy(yn, y, np1);
+        yn[p] = param_next;
+        r = rep->newton = psb_solve_at_param(s, yn, o.newton_max_iter);
+        if (r == PSB_SUCCESS) {
+            yn[p] = param_next;
+            rep->newton_jump = psb__dist_w(s, y, yn);
+            if (o.mode == PSB_EVOLVE_NEWTON || param_next == g0 || o.newton_max_jump == 0 ||
+                rep->newton_jump <= o.newton_max_jump) {
+                rep->method = PSB_EVOLVE_NEWTON;
+                rep->jump = rep->newton_jump;
+                rep->param_low = fmin(g0, param_next);
+                rep->param_high = fmax(g0, param_next);
+                rep->cost = psb__stats_since(s, &before);
+                psb__copy(y, yn, np1);
+                return PSB_SUCCESS;
+            }
+        } else if (psb__is_fatal(r) || o.mode == PSB_EVOLVE_NEWTON || param_next == g0) {
+            rep->cost = psb__stats_since(s, &before);
+            return r;
+        }
+    }
+
+    /* the step's continuation problem: from (y, lambda_{k-1}) along the curve to param_next */
+    up = param_next > g0;
+    psb__copy(yc, y, np1);
+    r = psb_tangent(s, yc, NULL, tc);
+    if (r == PSB_SUCCESS && !up)
+        for (i = 0; i < np1; i++) tc[i] = -tc[i];
+    if (r == PSB_SUCCESS) r = psb__residual(s, yc, s->internal_.res);
+    if (r == PSB_SUCCESS && psb__norm2(s->internal_.res, s->internal_.n) > s->opt.tol_residual) {
+        /* a polish of the previous solution; a move longer than a step means it was none */
+        r = psb_correct(s, yc, tc, NULL);
+        /* (a fault, a NaN or a singular matrix is reported as such, not as a bad y) */
+        if ((r != PSB_SUCCESS && !psb__is_fatal(r) && !psb__is_fault(r)) ||
+            (r == PSB_SUCCESS && psb__dist_w(s, y, yc) > s->opt.h_init))
+            r = psb__fail(s, PSB_ERR_INPUT, "y does not solve H(y) = 0 (no solution within h_init of it)");
+    }
+    if (r != PSB_SUCCESS) {
+        rep->cost = psb__stats_since(s, &before);
+        return r;
+    }
+    memset(&to, 0, sizeof to);
+    far = up ? (ranged ? o.param_min : -DBL_MAX) : (ranged ? o.param_max : DBL_MAX);
+    to.param_min = up ? far : param_next;
+    to.param_max = up ? param_next : far;
+    to.max_steps = o.max_steps;
+    to.no_switch = o.no_switch;
+    to.detect_loop = 1;
+    to.on_point = psb__evolve_point;
+    to.point_user = &ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.eo = &o;
+    ctx.p = p;
+    ctx.low = ctx.high = yc[p];
+    r = psb_trace(s, yc, tc, &to, &tr);
+    rep->trace_end = r;
+    rep->steps = tr.steps;
+    rep->n_folds = tr.n_folds;
+    for (i = 0; i < tr.n_folds && i < PSB_MAX_FOLDS; i++) rep->fold_params[i] = tr.fold_params[i];
+    rep->snap_through = tr.n_folds > 0;
+    rep->n_switches = tr.n_switches;
+    rep->path_length = ctx.length;
+    rep->param_low = fmin(ctx.low, g0);
+    rep->param_high = fmax(ctx.high, g0);
+    rep->cost = psb__stats_since(s, &before);
+    if (r == PSB_PARAM_BOUND && fabs(yc[p] - param_next) < fabs(yc[p] - far)) {
+        yc[p] = param_next;
+        rep->method = PSB_EVOLVE_CONTINUATION;
+        rep->jump = psb__dist_w(s, y, yc);
+        if (rep->newton_run && rep->newton == PSB_SUCCESS) rep->newton_gap = psb__dist_w(s, yn, yc);
+        psb__copy(y, yc, np1);
+        s->message[0] = 0;
+        return PSB_SUCCESS;
+    }
+    if (ctx.user_stop) return psb__fail(s, PSB_ERR_CALLBACK, "on_point stopped the step");
+    if (r < 0) return r;
+    return psb__fail(s, PSB_ERR_NO_CONVERGENCE,
+                     r == PSB_PARAM_BOUND ? "the path left [param_min, param_max] before param_next"
+                     : r == PSB_STEP_BUDGET ? "the path used max_steps before param_next"
+                     : ctx.too_long ? "the path grew longer than max_length before param_next"
+                     : r == PSB_LOOP_CLOSED ? "the path closed a loop without reaching param_next"
+                     : "the path ended at a point the tangent switch could not pass");
+}
+
+/* ==== Contact helpers =============================================================================
+   Projections, complementarity functions and their Jacobians for frictional contact. */
 /* The helpers' one exit: values are computed into locals, and copied to the caller's outputs
    (dst NULL: not asked for) only when every asked-for value is finite. So a helper never
    returns success with Inf or NaN (overflow inside gives PSB_ERR_NONFINITE), and writes no

@@ -964,16 +964,16 @@ static void test_pair_order(void)
         ts[10 + 2] = -0.9 / sqrt(1.81);
         ts[15 + 1] = -1 / sqrt(1.25);
         ts[15 + 3] = -0.5 / sqrt(1.25);
-        memset(s.pairs_done_, 0, sizeof s.pairs_done_);
-        CHECK(psb__next_pair(&s, ts, 2, &i, &j) && i == 0 && j == 1);
-        CHECK(!psb__next_pair(&s, ts, 2, &i, &j));
-        for (k = bad = 0; k < 5; k++) bad += !psb__next_pair(&s, ts, 4, &i, &j) || i + 10 * j != expect[way][k];
+        memset(s.internal_.sweep.pairs_done, 0, sizeof s.internal_.sweep.pairs_done);
+        CHECK(psb__next_pair(&s, &s.internal_.sweep, ts, 2, &i, &j) && i == 0 && j == 1);
+        CHECK(!psb__next_pair(&s, &s.internal_.sweep, ts, 2, &i, &j));
+        for (k = bad = 0; k < 5; k++) bad += !psb__next_pair(&s, &s.internal_.sweep, ts, 4, &i, &j) || i + 10 * j != expect[way][k];
         CHECK(bad == 0);
-        CHECK(!psb__next_pair(&s, ts, 4, &i, &j)); /* all six pairs of four */
+        CHECK(!psb__next_pair(&s, &s.internal_.sweep, ts, 4, &i, &j)); /* all six pairs of four */
         /* 70 branches: the pairs among the first 64 only, each once */
         for (k = 0; k < 70; k++) ts[k * 5 + k % 5] = k % 2 ? -1 : 1;
-        memset(s.pairs_done_, 0, sizeof s.pairs_done_);
-        for (n_pairs = bad = 0; psb__next_pair(&s, ts, 70, &i, &j); n_pairs++) bad += !(i < j && j < 64);
+        memset(s.internal_.sweep.pairs_done, 0, sizeof s.internal_.sweep.pairs_done);
+        for (n_pairs = bad = 0; psb__next_pair(&s, &s.internal_.sweep, ts, 70, &i, &j); n_pairs++) bad += !(i < j && j < 64);
         CHECK(bad == 0 && n_pairs == 64 * 63 / 2);
         psb_solver_free(&s);
     }
@@ -1279,17 +1279,20 @@ static void test_ave_near_branch_spans(void)
 
 
 /* The ray on which a trial step of Algorithm 2.2 from y0 along dir lands, -1 if on none, -2 if
-   it fails; with record, the corrector's tangents go to s->path_ (s->path_n_ of them). */
-static int trial_ray(psb_solver *s, const double *y0, const double *dir, int record, const double *rays,
+   it fails; with n_path, the trial is watched as Algorithm 2.2 watches it (nothing known, no
+   conic test) and its corrector's tangents go to s->internal_.sweep.path (*n_path of them). */
+static int trial_ray(psb_solver *s, const double *y0, const double *dir, int *n_path, const double *rays,
                      int n_rays)
 {
     double y[PL_MAX_N + 1], t[PL_MAX_N + 1], h = s->branch.h_init;
-    int np1 = s->np1_, iters, landed;
+    int np1 = s->internal_.np1, iters, landed;
+    psb__trial_watch tw;
+    psb__trial_watch_init(&tw, &s->internal_.sweep, NULL, 0, -1, NULL);
     memcpy(y, y0, (size_t)np1 * sizeof(double));
     memcpy(t, dir, (size_t)np1 * sizeof(double));
-    s->path_on_ = record;
-    landed = psb__try_step_from(s, y, t, &h, s->branch.expert.trial_h_min, &iters, y0) == PSB_SUCCESS;
-    s->path_on_ = 0;
+    landed = psb__try_step_from(s, y, t, &h, s->branch.expert.trial_h_min, &iters, y0,
+                                n_path ? &tw.base : NULL) == PSB_SUCCESS;
+    if (n_path) *n_path = tw.path_n;
     return landed ? ray_of(y, rays, n_rays, np1) : -2;
 }
 
@@ -1323,12 +1326,11 @@ static void test_screen_equivalence(void)
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.branch.h_init, x, np1);
-            if (psb__sample_tangent(&s, pred, x, k, NULL) != PSB_SUCCESS) continue;
-            ray_x = trial_ray(&s, y0, x, 1, rays, n_rays);
-            n_path = s.path_n_;
-            memcpy(path, s.path_, (size_t)n_path * np1 * sizeof(double));
+            if (psb__sample_tangent(&s, &s.internal_.sweep, pred, x, k, NULL, NULL) != PSB_SUCCESS) continue;
+            ray_x = trial_ray(&s, y0, x, &n_path, rays, n_rays);
+            memcpy(path, s.internal_.sweep.path, (size_t)n_path * np1 * sizeof(double));
             for (j = -1; j < n_path; j++) {
-                ray_k = trial_ray(&s, y0, j < 0 ? k : path + (size_t)j * np1, 0, rays, n_rays);
+                ray_k = trial_ray(&s, y0, j < 0 ? k : path + (size_t)j * np1, NULL, rays, n_rays);
                 if (j >= 0) {
                     if (ray_x == -2) break; /* a failed trial's path proves nothing */
                     path_trials++;
@@ -1381,10 +1383,9 @@ static void test_cut_claim(void)
             for (i = 0; i < np1; i++) x[i] = pl_normal(&st);
             CHECK(psb__normalize_w(&s, x));
             psb__axpy_to(pred, y0, s.branch.h_init, x, np1);
-            if (psb__sample_tangent(&s, pred, x, k, NULL) != PSB_SUCCESS) continue;
-            ray[made] = trial_ray(&s, y0, k, 1, rays, n_rays); /* nothing known: never cut */
-            n_path[made] = s.path_n_;
-            memcpy(paths + (size_t)made * PSB__PATH_MAX * np1, s.path_, (size_t)s.path_n_ * np1 * sizeof(double));
+            if (psb__sample_tangent(&s, &s.internal_.sweep, pred, x, k, NULL, NULL) != PSB_SUCCESS) continue;
+            ray[made] = trial_ray(&s, y0, k, &n_path[made], rays, n_rays); /* nothing known: never cut */
+            memcpy(paths + (size_t)made * PSB__PATH_MAX * np1, s.internal_.sweep.path, (size_t)n_path[made] * np1 * sizeof(double));
             made++;
         }
         for (a = 0; a < made; a++)
