@@ -69,7 +69,7 @@
    PSB_SPARSE_ERR_INPUT (bad size, pattern, row list or permutation; a fill that fails at y0;
    A_II singular; n_V > 46339), PSB_SPARSE_ERR_BACKEND (UMFPACK failed); cd.message says which. On failure
    nothing is held. The factor and solve callbacks follow pscbranch's contract (manual,
-   section 6): 0, > 0 singular or recoverable (the fill's own > 0 too), < 0 stop (the fill's
+   section 3): 0, > 0 singular or recoverable (the fill's own > 0 too), < 0 stop (the fill's
    < 0, a constant row that changed, UMFPACK failing; a cd whose init failed or that was freed,
    NULL arguments); cd.message says why (factor clears it).
    No global state; one psb_condense may not serve two solvers at the same time. */

@@ -95,7 +95,7 @@
    RETURN CODES of psb_sparse_init: 0, PSB_SPARSE_ERR_MEMORY, PSB_SPARSE_ERR_INPUT (bad size,
    pattern or permutation; sp.message says which), PSB_SPARSE_ERR_BACKEND (a backend left out
    of this build, or its analysis failed). On failure nothing is held and sp.message is set.
-   The factor and solve callbacks follow pscbranch's contract (manual, section 6): 0, > 0
+   The factor and solve callbacks follow pscbranch's contract (manual, section 3): 0, > 0
    singular or recoverable (the fill callback's own > 0 too; also finite values whose row sum
    of |B| overflows), < 0 stop (the fill callback's < 0, out of memory, or the library
    rejecting its input); sp.message says why (a static string; factor clears it).
