@@ -317,8 +317,8 @@
    are, to first order, cones with apex y0, and cones scale: a trial along x from y0 + h_init x
    lands as the trial along k, the tangent there. So trials go along k, skipped when k is a found
    branch's or a known trial's (n_screened), and stop once an iteration's tangent is (n_cut,
-   analytic dH; The memo's cut: before its factorisation), or after a step that failed on pieces
-   checked to be conic. Sweep length (n_span left at 0): spans that try nothing new do not count;
+   analytic dH); The memo's cut: the memo can tell that before the iteration's factorisation
+   (n_cut_memo). A trial also stops after a step that failed on pieces checked to be conic. Sweep length (n_span left at 0): spans that try nothing new do not count;
    the sweep goes on while fewer than 3 times the last new branch's span have passed, up to
    n_span_max. An odd count: branches crossing a small sphere about y0 transversally come in even
    number, their outward signs adding up to 0; an odd or unbalanced set most likely misses
@@ -393,9 +393,9 @@
    PSCBRANCH_USE_DGBTRF       the banded backend calls LAPACK's dgbtrf (say, a tuned LAPACK)
    PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (the same results)
    PSCBRANCH_STDIO            declares and defines psb_diagram_write_json and _csv (FILE *)
-   Defined here: PSCBRANCH_VERSION_MAJOR, _MINOR, _PATCH, _STRING; PSCBRANCH_STRLEN_ONE, for
-   your LAPACK calls (dgetrs_("N", ..., &info PSCBRANCH_STRLEN_ONE)); the guards PSCBRANCH_H,
-   PSCBRANCH_IMPLEMENTATION_DONE. LAPACK used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf).
+   Defined here: PSCBRANCH_VERSION_MAJOR, _MINOR, _PATCH, _STRING; the guards PSCBRANCH_H,
+   PSCBRANCH_IMPLEMENTATION_DONE; with the implementation, PSCBRANCH_STRLEN_ONE for LAPACK calls
+   of that file (dgetrs_("N", ..., &info PSCBRANCH_STRLEN_ONE)). LAPACK used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf).
 */
 
 #ifndef PSCBRANCH_H
@@ -437,7 +437,7 @@ typedef enum psb_result {
     PSB_NONSMOOTH_END = 3,    /* trace/switch: an end point the tangent switch could not pass */
     PSB_STOPPED = 4,          /* trace: the point callback asked to stop */
     PSB_LOOP_CLOSED = 5,      /* trace: the curve came back to its starting point */
-    PSB_BRANCH_CAPACITY = 6,  /* branching: more branches than room; the first ones are kept */
+    PSB_BRANCH_CAPACITY = 6,  /* more branches, or a diagram fuller, than room; what fits is kept */
 
     PSB_ERR_NULL = -1,            /* a required pointer is NULL */
     PSB_ERR_SIZE = -2,            /* a size or index is out of range */
@@ -555,7 +555,7 @@ typedef struct psb_options {
     double h_init;         /* first step size, and after each tangent switch [1e-2] */
     double h_min;          /* smallest step before the step is declared failed [1e-6] */
     double h_max;          /* largest step [1e-1] */
-    double h_inc;          /* growth factor after an easy step, > 1 [1.3] */
+    double h_inc;          /* growth factor after an easy step, in [1, 100] [1.3] */
     double h_dec;          /* shrink factor after a rejected step, in [1e-3, 0.9] [0.5] */
     int max_iter;          /* corrector iterations per trial step [10] */
     int iter_threshold;    /* the step grows only when the corrector took fewer iterations [4] */
@@ -738,8 +738,8 @@ PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_opt
                                                             const psb_solver *s);
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
-   invalid): dense ~ 2 (n+1)^2 doubles; banded ~ (4 kl + 3 ku + 4) n (band_lean: (3 kl + 2 ku + 3) n);
-   user ~ 56 (n+1). */
+   invalid): the backend's matrices (dense ~ 2 (n+1)^2 doubles, banded ~ (4 kl + 3 ku) n), about
+   100 vectors of n+1 and Algorithm 2.2's memos (manual, section 6, "Linear algebra"). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
@@ -1477,7 +1477,7 @@ extern void PSCBRANCH_FORTRAN(dlacn2)(const psb__lint *n, double *v, double *x, 
 extern void PSCBRANCH_FORTRAN(dgbtrf)(const psb__lint *m, const psb__lint *n, const psb__lint *kl,
                                       const psb__lint *ku, double *ab, const psb__lint *ldab,
                                       psb__lint *ipiv, psb__lint *info);
-/* not called by the library; declared for callers' own banded solves (PSCBRANCH_STRLEN_ONE) */
+/* not called by the library; declared for banded solves of the implementation's file */
 extern void PSCBRANCH_FORTRAN(dgbtrs)(const char *trans, const psb__lint *n, const psb__lint *kl,
                                       const psb__lint *ku, const psb__lint *nrhs, const double *ab,
                                       const psb__lint *ldab, const psb__lint *ipiv, double *b,
@@ -2226,7 +2226,7 @@ static psb_result psb__solve_dense(psb_solver *s, double *b, int nrhs)
    singular (B is not) and this cancels, so every result is checked by its residual in B and
    refined; if A is exactly singular, or refinement stalls, A + sigma I (sigma ~ sqrt(eps) ||B||)
    is factored instead and refinement against the true B converges at a rate ~ sigma ||B^{-1}||.
-   Measured: 2 banded solves per corrector iteration where mixed elimination needs 3.
+   It takes 2 banded solves per corrector iteration where mixed elimination needs 3.
    A is kept beside its factors (two band buffers take turns), and a new A bit-identical to the
    factored one reuses them: on a piecewise-linear H, A only changes with the piece, so the
    corrector's second iteration and the tangent at an accepted point usually cost no
@@ -2329,9 +2329,8 @@ static psb_result psb__jacobian_banded(psb_solver *s, const double *y, const dou
    multipliers first permuted by the panel's later interchanges (w: (kl + PSB__GB_NB)
    PSB__GB_NB doubles). Every entry undergoes the same operations in the same order as in
    dgbtf2, so the factors are dgbtrf's bit for bit (reference LAPACK); what changes is that a
-   column entry is loaded and stored once per panel instead of once per column. Measured
-   against reference dgbtrf at -O2 (bench_linear): 1.6x faster at kl = ku = 22, 1.9x at 42,
-   3x at 82. */
+   column entry is loaded and stored once per panel instead of once per column (bench_linear
+   measures it against dgbtrf). */
 static int psb__gbtrf(int n, int kl, int ku, double *ab, int ldab, psb__lint *ipiv, double *w)
 {
     int kv = kl + ku, ju = 0, j0, juk[PSB__GB_NB];
@@ -2503,8 +2502,8 @@ static void psb__band_axpy(int m, const double *PSB__RESTRICT c, double a, doubl
 
 /* x <- A^{-1} x and, when y is not NULL, y <- A^{-1} y in the same pass over dgbtrf's factors:
    dgbtrs' substitutions ("N", column by column) with the same operations in the same order,
-   two right-hand sides sharing every load of the factors. Measured against two dgbtrs calls
-   (reference BLAS, -O2): 0.52x at n = 462, kl = ku = 22; 0.48x at n = 1806, kl = ku = 45. */
+   two right-hand sides sharing every load of the factors (about half the time of two dgbtrs
+   calls: bench_linear). */
 static void psb__band_subst(const psb_solver *s, double *x, double *y)
 {
     int n = s->internal_.n, kl = s->prob.kl, kv = kl + s->prob.ku, j;
@@ -3542,8 +3541,7 @@ static int psb__locate_kink_in(psb_solver *s, const double *y0, const double *t0
                exact on piecewise-linear H). Then the first point where the turn reaches
                theta / 4 is located from y0. Skipped where the turn is within a factor 2 of
                expect (> 0), the trace's last smooth step's turn per length times h: a curve
-               turning at the rate it did (block M200 explore: 949 factorisations without the
-               skip, 804 with it, as before the check). */
+               turning at the rate it did, which the half step already told smooth. */
             double frac;
             int flat = 0;
             if (expect > 0 && theta >= 0.5 * expect && theta <= 2 * expect) return 0;
@@ -3664,7 +3662,7 @@ static psb_result psb__land_on_bound(psb_solver *s, const double *y0, double *y1
     return r;
 }
 
-/* ---- special points on the path (psb_trace_options.detect; manual section 6) ------------- */
+/* ---- special points on the path (psb_trace_options.detect) -------------------------------- */
 
 static unsigned long long psb__splitmix(unsigned long long *x);
 static double psb__gauss(unsigned long long *st);
@@ -4178,7 +4176,7 @@ static void psb__special_init(psb__detector *d, psb_special_kind kind, const dou
    than a zero. At a simple zero |f| at the bracket's end is at most its slope times the
    bracket's width, and the slope is that of the secants from y0 and y1 to within the curvature;
    across a nonsmooth point f jumps and keeps its one-sided size at any width. A zero within
-   1e3 widths of an end is not told apart (called a zero, as before). */
+   1e3 widths of an end is not told apart (called a zero). */
 static int psb__sign_jumped(const psb_solver *s, const double *y0, const double *y1, double precision,
                             double fend, const double *f01)
 {
@@ -4681,7 +4679,7 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
    max(64 h_min, d): yc lies within h_min of an end point, so a kink turns the chords by 0.97
    of its angle or more, and d = 32 tol_correction / a keeps the chords' own error (4
    tol_correction / delta at most) below a / 8. Scales beyond branch.h are not tried (then
-   the stall is the end point, as before). Returns 1 with the point ahead in ya and the chord
+   the stall is the end point). Returns 1 with the point ahead in ya and the chord
    to it in ta (follow on from there: a tangent from quotients there may mix pieces), 0 for an
    end point (or no point ahead or behind), or a failure (fatal, or a fault at a chord's
    point). */
@@ -6019,9 +6017,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
 }
 
 /* ==== Branch point switch (psb_branch_point_switch) =============================================
-   Every branch through a smooth branch point: Newton on spheres around it. */
-
-/* ---- switching at a smooth branch point ----------------------------------------------------
+   Every branch through a smooth branch point: Newton on spheres around it.
    Near a branch point y* the solutions lie, to first order, on lines through y* in the kernel
    of dH(y*): the plane of t and the second kernel direction k at a simple branch point. Trial
    points y* + r v, v in that kernel, are corrected by Newton on the sphere ||y - y*||_w = r,

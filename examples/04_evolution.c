@@ -11,7 +11,7 @@
    -P*, it snaps back. At P = 0 it is upright again.
 
    Each time step k solves H(z, P_k) = 0 from the previous state. Newton from z_{k-1} finds the
-   next state on an ordinary step. At a snap the solution jumps by about 1.8; we refuse such a
+   next state on an ordinary step. At a snap the solution jumps by about 1.9; we refuse such a
    leap from Newton (newton_max_jump), and psb_evolve_step traces the curve instead: over the
    fold, back along the unstable middle part to the other fold, and on to P_k. That path is the
    snap-through, and its two folds are reported. H is the same at every step here (an elastic
