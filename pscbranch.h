@@ -352,10 +352,11 @@
    likely miss a branch). PC1 is silent where the branches a trace joins have opposite outward
    signs (the paper's block): branch_at_kinks branches at every kink (an Algorithm 2.2 each;
    kink_spans looks first with fewer spans, and can miss a point whose first span meets no third
-   branch). psb_diagram_write_json's keys: format, version, n, param_index, complete, odd_nodes,
-   nodes (id, kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id,
-   from, from_branch, to, to_branch, end, result, points, length); psb_diagram_write_csv writes the
-   two tables.
+   branch). psb_diagram_write_json's keys: format, version, n, param_index, complete (nothing
+   untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes, nodes (id, kind,
+   param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
+   from_branch, to, to_branch, end, result, points, length); psb_diagram_write_csv writes the
+   two tables. Both write numbers in the C locale's notation whatever setlocale chose.
 
    Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves
    H_k(u, lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls
@@ -7138,10 +7139,45 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
    then (a full disk). */
 static int psb__write_failed(FILE *f) { return fflush(f) != 0 || ferror(f); }
 
-static void psb__write_vec(FILE *f, const double *v, int np1, const char *sep)
+/* Rewrites in place a finite number printf formatted with %.17g into the C locale's notation:
+   under setlocale the decimal point may be a comma or several bytes, which would break JSON's
+   numbers and CSV's columns. The number's other characters are digits, signs and 'e'. */
+static void psb__c_number(char *num)
+{
+    char *out = num;
+    const char *in = num;
+    while (*in) {
+        char c = *in;
+        if ((c >= '0' && c <= '9') || c == '-' || c == '+' || c == 'e' || c == 'E') {
+            *out++ = *in++;
+        } else { /* the decimal point, whatever its bytes */
+            *out++ = '.';
+            while (*in && !((*in >= '0' && *in <= '9') || *in == 'e' || *in == 'E')) in++;
+        }
+    }
+    *out = 0;
+}
+
+/* x with 17 significant digits in the C locale's notation; JSON has no NaN or Inf (null). */
+static void psb__put_double(FILE *f, double x, int json)
+{
+    char num[64];
+    if (!psb__finite(x)) {
+        fputs(json ? "null" : x != x ? "nan" : x > 0 ? "inf" : "-inf", f);
+        return;
+    }
+    snprintf(num, sizeof num, "%.17g", x);
+    psb__c_number(num);
+    fputs(num, f);
+}
+
+static void psb__write_vec(FILE *f, const double *v, int np1, const char *sep, int json)
 {
     int i;
-    for (i = 0; i < np1; i++) fprintf(f, "%s%.17g", i ? sep : "", v[i]);
+    for (i = 0; i < np1; i++) {
+        if (i) fputs(sep, f);
+        psb__put_double(f, v[i], json);
+    }
 }
 
 PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
@@ -7149,22 +7185,29 @@ PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
     int i, k, np1;
     if (!d || !f || !d->nodes) return PSB_ERR_NULL;
     np1 = d->n + 1;
+    /* complete: what psb_explore returned PSB_SUCCESS for (no branch left, nothing cut off,
+       no edge failed) */
     fprintf(f, "{\n  \"format\": \"pscbranch-diagram\",\n  \"version\": 1,\n  \"n\": %d,\n"
-               "  \"param_index\": %d,\n  \"complete\": %s,\n  \"odd_nodes\": %d,\n  \"nodes\": [",
-            d->n, d->param_index, d->n_queued || d->truncated ? "false" : "true", d->n_odd);
+               "  \"param_index\": %d,\n  \"complete\": %s,\n  \"failed_edges\": %d,\n"
+               "  \"untraced_branches\": %d,\n  \"odd_nodes\": %d,\n  \"nodes\": [",
+            d->n, d->param_index, d->n_queued || d->truncated || d->n_failed ? "false" : "true",
+            d->n_failed, d->n_queued, d->n_odd);
     for (i = 0; i < d->n_nodes; i++) {
         const psb_node *nd = d->nodes + i;
-        fprintf(f, "%s\n    {\"id\": %d, \"kind\": \"%s\", \"param\": %.17g, \"precision\": %.17g, "
-                   "\"edge\": %d, \"event\": %d, \"direction\": %d,\n     \"y\": [",
-                i ? "," : "", i, psb_node_kind_string(nd->kind), nd->param, nd->precision, nd->edge,
-                nd->event, nd->direction);
-        psb__write_vec(f, nd->y, np1, ", ");
+        fprintf(f, "%s\n    {\"id\": %d, \"kind\": \"%s\", \"param\": ", i ? "," : "", i,
+                psb_node_kind_string(nd->kind));
+        psb__put_double(f, nd->param, 1);
+        fputs(", \"precision\": ", f);
+        psb__put_double(f, nd->precision, 1);
+        fprintf(f, ", \"edge\": %d, \"event\": %d, \"direction\": %d,\n     \"y\": [", nd->edge, nd->event,
+                nd->direction);
+        psb__write_vec(f, nd->y, np1, ", ", 1);
         fprintf(f, "],\n     \"branches\": [");
         for (k = 0; k < nd->n_branches; k++) {
             fprintf(f, "%s\n       {\"edge\": %d, \"y\": [", k ? "," : "", nd->branch_edge[k]);
-            psb__write_vec(f, nd->ys + (size_t)k * (size_t)np1, np1, ", ");
+            psb__write_vec(f, nd->ys + (size_t)k * (size_t)np1, np1, ", ", 1);
             fprintf(f, "], \"t\": [");
-            psb__write_vec(f, nd->ts + (size_t)k * (size_t)np1, np1, ", ");
+            psb__write_vec(f, nd->ts + (size_t)k * (size_t)np1, np1, ", ", 1);
             fprintf(f, "]}");
         }
         fprintf(f, "]}");
@@ -7173,9 +7216,11 @@ PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
     for (i = 0; i < d->n_edges; i++) {
         const psb_edge *ed = d->edges + i;
         fprintf(f, "%s\n    {\"id\": %d, \"from\": %d, \"from_branch\": %d, \"to\": %d, \"to_branch\": %d, "
-                   "\"end\": \"%s\", \"result\": %d, \"points\": %ld, \"length\": %.17g}",
+                   "\"end\": \"%s\", \"result\": %d, \"points\": %ld, \"length\": ",
                 i ? "," : "", i, ed->from, ed->from_branch, ed->to, ed->to_branch,
-                psb_edge_end_string(ed->end), (int)ed->result, ed->n_points, ed->length);
+                psb_edge_end_string(ed->end), (int)ed->result, ed->n_points);
+        psb__put_double(f, ed->length, 1);
+        fputc('}', f);
     }
     fprintf(f, "\n  ]\n}\n");
     return psb__write_failed(f) ? PSB_ERR_INPUT : PSB_SUCCESS;
@@ -7194,10 +7239,12 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
             const psb_node *nd = d->nodes + i;
             int k, untraced = 0;
             for (k = 0; k < nd->n_branches; k++) untraced += nd->branch_edge[k] < 0;
-            fprintf(nodes, "%d,%s,%.17g,%.17g,%d,%d,%d,%d,%d,", i, psb_node_kind_string(nd->kind),
-                    nd->param, nd->precision, nd->edge, nd->event, nd->direction, nd->n_branches,
-                    untraced);
-            psb__write_vec(nodes, nd->y, np1, ",");
+            fprintf(nodes, "%d,%s,", i, psb_node_kind_string(nd->kind));
+            psb__put_double(nodes, nd->param, 0);
+            fputc(',', nodes);
+            psb__put_double(nodes, nd->precision, 0);
+            fprintf(nodes, ",%d,%d,%d,%d,%d,", nd->edge, nd->event, nd->direction, nd->n_branches, untraced);
+            psb__write_vec(nodes, nd->y, np1, ",", 0);
             fprintf(nodes, "\n");
         }
         if (psb__write_failed(nodes)) return PSB_ERR_INPUT;
@@ -7206,9 +7253,10 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
         fprintf(edges, "id,from,from_branch,to,to_branch,end,result,points,length\n");
         for (i = 0; i < d->n_edges; i++) {
             const psb_edge *ed = d->edges + i;
-            fprintf(edges, "%d,%d,%d,%d,%d,%s,%d,%ld,%.17g\n", i, ed->from, ed->from_branch, ed->to,
-                    ed->to_branch, psb_edge_end_string(ed->end), (int)ed->result, ed->n_points,
-                    ed->length);
+            fprintf(edges, "%d,%d,%d,%d,%d,%s,%d,%ld,", i, ed->from, ed->from_branch, ed->to,
+                    ed->to_branch, psb_edge_end_string(ed->end), (int)ed->result, ed->n_points);
+            psb__put_double(edges, ed->length, 0);
+            fputc('\n', edges);
         }
         if (psb__write_failed(edges)) return PSB_ERR_INPUT;
     }

@@ -158,8 +158,12 @@ static FILE *create(const char *dir, const char *name)
 {
     char path[1024];
     FILE *f;
-    snprintf(path, sizeof path, "%s/%s", dir, name);
     errno = 0;
+    if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path) { /* never a cut path */
+        errno = ENAMETOOLONG;
+        cannot_write(dir, name);
+        return NULL;
+    }
     if (!(f = fopen(path, "w"))) cannot_write(dir, name);
     return f;
 }

@@ -52,11 +52,26 @@ static inline int xo_close(xo_out *o, FILE *f, const char *path)
     return fclose(f) ? xo_fail(o, path) : 0;
 }
 
-/* fopen for writing that records a failure */
-static inline FILE *xo_create(xo_out *o, const char *path)
+/* DIR/NAME into path (size bytes); -1 with errno ENAMETOOLONG where it does not fit: a cut
+   path would write another file */
+static inline int xo_join(char *path, size_t size, const char *dir, const char *name)
+{
+    if (snprintf(path, size, "%s/%s", dir, name) < (int)size) return 0;
+    errno = ENAMETOOLONG;
+    return -1;
+}
+
+/* fopen(DIR/NAME) for writing, its path in path (size bytes), that records a failure */
+static inline FILE *xo_create(xo_out *o, char *path, size_t size, const char *dir, const char *name)
 {
     FILE *f;
     errno = 0;
+    if (xo_join(path, size, dir, name)) {
+        char cut[1024];
+        snprintf(cut, sizeof cut, "%.900s.../%s", dir, name);
+        xo_fail(o, cut);
+        return NULL;
+    }
     if (!(f = fopen(path, "w"))) xo_fail(o, path);
     return f;
 }
@@ -96,8 +111,7 @@ static int xo_open(xo_out *o, const char *dir, int param, int comp)
     o->comp = comp;
     o->last_edge = -1;
     if (!dir) return 0;
-    snprintf(path, sizeof path, "%s/points.csv", dir);
-    if (!(o->points = xo_create(o, path))) return -1;
+    if (!(o->points = xo_create(o, path, sizeof path, dir, "points.csv"))) return -1;
     fprintf(o->points, "edge,param,state\n");
     return 0;
 }
@@ -153,32 +167,27 @@ static int xo_finish(xo_out *o, const psb_diagram *d, const char *dir, const cha
                 xo_node_row(o, e, d->edges[e].from);
                 xo_node_row(o, e, d->edges[e].to);
             }
-        snprintf(path, sizeof path, "%s/points.csv", dir ? dir : ".");
+        xo_join(path, sizeof path, dir ? dir : ".", "points.csv"); /* it fitted at xo_open */
         bad |= xo_close(o, o->points, path);
     }
     o->points = NULL;
     if (!dir) return bad ? -1 : 0;
-    snprintf(path, sizeof path, "%s/diagram.json", dir);
-    if (!(f = xo_create(o, path))) return -1;
+    if (!(f = xo_create(o, path, sizeof path, dir, "diagram.json"))) return -1;
     if (psb_diagram_write_json(d, f) != PSB_SUCCESS) bad |= xo_fail(o, path);
     bad |= xo_close(o, f, path);
-    snprintf(path, sizeof path, "%s/nodes.csv", dir);
-    if (!(f = xo_create(o, path))) return -1;
-    snprintf(path, sizeof path, "%s/edges.csv", dir);
-    if (!(g = xo_create(o, path))) { fclose(f); return -1; }
+    if (!(f = xo_create(o, path, sizeof path, dir, "nodes.csv"))) return -1;
+    if (!(g = xo_create(o, path, sizeof path, dir, "edges.csv"))) { fclose(f); return -1; }
     if (psb_diagram_write_csv(d, f, g) != PSB_SUCCESS) bad |= xo_fail(o, path);
     bad |= xo_close(o, g, path);
-    snprintf(path, sizeof path, "%s/nodes.csv", dir);
+    xo_join(path, sizeof path, dir, "nodes.csv");
     bad |= xo_close(o, f, path);
-    snprintf(path, sizeof path, "%s/marks.csv", dir);
-    if (!(f = xo_create(o, path))) return -1;
+    if (!(f = xo_create(o, path, sizeof path, dir, "marks.csv"))) return -1;
     fprintf(f, "kind,param,value\n");
     for (kind = 0; kind < d->n_nodes; kind++)
         fprintf(f, "%s,%.12g,%.12g\n", psb_node_kind_string(d->nodes[kind].kind), d->nodes[kind].param,
                 xo_value(o, d->nodes[kind].y));
     bad |= xo_close(o, f, path);
-    snprintf(path, sizeof path, "%s/plot.gp", dir);
-    if (!(f = xo_create(o, path))) return -1;
+    if (!(f = xo_create(o, path, sizeof path, dir, "plot.gp"))) return -1;
     fprintf(f, "# gnuplot script written by psb_explore's %s example: run `gnuplot plot.gp` in this folder\n", title);
     fprintf(f, "set datafile separator ','\nset terminal pngcairo size 900,650 noenhanced\nset output 'diagram.png'\n");
     for (k = 0; k < 7; k++) fprintf(f, "set linetype %d lc rgb '%s' lw 2\n", k + 1, okabe_ito[k]);

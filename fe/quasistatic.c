@@ -326,10 +326,16 @@ typedef struct outputs {
     psb_result diagram_end;
 } outputs;
 
-/* fopen/fclose of an output file that name it with the reason on failure. */
-static FILE *open_output(const char *path)
+/* fopen(DIR/NAME, "w"), its path in path (1024 bytes), with the reason on stderr on failure:
+   a DIR too long for the path is one (a cut path would write another file). */
+static FILE *open_output(char *path, const char *dir, const char *name)
 {
-    FILE *fp = fopen(path, "w");
+    FILE *fp;
+    if (snprintf(path, 1024, "%s/%s", dir, name) >= 1024) {
+        fprintf(stderr, "quasistatic: cannot write %.900s.../%s: %s\n", dir, name, strerror(ENAMETOOLONG));
+        return NULL;
+    }
+    fp = fopen(path, "w");
     if (!fp) fprintf(stderr, "quasistatic: cannot write %s: %s\n", path, strerror(errno));
     return fp;
 }
@@ -347,6 +353,7 @@ static int close_output(FILE *fp, const char *path)
    else psb_contact_state of the incremental law) as point data. */
 static int write_vtu_step(const run *R, const fe_mesh *mesh, outputs *o, int index)
 {
+    char name[32];
     const fe_model *md = R->q.md;
     char path[1024];
     double *u = malloc(sizeof(double) * 2 * (size_t)mesh->nnode);
@@ -361,8 +368,8 @@ static int write_vtu_step(const run *R, const fe_mesh *mesh, outputs *o, int ind
         if (psb_ac2d_state(-R->y[ud + 1], R->y[ud] - R->q.ut_prev[k], R->y[cd], R->y[cd + 1], md->r, md->friction, 0, &st) == PSB_SUCCESS)
             state[b] = (int)st;
     }
-    snprintf(path, sizeof path, "%s/step_%04d.vtu", o->dir, index);
-    fp = open_output(path);
+    snprintf(name, sizeof name, "step_%04d.vtu", index);
+    fp = open_output(path, o->dir, name);
     if (!fp) { free(u); free(state); return -1; }
     fprintf(fp, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n<UnstructuredGrid>\n"
                 "<Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n<Points>\n"
@@ -486,8 +493,7 @@ static int write_rows(const run *R, const char *dir, const char *name)
     char path[1024];
     FILE *fp;
     int k;
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    fp = open_output(path);
+    fp = open_output(path, dir, name);
     if (!fp) return -1;
     fprintf(fp, "step,lambda,q,method,n_folds,fold1,fold2,jump_w,path_length,cont_steps,factorisations,"
                 "separated,stick,slip_pos,slip_neg,residual,coulomb_violation\n");
@@ -505,8 +511,7 @@ static int write_curve(const curve *c, const char *dir, const char *name)
     char path[1024];
     FILE *fp;
     long k;
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    fp = open_output(path);
+    fp = open_output(path, dir, name);
     if (!fp) return -1;
     fprintf(fp, "lambda,q\n");
     for (k = 0; k < c->n; k++) fprintf(fp, "%.10f,%.10g\n", c->pts[2 * k], c->pts[2 * k + 1]);
@@ -519,8 +524,7 @@ static int write_gnuplot(const char *dir, const run *R)
 {
     char path[1024];
     FILE *fp;
-    snprintf(path, sizeof path, "%s/plot.gp", dir);
-    fp = open_output(path);
+    fp = open_output(path, dir, "plot.gp");
     if (!fp) return -1;
     const step_row *b = R->rows + R->snap_row - 1, *a = R->rows + R->snap_row;
     /* the inset's q ticks: three or four, at 1, 2 or 5 times a power of ten (readable at 640 px) */
@@ -558,7 +562,7 @@ static void make_dirs(const char *dir)
 {
     char buf[1024];
     size_t i;
-    snprintf(buf, sizeof buf, "%s", dir);
+    if (snprintf(buf, sizeof buf, "%s", dir) >= (int)sizeof buf) return; /* too long: refused later */
     for (i = 1; buf[i]; i++)
         if (buf[i] == '/') { buf[i] = 0; mkdir(buf, 0777); buf[i] = '/'; }
     mkdir(buf, 0777);
@@ -625,8 +629,7 @@ int main(int argc, char **argv)
     out.dir = dir;
     if (dir) {
         char path[1024];
-        snprintf(path, sizeof path, "%s/evolution.pvd", dir);
-        if (!(out.pvd = open_output(path))) goto done;
+        if (!(out.pvd = open_output(path, dir, "evolution.pvd"))) goto done;
         fprintf(out.pvd, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
     }
     printf("quasistatic: triangle M%d (%d per leg), N = %d, %d contact nodes, F = %g; h = (-20 - 10 lambda, -7.5), "

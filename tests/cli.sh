@@ -237,5 +237,24 @@ else
     fail "block --ndir 2 --nspan 1: exit $rc, stdout: $(grep -m 1 distinct "$tmp/out")"
 fi
 
+# an --out folder whose path leaves no room for a file name in the programs' 1024-byte paths:
+# a clear error and exit 1, never a file written under a cut name
+long="$tmp/L"
+for part in a b c d e; do long="$long/$(printf "$part%.0s" $(seq 1 200))"; done
+if mkdir -p "$long" 2>/dev/null; then
+    fails "File name too long" 01_branching --out "$long"
+    fails "File name too long" 02_explore --out "$long"
+    fails "File name too long" 03_pitchforks --out "$long"
+    fails "File name too long" 04_evolution --out "$long"
+    fails "File name too long" block --quiet --mesh 5x10 --out "$long"
+    fails "File name too long" block --quiet --explore --mesh 5x10 --out "$long"
+    fails "File name too long" triangle --quiet --mesh 16 --explore --out "$long"
+    fails "File name too long" quasistatic --quiet --mesh 8 --dt 0.1 --out "$long"
+    if [ -n "$(ls -A "$long")" ]; then fail "files written under cut names in $long: $(ls "$long" | head -n 3)"; else pass; fi
+    for cut in "$(dirname "$long")"/*; do [ "$cut" = "$long" ] || fail "a cut path was created: $cut"; done
+else
+    fail "cannot make the long test folder $long"
+fi
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -7,6 +7,7 @@
 #include "harness.h"
 #include "pl_problems.h"
 
+#include <locale.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -666,6 +667,128 @@ static void test_callback_failure(void)
     psb_solver_free(&s);
 }
 
+/* a residual that fails (> 0, recoverable) past g = 0.8 */
+static int fail_res(const double *y, double *h, void *u)
+{
+    if (y[3] > 0.8) return 1;
+    return pl_residual(y, h, u);
+}
+
+/* An exploration whose edges fail returns the failure, and its JSON says so: not complete, and
+   how many edges failed. */
+static void test_output_failed(void)
+{
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4];
+    pl_problem pp;
+    psb_problem prob;
+    psb_options o = pl_options();
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    char buf[1 << 16], want[64];
+    size_t len;
+    FILE *f = tmpfile();
+    psb_result r;
+    pl_crossing_kinks(&pp, 3, rays);
+    psb_problem_init(&prob, 3, fail_res, pl_jacobian, &pp);
+    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    pl_start_on_ray(4, rays, 0, y, t);
+    CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    r = psb_explore(&s, y, t, &eo, &d);
+    CHECK(r < 0 && d.n_failed >= 1);
+    CHECK(f != NULL);
+    if (f) {
+        CHECK(psb_diagram_write_json(&d, f) == PSB_SUCCESS);
+        rewind(f);
+        len = fread(buf, 1, sizeof buf - 1, f);
+        buf[len] = 0;
+        snprintf(want, sizeof want, "\"failed_edges\": %d,", d.n_failed);
+        CHECK(strstr(buf, "\"complete\": false") != NULL && strstr(buf, want) != NULL);
+        fclose(f);
+    }
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
+/* The writers' numbers in the C locale's notation: a decimal comma, or a decimal point of
+   several bytes (U+066B in UTF-8), becomes '.'; the rest of the number stays. */
+static void test_c_number(void)
+{
+    static const char *const in[] = {"-0,5", "1,25e-07", "3\xd9\xab" "14", "12", "1.5", "-2,5E+300"};
+    static const char *const out[] = {"-0.5", "1.25e-07", "3.14", "12", "1.5", "-2.5E+300"};
+    size_t k;
+    for (k = 0; k < sizeof in / sizeof in[0]; k++) {
+        char num[32];
+        strcpy(num, in[k]);
+        psb__c_number(num);
+        CHECK(strcmp(num, out[k]) == 0);
+    }
+}
+
+/* Under a comma-decimal locale (where the machine has one) the JSON keeps '.' in its numbers
+   and every CSV row has the header's columns. */
+static void test_output_locale(void)
+{
+    static const char *const names[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8", "fr_FR.utf8",
+                                        "ru_RU.UTF-8", "de_DE", "fr_FR"};
+    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4];
+    pl_problem pp;
+    psb_solver s;
+    psb_diagram d;
+    psb_explore_options eo;
+    char buf[1 << 16], probe[16];
+    const char *locale = NULL, *p;
+    FILE *f = tmpfile(), *g = tmpfile();
+    size_t k;
+    int header_commas = -1, rows_ok = 1;
+    for (k = 0; k < sizeof names / sizeof names[0] && !locale; k++)
+        if (setlocale(LC_NUMERIC, names[k])) {
+            snprintf(probe, sizeof probe, "%.1f", 0.5);
+            if (strcmp(probe, "0,5") == 0) locale = names[k];
+        }
+    if (!locale || !f || !g) {
+        setlocale(LC_NUMERIC, "C");
+        printf("  writers under a comma locale: none installed, checked by test_c_number alone\n");
+        if (f) fclose(f);
+        if (g) fclose(g);
+        return;
+    }
+    crossing_setup(&pp, rays, &s, y, t);
+    memset(&eo, 0, sizeof eo);
+    eo.trace.param_min = -1;
+    eo.trace.param_max = 1;
+    eo.branch_at_kinks = 1;
+    CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
+    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+    CHECK(psb_diagram_write_json(&d, f) == PSB_SUCCESS);
+    CHECK(psb_diagram_write_csv(&d, g, NULL) == PSB_SUCCESS);
+    setlocale(LC_NUMERIC, "C");
+    rewind(f);
+    buf[fread(buf, 1, sizeof buf - 1, f)] = 0;
+    /* a comma inside a number: a digit on both sides */
+    for (p = buf + 1; *p; p++)
+        if (*p == ',' && p[-1] >= '0' && p[-1] <= '9' && p[1] >= '0' && p[1] <= '9') break;
+    CHECK(*p == 0);
+    CHECK(strstr(buf, "\"length\": ") != NULL);
+    rewind(g);
+    while (fgets(buf, sizeof buf, g)) {
+        int commas = 0;
+        for (p = buf; *p; p++) commas += *p == ',';
+        if (header_commas < 0) header_commas = commas;
+        else rows_ok &= commas == header_commas;
+    }
+    CHECK(header_commas > 0 && rows_ok);
+    printf("  writers under %s: JSON numbers and CSV columns as in the C locale\n", locale);
+    fclose(f);
+    fclose(g);
+    psb_diagram_free(&d);
+    psb_solver_free(&s);
+}
+
 /* same inputs and seed: the same diagram bit for bit, on caller memory as allocated */
 static void test_determinism(void)
 {
@@ -731,6 +854,7 @@ static void test_output(void)
     len = fread(buf, 1, sizeof buf - 1, f);
     buf[len] = 0;
     CHECK(strstr(buf, "\"format\": \"pscbranch-diagram\"") && strstr(buf, "\"complete\": true") &&
+          strstr(buf, "\"failed_edges\": 0") && strstr(buf, "\"untraced_branches\": 0") &&
           strstr(buf, "\"odd_nodes\": 0"));
     for (p = buf; (p = strstr(p, "\"end\": \"bound\"")) != NULL; p++) lines++;
     CHECK(lines == 8);
@@ -2099,6 +2223,9 @@ int main(void)
     test_capacity_and_budgets();
     test_bad_input();
     test_callback_failure();
+    test_output_failed();
+    test_c_number();
+    test_output_locale();
     test_audit_regressions();
     test_pc1_points_and_bounds();
     test_loop_through_pc1_points();
