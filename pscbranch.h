@@ -302,33 +302,33 @@
    back. y then approximates the end point (*precision: the last h tried), t points along the
    branch into it; more than 1000 moves: PSB_ERR_NO_CONVERGENCE.
 
-   Algorithm 2.2 (psb_find_branches). As in the paper, with Section 3's restarts: branch 0 is
-   (y0, -t0); each span of two tangents t~1, t~2 is swept in n_dir directions v, the tangent at
-   y0 + h v sampled (skipped where it repeats the previous one), and trial steps from y0 along it
-   both ways (h_init down to trial_h_min) land on branches; a landing h or more from y0 is new if
-   its outward tangent differs from every found one's by more than c_diff (on curved branches the
-   sphere through it decides), and one on a ray from y0 along its own tangent counts even where the
-   step tests fail. Choices (expert switches; as_printed undoes them): Sweep: t~2 is made
-   w-orthogonal to t~1, so directions spread evenly. Restarts: pairs of found branches, the most
-   nearly orthogonal first; then random spans, MIXED alternating uniform draws with spans beside a
-   found branch t_j (the tangent at y0 + h (t_j + 0.1 r), r random). Memos: a tangent within c_diff
-   of one tried in the call is skipped (n_memo); points with a bit-identical analytic dH, or one
-   piece id (Piece memo), share a tangent, which only decides skips. Screening: near y0 the pieces
-   are, to first order, cones with apex y0, and cones scale: a trial along x from y0 + h_init x
-   lands as the trial along k, the tangent there. So trials go along k, skipped when k is a found
-   branch's or a known trial's (n_screened), and stop once an iteration's tangent is (n_cut,
-   analytic dH); The memo's cut: the memo can tell that before the iteration's factorisation
-   (n_cut_memo). A trial also stops after a step that failed on pieces checked to be conic. Sweep length (n_span left at 0): spans that try nothing new do not count;
-   the sweep goes on while fewer than 3 times the last new branch's span have passed, up to
-   n_span_max. An odd count: branches crossing a small sphere about y0 transversally come in even
-   number, their outward signs adding up to 0; an odd or unbalanced set most likely misses
-   branches, so an adapting sweep goes on to n_span_max, then between the directions swept (not
-   with patience). An odd rep.n_branches or rep.unbalanced flags what is left; a balanced set
-   proves nothing. Kinks within h_init: the cones reach the next kink only; a landing chord turning
-   from its tangent by over 0.05 rad, H off its affine map through y0, or an odd count restart the
-   run with h_init / 16 (up to 3 times, staying >= 8 h). Random numbers: xoshiro256**, reseeded
-   from options.seed at each call. Thin regions may need more n_span or n_dir
-   (docs/branching-notes.md).
+   Algorithm 2.2 (psb_find_branches). As in the paper, with Section 3's restarts: branch 0 is (y0,
+   -t0); each span of two tangents t~1, t~2 is swept in n_dir directions v, the tangent at y0 + h v
+   sampled (skipped where it repeats the previous one), and trial steps from y0 along it both ways
+   (h_init down to trial_h_min) land on branches; a landing h or more from y0 is new if its outward
+   tangent differs from every found one's by more than c_diff (on curved branches the sphere
+   through it decides), and one on a ray from y0 along its own tangent counts even where the step
+   tests fail. Choices (expert switches; as_printed undoes them): Sweep: t~2 is made w-orthogonal
+   to t~1, so directions spread evenly. Restarts: pairs of found branches, the most nearly
+   orthogonal first; then random spans, MIXED alternating uniform draws with spans beside a found
+   branch t_j (the tangent at y0 + h (t_j + 0.1 r), r random). Memos: a tangent within c_diff of
+   one tried in the call is skipped (n_memo); points with a bit-identical analytic dH, or one piece
+   id (Piece memo), share a tangent, which only decides skips. Screening: near y0 the pieces are,
+   to first order, cones with apex y0, and cones scale: a trial along x from y0 + h_init x lands as
+   the trial along k, the tangent there. So trials go along k, skipped when k is a found branch's
+   or a known trial's (n_screened), and stop once an iteration's tangent is (n_cut, analytic dH);
+   The memo's cut: the memo can tell that before the iteration's factorisation (n_cut_memo). A
+   trial also stops after a step that failed on pieces checked to be conic. Sweep length (n_span
+   left at 0): spans that try nothing new do not count; the sweep goes on while fewer than 3 times
+   the last new branch's span have passed, up to n_span_max. An odd count: branches crossing a
+   small sphere about y0 transversally come in even number, their outward signs adding up to 0; an
+   odd or unbalanced set most likely misses branches, so an adapting sweep goes on to n_span_max,
+   then between the directions swept (not with patience). An odd rep.n_branches or rep.unbalanced
+   flags what is left; a balanced set proves nothing. Kinks within h_init: the cones reach the next
+   kink only; a landing chord turning from its tangent by over 0.05 rad, H off its affine map
+   through y0, or an odd count restart the run with h_init / 16 (up to 3 times, staying >= 8 h).
+   Random numbers: xoshiro256**, reseeded from options.seed at each call. Thin regions may need
+   more n_span or n_dir (docs/branching-notes.md).
 
    Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
    to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
@@ -395,9 +395,8 @@
    PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (the same results)
    PSCBRANCH_STDIO            declares and defines psb_diagram_write_json and _csv (FILE *)
    Defined here: PSCBRANCH_VERSION_MAJOR, _MINOR, _PATCH, _STRING; the guards PSCBRANCH_H,
-   PSCBRANCH_IMPLEMENTATION_DONE; with the implementation, PSCBRANCH_STRLEN_ONE for LAPACK calls
-   of that file (dgetrs_("N", ..., &info PSCBRANCH_STRLEN_ONE)). LAPACK used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf).
-*/
+   PSCBRANCH_IMPLEMENTATION_DONE; with the implementation, PSCBRANCH_STRLEN_ONE for that file's
+   LAPACK calls. LAPACK used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf). */
 
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
