@@ -4635,7 +4635,7 @@ done:
    ~ step / branch_h per boundary and sample, and a mixed tangent the memo takes for new makes
    an idle span count. The crossing kinks and a curved variant (k = 4, every entry): 10^3
    steps left 1 and 7 of the 16 entries incomplete, 10^4 none. */
-static double psb__auto_branch_h(const psb_solver *s, const double *y)
+static double psb__auto_branch_h(const psb_solver *s, const psb_branch_options *b, const double *y)
 {
     int j;
     double step = 0, h;
@@ -4643,24 +4643,35 @@ static double psb__auto_branch_h(const psb_solver *s, const double *y)
         double sj = s->prob.fd_step * (fabs(y[j]) > 1 ? fabs(y[j]) : 1.0) * sqrt(s->internal_.w[j]);
         if (sj > step) step = sj;
     }
-    h = s->branch.expert.h_fd_steps * step;
-    if (h > s->branch.h_init / 8) h = s->branch.h_init / 8;
+    h = b->expert.h_fd_steps * step;
+    if (h > b->h_init / 8) h = b->h_init / 8;
     return h > s->opt.h_min ? h : s->opt.h_min;
 }
 
-static void psb__branch_h(psb_solver *s, const double *y)
+#define PSB__H_MIN_ABOVE "branch options: h_min must lie below h, which follows the point here"
+
+/* Sets s->branch.h (and h_min) at y where they follow the point. PSB_ERR_OPTIONS where an
+   h_min the caller set is not below that h (s->branch as it was). */
+static psb_result psb__branch_h(psb_solver *s, const double *y)
 {
-    if (!s->internal_.branch_h_auto) return;
-    s->branch.h = psb__auto_branch_h(s, y);
-    if (s->internal_.branch_h_min_auto) s->branch.h_min = s->branch.h / 16384.0;
+    double h;
+    if (!s->internal_.branch_h_auto) return PSB_SUCCESS;
+    h = psb__auto_branch_h(s, &s->branch, y);
+    if (!s->internal_.branch_h_min_auto && !(s->branch.h_min < h))
+        return psb__fail(s, PSB_ERR_OPTIONS, PSB__H_MIN_ABOVE);
+    s->branch.h = h;
+    if (s->internal_.branch_h_min_auto) s->branch.h_min = h / 16384.0;
+    return PSB_SUCCESS;
 }
 
-/* Resolves and checks the branching options of a call into s->branch (left as it was when
-   they are bad). */
-static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo)
+/* Resolves and checks the branching options of a call at the point y into s->branch (left as
+   it was when they are bad): where h follows the point, a set h_min is checked against it at
+   y, as against a set h. */
+static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo, const double *y)
 {
     psb_branch_options b = psb_branch_options_resolve(bo, s);
     const char *bad = psb__check_branch(&b);
+    if (!bad && b.h == 0 && b.h_min != 0 && !(b.h_min < psb__auto_branch_h(s, &b, y))) bad = PSB__H_MIN_ABOVE;
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->branch = b;
     /* finite differences and h left at 0: h follows the difference steps at each point */
@@ -4737,7 +4748,8 @@ static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *p
     psb__copy(tc, t, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     psb__copy(tin, tc, np1);
-    psb__branch_h(s, yc);
+    r = psb__branch_h(s, yc);
+    if (r != PSB_SUCCESS) return r;
     /* Steps 1-5, except that after a successful move the same h is tried again before it is
        halved: the paper's version moves at most h in all, so it cannot reach an end point
        farther than h (the last step of a continuation can stop up to h_min / h_dec away). */
@@ -4847,7 +4859,7 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
                                         const psb_branch_options *bo, double *precision)
 {
     psb_result r = psb__check_couple(s, y, t);
-    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo, y);
     return r == PSB_SUCCESS ? psb__locate_end(s, y, t, precision) : r;
 }
 
@@ -5869,7 +5881,8 @@ static psb_result psb__find_branches_once(psb_solver *s, psb__sweep_state *sw, c
     pt = PSB__VEC(s, PSB__V_BR_P);
     psb__copy(tc, t0, np1);
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t0 is zero");
-    psb__branch_h(s, yc);
+    r = psb__branch_h(s, yc);
+    if (r != PSB_SUCCESS) return r;
     /* H(y0) for the trials' conic test (psb__conic_excess); the test is off without it */
     sw->conic_h0_ok = 0;
     if (sw->jmemo_dh && !s->branch.expert.no_screen) {
@@ -6012,7 +6025,7 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
     psb_result r;
     if (rep) memset(rep, 0, sizeof *rep);
     r = psb__check_couple(s, y0, t0);
-    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo, y0);
     return r == PSB_SUCCESS ? psb__find_branches(s, &s->internal_.sweep, y0, t0, max_branches, ys, ts, rep) : r;
 }
 
@@ -6298,7 +6311,7 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
     if (rep) memset(rep, 0, sizeof *rep);
     r = psb__check_couple(s, y, t);
     if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_branch_point_switch");
-    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo);
+    if (r == PSB_SUCCESS) r = psb__branch_begin(s, bo, y);
     return r == PSB_SUCCESS ? psb__branch_point_switch(s, y, t, kernel, max_branches, ys, ts, rep) : r;
 }
 
@@ -6444,7 +6457,7 @@ typedef struct psb__explorer {
    every edge was traced twice). */
 static double psb__explore_tol(const psb__explorer *x, const psb_node *nd)
 {
-    return x->node_tol > 0 || !x->s->internal_.branch_h_auto ? x->node_tol : 16 * psb__auto_branch_h(x->s, nd->y);
+    return x->node_tol > 0 || !x->s->internal_.branch_h_auto ? x->node_tol : 16 * psb__auto_branch_h(x->s, &x->s->branch, nd->y);
 }
 
 /* Whether y is within tolerance of node nd (precision: y's own location error). */
@@ -7051,7 +7064,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     p = s->prob.param_index;
     bad = psb__check_explore(eo, np1);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
-    r = psb__branch_begin(s, &eo->branch);
+    r = psb__branch_begin(s, &eo->branch, y);
     if (r != PSB_SUCCESS) return r;
     if (eo->trace.param_min < eo->trace.param_max &&
         (y[p] < eo->trace.param_min || y[p] > eo->trace.param_max))

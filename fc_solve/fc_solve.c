@@ -69,11 +69,13 @@
 #endif
 #include "pscbranch.h"
 
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 /* Limits, checked before anything of that size is allocated (the readers' memory is
@@ -272,16 +274,23 @@ static int tok_expect(fc_tok *t, const char *word)
 /* The whole file, NUL-terminated (*len bytes before the NUL); NULL with a message in why. */
 static char *read_file(const char *path, long *len, char *why)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f;
+    struct stat st;
     char *buf;
     long n;
-    if (!f) {
-        sprintf(why, "cannot open the file");
+    errno = 0;
+    if (stat(path, &st) != 0 || !(f = fopen(path, "rb"))) {
+        sprintf(why, "cannot open the file: %.150s", strerror(errno));
+        return NULL;
+    }
+    if (!S_ISREG(st.st_mode)) { /* a directory's size tells nothing */
+        fclose(f);
+        sprintf(why, "not a regular file");
         return NULL;
     }
     if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0) {
+        sprintf(why, "cannot read the file: %.150s", strerror(errno));
         fclose(f);
-        sprintf(why, "cannot read the file (not a regular file?)");
         return NULL;
     }
     if (n >= FC_MAX_FILE) {
@@ -290,15 +299,19 @@ static char *read_file(const char *path, long *len, char *why)
         return NULL;
     }
     buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
     if (!buf) {
-        sprintf(why, "cannot read the file");
+        fclose(f);
+        sprintf(why, "out of memory for its %ld bytes", n);
         return NULL;
     }
+    errno = 0;
+    if (fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        sprintf(why, "cannot read the file: %.150s", errno ? strerror(errno) : "it ended early");
+        free(buf);
+        fclose(f);
+        return NULL;
+    }
+    fclose(f);
     buf[n] = '\0';
     *len = n;
     return buf;
@@ -2820,8 +2833,9 @@ int main(int argc, char **argv)
             int res;
             fc_stats st;
             clock_t t0;
-            if (msg) {
+            if (msg) { /* the result line on stdout, the reason on stderr too */
                 printf("%s error: %s\n", argv[i], msg);
+                fprintf(stderr, "fc_solve: cannot read %s: %s\n", argv[i], msg);
                 status = status ? status : 2;
                 continue;
             }

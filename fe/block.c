@@ -73,7 +73,7 @@ static const char block_usage[] =
     "  --ndir N              directions per span of Algorithm 2.2 (default 20; 1..10000)\n"
     "  --nspan N             spans of Algorithm 2.2 (default 15; 1..1000)\n"
     "  --patience K          stop after K spans in a row without a new branch (default 0: run all; 0..1000)\n"
-    "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 0 < H <= 1)\n"
+    "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 1e-290 <= H <= 1)\n"
     "  --maxiter N           Newton iterations per corrector (default 10; 1..1000)\n"
     "  --restart mixed|paper|global   restarts of Algorithm 2.2 (default mixed)\n"
     "  --paper-sweep         the paper's sweep (Table 1's spans and n_pc)\n"
@@ -146,7 +146,7 @@ static int parse(int argc, char **argv, args *a)
         else if (cli_long(&c, "--expect-npc", &a->expect_npc, 0, LONG_MAX)) {}
         else if (cli_int(&c, "--input", &a->input, 0, 6)) {}
         else if (cli_choice(&c, "--start", &side, sides)) a->start = side ? 1 : -1;
-        else if (cli_double(&c, "--hmin", &a->hmin, 0, 1, 1)) {}
+        else if (cli_double(&c, "--hmin", &a->hmin, 1e-290, 1, 0)) {}
         else if (cli_double(&c, "--mult-weight", &a->mult_weight, 0, 1e12, 1)) {}
         else if (cli_double(&c, "--branch-mult-weight", &a->branch_mult_weight, 0, 1e12, 1)) {}
         else if (cli_int(&c, "--maxiter", &a->maxiter, 1, 1000)) {}
@@ -382,6 +382,13 @@ static int block_main(int argc, char **argv)
         bw = malloc(sizeof(double) * ((size_t)n + 1));
         if (!bw) { fprintf(stderr, "block: out of memory\n"); goto done; }
         fe_weights(&md, opt.kappa, a.branch_mult_weight, bw);
+        for (k = 0; k <= n; k++) /* the library's range of a weight, checked before the run */
+            if (!(bw[k] >= 1e-290 && bw[k] <= 1e290)) {
+                fprintf(stderr, "block: --branch-mult-weight %g: a weight of %g lies outside [1e-290, 1e290]\n",
+                        a.branch_mult_weight, bw[k]);
+                rc = 2;
+                goto done;
+            }
         run.branch_weights = bw;
     }
     y = calloc((size_t)n + 1, sizeof(double));

@@ -2111,7 +2111,10 @@ static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
         psb_options o = run->s.opt;
         o.weights = run->branch_weights;
         r = psb_solver_init(&alt, &run->prob, &o);
-        if (r != PSB_SUCCESS) return r;
+        if (r != PSB_SUCCESS) {
+            memcpy(run->s.message, alt.message, sizeof run->s.message); /* the run's reports it */
+            return r;
+        }
         s = &alt;
     }
     fe_run_progress(run, "Algorithms 2.1-2.2: locating the end point and sweeping for branches");
@@ -2119,6 +2122,7 @@ static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
     if (r >= 0) r = psb_find_branches(s, y, t, &run->branch, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
     if (s == &alt) {
         fe_stats_add(&run->s.stats, &alt.stats);
+        if (r < 0) memcpy(run->s.message, alt.message, sizeof run->s.message); /* before it goes */
         psb_solver_free(&alt);
     }
     if (r < 0) return r;

@@ -75,7 +75,7 @@ static const char triangle_usage[] =
     "                        the loads with four branches on this mesh (default: 26.4 when inside, else auto)\n"
     "  --ndir N              directions per span of Algorithm 2.2 (default 30; 1..10000)\n"
     "  --nspan N             spans of Algorithm 2.2 (default 10; 1..1000)\n"
-    "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 0 < H <= 1)\n"
+    "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 1e-290 <= H <= 1)\n"
     "  --seed S              random seed, 0..2^64-1 (default 0)\n"
     "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2, 1 for fold; 0 < W <= 1e12)\n"
@@ -133,7 +133,7 @@ static int parse(int argc, char **argv, args *a)
         else if (cli_int(&c, "--fold-stop-kink", &a->fold_stop_kink, 1, 1000000)) {}
         else if (cli_int(&c, "--ndir", &a->ndir, 1, TRI_MAX_NDIR)) {}
         else if (cli_int(&c, "--nspan", &a->nspan, 1, TRI_MAX_NSPAN)) {}
-        else if (cli_double(&c, "--hmin", &a->hmin, 0, 1, 1)) {}
+        else if (cli_double(&c, "--hmin", &a->hmin, 1e-290, 1, 0)) {}
         else if (cli_double(&c, "--mult-weight", &a->mult_weight, 0, 1e12, 1)) {}
         else if (cli_string(&c, "--load", &load)) {
             a->load_auto = !strcmp(load, "auto");

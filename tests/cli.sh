@@ -118,6 +118,10 @@ fails "hostile.txt: not a valid end-point file" block --quiet --refine "$tmp/hos
 fails "short.txt: not a valid end-point file" block --quiet --mesh 10x20 --refine "$tmp/short.txt"
 fails "cannot read $tmp/none.txt" block --quiet --refine "$tmp/none.txt"
 fails "/dev/full is not a directory" block --quiet --out /dev/full
+# values the library would refuse only after the continuation: refused before it
+usage "--hmin 1e-300: must be >= 1e-290" block --hmin 1e-300
+usage "--hmin 1e-300: must be >= 1e-290" triangle --hmin 1e-300
+usage "lies outside [1e-290, 1e290]" block --quiet --branch-mult-weight 1e-320
 fails "cannot write /dev/full" block --quiet --mesh 5x10 --save /dev/full
 fails "cannot write /dev/full" block --quiet --mesh 5x10 --compare "$tmp/short.txt" --save /dev/full
 # an output file that cannot be opened inside a writable --out (a directory in its place)
@@ -164,6 +168,9 @@ usage "--tol nan: must be a finite number" fc_solve --tol nan x.dat
 usage "--maxit 0: must be between 1 and 10000000" fc_solve --maxit 0 x.dat
 usage "--maxit 1e3: expected an integer" fc_solve --maxit 1e3 x.dat
 usage "--tol needs a value" fc_solve x.dat --tol
+# files it cannot read: exit 2 and the reason (the system's where it has one)
+usage "cannot read $tmp: not a regular file" fc_solve "$tmp"
+usage "cannot read $tmp/none.dat: cannot open the file: No such file or directory" fc_solve "$tmp/none.dat"
 # corrupted HDF5 files on which libhdf5 itself crashes (Debian 12's 1.10.8: SIGFPE in H5Dopen,
 # SIGSEGV, heap corruption) are read errors (exit 2) of the file, not crashes of fc_solve (HDF5
 # builds only; this script runs the builds without sanitizers)

@@ -723,6 +723,8 @@ static void test_option_limits(void)
     BRANCH_REJECTED(bo.max_pc = -1, "max_pc");
     BRANCH_REJECTED(bo.expert.restart = 7, "restart");
     BRANCH_REJECTED((bo.h = 1e-6, bo.h_min = 1e-6), "h, h_min");
+    /* differences: h follows the point, and an h_min set at or above it is refused there too */
+    BRANCH_REJECTED(bo.h_min = 1, "h_min must lie below h");
     BRANCH_REJECTED(bo.expert.as_printed = 2, "as_printed");
     BRANCH_REJECTED((bo.expert.as_printed = 1, bo.expert.restart = PSB_RESTART_GLOBAL), "as_printed");
 #undef BRANCH_REJECTED
