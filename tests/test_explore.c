@@ -642,25 +642,32 @@ static int stop_res(const double *y, double *h, void *u)
     return pl_residual(y, h, u);
 }
 
-static void test_callback_failure(void)
+/* psb_explore from ray 0 of the crossing kinks (N = 3) with residual res, |g| <= 1, branching at
+   kinks, into d (32 nodes and edges) on s; its result */
+static psb_result explore_crossing_with(psb_residual_fn res, pl_problem *pp, psb_solver *s, psb_diagram *d)
 {
     double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4];
-    pl_problem pp;
     psb_problem prob;
     psb_options o = pl_options();
-    psb_solver s;
-    psb_diagram d;
     psb_explore_options eo;
-    pl_crossing_kinks(&pp, 3, rays);
-    psb_problem_init(&prob, 3, stop_res, pl_jacobian, &pp);
-    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+    pl_crossing_kinks(pp, 3, rays);
+    psb_problem_init(&prob, 3, res, pl_jacobian, pp);
+    CHECK(psb_solver_init(s, &prob, &o) == PSB_SUCCESS);
     pl_start_on_ray(4, rays, 0, y, t);
-    CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(d, 3, 32, 32, 16) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = 1;
-    CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_CALLBACK);
+    return psb_explore(s, y, t, &eo, d);
+}
+
+static void test_callback_failure(void)
+{
+    pl_problem pp;
+    psb_solver s;
+    psb_diagram d;
+    CHECK(explore_crossing_with(stop_res, &pp, &s, &d) == PSB_ERR_CALLBACK);
     CHECK(d.n_edges >= 1 && d.edges[d.n_edges - 1].end == PSB_EDGE_FAILURE);
     CHECK(d.edges[d.n_edges - 1].result == PSB_ERR_CALLBACK);
     psb_diagram_free(&d);
@@ -678,27 +685,13 @@ static int fail_res(const double *y, double *h, void *u)
    how many edges failed. */
 static void test_output_failed(void)
 {
-    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], y[4], t[4];
     pl_problem pp;
-    psb_problem prob;
-    psb_options o = pl_options();
     psb_solver s;
     psb_diagram d;
-    psb_explore_options eo;
     char buf[1 << 16], want[64];
     size_t len;
     FILE *f = tmpfile();
-    psb_result r;
-    pl_crossing_kinks(&pp, 3, rays);
-    psb_problem_init(&prob, 3, fail_res, pl_jacobian, &pp);
-    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
-    pl_start_on_ray(4, rays, 0, y, t);
-    CHECK(psb_diagram_init(&d, 3, 32, 32, 16) == PSB_SUCCESS);
-    memset(&eo, 0, sizeof eo);
-    eo.trace.param_min = -1;
-    eo.trace.param_max = 1;
-    eo.branch_at_kinks = 1;
-    r = psb_explore(&s, y, t, &eo, &d);
+    psb_result r = explore_crossing_with(fail_res, &pp, &s, &d);
     CHECK(r < 0 && d.n_failed >= 1);
     CHECK(f != NULL);
     if (f) {
