@@ -6838,6 +6838,27 @@ static int psb__explore_point(const psb_point *pt, void *user)
 
 static int psb__is_branching_node(psb_node_kind kind);
 
+/* The edge resumes past an ordinary kink at (y, t), up to a branching radius beyond the kink
+   couple in X_PREV: the edge is away from its origin now, and where that jump passes a known
+   node (the origin itself, closing a loop, or a branching node) the edge arrives there, as a
+   traced chord would (psb__explore_passed). Returns 1 with x->stop set to arrive, else 0. */
+static int psb__explore_jumped(psb__explorer *x, const double *y, const double *t)
+{
+    psb_point jump;
+    int j;
+    x->away = 1;
+    memset(&jump, 0, sizeof jump);
+    jump.y = y;
+    jump.t = t;
+    jump.h = psb__dist_w(x->s, PSB__XVEC(x, PSB__X_PREV), y);
+    j = psb__explore_passed(x, PSB__XVEC(x, PSB__X_PREV), &jump);
+    if (j < 0) return 0;
+    x->d->edges[x->edge].length += jump.h;
+    x->stop_node = j;
+    x->stop = PSB__XS_NODE;
+    return 1;
+}
+
 /* Traces branch k of node `from` as a new edge, to its end (psb__explore_edge). */
 static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
 {
@@ -6906,22 +6927,20 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
             ed->length += psb__dist_w(s, PSB__XVEC(x, PSB__X_PREV), PSB__XVEC(x, PSB__X_SY));
             psb__copy(y, PSB__XVEC(x, PSB__X_SY), np1);
             psb__copy(t, PSB__XVEC(x, PSB__X_ST), np1);
+            psb__copy(PSB__XVEC(x, PSB__X_PREV), y, np1);
             r = psb__explore_branching(x, e, y, t, x->stop == PSB__XS_KINK, &resume);
-            if (resume) {
-                x->away = 1; /* past an ordinary kink (see psb__explore_point) */
-                continue;
-            }
+            if (resume && psb__explore_jumped(x, y, t)) break;
+            if (resume) continue;
             return r;
         }
         if (x->stop == PSB__XS_NONE && r == PSB_NONSMOOTH_END) {
             x->stop_kind = PSB_NODE_NONSMOOTH;
             x->stop_precision = 0;
             x->plain_ok = rep.steps > 0; /* a trace that made no step does not resume */
+            psb__copy(PSB__XVEC(x, PSB__X_PREV), y, np1);
             r = psb__explore_branching(x, e, y, t, 0, &resume);
-            if (resume) {
-                x->away = 1;
-                continue;
-            }
+            if (resume && psb__explore_jumped(x, y, t)) break;
+            if (resume) continue;
             return r;
         }
         break;

@@ -8,6 +8,7 @@
 #include "pl_problems.h"
 
 #include <locale.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -780,6 +781,77 @@ static void test_output_locale(void)
     fclose(g);
     psb_diagram_free(&d);
     psb_solver_free(&s);
+}
+
+/* |x| + |g| = R: a closed curve of four ordinary kinks, no branching point. Explored with
+   branch_at_kinks from any start, also one just past a kink, whose last arc resumes beyond
+   the start (Algorithm 2.2's couple lies up to h_init past the kink): one loop edge back to the
+   start and the two folds g = +-R at kinks, complete. */
+static double loop_r;
+static int loop_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = fabs(y[0]) + fabs(y[1]) - loop_r;
+    return 0;
+}
+static int loop_jac(const double *y, double *jac, int ld, void *u)
+{
+    (void)u;
+    (void)ld;
+    jac[0] = y[0] >= 0 ? 1 : -1;
+    jac[1] = y[1] >= 0 ? 1 : -1;
+    return 0;
+}
+static void test_loop_of_kinks(void)
+{
+    static const double radii[2] = {1, 0.01}, past[4] = {0.005, 0.2, 0.5, 0.99995}; /* of R */
+    int ri, pi, v, dir, runs = 0, right = 0;
+    for (ri = 0; ri < 2; ri++)
+        for (pi = 0; pi < 4; pi++)
+            for (v = 0; v < 4; v++)
+                for (dir = -1; dir <= 1; dir += 2) {
+                    double R = radii[ri], a = past[pi] * R, y[2], t[2];
+                    /* vertex v at angle v pi / 2, the start a along the side to vertex v + 1 */
+                    double vx[4] = {R, 0, -R, 0}, vg[4] = {0, R, 0, -R};
+                    psb_problem prob;
+                    psb_options o;
+                    psb_solver s;
+                    psb_diagram d;
+                    psb_explore_options eo;
+                    psb_result r;
+                    int i, folds = 0, ok;
+                    loop_r = R;
+                    y[0] = vx[v] + a * (vx[(v + 1) % 4] - vx[v]) / R;
+                    y[1] = vg[v] + a * (vg[(v + 1) % 4] - vg[v]) / R;
+                    t[0] = dir * (vx[(v + 1) % 4] - vx[v]);
+                    t[1] = dir * (vg[(v + 1) % 4] - vg[v]);
+                    psb_problem_init(&prob, 1, loop_res, loop_jac, NULL);
+                    memset(&o, 0, sizeof o);
+                    o.h_init = 1e-2 * R;
+                    o.h_max = 0.1 * R;
+                    o.h_min = 1e-8 * R;
+                    CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+                    CHECK(psb_diagram_init(&d, 1, 64, 64, 8) == PSB_SUCCESS);
+                    memset(&eo, 0, sizeof eo);
+                    eo.branch_at_kinks = 1;
+                    r = psb_explore(&s, y, t, &eo, &d);
+                    for (i = 0; i < d.n_nodes; i++)
+                        if (d.nodes[i].kind == PSB_NODE_FOLD)
+                            folds += fabs(fabs(d.nodes[i].param) - R) <= 1e-6 * R ? 1 : 100;
+                    ok = r == PSB_SUCCESS && d.n_edges == 1 && d.edges[0].end == PSB_EDGE_LOOP &&
+                         d.edges[0].from == 0 && d.edges[0].to == 0 && folds == 2 && d.n_queued == 0 &&
+                         d.n_failed == 0 && !d.truncated &&
+                         fabs(d.edges[0].length - 4 * sqrt(2.0) * R) <= 0.05 * 4 * sqrt(2.0) * R;
+                    if (!ok)
+                        printf("  loop R = %g, %g R past vertex %d, direction %d: %s, %d edges, %d folds\n", R,
+                               past[pi], v, dir, psb_result_string(r), d.n_edges, folds);
+                    runs++;
+                    right += ok;
+                    psb_diagram_free(&d);
+                    psb_solver_free(&s);
+                }
+    printf("  loop of four kinks: %d of %d starts give one loop edge and its two folds\n", right, runs);
+    CHECK(right == runs);
 }
 
 /* same inputs and seed: the same diagram bit for bit, on caller memory as allocated */
@@ -2217,6 +2289,7 @@ int main(void)
     test_bad_input();
     test_callback_failure();
     test_output_failed();
+    test_loop_of_kinks();
     test_c_number();
     test_output_locale();
     test_audit_regressions();
