@@ -1241,8 +1241,8 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points reached first), PSB_STOPPED
    (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE (d->n differs from the
    problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN bounds or node_tol,
-   negative budgets, box_min > box_max), PSB_ERR_INPUT (zero t, start outside the bounds or
-   box), PSB_ERR_NONFINITE, PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is
+   negative budgets, box_min > box_max), PSB_ERR_INPUT (zero t, t not within c_min of the
+   curve's tangent at y, start outside the bounds or box), PSB_ERR_NONFINITE, PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is
    kept). A trace or a branching that fails otherwise ends its edge (PSB_EDGE_FAILURE,
    d->n_failed) and exploring goes on; once the queue is done (or a budget or capacity ran out)
    the call returns the first failed edge's code (edge.result: PSB_ERR_CALLBACK_FAILED,
@@ -7091,6 +7091,21 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     for (i = 0; eo->box_min && i < np1; i++)
         if (y[i] < eo->box_min[i] || y[i] > eo->box_max[i])
             return psb__fail(s, PSB_ERR_INPUT, "start point outside the box");
+    {
+        /* t must lie along the curve: from a direction across it both starts would trace one arm
+           (a start where dH has no unique tangent is taken as given) */
+        double *tan = PSB__VEC(s, PSB__V_BR_TT), c;
+        r = psb__tangent(s, y, t, tan);
+        if (psb__is_fatal(r)) return r;
+        c = r == PSB_SUCCESS ? fabs(psb__cos_w(s, t, tan)) : 1;
+        if (!(c >= s->opt.c_min)) {
+            char buf[120];
+            snprintf(buf, sizeof buf, "t is not tangent to the curve at y (cosine %.3g with the tangent, "
+                                      "below c_min)", c);
+            return psb__fail(s, PSB_ERR_INPUT, buf);
+        }
+        s->message[0] = 0;
+    }
     d->n_nodes = d->n_edges = 0;
     d->n_points = 0;
     d->n_branchings = d->n_kinks_plain = d->n_queued = d->n_failed = d->n_odd = d->truncated = 0;

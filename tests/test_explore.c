@@ -852,6 +852,31 @@ static void test_loop_of_kinks(void)
                 }
     printf("  loop of four kinks: %d of %d starts give one loop edge and its two folds\n", right, runs);
     CHECK(right == runs);
+    {
+        /* a start direction across the curve is refused (both directions would trace one arm);
+           one within c_min of the tangent is taken */
+        psb_problem prob;
+        psb_options o;
+        psb_solver s;
+        psb_diagram d;
+        psb_explore_options eo;
+        double y[2] = {0.5, 0.5}, across[2] = {1, 1}, tilted[2] = {-1, 1.2}, steep[2] = {-1, 3};
+        loop_r = 1;
+        psb_problem_init(&prob, 1, loop_res, loop_jac, NULL);
+        memset(&o, 0, sizeof o);
+        o.h_max = 0.1;
+        CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(&d, 1, 64, 64, 8) == PSB_SUCCESS);
+        memset(&eo, 0, sizeof eo);
+        eo.branch_at_kinks = 1;
+        CHECK(psb_explore(&s, y, across, &eo, &d) == PSB_ERR_INPUT && d.n_nodes == 0);
+        CHECK(strstr(psb_solver_message(&s), "not tangent") != NULL);
+        CHECK(psb_explore(&s, y, steep, &eo, &d) == PSB_ERR_INPUT); /* cosine 0.89 */
+        CHECK(psb_explore(&s, y, tilted, &eo, &d) == PSB_SUCCESS && d.n_edges == 1 &&
+              d.edges[0].end == PSB_EDGE_LOOP); /* cosine 0.996 */
+        psb_diagram_free(&d);
+        psb_solver_free(&s);
+    }
 }
 
 /* same inputs and seed: the same diagram bit for bit, on caller memory as allocated */
