@@ -311,6 +311,8 @@ DOCDIR ?= $(PREFIX)/share/doc/pscbranch
 VERSION := $(shell awk '/^\#define PSCBRANCH_VERSION_(MAJOR|MINOR|PATCH) /{v = v (v == "" ? "" : ".") $$3} END{print v}' $(HEADER))
 INSTALL ?= install
 DOCS = README.md LICENSE CHANGELOG.md
+# pages README.md links to, installed at the same place under DOCDIR
+DOC_PAGES = fuzz/README.md fc_solve/data/README.md
 # the programs' sources, one folder each as in the repository (their tests, fuzz targets and data stay here)
 PROGRAM_DIRS = examples fe fc_solve
 PROGRAM_SOURCES = $(foreach d,$(PROGRAM_DIRS),$(wildcard $(d)/*.c $(d)/*.h $(d)/README.md))
@@ -334,6 +336,8 @@ install:
 	if [ -d docs ]; then cp -R docs "$(DESTDIR)$(DOCDIR)/" && chmod -R u+w,go+rX "$(DESTDIR)$(DOCDIR)/docs"; fi
 	$(foreach d,$(PROGRAM_DIRS),$(INSTALL) -m 644 $(filter $(d)/%,$(PROGRAM_SOURCES)) "$(DESTDIR)$(DOCDIR)/$(d)/" &&) true
 	$(INSTALL) -m 644 $(CONTRIB_SOURCES) "$(DESTDIR)$(DOCDIR)/contrib/"
+	$(foreach f,$(DOC_PAGES),$(INSTALL) -d "$(DESTDIR)$(DOCDIR)/$(dir $(f))" && \
+		$(INSTALL) -m 644 $(f) "$(DESTDIR)$(DOCDIR)/$(f)" &&) true
 	@echo "installed pscbranch $(VERSION) in $(DESTDIR)$(PREFIX)"
 
 CMAKE_FILES = pscbranchConfig.cmake pscbranchConfigVersion.cmake pscbranch-lapack.cmake
@@ -346,6 +350,8 @@ uninstall:
 	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/,$(addsuffix ",$(PROGRAM_SOURCES)))
 	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/contrib/,$(addsuffix ",$(notdir $(CONTRIB_SOURCES))))
 	rm -rf "$(DESTDIR)$(DOCDIR)/docs"
+	rm -f $(addprefix "$(DESTDIR)$(DOCDIR)/,$(addsuffix ",$(DOC_PAGES)))
+	rmdir "$(DESTDIR)$(DOCDIR)/fuzz" "$(DESTDIR)$(DOCDIR)/fc_solve/data" 2>/dev/null || true
 	rmdir "$(DESTDIR)$(CMAKEDIR)" $(foreach d,$(PROGRAM_DIRS),"$(DESTDIR)$(DOCDIR)/$(d)") "$(DESTDIR)$(DOCDIR)/contrib" \
 		"$(DESTDIR)$(DOCDIR)" 2>/dev/null || true
 

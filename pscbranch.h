@@ -439,7 +439,7 @@ typedef enum psb_result {
     PSB_LOOP_CLOSED = 5,      /* trace: the curve came back to its starting point */
     PSB_BRANCH_CAPACITY = 6,  /* more branches, or a diagram fuller, than room; what fits is kept */
 
-    PSB_ERR_NULL = -1,            /* a required pointer is NULL */
+    PSB_ERR_NULL = -1,            /* a required pointer is NULL, or the solver not initialised */
     PSB_ERR_SIZE = -2,            /* a size or index is out of range */
     PSB_ERR_OPTIONS = -3,         /* inconsistent or invalid options */
     PSB_ERR_NOMEM = -4,           /* allocation failed or caller memory too small */
@@ -1555,8 +1555,8 @@ PSCBRANCH_DEF const char *psb_result_string(psb_result code)
     case PSB_NONSMOOTH_END: return "PSB_NONSMOOTH_END: end point that the tangent switch cannot pass";
     case PSB_STOPPED: return "PSB_STOPPED: stopped by the point callback";
     case PSB_LOOP_CLOSED: return "PSB_LOOP_CLOSED: the curve returned to its start";
-    case PSB_BRANCH_CAPACITY: return "PSB_BRANCH_CAPACITY: more branches found than room given";
-    case PSB_ERR_NULL: return "PSB_ERR_NULL: a required pointer is NULL";
+    case PSB_BRANCH_CAPACITY: return "PSB_BRANCH_CAPACITY: more branches, nodes or edges than room given";
+    case PSB_ERR_NULL: return "PSB_ERR_NULL: a required pointer is NULL, or the solver is not initialised";
     case PSB_ERR_SIZE: return "PSB_ERR_SIZE: a size or index is out of range";
     case PSB_ERR_OPTIONS: return "PSB_ERR_OPTIONS: invalid or inconsistent options";
     case PSB_ERR_NOMEM: return "PSB_ERR_NOMEM: out of memory or memory block too small";

@@ -4,8 +4,8 @@
        H_i(x, g) = min(x_i, (M x + q g)_i),   M = [-1 0.2; 0.1 -1],  q = (1, 1),
    a tiny linear complementarity problem: H(x, g) = 0 says x >= 0, M x + q g >= 0 and
    x_i (M x + q g)_i = 0. H is piecewise linear, so its solution set near y = (x, g) = 0 is a
-   union of rays leaving the origin; for g > 0 there are four (every component either at rest or
-   active), for g < 0 none. We reach the origin along one of them, then let Algorithms 2.1 and 2.2
+   union of rays leaving the origin; for g > 0 there are four (each component of x either zero
+   or positive), for g < 0 none. We reach the origin along one of them, then let Algorithms 2.1 and 2.2
    discover the others without being told where the pieces of H are.
 
    Build (from the repository root) and run:
@@ -192,7 +192,7 @@ int main(int argc, char **argv)
     }
     printf("\n%d branches (n_pc = %ld, n_rand = %d, spans = %d)\n\n", report.n_branches, report.n_pc,
            report.n_rand, report.n_span);
-    printf("  branch |   t_x1     t_x2     t_g    | x1 active  x2 active\n");
+    printf("  branch |   t_x1     t_x2     t_g    | x1 > 0     x2 > 0\n");
     printf("  -------+----------------------------+---------------------\n");
     for (k = 0; k < report.n_branches; k++) {
         const double *tk = ts + 3 * k;
