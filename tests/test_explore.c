@@ -727,7 +727,7 @@ static void test_output_failed(void)
    several bytes (U+066B in UTF-8), becomes '.'; the rest of the number stays. */
 static void test_c_number(void)
 {
-    static const char *const in[] = {"-0,5", "1,25e-07", "3\xd9\xab" "14", "12", "1.5", "-2,5E+300"};
+    static const char *const in[] = {"-0,5", "1,25e-07", ("3\xd9\xab" "14"), "12", "1.5", "-2,5E+300"};
     static const char *const out[] = {"-0.5", "1.25e-07", "3.14", "12", "1.5", "-2.5E+300"};
     size_t k;
     for (k = 0; k < sizeof in / sizeof in[0]; k++) {
