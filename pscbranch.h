@@ -2069,6 +2069,39 @@ static psb_result psb__faults_code(psb_solver *s, const char *what)
     return PSB_SUCCESS;
 }
 
+/* ---- random numbers: every draw comes from options.seed (no global state) ---------------- */
+
+/* splitmix64 seeds xoshiro256**: a small, fast generator with a fixed, portable sequence. */
+static unsigned long long psb__splitmix(unsigned long long *x)
+{
+    unsigned long long z = (*x += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+
+static unsigned long long psb__rotl(unsigned long long x, int k) { return (x << k) | (x >> (64 - k)); }
+
+static unsigned long long psb__next(unsigned long long *st)
+{
+    unsigned long long result = psb__rotl(st[1] * 5, 7) * 9, t = st[1] << 17;
+    st[2] ^= st[0];
+    st[3] ^= st[1];
+    st[1] ^= st[2];
+    st[0] ^= st[3];
+    st[2] ^= t;
+    st[3] = psb__rotl(st[3], 45);
+    return result;
+}
+
+/* Standard normal deviate (Box-Muller; the sine half is dropped to keep the sequence simple). */
+static double psb__gauss(unsigned long long *st)
+{
+    double u1 = ((double)(psb__next(st) >> 11) + 1.0) * (1.0 / 9007199254740993.0);
+    double u2 = (double)(psb__next(st) >> 11) * (1.0 / 9007199254740992.0);
+    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+}
+
 /* ==== Linear algebra (dense, banded, user) ======================================================
    H and dH (analytic or finite differences) and the bordered matrix B = [dH; row^T]:
    factored by the backend problem.linear selects, solved, its determinant's sign. */
@@ -3664,8 +3697,6 @@ static psb_result psb__land_on_bound(psb_solver *s, const double *y0, double *y1
 
 /* ---- special points on the path (psb_trace_options.detect) -------------------------------- */
 
-static unsigned long long psb__splitmix(unsigned long long *x);
-static double psb__gauss(unsigned long long *st);
 
 /* The branch-point test function at the current factors of B = [dH(y); row^T]. Dense and
    banded: sign and log|.| of det B from the LU factors, O(N) and exact in sign. User backend
@@ -4867,42 +4898,6 @@ PSCBRANCH_DEF psb_result psb_locate_end(psb_solver *s, double *y, double *t,
    Every branch leaving a nonsmooth point, with its working state in psb__sweep_state
    (memos, cone test, sweep bookkeeping), passed down as an argument. */
 
-/* splitmix64 seeds xoshiro256**: a small, fast generator with a fixed, portable sequence. */
-static unsigned long long psb__splitmix(unsigned long long *x)
-{
-    unsigned long long z = (*x += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-}
-
-static unsigned long long psb__rotl(unsigned long long x, int k) { return (x << k) | (x >> (64 - k)); }
-
-static unsigned long long psb__next(unsigned long long *st)
-{
-    unsigned long long result = psb__rotl(st[1] * 5, 7) * 9, t = st[1] << 17;
-    st[2] ^= st[0];
-    st[3] ^= st[1];
-    st[1] ^= st[2];
-    st[0] ^= st[3];
-    st[2] ^= t;
-    st[3] = psb__rotl(st[3], 45);
-    return result;
-}
-
-/* Standard normal deviate (Box-Muller; the sine half is dropped to keep the sequence simple). */
-static double psb__gauss(unsigned long long *st)
-{
-    double u1 = ((double)(psb__next(st) >> 11) + 1.0) * (1.0 / 9007199254740993.0);
-    double u2 = (double)(psb__next(st) >> 11) * (1.0 / 9007199254740992.0);
-    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
-}
-
-/* The tangent at a sample point pt = y0 + branch_h v of Algorithm 2.2. With finite differences
-   the steps are kept below branch_h / 1000 there: a step that crosses a piece boundary mixes
-   the pieces, with odds ~ step / branch_h, and near the end point H is small, so the rounding
-   error of the quotients, ~ eps |H| / step, stays small too. (An explicit branch_h of 5e-7 with
-   steps of 1.5e-8 found 1 of the 16 branch sets of the k = 4 crossing kinks.) */
 /* A 128-bit hash of the n doubles at a (their bits), into key[0] and key[1], which seed it. */
 static void psb__hash_doubles(const double *a, size_t n, unsigned long long *key)
 {
@@ -5246,7 +5241,10 @@ static void psb__trial_watch_init(psb__trial_watch *tw, psb__sweep_state *sw, co
     tw->y0 = y0;
 }
 
-/* The tangent at sample point pt, formed there (difference steps below s->branch.h / 1000). */
+/* The tangent at sample point pt, formed there. With finite differences the steps stay below
+   s->branch.h / 1000: a step that crosses a piece boundary mixes the pieces, with odds ~ step /
+   branch_h, and near the end point H is small, so the quotients' rounding error, ~ eps |H| /
+   step, stays small too. */
 static psb_result psb__sample_tangent_at(psb_solver *s, const double *pt, const double *ref, double *t)
 {
     return psb__tangent_capped(s, pt, ref, t, 1e-3 * s->branch.h);
