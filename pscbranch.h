@@ -4679,6 +4679,14 @@ static double psb__auto_branch_h(const psb_solver *s, const psb_branch_options *
     return h > s->opt.h_min ? h : s->opt.h_min;
 }
 
+/* The h that follows the point y under options b, or -1 where an h_min the caller set
+   (h_min_set) is not below it: PSB_ERR_OPTIONS, as for an h_min not below a set h. */
+static double psb__point_h(const psb_solver *s, const psb_branch_options *b, int h_min_set, const double *y)
+{
+    double h = psb__auto_branch_h(s, b, y);
+    return h_min_set && !(b->h_min < h) ? -1 : h;
+}
+
 #define PSB__H_MIN_ABOVE "branch options: h_min must lie below h, which follows the point here"
 
 /* Sets s->branch.h (and h_min) at y where they follow the point. PSB_ERR_OPTIONS where an
@@ -4687,9 +4695,8 @@ static psb_result psb__branch_h(psb_solver *s, const double *y)
 {
     double h;
     if (!s->internal_.branch_h_auto) return PSB_SUCCESS;
-    h = psb__auto_branch_h(s, &s->branch, y);
-    if (!s->internal_.branch_h_min_auto && !(s->branch.h_min < h))
-        return psb__fail(s, PSB_ERR_OPTIONS, PSB__H_MIN_ABOVE);
+    h = psb__point_h(s, &s->branch, !s->internal_.branch_h_min_auto, y);
+    if (h < 0) return psb__fail(s, PSB_ERR_OPTIONS, PSB__H_MIN_ABOVE);
     s->branch.h = h;
     if (s->internal_.branch_h_min_auto) s->branch.h_min = h / 16384.0;
     return PSB_SUCCESS;
@@ -4702,7 +4709,7 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo,
 {
     psb_branch_options b = psb_branch_options_resolve(bo, s);
     const char *bad = psb__check_branch(&b);
-    if (!bad && b.h == 0 && b.h_min != 0 && !(b.h_min < psb__auto_branch_h(s, &b, y))) bad = PSB__H_MIN_ABOVE;
+    if (!bad && b.h == 0 && psb__point_h(s, &b, b.h_min != 0, y) < 0) bad = PSB__H_MIN_ABOVE;
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     s->branch = b;
     /* finite differences and h left at 0: h follows the difference steps at each point */
@@ -5051,9 +5058,10 @@ static int psb__pmemo_trusted(const psb_solver *s, const psb__sweep_state *sw, i
    key gets the key under which the corrector stores the tangent it computes (zero when there
    is none or the memo holds it).
    Returns 1 (cut), 0, or a fatal or fault code from the piece callback (< 0). */
-static int psb__path_memo_cut(psb_solver *s, psb__sweep_state *sw, psb__trial_watch *tw, const double *y, const double *t,
+static int psb__path_memo_cut(psb_solver *s, psb__trial_watch *tw, const double *y, const double *t,
                               const unsigned long long *dh_key)
 {
+    psb__sweep_state *sw = tw->sw;
     unsigned long long *key = tw->store_key;
     int *by_piece = &tw->by_piece;
     int m, got;
@@ -5168,7 +5176,7 @@ static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_even
         tw->pmemo_check = 0;
         tw->store_key[0] = tw->store_key[1] = tw->dh_key[0] = tw->dh_key[1] = 0;
         tw->by_piece = 0;
-        cut = psb__path_memo_cut(s, sw, tw, y, t, NULL);
+        cut = psb__path_memo_cut(s, tw, y, t, NULL);
         break;
     case PSB__CORR_JACOBIAN:
         if (tw->conic_ok || (!tw->by_piece && psb__jmemo_hashing(sw))) psb__jmemo_key(s, tw->dh_key);
@@ -5180,7 +5188,7 @@ static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_even
                 if (watch) psb__note_cone_excess(sw, excess);
             }
         }
-        cut = psb__path_memo_cut(s, sw, tw, y, t, tw->dh_key);
+        cut = psb__path_memo_cut(s, tw, y, t, tw->dh_key);
         break;
     case PSB__CORR_SOLVED:
         if (tw->conic_ok) { /* the point s->branch.h from y0 towards this iterate */

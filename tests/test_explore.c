@@ -682,21 +682,6 @@ static int fail_res(const double *y, double *h, void *u)
     return pl_residual(y, h, u);
 }
 
-/* psb_explore of the crossing kinks from its ray, |g| <= 1, branching at kinks, into d (32 nodes
-   and edges) on s; its result */
-static psb_result explore_crossing(pl_problem *pp, double *rays, psb_solver *s, psb_diagram *d)
-{
-    double y[4], t[4];
-    psb_explore_options eo;
-    crossing_setup(pp, rays, s, y, t);
-    memset(&eo, 0, sizeof eo);
-    eo.trace.param_min = -1;
-    eo.trace.param_max = 1;
-    eo.branch_at_kinks = 1;
-    CHECK(psb_diagram_init(d, 3, 32, 32, 16) == PSB_SUCCESS);
-    return psb_explore(s, y, t, &eo, d);
-}
-
 /* An exploration whose edges fail returns the failure, and its JSON says so: not complete, and
    how many edges failed. */
 static void test_output_failed(void)
@@ -744,7 +729,6 @@ static void test_output_locale(void)
 {
     static const char *const names[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8", "fr_FR.utf8",
                                         "ru_RU.UTF-8", "de_DE", "fr_FR"};
-    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
     pl_problem pp;
     psb_solver s;
     psb_diagram d;
@@ -765,7 +749,7 @@ static void test_output_locale(void)
         if (g) fclose(g);
         return;
     }
-    CHECK(explore_crossing(&pp, rays, &s, &d) == PSB_SUCCESS);
+    CHECK(explore_crossing_with(pl_residual, &pp, &s, &d) == PSB_SUCCESS);
     CHECK(psb_diagram_write_json(&d, f) == PSB_SUCCESS);
     CHECK(psb_diagram_write_csv(&d, g, NULL) == PSB_SUCCESS);
     setlocale(LC_NUMERIC, "C");
@@ -928,7 +912,6 @@ static void test_determinism(void)
 /* the JSON and CSV forms hold the graph: counts of records, kinds, the schema's keys */
 static void test_output(void)
 {
-    double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
     pl_problem pp;
     psb_solver s;
     psb_diagram d;
@@ -937,7 +920,7 @@ static void test_output(void)
     FILE *f = tmpfile(), *g = tmpfile();
     int lines = 0, pc1 = 0;
     const char *p;
-    CHECK(explore_crossing(&pp, rays, &s, &d) == PSB_SUCCESS);
+    CHECK(explore_crossing_with(pl_residual, &pp, &s, &d) == PSB_SUCCESS);
     CHECK(f && g);
     if (!f || !g) return;
     CHECK(psb_diagram_write_json(&d, f) == PSB_SUCCESS);
