@@ -1149,14 +1149,14 @@ typedef int (*psb_explore_point_fn)(int edge, const psb_point *pt, void *user);
 
 typedef struct psb_explore_options {
     psb_trace_options trace; /* every trace's options: param_min, param_max, max_steps, and the
-                                detectors' (detect [0: folds, branch points, PC1 points, and
-                                events when n_events > 0], locate_tol, events); the explorer
-                                sets on_point, point_user, detect_loop (1), locate_kinks
-                                (branch_at_kinks) and stop_at (0) itself */
+                                detectors' (detect, as in psb_trace [0: none: nodes only where
+                                traces end, and at kinks with branch_at_kinks; eo NULL: folds,
+                                branch points, and PC1 points with the dense and banded
+                                backends], locate_tol, events); the explorer sets on_point,
+                                point_user, detect_loop (1), locate_kinks (branch_at_kinks) and
+                                stop_at (0) itself */
     psb_branch_options branch; /* Algorithms 2.1, 2.2 and psb_branch_point_switch at every
                                   branching point (zero fields: defaults) */
-    int no_detect;     /* 1: no detectors (nodes only where traces end, and at kinks with
-                          branch_at_kinks) [0] */
     const double *box_min, *box_max; /* optional (n+1 each): a trace ends at its first point
                                         with some y_i outside [box_min_i, box_max_i] [NULL] */
     double state_max;  /* > 0: a trace ends at its first point whose state (y without the
@@ -6900,11 +6900,6 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     to.detect_loop = 1;
     to.locate_kinks = x->eo->branch_at_kinks != 0;
     to.stop_at = 0; /* psb__explore_special stops where a branching is due */
-    if (!to.detect && !x->eo->no_detect) /* PC1 needs the dense or banded backend */
-        to.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH |
-                    (s->prob.linear != PSB_LINEAR_USER ? PSB_DETECT_PC1 : 0) |
-                    (to.n_events > 0 ? PSB_DETECT_EVENTS : 0);
-    if (x->eo->no_detect) to.detect = 0;
     x->detect = to.detect;
     x->edge = e;
     x->from = from;
@@ -7011,15 +7006,17 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
 }
 
 /* Checks the explorer's options; a message or NULL. */
-static const char *psb__check_explore(const psb_explore_options *eo, int np1)
+static const char *psb__check_explore(const psb_solver *s, const psb_explore_options *eo)
 {
-    int i;
+    int i, np1 = s->internal_.np1;
     if (eo->trace.param_min != eo->trace.param_min || eo->trace.param_max != eo->trace.param_max)
         return "the parameter bounds are NaN";
     if (!(eo->node_tol >= 0) || !psb__finite(eo->node_tol)) return "node_tol must be finite and >= 0";
     if (eo->kink_spans < 0 || eo->kink_spans > PSB_MAX_SPAN_LIMIT) return "kink_spans must lie in [0, PSB_MAX_SPAN_LIMIT]";
     /* psb_trace's own checks, made once here rather than failing every edge */
     if (eo->trace.detect < 0 || eo->trace.detect > PSB_DETECT_ALL) return "trace.detect must be a PSB_DETECT_* mask";
+    if ((eo->trace.detect & PSB_DETECT_PC1) && s->prob.linear == PSB_LINEAR_USER)
+        return "trace.detect: PSB_DETECT_PC1 needs the dense or banded backend";
     if (!(eo->trace.locate_tol >= 0) || !psb__finite(eo->trace.locate_tol)) return "trace.locate_tol must be finite and >= 0";
     if (eo->trace.n_events < 0) return "trace.n_events must be >= 0";
     if (eo->trace.n_events > 0 && (!eo->trace.event || !eo->trace.event_work))
@@ -7081,13 +7078,15 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     if (r != PSB_SUCCESS) return r;
     if (!d || !d->nodes || !d->work_) return psb__fail(s, PSB_ERR_NULL, "the diagram is NULL or not set up");
     if (d->n != s->internal_.n) return psb__fail(s, PSB_ERR_SIZE, "the diagram's n differs from the problem's");
-    if (!eo) {
+    if (!eo) { /* the defaults: every detector the backend has */
         memset(&local, 0, sizeof local);
+        local.trace.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH |
+                             (s->prob.linear != PSB_LINEAR_USER ? PSB_DETECT_PC1 : 0);
         eo = &local;
     }
     np1 = s->internal_.np1;
     p = s->prob.param_index;
-    bad = psb__check_explore(eo, np1);
+    bad = psb__check_explore(s, eo);
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     r = psb__branch_begin(s, &eo->branch, y);
     if (r != PSB_SUCCESS) return r;

@@ -333,7 +333,8 @@ int main(int argc, char **argv)
         psb_solver_free(&solver);
         return 1;
     }
-    memset(&eo, 0, sizeof eo); /* zero fields: both directions, the detectors on */
+    memset(&eo, 0, sizeof eo); /* zero fields: both directions, no detectors */
+    eo.trace.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH | PSB_DETECT_PC1;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     if (dir) {

@@ -339,7 +339,8 @@ int main(int argc, char **argv)
         psb_solver_free(&solver);
         return 1;
     }
-    memset(&eo, 0, sizeof eo); /* the detectors on: folds, branch points, PC1 points */
+    memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH | PSB_DETECT_PC1;
     eo.trace.param_min = -0.5;
     eo.trace.param_max = 1.5;
     eo.box_min = lo;

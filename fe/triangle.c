@@ -534,6 +534,8 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     memcpy(ye, y, bytes);
     memcpy(te, t, bytes);
     memset(&eo, 0, sizeof eo);
+    /* PC1 points need the dense or banded backend */
+    eo.trace.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH | (run->s.prob.linear != PSB_LINEAR_USER ? PSB_DETECT_PC1 : 0);
     eo.trace.param_min = a->fold ? -3 : -1;
     eo.trace.param_max = 1;
     eo.one_direction = 1; /* the start lies on the lower bound */

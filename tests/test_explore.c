@@ -67,11 +67,12 @@ static int check_pl_diagram(pl_problem *pp, const double *rays, int n_rays, int 
     if (psb_diagram_init(&d, n, 2 * PL_MAX_RAYS, 2 * PL_MAX_RAYS, MAXB) != PSB_SUCCESS) return 0;
     pl_start_on_ray(np1, rays, incoming, y, t);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = branch_at_kinks != 0;
     eo.kink_spans = branch_at_kinks == 2; /* 2: with a one-span look first */
-    eo.no_detect = no_detect;
+    if (no_detect) eo.trace.detect = 0;
     r = psb_explore(&s, y, t, &eo, &d);
     ok &= r == PSB_SUCCESS && d.n_queued == 0 && !d.truncated && d.n_failed == 0;
     for (i = 0; i < d.n_nodes; i++) {
@@ -161,6 +162,7 @@ static int check_pl_ordinary(pl_problem *pp, const double *rays, int *stopped)
     if (psb_diagram_init(&d, n, 8, 8, MAXB) != PSB_SUCCESS) return 0;
     pl_start_on_ray(np1, rays, 0, y, t);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = 1;
@@ -299,6 +301,7 @@ static void test_pitchforks(void)
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     CHECK(psb_diagram_init(&d, 2, 32, 32, 8) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -0.5;
     eo.trace.param_max = 1.5;
     eo.box_min = lo;
@@ -455,6 +458,7 @@ static void test_ordinary_kink(void)
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     CHECK(psb_diagram_init(&d, 1, 8, 8, 8) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = 1;
@@ -513,6 +517,7 @@ static void test_capacity_and_budgets(void)
     int i, k;
     crossing_setup(&pp, rays, &s, y, t);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = 1;
@@ -591,6 +596,7 @@ static void test_bad_input(void)
     psb_diagram_free(&d2);
     CHECK(psb_explore(&s, y, t, NULL, &d2) == PSB_ERR_NULL); /* freed */
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = nan;
     CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
     CHECK(strstr(psb_solver_message(&s), "NaN") != NULL);
@@ -657,6 +663,7 @@ static psb_result explore_crossing_with(psb_residual_fn res, pl_problem *pp, psb
     pl_start_on_ray(4, rays, 0, y, t);
     CHECK(psb_diagram_init(d, 3, 32, 32, 16) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = 1;
@@ -825,6 +832,9 @@ static void test_loop_of_kinks(void)
                     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
                     CHECK(psb_diagram_init(&d, 1, 64, 64, 8) == PSB_SUCCESS);
                     memset(&eo, 0, sizeof eo);
+                    eo.trace.detect = PSB_DETECT_ALL;
+        eo.trace.detect = PSB_DETECT_ALL;
+    eo.trace.detect = PSB_DETECT_ALL;
                     eo.branch_at_kinks = 1;
                     r = psb_explore(&s, y, t, &eo, &d);
                     for (i = 0; i < d.n_nodes; i++)
@@ -860,6 +870,8 @@ static void test_loop_of_kinks(void)
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
         CHECK(psb_diagram_init(&d, 1, 64, 64, 8) == PSB_SUCCESS);
         memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_ALL;
+    eo.trace.detect = PSB_DETECT_ALL;
         eo.branch_at_kinks = 1;
         CHECK(psb_explore(&s, y, across, &eo, &d) == PSB_ERR_INPUT && d.n_nodes == 0);
         CHECK(strstr(psb_solver_message(&s), "not tangent") != NULL);
@@ -884,6 +896,7 @@ static void test_determinism(void)
     int i, same = 1;
     crossing_setup(&pp, rays, &s, y, t);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = 1;
@@ -987,6 +1000,7 @@ static void test_audit_regressions(void)
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     pl_start_on_ray(3, rays, 0, y, t);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = 1;
@@ -1121,6 +1135,7 @@ static void explore_tent(int phi, int fd, double g_max, int want_pc1, int want_b
     CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
     CHECK(psb_diagram_init(&d, 2, 32, 32, 8) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -u;
     eo.trace.param_max = g_max * u;
     r = psb_explore(&s, y, t, &eo, &d);
@@ -1213,6 +1228,7 @@ static psb_result explore_tent_counts(long fail_at, int *kinds, int *n_edges)
         return PSB_ERR_NOMEM;
     }
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = -1;
     eo.trace.param_max = 2;
     tent_calls = 0;
@@ -1315,6 +1331,8 @@ static void test_odd_node_flagged(void)
         int branching = -1, nodes_odd = 0;
         pl_start_on_ray(11, rays, 3, y, t);
         memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_ALL;
+    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 1;
         eo.branch_at_kinks = 1;
@@ -1367,6 +1385,8 @@ static void test_unbalanced_pair_flagged(void)
         int origin = -1, complete;
         pl_start_on_ray(17, rays, entry, y, t);
         memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_ALL;
+    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 1;
         eo.branch_at_kinks = 1;
@@ -1498,6 +1518,8 @@ static void test_pc1_near_branch_point(void)
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
         CHECK(psb_diagram_init(&d, 3, 64, 64, 16) == PSB_SUCCESS);
         memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_ALL;
+    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 2;
         r = psb_explore(&s, y, t, &eo, &d);
@@ -1578,6 +1600,7 @@ static psb_result minaff_explore(minaff *m, const double *sa, const double *sb, 
         bmax[j] = j < n ? box : 1e300;
     }
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.trace.param_min = gmin;
     eo.trace.param_max = gmax;
     eo.box_min = bmin;
@@ -1927,6 +1950,7 @@ static void absval2_explore(const double *c, const double *dm, const double *ray
     double y[3], t[3], lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
     int i;
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_ALL;
     eo.box_min = lo;
     eo.box_max = hi;
     eo.branch_at_kinks = branch_at_kinks;
@@ -1971,6 +1995,8 @@ static void test_folds_at_kinks_and_straight_crossings(void)
         double y[2] = {0.5, 0.5}, t[2] = {-1, -1};
         int n_fold = 0;
         memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_ALL;
+    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 2;
         eo.branch_at_kinks = bak;
@@ -2175,6 +2201,8 @@ static void test_kinks_in_one_step(void)
         CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
         CHECK(psb_diagram_init(&d, 1, 64, 64, 16) == PSB_SUCCESS);
         memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_ALL;
+    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 1;
         eo.box_min = lo;

@@ -1125,6 +1125,7 @@ static run_result scenario_explore(faulty *f, int backend, int variant)
         return out;
     }
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH | (backend != BK_USER ? PSB_DETECT_PC1 : 0);
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     eo.branch_at_kinks = variant == 1;
@@ -1424,13 +1425,15 @@ static void test_misuse_new_functions(void)
     CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
     CHECK(psb_diagram_init(&d, 1, 8, 8, 4) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
+    eo.trace.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH;
     eo.trace.param_min = -1;
     eo.trace.param_max = 1;
     CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
     CHECK(d.n_failed == 0 && d.n_edges == 5);
-    eo.trace.detect = PSB_DETECT_ALL;
+    CHECK(psb_explore(&s, y, t, NULL, &d) == PSB_SUCCESS); /* the defaults leave PC1 out */
+    eo.trace.detect = PSB_DETECT_ALL; /* refused before d is touched */
     CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_ERR_OPTIONS);
-    CHECK(d.n_failed > 0 && strstr(psb_solver_message(&s), "edge") != NULL);
+    CHECK(d.n_edges > 0 && strstr(psb_solver_message(&s), "PSB_DETECT_PC1") != NULL);
     psb_diagram_free(&d);
     psb_solver_free(&s);
 }
