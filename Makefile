@@ -260,7 +260,7 @@ images:
 images-run: $(EXAMPLES)
 	sh docs/make_images.sh
 
-BENCH = bench/bench_linear bench/bench_branching bench/bench_detect
+BENCH = bench/bench_linear bench/bench_branching bench/bench_detect bench/bench_explore
 
 bench/%: bench/%.c $(HEADER) tests/pl_problems.h bench/bench_time.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
@@ -278,6 +278,7 @@ bench: $(BENCH) fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse) \
 	./bench/bench_linear --csv bench/out/linear.csv
 	./bench/bench_branching --csv bench/out/branching.csv
 	./bench/bench_detect --csv bench/out/detect.csv
+	OPENBLAS_NUM_THREADS=1 ./bench/bench_explore --csv bench/out/explore.csv
 	$(if $(SS_LIBS),./bench/bench_sparse --csv bench/out/sparse.csv && bash bench/bench_solvers.sh)
 	bash bench/bench_block.sh
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh,echo "bench_mumps: no MUMPS with MPI, skipped")

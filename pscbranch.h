@@ -1199,6 +1199,8 @@ typedef struct psb_diagram {
     int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node) */
     /* private */
     double *work_;
+    double *index_key_; /* the explorer's node index (psb__index_key) */
+    int *index_node_;
     void *owned_;
 } psb_diagram;
 
@@ -6326,9 +6328,9 @@ PSCBRANCH_DEF psb_result psb_branch_point_switch(psb_solver *s, const double *y,
 
 /* Scratch vectors of the explorer (n+1 each), after the nodes' storage: the couple being
    traced, the couple where a trace stopped for a branching (a kink's or a detector's), the
-   detector's kernel direction, the stop couple before Algorithm 2.1 moved it, and the
-   trace's previous accepted point. */
-enum { PSB__X_Y, PSB__X_T, PSB__X_SY, PSB__X_ST, PSB__X_K, PSB__X_P, PSB__X_PREV, PSB__NX };
+   detector's kernel direction, the stop couple before Algorithm 2.1 moved it, the trace's
+   previous accepted point, and the node index's direction (psb__index_key). */
+enum { PSB__X_Y, PSB__X_T, PSB__X_SY, PSB__X_ST, PSB__X_K, PSB__X_P, PSB__X_PREV, PSB__X_V, PSB__NX };
 
 /* Carves the diagram's arrays out of memory (when d is not NULL) and returns the bytes needed
    (0 for invalid sizes), so that the size query and the layout cannot disagree. */
@@ -6339,14 +6341,14 @@ static size_t psb__diagram_layout(int n, int max_nodes, int max_edges, int max_b
     char *base = (char *)memory;
     double total;
     if (n < 1 || max_nodes < 1 || max_edges < 1 || max_branches < 1) return 0;
-    total = (double)max_nodes * (sizeof(psb_node) + (2.0 * max_branches + 1) * (n + 1.0) * sizeof(double) +
-                                 max_branches * (double)sizeof(int)) +
+    total = (double)max_nodes * (sizeof(psb_node) + ((2.0 * max_branches + 1) * (n + 1.0) + 1) * sizeof(double) +
+                                 (max_branches + 1.0) * (double)sizeof(int)) +
             (double)max_edges * sizeof(psb_edge) + (PSB__NX + 4.0) * (n + 1.0) * sizeof(double) + 64;
     if (total > (double)((size_t)-1 / 2)) return 0;
     off = psb__align(nn * sizeof(psb_node));
     off += psb__align((size_t)max_edges * sizeof(psb_edge));
     dbl = off;
-    off += psb__align((nn * (2 * nb + 1) + PSB__NX) * np1 * sizeof(double));
+    off += psb__align(((nn * (2 * nb + 1) + PSB__NX) * np1 + nn) * sizeof(double));
     if (d) {
         double *pool = (double *)(void *)(base + dbl);
         int *ints = (int *)(void *)(base + off);
@@ -6360,8 +6362,10 @@ static size_t psb__diagram_layout(int n, int max_nodes, int max_edges, int max_b
             nd->branch_edge = ints + i * nb;
         }
         d->work_ = pool + nn * (2 * nb + 1) * np1;
+        d->index_key_ = d->work_ + (size_t)PSB__NX * np1;
+        d->index_node_ = ints + nn * nb;
     }
-    return off + psb__align(nn * nb * sizeof(int));
+    return off + psb__align(nn * (nb + 1) * sizeof(int));
 }
 
 PSCBRANCH_DEF size_t psb_diagram_memory_size(int n, int max_nodes, int max_edges, int max_branches)
@@ -6453,6 +6457,11 @@ typedef struct psb__explorer {
     double length;
     int away;      /* the edge has been farther than away_r from its origin node, or past a */
     double away_r; /* kink: a return to the origin is an arrival there, not the edge's start */
+    int queue_from; /* no node below it has an untraced branch */
+    /* the branching nodes' index (psb__index_key): how many, and the largest tolerance plus
+       4 precisions and key magnitude among them */
+    int n_index;
+    double index_reach, index_abs;
 } psb__explorer;
 
 #define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->internal_.np1)
@@ -6471,6 +6480,86 @@ static int psb__explore_near(const psb__explorer *x, const psb_node *nd, const d
                              double precision)
 {
     return psb__dist_w(x->s, y, nd->y) <= psb__explore_tol(x, nd) + 4 * (precision + nd->precision);
+}
+
+static int psb__is_branching_node(psb_node_kind kind)
+{
+    return kind == PSB_NODE_NONSMOOTH || kind == PSB_NODE_BRANCH || kind == PSB_NODE_PC1;
+}
+
+/* The node index: the branching nodes sorted by their key <v, y>, v = X_V a fixed direction
+   with |<v, a - b>| <= ||a - b||_w (v_i = sqrt(w_i) u_i / |u|, u drawn from a fixed seed).
+   A node within r of a point, or of a chord, has its key within r of the point's, or of the
+   chord's range of keys: a look-up visits only those, not every node. *abs_sum: the terms'
+   magnitude, for the rounding margin. */
+static double psb__index_key(const psb__explorer *x, const double *y, double *abs_sum)
+{
+    const double *v = PSB__XVEC(x, PSB__X_V);
+    double key = 0, a = 0;
+    int i;
+    for (i = 0; i < x->s->internal_.np1; i++) {
+        key += v[i] * y[i];
+        a += fabs(v[i] * y[i]);
+    }
+    if (abs_sum) *abs_sum = a;
+    return key;
+}
+
+static void psb__index_direction(psb__explorer *x)
+{
+    double *v = PSB__XVEC(x, PSB__X_V), norm = 0;
+    unsigned long long seed = 0x5eed1dc0ffeeULL;
+    int i, np1 = x->s->internal_.np1;
+    for (i = 0; i < np1; i++) {
+        v[i] = (double)(psb__splitmix(&seed) >> 11) * (2.0 / 9007199254740992.0) - 1;
+        norm += v[i] * v[i];
+    }
+    norm = sqrt(norm);
+    for (i = 0; i < np1; i++) v[i] = norm > 0 ? sqrt(x->s->internal_.w[i]) * v[i] / norm : 0;
+    x->n_index = 0;
+    x->index_reach = x->index_abs = 0;
+}
+
+/* The first index position whose key is >= key. */
+static int psb__index_lower(const psb__explorer *x, double key)
+{
+    int lo = 0, hi = x->n_index;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (x->d->index_key_[mid] < key) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* Puts branching node j into the index (its reach: tolerance plus 4 precisions). */
+static void psb__index_add(psb__explorer *x, int j)
+{
+    const psb_node *nd = x->d->nodes + j;
+    double a, key = psb__index_key(x, nd->y, &a), reach = psb__explore_tol(x, nd) + 4 * nd->precision;
+    int at = psb__index_lower(x, key), i;
+    for (i = x->n_index; i > at; i--) {
+        x->d->index_key_[i] = x->d->index_key_[i - 1];
+        x->d->index_node_[i] = x->d->index_node_[i - 1];
+    }
+    x->d->index_key_[at] = key;
+    x->d->index_node_[at] = j;
+    x->n_index++;
+    if (reach > x->index_reach) x->index_reach = reach;
+    if (a > x->index_abs) x->index_abs = a;
+}
+
+/* The index's range [*first, *last) that may hold a node within `extra` (beyond its own
+   reach) of the chord from a to b (b may be a). */
+static void psb__index_range(const psb__explorer *x, const double *a, const double *b, double extra,
+                             int *first, int *last)
+{
+    double abs_a, abs_b, ka = psb__index_key(x, a, &abs_a), kb = psb__index_key(x, b, &abs_b);
+    double margin = x->index_reach + extra +
+                    4 * DBL_EPSILON * (x->s->internal_.np1 + 2) * (abs_a + abs_b + x->index_abs);
+    *first = psb__index_lower(x, fmin(ka, kb) - margin);
+    *last = psb__index_lower(x, fmax(ka, kb) + margin);
+    while (*last < x->n_index && x->d->index_key_[*last] <= fmax(ka, kb) + margin) (*last)++;
 }
 
 /* A new node of the given kind at y, or -1 when the nodes are used up. */
@@ -6492,6 +6581,7 @@ static int psb__explore_add_node(psb__explorer *x, psb_node_kind kind, const dou
     nd->event = -1;
     nd->direction = 0;
     nd->n_branches = 0;
+    if (psb__is_branching_node(kind)) psb__index_add(x, d->n_nodes);
     return d->n_nodes++;
 }
 
@@ -6626,11 +6716,16 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
         }
     }
     ed->length += psb__dist_w(s, before, y);
-    for (j = 0; j < d->n_nodes; j++) {
-        nd = d->nodes + j;
-        if ((nd->kind == PSB_NODE_NONSMOOTH || nd->kind == PSB_NODE_BRANCH ||
-             nd->kind == PSB_NODE_PC1) && psb__explore_near(x, nd, y, precision)) {
-            psb__explore_arrive(x, e, j, t);
+    {
+        /* the first known branching node near y */
+        int first, last, i, found = -1;
+        psb__index_range(x, y, y, 4 * precision, &first, &last);
+        for (i = first; i < last; i++) {
+            j = d->index_node_[i];
+            if ((found < 0 || j < found) && psb__explore_near(x, d->nodes + j, y, precision)) found = j;
+        }
+        if (found >= 0) {
+            psb__explore_arrive(x, e, found, t);
             return PSB_SUCCESS;
         }
     }
@@ -6760,28 +6855,34 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
    accepted point passes within tolerance of, or -1: a trace going straight through a known
    point (a piecewise-linear branch meets no kink there, and the detectors may see nothing)
    arrives at it. The chord stands for the curve to within 1e-3 of its length. */
-static int psb__explore_passed(const psb__explorer *x, const double *prev, const psb_point *pt)
+static int psb__explore_chord_near(const psb__explorer *x, const double *prev, const psb_point *pt, int j)
 {
     const psb_solver *s = x->s;
-    int np1 = s->internal_.np1, j, i;
-    double seg2 = pt->h * pt->h;
-    for (j = 0; j < x->d->n_nodes; j++) {
-        const psb_node *nd = x->d->nodes + j;
-        double proj = 0, dist2 = 0, a, tol;
-        if (j == x->from ? !x->away || psb__explore_turned_back(x, pt->t)
-                         : nd->kind != PSB_NODE_NONSMOOTH && nd->kind != PSB_NODE_BRANCH && nd->kind != PSB_NODE_PC1)
-            continue;
-        for (i = 0; i < np1; i++) proj += s->internal_.w[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
-        a = seg2 > 0 ? proj / seg2 : 0;
-        a = a < 0 ? 0 : (a > 1 ? 1 : a);
-        for (i = 0; i < np1; i++) {
-            double di = prev[i] + a * (pt->y[i] - prev[i]) - nd->y[i];
-            dist2 += s->internal_.w[i] * di * di;
-        }
-        tol = psb__explore_tol(x, nd) + 4 * nd->precision + 1e-3 * pt->h;
-        if (dist2 <= tol * tol) return j;
+    const psb_node *nd = x->d->nodes + j;
+    int np1 = s->internal_.np1, i;
+    double seg2 = pt->h * pt->h, proj = 0, dist2 = 0, a, tol;
+    for (i = 0; i < np1; i++) proj += s->internal_.w[i] * (pt->y[i] - prev[i]) * (nd->y[i] - prev[i]);
+    a = seg2 > 0 ? proj / seg2 : 0;
+    a = a < 0 ? 0 : (a > 1 ? 1 : a);
+    for (i = 0; i < np1; i++) {
+        double di = prev[i] + a * (pt->y[i] - prev[i]) - nd->y[i];
+        dist2 += s->internal_.w[i] * di * di;
     }
-    return -1;
+    tol = psb__explore_tol(x, nd) + 4 * nd->precision + 1e-3 * pt->h;
+    return dist2 <= tol * tol;
+}
+
+static int psb__explore_passed(const psb__explorer *x, const double *prev, const psb_point *pt)
+{
+    int first, last, i, found = -1;
+    if (x->away && !psb__explore_turned_back(x, pt->t) && psb__explore_chord_near(x, prev, pt, x->from))
+        found = x->from;
+    psb__index_range(x, prev, pt->y, 1e-3 * pt->h, &first, &last);
+    for (i = first; i < last; i++) {
+        int j = x->d->index_node_[i];
+        if (j != x->from && (found < 0 || j < found) && psb__explore_chord_near(x, prev, pt, j)) found = j;
+    }
+    return found;
 }
 
 static int psb__explore_point(const psb_point *pt, void *user)
@@ -6841,8 +6942,6 @@ static int psb__explore_point(const psb_point *pt, void *user)
     }
     return 0;
 }
-
-static int psb__is_branching_node(psb_node_kind kind);
 
 /* The edge resumes past an ordinary kink at (y, t), up to a branching radius beyond the kink
    couple in X_PREV: the edge is away from its origin now, and where that jump passes a known
@@ -6981,6 +7080,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
                 psb__copy(nd->ys + (size_t)kb * (size_t)np1, y, np1);
                 psb__copy(nd->ts + (size_t)kb * (size_t)np1, t, np1);
                 nd->branch_edge[kb] = -1;
+                if (x->stop_node < x->queue_from) x->queue_from = x->stop_node;
             }
         }
         return PSB_SUCCESS;
@@ -7030,11 +7130,6 @@ static const char *psb__check_explore(const psb_solver *s, const psb_explore_opt
     return NULL;
 }
 
-static int psb__is_branching_node(psb_node_kind kind)
-{
-    return kind == PSB_NODE_NONSMOOTH || kind == PSB_NODE_BRANCH || kind == PSB_NODE_PC1;
-}
-
 /* Traces branch k of node `from` as a new edge, to its end. Returns PSB_SUCCESS (the edge
    ended, however), PSB_BRANCH_CAPACITY (edges or nodes ran out), PSB_STEP_BUDGET (the point
    budget), PSB_STOPPED, or a fatal failure.
@@ -7061,6 +7156,7 @@ static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
         for (i = j; i < d->n_nodes - 1; i++) d->nodes[i] = d->nodes[i + 1];
         d->nodes[--d->n_nodes] = moved;
         if (d->edges[e].to > j) d->edges[e].to--;
+        for (i = 0; i < x->n_index; i++) d->index_node_[i] -= d->index_node_[i] > j;
     }
     return r;
 }
@@ -7121,6 +7217,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     x.eo = eo;
     x.node_tol = eo->node_tol > 0 ? eo->node_tol : 16 * s->branch.h;
     max_traces = eo->max_traces > 0 ? eo->max_traces : -1;
+    psb__index_direction(&x);
 
     /* the start node: its directions are the first branches of the queue */
     psb__explore_add_node(&x, PSB_NODE_START, y, 0, -1);
@@ -7144,13 +7241,14 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     /* the queue: the first untraced branch in the order nodes were made */
     for (;;) {
         int from = -1, kb = -1;
-        for (i = 0; i < d->n_nodes && from < 0; i++)
+        for (i = x.queue_from; i < d->n_nodes && from < 0; i++)
             for (k = 0; k < d->nodes[i].n_branches; k++)
                 if (d->nodes[i].branch_edge[k] < 0) {
                     from = i;
                     kb = k;
                     break;
                 }
+        x.queue_from = from < 0 ? d->n_nodes : from;
         if (from < 0) break;
         if (traces == max_traces) {
             result = PSB_STEP_BUDGET;
