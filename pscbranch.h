@@ -85,11 +85,13 @@
    psb_evolve_step              one time step of a quasi-static evolution, through folds
    psb_explore                  every branch reachable from one couple, as a graph
    psb_diagram_init, _init_with_memory, _free, _memory_size   the graph's storage
-   psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv (PSCBRANCH_STDIO)
+   psb_diagram_set_points, _set_growth   its edges' points; growth through your allocator
+   psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
    psb_proj_*, psb_ac2d_*, psb_fc3d_*, psb_fc_nat_error, psb_contact_convert: section 7
    Inputs are never modified on failure, but psb_trace's (y, t) hold the last accepted couple once
    a step was accepted, the branching calls' (ys, ts) the branches found so far, psb_explore's
-   diagram the graph so far. Only psb_solver_init and psb_diagram_init allocate. Single operations
+   diagram the graph so far. Only psb_solver_init and psb_diagram_init allocate, and psb_explore
+   through the allocator of a diagram set to grow. Single operations
    (psb_solve_at_param, _tangent, _correct, _step, _switch_tangent, _locate_end, _find_branches)
    may be called from a point or event callback of psb_trace on the same solver; psb_trace,
    psb_explore, psb_evolve_step and psb_branch_point_switch there return PSB_ERR_INPUT and leave
@@ -347,16 +349,18 @@
    (nonsmooth, pc1 nodes), the branch point switch at a smooth branch point (branch node); branch 0
    is the one arrived by, the others join the queue. Folds and events are nodes on their edge. A
    branching point within node_tol + 4 (both precisions) of a node, or a chord passing that close,
-   arrives there: nothing is traced twice. Two branches whose signs cancel make an ordinary kink
-   (d->n_kinks_plain): the edge goes on. Odd or unbalanced nodes count in d->n_odd (they most
-   likely miss a branch). PC1 is silent where the branches a trace joins have opposite outward
-   signs (the paper's block): branch_at_kinks branches at every kink (an Algorithm 2.2 each;
-   kink_spans looks first with fewer spans, and can miss a point whose first span meets no third
-   branch). psb_diagram_write_json's keys: format, version, n, param_index, complete (nothing
-   untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes, nodes (id, kind,
-   param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
-   from_branch, to, to_branch, end, result, points, length); psb_diagram_write_csv writes the
-   two tables. Both write numbers in the C locale's notation whatever setlocale chose.
+   arrives there (an index sorted by a projection finds it: the cost a node does not grow with
+   the diagram). Two branches whose signs cancel make an ordinary kink (d->n_kinks_plain): the
+   edge goes on, or ends at a kink node (kink_nodes). Odd or unbalanced nodes count in d->n_odd
+   (they most likely miss a branch). PC1 is silent where the branches a trace joins have opposite
+   outward signs (the paper's block): branch_at_kinks branches at every kink (an Algorithm 2.2
+   each; kink_spans looks first with fewer spans, and can miss a point whose first span meets no
+   third branch). psb_diagram_write_json's keys: format, version, n, param_index, complete
+   (nothing untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes, nodes (id,
+   kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
+   from_branch, to, to_branch, end, result, points, length, path: the stored points);
+   psb_diagram_write_csv writes the two tables, _points_csv the points, all in the C locale's
+   notation whatever setlocale chose.
 
    Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves
    H_k(u, lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls
@@ -1102,7 +1106,8 @@ typedef enum psb_node_kind {
     PSB_NODE_EVENT = 5,     /* a sign change of an event function on an edge */
     PSB_NODE_BOUND = 6,     /* a trace's end on a parameter bound or out of the state box */
     PSB_NODE_BUDGET = 7,    /* a trace's end at its step budget (or the point budget) */
-    PSB_NODE_FAILURE = 8    /* a trace's end at a failure (edge.result says which) */
+    PSB_NODE_FAILURE = 8,   /* a trace's end at a failure (edge.result says which) */
+    PSB_NODE_KINK = 9       /* an ordinary kink (two branches), a node with kink_nodes = 1 */
 } psb_node_kind;
 
 /* How an edge (a traced branch segment) ended. */
@@ -1141,6 +1146,8 @@ typedef struct psb_edge {
     psb_result result;     /* the trace's (or the branching's) result code */
     long n_points;         /* accepted points (the ones given to the point callback) */
     double length;         /* arc length, ||.||_w, node to node */
+    long first_point;      /* its stored points (psb_diagram_set_points): the y of accepted */
+    long n_stored;         /* point k is d->points + (first_point + k) (n+1), k < n_stored */
 } psb_edge;
 
 /* Called for every accepted point of every edge (the edge's index, the trace's point); return
@@ -1172,12 +1179,23 @@ typedef struct psb_explore_options {
     int kink_spans;    /* branch_at_kinks: Algorithm 2.2 first looks at a kink with this many
                           spans, and sweeps in full (branch.n_span) only where that found
                           more than two branches [0: in full at once] */
+    int kink_nodes;    /* 1: an ordinary kink is a node (PSB_NODE_KINK, its two branches) where
+                          one edge ends and the next begins, so the graph keeps it (the corner
+                          of two rays, say); implies branch_at_kinks [0: the edge goes on] */
     double node_tol;   /* two branching points within node_tol + 4 (their precisions) of each
                           other, ||.||_w, are one node [16 branch.h, resolved; with finite
                           differences and branch.h left at 0: 16 times h at the node] */
     psb_explore_point_fn on_point; /* optional */
     void *point_user;
 } psb_explore_options;
+
+/* A caller's allocator (psb_diagram_set_growth): alloc returns a block aligned for double, or
+   NULL; release frees one. */
+typedef struct psb_allocator {
+    void *(*alloc)(size_t bytes, void *user);
+    void (*release)(void *memory, void *user);
+    void *user;
+} psb_allocator;
 
 typedef struct psb_diagram {
     int n;                  /* N of the problem */
@@ -1196,12 +1214,19 @@ typedef struct psb_diagram {
                                outward signs do not add up to 0: where the pieces are
                                transversal they do, so such a node most likely misses
                                branches (manual section 6, "An odd count", PC1) */
-    int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node) */
+    int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node, stored
+                               points) */
+    double *points;         /* the edges' stored points, n+1 each (psb_diagram_set_points) */
+    long max_points, n_stored_points;
     /* private */
     double *work_;
     double *index_key_; /* the explorer's node index (psb__index_key) */
     int *index_node_;
     void *owned_;
+    int store_points_, grows_;
+    psb_allocator grow_;
+    size_t grow_max_, grown_bytes_;
+    void *grown_, *grown_points_; /* blocks the diagram grew into (the first one stays) */
 } psb_diagram;
 
 /* Bytes psb_diagram_init_with_memory needs for n equations and the capacities (0 when a value
@@ -1216,8 +1241,24 @@ PSCBRANCH_DEF psb_result psb_diagram_init_with_memory(psb_diagram *d, int n, int
 /* Same, allocating with PSCBRANCH_MALLOC; release with psb_diagram_free. */
 PSCBRANCH_DEF psb_result psb_diagram_init(psb_diagram *d, int n, int max_nodes, int max_edges,
                                           int max_branches);
-/* Frees what psb_diagram_init allocated (nothing for caller memory). d may be NULL. */
+/* Frees what psb_diagram_init allocated and what d grew into (nothing of the caller's own
+   memory). d may be NULL. */
 PSCBRANCH_DEF void psb_diagram_free(psb_diagram *d);
+/* Keeps every edge's accepted points (their y) in memory (max_points couples of n+1 doubles;
+   NULL with max_points 0: none yet, for a diagram that grows): psb_edge.first_point, n_stored,
+   the JSON's "path" and psb_diagram_write_points_csv. Points that do not fit are dropped and
+   set d->truncated. Returns PSB_SUCCESS, PSB_ERR_NULL, PSB_ERR_SIZE (max_points < 0, or > 0
+   with no memory). */
+PSCBRANCH_DEF psb_result psb_diagram_set_points(psb_diagram *d, double *memory, long max_points);
+/* Lets psb_explore grow d, instead of stopping at a capacity: where nodes, edges, branches at
+   a node or stored points run out, it doubles that capacity in a new block from a (NULL:
+   PSCBRANCH_MALLOC and PSCBRANCH_FREE) and releases the block it grew from (never the first:
+   d's scratch stays there; psb_diagram_free releases the rest). max_bytes bounds a block (0:
+   no bound); where a block would pass it or a is out of memory, the capacity stops exploring
+   as without growth. After the call d->max_nodes, ... are the capacities reached, which
+   psb_diagram_memory_size turns into the size of a block that needs no growth. Returns
+   PSB_SUCCESS, PSB_ERR_NULL (d not set up, or a without alloc or release). */
+PSCBRANCH_DEF psb_result psb_diagram_set_growth(psb_diagram *d, const psb_allocator *a, size_t max_bytes);
 /* Names of the kinds ("nonsmooth", "bound", ...), as the JSON and CSV forms write them. */
 PSCBRANCH_DEF const char *psb_node_kind_string(psb_node_kind kind);
 PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
@@ -1262,6 +1303,10 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
    implementation. */
 PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f);
 PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes, FILE *edges);
+/* The edges' stored points (psb_diagram_set_points) as CSV: edge, index, y0 ... yn, one row a
+   point in the order traced; an edge runs from its from node's y through them to its to
+   node's y. Returns as psb_diagram_write_json. */
+PSCBRANCH_DEF psb_result psb_diagram_write_points_csv(const psb_diagram *d, FILE *f);
 #endif
 
 /* ---- contact helpers: see the manual section "Contact helpers" ----------------------------- */
@@ -1421,6 +1466,7 @@ PSCBRANCH_DEF psb_result psb_contact_convert(int dim, const double *force_in,
 #define PSCBRANCH_IMPLEMENTATION_DONE
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -6418,17 +6464,133 @@ PSCBRANCH_DEF void psb_diagram_free(psb_diagram *d)
 {
     if (!d) return;
     if (d->owned_) PSCBRANCH_FREE(d->owned_);
-    d->owned_ = NULL;
+    if (d->grown_) d->grow_.release(d->grown_, d->grow_.user);
+    if (d->grown_points_) d->grow_.release(d->grown_points_, d->grow_.user);
+    d->owned_ = d->grown_ = d->grown_points_ = NULL;
     d->nodes = NULL;
     d->edges = NULL;
+    d->points = NULL;
     d->n_nodes = d->n_edges = 0;
+    d->max_points = d->n_stored_points = 0;
+}
+
+PSCBRANCH_DEF psb_result psb_diagram_set_points(psb_diagram *d, double *memory, long max_points)
+{
+    if (!d || !d->nodes) return PSB_ERR_NULL;
+    if (max_points < 0 || (max_points > 0 && !memory)) return PSB_ERR_SIZE;
+    if (d->grown_points_) d->grow_.release(d->grown_points_, d->grow_.user);
+    d->grown_points_ = NULL;
+    d->points = memory;
+    d->max_points = max_points;
+    d->n_stored_points = 0;
+    d->store_points_ = 1;
+    return PSB_SUCCESS;
+}
+
+static void *psb__default_alloc(size_t bytes, void *user)
+{
+    (void)user;
+    return PSCBRANCH_MALLOC(bytes);
+}
+
+static void psb__default_release(void *memory, void *user)
+{
+    (void)user;
+    PSCBRANCH_FREE(memory);
+}
+
+PSCBRANCH_DEF psb_result psb_diagram_set_growth(psb_diagram *d, const psb_allocator *a, size_t max_bytes)
+{
+    if (!d || !d->nodes || (a && (!a->alloc || !a->release))) return PSB_ERR_NULL;
+    if (d->grown_ || d->grown_points_) return PSB_ERR_INPUT;
+    if (a) {
+        d->grow_ = *a;
+    } else {
+        d->grow_.alloc = psb__default_alloc;
+        d->grow_.release = psb__default_release;
+        d->grow_.user = NULL;
+    }
+    d->grows_ = 1;
+    d->grow_max_ = max_bytes;
+    return PSB_SUCCESS;
+}
+
+/* Moves d into a block with the given capacities (each at least the current one), from its
+   allocator; d's scratch (work_) stays in its first block. Returns 1, or 0 (no growth, the
+   bound, or no memory: d unchanged). */
+static int psb__diagram_grow(psb_diagram *d, int max_nodes, int max_edges, int max_branches)
+{
+    psb_diagram g;
+    size_t bytes, np1 = (size_t)d->n + 1, nb, i;
+    void *mem;
+    if (!d->grows_) return 0;
+    bytes = psb__diagram_layout(d->n, max_nodes, max_edges, max_branches, NULL, NULL);
+    if (!bytes || (d->grow_max_ && bytes > d->grow_max_)) return 0;
+    mem = d->grow_.alloc(bytes, d->grow_.user);
+    if (!mem) return 0;
+    memset(&g, 0, sizeof g);
+    psb__diagram_layout(d->n, max_nodes, max_edges, max_branches, &g, mem);
+    for (i = 0; i < (size_t)d->n_nodes; i++) {
+        const psb_node *from = d->nodes + i;
+        psb_node *to = g.nodes + i, keep = *to;
+        nb = (size_t)from->n_branches;
+        *to = *from;
+        to->y = keep.y;
+        to->ys = keep.ys;
+        to->ts = keep.ts;
+        to->branch_edge = keep.branch_edge;
+        psb__copy(to->y, from->y, (int)np1);
+        if (nb) {
+            memcpy(to->ys, from->ys, nb * np1 * sizeof(double));
+            memcpy(to->ts, from->ts, nb * np1 * sizeof(double));
+            memcpy(to->branch_edge, from->branch_edge, nb * sizeof(int));
+        }
+    }
+    if (d->n_edges) memcpy(g.edges, d->edges, (size_t)d->n_edges * sizeof(psb_edge));
+    memcpy(g.index_key_, d->index_key_, (size_t)d->max_nodes * sizeof(double));
+    memcpy(g.index_node_, d->index_node_, (size_t)d->max_nodes * sizeof(int));
+    if (d->grown_) d->grow_.release(d->grown_, d->grow_.user);
+    d->grown_ = mem;
+    d->nodes = g.nodes;
+    d->edges = g.edges;
+    d->index_key_ = g.index_key_;
+    d->index_node_ = g.index_node_;
+    d->max_nodes = max_nodes;
+    d->max_edges = max_edges;
+    d->max_branches = max_branches;
+    return 1;
+}
+
+/* Twice the capacity c, at most INT_MAX. */
+static int psb__twice(int c) { return c > INT_MAX / 2 ? INT_MAX : 2 * c; }
+
+/* Room for one more stored point: grows the points where d grows. Returns 1, or 0. */
+static int psb__diagram_point_room(psb_diagram *d)
+{
+    long cap;
+    size_t np1 = (size_t)d->n + 1, bytes;
+    double *mem;
+    if (d->n_stored_points < d->max_points) return 1;
+    if (!d->grows_) return 0;
+    cap = d->max_points < 64 ? 128 : (d->max_points > LONG_MAX / 2 ? LONG_MAX : 2 * d->max_points);
+    if ((double)cap * (double)np1 * sizeof(double) > (double)((size_t)-1 / 2)) return 0;
+    bytes = (size_t)cap * np1 * sizeof(double);
+    if (d->grow_max_ && bytes > d->grow_max_) return 0;
+    mem = (double *)d->grow_.alloc(bytes, d->grow_.user);
+    if (!mem) return 0;
+    if (d->n_stored_points) memcpy(mem, d->points, (size_t)d->n_stored_points * np1 * sizeof(double));
+    if (d->grown_points_) d->grow_.release(d->grown_points_, d->grow_.user);
+    d->grown_points_ = mem;
+    d->points = mem;
+    d->max_points = cap;
+    return 1;
 }
 
 PSCBRANCH_DEF const char *psb_node_kind_string(psb_node_kind kind)
 {
     static const char *const names[] = {"start", "nonsmooth", "branch", "pc1", "fold",
-                                        "event", "bound", "budget", "failure"};
-    return kind >= PSB_NODE_START && kind <= PSB_NODE_FAILURE ? names[kind] : "unknown";
+                                        "event", "bound", "budget", "failure", "kink"};
+    return kind >= PSB_NODE_START && kind <= PSB_NODE_KINK ? names[kind] : "unknown";
 }
 
 PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end)
@@ -6486,6 +6648,9 @@ static int psb__is_branching_node(psb_node_kind kind)
 {
     return kind == PSB_NODE_NONSMOOTH || kind == PSB_NODE_BRANCH || kind == PSB_NODE_PC1;
 }
+
+/* A node that edges end at and leave from: a branching node or a kink node. */
+static int psb__is_junction(psb_node_kind kind) { return psb__is_branching_node(kind) || kind == PSB_NODE_KINK; }
 
 /* The node index: the branching nodes sorted by their key <v, y>, v = X_V a fixed direction
    with |<v, a - b>| <= ||a - b||_w (v_i = sqrt(w_i) u_i / |u|, u drawn from a fixed seed).
@@ -6568,7 +6733,8 @@ static int psb__explore_add_node(psb__explorer *x, psb_node_kind kind, const dou
 {
     psb_diagram *d = x->d;
     psb_node *nd;
-    if (d->n_nodes == d->max_nodes) {
+    if (d->n_nodes == d->max_nodes &&
+        !psb__diagram_grow(d, psb__twice(d->max_nodes), d->max_edges, d->max_branches)) {
         d->truncated = 1;
         return -1;
     }
@@ -6581,7 +6747,7 @@ static int psb__explore_add_node(psb__explorer *x, psb_node_kind kind, const dou
     nd->event = -1;
     nd->direction = 0;
     nd->n_branches = 0;
-    if (psb__is_branching_node(kind)) psb__index_add(x, d->n_nodes);
+    if (psb__is_junction(kind)) psb__index_add(x, d->n_nodes);
     return d->n_nodes++;
 }
 
@@ -6589,9 +6755,10 @@ static int psb__explore_add_node(psb__explorer *x, psb_node_kind kind, const dou
 static void psb__explore_end(psb__explorer *x, int e, psb_edge_end end, psb_node_kind kind,
                              const double *y)
 {
+    int to = psb__explore_add_node(x, kind, y, 0, e); /* may move the edges */
     psb_edge *ed = x->d->edges + e;
     ed->end = end;
-    ed->to = psb__explore_add_node(x, kind, y, 0, e);
+    ed->to = to;
     ed->to_branch = -1;
     if (end == PSB_EDGE_FAILURE) x->d->n_failed++;
 }
@@ -6664,12 +6831,17 @@ static int psb__explore_arrival_branch(const psb__explorer *x, const psb_node *n
 static void psb__explore_arrive(psb__explorer *x, int e, int j, const double *t)
 {
     psb_solver *s = x->s;
-    psb_node *nd = x->d->nodes + j;
-    psb_edge *ed = x->d->edges + e;
+    psb_diagram *d = x->d;
+    psb_node *nd = d->nodes + j;
+    psb_edge *ed;
     int np1 = s->internal_.np1, k;
     double best_cos;
     int best = psb__explore_arrival_branch(x, nd, t, &best_cos);
     if (best >= 0 && best_cos < s->opt.c_diff && best_cos < s->opt.c_min) best = -1;
+    if (best < 0 && nd->n_branches == d->max_branches &&
+        psb__diagram_grow(d, d->max_nodes, d->max_edges, psb__twice(d->max_branches)))
+        nd = d->nodes + j;
+    ed = d->edges + e;
     if (best < 0 && nd->n_branches < x->d->max_branches) {
         best = nd->n_branches++;
         psb__copy(nd->ys + (size_t)best * (size_t)np1, nd->y, np1);
@@ -6729,30 +6901,37 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
             return PSB_SUCCESS;
         }
     }
-    if (d->n_nodes == d->max_nodes) {
+    if (d->n_nodes == d->max_nodes && !psb__diagram_grow(d, psb__twice(d->max_nodes), d->max_edges, d->max_branches)) {
         d->truncated = 1;
+        ed = d->edges + e;
         ed->end = PSB_EDGE_NODE;
         ed->to = -1;
         return PSB_BRANCH_CAPACITY;
     }
-    nd = d->nodes + d->n_nodes; /* filled in place, counted once it is a node */
-    if (kind == PSB_NODE_BRANCH && x->has_kernel)
-        r = psb__branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
-                                     nd->ts, &br);
-    else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->branch.n_span) {
-        /* a short look first: an ordinary kink is told by it, two branches whose outward
-           signs cancel (br.unbalanced: two of one sign are not all); else the full sweep
-           (reseeded: the same result as without the look) */
-        int n_span = s->branch.n_span, n_span_max = s->branch.n_span_max;
-        s->branch.n_span = s->branch.n_span_max = x->eo->kink_spans;
-        r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
-        s->branch.n_span = n_span;
-        s->branch.n_span_max = n_span_max;
-        if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY || br.unbalanced))
+    for (;;) { /* again with room for more branches where d grows */
+        nd = d->nodes + d->n_nodes; /* filled in place, counted once it is a node */
+        if (kind == PSB_NODE_BRANCH && x->has_kernel)
+            r = psb__branch_point_switch(s, y, t, PSB__XVEC(x, PSB__X_K), d->max_branches, nd->ys,
+                                         nd->ts, &br);
+        else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->branch.n_span) {
+            /* a short look first: an ordinary kink is told by it, two branches whose outward
+               signs cancel (br.unbalanced: two of one sign are not all); else the full sweep
+               (reseeded: the same result as without the look) */
+            int n_span = s->branch.n_span, n_span_max = s->branch.n_span_max;
+            s->branch.n_span = s->branch.n_span_max = x->eo->kink_spans;
             r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
-    } else {
-        r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
+            s->branch.n_span = n_span;
+            s->branch.n_span_max = n_span_max;
+            if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY || br.unbalanced))
+                r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        } else {
+            r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
+        }
+        if (r != PSB_BRANCH_CAPACITY ||
+            !psb__diagram_grow(d, d->max_nodes, d->max_edges, psb__twice(d->max_branches)))
+            break;
     }
+    ed = d->edges + e;
     d->n_branchings++;
     if (r < 0) {
         ed->result = r;
@@ -6766,7 +6945,22 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     /* two left unbalanced are no ordinary kink but a node, counted in n_odd */
     if (plain_possible && nb == 2 && !br.unbalanced && r != PSB_BRANCH_CAPACITY) {
         const double *y1 = nd->ys + np1;
+        /* a limit point at the kink (the trace stopped there before its fold detector saw the
+           parameter turn): a fold node of the edge, as the detector would have made */
+        int fold = (x->detect & PSB_DETECT_FOLDS) && t[s->prob.param_index] * nd->ts[np1 + s->prob.param_index] < 0;
         d->n_kinks_plain++;
+        if (x->eo->kink_nodes) {
+            j = psb__explore_add_node(x, PSB_NODE_KINK, y, precision, -1); /* in the slot: no growth */
+            nd = d->nodes + j;
+            nd->n_branches = 2;
+            nd->branch_edge[0] = e;
+            nd->branch_edge[1] = -1;
+            ed->end = PSB_EDGE_NODE;
+            ed->to = j;
+            ed->to_branch = 0;
+            if (fold) psb__explore_add_node(x, PSB_NODE_FOLD, y, precision, e);
+            return PSB_SUCCESS;
+        }
         if (psb__explore_beyond_bound(x, y1)) {
             /* the way on landed beyond a bound (the kink lies within h_init of it): the
                edge ends on the bound, as a branch of a node there does (psb__explore_edge_trace) */
@@ -6774,23 +6968,20 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
             psb__copy(y, y1, np1);
             return psb__explore_end_on_bound(x, e, before, y);
         }
-        /* a limit point at the kink (the trace stopped there before its fold detector saw the
-           parameter turn): a fold node of the edge, as the detector would have made */
-        if ((x->detect & PSB_DETECT_FOLDS) && t[s->prob.param_index] * nd->ts[np1 + s->prob.param_index] < 0)
-            psb__explore_add_node(x, PSB_NODE_FOLD, y, precision, e);
+        if (fold) psb__explore_add_node(x, PSB_NODE_FOLD, y, precision, e); /* in the slot */
         ed->length += psb__dist_w(s, y, y1);
         psb__copy(y, y1, np1);
         psb__copy(t, nd->ts + np1, np1);
         *resume = 1;
         return PSB_SUCCESS;
     }
-    psb__explore_add_node(x, kind, y, precision, -1);
+    j = psb__explore_add_node(x, kind, y, precision, -1); /* in the slot: no growth */
     if ((nb % 2 != 0 || br.unbalanced) && r != PSB_BRANCH_CAPACITY) d->n_odd++;
     nd->n_branches = nb;
     nd->branch_edge[0] = e;
     for (k = 1; k < nb; k++) nd->branch_edge[k] = -1;
     ed->end = PSB_EDGE_NODE;
-    ed->to = (int)(nd - d->nodes);
+    ed->to = j;
     ed->to_branch = 0;
     return r == PSB_BRANCH_CAPACITY ? r : PSB_SUCCESS;
 }
@@ -6903,6 +7094,16 @@ static int psb__explore_point(const psb_point *pt, void *user)
     x->d->n_points++;
     x->points++;
     x->length += pt->h;
+    if (x->d->store_points_) {
+        psb_diagram *d = x->d;
+        if (psb__diagram_point_room(d)) {
+            psb__copy(d->points + (size_t)d->n_stored_points * (size_t)np1, pt->y, np1);
+            d->n_stored_points++;
+            d->edges[x->edge].n_stored++;
+        } else {
+            d->truncated = 1;
+        }
+    }
     if (pt->index > 0) {
         int j = psb__explore_passed(x, PSB__XVEC(x, PSB__X_PREV), pt);
         if (j >= 0) {
@@ -6969,42 +7170,44 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
 {
     psb_solver *s = x->s;
     psb_diagram *d = x->d;
-    psb_node *nf = d->nodes + from;
-    psb_edge *ed;
     psb_trace_options to = x->eo->trace;
     psb_trace_report rep;
     int np1 = s->internal_.np1, e, resume;
     long steps_left;
     double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
     psb_result r;
-    if (d->n_edges == d->max_edges) {
+    /* d may grow (psb_diagram_set_growth) wherever a node, a branch or a point is added: nodes
+       and edges are reached by index (ND, ED) after every call that can add one */
+#define ND(j) (d->nodes + (j))
+#define ED (d->edges + e)
+    if (d->n_edges == d->max_edges && !psb__diagram_grow(d, d->max_nodes, psb__twice(d->max_edges), d->max_branches)) {
         d->truncated = 1;
         return PSB_BRANCH_CAPACITY;
     }
     e = d->n_edges++;
-    ed = d->edges + e;
-    memset(ed, 0, sizeof *ed);
-    ed->from = from;
-    ed->from_branch = k;
-    ed->to = ed->to_branch = -1;
-    nf->branch_edge[k] = e;
-    psb__copy(y, nf->ys + (size_t)k * (size_t)np1, np1);
-    psb__copy(t, nf->ts + (size_t)k * (size_t)np1, np1);
+    memset(ED, 0, sizeof *ED);
+    ED->from = from;
+    ED->from_branch = k;
+    ED->to = ED->to_branch = -1;
+    ED->first_point = d->n_stored_points;
+    ND(from)->branch_edge[k] = e;
+    psb__copy(y, ND(from)->ys + (size_t)k * (size_t)np1, np1);
+    psb__copy(t, ND(from)->ts + (size_t)k * (size_t)np1, np1);
     /* The branching landed beyond a bound (the node lies within a branching radius of it):
        the branch ends on the bound. */
-    if (psb__explore_beyond_bound(x, y)) return psb__explore_end_on_bound(x, e, nf->y, y);
-    ed->length = psb__dist_w(s, nf->y, y);
+    if (psb__explore_beyond_bound(x, y)) return psb__explore_end_on_bound(x, e, ND(from)->y, y);
+    ED->length = psb__dist_w(s, ND(from)->y, y);
     to.on_point = psb__explore_point;
     to.point_user = x;
     to.detect_loop = 1;
-    to.locate_kinks = x->eo->branch_at_kinks != 0;
+    to.locate_kinks = x->eo->branch_at_kinks || x->eo->kink_nodes;
     to.stop_at = 0; /* psb__explore_special stops where a branching is due */
     x->detect = to.detect;
     x->edge = e;
     x->from = from;
     /* away: twice the start's distance from the origin, at least its tolerance beyond */
     x->away = 0;
-    x->away_r = 2 * ed->length + psb__explore_tol(x, nf) + 4 * nf->precision;
+    x->away_r = 2 * ED->length + psb__explore_tol(x, ND(from)) + 4 * ND(from)->precision;
     /* max_steps bounds the edge, also across the ordinary kinks it resumes at (a closed curve
        of such arcs never closes within one trace: its detect_loop starts at each kink) */
     steps_left = to.max_steps > 0 ? to.max_steps : 10000;
@@ -7013,18 +7216,18 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
         x->points = 0;
         x->length = 0;
         if (steps_left <= 0) {
-            r = ed->result = PSB_STEP_BUDGET;
+            r = ED->result = PSB_STEP_BUDGET;
             break;
         }
         to.max_steps = steps_left;
         r = psb_trace(s, y, t, &to, &rep);
         steps_left -= rep.steps;
-        ed->n_points += x->points;
-        ed->length += x->length;
-        ed->result = r;
+        ED->n_points += x->points;
+        ED->length += x->length;
+        ED->result = r;
         if (x->stop == PSB__XS_KINK || x->stop == PSB__XS_SPECIAL) {
             /* the stop couple lies beyond the last accepted point */
-            ed->length += psb__dist_w(s, PSB__XVEC(x, PSB__X_PREV), PSB__XVEC(x, PSB__X_SY));
+            ED->length += psb__dist_w(s, PSB__XVEC(x, PSB__X_PREV), PSB__XVEC(x, PSB__X_SY));
             psb__copy(y, PSB__XVEC(x, PSB__X_SY), np1);
             psb__copy(t, PSB__XVEC(x, PSB__X_ST), np1);
             psb__copy(PSB__XVEC(x, PSB__X_PREV), y, np1);
@@ -7048,16 +7251,17 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     switch (x->stop) {
     case PSB__XS_NODE: {
         /* through a known node: arrive, and make sure the way on is one of its branches */
-        psb_node *nd = d->nodes + x->stop_node;
+        psb_node *nd;
         int kb, best = -1;
         double best_cos = -2;
-        if (x->stop_node == from && !psb__is_branching_node(nf->kind)) {
+        if (x->stop_node == from && !psb__is_junction(ND(from)->kind)) {
             /* back through its start (the resumes kept psb_trace's detect_loop from seeing it) */
             r = PSB_LOOP_CLOSED;
             break;
         }
-        ed->length -= psb__dist_w(s, y, nd->y);
+        ED->length -= psb__dist_w(s, y, ND(x->stop_node)->y);
         psb__explore_arrive(x, e, x->stop_node, t);
+        nd = ND(x->stop_node);
         /* by its tangent or by its chord from the node, whichever matches better: the tangent
            alone misses on a curved branch (the node's couples lie elsewhere on it), and with
            differences it is off near the node, where the quotients mix the pieces (a single
@@ -7073,6 +7277,9 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
            PC1 point) is some piece's and need not point along any branch */
         if ((best < 0 || (best_cos < s->opt.c_diff && best_cos < s->opt.c_min)) &&
             psb__dist_w(s, y, nd->y) > psb__explore_tol(x, nd) + 4 * nd->precision) {
+            if (nd->n_branches == d->max_branches &&
+                psb__diagram_grow(d, d->max_nodes, d->max_edges, psb__twice(d->max_branches)))
+                nd = ND(x->stop_node);
             if (nd->n_branches == d->max_branches) {
                 d->truncated = 1;
             } else {
@@ -7094,15 +7301,17 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     case PSB_PARAM_BOUND: psb__explore_end(x, e, PSB_EDGE_BOUND, PSB_NODE_BOUND, y); break;
     case PSB_STEP_BUDGET: psb__explore_end(x, e, PSB_EDGE_BUDGET, PSB_NODE_BUDGET, y); break;
     case PSB_LOOP_CLOSED:
-        ed->length += psb__dist_w(s, y, nf->y);
+        ED->length += psb__dist_w(s, y, ND(from)->y);
         psb__explore_arrive(x, e, from, t);
-        ed->end = PSB_EDGE_LOOP;
+        ED->end = PSB_EDGE_LOOP;
         break;
     default:
         psb__explore_end(x, e, PSB_EDGE_FAILURE, PSB_NODE_FAILURE, y);
         if (psb__is_fatal(r)) return r;
     }
     return PSB_SUCCESS;
+#undef ND
+#undef ED
 }
 
 /* Checks the explorer's options; a message or NULL. */
@@ -7113,6 +7322,7 @@ static const char *psb__check_explore(const psb_solver *s, const psb_explore_opt
         return "the parameter bounds are NaN";
     if (!(eo->node_tol >= 0) || !psb__finite(eo->node_tol)) return "node_tol must be finite and >= 0";
     if (eo->kink_spans < 0 || eo->kink_spans > PSB_MAX_SPAN_LIMIT) return "kink_spans must lie in [0, PSB_MAX_SPAN_LIMIT]";
+    if (eo->kink_nodes < 0 || eo->kink_nodes > 1) return "kink_nodes must be 0 or 1";
     /* psb_trace's own checks, made once here rather than failing every edge */
     if (eo->trace.detect < 0 || eo->trace.detect > PSB_DETECT_ALL) return "trace.detect must be a PSB_DETECT_* mask";
     if ((eo->trace.detect & PSB_DETECT_PC1) && s->prob.linear == PSB_LINEAR_USER)
@@ -7208,7 +7418,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
         s->message[0] = 0;
     }
     d->n_nodes = d->n_edges = 0;
-    d->n_points = 0;
+    d->n_points = d->n_stored_points = 0;
     d->n_branchings = d->n_kinks_plain = d->n_queued = d->n_failed = d->n_odd = d->truncated = 0;
     d->param_index = p;
     memset(&x, 0, sizeof x);
@@ -7221,17 +7431,19 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
 
     /* the start node: its directions are the first branches of the queue */
     psb__explore_add_node(&x, PSB_NODE_START, y, 0, -1);
-    start = d->nodes;
     for (k = 0; k < (eo->one_direction ? 1 : 2); k++) {
-        double *tk = start->ts + (size_t)start->n_branches * (size_t)np1, dir = k ? -t[p] : t[p];
+        double *tk, dir = k ? -t[p] : t[p];
         /* a direction leaving the parameter interval from a start on its bound is left out */
         if (eo->trace.param_min < eo->trace.param_max &&
             ((y[p] == eo->trace.param_min && dir < 0) || (y[p] == eo->trace.param_max && dir > 0)))
             continue;
-        if (start->n_branches == d->max_branches) {
+        if (d->nodes->n_branches == d->max_branches &&
+            !psb__diagram_grow(d, d->max_nodes, d->max_edges, psb__twice(d->max_branches))) {
             d->truncated = 1;
             break;
         }
+        start = d->nodes;
+        tk = start->ts + (size_t)start->n_branches * (size_t)np1;
         psb__copy(start->ys + (size_t)start->n_branches * (size_t)np1, y, np1);
         for (i = 0; i < np1; i++) tk[i] = k ? -t[i] : t[i];
         psb__normalize_w(s, tk);
@@ -7364,14 +7576,41 @@ PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
     fprintf(f, "\n  ],\n  \"edges\": [");
     for (i = 0; i < d->n_edges; i++) {
         const psb_edge *ed = d->edges + i;
+        long k;
         fprintf(f, "%s\n    {\"id\": %d, \"from\": %d, \"from_branch\": %d, \"to\": %d, \"to_branch\": %d, "
                    "\"end\": \"%s\", \"result\": %d, \"points\": %ld, \"length\": ",
                 i ? "," : "", i, ed->from, ed->from_branch, ed->to, ed->to_branch,
                 psb_edge_end_string(ed->end), (int)ed->result, ed->n_points);
         psb__put_double(f, ed->length, 1);
-        fputc('}', f);
+        fputs(", \"path\": [", f);
+        for (k = 0; d->points && k < ed->n_stored; k++) {
+            fputs(k ? ",\n       [" : "\n       [", f);
+            psb__write_vec(f, d->points + (size_t)(ed->first_point + k) * (size_t)np1, np1, ", ", 1);
+            fputc(']', f);
+        }
+        fputs("]}", f);
     }
     fprintf(f, "\n  ]\n}\n");
+    return psb__write_failed(f) ? PSB_ERR_INPUT : PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_diagram_write_points_csv(const psb_diagram *d, FILE *f)
+{
+    int i, np1;
+    long k;
+    if (!d || !d->nodes || !f) return PSB_ERR_NULL;
+    np1 = d->n + 1;
+    fprintf(f, "edge,index");
+    for (i = 0; i < np1; i++) fprintf(f, ",y%d", i);
+    fputc('\n', f);
+    for (i = 0; d->points && i < d->n_edges; i++) {
+        const psb_edge *ed = d->edges + i;
+        for (k = 0; k < ed->n_stored; k++) {
+            fprintf(f, "%d,%ld,", i, k);
+            psb__write_vec(f, d->points + (size_t)(ed->first_point + k) * (size_t)np1, np1, ",", 0);
+            fputc('\n', f);
+        }
+    }
     return psb__write_failed(f) ? PSB_ERR_INPUT : PSB_SUCCESS;
 }
 

@@ -833,8 +833,6 @@ static void test_loop_of_kinks(void)
                     CHECK(psb_diagram_init(&d, 1, 64, 64, 8) == PSB_SUCCESS);
                     memset(&eo, 0, sizeof eo);
                     eo.trace.detect = PSB_DETECT_ALL;
-        eo.trace.detect = PSB_DETECT_ALL;
-    eo.trace.detect = PSB_DETECT_ALL;
                     eo.branch_at_kinks = 1;
                     r = psb_explore(&s, y, t, &eo, &d);
                     for (i = 0; i < d.n_nodes; i++)
@@ -871,7 +869,6 @@ static void test_loop_of_kinks(void)
         CHECK(psb_diagram_init(&d, 1, 64, 64, 8) == PSB_SUCCESS);
         memset(&eo, 0, sizeof eo);
         eo.trace.detect = PSB_DETECT_ALL;
-    eo.trace.detect = PSB_DETECT_ALL;
         eo.branch_at_kinks = 1;
         CHECK(psb_explore(&s, y, across, &eo, &d) == PSB_ERR_INPUT && d.n_nodes == 0);
         CHECK(strstr(psb_solver_message(&s), "not tangent") != NULL);
@@ -1332,7 +1329,6 @@ static void test_odd_node_flagged(void)
         pl_start_on_ray(11, rays, 3, y, t);
         memset(&eo, 0, sizeof eo);
         eo.trace.detect = PSB_DETECT_ALL;
-    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 1;
         eo.branch_at_kinks = 1;
@@ -1386,7 +1382,6 @@ static void test_unbalanced_pair_flagged(void)
         pl_start_on_ray(17, rays, entry, y, t);
         memset(&eo, 0, sizeof eo);
         eo.trace.detect = PSB_DETECT_ALL;
-    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 1;
         eo.branch_at_kinks = 1;
@@ -1519,7 +1514,6 @@ static void test_pc1_near_branch_point(void)
         CHECK(psb_diagram_init(&d, 3, 64, 64, 16) == PSB_SUCCESS);
         memset(&eo, 0, sizeof eo);
         eo.trace.detect = PSB_DETECT_ALL;
-    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 2;
         r = psb_explore(&s, y, t, &eo, &d);
@@ -1996,7 +1990,6 @@ static void test_folds_at_kinks_and_straight_crossings(void)
         int n_fold = 0;
         memset(&eo, 0, sizeof eo);
         eo.trace.detect = PSB_DETECT_ALL;
-    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 2;
         eo.branch_at_kinks = bak;
@@ -2202,7 +2195,6 @@ static void test_kinks_in_one_step(void)
         CHECK(psb_diagram_init(&d, 1, 64, 64, 16) == PSB_SUCCESS);
         memset(&eo, 0, sizeof eo);
         eo.trace.detect = PSB_DETECT_ALL;
-    eo.trace.detect = PSB_DETECT_ALL;
         eo.trace.param_min = -1;
         eo.trace.param_max = 1;
         eo.box_min = lo;
