@@ -300,9 +300,11 @@
    move the same h is tried again (the printed version moves at most h in all); a move must land
    h/2 ahead with a tangent within c_diff of the entering one too (no falling back, no turns adding
    up), and a branch that only turned smoothly is followed on. With differences the entering
-   tangent is kept, stalls are told from smooth turns by chords, and t is the branch's tangent 16 h
-   back. y then approximates the end point (*precision: the last h tried), t points along the
-   branch into it; more than 1000 moves: PSB_ERR_NO_CONVERGENCE.
+   tangent is kept, stalls are told from smooth turns by chords, t is the branch's tangent 16 h
+   back, and a second pass with difference steps 10^4 times shorter goes on where the quotients
+   mixed the pieces. y then approximates the end point within *precision (the last h tried; with
+   differences twice it plus 1e-2 of the second pass's move), t points along the branch into
+   it; more than 1000 moves: PSB_ERR_NO_CONVERGENCE.
 
    Algorithm 2.2 (psb_find_branches). As in the paper, with Section 3's restarts: branch 0 is (y0,
    -t0); each span of two tangents t~1, t~2 is swept in n_dir directions v, the tangent at y0 + h v
@@ -941,7 +943,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
    branch only curved by more than c_diff's angle since t, it follows on from there with the
    tangent there, or with finite differences along a chord there). On return y
    approximates the end point, t (unit) points out of the branch's region, *precision (may be
-   NULL) is the last h tried. Returns PSB_SUCCESS or a failure, with y, t and *precision
+   NULL) bounds y's distance from it (manual section 6). Returns PSB_SUCCESS or a failure, with y, t and *precision
    untouched: PSB_ERR_CALLBACK_FAILED / _NONFINITE / _SINGULAR when the last trial failed
    because of a fault (the end point is then not located), PSB_ERR_NO_CONVERGENCE when no end
    point lies within 1000 moves or, with finite differences, no branch tangent could be
@@ -3030,7 +3032,7 @@ struct psb__corr_watch {
    the run gives up once an iterate lies farther than reach from y. watch (may be NULL) sees
    the run's events (psb__corr_watch). */
 static psb_result psb__correct_run(psb_solver *s, double *y, double *t, double reach,
-                                   psb__corr_watch *watch, int *iterations)
+                                   psb__corr_watch *watch, int *iterations, double fd_cap)
 {
     int n = s->internal_.n, np1 = s->internal_.np1, it, i;
     double *yc = PSB__VEC(s, PSB__V_Y), *tc = PSB__VEC(s, PSB__V_T), *row = s->internal_.work, corr_prev = 0, res_prev;
@@ -3048,7 +3050,7 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, double r
         s->stats.n_newton++;
         if (watch) cut = watch->fn(watch, s, PSB__CORR_ITERATE, yc, tc, 0);
         if (cut == 0) {
-            r = psb__jacobian(s, yc, s->internal_.res);
+            r = psb__jacobian_capped(s, yc, s->internal_.res, fd_cap);
             if (r != PSB_SUCCESS) return r;
             if (watch) cut = watch->fn(watch, s, PSB__CORR_JACOBIAN, yc, tc, 0);
         }
@@ -3120,12 +3122,13 @@ static psb_result psb__correct_run(psb_solver *s, double *y, double *t, double r
    singular bordered matrix is geometry when dH has a tangent where it happened (the curve
    turned across the bordering row: last_fail TURN), a fault when it has none (rank < N, or a
    solver.factor that fails with any row: last_fail SINGULAR); the extra tangent costs a
-   factorisation only on that failure. With differences it is never a fault (FD_RANK). */
-static psb_result psb__correct(psb_solver *s, double *y, double *t, double reach,
-                               psb__corr_watch *watch, int *iterations)
+   factorisation only on that failure. With differences it is never a fault (FD_RANK); fd_cap
+   > 0 bounds their steps (psb__fd_step). */
+static psb_result psb__correct_capped(psb_solver *s, double *y, double *t, double reach,
+                                      psb__corr_watch *watch, int *iterations, double fd_cap)
 {
     int its = 0;
-    psb_result r = psb__correct_run(s, y, t, reach, watch, &its), rt;
+    psb_result r = psb__correct_run(s, y, t, reach, watch, &its, fd_cap), rt;
     if (iterations) *iterations = its;
     if (r == PSB_SUCCESS) s->internal_.n_ok++;
     if (r != PSB_ERR_SINGULAR) return r;
@@ -3141,6 +3144,12 @@ static psb_result psb__correct(psb_solver *s, double *y, double *t, double reach
     }
     if (rt == PSB_ERR_SINGULAR) s->internal_.last_fail = PSB__FAIL_SINGULAR;
     return rt;
+}
+
+static psb_result psb__correct(psb_solver *s, double *y, double *t, double reach,
+                               psb__corr_watch *watch, int *iterations)
+{
+    return psb__correct_capped(s, y, t, reach, watch, iterations, 0);
 }
 
 /* Whether psb__correct's failure r was a fault (psb__is_fault, its SINGULAR told apart). */
@@ -4819,9 +4828,9 @@ static int psb__fd_smooth_stall(psb_solver *s, const double *yc, const double *t
 /* Algorithm 2.1 with the options in s->branch (psb_locate_end, psb_explore). */
 static psb_result psb__locate_end(psb_solver *s, double *y, double *t, double *precision)
 {
-    int np1, last_fault = 0, turned_only = 0;
+    int np1, last_fault = 0, turned_only = 0, refined = 0;
     long advances = 0;
-    double h, *yc, *tc, *yt, *tt, *tin;
+    double h, *yc, *tc, *yt, *tt, *tin, fd_cap = 0, refined_move = 0;
     psb_result r = psb__check_couple(s, y, t);
     if (r != PSB_SUCCESS) return r;
     np1 = s->internal_.np1;
@@ -4849,7 +4858,7 @@ follow:
             psb__axpy_to(yt, yc, h, tc, np1);
             psb__copy(tt, tc, np1);
             s->stats.n_pc_steps++;
-            r = psb__correct(s, yt, tt, 0, NULL, NULL);
+            r = psb__correct_capped(s, yt, tt, 0, NULL, NULL, fd_cap);
             if (psb__is_fatal(r)) return r;
             /* a fault at the last trial leaves the end point unlocated (one that a later trial
                outlived cost nothing: the same h is tried again after every move) */
@@ -4872,6 +4881,7 @@ follow:
             turned_only = moved && psb__cos_w(s, tt, tin) < s->opt.c_diff;
             moved = moved && !turned_only;
             if (moved) {
+                if (refined) refined_move += psb__dist_w(s, yc, yt);
                 psb__copy(yc, yt, np1);
                 /* a finite-difference Jacobian within fd_step of the end point mixes the
                    pieces meeting there: keep the entering tangent, which over these few
@@ -4904,7 +4914,7 @@ follow:
         turned_only = 0;
         goto follow;
     }
-    if (psb__fd_jacobian(&s->prob)) {
+    if (psb__fd_jacobian(&s->prob) && !refined) {
         /* the entering tangent too may come from quotients mixing the pieces (the last couple
            of a trace lies within h_min of the end point): take the branch's tangent 16
            branch_h back, where a difference step meets a piece boundary only if the branch
@@ -4933,10 +4943,25 @@ follow:
             return psb__fail(s, PSB_ERR_NO_CONVERGENCE, "Algorithm 2.1: no branch tangent behind the end point "
                              "(finite differences; 4 to 64 branch_h back)");
         psb__copy(tc, tt, np1);
+        /* With that tangent, once more with difference steps 10^4 times shorter: within a
+           step of a piece boundary the quotients mix the pieces and the corrector fails, so
+           the pass stopped up to fd_step / sin(the branch's angle with the boundary) short of
+           the end point, far beyond h_min; shorter steps (their rounding, about 1e-4 of dH,
+           still lets Newton converge) bring that gap under h_min but where the branch runs
+           nearly along a boundary. That gap shrinks with the step: what is left of it is
+           about 1e-4 of this pass's move (refined_move): the precision adds 1e-2 of it and
+           takes 2 h, since the shorter steps still mix the pieces once the trial lies within
+           their reach of the boundary (measured on contact systems: under 1.2 h without). */
+        fd_cap = HUGE_VAL;
+        for (i = 0; i < np1; i++) fd_cap = fmin(fd_cap, 1e-4 * psb__fd_step(s, i, yc[i], 0) * sqrt(s->internal_.w[i]));
+        refined = 1;
+        psb__copy(tin, tc, np1);
+        h = s->branch.h;
+        goto follow;
     }
     psb__copy(y, yc, np1);
     psb__copy(t, tc, np1);
-    if (precision) *precision = h;
+    if (precision) *precision = refined ? 2 * h + 1e-2 * refined_move : h;
     s->message[0] = 0;
     return PSB_SUCCESS;
 }
