@@ -356,8 +356,7 @@
    edge goes on, or ends at a kink node (kink_nodes). Odd or unbalanced nodes count in d->n_odd
    (they most likely miss a branch). PC1 is silent where the branches a trace joins have opposite
    outward signs (the paper's block): branch_at_kinks branches at every kink (an Algorithm 2.2
-   each; kink_spans looks first with fewer spans, and can miss a point whose first span meets no
-   third branch). psb_diagram_write_json's keys: format, version, n, param_index, complete
+   each; kink_spans looks first with fewer spans, enough where it met two pieces' tangents). psb_diagram_write_json's keys: format, version, n, param_index, complete
    (nothing untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes, nodes (id,
    kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
    from_branch, to, to_branch, end, result, points, length, path: the stored points);
@@ -1179,8 +1178,8 @@ typedef struct psb_explore_options {
                             (diagram.n_kinks_plain). Finds bifurcations the detectors' tests
                             cannot see, at the price of Algorithm 2.2 at each kink [0] */
     int kink_spans;    /* branch_at_kinks: Algorithm 2.2 first looks at a kink with this many
-                          spans, and sweeps in full (branch.n_span) only where that found
-                          more than two branches [0: in full at once] */
+                          spans, and sweeps in full (branch.n_span) unless that found two
+                          balanced branches among two pieces' tangents [0: in full at once] */
     int kink_nodes;    /* 1: an ordinary kink is a node (PSB_NODE_KINK, its two branches) where
                           one edge ends and the next begins, so the graph keeps it (the corner
                           of two rays, say); implies branch_at_kinks [0: the edge goes on] */
@@ -6899,7 +6898,9 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
     psb_branch_report br;
     psb_node_kind kind = kink ? PSB_NODE_PC1 : x->stop_kind;
     int np1 = s->internal_.np1, j, k, nb;
-    int plain_possible = kink || (kind == PSB_NODE_NONSMOOTH && x->plain_ok); /* two branches: an ordinary kink */
+    /* two balanced branches: an ordinary kink, also where the PC1 detector reported the point
+       (a sign change from a smooth branch point within the same step: it is found on the way) */
+    int plain_possible = kink || kind == PSB_NODE_PC1 || (kind == PSB_NODE_NONSMOOTH && x->plain_ok);
     double precision = x->stop_precision, *before = PSB__XVEC(x, PSB__X_P);
     psb_result r = PSB_SUCCESS;
     *resume = 0;
@@ -6940,14 +6941,17 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
                                          nd->ts, &br);
         else if (kink && x->eo->kink_spans > 0 && x->eo->kink_spans < s->branch.n_span) {
             /* a short look first: an ordinary kink is told by it, two branches whose outward
-               signs cancel (br.unbalanced: two of one sign are not all); else the full sweep
+               signs cancel (br.unbalanced: two of one sign are not all) among the tangents of
+               two pieces alone (sweep.memo_n: a third piece's tangent means three pieces meet
+               here, where the look can have missed a pair of branches); else the full sweep
                (reseeded: the same result as without the look) */
             int n_span = s->branch.n_span, n_span_max = s->branch.n_span_max;
             s->branch.n_span = s->branch.n_span_max = x->eo->kink_spans;
             r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
             s->branch.n_span = n_span;
             s->branch.n_span_max = n_span_max;
-            if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY || br.unbalanced))
+            if (r >= 0 && (br.n_branches != 2 || r == PSB_BRANCH_CAPACITY || br.unbalanced ||
+                           s->internal_.sweep.memo_n > 2))
                 r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);
         } else {
             r = psb__find_branches(s, &s->internal_.sweep, y, t, d->max_branches, nd->ys, nd->ts, &br);

@@ -2309,24 +2309,26 @@ static void test_mixed_units(void)
    of 2 to 4 nodes (every ray known, all meeting at the origin), explored from 0.9 along every
    ray, with the analytic Jacobian and with finite differences, whose quotients mix the pieces
    within a difference step of a boundary (the point had stopped up to 1e-6 short while
-   reporting 4.6e-9). */
+   reporting 4.6e-9); and all of them found with kink_spans 1 too, whose one-span look had
+   taken two of four rays for an ordinary kink (now only a look that met two pieces' tangents). */
 static void test_precision_bounds_origin(void)
 {
     unsigned long long st = 77;
-    int m, trial, fd, runs = 0, nodes = 0, within = 0, found = 0;
+    int m, trial, fd, runs = 0, nodes = 0, within = 0, found = 0, look;
     for (m = 2; m <= 4; m++)
         for (trial = 0; trial < 4; trial++) {
             pl_contact pc;
             double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
             int n_rays = pl_random_contact(&pc, m, &st, rays), n = 4 * m, np1 = n + 1, ray;
             for (ray = 0; ray < n_rays; ray++)
-                for (fd = 0; fd <= 1; fd++) {
+                for (look = 0; look < 4; look++) {
                     psb_problem prob;
                     psb_solver s;
                     psb_diagram d;
                     psb_explore_options eo;
                     double y[PL_MAX_N + 1], t[PL_MAX_N + 1];
                     int i, at_origin = 0;
+                    fd = look & 1;
                     psb_problem_init(&prob, n, pl_contact_residual, fd ? NULL : pl_contact_jacobian, &pc);
                     CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
                     CHECK(psb_diagram_init(&d, n, 64, 64, MAXB) == PSB_SUCCESS);
@@ -2339,6 +2341,7 @@ static void test_precision_bounds_origin(void)
                     eo.trace.param_min = -1;
                     eo.trace.param_max = 1;
                     eo.branch_at_kinks = 1;
+                    eo.kink_spans = look >> 1; /* a one-span look first: it took four rays for two */
                     CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
                     runs++;
                     for (i = 0; i < d.n_nodes; i++) {
@@ -2354,6 +2357,8 @@ static void test_precision_bounds_origin(void)
                             printf("  m = %d, ray %d, %s: a node %.3g from the origin, precision %.3g\n", m, ray,
                                    fd ? "differences" : "analytic", dist, nd->precision);
                     }
+                    if (!at_origin) printf("  m = %d, ray %d, %s, kink_spans %d: the origin missed\n", m, ray,
+                                           fd ? "differences" : "analytic", eo.kink_spans);
                     found += at_origin;
                     psb_diagram_free(&d);
                     psb_solver_free(&s);
@@ -2362,6 +2367,64 @@ static void test_precision_bounds_origin(void)
     printf("  contact systems, from every ray: %d of %d explorations reach the origin; %d of %d nodes within "
            "their precision\n", found, runs, within, nodes);
     CHECK(within == nodes && found == runs);
+}
+
+/* A smooth branch point within a step past an ordinary kink: (x - |g|)(x - 3 (g - e) - e) = 0,
+   the vee and a line crossing its right arm at (e, e). The PC1 detector's sign change comes
+   from the branch point: the kink is ordinary (the trace goes on), the branch point a node of
+   four branches; with e below the branching radius Algorithm 2.2 at the kink meets the line
+   too, and the node is flagged odd. */
+static double vbp_e;
+static int vbp_res(const double *y, double *h, void *u)
+{
+    (void)u;
+    h[0] = (y[0] - fabs(y[1])) * (y[0] - 3 * (y[1] - vbp_e) - vbp_e);
+    return 0;
+}
+static int vbp_jac(const double *y, double *j, int ld, void *u)
+{
+    double a = y[0] - fabs(y[1]), b = y[0] - 3 * (y[1] - vbp_e) - vbp_e;
+    (void)u;
+    (void)ld;
+    j[0] = a + b;
+    j[1] = -(y[1] >= 0 ? 1 : -1) * b - 3 * a;
+    return 0;
+}
+static void test_branch_point_past_a_kink(void)
+{
+    static const double es[4] = {3e-3, 1e-3, 3e-4, 3e-5};
+    int k;
+    for (k = 0; k < 4; k++) {
+        psb_problem prob;
+        psb_solver s;
+        psb_diagram d;
+        psb_explore_options eo;
+        double y[2] = {0.5, -0.5}, t[2] = {-1, 1};
+        int i, pc1 = 0, branch = 0;
+        vbp_e = es[k];
+        psb_problem_init(&prob, 1, vbp_res, vbp_jac, NULL);
+        CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(&d, 1, 64, 64, 8) == PSB_SUCCESS);
+        memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_ALL;
+        eo.trace.param_min = -1;
+        eo.trace.param_max = 1;
+        CHECK(psb_explore(&s, y, t, &eo, &d) == PSB_SUCCESS);
+        for (i = 0; i < d.n_nodes; i++) {
+            const psb_node *nd = d.nodes + i;
+            pc1 += nd->kind == PSB_NODE_PC1 || nd->kind == PSB_NODE_NONSMOOTH;
+            branch += nd->kind == PSB_NODE_BRANCH && nd->n_branches == 4 && fabs(nd->y[0] - vbp_e) <= 1e-8 &&
+                      fabs(nd->y[1] - vbp_e) <= 1e-8;
+        }
+        printf("  a branch point %g past an ordinary kink: %d nodes, %d at the kink, the branch point %s, "
+               "%d ordinary kinks, n_odd %d\n", vbp_e, d.n_nodes, pc1, branch ? "found" : "MISSED",
+               d.n_kinks_plain, d.n_odd);
+        CHECK(branch == 1 && d.n_queued == 0);
+        if (k < 3) CHECK(pc1 == 0 && d.n_kinks_plain == 1 && d.n_odd == 0 && d.n_nodes == 6);
+        else CHECK(pc1 == 0 || d.n_odd > 0); /* a node at the kink says it is odd */
+        psb_diagram_free(&d);
+        psb_solver_free(&s);
+    }
 }
 
 int main(void)
@@ -2392,6 +2455,7 @@ int main(void)
     test_loop_within_a_tenth_of_h_init();
     test_kink_next_to_a_bound();
     test_precision_bounds_origin();
+    test_branch_point_past_a_kink();
     test_folds_at_kinks_and_straight_crossings();
     test_kinks_in_one_step();
     test_mixed_units();
