@@ -972,8 +972,9 @@ typedef struct {
     int newton, sweeps; /* Newton iterations, NSGS sweeps */
     int ipm;            /* interior-point iterations (restarts) */
     int absres;         /* 1: err is the absolute |F_nat| (q = 0) */
-    int rho_exp;        /* err is eq. (15) with rho = 2^-rho_exp (0, or W's scale: fc_accept) */
-    double err;         /* eq. (15) error at the returned r */
+    double err;         /* eq. (15) error at rho = 1 at the returned r */
+    int rho_exp;        /* 0, or solved at rho = 2^-rho_exp (W's scale) since rounding hides err */
+    double err_rho;     /* the eq. (15) error at that rho (when rho_exp != 0) */
     int verdict;        /* FC_SOLVED, ... */
     int contact;        /* the contact the verdict is about, or -1 */
     double value;       /* the offending value (u_N, excess outside K, component size) */
@@ -1340,7 +1341,7 @@ extern void dgbsv_(const int *n, const int *kl, const int *ku, const int *nrhs, 
                    const int *ldab, int *ipiv, double *b, const int *ldb, int *info);
 
 typedef struct {
-    double *u, *F, *A, *B, *d, *rhs, *J, *rn, *un, *best;
+    double *u, *F, *A, *B, *d, *rhs, *J, *rn, *un, *best, *r1, *wr;
     size_t jcap;
     int *ipiv, *act, *pos, *deg, *queue, *ord;
     int reuse, fact; /* reuse: 1 solve with the factors of the last call (same matrix, new
@@ -1798,6 +1799,35 @@ static double nat_err(const fc_problem *p, const double *r, const double *u, dou
     return e;
 }
 
+/* wr = |W| |r| */
+static void bsr_absmul(const fc_bsr *S, const double *r, double *wr)
+{
+    int c, k, a, b, d = S->d;
+    for (c = 0; c < S->nc; c++) {
+        for (a = 0; a < d; a++)
+            wr[c * d + a] = 0.0;
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++)
+            for (b = 0; b < d; b++)
+                for (a = 0; a < d; a++)
+                    wr[c * d + a] += fabs(S->bv[(size_t)k * S->dd + a + d * b]) *
+                                     fabs(r[S->ci[k] * d + b]);
+    }
+}
+
+/* The rounding bound of the eq. (15) error at rho = 1, relative to s: 4 eps (|r| + ||(1 + mu)
+   (|W| |r| + |q|)||) / s plus the absolute rounding of subnormal results (fc_accept's (b)); wr
+   holds |W| |r| (bsr_absmul). */
+static double nat_err_bound(const fc_problem *p, const double *r, const double *wr, double s)
+{
+    double rn = 0.0, wn = 0.0;
+    int a;
+    for (a = 0; a < p->m; a++) {
+        rn = hypot(rn, r[a]);
+        wn = hypot(wn, (1.0 + p->mu[a / p->dim]) * (wr[a] + fabs(p->q[a])));
+    }
+    return (4.0 * DBL_EPSILON * (rn + wn) + p->m * (DBL_MIN * DBL_EPSILON)) / s;
+}
+
 static void work_free(fc_work *w)
 {
     free(w->u);
@@ -1810,6 +1840,8 @@ static void work_free(fc_work *w)
     free(w->rn);
     free(w->un);
     free(w->best);
+    free(w->r1);
+    free(w->wr);
     free(w->ipiv);
     free(w->act);
     free(w->pos);
@@ -1832,6 +1864,8 @@ static int work_alloc(fc_work *w, int m, int nc, int d)
     w->rn = malloc((size_t)m * sizeof(double));
     w->un = malloc((size_t)m * sizeof(double));
     w->best = malloc((size_t)m * sizeof(double));
+    w->r1 = malloc((size_t)m * sizeof(double));
+    w->wr = malloc((size_t)m * sizeof(double));
     w->ipiv = malloc((size_t)m * sizeof(int));
     w->act = malloc((size_t)nc * sizeof(int));
     w->pos = malloc((size_t)nc * sizeof(int));
@@ -1839,7 +1873,7 @@ static int work_alloc(fc_work *w, int m, int nc, int d)
     w->queue = malloc((size_t)nc * sizeof(int));
     w->ord = malloc((size_t)nc * sizeof(int));
     return w->u && w->F && w->A && w->B && w->d && w->rhs && w->rn && w->un && w->best &&
-           w->ipiv && w->act && w->pos && w->deg && w->queue && w->ord;
+           w->r1 && w->wr && w->ipiv && w->act && w->pos && w->deg && w->queue && w->ord;
 }
 
 /* ---- interior-point solver of the frozen-friction subproblem ----
@@ -2097,6 +2131,25 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
     return it;
 }
 
+/* The solver's measure at r (its unknowns, u = W r + q as it scales them), what fc_accept and
+   fc_judge_rescaled judge: the eq. (15) error at rho = 1 of the problem as given, whose reaction
+   is r 2^-shift (fc_solve scales W by 2^-shift); where rounding cannot resolve it (its bound
+   above tol: |r| >> |q|) and it is within that bound, the error at the solver's scale. */
+static double part_err(const fc_problem *p, const fc_bsr *S, fc_work *w, const double *r,
+                       const double *u, double qn, int shift, double tol)
+{
+    double e1, bound;
+    int i;
+    if (shift == 0)
+        return nat_err(p, r, u, qn);
+    for (i = 0; i < p->m; i++)
+        w->r1[i] = ldexp(r[i], -shift);
+    e1 = nat_err(p, w->r1, u, qn);
+    bsr_absmul(S, r, w->wr); /* |W'| |r'| = |W| |r 2^-shift| */
+    bound = nat_err_bound(p, w->r1, w->wr, qn > 0.0 ? qn : 1.0);
+    return bound <= tol || !(e1 <= bound) ? e1 : nat_err(p, r, u, qn);
+}
+
 /* Solves one coupled component (p: its q, mu and sizes, p->W unused; Sp: its W) from the
    reaction r (in/out; zeros are a fine start). Alternates two phases, keeping the best iterate
    by the eq. (15) error of the component:
@@ -2123,8 +2176,8 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
 #define FC_RUNS 6
 static const double fc_run_rho[FC_RUNS / 2] = {1.0, 5.0, 0.2};
 
-static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options *o, double *r,
-                         fc_stats *st)
+static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options *o, int shift,
+                         double *r, fc_stats *st)
 {
     int m = p->m, d = p->dim, nc = p->nc, i, c, mode = 0, phase_it = 0, nh = 0;
     int nsgs_len = 30, stall_win = 30;
@@ -2210,7 +2263,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
                             fc_run_rho[run / 2], ipm_on ? "with" : "without");
             }
             bsr_matvec(&S, p->q, r, w.u);
-            best_err = err = nat_err(p, r, w.u, qn);
+            best_err = err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
             memcpy(w.best, r, (size_t)m * sizeof(double));
             phase_ref = err;
             while (best_err > o->tol && st->newton - newton0 < o->maxit &&
@@ -2220,7 +2273,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
                     st->sweeps++;
                     phase_it++;
                     bsr_matvec(&S, p->q, r, w.u);
-                    err = nat_err(p, r, w.u, qn);
+                    err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
                     if (o->verbose)
                         fprintf(stderr, "  sweep %d err %.3e\n", st->sweeps, err);
                     if (err < best_err) {
@@ -2285,7 +2338,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
                     phase_it++;
                     if (accepted) {
                         bsr_matvec(&S, p->q, r, w.u);
-                        err = nat_err(p, r, w.u, qn);
+                        err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
                         if (err < best_err) {
                             best_err = err;
                             memcpy(w.best, r, (size_t)m * sizeof(double));
@@ -2332,7 +2385,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
                             st->ipm += k;
                             ipm_ref = best_err;
                             bsr_matvec(&S, p->q, r, w.u);
-                            err = nat_err(p, r, w.u, qn);
+                            err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
                             if (o->verbose)
                                 fprintf(stderr, "  interior-point restart: %d iterations, "
                                                 "err %.3e\n", k, err);
@@ -2365,7 +2418,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
     free(rho0);
     memcpy(r, w.best, (size_t)m * sizeof(double));
     bsr_matvec(&S, p->q, r, w.u); /* honest measure at the returned reaction */
-    st->err = nat_err(p, r, w.u, qn);
+    st->err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
     work_free(&w);
     if (rc < 0)
         return -1;
@@ -2439,7 +2492,7 @@ static int uf_root(int *parent, int c)
    one component. Refuses (-2, FC_TOO_LARGE) a component above FC_MAX_COUPLED unknowns before
    solving anything. Returns 0 if every component met the tolerance, 1 if not, -1 / -2. */
 static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_options *o,
-                               double *r, fc_stats *st)
+                               int shift, double *r, fc_stats *st)
 {
     int nc = p->nc, d = p->dim, c, k, i, a, rc = 0, ncomp = 0;
     int *parent = malloc((size_t)nc * sizeof(int)), *start = NULL, *list = NULL, *loc = NULL;
@@ -2487,7 +2540,7 @@ static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_op
     }
     if (ncomp == 1) {
         fc_stats sub;
-        rc = fc_solve_part(p, S, o, r, &sub);
+        rc = fc_solve_part(p, S, o, shift, r, &sub);
         st->newton = sub.newton;
         st->sweeps = sub.sweeps;
         st->ipm = sub.ipm;
@@ -2524,7 +2577,7 @@ static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_op
             rc = -1;
             break;
         }
-        res = fc_solve_part(&sp, &T, o, rcp, &sub);
+        res = fc_solve_part(&sp, &T, o, shift, rcp, &sub);
         bsr_free(&T);
         st->newton += sub.newton;
         st->sweeps += sub.sweeps;
@@ -2563,10 +2616,10 @@ done:
 static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const double *r_given,
                      int rho_exp, fc_stats *st)
 {
-    int m = p->m, d = p->dim, c, k, a, b;
+    int m = p->m, d = p->dim, c, a;
     double *u = malloc((size_t)m * sizeof(double)), *wr = malloc((size_t)m * sizeof(double));
     double *r = malloc((size_t)m * sizeof(double));
-    double qn = 0.0, rn = 0.0, wn = 0.0, s, eps = 4.0 * DBL_EPSILON, worst_u = 0.0, worst_k = 0.0;
+    double qn = 0.0, rn = 0.0, s, eps = 4.0 * DBL_EPSILON, worst_u = 0.0, worst_k = 0.0;
     int cu = -1, ck = -1;
     if (!u || !wr || !r) {
         free(u);
@@ -2577,27 +2630,17 @@ static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const dou
     bsr_matvec(S, p->q, r_given, u);
     for (a = 0; a < m; a++) /* r scaled by 1/rho: |F_rho(r)| / (rho |q|) = |F_1(r / rho)| / |q| */
         r[a] = ldexp(r_given[a], rho_exp);
-    for (c = 0; c < S->nc; c++) { /* wr = |W| |r| */
-        for (a = 0; a < d; a++)
-            wr[c * d + a] = 0.0;
-        for (k = S->rp[c]; k < S->rp[c + 1]; k++)
-            for (b = 0; b < d; b++)
-                for (a = 0; a < d; a++)
-                    wr[c * d + a] += fabs(S->bv[(size_t)k * S->dd + a + d * b]) *
-                                     fabs(r_given[S->ci[k] * d + b]);
-    }
-    for (a = 0; a < m; a++) { /* wn: the rounding scale of uhat = u + mu |u_T| e_N */
+    bsr_absmul(S, r_given, wr);
+    for (a = 0; a < m; a++) {
         qn = hypot(qn, p->q[a]);
         rn = hypot(rn, r[a]);
-        wn = hypot(wn, (1.0 + p->mu[a / d]) * (wr[a] + fabs(p->q[a])));
     }
     st->absres = qn == 0.0;
     st->rho_exp = rho_exp;
     s = st->absres ? 1.0 : qn;
     st->err = nat_err(p, r, u, st->absres ? 0.0 : qn);
     st->rnorm = rn;
-    /* m DBL_MIN eps: the absolute rounding of subnormal results (|q| near DBL_MIN) */
-    st->floor = (eps * (rn + wn) + m * (DBL_MIN * DBL_EPSILON)) / s;
+    st->floor = nat_err_bound(p, r, wr, s);
     for (c = 0; c < p->nc; c++) {
         const double *rc = r + c * d, *uc = u + c * d;
         double mu = p->mu[c], rt = d == 3 ? hypot(rc[1], rc[2]) : fabs(rc[1]);
@@ -2632,6 +2675,28 @@ static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const dou
     free(u);
     free(wr);
     free(r);
+    return 1;
+}
+
+/* After fc_accept at rho = 1 (st): eq. (15) at rho = 1 mixes r's units with u's, so where |r| >>
+   |q| (W's entries tiny, as a compliance in SI units is) rounding alone may put a solution's error
+   above tol. Only when that is what happened (the rounding bound st->floor above tol, and the
+   error within it) the same conditions decide at rho = 2^-w_exp (the problem rescaled to W ~ 1);
+   a diverging r fails there too. Any other failure at rho = 1 is final. st->err stays the rho = 1
+   error; a success sets st->rho_exp and st->err_rho. Returns 0 if out of memory. */
+static int fc_judge_rescaled(const fc_problem *p, const fc_bsr *S, double tol, const double *r,
+                             int w_exp, fc_stats *st)
+{
+    fc_stats st_w = *st;
+    if (st->verdict != FC_DIVERGED || !(st->floor > tol) || !(st->err <= st->floor) || w_exp == 0)
+        return 1;
+    if (!fc_accept(p, S, tol, r, w_exp, &st_w))
+        return 0;
+    if (st_w.verdict == FC_SOLVED) {
+        st->verdict = FC_SOLVED;
+        st->rho_exp = w_exp;
+        st->err_rho = st_w.err;
+    }
     return 1;
 }
 
@@ -2702,7 +2767,7 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     if (w_shift != 0)
         for (k = 0; k < (size_t)S.nnz * S.dd; k++)
             S.bv[k] = ldexp(S.bv[k], -w_shift);
-    rc = i >= 0 ? 1 : fc_solve_components(&unit, &S, o, qr + p->m, st);
+    rc = i >= 0 ? 1 : fc_solve_components(&unit, &S, o, w_shift, qr + p->m, st);
     if (i < 0)
         for (k = 0; k < (size_t)p->m; k++)
             r[k] = ldexp(qr[p->m + k], e - w_shift);
@@ -2714,18 +2779,8 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     }
     if (rc >= 0 && !fc_accept(p, &S, o->tol, r, 0, st))
         rc = -1;
-    /* At rho = 1, eq. (15) mixes r's units with u's: when |r| >> |q| (W's entries tiny, as a
-       compliance in SI units is) it cannot resolve u, and a solution fails the rounding bound.
-       Then the same test runs with rho = 2^-e, W's scale (e: the exponent of W's largest
-       diagonal entry, or of its largest entry), the residual of the problem rescaled to W ~ 1;
-       a diverging r still fails it. */
-    if (rc >= 0 && i < 0 && st->verdict != FC_SOLVED && w_exp != 0) {
-        fc_stats st_w = *st;
-        if (!fc_accept(p, &S, o->tol, r, w_exp, &st_w))
-            rc = -1;
-        else if (st_w.verdict == FC_SOLVED)
-            *st = st_w;
-    }
+    if (rc >= 0 && i < 0 && !fc_judge_rescaled(p, &S, o->tol, r, w_exp, st))
+        rc = -1;
     if (i >= 0) {
         st->verdict = FC_INFEASIBLE;
         st->contact = i;
@@ -2744,10 +2799,11 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
     switch (st->verdict) {
     case FC_SOLVED:
         if (st->rho_exp != 0)
-            snprintf(buf, n, "solved: residual %.3e <= tol %.1e with rho = 2^%d (W's scale; at "
-                             "rho = 1 rounding cannot resolve u), rounding bound %.1e <= tol, "
-                             "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, -st->rho_exp,
-                     st->floor, s);
+            snprintf(buf, n, "solved to rounding: residual %.3e > tol %.1e but within its "
+                             "rounding bound %.1e (|r| = %.1e >> |q|: rho = 1 cannot resolve u); "
+                             "at rho = 2^%d (W's scale) residual %.3e <= tol, u_N >= -(1 + mu) "
+                             "tol%s, r in K", st->err, tol, st->floor, st->rnorm, -st->rho_exp,
+                     st->err_rho, s);
         else
             snprintf(buf, n, "solved: residual %.3e <= tol %.1e, rounding bound %.1e <= tol, "
                              "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, st->floor, s);
