@@ -436,6 +436,9 @@ static const char FC_H5_NOT_FCLIB[] =
     "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz, W/p, W/i, W/x, "
     "vectors/q or vectors/mu missing, unreadable, or declaring far more values than the file "
     "stores)";
+static const char FC_H5_GLOBAL[] =
+    "an FCLib global problem (fclib_global: M, H, q, b, mu): fc_solve reads reduced (local) "
+    "problems u = W r + q only";
 
 /* Reads dataset `name` of integers or floats of at most 8 bytes (exactly n values when n >= 0,
    at most FC_MAX_NNZ + 1 otherwise, and at most 1000 times what the file stores of it; the
@@ -495,6 +498,11 @@ static const char *h5_read_arrays(const char *path, fc_fclib *a, void *bufs[9])
     f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0)
         return "cannot open as an HDF5 file";
+    if (H5Lexists(f, "/fclib_local", H5P_DEFAULT) <= 0 &&
+        H5Lexists(f, "/fclib_global", H5P_DEFAULT) > 0) {
+        H5Fclose(f);
+        return FC_H5_GLOBAL;
+    }
     bufs[0] = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
     bufs[1] = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
     bufs[2] = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
@@ -611,8 +619,8 @@ static int h5_get(int fd, void *data, size_t n)
     return 0;
 }
 
-/* The child: a status word (0: the arrays follow, 1: not HDF5, 2: not FCLib), the sizes, then
-   p, i (int) and x, q, mu (double), in this process's own layout. */
+/* The child: a status word (0: the arrays follow, 1: not HDF5, 2: not FCLib, 3: an FCLib global
+   problem), the sizes, then p, i (int) and x, q, mu (double), in this process's own layout. */
 static void h5_child(const char *path, int fd)
 {
     fc_fclib a;
@@ -620,7 +628,7 @@ static void h5_child(const char *path, int fd)
     const char *err = h5_read_arrays(path, &a, bufs);
     int head[5];
     long cnt[5];
-    head[0] = !err ? 0 : err == FC_H5_NOT_FCLIB ? 2 : 1;
+    head[0] = !err ? 0 : err == FC_H5_NOT_FCLIB ? 2 : err == FC_H5_GLOBAL ? 3 : 1;
     head[1] = a.dim, head[2] = a.m, head[3] = a.n, head[4] = a.nz;
     cnt[0] = a.np, cnt[1] = a.ni, cnt[2] = a.nx, cnt[3] = a.nq, cnt[4] = a.nmu;
     if (h5_put(fd, head, sizeof head) == 0 && !err && h5_put(fd, cnt, sizeof cnt) == 0 &&
@@ -667,7 +675,8 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
     if (h5_get(fds[0], head, sizeof head) != 0) {
         err = ""; /* the child's end says why */
     } else if (head[0] != 0) {
-        err = head[0] == 2 ? FC_H5_NOT_FCLIB : "cannot open as an HDF5 file";
+        err = head[0] == 2 ? FC_H5_NOT_FCLIB : head[0] == 3 ? FC_H5_GLOBAL
+                                                            : "cannot open as an HDF5 file";
     } else if (h5_get(fds[0], cnt, sizeof cnt) != 0) {
         err = "";
     } else {
@@ -863,6 +872,28 @@ static const char *read_csc(fc_tok *t, int m, fc_coo *c, char *why)
     }
 }
 
+/* What follows mu: nothing, or the one integer 0 or 1 some Siconos writers append (the problem's
+   isComplete flag): NULL; anything else: why the file is refused. A Siconos global problem
+   (GlobalFrictionContact: dim, nc, then M (n x n), H (n x m), q (n values), b (m), mu (nc)) with
+   n = m = dim nc starts like a reduced one, M read as W; its H then follows M as a matrix header
+   (storage 0, 1 or 2, n, m). */
+static const char *fc_trailing(fc_tok *t, char *after_w, int m)
+{
+    long flag, n0, n1;
+    char *at = t->pos;
+    if (!tok_next(t))
+        return NULL;
+    t->pos = at; /* tokens cut in place can be read again */
+    if (tok_int(t, &flag, 0, 1) && !tok_next(t))
+        return NULL;
+    t->pos = after_w;
+    if (tok_int(t, &flag, 0, 2) && tok_int(t, &n0, m, m) && tok_int(t, &n1, m, m))
+        return "a Siconos global problem (M, H, q, b, mu: the matrix after the first is H): "
+               "fc_solve reads reduced problems u = W r + q only";
+    return "data after mu: not a reduced problem file (dim, nc, W, q, mu, and at most the "
+           "integer 0 or 1)";
+}
+
 /* Parses a problem from buf (len bytes, NUL-terminated, modified in place). Returns NULL, or a
    message (p->why); p is then empty. */
 static const char *fc_parse(char *buf, long len, fc_problem *p)
@@ -871,6 +902,7 @@ static const char *fc_parse(char *buf, long len, fc_problem *p)
     fc_coo c;
     long dim, nc, flag, s0, s1, i;
     const char *err = NULL;
+    char *after_w = NULL;
     memset(&c, 0, sizeof c);
     t.buf = t.pos = buf;
     t.end = buf + len;
@@ -893,6 +925,7 @@ static const char *fc_parse(char *buf, long len, fc_problem *p)
         err = read_csc(&t, p->m, &c, p->why);
     else
         err = "unsupported storage flag (0 dense, 1 sparse block, 2 compressed columns)";
+    after_w = t.pos;
     for (i = 0; !err && i < p->m; i++)
         if (!tok_double(&t, &p->q[i])) {
             sprintf(p->why, "bad or missing q[%ld]", i);
@@ -903,6 +936,8 @@ static const char *fc_parse(char *buf, long len, fc_problem *p)
             sprintf(p->why, "bad or missing mu[%ld]", i);
             err = p->why;
         }
+    if (!err)
+        err = fc_trailing(&t, after_w, p->m);
     if (!err && !fc_check_vectors(p))
         err = p->why;
     if (!err)

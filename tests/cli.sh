@@ -171,6 +171,11 @@ usage "--tol needs a value" fc_solve x.dat --tol
 # files it cannot read: exit 2 and the reason (the system's where it has one)
 usage "cannot read $tmp: not a regular file" fc_solve "$tmp"
 usage "cannot read $tmp/none.dat: cannot open the file: No such file or directory" fc_solve "$tmp/none.dat"
+# not reduced problems: a Siconos global problem whose M passes as W, data after mu
+printf '3 1 0 3 3 3 3  1 0 0 0 1 0 0 0 1  0 3 3 3 3  1 0 0 0 1 0 0 0 1  -1 -1 -1 0 0 0  0.1 0\n' >"$tmp/global.dat"
+usage "cannot read $tmp/global.dat: a Siconos global problem" fc_solve "$tmp/global.dat"
+printf '2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5  7\n' >"$tmp/trailing.dat"
+usage "cannot read $tmp/trailing.dat: data after mu" fc_solve "$tmp/trailing.dat"
 # corrupted HDF5 files on which libhdf5 itself crashes (Debian 12's 1.10.8: SIGFPE in H5Dopen,
 # SIGSEGV, heap corruption) are read errors (exit 2) of the file, not crashes of fc_solve (HDF5
 # builds only; this script runs the builds without sanitizers)

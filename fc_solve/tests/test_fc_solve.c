@@ -1019,6 +1019,61 @@ static void test_scale_invariance(void)
     fcg_free(&in);
 }
 
+/* Issue 46: files that are not reduced problems are refused with the reason, not read as one. A
+   Siconos global problem (dim, nc, M, H, q, b, mu) with M and H both 3 x 3 (so M passes as W)
+   was solved with H's header taken as q and mu; a reduced file with data after mu; and, in an
+   HDF5 build, an FCLib file holding a global problem. A reduced file ending with the 0 or 1 some
+   Siconos writers append is read. */
+static void test_not_reduced(void)
+{
+    static const struct {
+        const char *text, *says;
+    } bad[] = {
+        {"3\n1\n0\n3\n3\n3 3\n1 0 0\n0 1 0\n0 0 1\n0\n3\n3\n3 3\n1 0 0\n0 1 0\n0 0 1\n"
+         "-1 -1 -1 0 0 0\n0.1\n0\n", "global problem"},
+        {"2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5  7\n", "data after mu"},
+        {"2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5  0 0\n", "data after mu"},
+        {"2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5  0.5\n", "data after mu"},
+    };
+    char path[512];
+    fc_problem p;
+    size_t k;
+    tmp_path(path, "fc_solve_test_not_reduced.dat");
+    for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        const char *msg;
+        write_or_fail(path, bad[k].text);
+        msg = fc_read(path, &p);
+        CHECK(msg != NULL && strstr(msg, bad[k].says) != NULL);
+        if (msg && !strstr(msg, bad[k].says))
+            printf("  case %u: '%s' lacks '%s'\n", (unsigned)k, msg, bad[k].says);
+        CHECK(p.Wp == NULL && p.q == NULL && p.mu == NULL);
+    }
+    for (k = 0; k < 2; k++) { /* the trailing isComplete flag */
+        write_or_fail(path, k ? "2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5\n1\n"
+                              : "2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5\n0\n");
+        CHECK(fc_read(path, &p) == NULL && p.nc == 1 && p.mu[0] == 0.5);
+        fc_free(&p);
+    }
+    remove(path);
+#ifdef FC_SOLVE_HDF5
+    {
+        hid_t f, g;
+        const char *msg;
+        tmp_path(path, "fc_solve_test_global.hdf5");
+        f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+        CHECK(f >= 0);
+        if (f >= 0) {
+            g = H5Gcreate2(f, "/fclib_global", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+            CHECK(g >= 0 && H5Gclose(g) >= 0 && H5Fclose(f) >= 0);
+            msg = fc_read(path, &p);
+            CHECK(msg != NULL && strstr(msg, "FCLib global problem") != NULL);
+            CHECK(p.Wp == NULL && p.q == NULL);
+            remove(path);
+        }
+    }
+#endif
+}
+
 /* Issue 46: a problem whose W is ~1e-4 (as Confeti-ex03's) is solved at W's scale, where eq. (15)
    weighs r by rho ~ 1e4: a spurious reaction eps at a separating contact costs ~1e-4 eps there
    but eps at rho = 1. Such an r (here a solution plus 1e-8 |q| at a separating contact, given as
@@ -1092,6 +1147,7 @@ int main(void)
     test_malformed();
     test_reader_validation();
     test_fclib_validation();
+    test_not_reduced();
     test_dense_layout();
     test_infeasible();
     test_scale_invariance();
