@@ -2876,29 +2876,105 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
     }
 }
 
+/* Writes the solution of p (r, and u = W r + q recomputed from p as read) to f in the format the
+   usage text gives: a comment line naming the problem, one with the result, "dim nc", then one
+   line per contact, r (dim values) then u (dim values), each %.17g (read back exactly). Returns 0,
+   or -1 on a write error or out of memory. */
+static int fc_write_solution(FILE *f, const char *path, const fc_problem *p, const double *r,
+                             const fc_stats *st)
+{
+    double *u = malloc((size_t)p->m * sizeof(double));
+    int i, j, a, d = p->dim;
+    if (!u)
+        return -1;
+    for (i = 0; i < p->m; i++)
+        u[i] = p->q[i];
+    for (j = 0; j < p->m; j++) {
+        fc_colit it;
+        int row;
+        double x;
+        w_col_begin(p, j, &it);
+        while (w_col_next(p, j, &it, &row, &x))
+            u[row] += x * r[j];
+    }
+    fprintf(f, "# fc_solve solution of %s: dim nc, then per contact r (dim values), u = W r + q "
+               "(dim values)\n# residual%s=%.17g (eq. (15), rho = 1) %s\n%d %d\n",
+            path, st->absres ? "(abs)" : "", st->err,
+            st->verdict == FC_SOLVED ? "solved" : "not solved", d, p->nc);
+    for (i = 0; i < p->nc; i++) {
+        for (a = 0; a < 2 * d; a++)
+            fprintf(f, "%s%.17g", a ? " " : "", a < d ? r[i * d + a] : u[i * d + a - d]);
+        fputc('\n', f);
+    }
+    free(u);
+    return ferror(f) ? -1 : 0;
+}
+
+/* Reads, solves and reports one problem file: the result lines on out (progress and reasons on
+   stderr unless quiet), the solution to sol (may be NULL) as fc_write_solution writes it. Returns
+   0 solved, 1 not solved, 2 a read error, 3 a write error of sol. */
+static int fc_run_file(const char *path, const fc_options *o, FILE *sol, FILE *out)
+{
+    fc_problem p;
+    const char *msg = fc_read(path, &p);
+    double *r;
+    int res;
+    fc_stats st;
+    clock_t t0;
+    char why[400];
+    if (msg) { /* the result line on out, the reason on stderr too */
+        fprintf(out, "%s error: %s\n", path, msg);
+        fprintf(stderr, "fc_solve: cannot read %s: %s\n", path, msg);
+        return 2;
+    }
+    r = calloc((size_t)p.m, sizeof(double));
+    t0 = clock();
+    res = r ? fc_solve(&p, o, r, &st) : -1;
+    if (!r)
+        st.verdict = FC_NO_MEMORY;
+    if (res >= 0)
+        fprintf(out, "%s contacts=%d iterations=%d residual%s=%.3e time=%.3fs newton=%d "
+                     "sweeps=%d ipm=%d\n",
+                path, p.nc, st.newton + st.sweeps + st.ipm, st.absres ? "(abs)" : "", st.err,
+                (double)(clock() - t0) / CLOCKS_PER_SEC, st.newton, st.sweeps, st.ipm);
+    fc_verdict_text(&st, o->tol, why, sizeof why);
+    fprintf(out, "%s: %s\n", path, why);
+    res = res == 0 ? 0 : 1;
+    if (sol && r && fc_write_solution(sol, path, &p, r, &st) != 0)
+        res = 3;
+    free(r);
+    fc_free(&p);
+    return res;
+}
+
 #ifndef FC_SOLVE_NO_MAIN
 #include "fe/cli.h" /* the FE applications' command-line parser */
 
 static const char fc_usage[] =
-    "usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...\n"
+    "usage: fc_solve [--tol T] [--maxit N] [--solution OUT] [--verbose] [--quiet] FILE...\n"
     "Solves reduced frictional-contact problems (Siconos text files; FCLib HDF5 files when built\n"
     "with -DFC_SOLVE_HDF5) and prints one line per file. Exit status 0 when every problem meets\n"
-    "the tolerance, 1 when one is not solved, 2 on a usage or read error.\n"
+    "the tolerance, 1 when one is not solved, 2 on a usage, read or write error.\n"
     "\n"
-    "  --tol T       tolerance on the eq. (15) error (default 1e-10; 0 < T <= 1)\n"
-    "  --maxit N     Newton iterations per run, 20 N NSGS sweeps (default 2000; 1..10000000)\n"
-    "  --verbose     the solver's iterations on stderr\n"
-    "  --quiet       no progress on stderr\n"
-    "  -h, --help    this help\n"
+    "  --tol T         tolerance on the eq. (15) error at rho = 1 (default 1e-10; 0 < T <= 1)\n"
+    "  --maxit N       Newton iterations per run, 20 N NSGS sweeps (default 2000; 1..10000000)\n"
+    "  --solution OUT  write the returned r and u = W r + q to OUT (one FILE only; solved or\n"
+    "                  not, the exit status says): two '#' comment lines (the problem, the\n"
+    "                  residual and verdict), a line 'dim nc', then one line per contact:\n"
+    "                  r_N r_T... u_N u_T... (dim values each, %.17g)\n"
+    "  --verbose       the solver's iterations on stderr\n"
+    "  --quiet         no progress on stderr\n"
+    "  -h, --help      this help\n"
     "\n"
     "Limits: files up to 2 GiB of text, 10^6 contacts, 2^25 stored non-zeros of W; W is kept\n"
-    "sparse; a coupled component of W (contacts linked by non-zero blocks) may have at most\n"
-    "12288 unknowns (its Newton system may be factored dense: 8 n^2 bytes, 1.2 GB).\n";
+    "sparse, and so are the Newton systems of large coupled components.\n";
 
 int main(int argc, char **argv)
 {
     fc_options o;
     int i, status = 0, nfiles = 0, quiet = 0;
+    const char *sol_path = NULL;
+    FILE *sol = NULL;
     cli c;
     o.tol = 1e-10;
     o.maxit = 2000;
@@ -2908,49 +2984,41 @@ int main(int argc, char **argv)
     while (cli_next(&c)) {
         if (cli_double(&c, "--tol", &o.tol, 0, 1, 1)) {}
         else if (cli_int(&c, "--maxit", &o.maxit, 1, 10000000)) {}
+        else if (cli_string(&c, "--solution", &sol_path)) {}
         else if (cli_flag(&c, "--verbose")) o.verbose = 1;
         else if (cli_flag(&c, "--quiet")) quiet = 1;
         else if (cli_positional(&c)) argv[nfiles++] = (char *)c.arg;
         else cli_unknown(&c);
     }
     if (c.status == CLI_OK && nfiles == 0) cli_fail(&c, "no problem FILE given");
+    if (c.status == CLI_OK && sol_path && nfiles > 1)
+        cli_fail(&c, "--solution takes one problem FILE, %d given", nfiles);
     if (c.status != CLI_OK) return c.status == CLI_HELP ? 0 : 2;
+    /* opened before solving, so that a path it cannot write fails at once */
+    if (sol_path && !(errno = 0, sol = fopen(sol_path, "w"))) {
+        fprintf(stderr, "fc_solve: cannot write %.200s%s: %s\n", sol_path,
+                strlen(sol_path) > 200 ? "..." : "", strerror(errno));
+        return 2;
+    }
     for (i = 0; i < nfiles; i++) {
+        int res;
         if (!quiet) fprintf(stderr, "fc_solve: solving %s (%d of %d)\n", argv[i], i + 1, nfiles);
-        {
-            fc_problem p;
-            const char *msg = fc_read(argv[i], &p);
-            double *r;
-            int res;
-            fc_stats st;
-            clock_t t0;
-            if (msg) { /* the result line on stdout, the reason on stderr too */
-                printf("%s error: %s\n", argv[i], msg);
-                fprintf(stderr, "fc_solve: cannot read %s: %s\n", argv[i], msg);
-                status = status ? status : 2;
-                continue;
+        res = fc_run_file(argv[i], &o, sol, stdout);
+        if (sol) {
+            int closed = fclose(sol) == 0;
+            sol = NULL;
+            if (res == 2) { /* nothing to write */
+                remove(sol_path);
+            } else if (res == 3 || !closed) {
+                fprintf(stderr, "fc_solve: cannot write %.200s%s: %s\n", sol_path,
+                        strlen(sol_path) > 200 ? "..." : "", strerror(errno));
+                res = 2;
             }
-            r = calloc((size_t)p.m, sizeof(double));
-            t0 = clock();
-            res = r ? fc_solve(&p, &o, r, &st) : -1;
-            if (!r)
-                st.verdict = FC_NO_MEMORY;
-            if (res >= 0)
-                printf("%s contacts=%d iterations=%d residual%s=%.3e time=%.3fs newton=%d "
-                       "sweeps=%d ipm=%d\n",
-                       argv[i], p.nc, st.newton + st.sweeps + st.ipm, st.absres ? "(abs)" : "",
-                       st.err, (double)(clock() - t0) / CLOCKS_PER_SEC, st.newton, st.sweeps,
-                       st.ipm);
-            {
-                char why[400];
-                fc_verdict_text(&st, o.tol, why, sizeof why);
-                printf("%s: %s\n", argv[i], why);
-            }
-            if (res != 0)
-                status = 1;
-            free(r);
-            fc_free(&p);
         }
+        if (res == 2)
+            status = status ? status : 2;
+        else if (res == 1)
+            status = 1;
     }
     return status;
 }

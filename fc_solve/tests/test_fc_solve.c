@@ -1019,6 +1019,103 @@ static void test_scale_invariance(void)
     fcg_free(&in);
 }
 
+#ifndef FC_DATA_DIR
+#define FC_DATA_DIR "fc_solve/data/fc-problems" /* the tests run from the repository's root */
+#endif
+
+/* Issue 46: fc_solve printed a residual per file but never the solution. On every shipped
+   problem, the result line of fc_run_file (what the command line prints) and its --solution
+   output: u in the file is W r + q recomputed here from the problem as read, to rounding, and
+   the printed residual is the eq. (15) error at rho = 1 recomputed from the file's r, to the
+   printed digits plus the rounding bound. */
+static void test_solution_output(void)
+{
+    static const char *files[] = {
+        "FrictionContact3D_1c.dat", "FC3D_Example1.dat", "FC2D_SliderCrankLagrangian00000.dat",
+        "harder/Capsules-i122-1617.dat", "harder/fc2d_granularflowonwall_00667_00000.dat",
+#ifdef FC_SOLVE_HDF5
+        "harder/BoxesStack-fclib.hdf5",
+#endif
+    };
+    char path[512], solpath[512], line[1024];
+    size_t k;
+    tmp_path(solpath, "fc_solve_test_solution.txt");
+    for (k = 0; k < sizeof files / sizeof files[0]; k++) {
+        fc_problem p;
+        fc_options o;
+        FILE *sol, *out = tmpfile();
+        double printed = -1.0, err = HUGE_VAL, qn = 0.0, *r = NULL, *u = NULL, *uf = NULL, *wr = NULL;
+        int res, d = 0, nc = 0, i, a, bad_u = 0, ok = 1;
+        sprintf(path, "%s/%s", FC_DATA_DIR, files[k]);
+        o.tol = 1e-10, o.maxit = 2000, o.verbose = 0;
+        sol = fopen(solpath, "w");
+        CHECK(sol && out);
+        if (!sol || !out) {
+            if (sol)
+                fclose(sol);
+            if (out)
+                fclose(out);
+            continue;
+        }
+        res = fc_run_file(path, &o, sol, out);
+        CHECK(fclose(sol) == 0);
+        CHECK(res == 0);
+        rewind(out);
+        while (fgets(line, sizeof line, out)) {
+            const char *at = strstr(line, " residual=");
+            if (at)
+                printed = strtod(at + 10, NULL);
+        }
+        fclose(out);
+        CHECK(fc_read(path, &p) == NULL);
+        sol = fopen(solpath, "r");
+        CHECK(sol != NULL);
+        if (!p.q || !sol) {
+            if (sol)
+                fclose(sol);
+            fc_free(&p);
+            continue;
+        }
+        /* two comment lines, "dim nc", then r and u per contact */
+        ok = fgets(line, sizeof line, sol) && line[0] == '#' && fgets(line, sizeof line, sol) &&
+             line[0] == '#' && fscanf(sol, "%d %d", &d, &nc) == 2 && d == p.dim && nc == p.nc;
+        r = malloc((size_t)p.m * sizeof(double));
+        u = malloc((size_t)p.m * sizeof(double));
+        uf = malloc((size_t)p.m * sizeof(double));
+        wr = calloc((size_t)p.m, sizeof(double));
+        ok = ok && r && u && uf && wr;
+        for (i = 0; ok && i < p.nc; i++)
+            for (a = 0; ok && a < 2 * d; a++)
+                ok = fscanf(sol, "%lf", a < d ? &r[i * d + a] : &uf[i * d + a - d]) == 1;
+        ok = ok && fscanf(sol, "%d", &i) == EOF;
+        fclose(sol);
+        CHECK(ok);
+        if (ok) {
+            csc_residual(&p, r, u);
+            for (i = 0; i < p.m; i++)
+                for (a = p.Wp[i]; a < p.Wp[i + 1]; a++)
+                    wr[p.Wi[a]] += fabs(p.Wx[a] * r[i]);
+            for (i = 0; i < p.m; i++) {
+                if (fabs(uf[i] - u[i]) > 8.0 * DBL_EPSILON * (wr[i] + fabs(p.q[i])))
+                    bad_u++;
+                qn = hypot(qn, p.q[i]);
+            }
+            CHECK(bad_u == 0);
+            CHECK(psb_fc_nat_error(p.dim, (size_t)p.nc, r, u, p.mu, qn, &err) == PSB_SUCCESS);
+            printf("  %s: printed residual %.3e, recomputed from --solution %.3e\n", files[k],
+                   printed, err);
+            CHECK(fabs(printed - err) <= 1e-3 * err + nat_err_bound(&p, r, wr, qn));
+            CHECK(err <= o.tol);
+        }
+        free(r);
+        free(u);
+        free(uf);
+        free(wr);
+        fc_free(&p);
+    }
+    remove(solpath);
+}
+
 /* Issue 46: files that are not reduced problems are refused with the reason, not read as one. A
    Siconos global problem (dim, nc, M, H, q, b, mu) with M and H both 3 x 3 (so M passes as W)
    was solved with H's header taken as q and mu; a reduced file with data after mu; and, in an
@@ -1148,6 +1245,7 @@ int main(void)
     test_reader_validation();
     test_fclib_validation();
     test_not_reduced();
+    test_solution_output();
     test_dense_layout();
     test_infeasible();
     test_scale_invariance();
