@@ -13,9 +13,8 @@
    NaN and Inf are rejected everywhere; a bad file gets `FILE error: what is wrong` and exit
    status 2. W is kept in compressed columns, so memory follows its non-zeros, within the
    limits FC_MAX_FILE (2 GiB of text), FC_MAX_CONTACTS (10^6), FC_MAX_NNZ (2^25 stored
-   non-zeros) and FC_MAX_COUPLED (12288 unknowns in one coupled component of W, whose Newton
-   system may be factored dense: 8 n^2 bytes, 1.2 GB at the limit; larger components are
-   refused with a message).
+   non-zeros); a Newton system is factored dense or banded only within the memory of a dense LU
+   of FC_MAX_DENSE = 12288 unknowns (1.2 GB), beyond it by the block-sparse LU alone.
    Prints `FILE contacts=N iterations=K residual=R time=Ts newton=A sweeps=B ipm=C` (K = A + B
    + C, C the interior-point iterations), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at the returned
    r with u recomputed as W r + q, or the absolute |F_nat(r)| when q = 0 (then the line says
@@ -81,13 +80,14 @@
 /* Limits, checked before anything of that size is allocated (the readers' memory is
    proportional to the file and to W's stored non-zeros, never to m^2 for a sparse file):
    FC_MAX_FILE bytes of text; FC_MAX_CONTACTS contacts; FC_MAX_NNZ stored non-zeros of W (about
-   28 bytes each while reading, 8 to 72 in the solver's block storage); FC_MAX_COUPLED unknowns in
-   one coupled component of W's contact graph (its Newton system may be factored dense: 8 n^2
-   bytes, 1.2 GB at the limit). */
+   28 bytes each while reading, 8 to 72 in the solver's block storage). FC_MAX_DENSE unknowns: the
+   largest Newton system factored dense (8 n^2 bytes, 1.2 GB), and the memory of the largest
+   banded one; larger systems go to the block-sparse LU, whose memory follows its fill. */
 #define FC_MAX_FILE 2147483647L
 #define FC_MAX_CONTACTS 1000000
 #define FC_MAX_NNZ 33554432L
-#define FC_MAX_COUPLED 12288
+#define FC_MAX_DENSE 12288
+static int fc_dense_max = FC_MAX_DENSE; /* lowered by the tests to reach the sparse-only path */
 /* W is rescaled for the solver when its scale is outside [2^-FC_W_BAND, 2^FC_W_BAND] (fc_solve) */
 #define FC_W_BAND 8
 
@@ -999,7 +999,6 @@ enum {
     FC_DIVERGED,      /* |r| so large that the residual's rounding bound exceeds tol */
     FC_UN_NEGATIVE,   /* u_N < 0 beyond the tolerance at the returned r */
     FC_R_OUTSIDE,     /* r outside K beyond the tolerance */
-    FC_TOO_LARGE,     /* a coupled component above FC_MAX_COUPLED unknowns (not solved) */
     FC_NO_MEMORY      /* allocation failure */
 };
 
@@ -1016,6 +1015,7 @@ typedef struct {
     double floor;       /* rounding bound of err: 4 eps (|r| + ||(1+mu)(|W||r| + |q|)||) / |q| */
     double rnorm;       /* |r| */
     int ncomp, maxcomp; /* coupled components of W, contacts in the largest */
+    int n_sparse;       /* Newton systems solved by the block-sparse LU */
 } fc_stats;
 
 /* W as a block CSR matrix of dim x dim blocks (column-major each): rows rp[c]..rp[c+1]-1, block
@@ -1379,6 +1379,7 @@ typedef struct {
     double *u, *F, *A, *B, *d, *rhs, *J, *rn, *un, *best, *r1, *wr;
     size_t jcap;
     int *ipiv, *act, *pos, *deg, *queue, *ord;
+    int n_sparse;    /* systems solved by the block-sparse LU */
     int reuse, fact; /* reuse: 1 solve with the factors of the last call (same matrix, new
                         right-hand side), -1 take the sparse LU whenever it is cheaper (the
                         interior-point systems, where rounding does not steer a trajectory);
@@ -1474,34 +1475,118 @@ static void blk_gemm_sub(int d, const double *A, const double *B, double *C)
         }
 }
 
+/* A growable sorted set of ints (a vertex's neighbours in the elimination graph). */
+typedef struct {
+    int *v, n, cap;
+} fc_iset;
+
+/* Inserts x; 0 if out of memory. */
+static int iset_add(fc_iset *a, int x)
+{
+    int lo = 0, hi = a->n;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (a->v[mid] < x)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo < a->n && a->v[lo] == x)
+        return 1;
+    if (a->n == a->cap) {
+        int cap = a->cap ? 2 * a->cap : 8, *nv = realloc(a->v, (size_t)cap * sizeof(int));
+        if (!nv)
+            return 0;
+        a->v = nv;
+        a->cap = cap;
+    }
+    memmove(a->v + lo + 1, a->v + lo, (size_t)(a->n - lo) * sizeof(int));
+    a->v[lo] = x;
+    a->n++;
+    return 1;
+}
+
+/* a = (a union src[0..n)) minus {x, y} (src sorted): the elimination of a neighbour x of a,
+   whose other neighbours src become a's, in O(|a| + n). 0 if out of memory. */
+static int iset_merge(fc_iset *a, const int *src, int n, int x, int y)
+{
+    int i = 0, j = 0, k = 0, cap = a->n + n, *nv = malloc((size_t)(cap > 0 ? cap : 1) * sizeof(int));
+    if (!nv)
+        return 0;
+    while (i < a->n || j < n) {
+        int v = j >= n || (i < a->n && a->v[i] <= src[j]) ? a->v[i] : src[j];
+        if (i < a->n && a->v[i] == v)
+            i++;
+        if (j < n && src[j] == v)
+            j++;
+        if (v != x && v != y)
+            nv[k++] = v;
+    }
+    free(a->v);
+    a->v = nv;
+    a->n = k;
+    a->cap = cap;
+    return 1;
+}
+
+/* key[idx[lo..hi)] increases: the k in idx[lo..hi) with key[k] = t, or -1. */
+static int ifind(const int *key, const int *idx, int lo, int hi, int t)
+{
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (key[idx[mid]] < t)
+            lo = mid + 1;
+        else if (key[idx[mid]] > t)
+            hi = mid;
+        else
+            return idx[mid];
+    }
+    return -1;
+}
+
+/* Sorts idx[0..n) by key[idx[.]] (insertion sort: runs are short, and often sorted already). */
+static void isort_by(const int *key, int *idx, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++) {
+        int v = idx[i];
+        for (j = i; j > 0 && key[idx[j - 1]] > key[v]; j--)
+            idx[j] = idx[j - 1];
+        idx[j] = v;
+    }
+}
+
 /* Block-sparse LU of the active Newton system (na contacts, local ids = w->pos, right-hand side
    w->rhs by local id) in minimum-degree order of the block graph, pivoting only inside the
-   d x d diagonal blocks; used only when its flop estimate is under 1/50 of `other` (the banded
-   / dense LU's): its different rounding changes Newton trajectories on the hard instances, and
-   at 1/2 the generated sweeps of sizes 30 and 40 missed 1 and 2 more of 120 each than before,
-   at 1/50 none more (3D box stacks on a grid, where the band is wide, still take it: 318
-   contacts 1.9 s -> 0.6 s). The solution is checked against the unfactored blocks (up to two
-   refinement steps; a residual above 1e-8 |rhs|, or a singular diagonal block, rejects it).
-   Returns 0 (dir of active contacts set), 1 (not used: caller falls back), -1 out of memory. */
+   d x d diagonal blocks. Memory follows the fill (the elimination graph as sorted neighbour
+   sets, the L and U blocks by elimination step), never na^2, so it also factors the components
+   too large for a dense or banded LU (other = HUGE_VAL). Used only when its flop estimate is
+   under 1/50 of `other` (the banded / dense LU's): its different rounding changes Newton
+   trajectories on the hard instances, and at 1/2 the generated sweeps of sizes 30 and 40 missed
+   1 and 2 more of 120 each than before, at 1/50 none more (3D box stacks on a grid, where the
+   band is wide, still take it: 318 contacts 1.9 s -> 0.6 s). The solution is checked against
+   the unfactored blocks (up to two refinement steps; a residual above 1e-8 |rhs|, or a singular
+   diagonal block, rejects it). Returns 0 (dir of active contacts set), 1 (not used: caller
+   falls back, or the system is singular), -1 out of memory. */
 static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double other,
                         double *dir)
 {
     int d = S->d, dd = S->dd, n = na * d, i, k, s, t, a, cnt = 0, cap = 4 * na + 16, rc = 1, pass;
-    unsigned char *adj = NULL, *el = NULL;
-    int *deg = NULL, *ord = NULL, *lp = NULL, *li = NULL, *psn = NULL, *bidx = NULL;
+    fc_iset *g = NULL;
+    unsigned char *el = NULL;
+    int *ord = NULL, *lp = NULL, *li = NULL, *psn = NULL, *sk = NULL, *bidx = NULL;
     double *val = NULL, *orig = NULL, *dinv = NULL, *x = NULL, *res = NULL, *dx = NULL;
-    double flops = 0.0, bn = 0.0, rn;
-    size_t nblk = 0, nn = (size_t)na * (size_t)na;
-    if (na < 2 || na > 2500)
+    double flops = 0.0, bn = 0.0, rn, budget = (w->reuse ? 0.5 : 0.02) * other;
+    size_t nblk;
+    if (na < 2)
         return 1;
-    adj = calloc(nn, 1);
+    g = calloc((size_t)na, sizeof *g);
     el = calloc((size_t)na, 1);
-    deg = calloc((size_t)na, sizeof(int));
     ord = malloc((size_t)na * sizeof(int));
     lp = malloc((size_t)(na + 1) * sizeof(int));
     li = malloc((size_t)cap * sizeof(int));
     psn = malloc((size_t)na * sizeof(int));
-    if (!adj || !el || !deg || !ord || !lp || !li || !psn) {
+    if (!g || !el || !ord || !lp || !li || !psn) {
         rc = -1;
         goto done;
     }
@@ -1509,67 +1594,61 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
         int c = w->ord[i];
         for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
             int pe = w->pos[S->ci[k]];
-            if (pe >= 0 && pe != i && !adj[(size_t)i * na + pe]) {
-                adj[(size_t)i * na + pe] = adj[(size_t)pe * na + i] = 1;
-                deg[i]++;
-                deg[pe]++;
+            if (pe >= 0 && pe != i && (!iset_add(&g[i], pe) || !iset_add(&g[pe], i))) {
+                rc = -1;
+                goto done;
             }
         }
     }
     for (s = 0; s < na; s++) { /* minimum degree on the elimination graph */
-        int v = -1, q0, q1, b2;
+        int v = -1, q0;
         for (i = 0; i < na; i++)
-            if (!el[i] && (v < 0 || deg[i] < deg[v]))
+            if (!el[i] && (v < 0 || g[i].n < g[v].n))
                 v = i;
         el[v] = 1;
         ord[s] = v;
         psn[v] = s;
         lp[s] = cnt;
-        for (i = 0; i < na; i++)
-            if (!el[i] && adj[(size_t)v * na + i]) {
-                if (cnt == cap) {
-                    int *nl = realloc(li, (size_t)(2 * cap) * sizeof(int));
-                    if (!nl) {
-                        rc = -1;
-                        goto done;
-                    }
-                    li = nl;
-                    cap *= 2;
-                }
-                li[cnt++] = i;
+        if (cnt + g[v].n > cap) {
+            int *nl;
+            while (cnt + g[v].n > cap)
+                cap *= 2;
+            if (!(nl = realloc(li, (size_t)cap * sizeof(int)))) {
+                rc = -1;
+                goto done;
             }
-        for (q0 = lp[s]; q0 < cnt; q0++) {
-            a = li[q0];
-            deg[a]--;
-            for (q1 = q0 + 1; q1 < cnt; q1++) {
-                b2 = li[q1];
-                if (!adj[(size_t)a * na + b2]) {
-                    adj[(size_t)a * na + b2] = adj[(size_t)b2 * na + a] = 1;
-                    deg[a]++;
-                    deg[b2]++;
-                }
-            }
+            li = nl;
         }
+        memcpy(li + cnt, g[v].v, (size_t)g[v].n * sizeof(int));
+        cnt += g[v].n;
+        for (q0 = lp[s]; q0 < cnt; q0++) /* v's neighbours become a clique, v leaves */
+            if (!iset_merge(&g[li[q0]], li + lp[s], cnt - lp[s], v, li[q0])) {
+                rc = -1;
+                goto done;
+            }
+        free(g[v].v);
+        g[v].v = NULL;
+        g[v].n = g[v].cap = 0;
         flops += (double)(cnt - lp[s]) * (double)(cnt - lp[s] + 1);
-        if (2.0 * d * d * d * (flops + na) > (w->reuse ? 0.5 : 0.02) * other)
+        if (2.0 * d * d * d * (flops + na) > budget)
             goto done; /* too much fill: stop ordering early (bounds its cost too) */
     }
     lp[na] = cnt;
-    bidx = malloc(nn * sizeof(int));
-    if (!bidx) {
+    /* li: neighbours as elimination positions, in the order found (which sets the rounding of
+       the solves); sk: each step's k by increasing position, to find a block by binary search */
+    sk = malloc((size_t)(cnt > 0 ? cnt : 1) * sizeof(int));
+    if (!sk) {
         rc = -1;
         goto done;
     }
-    for (i = 0; i < (int)nn; i++)
-        bidx[i] = -1;
-    for (s = 0; s < na; s++) { /* blocks in elimination positions: diagonal, U row, L column */
-        bidx[(size_t)s * na + s] = (int)nblk++;
-        for (k = lp[s]; k < lp[s + 1]; k++) {
-            t = psn[li[k]];
-            bidx[(size_t)s * na + t] = (int)nblk++;
-            bidx[(size_t)t * na + s] = (int)nblk++;
-        }
+    for (k = 0; k < cnt; k++) {
+        li[k] = psn[li[k]];
+        sk[k] = k;
     }
+    for (s = 0; s < na; s++)
+        isort_by(li, sk + lp[s], lp[s + 1] - lp[s]);
+    /* blocks: diagonal s at s; U (s, li[k]) at na + k; L (li[k], s) at na + cnt + k */
+    nblk = (size_t)na + 2 * (size_t)cnt;
     val = calloc(nblk * dd, sizeof(double));
     orig = malloc(nblk * dd * sizeof(double));
     dinv = malloc((size_t)na * dd * sizeof(double));
@@ -1580,17 +1659,36 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
         rc = -1;
         goto done;
     }
+    /* a small system also gets a table of its blocks by (row, column) position: na^2 ints
+       beat the binary searches */
+    if ((size_t)na * (size_t)na <= ((size_t)1 << 22) &&
+        (bidx = malloc((size_t)na * (size_t)na * sizeof(int))) != NULL) {
+        for (k = 0; k < na * na; k++)
+            bidx[k] = -1;
+        for (t = 0; t < na; t++) {
+            bidx[(size_t)t * na + t] = t;
+            for (k = lp[t]; k < lp[t + 1]; k++) {
+                bidx[(size_t)t * na + li[k]] = na + k;
+                bidx[(size_t)li[k] * na + t] = na + cnt + k;
+            }
+        }
+    }
+#define FC_BLK(r_, c_)                                                                         \
+    (bidx ? (size_t)bidx[(size_t)(r_) * na + (size_t)(c_)]                                     \
+     : (r_) == (c_) ? (size_t)(r_)                                                             \
+     : (r_) < (c_)  ? (size_t)na + (size_t)ifind(li, sk, lp[r_], lp[(r_) + 1], c_)             \
+                    : (size_t)na + (size_t)cnt + (size_t)ifind(li, sk, lp[c_], lp[(c_) + 1], r_))
     for (i = 0; i < na; i++) {
         int c = w->ord[i];
         for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
             int pe = w->pos[S->ci[k]];
             if (pe >= 0)
-                jac_block(S, w, c, k, eta, val + (size_t)bidx[(size_t)psn[i] * na + psn[pe]] * dd);
+                jac_block(S, w, c, k, eta, val + FC_BLK(psn[i], psn[pe]) * dd);
         }
     }
     memcpy(orig, val, nblk * dd * sizeof(double));
     for (s = 0; s < na; s++) { /* right-looking block elimination */
-        double M[9], *D = val + (size_t)bidx[(size_t)s * na + s] * dd, *Di = dinv + s * dd;
+        double M[9], *D = val + (size_t)s * dd, *Di = dinv + s * dd;
         int q0, q1;
         for (a = 0; a < d; a++) { /* Di = D^-1 column by column */
             memcpy(M, D, (size_t)dd * sizeof(double));
@@ -1600,7 +1698,7 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
                 goto done;
         }
         for (q0 = lp[s]; q0 < lp[s + 1]; q0++) { /* L_ts = A_ts D^-1 */
-            double tmp[9], *L = val + (size_t)bidx[(size_t)psn[li[q0]] * na + s] * dd;
+            double tmp[9], *L = val + ((size_t)na + (size_t)cnt + (size_t)q0) * dd;
             memcpy(tmp, L, (size_t)dd * sizeof(double));
             memset(L, 0, (size_t)dd * sizeof(double));
             for (a = 0; a < dd; a++)
@@ -1608,13 +1706,11 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
             blk_gemm_sub(d, tmp, Di, L);
         }
         for (q0 = lp[s]; q0 < lp[s + 1]; q0++) { /* A_tu -= L_ts U_su */
-            int tp = psn[li[q0]];
-            const double *L = val + (size_t)bidx[(size_t)tp * na + s] * dd;
-            for (q1 = lp[s]; q1 < lp[s + 1]; q1++) {
-                int up = psn[li[q1]];
-                blk_gemm_sub(d, L, val + (size_t)bidx[(size_t)s * na + up] * dd,
-                             val + (size_t)bidx[(size_t)tp * na + up] * dd);
-            }
+            int tp = li[q0];
+            const double *L = val + ((size_t)na + (size_t)cnt + (size_t)q0) * dd;
+            for (q1 = lp[s]; q1 < lp[s + 1]; q1++)
+                blk_gemm_sub(d, L, val + ((size_t)na + (size_t)q1) * dd,
+                             val + FC_BLK(tp, li[q1]) * dd);
         }
     }
     for (i = 0; i < na; i++)
@@ -1627,18 +1723,13 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
         /* solve L U dx = res (positions), x += dx, res = rhs - J x */
         memcpy(dx, res, (size_t)n * sizeof(double));
         for (s = 0; s < na; s++)
-            for (k = lp[s]; k < lp[s + 1]; k++) {
-                t = psn[li[k]];
-                blk_gemv(d, -1.0, val + (size_t)bidx[(size_t)t * na + s] * dd, dx + s * d,
-                         dx + t * d);
-            }
+            for (k = lp[s]; k < lp[s + 1]; k++)
+                blk_gemv(d, -1.0, val + ((size_t)na + (size_t)cnt + (size_t)k) * dd, dx + s * d,
+                         dx + li[k] * d);
         for (s = na - 1; s >= 0; s--) {
             double z[3];
-            for (k = lp[s]; k < lp[s + 1]; k++) {
-                t = psn[li[k]];
-                blk_gemv(d, -1.0, val + (size_t)bidx[(size_t)s * na + t] * dd, dx + t * d,
-                         dx + s * d);
-            }
+            for (k = lp[s]; k < lp[s + 1]; k++)
+                blk_gemv(d, -1.0, val + ((size_t)na + (size_t)k) * dd, dx + li[k] * d, dx + s * d);
             memset(z, 0, sizeof z);
             blk_gemv(d, 1.0, dinv + s * dd, dx + s * d, z);
             memcpy(dx + s * d, z, (size_t)d * sizeof(double));
@@ -1649,15 +1740,15 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
             for (a = 0; a < d; a++)
                 res[psn[i] * d + a] = w->rhs[i * d + a];
         for (s = 0; s < na; s++) {
-            blk_gemv(d, -1.0, orig + (size_t)bidx[(size_t)s * na + s] * dd, x + s * d, res + s * d);
+            blk_gemv(d, -1.0, orig + (size_t)s * dd, x + s * d, res + s * d);
             for (k = lp[s]; k < lp[s + 1]; k++) {
-                t = psn[li[k]];
-                blk_gemv(d, -1.0, orig + (size_t)bidx[(size_t)s * na + t] * dd, x + t * d,
-                         res + s * d);
-                blk_gemv(d, -1.0, orig + (size_t)bidx[(size_t)t * na + s] * dd, x + s * d,
+                t = li[k];
+                blk_gemv(d, -1.0, orig + ((size_t)na + (size_t)k) * dd, x + t * d, res + s * d);
+                blk_gemv(d, -1.0, orig + ((size_t)na + (size_t)cnt + (size_t)k) * dd, x + s * d,
                          res + t * d);
             }
         }
+#undef FC_BLK
         rn = 0.0;
         for (a = 0; a < n; a++)
             rn += res[a] * res[a];
@@ -1667,18 +1758,21 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
             for (i = 0; i < na; i++)
                 for (a = 0; a < d; a++)
                     dir[w->ord[i] * d + a] = x[psn[i] * d + a];
+            w->n_sparse++;
             rc = 0;
         }
         break;
     }
 done:
-    free(adj);
+    for (i = 0; g && i < na; i++)
+        free(g[i].v);
+    free(g);
     free(el);
-    free(deg);
     free(ord);
     free(lp);
     free(li);
     free(psn);
+    free(sk);
     free(bidx);
     free(val);
     free(orig);
@@ -1698,7 +1792,7 @@ done:
 static int newton_dir(const fc_problem *p, const fc_bsr *S, fc_work *w, double eta, double *dir)
 {
     int c, k, i, a, b, j, d = p->dim, dd = d * d, na = 0, n, info = 0, one = 1, klb = 0, kub = 0;
-    int kl, ku, ldab, band;
+    int kl, ku, ldab, band, dense_ok;
     size_t need;
     for (c = 0; c < p->nc; c++) {
         int trivial = 1;
@@ -1731,8 +1825,11 @@ static int newton_dir(const fc_problem *p, const fc_bsr *S, fc_work *w, double e
     kl = d * (klb + 1) - 1;
     ku = d * (kub + 1) - 1;
     ldab = 2 * kl + ku + 1;
-    /* banded LU costs ~ n kl (kl + ku) flops vs n^3 / 3 dense */
-    band = 3.0 * (double)kl * (double)(kl + ku + 1) < 0.5 * (double)n * (double)n;
+    /* banded LU costs ~ n kl (kl + ku) flops vs n^3 / 3 dense; either only within the memory
+       of a dense LU of fc_dense_max unknowns, beyond it the block-sparse LU alone */
+    dense_ok = n <= fc_dense_max;
+    band = (double)ldab * (double)n <= (double)fc_dense_max * (double)fc_dense_max &&
+           (3.0 * (double)kl * (double)(kl + ku + 1) < 0.5 * (double)n * (double)n || !dense_ok);
     for (i = 0; i < na; i++) { /* rhs = -F_c - B_c sum over eliminated e of W_ce dir_e */
         const double *Bc;
         c = w->ord[i];
@@ -1767,11 +1864,14 @@ static int newton_dir(const fc_problem *p, const fc_bsr *S, fc_work *w, double e
     w->fact = 0;
     /* a block-sparse LU in minimum-degree order when it is much cheaper (wide bands) */
     j = sparse_solve(S, w, na, eta,
-                     band ? 2.0 * n * (double)kl * (double)(kl + ku + 1)
-                          : 2.0 / 3.0 * (double)n * (double)n * (double)n,
+                     band      ? 2.0 * n * (double)kl * (double)(kl + ku + 1)
+                     : dense_ok ? 2.0 / 3.0 * (double)n * (double)n * (double)n
+                                : HUGE_VAL,
                      dir);
     if (j < 0)
         return -1;
+    if (j > 0 && !band && !dense_ok)
+        return 1; /* singular (the block-sparse LU was the only one allowed) */
     if (j == 0) {
         for (i = 0; i < p->m; i++)
             if (!isfinite(dir[i]))
@@ -2454,6 +2554,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
     memcpy(r, w.best, (size_t)m * sizeof(double));
     bsr_matvec(&S, p->q, r, w.u); /* honest measure at the returned reaction */
     st->err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
+    st->n_sparse = w.n_sparse;
     work_free(&w);
     if (rc < 0)
         return -1;
@@ -2524,8 +2625,7 @@ static int uf_root(int *parent, int c)
 /* Splits the contacts into the connected components of W's block graph (contacts coupled by a
    non-zero block either way) and solves each on its own (fc_solve_part): a block-decoupled
    problem costs the sum of its parts, and the dense fallbacks of the Newton solves are sized by
-   one component. Refuses (-2, FC_TOO_LARGE) a component above FC_MAX_COUPLED unknowns before
-   solving anything. Returns 0 if every component met the tolerance, 1 if not, -1 / -2. */
+   one component. Returns 0 if every component met the tolerance, 1 if not, -1 out of memory. */
 static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_options *o,
                                int shift, double *r, fc_stats *st)
 {
@@ -2567,18 +2667,13 @@ static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_op
     for (i = 0; i < ncomp; i++)
         if (start[i + 1] - start[i] > st->maxcomp)
             st->maxcomp = start[i + 1] - start[i];
-    if ((long)st->maxcomp * d > FC_MAX_COUPLED) {
-        st->verdict = FC_TOO_LARGE;
-        st->value = (double)st->maxcomp * d;
-        rc = -2;
-        goto done;
-    }
     if (ncomp == 1) {
         fc_stats sub;
         rc = fc_solve_part(p, S, o, shift, r, &sub);
         st->newton = sub.newton;
         st->sweeps = sub.sweeps;
         st->ipm = sub.ipm;
+        st->n_sparse = sub.n_sparse;
         goto done;
     }
     qc = malloc((size_t)st->maxcomp * d * sizeof(double));
@@ -2617,6 +2712,7 @@ static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_op
         st->newton += sub.newton;
         st->sweeps += sub.sweeps;
         st->ipm += sub.ipm;
+        st->n_sparse += sub.n_sparse;
         if (res < 0)
             rc = -1;
         else if (res > 0)
@@ -2758,7 +2854,7 @@ static int fc_w_exponent(const fc_bsr *S)
    0): proves infeasibility when W's normal rows allow it (fc_certify_infeasible), else solves
    each coupled component (fc_solve_components, fc_solve_part) and checks the result
    (fc_accept). Returns 0 when the result is accepted, 1 when not (st->verdict says why), -1 out
-   of memory, -2 a coupled component is too large. */
+   of memory. */
 static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stats *st)
 {
     fc_bsr S;
@@ -2866,11 +2962,6 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
         snprintf(buf, n, "no solution found: r is %.3e outside the friction cone at contact %d",
                  st->value, st->contact);
         break;
-    case FC_TOO_LARGE:
-        snprintf(buf, n, "not solved: a coupled component of W has %.0f unknowns, above the "
-                         "limit FC_MAX_COUPLED = %d (a dense Newton system of 8 n^2 bytes)",
-                 st->value, FC_MAX_COUPLED);
-        break;
     default:
         snprintf(buf, n, "not solved: out of memory");
     }
@@ -2927,6 +3018,7 @@ static int fc_run_file(const char *path, const fc_options *o, FILE *sol, FILE *o
         fprintf(stderr, "fc_solve: cannot read %s: %s\n", path, msg);
         return 2;
     }
+    memset(&st, 0, sizeof st);
     r = calloc((size_t)p.m, sizeof(double));
     t0 = clock();
     res = r ? fc_solve(&p, o, r, &st) : -1;

@@ -858,56 +858,80 @@ static void test_decoupled_large(void)
     fc_free(&p);
 }
 
-/* A coupled component above FC_MAX_COUPLED unknowns (a chain of 4200 3D contacts) is refused
-   before any dense allocation, with FC_TOO_LARGE and the size; the same chain cut in two halves
-   is under the limit per component. */
-static void test_coupled_limit(void)
+/* Issue 46: a coupled component above FC_MAX_DENSE unknowns was refused (its Newton system could
+   be factored dense). Contacts on a G x G grid in 2D, each coupled to its four neighbours (W
+   symmetric, diagonally dominant: a unique solution), 2 G^2 > FC_MAX_DENSE unknowns in one
+   component: solved, the error recomputed from the compressed columns; and again with the dense
+   limit lowered so that only the block-sparse LU may factor (the path of components too large
+   for a banded one), which must then have solved Newton systems. */
+static void test_large_component(int G, int dense_max)
 {
-    enum { NC = 4200 };
+    int nc = G * G, m = 2 * nc, c, a, b, k = 0, e, nb;
+    int *Wp = malloc((size_t)(m + 1) * sizeof(int)), *Wi = malloc((size_t)10 * m * sizeof(int));
+    double *Wx = malloc((size_t)10 * m * sizeof(double)), *q = malloc((size_t)m * sizeof(double));
+    double *mu = malloc((size_t)nc * sizeof(double)), *r = calloc((size_t)m, sizeof(double));
+    double *u = malloc((size_t)m * sizeof(double)), qn = 0.0, err = HUGE_VAL;
+    static const double off[4] = {-0.28, 0.05, 0.05, 0.14}; /* symmetric; W > 0.05 I */
+    fcg_rng g;
     fc_problem p;
     fc_options o;
     fc_stats st;
-    int c, k = 0, m = 3 * NC, *Wp = malloc((size_t)(m + 1) * sizeof(int));
-    int *Wi = malloc((size_t)3 * m * sizeof(int));
-    double *Wx = malloc((size_t)3 * m * sizeof(double)), *q = calloc((size_t)m, sizeof(double));
-    double *mu = malloc(NC * sizeof(double)), *r = calloc((size_t)m, sizeof(double));
-    char msg[400];
-    CHECK(Wp && Wi && Wx && q && mu && r);
-    if (!(Wp && Wi && Wx && q && mu && r))
+    int res;
+    CHECK(Wp && Wi && Wx && q && mu && r && u);
+    if (!(Wp && Wi && Wx && q && mu && r && u))
         return;
-    for (c = 0; c < m; c++) { /* tridiagonal in the normal rows: contacts c, c + 1 coupled */
-        Wp[c] = k;
-        if (c >= 3 && c % 3 == 0)
-            Wi[k] = c - 3, Wx[k++] = -0.5;
-        Wi[k] = c, Wx[k++] = 2.0;
-        if (c + 3 < m && c % 3 == 0)
-            Wi[k] = c + 3, Wx[k++] = -0.5;
+    g.s = (unsigned long long)G;
+    for (c = 0; c < nc; c++) {
+        int cx = c % G, cy = c / G, nbr[4];
+        nb = 0;
+        if (cx > 0) nbr[nb++] = c - 1;
+        if (cx < G - 1) nbr[nb++] = c + 1;
+        if (cy > 0) nbr[nb++] = c - G;
+        if (cy < G - 1) nbr[nb++] = c + G;
+        for (b = 0; b < 2; b++) { /* column 2 c + b */
+            Wp[2 * c + b] = k;
+            for (a = 0; a < 2; a++) {
+                Wi[k] = 2 * c + a;
+                Wx[k++] = a == b ? 1.2 + 0.1 * (double)((c + a) % 3) : 0.0;
+                if (a != b)
+                    k--; /* no zero stored */
+            }
+            for (e = 0; e < nb; e++)
+                for (a = 0; a < 2; a++) {
+                    Wi[k] = 2 * nbr[e] + a;
+                    Wx[k++] = off[a + 2 * b];
+                }
+        }
+        q[2 * c] = fcg_u(&g, -1.0, 0.3);
+        q[2 * c + 1] = fcg_u(&g, -1.0, 1.0);
+        mu[c] = 0.5;
     }
     Wp[m] = k;
-    for (c = 0; c < NC; c++)
-        q[3 * c] = 1.0, mu[c] = 0.5;
     memset(&p, 0, sizeof p);
-    p.dim = 3, p.nc = NC, p.m = m, p.Wp = Wp, p.Wi = Wi, p.Wx = Wx, p.q = q, p.mu = mu;
-    o.tol = 1e-10;
-    o.maxit = 50;
-    o.verbose = 0;
-    CHECK(fc_solve(&p, &o, r, &st) == -2);
-    CHECK(st.verdict == FC_TOO_LARGE && st.value == (double)m);
-    fc_verdict_text(&st, o.tol, msg, sizeof msg);
-    CHECK(strstr(msg, "FC_MAX_COUPLED") != NULL);
-    /* cut the chain between contacts NC/2 - 1 and NC/2: two components under the limit */
+    p.dim = 2, p.nc = nc, p.m = m, p.Wp = Wp, p.Wi = Wi, p.Wx = Wx, p.q = q, p.mu = mu;
+    o.tol = 1e-10, o.maxit = 200, o.verbose = 0;
+    fc_dense_max = dense_max;
+    res = fc_solve(&p, &o, r, &st);
+    fc_dense_max = FC_MAX_DENSE;
+    csc_residual(&p, r, u);
     for (c = 0; c < m; c++)
-        for (k = Wp[c]; k < Wp[c + 1]; k++)
-            if ((Wi[k] / 3 < NC / 2) != (c / 3 < NC / 2))
-                Wx[k] = 0.0;
-    CHECK(fc_solve(&p, &o, r, &st) == 0); /* q_N > 0: r = 0 */
-    CHECK(st.ncomp == 2 && st.maxcomp == NC / 2);
+        qn += q[c] * q[c];
+    CHECK(psb_fc_nat_error(2, (size_t)nc, r, u, mu, sqrt(qn), &err) == PSB_SUCCESS);
+    printf("  %d x %d grid, 2D: %d unknowns in %d component(s), dense limit %d: verdict %d, "
+           "err %.3e (recomputed %.3e), newton %d sweeps %d, block-sparse LU %d\n", G, G, m,
+           st.ncomp, dense_max, st.verdict, st.err, err, st.newton, st.sweeps, st.n_sparse);
+    CHECK(res == 0 && st.ncomp == 1 && 2 * st.maxcomp > dense_max);
+    CHECK(err <= o.tol);
+    CHECK_NEAR(st.err, err, 1e-12);
+    if (dense_max < FC_MAX_DENSE)
+        CHECK(st.newton > 0 && st.n_sparse > 0);
     free(Wp);
     free(Wi);
     free(Wx);
     free(q);
     free(mu);
     free(r);
+    free(u);
 }
 
 /* A finding of fuzz_fc_solve: mu = 4.6e72 at a sliding contact multiplies the rounding of u_T
@@ -1251,7 +1275,8 @@ int main(void)
     test_scale_invariance();
     test_rho1_acceptance();
     test_decoupled_large();
-    test_coupled_limit();
+    test_large_component(82, FC_MAX_DENSE); /* 13 448 unknowns */
+    test_large_component(40, 400);
     test_huge_mu();
     test_degenerate();
     test_soc_algebra();
