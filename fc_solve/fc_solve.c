@@ -2,7 +2,8 @@
    Acary et al.), solved by NSGS alternating with a globalised nonsmooth Newton method, both built
    on the pscbranch contact helpers.
 
-   usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...  (--help: the limits)
+   usage: fc_solve [--tol T] [--maxit N] [--solution OUT] [--verbose] [--quiet] FILE...
+   (--help: the solution file's format and the limits)
    Reads Siconos' plain-text FrictionContact files: dim, nc, storage flag, m, m, then W (0:
    dense: m, m again and the column-major array in sequence, each printed line a column, as
    Siconos writes it; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's
@@ -20,7 +21,10 @@
    r with u recomputed as W r + q, or the absolute |F_nat(r)| when q = 0 (then the line says
    `residual(abs)=`), then `FILE: solved: ...` with the conditions checked, or `FILE: no
    solution found: why`. --maxit caps the Newton iterations (default 2000) and 20x that the
-   NSGS sweeps, per run (see Method). Exits 1 if a problem is not solved, 2 on read errors.
+   NSGS sweeps, per run (see Method); --solution writes r and u (fc_write_solution). A text file
+   that is not a reduced problem (a Siconos global problem, data after mu) and an FCLib file
+   holding a global one are read errors. Exits 1 if a problem is not solved, 2 on a usage, read
+   or write error.
 
    Acceptance (fc_accept), with tol (default 1e-10), s = |q| (1 when the error is absolute) and
    eps the machine epsilon: r is a solution iff (a) |F_nat(r)| <= tol s, (b) the rounding bound
@@ -30,9 +34,11 @@
    of 9.5e-11 on a problem without solution), so a diverging r fails (b) and is reported as such.
    (b) also fails when |r| > ~1e5 |q| at tol 1e-10 on a feasible problem whose W is tiny (a
    compliance in SI units): the eq. (15) residual (rho = 1) computes r - P_K(r - uhat), which
-   cannot resolve uhat below eps |r|. Then (a)-(d) are checked again with rho = 1 / W's scale
-   (the power of two nearest its largest diagonal entry), which is eq. (15) for the problem
-   rescaled to W ~ 1; the verdict names that rho. A diverging r fails both.
+   cannot resolve uhat below eps |r|. Only then, when (b) fails and the error is within its
+   bound, (a)-(d) are checked again with rho = 1 / W's scale (the power of two nearest its
+   largest diagonal entry), which is eq. (15) for the problem rescaled to W ~ 1; the verdict
+   (`solved to rounding`) gives the rho = 1 error, its bound and the rescaled error. A diverging r
+   fails both. The printed residual is always the rho = 1 error.
    Every test is normwise, at |q|'s scale (FCLIB's measure): a contact whose own entries of q
    and W r are far below |q| is held to |q|'s tolerance, so a penetration of 0.1 beside a q
    entry of 1e12 passes at tol 1e-10. A contact-wise test would also refuse sound solutions
