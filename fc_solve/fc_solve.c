@@ -67,7 +67,8 @@
    ipm_frozen); the first run is kept as it was because on other instances it is the faster one.
    If both miss, the pair is run again with the augmentation rho scaled by 5, then by 0.2
    (FC_RUNS): the best iterate of all runs is returned.
-   Build with -DFC_SOLVE_NO_MAIN to #include the solver elsewhere (fc_solve/tests/test_fc_solve.c). */
+   Build with -DFC_SOLVE_NO_MAIN to #include the solver elsewhere (fc_solve/tests/test_fc_solve.c),
+   with -DFC_SOLVE_RUN_FILE too to keep main's per-file work (fc_run_file). */
 #define PSCBRANCH_IMPLEMENTATION
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L /* fork and pipe: the HDF5 reader's child process */
@@ -2973,6 +2974,7 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
     }
 }
 
+#if !defined FC_SOLVE_NO_MAIN || defined FC_SOLVE_RUN_FILE /* the tests use these two too */
 /* Writes the solution of p (r, and u = W r + q recomputed from p as read) to f in the format the
    usage text gives: a comment line naming the problem, one with the result, "dim nc", then one
    line per contact, r (dim values) then u (dim values), each %.17g (read back exactly). Returns 0,
@@ -3044,6 +3046,8 @@ static int fc_run_file(const char *path, const fc_options *o, FILE *sol, FILE *o
     fc_free(&p);
     return res;
 }
+
+#endif
 
 #ifndef FC_SOLVE_NO_MAIN
 #include "fe/cli.h" /* the FE applications' command-line parser */

@@ -10,6 +10,7 @@
    infeasible problems never reported solved, W kept sparse and split into coupled components
    (15 000 decoupled contacts), the limit on a coupled component. */
 #define FC_SOLVE_NO_MAIN
+#define FC_SOLVE_RUN_FILE
 #include "fc_solve/fc_solve.c"
 
 #include "fc_gen.h"
