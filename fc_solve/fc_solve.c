@@ -2,7 +2,8 @@
    Acary et al.), solved by NSGS alternating with a globalised nonsmooth Newton method, both built
    on the pscbranch contact helpers.
 
-   usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...  (--help: the limits)
+   usage: fc_solve [--tol T] [--maxit N] [--solution OUT] [--verbose] [--quiet] FILE...
+   (--help: the solution file's format and the limits)
    Reads Siconos' plain-text FrictionContact files: dim, nc, storage flag, m, m, then W (0:
    dense: m, m again and the column-major array in sequence, each printed line a column, as
    Siconos writes it; 1: sparse block matrix; 2: compressed sparse column as printed by CSparse's
@@ -13,15 +14,17 @@
    NaN and Inf are rejected everywhere; a bad file gets `FILE error: what is wrong` and exit
    status 2. W is kept in compressed columns, so memory follows its non-zeros, within the
    limits FC_MAX_FILE (2 GiB of text), FC_MAX_CONTACTS (10^6), FC_MAX_NNZ (2^25 stored
-   non-zeros) and FC_MAX_COUPLED (12288 unknowns in one coupled component of W, whose Newton
-   system may be factored dense: 8 n^2 bytes, 1.2 GB at the limit; larger components are
-   refused with a message).
+   non-zeros); a Newton system is factored dense or banded only within the memory of a dense LU
+   of FC_MAX_DENSE = 12288 unknowns (1.2 GB), beyond it by the block-sparse LU alone.
    Prints `FILE contacts=N iterations=K residual=R time=Ts newton=A sweeps=B ipm=C` (K = A + B
    + C, C the interior-point iterations), R = |F_nat(r)|/|q| (eq. (15), rho = 1) at the returned
    r with u recomputed as W r + q, or the absolute |F_nat(r)| when q = 0 (then the line says
    `residual(abs)=`), then `FILE: solved: ...` with the conditions checked, or `FILE: no
    solution found: why`. --maxit caps the Newton iterations (default 2000) and 20x that the
-   NSGS sweeps, per run (see Method). Exits 1 if a problem is not solved, 2 on read errors.
+   NSGS sweeps, per run (see Method); --solution writes r and u (fc_write_solution). A text file
+   that is not a reduced problem (a Siconos global problem, data after mu) and an FCLib file
+   holding a global one are read errors. Exits 1 if a problem is not solved, 2 on a usage, read
+   or write error.
 
    Acceptance (fc_accept), with tol (default 1e-10), s = |q| (1 when the error is absolute) and
    eps the machine epsilon: r is a solution iff (a) |F_nat(r)| <= tol s, (b) the rounding bound
@@ -31,9 +34,11 @@
    of 9.5e-11 on a problem without solution), so a diverging r fails (b) and is reported as such.
    (b) also fails when |r| > ~1e5 |q| at tol 1e-10 on a feasible problem whose W is tiny (a
    compliance in SI units): the eq. (15) residual (rho = 1) computes r - P_K(r - uhat), which
-   cannot resolve uhat below eps |r|. Then (a)-(d) are checked again with rho = 1 / W's scale
-   (the power of two nearest its largest diagonal entry), which is eq. (15) for the problem
-   rescaled to W ~ 1; the verdict names that rho. A diverging r fails both.
+   cannot resolve uhat below eps |r|. Only then, when (b) fails and the error is within its
+   bound, (a)-(d) are checked again with rho = 1 / W's scale (the power of two nearest its
+   largest diagonal entry), which is eq. (15) for the problem rescaled to W ~ 1; the verdict
+   (`solved to rounding`) gives the rho = 1 error, its bound and the rescaled error. A diverging r
+   fails both. The printed residual is always the rho = 1 error.
    Every test is normwise, at |q|'s scale (FCLIB's measure): a contact whose own entries of q
    and W r are far below |q| is held to |q|'s tolerance, so a penetration of 0.1 beside a q
    entry of 1e12 passes at tol 1e-10. A contact-wise test would also refuse sound solutions
@@ -62,7 +67,8 @@
    ipm_frozen); the first run is kept as it was because on other instances it is the faster one.
    If both miss, the pair is run again with the augmentation rho scaled by 5, then by 0.2
    (FC_RUNS): the best iterate of all runs is returned.
-   Build with -DFC_SOLVE_NO_MAIN to #include the solver elsewhere (fc_solve/tests/test_fc_solve.c). */
+   Build with -DFC_SOLVE_NO_MAIN to #include the solver elsewhere (fc_solve/tests/test_fc_solve.c),
+   with -DFC_SOLVE_RUN_FILE too to keep main's per-file work (fc_run_file). */
 #define PSCBRANCH_IMPLEMENTATION
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L /* fork and pipe: the HDF5 reader's child process */
@@ -81,13 +87,14 @@
 /* Limits, checked before anything of that size is allocated (the readers' memory is
    proportional to the file and to W's stored non-zeros, never to m^2 for a sparse file):
    FC_MAX_FILE bytes of text; FC_MAX_CONTACTS contacts; FC_MAX_NNZ stored non-zeros of W (about
-   28 bytes each while reading, 8 to 72 in the solver's block storage); FC_MAX_COUPLED unknowns in
-   one coupled component of W's contact graph (its Newton system may be factored dense: 8 n^2
-   bytes, 1.2 GB at the limit). */
+   28 bytes each while reading, 8 to 72 in the solver's block storage). FC_MAX_DENSE unknowns: the
+   largest Newton system factored dense (8 n^2 bytes, 1.2 GB), and the memory of the largest
+   banded one; larger systems go to the block-sparse LU, whose memory follows its fill. */
 #define FC_MAX_FILE 2147483647L
 #define FC_MAX_CONTACTS 1000000
 #define FC_MAX_NNZ 33554432L
-#define FC_MAX_COUPLED 12288
+#define FC_MAX_DENSE 12288
+static int fc_dense_max = FC_MAX_DENSE; /* lowered by the tests to reach the sparse-only path */
 /* W is rescaled for the solver when its scale is outside [2^-FC_W_BAND, 2^FC_W_BAND] (fc_solve) */
 #define FC_W_BAND 8
 
@@ -436,6 +443,9 @@ static const char FC_H5_NOT_FCLIB[] =
     "not an FCLib local problem (fclib_local/spacedim, W/m, W/n, W/nz, W/p, W/i, W/x, "
     "vectors/q or vectors/mu missing, unreadable, or declaring far more values than the file "
     "stores)";
+static const char FC_H5_GLOBAL[] =
+    "an FCLib global problem (fclib_global: M, H, q, b, mu): fc_solve reads reduced (local) "
+    "problems u = W r + q only";
 
 /* Reads dataset `name` of integers or floats of at most 8 bytes (exactly n values when n >= 0,
    at most FC_MAX_NNZ + 1 otherwise, and at most 1000 times what the file stores of it; the
@@ -495,6 +505,11 @@ static const char *h5_read_arrays(const char *path, fc_fclib *a, void *bufs[9])
     f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (f < 0)
         return "cannot open as an HDF5 file";
+    if (H5Lexists(f, "/fclib_local", H5P_DEFAULT) <= 0 &&
+        H5Lexists(f, "/fclib_global", H5P_DEFAULT) > 0) {
+        H5Fclose(f);
+        return FC_H5_GLOBAL;
+    }
     bufs[0] = h5_read(f, "/fclib_local/spacedim", 1, 1, NULL);
     bufs[1] = h5_read(f, "/fclib_local/W/m", 1, 1, NULL);
     bufs[2] = h5_read(f, "/fclib_local/W/n", 1, 1, NULL);
@@ -611,8 +626,8 @@ static int h5_get(int fd, void *data, size_t n)
     return 0;
 }
 
-/* The child: a status word (0: the arrays follow, 1: not HDF5, 2: not FCLib), the sizes, then
-   p, i (int) and x, q, mu (double), in this process's own layout. */
+/* The child: a status word (0: the arrays follow, 1: not HDF5, 2: not FCLib, 3: an FCLib global
+   problem), the sizes, then p, i (int) and x, q, mu (double), in this process's own layout. */
 static void h5_child(const char *path, int fd)
 {
     fc_fclib a;
@@ -620,7 +635,7 @@ static void h5_child(const char *path, int fd)
     const char *err = h5_read_arrays(path, &a, bufs);
     int head[5];
     long cnt[5];
-    head[0] = !err ? 0 : err == FC_H5_NOT_FCLIB ? 2 : 1;
+    head[0] = !err ? 0 : err == FC_H5_NOT_FCLIB ? 2 : err == FC_H5_GLOBAL ? 3 : 1;
     head[1] = a.dim, head[2] = a.m, head[3] = a.n, head[4] = a.nz;
     cnt[0] = a.np, cnt[1] = a.ni, cnt[2] = a.nx, cnt[3] = a.nq, cnt[4] = a.nmu;
     if (h5_put(fd, head, sizeof head) == 0 && !err && h5_put(fd, cnt, sizeof cnt) == 0 &&
@@ -667,7 +682,8 @@ static const char *fc_read_hdf5(const char *path, fc_problem *p)
     if (h5_get(fds[0], head, sizeof head) != 0) {
         err = ""; /* the child's end says why */
     } else if (head[0] != 0) {
-        err = head[0] == 2 ? FC_H5_NOT_FCLIB : "cannot open as an HDF5 file";
+        err = head[0] == 2 ? FC_H5_NOT_FCLIB : head[0] == 3 ? FC_H5_GLOBAL
+                                                            : "cannot open as an HDF5 file";
     } else if (h5_get(fds[0], cnt, sizeof cnt) != 0) {
         err = "";
     } else {
@@ -863,6 +879,28 @@ static const char *read_csc(fc_tok *t, int m, fc_coo *c, char *why)
     }
 }
 
+/* What follows mu: nothing, or the one integer 0 or 1 some Siconos writers append (the problem's
+   isComplete flag): NULL; anything else: why the file is refused. A Siconos global problem
+   (GlobalFrictionContact: dim, nc, then M (n x n), H (n x m), q (n values), b (m), mu (nc)) with
+   n = m = dim nc starts like a reduced one, M read as W; its H then follows M as a matrix header
+   (storage 0, 1 or 2, n, m). */
+static const char *fc_trailing(fc_tok *t, char *after_w, int m)
+{
+    long flag, n0, n1;
+    char *at = t->pos;
+    if (!tok_next(t))
+        return NULL;
+    t->pos = at; /* tokens cut in place can be read again */
+    if (tok_int(t, &flag, 0, 1) && !tok_next(t))
+        return NULL;
+    t->pos = after_w;
+    if (tok_int(t, &flag, 0, 2) && tok_int(t, &n0, m, m) && tok_int(t, &n1, m, m))
+        return "a Siconos global problem (M, H, q, b, mu: the matrix after the first is H): "
+               "fc_solve reads reduced problems u = W r + q only";
+    return "data after mu: not a reduced problem file (dim, nc, W, q, mu, and at most the "
+           "integer 0 or 1)";
+}
+
 /* Parses a problem from buf (len bytes, NUL-terminated, modified in place). Returns NULL, or a
    message (p->why); p is then empty. */
 static const char *fc_parse(char *buf, long len, fc_problem *p)
@@ -871,6 +909,7 @@ static const char *fc_parse(char *buf, long len, fc_problem *p)
     fc_coo c;
     long dim, nc, flag, s0, s1, i;
     const char *err = NULL;
+    char *after_w = NULL;
     memset(&c, 0, sizeof c);
     t.buf = t.pos = buf;
     t.end = buf + len;
@@ -893,6 +932,7 @@ static const char *fc_parse(char *buf, long len, fc_problem *p)
         err = read_csc(&t, p->m, &c, p->why);
     else
         err = "unsupported storage flag (0 dense, 1 sparse block, 2 compressed columns)";
+    after_w = t.pos;
     for (i = 0; !err && i < p->m; i++)
         if (!tok_double(&t, &p->q[i])) {
             sprintf(p->why, "bad or missing q[%ld]", i);
@@ -903,6 +943,8 @@ static const char *fc_parse(char *buf, long len, fc_problem *p)
             sprintf(p->why, "bad or missing mu[%ld]", i);
             err = p->why;
         }
+    if (!err)
+        err = fc_trailing(&t, after_w, p->m);
     if (!err && !fc_check_vectors(p))
         err = p->why;
     if (!err)
@@ -964,7 +1006,6 @@ enum {
     FC_DIVERGED,      /* |r| so large that the residual's rounding bound exceeds tol */
     FC_UN_NEGATIVE,   /* u_N < 0 beyond the tolerance at the returned r */
     FC_R_OUTSIDE,     /* r outside K beyond the tolerance */
-    FC_TOO_LARGE,     /* a coupled component above FC_MAX_COUPLED unknowns (not solved) */
     FC_NO_MEMORY      /* allocation failure */
 };
 
@@ -972,14 +1013,16 @@ typedef struct {
     int newton, sweeps; /* Newton iterations, NSGS sweeps */
     int ipm;            /* interior-point iterations (restarts) */
     int absres;         /* 1: err is the absolute |F_nat| (q = 0) */
-    int rho_exp;        /* err is eq. (15) with rho = 2^-rho_exp (0, or W's scale: fc_accept) */
-    double err;         /* eq. (15) error at the returned r */
+    double err;         /* eq. (15) error at rho = 1 at the returned r */
+    int rho_exp;        /* 0, or solved at rho = 2^-rho_exp (W's scale) since rounding hides err */
+    double err_rho;     /* the eq. (15) error at that rho (when rho_exp != 0) */
     int verdict;        /* FC_SOLVED, ... */
     int contact;        /* the contact the verdict is about, or -1 */
     double value;       /* the offending value (u_N, excess outside K, component size) */
     double floor;       /* rounding bound of err: 4 eps (|r| + ||(1+mu)(|W||r| + |q|)||) / |q| */
     double rnorm;       /* |r| */
     int ncomp, maxcomp; /* coupled components of W, contacts in the largest */
+    int n_sparse;       /* Newton systems solved by the block-sparse LU */
 } fc_stats;
 
 /* W as a block CSR matrix of dim x dim blocks (column-major each): rows rp[c]..rp[c+1]-1, block
@@ -1340,9 +1383,10 @@ extern void dgbsv_(const int *n, const int *kl, const int *ku, const int *nrhs, 
                    const int *ldab, int *ipiv, double *b, const int *ldb, int *info);
 
 typedef struct {
-    double *u, *F, *A, *B, *d, *rhs, *J, *rn, *un, *best;
+    double *u, *F, *A, *B, *d, *rhs, *J, *rn, *un, *best, *r1, *wr;
     size_t jcap;
     int *ipiv, *act, *pos, *deg, *queue, *ord;
+    int n_sparse;    /* systems solved by the block-sparse LU */
     int reuse, fact; /* reuse: 1 solve with the factors of the last call (same matrix, new
                         right-hand side), -1 take the sparse LU whenever it is cheaper (the
                         interior-point systems, where rounding does not steer a trajectory);
@@ -1438,34 +1482,118 @@ static void blk_gemm_sub(int d, const double *A, const double *B, double *C)
         }
 }
 
+/* A growable sorted set of ints (a vertex's neighbours in the elimination graph). */
+typedef struct {
+    int *v, n, cap;
+} fc_iset;
+
+/* Inserts x; 0 if out of memory. */
+static int iset_add(fc_iset *a, int x)
+{
+    int lo = 0, hi = a->n;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (a->v[mid] < x)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo < a->n && a->v[lo] == x)
+        return 1;
+    if (a->n == a->cap) {
+        int cap = a->cap ? 2 * a->cap : 8, *nv = realloc(a->v, (size_t)cap * sizeof(int));
+        if (!nv)
+            return 0;
+        a->v = nv;
+        a->cap = cap;
+    }
+    memmove(a->v + lo + 1, a->v + lo, (size_t)(a->n - lo) * sizeof(int));
+    a->v[lo] = x;
+    a->n++;
+    return 1;
+}
+
+/* a = (a union src[0..n)) minus {x, y} (src sorted): the elimination of a neighbour x of a,
+   whose other neighbours src become a's, in O(|a| + n). 0 if out of memory. */
+static int iset_merge(fc_iset *a, const int *src, int n, int x, int y)
+{
+    int i = 0, j = 0, k = 0, cap = a->n + n, *nv = malloc((size_t)(cap > 0 ? cap : 1) * sizeof(int));
+    if (!nv)
+        return 0;
+    while (i < a->n || j < n) {
+        int v = j >= n || (i < a->n && a->v[i] <= src[j]) ? a->v[i] : src[j];
+        if (i < a->n && a->v[i] == v)
+            i++;
+        if (j < n && src[j] == v)
+            j++;
+        if (v != x && v != y)
+            nv[k++] = v;
+    }
+    free(a->v);
+    a->v = nv;
+    a->n = k;
+    a->cap = cap;
+    return 1;
+}
+
+/* key[idx[lo..hi)] increases: the k in idx[lo..hi) with key[k] = t, or -1. */
+static int ifind(const int *key, const int *idx, int lo, int hi, int t)
+{
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (key[idx[mid]] < t)
+            lo = mid + 1;
+        else if (key[idx[mid]] > t)
+            hi = mid;
+        else
+            return idx[mid];
+    }
+    return -1;
+}
+
+/* Sorts idx[0..n) by key[idx[.]] (insertion sort: runs are short, and often sorted already). */
+static void isort_by(const int *key, int *idx, int n)
+{
+    int i, j;
+    for (i = 1; i < n; i++) {
+        int v = idx[i];
+        for (j = i; j > 0 && key[idx[j - 1]] > key[v]; j--)
+            idx[j] = idx[j - 1];
+        idx[j] = v;
+    }
+}
+
 /* Block-sparse LU of the active Newton system (na contacts, local ids = w->pos, right-hand side
    w->rhs by local id) in minimum-degree order of the block graph, pivoting only inside the
-   d x d diagonal blocks; used only when its flop estimate is under 1/50 of `other` (the banded
-   / dense LU's): its different rounding changes Newton trajectories on the hard instances, and
-   at 1/2 the generated sweeps of sizes 30 and 40 missed 1 and 2 more of 120 each than before,
-   at 1/50 none more (3D box stacks on a grid, where the band is wide, still take it: 318
-   contacts 1.9 s -> 0.6 s). The solution is checked against the unfactored blocks (up to two
-   refinement steps; a residual above 1e-8 |rhs|, or a singular diagonal block, rejects it).
-   Returns 0 (dir of active contacts set), 1 (not used: caller falls back), -1 out of memory. */
+   d x d diagonal blocks. Memory follows the fill (the elimination graph as sorted neighbour
+   sets, the L and U blocks by elimination step), never na^2, so it also factors the components
+   too large for a dense or banded LU (other = HUGE_VAL). Used only when its flop estimate is
+   under 1/50 of `other` (the banded / dense LU's): its different rounding changes Newton
+   trajectories on the hard instances, and at 1/2 the generated sweeps of sizes 30 and 40 missed
+   1 and 2 more of 120 each than before, at 1/50 none more (3D box stacks on a grid, where the
+   band is wide, still take it: 318 contacts 1.9 s -> 0.6 s). The solution is checked against
+   the unfactored blocks (up to two refinement steps; a residual above 1e-8 |rhs|, or a singular
+   diagonal block, rejects it). Returns 0 (dir of active contacts set), 1 (not used: caller
+   falls back, or the system is singular), -1 out of memory. */
 static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double other,
                         double *dir)
 {
     int d = S->d, dd = S->dd, n = na * d, i, k, s, t, a, cnt = 0, cap = 4 * na + 16, rc = 1, pass;
-    unsigned char *adj = NULL, *el = NULL;
-    int *deg = NULL, *ord = NULL, *lp = NULL, *li = NULL, *psn = NULL, *bidx = NULL;
+    fc_iset *g = NULL;
+    unsigned char *el = NULL;
+    int *ord = NULL, *lp = NULL, *li = NULL, *psn = NULL, *sk = NULL, *bidx = NULL;
     double *val = NULL, *orig = NULL, *dinv = NULL, *x = NULL, *res = NULL, *dx = NULL;
-    double flops = 0.0, bn = 0.0, rn;
-    size_t nblk = 0, nn = (size_t)na * (size_t)na;
-    if (na < 2 || na > 2500)
+    double flops = 0.0, bn = 0.0, rn, budget = (w->reuse ? 0.5 : 0.02) * other;
+    size_t nblk;
+    if (na < 2)
         return 1;
-    adj = calloc(nn, 1);
+    g = calloc((size_t)na, sizeof *g);
     el = calloc((size_t)na, 1);
-    deg = calloc((size_t)na, sizeof(int));
     ord = malloc((size_t)na * sizeof(int));
     lp = malloc((size_t)(na + 1) * sizeof(int));
     li = malloc((size_t)cap * sizeof(int));
     psn = malloc((size_t)na * sizeof(int));
-    if (!adj || !el || !deg || !ord || !lp || !li || !psn) {
+    if (!g || !el || !ord || !lp || !li || !psn) {
         rc = -1;
         goto done;
     }
@@ -1473,67 +1601,61 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
         int c = w->ord[i];
         for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
             int pe = w->pos[S->ci[k]];
-            if (pe >= 0 && pe != i && !adj[(size_t)i * na + pe]) {
-                adj[(size_t)i * na + pe] = adj[(size_t)pe * na + i] = 1;
-                deg[i]++;
-                deg[pe]++;
+            if (pe >= 0 && pe != i && (!iset_add(&g[i], pe) || !iset_add(&g[pe], i))) {
+                rc = -1;
+                goto done;
             }
         }
     }
     for (s = 0; s < na; s++) { /* minimum degree on the elimination graph */
-        int v = -1, q0, q1, b2;
+        int v = -1, q0;
         for (i = 0; i < na; i++)
-            if (!el[i] && (v < 0 || deg[i] < deg[v]))
+            if (!el[i] && (v < 0 || g[i].n < g[v].n))
                 v = i;
         el[v] = 1;
         ord[s] = v;
         psn[v] = s;
         lp[s] = cnt;
-        for (i = 0; i < na; i++)
-            if (!el[i] && adj[(size_t)v * na + i]) {
-                if (cnt == cap) {
-                    int *nl = realloc(li, (size_t)(2 * cap) * sizeof(int));
-                    if (!nl) {
-                        rc = -1;
-                        goto done;
-                    }
-                    li = nl;
-                    cap *= 2;
-                }
-                li[cnt++] = i;
+        if (cnt + g[v].n > cap) {
+            int *nl;
+            while (cnt + g[v].n > cap)
+                cap *= 2;
+            if (!(nl = realloc(li, (size_t)cap * sizeof(int)))) {
+                rc = -1;
+                goto done;
             }
-        for (q0 = lp[s]; q0 < cnt; q0++) {
-            a = li[q0];
-            deg[a]--;
-            for (q1 = q0 + 1; q1 < cnt; q1++) {
-                b2 = li[q1];
-                if (!adj[(size_t)a * na + b2]) {
-                    adj[(size_t)a * na + b2] = adj[(size_t)b2 * na + a] = 1;
-                    deg[a]++;
-                    deg[b2]++;
-                }
-            }
+            li = nl;
         }
+        memcpy(li + cnt, g[v].v, (size_t)g[v].n * sizeof(int));
+        cnt += g[v].n;
+        for (q0 = lp[s]; q0 < cnt; q0++) /* v's neighbours become a clique, v leaves */
+            if (!iset_merge(&g[li[q0]], li + lp[s], cnt - lp[s], v, li[q0])) {
+                rc = -1;
+                goto done;
+            }
+        free(g[v].v);
+        g[v].v = NULL;
+        g[v].n = g[v].cap = 0;
         flops += (double)(cnt - lp[s]) * (double)(cnt - lp[s] + 1);
-        if (2.0 * d * d * d * (flops + na) > (w->reuse ? 0.5 : 0.02) * other)
+        if (2.0 * d * d * d * (flops + na) > budget)
             goto done; /* too much fill: stop ordering early (bounds its cost too) */
     }
     lp[na] = cnt;
-    bidx = malloc(nn * sizeof(int));
-    if (!bidx) {
+    /* li: neighbours as elimination positions, in the order found (which sets the rounding of
+       the solves); sk: each step's k by increasing position, to find a block by binary search */
+    sk = malloc((size_t)(cnt > 0 ? cnt : 1) * sizeof(int));
+    if (!sk) {
         rc = -1;
         goto done;
     }
-    for (i = 0; i < (int)nn; i++)
-        bidx[i] = -1;
-    for (s = 0; s < na; s++) { /* blocks in elimination positions: diagonal, U row, L column */
-        bidx[(size_t)s * na + s] = (int)nblk++;
-        for (k = lp[s]; k < lp[s + 1]; k++) {
-            t = psn[li[k]];
-            bidx[(size_t)s * na + t] = (int)nblk++;
-            bidx[(size_t)t * na + s] = (int)nblk++;
-        }
+    for (k = 0; k < cnt; k++) {
+        li[k] = psn[li[k]];
+        sk[k] = k;
     }
+    for (s = 0; s < na; s++)
+        isort_by(li, sk + lp[s], lp[s + 1] - lp[s]);
+    /* blocks: diagonal s at s; U (s, li[k]) at na + k; L (li[k], s) at na + cnt + k */
+    nblk = (size_t)na + 2 * (size_t)cnt;
     val = calloc(nblk * dd, sizeof(double));
     orig = malloc(nblk * dd * sizeof(double));
     dinv = malloc((size_t)na * dd * sizeof(double));
@@ -1544,17 +1666,36 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
         rc = -1;
         goto done;
     }
+    /* a small system also gets a table of its blocks by (row, column) position: na^2 ints
+       beat the binary searches */
+    if ((size_t)na * (size_t)na <= ((size_t)1 << 22) &&
+        (bidx = malloc((size_t)na * (size_t)na * sizeof(int))) != NULL) {
+        for (k = 0; k < na * na; k++)
+            bidx[k] = -1;
+        for (t = 0; t < na; t++) {
+            bidx[(size_t)t * na + t] = t;
+            for (k = lp[t]; k < lp[t + 1]; k++) {
+                bidx[(size_t)t * na + li[k]] = na + k;
+                bidx[(size_t)li[k] * na + t] = na + cnt + k;
+            }
+        }
+    }
+#define FC_BLK(r_, c_)                                                                         \
+    (bidx ? (size_t)bidx[(size_t)(r_) * na + (size_t)(c_)]                                     \
+     : (r_) == (c_) ? (size_t)(r_)                                                             \
+     : (r_) < (c_)  ? (size_t)na + (size_t)ifind(li, sk, lp[r_], lp[(r_) + 1], c_)             \
+                    : (size_t)na + (size_t)cnt + (size_t)ifind(li, sk, lp[c_], lp[(c_) + 1], r_))
     for (i = 0; i < na; i++) {
         int c = w->ord[i];
         for (k = S->rp[c]; k < S->rp[c + 1]; k++) {
             int pe = w->pos[S->ci[k]];
             if (pe >= 0)
-                jac_block(S, w, c, k, eta, val + (size_t)bidx[(size_t)psn[i] * na + psn[pe]] * dd);
+                jac_block(S, w, c, k, eta, val + FC_BLK(psn[i], psn[pe]) * dd);
         }
     }
     memcpy(orig, val, nblk * dd * sizeof(double));
     for (s = 0; s < na; s++) { /* right-looking block elimination */
-        double M[9], *D = val + (size_t)bidx[(size_t)s * na + s] * dd, *Di = dinv + s * dd;
+        double M[9], *D = val + (size_t)s * dd, *Di = dinv + s * dd;
         int q0, q1;
         for (a = 0; a < d; a++) { /* Di = D^-1 column by column */
             memcpy(M, D, (size_t)dd * sizeof(double));
@@ -1564,7 +1705,7 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
                 goto done;
         }
         for (q0 = lp[s]; q0 < lp[s + 1]; q0++) { /* L_ts = A_ts D^-1 */
-            double tmp[9], *L = val + (size_t)bidx[(size_t)psn[li[q0]] * na + s] * dd;
+            double tmp[9], *L = val + ((size_t)na + (size_t)cnt + (size_t)q0) * dd;
             memcpy(tmp, L, (size_t)dd * sizeof(double));
             memset(L, 0, (size_t)dd * sizeof(double));
             for (a = 0; a < dd; a++)
@@ -1572,13 +1713,11 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
             blk_gemm_sub(d, tmp, Di, L);
         }
         for (q0 = lp[s]; q0 < lp[s + 1]; q0++) { /* A_tu -= L_ts U_su */
-            int tp = psn[li[q0]];
-            const double *L = val + (size_t)bidx[(size_t)tp * na + s] * dd;
-            for (q1 = lp[s]; q1 < lp[s + 1]; q1++) {
-                int up = psn[li[q1]];
-                blk_gemm_sub(d, L, val + (size_t)bidx[(size_t)s * na + up] * dd,
-                             val + (size_t)bidx[(size_t)tp * na + up] * dd);
-            }
+            int tp = li[q0];
+            const double *L = val + ((size_t)na + (size_t)cnt + (size_t)q0) * dd;
+            for (q1 = lp[s]; q1 < lp[s + 1]; q1++)
+                blk_gemm_sub(d, L, val + ((size_t)na + (size_t)q1) * dd,
+                             val + FC_BLK(tp, li[q1]) * dd);
         }
     }
     for (i = 0; i < na; i++)
@@ -1591,18 +1730,13 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
         /* solve L U dx = res (positions), x += dx, res = rhs - J x */
         memcpy(dx, res, (size_t)n * sizeof(double));
         for (s = 0; s < na; s++)
-            for (k = lp[s]; k < lp[s + 1]; k++) {
-                t = psn[li[k]];
-                blk_gemv(d, -1.0, val + (size_t)bidx[(size_t)t * na + s] * dd, dx + s * d,
-                         dx + t * d);
-            }
+            for (k = lp[s]; k < lp[s + 1]; k++)
+                blk_gemv(d, -1.0, val + ((size_t)na + (size_t)cnt + (size_t)k) * dd, dx + s * d,
+                         dx + li[k] * d);
         for (s = na - 1; s >= 0; s--) {
             double z[3];
-            for (k = lp[s]; k < lp[s + 1]; k++) {
-                t = psn[li[k]];
-                blk_gemv(d, -1.0, val + (size_t)bidx[(size_t)s * na + t] * dd, dx + t * d,
-                         dx + s * d);
-            }
+            for (k = lp[s]; k < lp[s + 1]; k++)
+                blk_gemv(d, -1.0, val + ((size_t)na + (size_t)k) * dd, dx + li[k] * d, dx + s * d);
             memset(z, 0, sizeof z);
             blk_gemv(d, 1.0, dinv + s * dd, dx + s * d, z);
             memcpy(dx + s * d, z, (size_t)d * sizeof(double));
@@ -1613,15 +1747,15 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
             for (a = 0; a < d; a++)
                 res[psn[i] * d + a] = w->rhs[i * d + a];
         for (s = 0; s < na; s++) {
-            blk_gemv(d, -1.0, orig + (size_t)bidx[(size_t)s * na + s] * dd, x + s * d, res + s * d);
+            blk_gemv(d, -1.0, orig + (size_t)s * dd, x + s * d, res + s * d);
             for (k = lp[s]; k < lp[s + 1]; k++) {
-                t = psn[li[k]];
-                blk_gemv(d, -1.0, orig + (size_t)bidx[(size_t)s * na + t] * dd, x + t * d,
-                         res + s * d);
-                blk_gemv(d, -1.0, orig + (size_t)bidx[(size_t)t * na + s] * dd, x + s * d,
+                t = li[k];
+                blk_gemv(d, -1.0, orig + ((size_t)na + (size_t)k) * dd, x + t * d, res + s * d);
+                blk_gemv(d, -1.0, orig + ((size_t)na + (size_t)cnt + (size_t)k) * dd, x + s * d,
                          res + t * d);
             }
         }
+#undef FC_BLK
         rn = 0.0;
         for (a = 0; a < n; a++)
             rn += res[a] * res[a];
@@ -1631,18 +1765,21 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
             for (i = 0; i < na; i++)
                 for (a = 0; a < d; a++)
                     dir[w->ord[i] * d + a] = x[psn[i] * d + a];
+            w->n_sparse++;
             rc = 0;
         }
         break;
     }
 done:
-    free(adj);
+    for (i = 0; g && i < na; i++)
+        free(g[i].v);
+    free(g);
     free(el);
-    free(deg);
     free(ord);
     free(lp);
     free(li);
     free(psn);
+    free(sk);
     free(bidx);
     free(val);
     free(orig);
@@ -1662,7 +1799,7 @@ done:
 static int newton_dir(const fc_problem *p, const fc_bsr *S, fc_work *w, double eta, double *dir)
 {
     int c, k, i, a, b, j, d = p->dim, dd = d * d, na = 0, n, info = 0, one = 1, klb = 0, kub = 0;
-    int kl, ku, ldab, band;
+    int kl, ku, ldab, band, dense_ok;
     size_t need;
     for (c = 0; c < p->nc; c++) {
         int trivial = 1;
@@ -1695,8 +1832,11 @@ static int newton_dir(const fc_problem *p, const fc_bsr *S, fc_work *w, double e
     kl = d * (klb + 1) - 1;
     ku = d * (kub + 1) - 1;
     ldab = 2 * kl + ku + 1;
-    /* banded LU costs ~ n kl (kl + ku) flops vs n^3 / 3 dense */
-    band = 3.0 * (double)kl * (double)(kl + ku + 1) < 0.5 * (double)n * (double)n;
+    /* banded LU costs ~ n kl (kl + ku) flops vs n^3 / 3 dense; either only within the memory
+       of a dense LU of fc_dense_max unknowns, beyond it the block-sparse LU alone */
+    dense_ok = n <= fc_dense_max;
+    band = (double)ldab * (double)n <= (double)fc_dense_max * (double)fc_dense_max &&
+           (3.0 * (double)kl * (double)(kl + ku + 1) < 0.5 * (double)n * (double)n || !dense_ok);
     for (i = 0; i < na; i++) { /* rhs = -F_c - B_c sum over eliminated e of W_ce dir_e */
         const double *Bc;
         c = w->ord[i];
@@ -1731,11 +1871,14 @@ static int newton_dir(const fc_problem *p, const fc_bsr *S, fc_work *w, double e
     w->fact = 0;
     /* a block-sparse LU in minimum-degree order when it is much cheaper (wide bands) */
     j = sparse_solve(S, w, na, eta,
-                     band ? 2.0 * n * (double)kl * (double)(kl + ku + 1)
-                          : 2.0 / 3.0 * (double)n * (double)n * (double)n,
+                     band      ? 2.0 * n * (double)kl * (double)(kl + ku + 1)
+                     : dense_ok ? 2.0 / 3.0 * (double)n * (double)n * (double)n
+                                : HUGE_VAL,
                      dir);
     if (j < 0)
         return -1;
+    if (j > 0 && !band && !dense_ok)
+        return 1; /* singular (the block-sparse LU was the only one allowed) */
     if (j == 0) {
         for (i = 0; i < p->m; i++)
             if (!isfinite(dir[i]))
@@ -1798,6 +1941,35 @@ static double nat_err(const fc_problem *p, const double *r, const double *u, dou
     return e;
 }
 
+/* wr = |W| |r| */
+static void bsr_absmul(const fc_bsr *S, const double *r, double *wr)
+{
+    int c, k, a, b, d = S->d;
+    for (c = 0; c < S->nc; c++) {
+        for (a = 0; a < d; a++)
+            wr[c * d + a] = 0.0;
+        for (k = S->rp[c]; k < S->rp[c + 1]; k++)
+            for (b = 0; b < d; b++)
+                for (a = 0; a < d; a++)
+                    wr[c * d + a] += fabs(S->bv[(size_t)k * S->dd + a + d * b]) *
+                                     fabs(r[S->ci[k] * d + b]);
+    }
+}
+
+/* The rounding bound of the eq. (15) error at rho = 1, relative to s: 4 eps (|r| + ||(1 + mu)
+   (|W| |r| + |q|)||) / s plus the absolute rounding of subnormal results (fc_accept's (b)); wr
+   holds |W| |r| (bsr_absmul). */
+static double nat_err_bound(const fc_problem *p, const double *r, const double *wr, double s)
+{
+    double rn = 0.0, wn = 0.0;
+    int a;
+    for (a = 0; a < p->m; a++) {
+        rn = hypot(rn, r[a]);
+        wn = hypot(wn, (1.0 + p->mu[a / p->dim]) * (wr[a] + fabs(p->q[a])));
+    }
+    return (4.0 * DBL_EPSILON * (rn + wn) + p->m * (DBL_MIN * DBL_EPSILON)) / s;
+}
+
 static void work_free(fc_work *w)
 {
     free(w->u);
@@ -1810,6 +1982,8 @@ static void work_free(fc_work *w)
     free(w->rn);
     free(w->un);
     free(w->best);
+    free(w->r1);
+    free(w->wr);
     free(w->ipiv);
     free(w->act);
     free(w->pos);
@@ -1832,6 +2006,8 @@ static int work_alloc(fc_work *w, int m, int nc, int d)
     w->rn = malloc((size_t)m * sizeof(double));
     w->un = malloc((size_t)m * sizeof(double));
     w->best = malloc((size_t)m * sizeof(double));
+    w->r1 = malloc((size_t)m * sizeof(double));
+    w->wr = malloc((size_t)m * sizeof(double));
     w->ipiv = malloc((size_t)m * sizeof(int));
     w->act = malloc((size_t)nc * sizeof(int));
     w->pos = malloc((size_t)nc * sizeof(int));
@@ -1839,7 +2015,7 @@ static int work_alloc(fc_work *w, int m, int nc, int d)
     w->queue = malloc((size_t)nc * sizeof(int));
     w->ord = malloc((size_t)nc * sizeof(int));
     return w->u && w->F && w->A && w->B && w->d && w->rhs && w->rn && w->un && w->best &&
-           w->ipiv && w->act && w->pos && w->deg && w->queue && w->ord;
+           w->r1 && w->wr && w->ipiv && w->act && w->pos && w->deg && w->queue && w->ord;
 }
 
 /* ---- interior-point solver of the frozen-friction subproblem ----
@@ -2097,6 +2273,25 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
     return it;
 }
 
+/* The solver's measure at r (its unknowns, u = W r + q as it scales them), what fc_accept and
+   fc_judge_rescaled judge: the eq. (15) error at rho = 1 of the problem as given, whose reaction
+   is r 2^-shift (fc_solve scales W by 2^-shift); where rounding cannot resolve it (its bound
+   above tol: |r| >> |q|) and it is within that bound, the error at the solver's scale. */
+static double part_err(const fc_problem *p, const fc_bsr *S, fc_work *w, const double *r,
+                       const double *u, double qn, int shift, double tol)
+{
+    double e1, bound;
+    int i;
+    if (shift == 0)
+        return nat_err(p, r, u, qn);
+    for (i = 0; i < p->m; i++)
+        w->r1[i] = ldexp(r[i], -shift);
+    e1 = nat_err(p, w->r1, u, qn);
+    bsr_absmul(S, r, w->wr); /* |W'| |r'| = |W| |r 2^-shift| */
+    bound = nat_err_bound(p, w->r1, w->wr, qn > 0.0 ? qn : 1.0);
+    return bound <= tol || !(e1 <= bound) ? e1 : nat_err(p, r, u, qn);
+}
+
 /* Solves one coupled component (p: its q, mu and sizes, p->W unused; Sp: its W) from the
    reaction r (in/out; zeros are a fine start). Alternates two phases, keeping the best iterate
    by the eq. (15) error of the component:
@@ -2123,8 +2318,8 @@ static int ipm_restart(const fc_problem *p, const fc_bsr *S, fc_work *w, const d
 #define FC_RUNS 6
 static const double fc_run_rho[FC_RUNS / 2] = {1.0, 5.0, 0.2};
 
-static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options *o, double *r,
-                         fc_stats *st)
+static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options *o, int shift,
+                         double *r, fc_stats *st)
 {
     int m = p->m, d = p->dim, nc = p->nc, i, c, mode = 0, phase_it = 0, nh = 0;
     int nsgs_len = 30, stall_win = 30;
@@ -2210,7 +2405,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
                             fc_run_rho[run / 2], ipm_on ? "with" : "without");
             }
             bsr_matvec(&S, p->q, r, w.u);
-            best_err = err = nat_err(p, r, w.u, qn);
+            best_err = err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
             memcpy(w.best, r, (size_t)m * sizeof(double));
             phase_ref = err;
             while (best_err > o->tol && st->newton - newton0 < o->maxit &&
@@ -2220,7 +2415,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
                     st->sweeps++;
                     phase_it++;
                     bsr_matvec(&S, p->q, r, w.u);
-                    err = nat_err(p, r, w.u, qn);
+                    err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
                     if (o->verbose)
                         fprintf(stderr, "  sweep %d err %.3e\n", st->sweeps, err);
                     if (err < best_err) {
@@ -2285,7 +2480,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
                     phase_it++;
                     if (accepted) {
                         bsr_matvec(&S, p->q, r, w.u);
-                        err = nat_err(p, r, w.u, qn);
+                        err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
                         if (err < best_err) {
                             best_err = err;
                             memcpy(w.best, r, (size_t)m * sizeof(double));
@@ -2332,7 +2527,7 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
                             st->ipm += k;
                             ipm_ref = best_err;
                             bsr_matvec(&S, p->q, r, w.u);
-                            err = nat_err(p, r, w.u, qn);
+                            err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
                             if (o->verbose)
                                 fprintf(stderr, "  interior-point restart: %d iterations, "
                                                 "err %.3e\n", k, err);
@@ -2365,7 +2560,8 @@ static int fc_solve_part(const fc_problem *p, const fc_bsr *Sp, const fc_options
     free(rho0);
     memcpy(r, w.best, (size_t)m * sizeof(double));
     bsr_matvec(&S, p->q, r, w.u); /* honest measure at the returned reaction */
-    st->err = nat_err(p, r, w.u, qn);
+    st->err = part_err(p, &S, &w, r, w.u, qn, shift, o->tol);
+    st->n_sparse = w.n_sparse;
     work_free(&w);
     if (rc < 0)
         return -1;
@@ -2436,10 +2632,9 @@ static int uf_root(int *parent, int c)
 /* Splits the contacts into the connected components of W's block graph (contacts coupled by a
    non-zero block either way) and solves each on its own (fc_solve_part): a block-decoupled
    problem costs the sum of its parts, and the dense fallbacks of the Newton solves are sized by
-   one component. Refuses (-2, FC_TOO_LARGE) a component above FC_MAX_COUPLED unknowns before
-   solving anything. Returns 0 if every component met the tolerance, 1 if not, -1 / -2. */
+   one component. Returns 0 if every component met the tolerance, 1 if not, -1 out of memory. */
 static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_options *o,
-                               double *r, fc_stats *st)
+                               int shift, double *r, fc_stats *st)
 {
     int nc = p->nc, d = p->dim, c, k, i, a, rc = 0, ncomp = 0;
     int *parent = malloc((size_t)nc * sizeof(int)), *start = NULL, *list = NULL, *loc = NULL;
@@ -2479,18 +2674,13 @@ static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_op
     for (i = 0; i < ncomp; i++)
         if (start[i + 1] - start[i] > st->maxcomp)
             st->maxcomp = start[i + 1] - start[i];
-    if ((long)st->maxcomp * d > FC_MAX_COUPLED) {
-        st->verdict = FC_TOO_LARGE;
-        st->value = (double)st->maxcomp * d;
-        rc = -2;
-        goto done;
-    }
     if (ncomp == 1) {
         fc_stats sub;
-        rc = fc_solve_part(p, S, o, r, &sub);
+        rc = fc_solve_part(p, S, o, shift, r, &sub);
         st->newton = sub.newton;
         st->sweeps = sub.sweeps;
         st->ipm = sub.ipm;
+        st->n_sparse = sub.n_sparse;
         goto done;
     }
     qc = malloc((size_t)st->maxcomp * d * sizeof(double));
@@ -2524,11 +2714,12 @@ static int fc_solve_components(const fc_problem *p, const fc_bsr *S, const fc_op
             rc = -1;
             break;
         }
-        res = fc_solve_part(&sp, &T, o, rcp, &sub);
+        res = fc_solve_part(&sp, &T, o, shift, rcp, &sub);
         bsr_free(&T);
         st->newton += sub.newton;
         st->sweeps += sub.sweeps;
         st->ipm += sub.ipm;
+        st->n_sparse += sub.n_sparse;
         if (res < 0)
             rc = -1;
         else if (res > 0)
@@ -2563,10 +2754,10 @@ done:
 static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const double *r_given,
                      int rho_exp, fc_stats *st)
 {
-    int m = p->m, d = p->dim, c, k, a, b;
+    int m = p->m, d = p->dim, c, a;
     double *u = malloc((size_t)m * sizeof(double)), *wr = malloc((size_t)m * sizeof(double));
     double *r = malloc((size_t)m * sizeof(double));
-    double qn = 0.0, rn = 0.0, wn = 0.0, s, eps = 4.0 * DBL_EPSILON, worst_u = 0.0, worst_k = 0.0;
+    double qn = 0.0, rn = 0.0, s, eps = 4.0 * DBL_EPSILON, worst_u = 0.0, worst_k = 0.0;
     int cu = -1, ck = -1;
     if (!u || !wr || !r) {
         free(u);
@@ -2577,27 +2768,17 @@ static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const dou
     bsr_matvec(S, p->q, r_given, u);
     for (a = 0; a < m; a++) /* r scaled by 1/rho: |F_rho(r)| / (rho |q|) = |F_1(r / rho)| / |q| */
         r[a] = ldexp(r_given[a], rho_exp);
-    for (c = 0; c < S->nc; c++) { /* wr = |W| |r| */
-        for (a = 0; a < d; a++)
-            wr[c * d + a] = 0.0;
-        for (k = S->rp[c]; k < S->rp[c + 1]; k++)
-            for (b = 0; b < d; b++)
-                for (a = 0; a < d; a++)
-                    wr[c * d + a] += fabs(S->bv[(size_t)k * S->dd + a + d * b]) *
-                                     fabs(r_given[S->ci[k] * d + b]);
-    }
-    for (a = 0; a < m; a++) { /* wn: the rounding scale of uhat = u + mu |u_T| e_N */
+    bsr_absmul(S, r_given, wr);
+    for (a = 0; a < m; a++) {
         qn = hypot(qn, p->q[a]);
         rn = hypot(rn, r[a]);
-        wn = hypot(wn, (1.0 + p->mu[a / d]) * (wr[a] + fabs(p->q[a])));
     }
     st->absres = qn == 0.0;
     st->rho_exp = rho_exp;
     s = st->absres ? 1.0 : qn;
     st->err = nat_err(p, r, u, st->absres ? 0.0 : qn);
     st->rnorm = rn;
-    /* m DBL_MIN eps: the absolute rounding of subnormal results (|q| near DBL_MIN) */
-    st->floor = (eps * (rn + wn) + m * (DBL_MIN * DBL_EPSILON)) / s;
+    st->floor = nat_err_bound(p, r, wr, s);
     for (c = 0; c < p->nc; c++) {
         const double *rc = r + c * d, *uc = u + c * d;
         double mu = p->mu[c], rt = d == 3 ? hypot(rc[1], rc[2]) : fabs(rc[1]);
@@ -2635,6 +2816,28 @@ static int fc_accept(const fc_problem *p, const fc_bsr *S, double tol, const dou
     return 1;
 }
 
+/* After fc_accept at rho = 1 (st): eq. (15) at rho = 1 mixes r's units with u's, so where |r| >>
+   |q| (W's entries tiny, as a compliance in SI units is) rounding alone may put a solution's error
+   above tol. Only when that is what happened (the rounding bound st->floor above tol, and the
+   error within it) the same conditions decide at rho = 2^-w_exp (the problem rescaled to W ~ 1);
+   a diverging r fails there too. Any other failure at rho = 1 is final. st->err stays the rho = 1
+   error; a success sets st->rho_exp and st->err_rho. Returns 0 if out of memory. */
+static int fc_judge_rescaled(const fc_problem *p, const fc_bsr *S, double tol, const double *r,
+                             int w_exp, fc_stats *st)
+{
+    fc_stats st_w = *st;
+    if (st->verdict != FC_DIVERGED || !(st->floor > tol) || !(st->err <= st->floor) || w_exp == 0)
+        return 1;
+    if (!fc_accept(p, S, tol, r, w_exp, &st_w))
+        return 0;
+    if (st_w.verdict == FC_SOLVED) {
+        st->verdict = FC_SOLVED;
+        st->rho_exp = w_exp;
+        st->err_rho = st_w.err;
+    }
+    return 1;
+}
+
 /* The binary exponent e of W's scale: 2^(e-1) <= max |W_ii| < 2^e, or of max |W_ij| when W's
    diagonal is zero (0 when W = 0). */
 static int fc_w_exponent(const fc_bsr *S)
@@ -2658,7 +2861,7 @@ static int fc_w_exponent(const fc_bsr *S)
    0): proves infeasibility when W's normal rows allow it (fc_certify_infeasible), else solves
    each coupled component (fc_solve_components, fc_solve_part) and checks the result
    (fc_accept). Returns 0 when the result is accepted, 1 when not (st->verdict says why), -1 out
-   of memory, -2 a coupled component is too large. */
+   of memory. */
 static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stats *st)
 {
     fc_bsr S;
@@ -2702,7 +2905,7 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     if (w_shift != 0)
         for (k = 0; k < (size_t)S.nnz * S.dd; k++)
             S.bv[k] = ldexp(S.bv[k], -w_shift);
-    rc = i >= 0 ? 1 : fc_solve_components(&unit, &S, o, qr + p->m, st);
+    rc = i >= 0 ? 1 : fc_solve_components(&unit, &S, o, w_shift, qr + p->m, st);
     if (i < 0)
         for (k = 0; k < (size_t)p->m; k++)
             r[k] = ldexp(qr[p->m + k], e - w_shift);
@@ -2714,18 +2917,8 @@ static int fc_solve(const fc_problem *p, const fc_options *o, double *r, fc_stat
     }
     if (rc >= 0 && !fc_accept(p, &S, o->tol, r, 0, st))
         rc = -1;
-    /* At rho = 1, eq. (15) mixes r's units with u's: when |r| >> |q| (W's entries tiny, as a
-       compliance in SI units is) it cannot resolve u, and a solution fails the rounding bound.
-       Then the same test runs with rho = 2^-e, W's scale (e: the exponent of W's largest
-       diagonal entry, or of its largest entry), the residual of the problem rescaled to W ~ 1;
-       a diverging r still fails it. */
-    if (rc >= 0 && i < 0 && st->verdict != FC_SOLVED && w_exp != 0) {
-        fc_stats st_w = *st;
-        if (!fc_accept(p, &S, o->tol, r, w_exp, &st_w))
-            rc = -1;
-        else if (st_w.verdict == FC_SOLVED)
-            *st = st_w;
-    }
+    if (rc >= 0 && i < 0 && !fc_judge_rescaled(p, &S, o->tol, r, w_exp, st))
+        rc = -1;
     if (i >= 0) {
         st->verdict = FC_INFEASIBLE;
         st->contact = i;
@@ -2744,10 +2937,11 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
     switch (st->verdict) {
     case FC_SOLVED:
         if (st->rho_exp != 0)
-            snprintf(buf, n, "solved: residual %.3e <= tol %.1e with rho = 2^%d (W's scale; at "
-                             "rho = 1 rounding cannot resolve u), rounding bound %.1e <= tol, "
-                             "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, -st->rho_exp,
-                     st->floor, s);
+            snprintf(buf, n, "solved to rounding: residual %.3e > tol %.1e but within its "
+                             "rounding bound %.1e (|r| = %.1e >> |q|: rho = 1 cannot resolve u); "
+                             "at rho = 2^%d (W's scale) residual %.3e <= tol, u_N >= -(1 + mu) "
+                             "tol%s, r in K", st->err, tol, st->floor, st->rnorm, -st->rho_exp,
+                     st->err_rho, s);
         else
             snprintf(buf, n, "solved: residual %.3e <= tol %.1e, rounding bound %.1e <= tol, "
                              "u_N >= -(1 + mu) tol%s, r in K", st->err, tol, st->floor, s);
@@ -2775,39 +2969,114 @@ static void fc_verdict_text(const fc_stats *st, double tol, char *buf, size_t n)
         snprintf(buf, n, "no solution found: r is %.3e outside the friction cone at contact %d",
                  st->value, st->contact);
         break;
-    case FC_TOO_LARGE:
-        snprintf(buf, n, "not solved: a coupled component of W has %.0f unknowns, above the "
-                         "limit FC_MAX_COUPLED = %d (a dense Newton system of 8 n^2 bytes)",
-                 st->value, FC_MAX_COUPLED);
-        break;
     default:
         snprintf(buf, n, "not solved: out of memory");
     }
 }
 
+#if !defined FC_SOLVE_NO_MAIN || defined FC_SOLVE_RUN_FILE /* the tests use these two too */
+/* Writes the solution of p (r, and u = W r + q recomputed from p as read) to f in the format the
+   usage text gives: a comment line naming the problem, one with the result, "dim nc", then one
+   line per contact, r (dim values) then u (dim values), each %.17g (read back exactly). Returns 0,
+   or -1 on a write error or out of memory. */
+static int fc_write_solution(FILE *f, const char *path, const fc_problem *p, const double *r,
+                             const fc_stats *st)
+{
+    double *u = malloc((size_t)p->m * sizeof(double));
+    int i, j, a, d = p->dim;
+    if (!u)
+        return -1;
+    for (i = 0; i < p->m; i++)
+        u[i] = p->q[i];
+    for (j = 0; j < p->m; j++) {
+        fc_colit it;
+        int row;
+        double x;
+        w_col_begin(p, j, &it);
+        while (w_col_next(p, j, &it, &row, &x))
+            u[row] += x * r[j];
+    }
+    fprintf(f, "# fc_solve solution of %s: dim nc, then per contact r (dim values), u = W r + q "
+               "(dim values)\n# residual%s=%.17g (eq. (15), rho = 1) %s\n%d %d\n",
+            path, st->absres ? "(abs)" : "", st->err,
+            st->verdict == FC_SOLVED ? "solved" : "not solved", d, p->nc);
+    for (i = 0; i < p->nc; i++) {
+        for (a = 0; a < 2 * d; a++)
+            fprintf(f, "%s%.17g", a ? " " : "", a < d ? r[i * d + a] : u[i * d + a - d]);
+        fputc('\n', f);
+    }
+    free(u);
+    return ferror(f) ? -1 : 0;
+}
+
+/* Reads, solves and reports one problem file: the result lines on out (progress and reasons on
+   stderr unless quiet), the solution to sol (may be NULL) as fc_write_solution writes it. Returns
+   0 solved, 1 not solved, 2 a read error, 3 a write error of sol. */
+static int fc_run_file(const char *path, const fc_options *o, FILE *sol, FILE *out)
+{
+    fc_problem p;
+    const char *msg = fc_read(path, &p);
+    double *r;
+    int res;
+    fc_stats st;
+    clock_t t0;
+    char why[400];
+    if (msg) { /* the result line on out, the reason on stderr too */
+        fprintf(out, "%s error: %s\n", path, msg);
+        fprintf(stderr, "fc_solve: cannot read %s: %s\n", path, msg);
+        return 2;
+    }
+    memset(&st, 0, sizeof st);
+    r = calloc((size_t)p.m, sizeof(double));
+    t0 = clock();
+    res = r ? fc_solve(&p, o, r, &st) : -1;
+    if (!r)
+        st.verdict = FC_NO_MEMORY;
+    if (res >= 0)
+        fprintf(out, "%s contacts=%d iterations=%d residual%s=%.3e time=%.3fs newton=%d "
+                     "sweeps=%d ipm=%d\n",
+                path, p.nc, st.newton + st.sweeps + st.ipm, st.absres ? "(abs)" : "", st.err,
+                (double)(clock() - t0) / CLOCKS_PER_SEC, st.newton, st.sweeps, st.ipm);
+    fc_verdict_text(&st, o->tol, why, sizeof why);
+    fprintf(out, "%s: %s\n", path, why);
+    res = res == 0 ? 0 : 1;
+    if (sol && r && fc_write_solution(sol, path, &p, r, &st) != 0)
+        res = 3;
+    free(r);
+    fc_free(&p);
+    return res;
+}
+
+#endif
+
 #ifndef FC_SOLVE_NO_MAIN
 #include "fe/cli.h" /* the FE applications' command-line parser */
 
 static const char fc_usage[] =
-    "usage: fc_solve [--tol T] [--maxit N] [--verbose] [--quiet] FILE...\n"
+    "usage: fc_solve [--tol T] [--maxit N] [--solution OUT] [--verbose] [--quiet] FILE...\n"
     "Solves reduced frictional-contact problems (Siconos text files; FCLib HDF5 files when built\n"
     "with -DFC_SOLVE_HDF5) and prints one line per file. Exit status 0 when every problem meets\n"
-    "the tolerance, 1 when one is not solved, 2 on a usage or read error.\n"
+    "the tolerance, 1 when one is not solved, 2 on a usage, read or write error.\n"
     "\n"
-    "  --tol T       tolerance on the eq. (15) error (default 1e-10; 0 < T <= 1)\n"
-    "  --maxit N     Newton iterations per run, 20 N NSGS sweeps (default 2000; 1..10000000)\n"
-    "  --verbose     the solver's iterations on stderr\n"
-    "  --quiet       no progress on stderr\n"
-    "  -h, --help    this help\n"
+    "  --tol T         tolerance on the eq. (15) error at rho = 1 (default 1e-10; 0 < T <= 1)\n"
+    "  --maxit N       Newton iterations per run, 20 N NSGS sweeps (default 2000; 1..10000000)\n"
+    "  --solution OUT  write the returned r and u = W r + q to OUT (one FILE only; solved or\n"
+    "                  not, the exit status says): two '#' comment lines (the problem, the\n"
+    "                  residual and verdict), a line 'dim nc', then one line per contact:\n"
+    "                  r_N r_T... u_N u_T... (dim values each, %.17g)\n"
+    "  --verbose       the solver's iterations on stderr\n"
+    "  --quiet         no progress on stderr\n"
+    "  -h, --help      this help\n"
     "\n"
     "Limits: files up to 2 GiB of text, 10^6 contacts, 2^25 stored non-zeros of W; W is kept\n"
-    "sparse; a coupled component of W (contacts linked by non-zero blocks) may have at most\n"
-    "12288 unknowns (its Newton system may be factored dense: 8 n^2 bytes, 1.2 GB).\n";
+    "sparse, and so are the Newton systems of large coupled components.\n";
 
 int main(int argc, char **argv)
 {
     fc_options o;
     int i, status = 0, nfiles = 0, quiet = 0;
+    const char *sol_path = NULL;
+    FILE *sol = NULL;
     cli c;
     o.tol = 1e-10;
     o.maxit = 2000;
@@ -2817,49 +3086,41 @@ int main(int argc, char **argv)
     while (cli_next(&c)) {
         if (cli_double(&c, "--tol", &o.tol, 0, 1, 1)) {}
         else if (cli_int(&c, "--maxit", &o.maxit, 1, 10000000)) {}
+        else if (cli_string(&c, "--solution", &sol_path)) {}
         else if (cli_flag(&c, "--verbose")) o.verbose = 1;
         else if (cli_flag(&c, "--quiet")) quiet = 1;
         else if (cli_positional(&c)) argv[nfiles++] = (char *)c.arg;
         else cli_unknown(&c);
     }
     if (c.status == CLI_OK && nfiles == 0) cli_fail(&c, "no problem FILE given");
+    if (c.status == CLI_OK && sol_path && nfiles > 1)
+        cli_fail(&c, "--solution takes one problem FILE, %d given", nfiles);
     if (c.status != CLI_OK) return c.status == CLI_HELP ? 0 : 2;
+    /* opened before solving, so that a path it cannot write fails at once */
+    if (sol_path && !(errno = 0, sol = fopen(sol_path, "w"))) {
+        fprintf(stderr, "fc_solve: cannot write %.200s%s: %s\n", sol_path,
+                strlen(sol_path) > 200 ? "..." : "", strerror(errno));
+        return 2;
+    }
     for (i = 0; i < nfiles; i++) {
+        int res;
         if (!quiet) fprintf(stderr, "fc_solve: solving %s (%d of %d)\n", argv[i], i + 1, nfiles);
-        {
-            fc_problem p;
-            const char *msg = fc_read(argv[i], &p);
-            double *r;
-            int res;
-            fc_stats st;
-            clock_t t0;
-            if (msg) { /* the result line on stdout, the reason on stderr too */
-                printf("%s error: %s\n", argv[i], msg);
-                fprintf(stderr, "fc_solve: cannot read %s: %s\n", argv[i], msg);
-                status = status ? status : 2;
-                continue;
+        res = fc_run_file(argv[i], &o, sol, stdout);
+        if (sol) {
+            int closed = fclose(sol) == 0;
+            sol = NULL;
+            if (res == 2) { /* nothing to write */
+                remove(sol_path);
+            } else if (res == 3 || !closed) {
+                fprintf(stderr, "fc_solve: cannot write %.200s%s: %s\n", sol_path,
+                        strlen(sol_path) > 200 ? "..." : "", strerror(errno));
+                res = 2;
             }
-            r = calloc((size_t)p.m, sizeof(double));
-            t0 = clock();
-            res = r ? fc_solve(&p, &o, r, &st) : -1;
-            if (!r)
-                st.verdict = FC_NO_MEMORY;
-            if (res >= 0)
-                printf("%s contacts=%d iterations=%d residual%s=%.3e time=%.3fs newton=%d "
-                       "sweeps=%d ipm=%d\n",
-                       argv[i], p.nc, st.newton + st.sweeps + st.ipm, st.absres ? "(abs)" : "",
-                       st.err, (double)(clock() - t0) / CLOCKS_PER_SEC, st.newton, st.sweeps,
-                       st.ipm);
-            {
-                char why[400];
-                fc_verdict_text(&st, o.tol, why, sizeof why);
-                printf("%s: %s\n", argv[i], why);
-            }
-            if (res != 0)
-                status = 1;
-            free(r);
-            fc_free(&p);
         }
+        if (res == 2)
+            status = status ? status : 2;
+        else if (res == 1)
+            status = 1;
     }
     return status;
 }

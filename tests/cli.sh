@@ -171,6 +171,17 @@ usage "--tol needs a value" fc_solve x.dat --tol
 # files it cannot read: exit 2 and the reason (the system's where it has one)
 usage "cannot read $tmp: not a regular file" fc_solve "$tmp"
 usage "cannot read $tmp/none.dat: cannot open the file: No such file or directory" fc_solve "$tmp/none.dat"
+# not reduced problems: a Siconos global problem whose M passes as W, data after mu
+printf '3 1 0 3 3 3 3  1 0 0 0 1 0 0 0 1  0 3 3 3 3  1 0 0 0 1 0 0 0 1  -1 -1 -1 0 0 0  0.1 0\n' >"$tmp/global.dat"
+usage "cannot read $tmp/global.dat: a Siconos global problem" fc_solve "$tmp/global.dat"
+printf '2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5  7\n' >"$tmp/trailing.dat"
+usage "cannot read $tmp/trailing.dat: data after mu" fc_solve "$tmp/trailing.dat"
+# --solution: one problem FILE; a path it cannot write is refused before solving
+usage "--solution takes one problem FILE, 2 given" fc_solve --solution "$tmp/s.txt" a.dat b.dat
+usage "--solution needs a value" fc_solve fc_solve/data/fc-problems/FC3D_Example1.dat --solution
+usage "cannot write /dev/full: No space left on device" fc_solve --quiet --solution /dev/full fc_solve/data/fc-problems/FC3D_Example1.dat
+usage "cannot write $tmp/none/s.txt: No such file or directory" fc_solve --solution "$tmp/none/s.txt" fc_solve/data/fc-problems/FC3D_Example1.dat
+usage "File name too long" fc_solve --solution "$tmp/$(printf '%*s' 300 '' | tr ' ' a)" fc_solve/data/fc-problems/FC3D_Example1.dat
 # corrupted HDF5 files on which libhdf5 itself crashes (Debian 12's 1.10.8: SIGFPE in H5Dopen,
 # SIGSEGV, heap corruption) are read errors (exit 2) of the file, not crashes of fc_solve (HDF5
 # builds only; this script runs the builds without sanitizers)

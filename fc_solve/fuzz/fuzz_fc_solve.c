@@ -2,8 +2,9 @@
    the bytes are read as a text problem file (as fuzz_fc_text does) and problems of at most 9
    unknowns are solved with --maxit 2. A success must hold up when checked independently: u
    recomputed from the compressed columns, the eq. (15) error <= 2 tol (tol plus the rounding
-   bound the acceptance test allows) at the rho the verdict names (1, or 2^-rho_exp: W's scale),
-   relative to |q| unless q = 0, u_N >= -(1 + mu) tol |q| up to rounding, r finite. About
+   bound the acceptance test allows) at rho = 1, or at rho = 2^-rho_exp (W's scale) for a verdict
+   solved to rounding, relative to |q| unless q = 0, u_N >= -(1 + mu) tol |q| up to rounding, r
+   finite. About
    a millisecond a run (six runs of the schedule, interior-point restarts), hence a separate
    target from the reader's. */
 #define FC_SOLVE_NO_MAIN

@@ -10,6 +10,7 @@
    infeasible problems never reported solved, W kept sparse and split into coupled components
    (15 000 decoupled contacts), the limit on a coupled component. */
 #define FC_SOLVE_NO_MAIN
+#define FC_SOLVE_RUN_FILE
 #include "fc_solve/fc_solve.c"
 
 #include "fc_gen.h"
@@ -612,7 +613,7 @@ static void test_infeasible(void)
         memset(r, 0, sizeof r);
         memset(&st, 0, sizeof st);
         CHECK(bsr_build(&p, &S));
-        CHECK(fc_solve_components(&p, &S, &o, r, &st) >= 0);
+        CHECK(fc_solve_components(&p, &S, &o, 0, r, &st) >= 0);
         CHECK(fc_accept(&p, &S, o.tol, r, 0, &st));
         printf("  infeasible reproducer without the proof: |r| = %.3e err %.3e floor %.1e "
                "verdict %d\n", st.rnorm, st.err, st.floor, st.verdict);
@@ -858,56 +859,80 @@ static void test_decoupled_large(void)
     fc_free(&p);
 }
 
-/* A coupled component above FC_MAX_COUPLED unknowns (a chain of 4200 3D contacts) is refused
-   before any dense allocation, with FC_TOO_LARGE and the size; the same chain cut in two halves
-   is under the limit per component. */
-static void test_coupled_limit(void)
+/* Issue 46: a coupled component above FC_MAX_DENSE unknowns was refused (its Newton system could
+   be factored dense). Contacts on a G x G grid in 2D, each coupled to its four neighbours (W
+   symmetric, diagonally dominant: a unique solution), 2 G^2 > FC_MAX_DENSE unknowns in one
+   component: solved, the error recomputed from the compressed columns; and again with the dense
+   limit lowered so that only the block-sparse LU may factor (the path of components too large
+   for a banded one), which must then have solved Newton systems. */
+static void test_large_component(int G, int dense_max)
 {
-    enum { NC = 4200 };
+    int nc = G * G, m = 2 * nc, c, a, b, k = 0, e, nb;
+    int *Wp = malloc((size_t)(m + 1) * sizeof(int)), *Wi = malloc((size_t)10 * m * sizeof(int));
+    double *Wx = malloc((size_t)10 * m * sizeof(double)), *q = malloc((size_t)m * sizeof(double));
+    double *mu = malloc((size_t)nc * sizeof(double)), *r = calloc((size_t)m, sizeof(double));
+    double *u = malloc((size_t)m * sizeof(double)), qn = 0.0, err = HUGE_VAL;
+    static const double off[4] = {-0.28, 0.05, 0.05, 0.14}; /* symmetric; W > 0.05 I */
+    fcg_rng g;
     fc_problem p;
     fc_options o;
     fc_stats st;
-    int c, k = 0, m = 3 * NC, *Wp = malloc((size_t)(m + 1) * sizeof(int));
-    int *Wi = malloc((size_t)3 * m * sizeof(int));
-    double *Wx = malloc((size_t)3 * m * sizeof(double)), *q = calloc((size_t)m, sizeof(double));
-    double *mu = malloc(NC * sizeof(double)), *r = calloc((size_t)m, sizeof(double));
-    char msg[400];
-    CHECK(Wp && Wi && Wx && q && mu && r);
-    if (!(Wp && Wi && Wx && q && mu && r))
+    int res;
+    CHECK(Wp && Wi && Wx && q && mu && r && u);
+    if (!(Wp && Wi && Wx && q && mu && r && u))
         return;
-    for (c = 0; c < m; c++) { /* tridiagonal in the normal rows: contacts c, c + 1 coupled */
-        Wp[c] = k;
-        if (c >= 3 && c % 3 == 0)
-            Wi[k] = c - 3, Wx[k++] = -0.5;
-        Wi[k] = c, Wx[k++] = 2.0;
-        if (c + 3 < m && c % 3 == 0)
-            Wi[k] = c + 3, Wx[k++] = -0.5;
+    g.s = (unsigned long long)G;
+    for (c = 0; c < nc; c++) {
+        int cx = c % G, cy = c / G, nbr[4];
+        nb = 0;
+        if (cx > 0) nbr[nb++] = c - 1;
+        if (cx < G - 1) nbr[nb++] = c + 1;
+        if (cy > 0) nbr[nb++] = c - G;
+        if (cy < G - 1) nbr[nb++] = c + G;
+        for (b = 0; b < 2; b++) { /* column 2 c + b */
+            Wp[2 * c + b] = k;
+            for (a = 0; a < 2; a++) {
+                Wi[k] = 2 * c + a;
+                Wx[k++] = a == b ? 1.2 + 0.1 * (double)((c + a) % 3) : 0.0;
+                if (a != b)
+                    k--; /* no zero stored */
+            }
+            for (e = 0; e < nb; e++)
+                for (a = 0; a < 2; a++) {
+                    Wi[k] = 2 * nbr[e] + a;
+                    Wx[k++] = off[a + 2 * b];
+                }
+        }
+        q[2 * c] = fcg_u(&g, -1.0, 0.3);
+        q[2 * c + 1] = fcg_u(&g, -1.0, 1.0);
+        mu[c] = 0.5;
     }
     Wp[m] = k;
-    for (c = 0; c < NC; c++)
-        q[3 * c] = 1.0, mu[c] = 0.5;
     memset(&p, 0, sizeof p);
-    p.dim = 3, p.nc = NC, p.m = m, p.Wp = Wp, p.Wi = Wi, p.Wx = Wx, p.q = q, p.mu = mu;
-    o.tol = 1e-10;
-    o.maxit = 50;
-    o.verbose = 0;
-    CHECK(fc_solve(&p, &o, r, &st) == -2);
-    CHECK(st.verdict == FC_TOO_LARGE && st.value == (double)m);
-    fc_verdict_text(&st, o.tol, msg, sizeof msg);
-    CHECK(strstr(msg, "FC_MAX_COUPLED") != NULL);
-    /* cut the chain between contacts NC/2 - 1 and NC/2: two components under the limit */
+    p.dim = 2, p.nc = nc, p.m = m, p.Wp = Wp, p.Wi = Wi, p.Wx = Wx, p.q = q, p.mu = mu;
+    o.tol = 1e-10, o.maxit = 200, o.verbose = 0;
+    fc_dense_max = dense_max;
+    res = fc_solve(&p, &o, r, &st);
+    fc_dense_max = FC_MAX_DENSE;
+    csc_residual(&p, r, u);
     for (c = 0; c < m; c++)
-        for (k = Wp[c]; k < Wp[c + 1]; k++)
-            if ((Wi[k] / 3 < NC / 2) != (c / 3 < NC / 2))
-                Wx[k] = 0.0;
-    CHECK(fc_solve(&p, &o, r, &st) == 0); /* q_N > 0: r = 0 */
-    CHECK(st.ncomp == 2 && st.maxcomp == NC / 2);
+        qn += q[c] * q[c];
+    CHECK(psb_fc_nat_error(2, (size_t)nc, r, u, mu, sqrt(qn), &err) == PSB_SUCCESS);
+    printf("  %d x %d grid, 2D: %d unknowns in %d component(s), dense limit %d: verdict %d, "
+           "err %.3e (recomputed %.3e), newton %d sweeps %d, block-sparse LU %d\n", G, G, m,
+           st.ncomp, dense_max, st.verdict, st.err, err, st.newton, st.sweeps, st.n_sparse);
+    CHECK(res == 0 && st.ncomp == 1 && 2 * st.maxcomp > dense_max);
+    CHECK(err <= o.tol);
+    CHECK_NEAR(st.err, err, 1e-12);
+    if (dense_max < FC_MAX_DENSE)
+        CHECK(st.newton > 0 && st.n_sparse > 0);
     free(Wp);
     free(Wi);
     free(Wx);
     free(q);
     free(mu);
     free(r);
+    free(u);
 }
 
 /* A finding of fuzz_fc_solve: mu = 4.6e72 at a sliding contact multiplies the rounding of u_T
@@ -1019,16 +1044,240 @@ static void test_scale_invariance(void)
     fcg_free(&in);
 }
 
+#ifndef FC_DATA_DIR
+#define FC_DATA_DIR "fc_solve/data/fc-problems" /* the tests run from the repository's root */
+#endif
+
+/* Issue 46: fc_solve printed a residual per file but never the solution. On every shipped
+   problem, the result line of fc_run_file (what the command line prints) and its --solution
+   output: u in the file is W r + q recomputed here from the problem as read, to rounding, and
+   the printed residual is the eq. (15) error at rho = 1 recomputed from the file's r, to the
+   printed digits plus the rounding bound. */
+static void test_solution_output(void)
+{
+    static const char *files[] = {
+        "FrictionContact3D_1c.dat", "FC3D_Example1.dat", "FC2D_SliderCrankLagrangian00000.dat",
+        "harder/Capsules-i122-1617.dat", "harder/fc2d_granularflowonwall_00667_00000.dat",
+#ifdef FC_SOLVE_HDF5
+        "harder/BoxesStack-fclib.hdf5",
+#endif
+    };
+    char path[512], solpath[512], line[1024];
+    size_t k;
+    tmp_path(solpath, "fc_solve_test_solution.txt");
+    for (k = 0; k < sizeof files / sizeof files[0]; k++) {
+        fc_problem p;
+        fc_options o;
+        FILE *sol, *out = tmpfile();
+        double printed = -1.0, err = HUGE_VAL, qn = 0.0, *r = NULL, *u = NULL, *uf = NULL, *wr = NULL;
+        int res, d = 0, nc = 0, i, a, bad_u = 0, ok = 1;
+        sprintf(path, "%s/%s", FC_DATA_DIR, files[k]);
+        o.tol = 1e-10, o.maxit = 2000, o.verbose = 0;
+        sol = fopen(solpath, "w");
+        CHECK(sol && out);
+        if (!sol || !out) {
+            if (sol)
+                fclose(sol);
+            if (out)
+                fclose(out);
+            continue;
+        }
+        res = fc_run_file(path, &o, sol, out);
+        CHECK(fclose(sol) == 0);
+        CHECK(res == 0);
+        rewind(out);
+        while (fgets(line, sizeof line, out)) {
+            const char *at = strstr(line, " residual=");
+            if (at)
+                printed = strtod(at + 10, NULL);
+        }
+        fclose(out);
+        CHECK(fc_read(path, &p) == NULL);
+        sol = fopen(solpath, "r");
+        CHECK(sol != NULL);
+        if (!p.q || !sol) {
+            if (sol)
+                fclose(sol);
+            fc_free(&p);
+            continue;
+        }
+        /* two comment lines, "dim nc", then r and u per contact */
+        ok = fgets(line, sizeof line, sol) && line[0] == '#' && fgets(line, sizeof line, sol) &&
+             line[0] == '#' && fscanf(sol, "%d %d", &d, &nc) == 2 && d == p.dim && nc == p.nc;
+        r = malloc((size_t)p.m * sizeof(double));
+        u = malloc((size_t)p.m * sizeof(double));
+        uf = malloc((size_t)p.m * sizeof(double));
+        wr = calloc((size_t)p.m, sizeof(double));
+        ok = ok && r && u && uf && wr;
+        for (i = 0; ok && i < p.nc; i++)
+            for (a = 0; ok && a < 2 * d; a++)
+                ok = fscanf(sol, "%lf", a < d ? &r[i * d + a] : &uf[i * d + a - d]) == 1;
+        ok = ok && fscanf(sol, "%d", &i) == EOF;
+        fclose(sol);
+        CHECK(ok);
+        if (ok) {
+            csc_residual(&p, r, u);
+            for (i = 0; i < p.m; i++)
+                for (a = p.Wp[i]; a < p.Wp[i + 1]; a++)
+                    wr[p.Wi[a]] += fabs(p.Wx[a] * r[i]);
+            for (i = 0; i < p.m; i++) {
+                if (fabs(uf[i] - u[i]) > 8.0 * DBL_EPSILON * (wr[i] + fabs(p.q[i])))
+                    bad_u++;
+                qn = hypot(qn, p.q[i]);
+            }
+            CHECK(bad_u == 0);
+            CHECK(psb_fc_nat_error(p.dim, (size_t)p.nc, r, u, p.mu, qn, &err) == PSB_SUCCESS);
+            printf("  %s: printed residual %.3e, recomputed from --solution %.3e\n", files[k],
+                   printed, err);
+            CHECK(fabs(printed - err) <= 1e-3 * err + nat_err_bound(&p, r, wr, qn));
+            CHECK(err <= o.tol);
+        }
+        free(r);
+        free(u);
+        free(uf);
+        free(wr);
+        fc_free(&p);
+    }
+    remove(solpath);
+}
+
+/* Issue 46: files that are not reduced problems are refused with the reason, not read as one. A
+   Siconos global problem (dim, nc, M, H, q, b, mu) with M and H both 3 x 3 (so M passes as W)
+   was solved with H's header taken as q and mu; a reduced file with data after mu; and, in an
+   HDF5 build, an FCLib file holding a global problem. A reduced file ending with the 0 or 1 some
+   Siconos writers append is read. */
+static void test_not_reduced(void)
+{
+    static const struct {
+        const char *text, *says;
+    } bad[] = {
+        {"3\n1\n0\n3\n3\n3 3\n1 0 0\n0 1 0\n0 0 1\n0\n3\n3\n3 3\n1 0 0\n0 1 0\n0 0 1\n"
+         "-1 -1 -1 0 0 0\n0.1\n0\n", "global problem"},
+        {"2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5  7\n", "data after mu"},
+        {"2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5  0 0\n", "data after mu"},
+        {"2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5  0.5\n", "data after mu"},
+    };
+    char path[512];
+    fc_problem p;
+    size_t k;
+    tmp_path(path, "fc_solve_test_not_reduced.dat");
+    for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        const char *msg;
+        write_or_fail(path, bad[k].text);
+        msg = fc_read(path, &p);
+        CHECK(msg != NULL && strstr(msg, bad[k].says) != NULL);
+        if (msg && !strstr(msg, bad[k].says))
+            printf("  case %u: '%s' lacks '%s'\n", (unsigned)k, msg, bad[k].says);
+        CHECK(p.Wp == NULL && p.q == NULL && p.mu == NULL);
+    }
+    for (k = 0; k < 2; k++) { /* the trailing isComplete flag */
+        write_or_fail(path, k ? "2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5\n1\n"
+                              : "2 1 0 2 2 2 2  1 0 0 1  -1 0.3  0.5\n0\n");
+        CHECK(fc_read(path, &p) == NULL && p.nc == 1 && p.mu[0] == 0.5);
+        fc_free(&p);
+    }
+    remove(path);
+#ifdef FC_SOLVE_HDF5
+    {
+        hid_t f, g;
+        const char *msg;
+        tmp_path(path, "fc_solve_test_global.hdf5");
+        f = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+        CHECK(f >= 0);
+        if (f >= 0) {
+            g = H5Gcreate2(f, "/fclib_global", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+            CHECK(g >= 0 && H5Gclose(g) >= 0 && H5Fclose(f) >= 0);
+            msg = fc_read(path, &p);
+            CHECK(msg != NULL && strstr(msg, "FCLib global problem") != NULL);
+            CHECK(p.Wp == NULL && p.q == NULL);
+            remove(path);
+        }
+    }
+#endif
+}
+
+/* Issue 46: a problem whose W is ~1e-4 (as Confeti-ex03's) is solved at W's scale, where eq. (15)
+   weighs r by rho ~ 1e4: a spurious reaction eps at a separating contact costs ~1e-4 eps there
+   but eps at rho = 1. Such an r (here a solution plus 1e-8 |q| at a separating contact, given as
+   the warm start) was reported solved with the rescaled error ~1e-12 while its rho = 1 error is
+   1e-8. The reported error must be the rho = 1 error of the returned r, recomputed here from the
+   dense W, and meet the tolerance; the perturbed r itself is not solved (its rho = 1 error is
+   resolvable, so no rescaled check applies). */
+static void test_rho1_acceptance(void)
+{
+    enum { NC = 20, M = 3 * NC };
+    static double W[M * M], q[M], mu[NC];
+    fcg_rng g;
+    fc_problem p;
+    fc_options o;
+    fc_stats st;
+    fc_bsr S;
+    double r[M], u[M], qn = 0.0, e;
+    int i, j, c, sep = -1, res;
+    g.s = 46;
+    for (j = 0; j < M; j++) /* symmetric, diagonally dominant, scaled by 2^-13 */
+        for (i = 0; i <= j; i++)
+            W[i + M * j] = W[j + M * i] =
+                ldexp(i == j ? 4.0 + fcg_u(&g, 0.0, 1.0) : fcg_u(&g, -0.05, 0.05), -13);
+    for (c = 0; c < NC; c++) {
+        q[3 * c] = fcg_u(&g, -1.0, 0.5);
+        q[3 * c + 1] = fcg_u(&g, -1.0, 1.0);
+        q[3 * c + 2] = fcg_u(&g, -1.0, 1.0);
+        mu[c] = 0.3;
+    }
+    memset(&p, 0, sizeof p);
+    p.dim = 3, p.nc = NC, p.m = M, p.W = W, p.q = q, p.mu = mu;
+    o.tol = 1e-10, o.maxit = 1000, o.verbose = 0;
+    memset(r, 0, sizeof r);
+    CHECK(fc_solve(&p, &o, r, &st) == 0);
+    e = dense_error(&p, r);
+    printf("  W ~ 2^-13: error %.3e, its rounding bound %.1e\n", e, st.floor);
+    CHECK(e <= o.tol && st.rho_exp == 0);
+    CHECK_NEAR(st.err, e, 1e-14);
+    for (i = 0; i < M; i++) {
+        u[i] = q[i];
+        qn += q[i] * q[i];
+        for (j = 0; j < M; j++)
+            u[i] += W[i + (size_t)j * M] * r[j];
+    }
+    for (c = 0; c < NC && sep < 0; c++)
+        if (r[3 * c] == 0.0 && u[3 * c] > 0.1)
+            sep = c;
+    CHECK(sep >= 0);
+    if (sep < 0)
+        return;
+    r[3 * sep] = 1e-8 * sqrt(qn);
+    e = dense_error(&p, r);
+    printf("  a spurious reaction at contact %d: rho = 1 error %.2e\n", sep, e);
+    CHECK(e > 1e-9);
+    CHECK(bsr_build(&p, &S));
+    CHECK(fc_accept(&p, &S, o.tol, r, 0, &st) && st.err > 1e-9 && st.floor < o.tol);
+    CHECK(fc_judge_rescaled(&p, &S, o.tol, r, fc_w_exponent(&S), &st));
+    CHECK(st.verdict != FC_SOLVED && st.rho_exp == 0);
+    bsr_free(&S);
+    res = fc_solve(&p, &o, r, &st); /* from that r the solver has work to do */
+    e = dense_error(&p, r);
+    printf("  from there: verdict %d, reported %.3e, recomputed %.3e, newton %d sweeps %d\n",
+           st.verdict, st.err, e, st.newton, st.sweeps);
+    CHECK(res == 0 && st.rho_exp == 0);
+    CHECK(e <= o.tol);
+    CHECK_NEAR(st.err, e, 1e-14);
+}
+
 int main(void)
 {
     test_malformed();
     test_reader_validation();
     test_fclib_validation();
+    test_not_reduced();
+    test_solution_output();
     test_dense_layout();
     test_infeasible();
     test_scale_invariance();
+    test_rho1_acceptance();
     test_decoupled_large();
-    test_coupled_limit();
+    test_large_component(82, FC_MAX_DENSE); /* 13 448 unknowns */
+    test_large_component(40, 400);
     test_huge_mu();
     test_degenerate();
     test_soc_algebra();
