@@ -84,8 +84,7 @@
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
    psb_explore                  every branch reachable from one couple, as a graph
-   psb_diagram_init, _init_with_memory, _free, _memory_size   the graph's storage
-   psb_diagram_set_points, _set_growth   its edges' points; growth through your allocator
+   psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
    psb_proj_*, psb_ac2d_*, psb_fc3d_*, psb_fc_nat_error, psb_contact_convert: section 7
    Inputs are never modified on failure, but psb_trace's (y, t) hold the last accepted couple once
@@ -214,9 +213,8 @@
      expert.trial_h_min [h_min]  Algorithm 2.2's trial steps give up below this step
      expert.patience [0: never]  stop after that many counted spans in a row found no branch
    psb_explore_options (psb_explore; NULL: defaults):
-     trace [0]                 each trace's bounds, max_steps, detect (0: all), locate_tol, events
+     trace [0; eo NULL: detect FOLDS|BRANCH|PC1]  each trace's bounds, max_steps, detect, events
      branch [0]                the psb_branch_options of every branching
-     no_detect [0]             1: no detectors (nodes only where traces end, and at kinks)
      box_min, box_max [NULL]   N+1 values each: a trace ends at its first point outside the box
      state_max [0: none]       a trace ends where the state part of y exceeds it in ||.||_w
      one_direction [0]         1: from the start along t only, not -t
@@ -224,6 +222,7 @@
      max_points [0: none]      accepted points in all
      branch_at_kinks [0]       1: locate every kink a trace passes and branch there
      kink_spans [0: full]      branch_at_kinks: a first look at a kink with this many spans
+     kink_nodes [0]            1: ordinary kinks are nodes (PSB_NODE_KINK); implies branch_at_kinks
      node_tol [16 branch.h; differences: 16 h at the node]  branching points this close: one node
      on_point, point_user [NULL]  int on_point(int edge, const psb_point *p, void *user)
    psb_evolve_options (psb_evolve_step; NULL: defaults):
@@ -301,10 +300,9 @@
    h/2 ahead with a tangent within c_diff of the entering one too (no falling back, no turns adding
    up), and a branch that only turned smoothly is followed on. With differences the entering
    tangent is kept, stalls are told from smooth turns by chords, t is the branch's tangent 16 h
-   back, and a second pass with difference steps 10^4 times shorter goes on where the quotients
-   mixed the pieces. y then approximates the end point within *precision (the last h tried; with
-   differences twice it plus 1e-2 of the second pass's move), t points along the branch into
-   it; more than 1000 moves: PSB_ERR_NO_CONVERGENCE.
+   back, and a pass with steps 10^4 times shorter goes on where the quotients mixed the pieces.
+   y is then within *precision of the end point (the last h; with differences 2 h plus 1e-2 of
+   that pass's move), t along the branch into it; over 1000 moves: PSB_ERR_NO_CONVERGENCE.
 
    Algorithm 2.2 (psb_find_branches). As in the paper, with Section 3's restarts: branch 0 is (y0,
    -t0); each span of two tangents t~1, t~2 is swept in n_dir directions v, the tangent at y0 + h v
@@ -351,17 +349,16 @@
    (nonsmooth, pc1 nodes), the branch point switch at a smooth branch point (branch node); branch 0
    is the one arrived by, the others join the queue. Folds and events are nodes on their edge. A
    branching point within node_tol + 4 (both precisions) of a node, or a chord passing that close,
-   arrives there (an index sorted by a projection finds it: the cost a node does not grow with
-   the diagram). Two branches whose signs cancel make an ordinary kink (d->n_kinks_plain): the
-   edge goes on, or ends at a kink node (kink_nodes). Odd or unbalanced nodes count in d->n_odd
-   (they most likely miss a branch). PC1 is silent where the branches a trace joins have opposite
-   outward signs (the paper's block): branch_at_kinks branches at every kink (an Algorithm 2.2
-   each; kink_spans looks first with fewer spans, enough where it met two pieces' tangents). psb_diagram_write_json's keys: format, version, n, param_index, complete
-   (nothing untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes, nodes (id,
-   kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
-   from_branch, to, to_branch, end, result, points, length, path: the stored points);
-   psb_diagram_write_csv writes the two tables, _points_csv the points, all in the C locale's
-   notation whatever setlocale chose.
+   arrives there (found through an index: the cost a node does not grow with the diagram). Two
+   branches whose signs cancel make an ordinary kink (d->n_kinks_plain): the edge goes on, or ends
+   at a kink node (kink_nodes). Odd or unbalanced nodes count in d->n_odd (they most likely miss a
+   branch). PC1 is silent where the branches a trace joins have opposite outward signs (the
+   paper's block): branch_at_kinks runs Algorithm 2.2 at every kink (kink_spans: a short look
+   first, enough where it met two pieces' tangents). JSON keys: format, version, n, param_index,
+   complete (nothing untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes,
+   nodes (id, kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id,
+   from, from_branch, to, to_branch, end, result, points, length, path: the stored points); the
+   CSV writers give the same tables. All numbers in the C locale's notation whatever setlocale.
 
    Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves
    H_k(u, lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls
