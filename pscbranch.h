@@ -1255,7 +1255,8 @@ PSCBRANCH_DEF psb_result psb_diagram_set_points(psb_diagram *d, double *memory, 
    no bound); where a block would pass it or a is out of memory, the capacity stops exploring
    as without growth. After the call d->max_nodes, ... are the capacities reached, which
    psb_diagram_memory_size turns into the size of a block that needs no growth. Returns
-   PSB_SUCCESS, PSB_ERR_NULL (d not set up, or a without alloc or release). */
+   PSB_SUCCESS, PSB_ERR_NULL (d not set up, or a without alloc or release), PSB_ERR_INPUT (d
+   has grown already: its blocks are the first allocator's until psb_diagram_free). */
 PSCBRANCH_DEF psb_result psb_diagram_set_growth(psb_diagram *d, const psb_allocator *a, size_t max_bytes);
 /* Names of the kinds ("nonsmooth", "bound", ...), as the JSON and CSV forms write them. */
 PSCBRANCH_DEF const char *psb_node_kind_string(psb_node_kind kind);
