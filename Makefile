@@ -82,9 +82,9 @@ $(BUILD)/test_fc_solve: fc_solve/tests/test_fc_solve.c fc_solve/tests/fc_gen.h t
 $(BUILD)/test_fe: fe/tests/test_fe.c tests/harness.h fe/fe.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests fe/tests/test_fe.c -o $@ $(LIBS)
 
-$(BUILD)/test_explore: tests/test_explore.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+$(BUILD)/test_explore: tests/test_explore.c tests/harness.h tests/pl_problems.h tests/kink_curves.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_explore.c -o $@ $(LIBS)
-$(BUILD)/test_diagram: tests/test_diagram.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
+$(BUILD)/test_diagram: tests/test_diagram.c tests/harness.h tests/pl_problems.h tests/kink_curves.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_diagram.c -o $@ $(LIBS)
 
 $(BUILD)/test_static: tests/test_static.c tests/harness.h $(HEADER) | $(BUILD)

@@ -8,6 +8,7 @@
 #include "pscbranch.h"
 #include "harness.h"
 #include "pl_problems.h"
+#include "kink_curves.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -31,38 +32,6 @@ static int xsin_jac(const double *y, double *j, int ld, void *u)
     (void)ld;
     j[0] = sin(y[1]);
     j[1] = y[0] * cos(y[1]);
-    return 0;
-}
-
-/* x = |g|: two rays meeting at an ordinary kink, the origin. */
-static int vee_res(const double *y, double *h, void *u)
-{
-    (void)u;
-    h[0] = y[0] - fabs(y[1]);
-    return 0;
-}
-static int vee_jac(const double *y, double *j, int ld, void *u)
-{
-    (void)u;
-    (void)ld;
-    j[0] = 1;
-    j[1] = y[1] < 0 ? 1 : -1;
-    return 0;
-}
-
-/* |x| + |g| = 1: a closed curve of four ordinary kinks. */
-static int diamond_res(const double *y, double *h, void *u)
-{
-    (void)u;
-    h[0] = fabs(y[0]) + fabs(y[1]) - 1;
-    return 0;
-}
-static int diamond_jac(const double *y, double *j, int ld, void *u)
-{
-    (void)u;
-    (void)ld;
-    j[0] = y[0] >= 0 ? 1 : -1;
-    j[1] = y[1] >= 0 ? 1 : -1;
     return 0;
 }
 

@@ -6,6 +6,7 @@
 #include "pscbranch.h"
 #include "harness.h"
 #include "pl_problems.h"
+#include "kink_curves.h"
 
 #include <locale.h>
 #include <math.h>
@@ -430,20 +431,6 @@ static void test_loop(void)
 /* ---- an ordinary kink: x = |g| ------------------------------------------------------------
    With branch_at_kinks the kink at g = 0 gets Algorithms 2.1 and 2.2, which find its two
    branches: no node, the edge goes on (length sqrt(1/2) + sqrt(2) from (1/2, -1/2) to (1, 1)). */
-static int vee_res(const double *y, double *h, void *u)
-{
-    (void)u;
-    h[0] = y[0] - fabs(y[1]);
-    return 0;
-}
-
-static int vee_jac(const double *y, double *j, int ld, void *u)
-{
-    (void)u;
-    j[0] = 1;
-    j[ld] = y[1] < 0 ? 1 : -1;
-    return 0;
-}
 
 static void test_ordinary_kink(void)
 {
@@ -786,21 +773,6 @@ static void test_output_locale(void)
    branch_at_kinks from any start, also one just past a kink, whose last arc resumes beyond
    the start (Algorithm 2.2's couple lies up to h_init past the kink): one loop edge back to the
    start and the two folds g = +-R at kinks, complete. */
-static double loop_r;
-static int loop_res(const double *y, double *h, void *u)
-{
-    (void)u;
-    h[0] = fabs(y[0]) + fabs(y[1]) - loop_r;
-    return 0;
-}
-static int loop_jac(const double *y, double *jac, int ld, void *u)
-{
-    (void)u;
-    (void)ld;
-    jac[0] = y[0] >= 0 ? 1 : -1;
-    jac[1] = y[1] >= 0 ? 1 : -1;
-    return 0;
-}
 static void test_loop_of_kinks(void)
 {
     static const double radii[2] = {1, 0.01}, past[4] = {0.005, 0.2, 0.5, 0.99995}; /* of R */
@@ -819,12 +791,12 @@ static void test_loop_of_kinks(void)
                     psb_explore_options eo;
                     psb_result r;
                     int i, folds = 0, ok;
-                    loop_r = R;
+                    diamond_r = R;
                     y[0] = vx[v] + a * (vx[(v + 1) % 4] - vx[v]) / R;
                     y[1] = vg[v] + a * (vg[(v + 1) % 4] - vg[v]) / R;
                     t[0] = dir * (vx[(v + 1) % 4] - vx[v]);
                     t[1] = dir * (vg[(v + 1) % 4] - vg[v]);
-                    psb_problem_init(&prob, 1, loop_res, loop_jac, NULL);
+                    psb_problem_init(&prob, 1, diamond_res, diamond_jac, NULL);
                     memset(&o, 0, sizeof o);
                     o.h_init = 1e-2 * R;
                     o.h_max = 0.1 * R;
@@ -861,8 +833,8 @@ static void test_loop_of_kinks(void)
         psb_diagram d;
         psb_explore_options eo;
         double y[2] = {0.5, 0.5}, across[2] = {1, 1}, tilted[2] = {-1, 1.2}, steep[2] = {-1, 3};
-        loop_r = 1;
-        psb_problem_init(&prob, 1, loop_res, loop_jac, NULL);
+        diamond_r = 1;
+        psb_problem_init(&prob, 1, diamond_res, diamond_jac, NULL);
         memset(&o, 0, sizeof o);
         o.h_max = 0.1;
         CHECK(psb_solver_init(&s, &prob, &o) == PSB_SUCCESS);
