@@ -431,7 +431,6 @@ static void test_loop(void)
 /* ---- an ordinary kink: x = |g| ------------------------------------------------------------
    With branch_at_kinks the kink at g = 0 gets Algorithms 2.1 and 2.2, which find its two
    branches: no node, the edge goes on (length sqrt(1/2) + sqrt(2) from (1/2, -1/2) to (1, 1)). */
-
 static void test_ordinary_kink(void)
 {
     psb_problem prob;
