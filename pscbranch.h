@@ -1274,23 +1274,26 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    Algorithm 2.2 lies beyond a parameter bound (its node is within a branching radius of the
    bound) ends on the bound: an edge of no points to a bound node, Newton's solution at the
    bound from the chord; so does an edge whose way on past an ordinary kink lies beyond one.
-   A fold an edge meets within node_tol of the branching node it leaves
-   or ends at is that node (difference quotients mix the pieces there and can flip the
-   tangent's parameter component) and gets no node of its own. d is reset first and holds
-   the graph (every node's and edge's index is the order it was made in). eo may be NULL. Same inputs and seed, same diagram, bit for bit. No
-   allocation; s's scratch is used (not from a point callback). Returns PSB_SUCCESS (the queue
-   emptied), PSB_BRANCH_CAPACITY (nodes, edges or branches at a node ran out: what fits is
-   kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points reached first), PSB_STOPPED
-   (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE (d->n differs from the
-   problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN bounds or node_tol,
-   negative budgets, box_min > box_max), PSB_ERR_INPUT (zero t, t not within c_min of the
-   curve's tangent at y, start outside the bounds or box), PSB_ERR_NONFINITE, PSB_ERR_CALLBACK (a callback returned < 0; the diagram so far is
-   kept). A trace or a branching that fails otherwise ends its edge (PSB_EDGE_FAILURE,
-   d->n_failed) and exploring goes on; once the queue is done (or a budget or capacity ran out)
-   the call returns the first failed edge's code (edge.result: PSB_ERR_CALLBACK_FAILED,
-   _NONFINITE, _SINGULAR, ...), not PSB_SUCCESS, since what lies beyond a failed edge is
-   missing. On every return but PSB_ERR_NULL, _SIZE, _OPTIONS, _INPUT, _NONFINITE (checked
-   before d is reset) d holds the graph made so far; y, t and eo are inputs only. */
+   A fold an edge meets within node_tol of the branching node it leaves or ends at is that
+   node (difference quotients mix the pieces there and can flip the tangent's parameter
+   component) and gets no node of its own. d is reset first and holds the graph (every node's
+   and edge's index is the order it was made in). eo may be NULL. Same inputs and seed, same
+   diagram, bit for bit, grown or not. No allocation but d's growth (psb_diagram_set_growth);
+   s's scratch is used (not from a point callback). Returns PSB_SUCCESS (the queue emptied),
+   PSB_BRANCH_CAPACITY (nodes, edges, branches at a node or stored points ran out: what fits
+   is kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points reached first),
+   PSB_STOPPED (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE (d->n differs from
+   the problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN bounds or
+   node_tol, negative budgets, box_min > box_max, PSB_DETECT_PC1 with a user backend),
+   PSB_ERR_INPUT (zero t, t not within c_min of the curve's tangent at y, start outside the
+   bounds or box), PSB_ERR_NONFINITE, PSB_ERR_CALLBACK (a callback returned < 0; the diagram
+   so far is kept). A trace or a branching that fails otherwise ends its edge
+   (PSB_EDGE_FAILURE, d->n_failed) and exploring goes on; once the queue is done (or a budget
+   or capacity ran out) the call returns the first failed edge's code (edge.result:
+   PSB_ERR_CALLBACK_FAILED, _NONFINITE, _SINGULAR, ...), not PSB_SUCCESS, since what lies
+   beyond a failed edge is missing. On every return but PSB_ERR_NULL, _SIZE, _OPTIONS, _INPUT,
+   _NONFINITE (checked before d is reset) d holds the graph made so far; y, t and eo are
+   inputs only. */
 PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
                                      const psb_explore_options *eo, psb_diagram *d);
 
