@@ -87,6 +87,7 @@ $(BUILD)/test_explore: tests/test_explore.c tests/harness.h tests/pl_problems.h 
 
 $(BUILD)/test_fold_map: tests/test_fold_map.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_fold_map.c -o $@ $(LIBS)
+
 $(BUILD)/test_diagram: tests/test_diagram.c tests/harness.h tests/pl_problems.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_diagram.c -o $@ $(LIBS)
 

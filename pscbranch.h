@@ -83,6 +83,7 @@
    psb_find_branches            Algorithm 2.2 with restarts: the branches leaving that point
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
+   psb_fold_map_memory_size, _init, _start, _refine   fold curves in two parameters (mu)
    psb_explore                  every branch reachable from one couple, as a graph
    psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
@@ -368,6 +369,12 @@
    polished (a move over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, where it
    lands exactly, and free on the other side (the path may pass below lambda_{k-1}). A path that
    ends elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end), y kept.
+
+   Fold curves in two parameters (psb_fold_map_*). H is written once on (x, lambda, mu); the
+   map's at_mu is H at mu held, fold is [H; sigma] = 0 with mu its parameter, sigma from
+   [H_x b; c^T 0] [v; sigma] = [0; 1] (det H_x / det of that: zero at folds), b and c the null
+   vectors at the start. sigma's gradient is -w^T (dH_x) v, one central difference of the
+   user's Jacobian along v. psb_trace traces fold through kinks of H; its FOLD there is a cusp.
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
