@@ -1123,8 +1123,8 @@ PSCBRANCH_DEF void psb_two_param_problem_init(psb_two_param_problem *p, int n,
    down one), its param_index lambda's. fold is the fold curve: N+1 equations [H(y); sigma(y)] =
    0 in the user's own y (N+2 components), param_index = mu_index, where sigma solves
    [H_x b; c^T 0] [v; sigma] = [0; 1] with the borders b, c of psb_fold_map_start. Give each to
-   psb_solver_init (both are dense; their user pointer is the map). A map serves one thread at a
-   time; it holds no allocation (nothing to free). */
+   psb_solver_init (both are dense; their user pointer is the map, so a map is not copied). A map
+   serves one thread at a time; it holds no allocation (nothing to free). */
 typedef struct psb_fold_map {
     psb_two_param_problem two; /* a copy of the problem */
     double mu;           /* at_mu's mu: set it between calls only [psb_fold_map_init's] */
