@@ -83,6 +83,7 @@
    psb_find_branches            Algorithm 2.2 with restarts: the branches leaving that point
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
+   psb_fold_map_memory_size, _init, _start, _refine   fold curves in two parameters (mu)
    psb_explore                  every branch reachable from one couple, as a graph
    psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
@@ -368,6 +369,12 @@
    polished (a move over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, where it
    lands exactly, and free on the other side (the path may pass below lambda_{k-1}). A path that
    ends elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end), y kept.
+
+   Fold curves in two parameters (psb_fold_map_*). H is written once on (x, lambda, mu); the
+   map's at_mu is H at mu held, fold is [H; sigma] = 0 with mu its parameter, sigma from
+   [H_x b; c^T 0] [v; sigma] = [0; 1] (det H_x / det of that: zero at folds), b and c the null
+   vectors at the start. sigma's gradient is -w^T (dH_x) v, one central difference of the
+   user's Jacobian along v. psb_trace traces fold through kinks of H; its FOLD there is a cusp.
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
@@ -1091,6 +1098,82 @@ typedef struct psb_evolve_report {
    unless PSB_SUCCESS; rep is always written. */
 PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_next,
                                          const psb_evolve_options *eo, psb_evolve_report *rep);
+
+/* ---- fold curves in two parameters (manual section 6, "Fold curves in two parameters") ---- */
+
+/* A problem in two parameters: n equations H(y) = 0 in n+2 unknowns y, the load lambda =
+   y[lambda_index], a second parameter mu = y[mu_index], and the state x, the other n components
+   in their order. residual and jacobian (psb_residual_fn, psb_jacobian_fn) take y with n+2
+   components; the jacobian fills all n+2 columns (a selection gradient where H is PC^1). */
+typedef struct psb_two_param_problem {
+    int n;                      /* N >= 1, the number of equations */
+    psb_residual_fn residual;   /* required */
+    psb_jacobian_fn jacobian;   /* required: H_x enters the fold condition (no differences) */
+    void *user;                 /* passed to both */
+    int lambda_index, mu_index; /* distinct, in [0, n+1] (psb_two_param_problem_init: n, n+1) */
+} psb_two_param_problem;
+
+/* Zeroes *p and fills it; lambda_index = n, mu_index = n+1 (y = (x, lambda, mu)). */
+PSCBRANCH_DEF void psb_two_param_problem_init(psb_two_param_problem *p, int n,
+                                              psb_residual_fn residual,
+                                              psb_jacobian_fn jacobian, void *user);
+
+/* The two problems a two-parameter problem gives, on caller memory. at_mu is H at fixed mu for
+   every one-parameter call: its y is the user's without the mu component (those after it move
+   down one), its param_index lambda's. fold is the fold curve: N+1 equations [H(y); sigma(y)] =
+   0 in the user's own y (N+2 components), param_index = mu_index, where sigma solves
+   [H_x b; c^T 0] [v; sigma] = [0; 1] with the borders b, c of psb_fold_map_start. Give each to
+   psb_solver_init (both are dense; their user pointer is the map, so a map is not copied). A map
+   serves one thread at a time; it holds no allocation (nothing to free). */
+typedef struct psb_fold_map {
+    psb_two_param_problem two; /* a copy of the problem */
+    double mu;           /* at_mu's mu: set it between calls only [psb_fold_map_init's] */
+    psb_problem at_mu;   /* H(., mu): n equations, n+1 unknowns */
+    psb_problem fold;    /* the fold curve: n+1 equations, n+2 unknowns, parameter mu */
+    const double *b, *c; /* the borders (n each, unit 2-norm; zero before the first start) */
+    struct {             /* private: treat as opaque */
+        double *jac, *mat, *rhs, *y_eval, *y_lift, *y_try, *b, *c, *b_old, *c_old;
+        int *state;      /* y's component of each state column */
+        void *ipiv;
+        unsigned ready;
+    } internal_;
+} psb_fold_map;
+
+/* Bytes psb_fold_map_init needs for n equations (0 when n < 1 or n > 46000): about
+   2 (n+1)^2 doubles. */
+PSCBRANCH_DEF size_t psb_fold_map_memory_size(int n);
+/* Sets up m for the problem p (copied) and the at_mu problem's mu, on caller memory (at least
+   psb_fold_map_memory_size(p->n) bytes, aligned for double); never allocates. The fold curve
+   needs borders: psb_fold_map_start. Returns PSB_SUCCESS, PSB_ERR_NULL (m, p, memory, a
+   callback), PSB_ERR_SIZE (n, lambda_index, mu_index), PSB_ERR_NONFINITE (mu), PSB_ERR_NOMEM
+   (block too small); *m is cleared on failure. */
+PSCBRANCH_DEF psb_result psb_fold_map_init(psb_fold_map *m, const psb_two_param_problem *p,
+                                           double mu, void *memory, size_t bytes);
+/* From a fold of the one-parameter problem at_mu (a couple (y, t), n+1 each in at_mu's
+   coordinates, e.g. a PSB_SPECIAL_FOLD's special->y, ->t from psb_trace on a solver of m->at_mu)
+   to the fold curve: takes the borders c = t's state part, b = the left null vector of H_x there,
+   refines the fold by Newton on fold at mu = m->mu (fold_solver: a solver of m->fold), then
+   takes the borders at the refined fold and refines again. y_fold (out, n+2): the fold in the
+   user's coordinates; t_fold (out, n+2, may be NULL): the fold curve's unit tangent there,
+   oriented towards larger mu (psb_tangent). Not callable from a callback of a trace on
+   fold_solver. Returns PSB_SUCCESS; PSB_ERR_NULL; PSB_ERR_INPUT (fold_solver is not on m->fold,
+   a call from its trace, t without a state part, or (y, t) is not a fold: Newton at fixed mu
+   fails or moves it more than fold_solver's h_init, ||.||_w); PSB_ERR_NONFINITE (y, t, m->mu,
+   a callback's NaN); PSB_ERR_SINGULAR ([H_x H_lambda; c^T 0] singular at y: dH of rank < n, or
+   t no tangent); PSB_ERR_CALLBACK(_FAILED). On failure y_fold, t_fold and the borders are
+   untouched (the message is fold_solver's). */
+PSCBRANCH_DEF psb_result psb_fold_map_start(psb_fold_map *m, psb_solver *fold_solver,
+                                            const double *y, const double *t, double *y_fold,
+                                            double *t_fold);
+/* The fold at y[mu_index] from y (in/out, n+2, the user's coordinates), e.g. a point of the
+   fold curve taken to another mu: the borders are taken anew at y (from the current ones),
+   Newton on fold at fixed mu (psb_solve_at_param on fold_solver, max_iter as there), borders
+   at the result, Newton again. The borders stay the new ones, also for later traces of the
+   fold curve (never while a trace of it runs). Returns as psb_solve_at_param, and
+   PSB_ERR_INPUT (fold_solver not on m->fold, or a call from its trace), PSB_ERR_SINGULAR (the
+   bordered matrix singular at y). y and the borders are untouched unless PSB_SUCCESS. */
+PSCBRANCH_DEF psb_result psb_fold_map_refine(psb_fold_map *m, psb_solver *fold_solver, double *y,
+                                             int max_iter);
 
 /* ---- exploring the whole diagram (manual section 6, "Exploring the whole diagram") ------- */
 
@@ -7858,6 +7941,361 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
                      : ctx.too_long ? "the path grew longer than max_length before param_next"
                      : r == PSB_LOOP_CLOSED ? "the path closed a loop without reaching param_next"
                      : "the path ended at a point the tangent switch could not pass");
+}
+
+/* ==== Fold curves in two parameters (psb_fold_map_*) ============================================
+   H(x, lambda, mu) = 0 at fixed mu (the map's at_mu problem), and the fold curve as the solution
+   curve of the minimally augmented system [H; sigma] = 0 (Govaerts, Numerical Methods for
+   Bifurcations of Dynamical Equilibria, SIAM 2000): sigma solves [H_x b; c^T 0] [v; sigma] =
+   [0; 1]. By Cramer's rule sigma = det H_x / det [H_x b; c^T 0], so its zeros are the folds whatever
+   the borders, as long as the bordered matrix is regular: b and c only need to be near the
+   left and right null vectors of H_x. A limit point in mu on that curve is a cusp. */
+
+#define PSB__FOLD_READY 0x70736266u /* psb_fold_map.internal_.ready of a set-up map */
+
+/* Bytes a map of n equations needs; carves m's arrays out of memory when m is not NULL. 0: n
+   out of range (the dense backend's limit). */
+static size_t psb__fold_layout(int n, psb_fold_map *m, void *memory)
+{
+    size_t nn = (size_t)n, np1 = nn + 1, np2 = nn + 2, off = 0;
+    double *base = (double *)memory;
+    if (n < 1 || n > 46000) return 0;
+#define PSB__TAKE(field, count)                                                                    \
+    do {                                                                                           \
+        if (m) m->internal_.field = base + off;                                                    \
+        off += (count);                                                                            \
+    } while (0)
+    PSB__TAKE(jac, nn * np2);
+    PSB__TAKE(mat, np1 * np1);
+    PSB__TAKE(rhs, 2 * np1);
+    PSB__TAKE(y_eval, np2);
+    PSB__TAKE(y_lift, np2);
+    PSB__TAKE(y_try, np2);
+    PSB__TAKE(b, nn);
+    PSB__TAKE(c, nn);
+    PSB__TAKE(b_old, nn);
+    PSB__TAKE(c_old, nn);
+#undef PSB__TAKE
+    off = psb__align(off * sizeof(double));
+    if (m) m->internal_.ipiv = (char *)memory + off;
+    off += psb__align(np1 * sizeof(psb__lint));
+    if (m) m->internal_.state = (int *)(void *)((char *)memory + off);
+    return off + psb__align(nn * sizeof(int));
+}
+
+/* at_mu's point y (n+1) with mu inserted at mu_index: the user's y (n+2). */
+static void psb__fold_lift(const psb_fold_map *m, const double *y, double mu, double *full)
+{
+    int j, k = 0;
+    for (j = 0; j < m->two.n + 2; j++) full[j] = j == m->two.mu_index ? mu : y[k++];
+}
+
+static int psb__fold_at_mu_residual(const double *y, double *h, void *user)
+{
+    psb_fold_map *m = (psb_fold_map *)user;
+    psb__fold_lift(m, y, m->mu, m->internal_.y_eval);
+    return m->two.residual(m->internal_.y_eval, h, m->two.user);
+}
+
+/* the user's n x (n+2) Jacobian without its mu column */
+static int psb__fold_at_mu_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    psb_fold_map *m = (psb_fold_map *)user;
+    int n = m->two.n, j, k = 0, rc;
+    psb__fold_lift(m, y, m->mu, m->internal_.y_eval);
+    rc = m->two.jacobian(m->internal_.y_eval, m->internal_.jac, n, m->two.user);
+    if (rc) return rc;
+    for (j = 0; j < n + 2; j++)
+        if (j != m->two.mu_index)
+            memcpy(jac + (size_t)k++ * (size_t)ld, m->internal_.jac + (size_t)j * (size_t)n, (size_t)n * sizeof *jac);
+    return 0;
+}
+
+/* LU of [A col; row^T 0] in internal_.mat, A the state columns of jac (leading dimension ldj).
+   0; 1 when singular; 2 when not finite. */
+static int psb__fold_factor(psb_fold_map *m, const double *jac, int ldj, const double *col,
+                            const double *row)
+{
+    int n = m->two.n, np1 = n + 1, i, k;
+    psb__lint order = np1, info = 0;
+    double *mat = m->internal_.mat;
+    for (k = 0; k < n; k++) {
+        const double *src = jac + (size_t)m->internal_.state[k] * (size_t)ldj;
+        double *dst = mat + (size_t)k * (size_t)np1;
+        for (i = 0; i < n; i++) dst[i] = src[i];
+        dst[n] = row[k];
+    }
+    for (i = 0; i < n; i++) mat[(size_t)n * (size_t)np1 + (size_t)i] = col[i];
+    mat[(size_t)n * (size_t)np1 + (size_t)n] = 0;
+    if (!psb__all_finite(mat, (size_t)np1 * (size_t)np1)) return 2;
+    PSCBRANCH_FORTRAN(dgetrf)(&order, &order, mat, &order, (psb__lint *)m->internal_.ipiv, &info);
+    return info != 0;
+}
+
+/* z (n+1) = M^{-1} e_{n+1} (trans "N") or M^{-T} e_{n+1} ("T"), M factored in internal_.mat.
+   0, or 1 when z is not finite. */
+static int psb__fold_solve_last(psb_fold_map *m, const char *trans, double *z)
+{
+    int np1 = m->two.n + 1;
+    psb__lint order = np1, one = 1, info = 0;
+    memset(z, 0, (size_t)np1 * sizeof *z);
+    z[np1 - 1] = 1;
+    PSCBRANCH_FORTRAN(dgetrs)(trans, &order, &one, m->internal_.mat, &order,
+                              (psb__lint *)m->internal_.ipiv, z, &order, &info PSB__STRLEN_ONE);
+    return info != 0 || !psb__all_finite(z, (size_t)np1);
+}
+
+/* fold's residual: H(y) and sigma(y). A singular bordered matrix is a recoverable failure (the
+   step shortens); a NaN in the Jacobian shows as sigma = NaN (PSB_ERR_NONFINITE). */
+static int psb__fold_residual(const double *y, double *h, void *user)
+{
+    psb_fold_map *m = (psb_fold_map *)user;
+    int n = m->two.n, rc, f;
+    rc = m->two.residual(y, h, m->two.user);
+    if (rc) return rc;
+    rc = m->two.jacobian(y, m->internal_.jac, n, m->two.user);
+    if (rc) return rc;
+    f = psb__fold_factor(m, m->internal_.jac, n, m->internal_.b, m->internal_.c);
+    if (f == 2) {
+        h[n] = NAN;
+        return 0;
+    }
+    if (f || psb__fold_solve_last(m, "N", m->internal_.rhs)) return 1;
+    h[n] = m->internal_.rhs[n];
+    return 0;
+}
+
+/* fold's Jacobian: the user's n rows, and sigma's gradient, d sigma / d y_j = -w^T (d H_x /
+   d y_j) v with [w; .] = M^{-T} e_{n+1} (differentiate M [v; sigma] = e_{n+1}). By the symmetry
+   of second derivatives (d H_x / d y_j) v is column j of the derivative of dH along (v, 0, 0),
+   so one central difference of the user's Jacobian along v, two evaluations with error
+   O(step^2), gives the whole row. Differences of fold's residual would cost n+2 Jacobians and
+   LUs for a row good to sqrt(eps) only. Within a step of a kink of H_x the quotient mixes
+   pieces, as the library's own differences do. */
+static int psb__fold_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    psb_fold_map *m = (psb_fold_map *)user;
+    int n = m->two.n, np2 = n + 2, i, j, k, rc, f, side;
+    const int *state = m->internal_.state;
+    double *v = m->internal_.rhs, *w = m->internal_.rhs + n + 1, *yd = m->internal_.y_eval,
+           *jd = m->internal_.jac, vmax = 0, ymax = 1, step;
+    rc = m->two.jacobian(y, jac, ld, m->two.user);
+    if (rc) return rc;
+    f = psb__fold_factor(m, jac, ld, m->internal_.b, m->internal_.c);
+    if (f == 2) {
+        for (j = 0; j < np2; j++) jac[n + (size_t)j * (size_t)ld] = NAN;
+        return 0;
+    }
+    if (f || psb__fold_solve_last(m, "N", v) || psb__fold_solve_last(m, "T", w)) return 1;
+    for (k = 0; k < n; k++) {
+        vmax = fmax(vmax, fabs(v[k]));
+        ymax = fmax(ymax, fabs(y[state[k]]));
+    }
+    step = 6.0554544523933395e-06 * ymax / vmax; /* cbrt(eps) relative, in the largest component */
+    for (j = 0; j < np2; j++) jac[n + (size_t)j * (size_t)ld] = 0;
+    for (side = 1; side >= -1; side -= 2) {
+        memcpy(yd, y, (size_t)np2 * sizeof *yd);
+        for (k = 0; k < n; k++) yd[state[k]] += side * step * v[k];
+        rc = m->two.jacobian(yd, jd, n, m->two.user);
+        if (rc) return rc;
+        for (j = 0; j < np2; j++) {
+            double dot = 0;
+            for (i = 0; i < n; i++) dot += w[i] * jd[i + (size_t)j * (size_t)n];
+            jac[n + (size_t)j * (size_t)ld] -= side * dot;
+        }
+    }
+    for (j = 0; j < np2; j++) jac[n + (size_t)j * (size_t)ld] /= 2 * step;
+    return 0;
+}
+
+PSCBRANCH_DEF void psb_two_param_problem_init(psb_two_param_problem *p, int n,
+                                              psb_residual_fn residual,
+                                              psb_jacobian_fn jacobian, void *user)
+{
+    if (!p) return;
+    memset(p, 0, sizeof *p);
+    p->n = n;
+    p->residual = residual;
+    p->jacobian = jacobian;
+    p->user = user;
+    p->lambda_index = n;
+    p->mu_index = n + 1;
+}
+
+PSCBRANCH_DEF size_t psb_fold_map_memory_size(int n) { return psb__fold_layout(n, NULL, NULL); }
+
+PSCBRANCH_DEF psb_result psb_fold_map_init(psb_fold_map *m, const psb_two_param_problem *p,
+                                           double mu, void *memory, size_t bytes)
+{
+    size_t need;
+    int n, j, k = 0;
+    if (!m) return PSB_ERR_NULL;
+    memset(m, 0, sizeof *m);
+    if (!p || !memory || !p->residual || !p->jacobian) return PSB_ERR_NULL;
+    n = p->n;
+    need = psb__fold_layout(n, NULL, NULL);
+    if (!need || p->lambda_index < 0 || p->lambda_index > n + 1 || p->mu_index < 0 ||
+        p->mu_index > n + 1 || p->lambda_index == p->mu_index)
+        return PSB_ERR_SIZE;
+    if (!psb__finite(mu)) return PSB_ERR_NONFINITE;
+    if (bytes < need) return PSB_ERR_NOMEM;
+    memset(memory, 0, need); /* zero borders until a start */
+    m->two = *p;
+    m->mu = mu;
+    psb__fold_layout(n, m, memory);
+    for (j = 0; j < n + 2; j++)
+        if (j != p->lambda_index && j != p->mu_index) m->internal_.state[k++] = j;
+    psb_problem_init(&m->at_mu, n, psb__fold_at_mu_residual, psb__fold_at_mu_jacobian, m);
+    m->at_mu.param_index = p->lambda_index - (p->lambda_index > p->mu_index);
+    psb_problem_init(&m->fold, n + 1, psb__fold_residual, psb__fold_jacobian, m);
+    m->fold.param_index = p->mu_index;
+    m->b = m->internal_.b;
+    m->c = m->internal_.c;
+    m->internal_.ready = PSB__FOLD_READY;
+    return PSB_SUCCESS;
+}
+
+/* The checks psb_fold_map_start and _refine share: PSB_SUCCESS, or the failure (message on s
+   when s is a solver). */
+static psb_result psb__fold_check(psb_fold_map *m, psb_solver *s, const char *what)
+{
+    char buf[160];
+    if (!psb__ready(s)) return PSB_ERR_NULL;
+    s->message[0] = 0;
+    if (!m || m->internal_.ready != PSB__FOLD_READY)
+        return psb__fail(s, PSB_ERR_NULL, "the fold map is NULL or not set up (psb_fold_map_init)");
+    if (s->prob.residual != psb__fold_residual || s->prob.user != (void *)m) {
+        snprintf(buf, sizeof buf, "%s: the solver is not one of this map's fold problem", what);
+        return psb__fail(s, PSB_ERR_INPUT, buf);
+    }
+    return psb__trace_busy(s, what);
+}
+
+/* The user's Jacobian at y into internal_.jac, its failures mapped as the library's. */
+static psb_result psb__fold_user_jacobian(psb_fold_map *m, psb_solver *s, const double *y)
+{
+    int n = m->two.n;
+    psb_result r = psb__callback_code(s, m->two.jacobian(y, m->internal_.jac, n, m->two.user),
+                                      "jacobian callback returned nonzero");
+    if (r != PSB_SUCCESS) return r;
+    if (!psb__all_finite(m->internal_.jac, (size_t)n * (size_t)(n + 2)))
+        return psb__fail(s, PSB_ERR_NONFINITE, "jacobian callback returned NaN or Inf");
+    return PSB_SUCCESS;
+}
+
+/* New borders at y from the current ones: c = v, b = w of the bordered systems there, each
+   of unit 2-norm; at a fold these are the right and left null vectors of H_x. */
+static psb_result psb__fold_new_borders(psb_fold_map *m, psb_solver *s, const double *y)
+{
+    int n = m->two.n, k;
+    double *v = m->internal_.rhs, *w = m->internal_.rhs + n + 1, nv, nw;
+    psb_result r = psb__fold_user_jacobian(m, s, y);
+    if (r != PSB_SUCCESS) return r;
+    if (psb__fold_factor(m, m->internal_.jac, n, m->internal_.b, m->internal_.c) ||
+        psb__fold_solve_last(m, "N", v) || psb__fold_solve_last(m, "T", w))
+        return psb__fail(s, PSB_ERR_SINGULAR, "the bordered matrix [H_x b; c^T 0] is singular at y");
+    nv = psb__norm2(v, n);
+    nw = psb__norm2(w, n);
+    for (k = 0; k < n; k++) {
+        m->internal_.b[k] = w[k] / nw;
+        m->internal_.c[k] = v[k] / nv;
+    }
+    return PSB_SUCCESS;
+}
+
+/* Newton at fixed mu on fold from y, borders anew at its solution, Newton again: the fold in
+   internal_.y_try on success. */
+static psb_result psb__fold_refine(psb_fold_map *m, psb_solver *s, const double *y, int max_iter)
+{
+    double *yt = m->internal_.y_try;
+    psb_result r;
+    psb__copy(yt, y, m->two.n + 2);
+    r = psb_solve_at_param(s, yt, max_iter);
+    if (r == PSB_SUCCESS) r = psb__fold_new_borders(m, s, yt);
+    if (r == PSB_SUCCESS) r = psb_solve_at_param(s, yt, max_iter);
+    return r;
+}
+
+static void psb__fold_keep_borders(psb_fold_map *m, int restore)
+{
+    size_t bytes = (size_t)m->two.n * sizeof(double);
+    if (restore) {
+        memcpy(m->internal_.b, m->internal_.b_old, bytes);
+        memcpy(m->internal_.c, m->internal_.c_old, bytes);
+    } else {
+        memcpy(m->internal_.b_old, m->internal_.b, bytes);
+        memcpy(m->internal_.c_old, m->internal_.c, bytes);
+    }
+}
+
+PSCBRANCH_DEF psb_result psb_fold_map_start(psb_fold_map *m, psb_solver *fold_solver,
+                                            const double *y, const double *t, double *y_fold,
+                                            double *t_fold)
+{
+    psb_solver *s = fold_solver;
+    psb_result r = psb__fold_check(m, s, "psb_fold_map_start");
+    int n, k;
+    double *yl, *q, *p, nq, np;
+    if (r != PSB_SUCCESS) return r;
+    if (!y || !t || !y_fold) return psb__fail(s, PSB_ERR_NULL, "y, t or y_fold is NULL");
+    n = m->two.n;
+    if (!psb__all_finite(y, (size_t)n + 1) || !psb__all_finite(t, (size_t)n + 1) || !psb__finite(m->mu))
+        return psb__fail(s, PSB_ERR_NONFINITE, "y, t or the map's mu contains NaN or Inf");
+    yl = m->internal_.y_lift;
+    q = m->internal_.y_try; /* t lifted, for its state part */
+    p = m->internal_.rhs;
+    psb__fold_lift(m, t, 0, q);
+    for (k = 0; k < n; k++) q[k] = q[m->internal_.state[k]];
+    nq = psb__norm2(q, n);
+    if (!(nq > 0)) return psb__fail(s, PSB_ERR_INPUT, "t has no state component");
+    psb__fold_lift(m, y, m->mu, yl);
+    r = psb__fold_user_jacobian(m, s, yl);
+    if (r != PSB_SUCCESS) return r;
+    psb__fold_keep_borders(m, 0);
+    /* c along t's state part, the right null vector at a fold; b the left one, from
+       [H_x H_lambda; c^T 0]^T [b; .] = e_{n+1} (regular where dH has rank n and c is not
+       orthogonal to the kernel of H_x) */
+    for (k = 0; k < n; k++) m->internal_.c[k] = q[k] / nq;
+    if (psb__fold_factor(m, m->internal_.jac, n,
+                         m->internal_.jac + (size_t)m->two.lambda_index * (size_t)n, m->internal_.c) ||
+        psb__fold_solve_last(m, "T", p) || !((np = psb__norm2(p, n)) > 0)) {
+        psb__fold_keep_borders(m, 1);
+        return psb__fail(s, PSB_ERR_SINGULAR, "dH has rank < n at (y, t), or t is no tangent there");
+    }
+    for (k = 0; k < n; k++) m->internal_.b[k] = p[k] / np;
+    r = psb__fold_refine(m, s, yl, 0);
+    /* Newton failing for the geometry's sake (no convergence, a singular system: a fault such
+       as a callback's > 0 or a NaN is reported as itself), or landing far: no fold here */
+    if ((r != PSB_SUCCESS && !psb__is_fatal(r) && r != PSB_ERR_CALLBACK_FAILED && r != PSB_ERR_NONFINITE) ||
+        (r == PSB_SUCCESS && psb__dist_w(s, yl, m->internal_.y_try) > s->opt.h_init))
+        r = psb__fail(s, PSB_ERR_INPUT, "(y, t) is not a fold: Newton at fixed mu finds none within h_init");
+    if (r == PSB_SUCCESS && t_fold) r = psb_tangent(s, m->internal_.y_try, NULL, t_fold);
+    if (r != PSB_SUCCESS) {
+        psb__fold_keep_borders(m, 1);
+        return r;
+    }
+    psb__copy(y_fold, m->internal_.y_try, n + 2);
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_fold_map_refine(psb_fold_map *m, psb_solver *fold_solver, double *y,
+                                             int max_iter)
+{
+    psb_solver *s = fold_solver;
+    psb_result r = psb__fold_check(m, s, "psb_fold_map_refine");
+    if (r != PSB_SUCCESS) return r;
+    if (!y) return psb__fail(s, PSB_ERR_NULL, "y is NULL");
+    if (!psb__all_finite(y, (size_t)m->two.n + 2)) return psb__fail(s, PSB_ERR_NONFINITE, "y contains NaN or Inf");
+    if (max_iter > PSB_MAX_ITER_LIMIT) return psb__fail(s, PSB_ERR_INPUT, "max_iter above PSB_MAX_ITER_LIMIT");
+    psb__fold_keep_borders(m, 0);
+    r = psb__fold_new_borders(m, s, y);
+    if (r == PSB_SUCCESS) r = psb__fold_refine(m, s, y, max_iter);
+    if (r != PSB_SUCCESS) {
+        psb__fold_keep_borders(m, 1);
+        return r;
+    }
+    psb__copy(y, m->internal_.y_try, m->two.n + 2);
+    return PSB_SUCCESS;
 }
 
 /* ==== Contact helpers =============================================================================

@@ -1,0 +1,437 @@
+/* Fold curves in two parameters (psb_fold_map_*): the cusp x^3 - mu x + lambda, its variant
+   with a kink of H in mu, and a coupled problem in two unknowns with its own index order, each
+   traced from a fold a one-parameter trace located, against their closed forms; the cusp where
+   the fold curve turns in mu; folds at fixed mu against one-parameter traces; the augmented
+   Jacobian against differences; bad input. */
+#define PSCBRANCH_IMPLEMENTATION
+#include "pscbranch.h"
+#include "harness.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+enum { P_CUSP, P_KINK, P_TWO };
+
+typedef struct {
+    int kind;
+    double c, mu0; /* P_KINK: + c |mu - mu0| */
+    double a, b;   /* P_TWO: x2 = a x1 + b x1^2 */
+} problem;
+
+/* P_CUSP, P_KINK: y = (x, lambda, mu). P_TWO: y = (mu, x1, lambda, x2). */
+static int res(const double *y, double *h, void *u)
+{
+    const problem *p = (const problem *)u;
+    if (p->kind == P_TWO) {
+        h[0] = y[1] * y[1] * y[1] - y[0] * y[1] + y[2] - y[3];
+        h[1] = y[3] - p->a * y[1] - p->b * y[1] * y[1];
+        return 0;
+    }
+    h[0] = y[0] * y[0] * y[0] - y[2] * y[0] + y[1];
+    if (p->kind == P_KINK) h[0] += p->c * fabs(y[2] - p->mu0);
+    return 0;
+}
+
+static int jac(const double *y, double *j, int ld, void *u)
+{
+    const problem *p = (const problem *)u;
+    if (p->kind == P_TWO) {
+        j[0] = -y[1];
+        j[ld] = 3 * y[1] * y[1] - y[0];
+        j[2 * ld] = 1;
+        j[3 * ld] = -1;
+        j[1] = 0;
+        j[1 + ld] = -p->a - 2 * p->b * y[1];
+        j[1 + 2 * ld] = 0;
+        j[1 + 3 * ld] = 1;
+        return 0;
+    }
+    j[0] = 3 * y[0] * y[0] - y[2];
+    j[ld] = 1;
+    j[2 * ld] = -y[0] + (p->kind == P_KINK ? (y[2] < p->mu0 ? -p->c : p->c) : 0);
+    return 0;
+}
+
+/* The closed-form fold curve through the point y, parametrised by its state x (x1): the
+   largest error of mu, lambda (and x2) relative to max(1, |value|). */
+static double curve_error(const problem *p, const double *y)
+{
+    double x, mu, lam, e;
+    if (p->kind == P_TWO) {
+        double x2;
+        x = y[1];
+        mu = 3 * x * x - 2 * p->b * x - p->a;
+        lam = 2 * x * x * x - p->b * x * x;
+        x2 = p->a * x + p->b * x * x;
+        e = fabs(y[0] - mu) / fmax(1, fabs(mu));
+        e = fmax(e, fabs(y[2] - lam) / fmax(1, fabs(lam)));
+        return fmax(e, fabs(y[3] - x2) / fmax(1, fabs(x2)));
+    }
+    x = y[0];
+    mu = 3 * x * x;
+    lam = 2 * x * x * x - (p->kind == P_KINK ? p->c * fabs(mu - p->mu0) : 0);
+    e = fabs(y[2] - mu) / fmax(1, fabs(mu));
+    return fmax(e, fabs(y[1] - lam) / fmax(1, fabs(lam)));
+}
+
+/* ---- the traced fold curve, recorded by the point callback ------------------------------- */
+
+#define MAX_PTS 4000
+typedef struct {
+    const problem *p;
+    int np2, n_pts, n_cusps;
+    double pts[MAX_PTS * 4], max_err, cusp[4], cusp_precision;
+} record;
+
+static int on_point(const psb_point *pt, void *u)
+{
+    record *r = (record *)u;
+    int i;
+    if (pt->flags & PSB_POINT_SPECIAL) {
+        if (pt->special->kind == PSB_SPECIAL_FOLD && r->n_cusps++ == 0) {
+            for (i = 0; i < r->np2; i++) r->cusp[i] = pt->special->y[i];
+            r->cusp_precision = pt->special->precision;
+        }
+        return 0;
+    }
+    r->max_err = fmax(r->max_err, curve_error(r->p, pt->y));
+    if (r->n_pts < MAX_PTS) {
+        for (i = 0; i < r->np2; i++) r->pts[r->n_pts * r->np2 + i] = pt->y[i];
+        r->n_pts++;
+    }
+    return 0;
+}
+
+/* A fold of at_mu located by a one-parameter trace from y1 (at_mu's coordinates) along the
+   tangent with increasing lambda: (y1, t1) the located couple. Returns psb_trace's result. */
+static psb_result fold_at_mu(psb_solver *s1, double *y1, double *t1)
+{
+    psb_trace_options to;
+    psb_result r = psb_tangent(s1, y1, NULL, t1);
+    if (r < 0) return r;
+    memset(&to, 0, sizeof to);
+    to.detect = PSB_DETECT_FOLDS;
+    to.stop_at = 1u << PSB_SPECIAL_FOLD;
+    to.max_steps = 2000;
+    return psb_trace(s1, y1, t1, &to, NULL);
+}
+
+typedef struct {
+    problem p;
+    psb_fold_map map;
+    void *mem;
+    psb_solver s1, s2; /* on map.at_mu, map.fold */
+} setup;
+
+static void setup_init(setup *st, const problem *p, int n, int lambda_index, int mu_index, double mu)
+{
+    psb_two_param_problem two;
+    psb_options opt;
+    size_t bytes = psb_fold_map_memory_size(n);
+    st->p = *p;
+    psb_two_param_problem_init(&two, n, res, jac, &st->p);
+    two.lambda_index = lambda_index;
+    two.mu_index = mu_index;
+    st->mem = malloc(bytes);
+    CHECK(psb_fold_map_init(&st->map, &two, mu, st->mem, bytes) == PSB_SUCCESS);
+    memset(&opt, 0, sizeof opt);
+    opt.h_max = 0.02;
+    CHECK(psb_solver_init(&st->s1, &st->map.at_mu, &opt) == PSB_SUCCESS);
+    CHECK(psb_solver_init(&st->s2, &st->map.fold, &opt) == PSB_SUCCESS);
+}
+
+static void setup_free(setup *st)
+{
+    psb_solver_free(&st->s1);
+    psb_solver_free(&st->s2);
+    free(st->mem);
+}
+
+/* From y1 (at_mu's coordinates, at the map's mu) to a fold, the fold curve from there towards
+   smaller mu through the cusp and up to mu_max, recorded in rec. */
+static psb_result trace_fold_curve(setup *st, double *y1, double mu_min, double mu_max, record *rec,
+                                   psb_trace_report *rep)
+{
+    double t1[4], yf[4], tf[4];
+    int np2 = st->map.two.n + 2, mi = st->map.two.mu_index, i;
+    psb_trace_options to;
+    psb_result r = fold_at_mu(&st->s1, y1, t1);
+    CHECK(r == PSB_STOPPED);
+    r = psb_fold_map_start(&st->map, &st->s2, y1, t1, yf, tf);
+    CHECK(r == PSB_SUCCESS);
+    if (r != PSB_SUCCESS) {
+        printf("  start: %s\n", psb_solver_message(&st->s2));
+        return r;
+    }
+    CHECK(curve_error(&st->p, yf) <= 1e-10);
+    CHECK(yf[mi] == st->map.mu);
+    if (tf[mi] > 0)
+        for (i = 0; i < np2; i++) tf[i] = -tf[i];
+    memset(rec, 0, sizeof *rec);
+    rec->p = &st->p;
+    rec->np2 = np2;
+    memset(&to, 0, sizeof to);
+    to.param_min = mu_min;
+    to.param_max = mu_max;
+    to.detect = PSB_DETECT_FOLDS;
+    to.on_point = on_point;
+    to.point_user = rec;
+    to.max_steps = MAX_PTS - 10;
+    return psb_trace(&st->s2, yf, tf, &to, rep);
+}
+
+/* ---- (a) the cusp ------------------------------------------------------------------------ */
+
+static void test_cusp(void)
+{
+    problem p = {P_CUSP, 0, 0, 0, 0};
+    setup st;
+    record rec;
+    psb_trace_report rep;
+    double y1[2] = {1, 0}, max_diff = 0, max_cf = 0;
+    int k, i;
+    setup_init(&st, &p, 1, 1, 2, 1.0);
+    CHECK(trace_fold_curve(&st, y1, -1, 1.2, &rec, &rep) == PSB_PARAM_BOUND);
+    printf("cusp: %d points, largest closed-form error %.2e; cusp at mu = %.2e, x = %.2e "
+           "(precision %.1e), %d limit point(s) in mu\n",
+           rec.n_pts, rec.max_err, rec.cusp[2], rec.cusp[0], rec.cusp_precision, rec.n_cusps);
+    CHECK(rec.n_pts > 50);
+    CHECK(rec.max_err <= 1e-8);
+    CHECK(rec.n_cusps == 1);
+    CHECK(fabs(rec.cusp[2]) <= 1e-8);
+    CHECK(fabs(rec.cusp[0]) <= 1e-8 && fabs(rec.cusp[1]) <= 1e-8);
+    /* the curve came back on the other side: x < 0 up to mu = 1.2 */
+    CHECK(rec.pts[(rec.n_pts - 1) * 3] < -0.6);
+    CHECK_NEAR(rec.pts[(rec.n_pts - 1) * 3 + 2], 1.2, 1e-12);
+
+    /* 11 values of mu: the fold a one-parameter trace locates is the fold curve's, refined at
+       that mu from the nearest recorded point of the x > 0 side */
+    for (k = 0; k <= 10; k++) {
+        double mu = 0.05 + 0.09 * k, ys[2] = {sqrt(mu), 0}, t1[2], yc[3], best = HUGE_VAL;
+        double want = 2 * pow(mu / 3, 1.5);
+        st.map.mu = mu;
+        CHECK(fold_at_mu(&st.s1, ys, t1) == PSB_STOPPED);
+        for (i = 0; i < rec.n_pts; i++)
+            if (rec.pts[i * 3] > 0 && fabs(rec.pts[i * 3 + 2] - mu) < best) {
+                best = fabs(rec.pts[i * 3 + 2] - mu);
+                memcpy(yc, rec.pts + i * 3, sizeof yc);
+            }
+        yc[2] = mu;
+        CHECK(psb_fold_map_refine(&st.map, &st.s2, yc, 0) == PSB_SUCCESS);
+        CHECK(yc[2] == mu);
+        max_diff = fmax(max_diff, fabs(yc[1] - ys[1]));
+        max_cf = fmax(max_cf, fmax(fabs(yc[1] - want), fabs(ys[1] - want)) / want);
+    }
+    printf("cusp: at 11 values of mu, |lambda_curve - lambda_one_parameter| <= %.2e, "
+           "closed form to %.2e relative\n", max_diff, max_cf);
+    CHECK(max_diff <= 1e-10);
+    CHECK(max_cf <= 1e-8);
+    setup_free(&st);
+}
+
+/* ---- (b) a kink of H in mu crossed by the fold curve ------------------------------------- */
+
+static void test_kink(void)
+{
+    problem p = {P_KINK, 0.3, 0.5, 0, 0};
+    setup st;
+    record rec;
+    psb_trace_report rep;
+    double y1[2] = {1, -0.15}; /* x^3 - x + lambda + 0.3 |1 - 0.5| = 0 */
+    int i, left = 0, right = 0;
+    setup_init(&st, &p, 1, 1, 2, 1.0);
+    CHECK(trace_fold_curve(&st, y1, -1, 1.2, &rec, &rep) == PSB_PARAM_BOUND);
+    for (i = 0; i < rec.n_pts; i++) {
+        left += rec.pts[i * 3 + 2] < 0.5 && rec.pts[i * 3] < 0;
+        right += rec.pts[i * 3 + 2] > 0.5 && rec.pts[i * 3] < 0;
+    }
+    printf("kink in mu: %d points, %d kinks passed, largest closed-form error %.2e; cusp at "
+           "mu = %.2e, lambda + 0.15 = %.2e\n",
+           rec.n_pts, rep.n_switches, rec.max_err, rec.cusp[2], rec.cusp[1] + 0.15);
+    CHECK(rep.n_switches == 2);
+    CHECK(left > 5 && right > 5);
+    CHECK(rec.max_err <= 1e-8);
+    CHECK(rec.n_cusps == 1);
+    CHECK(fabs(rec.cusp[2]) <= 1e-8);
+    CHECK(fabs(rec.cusp[1] + 0.15) <= 1e-8);
+    setup_free(&st);
+}
+
+/* ---- (c) two unknowns, y = (mu, x1, lambda, x2) ------------------------------------------ */
+
+static void test_two(void)
+{
+    problem p = {P_TWO, 0, 0, 0.5, 0.6};
+    setup st;
+    record rec;
+    psb_trace_report rep;
+    double y1[3] = {2, -2.6, 3.4}; /* (x1, lambda, x2) at mu = 1 */
+    double mu_c = -p.b * p.b / 3 - p.a, x_c = p.b / 3;
+    setup_init(&st, &p, 2, 2, 0, 1.0);
+    CHECK(st.map.at_mu.param_index == 1);
+    CHECK(st.map.fold.param_index == 0);
+    CHECK(trace_fold_curve(&st, y1, -2, 1.2, &rec, &rep) == PSB_PARAM_BOUND);
+    printf("two unknowns: %d points, largest closed-form error %.2e; cusp at mu %+.2e, x1 %+.2e "
+           "from the closed form\n", rec.n_pts, rec.max_err, rec.cusp[0] - mu_c, rec.cusp[1] - x_c);
+    CHECK(rec.n_pts > 50);
+    CHECK(rec.max_err <= 1e-8);
+    CHECK(rec.n_cusps == 1);
+    CHECK(fabs(rec.cusp[0] - mu_c) <= 1e-8);
+    CHECK(fabs(rec.cusp[1] - x_c) <= 1e-8);
+    setup_free(&st);
+}
+
+/* ---- (e) the augmented Jacobian against central differences of the augmented residual ---- */
+
+static double jacobian_error(setup *st, const double *y)
+{
+    int n1 = st->map.two.n + 1, np2 = n1 + 1, i, j;
+    double J[3 * 4], hp[3], hm[3], yd[4], err = 0;
+    psb_problem *f = &st->map.fold;
+    CHECK(f->jacobian(y, J, n1, f->user) == 0);
+    for (j = 0; j < np2; j++) {
+        double step = 1e-5;
+        memcpy(yd, y, sizeof(double) * (size_t)np2);
+        yd[j] = y[j] + step;
+        CHECK(f->residual(yd, hp, f->user) == 0);
+        yd[j] = y[j] - step;
+        CHECK(f->residual(yd, hm, f->user) == 0);
+        for (i = 0; i < n1; i++) {
+            double d = (hp[i] - hm[i]) / (2 * step);
+            err = fmax(err, fabs(J[i + j * n1] - d) / fmax(1, fabs(d)));
+        }
+    }
+    return err;
+}
+
+static void test_jacobian(void)
+{
+    problem pc = {P_CUSP, 0, 0, 0, 0}, pt = {P_TWO, 0, 0, 0.5, 0.6};
+    setup st;
+    record rec;
+    psb_trace_report rep;
+    double y1[3] = {1, 0, 0}, ys[3][4] = {{0.3, 0.1, 0.7, 0}, {-0.5, 0.2, 1.1, 0}, {0.9, -0.4, 2.0, 0}};
+    double yt[3][4] = {{0.2, 0.6, -0.1, 0.4}, {-0.7, 0.3, 0.5, 0.1}, {1.5, -0.2, 0.9, -1.3}}, err = 0;
+    int k;
+    setup_init(&st, &pc, 1, 1, 2, 1.0);
+    CHECK(trace_fold_curve(&st, y1, 0.5, 1.2, &rec, &rep) == PSB_PARAM_BOUND); /* sets the borders */
+    for (k = 0; k < 3; k++) err = fmax(err, jacobian_error(&st, ys[k]));
+    setup_free(&st);
+    y1[0] = 2, y1[1] = -2.6, y1[2] = 3.4;
+    setup_init(&st, &pt, 2, 2, 0, 1.0);
+    CHECK(trace_fold_curve(&st, y1, 0.5, 1.2, &rec, &rep) == PSB_PARAM_BOUND);
+    for (k = 0; k < 3; k++) err = fmax(err, jacobian_error(&st, yt[k]));
+    printf("augmented Jacobian: largest difference from central differences %.2e (relative)\n", err);
+    CHECK(err <= 1e-7);
+    setup_free(&st);
+}
+
+/* ---- (d) bad input ----------------------------------------------------------------------- */
+
+static void test_bad_input(void)
+{
+    problem p = {P_CUSP, 0, 0, 0, 0};
+    psb_two_param_problem two;
+    psb_fold_map m, other;
+    setup st;
+    size_t bytes = psb_fold_map_memory_size(1);
+    double *mem = (double *)malloc(bytes), y1[2] = {1, 0}, t1[2], yf[3] = {7, 7, 7}, tf[3] = {7, 7, 7};
+    double b0, c0, yc[3], ycopy[3];
+    void *mem2 = malloc(bytes);
+    psb_solver s_other;
+
+    CHECK(psb_fold_map_memory_size(0) == 0);
+    CHECK(psb_fold_map_memory_size(46001) == 0);
+    CHECK(bytes > 0);
+    psb_two_param_problem_init(&two, 1, res, jac, &p);
+    CHECK(two.lambda_index == 1 && two.mu_index == 2);
+    CHECK(psb_fold_map_init(NULL, &two, 1, mem, bytes) == PSB_ERR_NULL);
+    CHECK(psb_fold_map_init(&m, NULL, 1, mem, bytes) == PSB_ERR_NULL);
+    CHECK(psb_fold_map_init(&m, &two, 1, NULL, bytes) == PSB_ERR_NULL);
+    two.jacobian = NULL;
+    CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes) == PSB_ERR_NULL);
+    two.jacobian = jac;
+    two.residual = NULL;
+    CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes) == PSB_ERR_NULL);
+    two.residual = res;
+    two.mu_index = 1;
+    CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes) == PSB_ERR_SIZE);
+    two.mu_index = 3;
+    CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes) == PSB_ERR_SIZE);
+    two.mu_index = 2;
+    two.lambda_index = -1;
+    CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes) == PSB_ERR_SIZE);
+    two.lambda_index = 1;
+    two.n = 0;
+    CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes) == PSB_ERR_SIZE);
+    two.n = 1;
+    CHECK(psb_fold_map_init(&m, &two, NAN, mem, bytes) == PSB_ERR_NONFINITE);
+    CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes - 1) == PSB_ERR_NOMEM);
+    CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes) == PSB_SUCCESS);
+    CHECK(m.b[0] == 0 && m.c[0] == 0);
+    CHECK(psb_fold_map_init(&other, &two, 1, mem2, bytes) == PSB_SUCCESS);
+
+    setup_init(&st, &p, 1, 1, 2, 1.0);
+    CHECK(fold_at_mu(&st.s1, y1, t1) == PSB_STOPPED);
+    CHECK(psb_fold_map_start(NULL, &st.s2, y1, t1, yf, tf) == PSB_ERR_NULL);
+    CHECK(psb_fold_map_start(&st.map, NULL, y1, t1, yf, tf) == PSB_ERR_NULL);
+    CHECK(psb_fold_map_start(&st.map, &st.s2, NULL, t1, yf, tf) == PSB_ERR_NULL);
+    CHECK(psb_fold_map_start(&st.map, &st.s2, y1, NULL, yf, tf) == PSB_ERR_NULL);
+    CHECK(psb_fold_map_start(&st.map, &st.s2, y1, t1, NULL, tf) == PSB_ERR_NULL);
+    CHECK(psb_fold_map_start(&st.map, &st.s1, y1, t1, yf, tf) == PSB_ERR_INPUT); /* at_mu's solver */
+    CHECK(psb_fold_map_start(&other, &st.s2, y1, t1, yf, tf) == PSB_ERR_INPUT);  /* another map's */
+    {
+        double ybad[2] = {NAN, 0}, tz[2] = {0, 1}, y0[2] = {0, 0}, t0[2];
+        CHECK(psb_fold_map_start(&st.map, &st.s2, ybad, t1, yf, tf) == PSB_ERR_NONFINITE);
+        CHECK(psb_fold_map_start(&st.map, &st.s2, y1, tz, yf, tf) == PSB_ERR_INPUT);
+        /* (0, 0) and (1.2, -0.528) solve x^3 - x + lambda = 0 at mu = 1; the folds are at
+           x = +-0.577 (at x = 0 Newton's system is singular, from 1.2 it goes to the fold) */
+        CHECK(psb_tangent(&st.s1, y0, NULL, t0) == PSB_SUCCESS);
+        CHECK(psb_fold_map_start(&st.map, &st.s2, y0, t0, yf, tf) == PSB_ERR_INPUT);
+        printf("not a fold: %s\n", psb_solver_message(&st.s2));
+        y0[0] = 1.2, y0[1] = 1.2 - 1.2 * 1.2 * 1.2;
+        CHECK(psb_tangent(&st.s1, y0, NULL, t0) == PSB_SUCCESS);
+        CHECK(psb_fold_map_start(&st.map, &st.s2, y0, t0, yf, tf) == PSB_ERR_INPUT);
+        printf("not a fold: %s\n", psb_solver_message(&st.s2));
+        st.map.mu = NAN;
+        CHECK(psb_fold_map_start(&st.map, &st.s2, y1, t1, yf, tf) == PSB_ERR_NONFINITE);
+        st.map.mu = 1;
+    }
+    CHECK(yf[0] == 7 && yf[1] == 7 && yf[2] == 7 && tf[0] == 7 && tf[2] == 7);
+    CHECK(st.map.b[0] == 0 && st.map.c[0] == 0); /* borders untouched on failure */
+    CHECK(psb_fold_map_start(&st.map, &st.s2, y1, t1, yf, NULL) == PSB_SUCCESS);
+    b0 = st.map.b[0];
+    c0 = st.map.c[0];
+    CHECK(fabs(fabs(b0) - 1) < 1e-15 && fabs(fabs(c0) - 1) < 1e-15);
+
+    /* refine: bad input leaves y and the borders as they were */
+    yc[0] = NAN, yc[1] = 0, yc[2] = 1;
+    CHECK(psb_fold_map_refine(&st.map, &st.s2, yc, 0) == PSB_ERR_NONFINITE);
+    CHECK(psb_fold_map_refine(&st.map, &st.s2, NULL, 0) == PSB_ERR_NULL);
+    CHECK(psb_fold_map_refine(NULL, &st.s2, yf, 0) == PSB_ERR_NULL);
+    CHECK(psb_solver_init(&s_other, &other.fold, NULL) == PSB_SUCCESS);
+    CHECK(psb_fold_map_refine(&st.map, &s_other, yf, 0) == PSB_ERR_INPUT);
+    yc[0] = 0.5, yc[1] = 0.2, yc[2] = -1; /* mu = -1: no fold (H_x = 3 x^2 + 1 > 0) */
+    memcpy(ycopy, yc, sizeof yc);
+    CHECK(psb_fold_map_refine(&st.map, &st.s2, yc, 0) < 0);
+    CHECK(!memcmp(yc, ycopy, sizeof yc));
+    CHECK(st.map.b[0] == b0 && st.map.c[0] == c0);
+    yc[0] = 0.5, yc[1] = 0.2, yc[2] = 0.8; /* a fold at mu = 0.8: x = sqrt(0.8 / 3) */
+    CHECK(psb_fold_map_refine(&st.map, &st.s2, yc, 0) == PSB_SUCCESS);
+    CHECK_NEAR(yc[0], sqrt(0.8 / 3), 1e-12);
+    CHECK_NEAR(yc[1], 2 * pow(0.8 / 3, 1.5), 1e-12);
+    psb_solver_free(&s_other);
+    setup_free(&st);
+    free(mem);
+    free(mem2);
+}
+
+int main(void)
+{
+    test_cusp();
+    test_kink();
+    test_two();
+    test_jacobian();
+    test_bad_input();
+    return HARNESS_END();
+}
