@@ -68,22 +68,19 @@
    2. THE API AT A GLANCE (most functions return psb_result) --------------------------------------
    psb_problem_init             zero a psb_problem; set N, callbacks, param_index = N (void)
    psb_options_resolve, psb_branch_options_resolve   the options a solver, a call would use
-   psb_solver_memory_size       bytes psb_solver_init_with_memory needs (0: invalid problem)
-   psb_solver_init, psb_solver_init_with_memory   set up a solver: allocated, or on your memory
+   psb_solver_init, _init_with_memory, _memory_size   a solver: allocated, or on your memory
    psb_solver_free              release it (void); later calls return PSB_ERR_NULL
    psb_solver_message, psb_result_string   the last failure's diagnostic; a code's meaning
    psb_dot_w, psb_norm_w        weighted inner product and norm (double; NaN on bad arguments)
    psb_solve_at_param           Newton on H(y) = 0 with the parameter held: a starting point
-   psb_tangent                  unit tangent at y, oriented by a reference direction
-   psb_correct                  Moore-Penrose corrector of a couple
+   psb_tangent, psb_correct     unit tangent at y (oriented by a reference); the corrector
    psb_step                     one predictor-corrector step with step control
    psb_switch_tangent           the tangent switch at a couple where steps fail
    psb_trace                    the driver: from (y, t) to a bound, budget, end point or loop
-   psb_locate_end               Algorithm 2.1: approach the end point of a branch
-   psb_find_branches            Algorithm 2.2 with restarts: the branches leaving that point
+   psb_locate_end, psb_find_branches   Algorithms 2.1, 2.2: a branch's end point, the branches there
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
-   psb_fold_map_memory_size, _init, _start, _refine   fold curves in two parameters (mu)
+   psb_two_param_problem_init; psb_fold_map_memory_size, _init, _start, _refine   fold curves
    psb_explore                  every branch reachable from one couple, as a graph
    psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
@@ -91,15 +88,15 @@
    Inputs are never modified on failure, but psb_trace's (y, t) hold the last accepted couple once
    a step was accepted, the branching calls' (ys, ts) the branches found so far, psb_explore's
    diagram the graph so far. Only psb_solver_init and psb_diagram_init allocate, and psb_explore
-   through the allocator of a diagram set to grow. Single operations
-   (psb_solve_at_param, _tangent, _correct, _step, _switch_tangent, _locate_end, _find_branches)
-   may be called from a point or event callback of psb_trace on the same solver; psb_trace,
-   psb_explore, psb_evolve_step and psb_branch_point_switch there return PSB_ERR_INPUT and leave
-   the trace as it was. A solver is not thread-safe, but there is no global state: distinct
-   solvers may run in distinct threads. Same inputs, options and seed: same results, bit for bit.
-   psb_solver is caller-owned; public: prob (fd_step resolved), opt (resolved), branch (the latest
-   branching call's resolved options), stats (cumulative counters) and message; internal_ (type
-   psb__internal) is opaque. A freed solver, or one whose init failed, gives PSB_ERR_NULL.
+   through the allocator of a diagram set to grow. Single operations (psb_solve_at_param, _tangent,
+   _correct, _step, _switch_tangent, _locate_end, _find_branches) may be called from a point or
+   event callback of psb_trace on the same solver; psb_trace, psb_explore, psb_evolve_step and
+   psb_branch_point_switch there return PSB_ERR_INPUT and leave the trace as it was. A solver is
+   not thread-safe, but there is no global state: distinct solvers may run in distinct threads.
+   Same inputs, options and seed: same results, bit for bit. psb_solver is caller-owned; public:
+   prob (fd_step resolved), opt (resolved), branch (the latest branching call's resolved options),
+   stats (cumulative counters) and message; internal_ (type psb__internal) is opaque. A freed
+   solver, or one whose init failed, gives PSB_ERR_NULL.
 
    3. CALLBACKS -----------------------------------------------------------------------------------
    int residual(const double *y, double *h, void *user)             h = H(y), N values
@@ -219,8 +216,7 @@
      box_min, box_max [NULL]   N+1 values each: a trace ends at its first point outside the box
      state_max [0: none]       a trace ends where the state part of y exceeds it in ||.||_w
      one_direction [0]         1: from the start along t only, not -t
-     max_traces [0: max_edges] edges traced in all
-     max_points [0: none]      accepted points in all
+     max_traces, max_points [0: max_edges, none]  edges traced, accepted points, in all
      branch_at_kinks [0]       1: locate every kink a trace passes and branch there
      kink_spans [0: full]      branch_at_kinks: a first look at a kink with this many spans
      kink_nodes [0]            1: ordinary kinks are nodes (PSB_NODE_KINK); implies branch_at_kinks
@@ -231,8 +227,7 @@
      newton_max_iter [20]      Newton's iterations at the new parameter, <= 1000
      newton_max_jump [0: any]  AUTO: a Newton solution farther than this (||.||_w) is refused
      param_min, param_max [none]  the path's range (none when min >= max); y, target inside
-     max_steps [10000]         accepted continuation steps
-     max_length [0: none]      longest continuation path, ||.||_w
+     max_steps, max_length [10000, 0: none]  accepted continuation steps, longest path (||.||_w)
      no_switch [0]             1: the path does not pass kinks
      on_point, point_user [NULL]  every point of the path; nonzero: PSB_ERR_CALLBACK
 
@@ -256,17 +251,17 @@
    Corrector and tangent. The tangent at y solves [dH(y); (W r)^T] t = e_{N+1}, r the reference
    direction; where that is singular or (dense) its scaled condition estimate exceeds 1/sqrt(eps),
    the dense backend takes the kernel of dH(y) from a QR factorisation (exact at folds; rank < N:
-   PSB_ERR_SINGULAR), the others border with e_param, then a fixed row; t is normalised with
-   <t, r>_w >= 0. The corrector factors B = [dH(y); (W t)^T] once per iteration and solves B [dy,
-   v] = [[H(y); 0], [0; 1]]: y -= dy, t = v / ||v||_w. It converges when ||H(y)||_2 <= tol_residual
-   and the distance to the solution (||dy||_w, or Newton's estimate theta ||dy|| / (1 - theta) for
-   a contraction theta <= 1/2) is below tol_correction, or when ||dy||_w <= tol_correction and
-   ||H|| fell by less than half (H's rounding; every Newton solve here accepts it). A trial step
-   predicts y + h t and is accepted when the corrector converged within max_iter, within h of the
-   prediction (a longer jump landed elsewhere on the curve), with a tangent within c_min of t;
-   otherwise h *= h_dec, down to h_min. An iterate 4 h away ends a trial (not Algorithm 2.2's: at
-   kinks the corrector would hop between far kernels). A branch within a step of the traced one can
-   still take the corrector: keep h_max below the distances between branches.
+   PSB_ERR_SINGULAR), the others border with e_param, then a fixed row; t is normalised with <t,
+   r>_w >= 0. The corrector factors B = [dH(y); (W t)^T] once per iteration and solves B [dy, v] =
+   [[H(y); 0], [0; 1]]: y -= dy, t = v / ||v||_w. It converges when ||H(y)||_2 <= tol_residual and
+   the distance to the solution (||dy||_w, or Newton's estimate theta ||dy|| / (1 - theta) for a
+   contraction theta <= 1/2) is below tol_correction, or when ||dy||_w <= tol_correction and ||H||
+   fell by less than half (H's rounding; every Newton solve here accepts it). A trial step predicts
+   y + h t and is accepted when the corrector converged within max_iter, within h of the prediction
+   (a longer jump landed elsewhere on the curve), with a tangent within c_min of t; otherwise h *=
+   h_dec, down to h_min. An iterate 4 h away ends a trial (not Algorithm 2.2's: at kinks the
+   corrector would hop between far kernels). A branch within a step of the traced one can still
+   take the corrector: keep h_max below the distances between branches.
 
    Trace and its detectors. psb_trace takes steps, h growing by h_inc after a step of fewer than
    iter_threshold iterations, up to h_max. Where every trial fails down to h_min, the tangent
@@ -285,15 +280,14 @@
    the kink), BRANCH (sgn det [dH; (W t)^T] changed on a smooth piece: located, with the kernel
    direction), PC1 (it changed across a kink: the couple before it), EVENT (located). The
    determinant, continuous along a curve oriented by its travel, vanishes where dH loses rank; its
-   sign comes from the corrector's LU in O(N) (the user backend watches det B / det
-   [B b_k; c_k^T d_k] for two random borders instead: no PC1). A location is Illinois regula falsi
-   along the curve, each point checked to be on the bracket's own branch, to locate_tol. A det jump
-   in a step that did not turn is a nonsmooth point passed straight through: PC1 with
-   special->located = 1 (give it to psb_find_branches as it is). Unseen: two sign changes in one
-   step (lower h_max), a branch point where det keeps its sign. PC1: the outward signs of the
-   branches leaving a nonsmooth point add up to 0, so the test fires only where more than two meet,
-   though not at all such points: a trace that must miss none stops at its kinks and runs Algorithm
-   2.2.
+   sign comes from the corrector's LU in O(N) (the user backend watches det B / det [B b_k; c_k^T
+   d_k] for two random borders instead: no PC1). A location is Illinois regula falsi along the
+   curve, each point checked to be on the bracket's own branch, to locate_tol. A det jump in a step
+   that did not turn is a nonsmooth point passed straight through: PC1 with special->located = 1
+   (give it to psb_find_branches as it is). Unseen: two sign changes in one step (lower h_max), a
+   branch point where det keeps its sign. PC1: the outward signs of the branches leaving a
+   nonsmooth point add up to 0, so the test fires only where more than two meet, though not at all
+   such points: a trace that must miss none stops at its kinks and runs Algorithm 2.2.
 
    Algorithm 2.1 (psb_locate_end). As in the paper, h is halved from branch h to h_min, y moving to
    the correction of y + h t whenever that converges with a tangent within c_diff of t. After a
@@ -301,9 +295,9 @@
    h/2 ahead with a tangent within c_diff of the entering one too (no falling back, no turns adding
    up), and a branch that only turned smoothly is followed on. With differences the entering
    tangent is kept, stalls are told from smooth turns by chords, t is the branch's tangent 16 h
-   back, and a pass with steps 10^4 times shorter goes on where the quotients mixed the pieces.
-   y is then within *precision of the end point (the last h; with differences 2 h plus 1e-2 of
-   that pass's move), t along the branch into it; over 1000 moves: PSB_ERR_NO_CONVERGENCE.
+   back, and a pass with steps 10^4 times shorter goes on where the quotients mixed the pieces. y
+   is then within *precision of the end point (the last h; with differences 2 h plus 1e-2 of that
+   pass's move), t along the branch into it; over 1000 moves: PSB_ERR_NO_CONVERGENCE.
 
    Algorithm 2.2 (psb_find_branches). As in the paper, with Section 3's restarts: branch 0 is (y0,
    -t0); each span of two tangents t~1, t~2 is swept in n_dir directions v, the tangent at y0 + h v
@@ -353,28 +347,27 @@
    arrives there (found through an index: the cost a node does not grow with the diagram). Two
    branches whose signs cancel make an ordinary kink (d->n_kinks_plain): the edge goes on, or ends
    at a kink node (kink_nodes). Odd or unbalanced nodes count in d->n_odd (they most likely miss a
-   branch). PC1 is silent where the branches a trace joins have opposite outward signs (the
-   paper's block): branch_at_kinks runs Algorithm 2.2 at every kink (kink_spans: a short look
-   first, enough where it met two pieces' tangents). JSON keys: format, version, n, param_index,
-   complete (nothing untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes,
-   nodes (id, kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id,
-   from, from_branch, to, to_branch, end, result, points, length, path: the stored points); the
-   CSV writers give the same tables. All numbers in the C locale's notation whatever setlocale.
+   branch). PC1 is silent where the branches a trace joins have opposite outward signs (the paper's
+   block): branch_at_kinks runs Algorithm 2.2 at every kink (kink_spans: a short look first, enough
+   where it met two pieces' tangents). JSON keys: format, version, n, param_index, complete
+   (nothing untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes, nodes (id,
+   kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
+   from_branch, to, to_branch, end, result, points, length, path: the stored points); the CSV
+   writers give the same tables. All numbers in the C locale's notation whatever setlocale.
 
-   Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves
-   H_k(u, lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls
-   only). Where Newton from u_{k-1} fails (a snap-through), Ligursky and Renard trace H_k = 0 from
+   Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves H_k(u,
+   lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls only).
+   Where Newton from u_{k-1} fails (a snap-through), Ligursky and Renard trace H_k = 0 from
    (u_{k-1}, lambda_{k-1}), which solves it too, through folds and kinks to its first point at
    lambda_k. Mode AUTO tries Newton first (kept unless farther than newton_max_jump); else y is
    polished (a move over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, where it
    lands exactly, and free on the other side (the path may pass below lambda_{k-1}). A path that
    ends elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end), y kept.
 
-   Fold curves in two parameters (psb_fold_map_*). H is written once on (x, lambda, mu); the
-   map's at_mu is H at mu held, fold is [H; sigma] = 0 with mu its parameter, sigma from
-   [H_x b; c^T 0] [v; sigma] = [0; 1] (det H_x / det of that: zero at folds), b and c the null
-   vectors at the start. sigma's gradient is -w^T (dH_x) v, one central difference of the
-   user's Jacobian along v. psb_trace traces fold through kinks of H; its FOLD there is a cusp.
+   Fold curves in two parameters (psb_fold_map_*). H is written once on (x, lambda, mu): at_mu is H
+   at mu held; fold is [H; sigma] = 0 with mu its parameter, sigma from [H_x b; c^T 0] [v; sigma] =
+   [0; 1] (zero at folds; b, c the null vectors at the start; its gradient one central difference
+   of the Jacobian along v). psb_trace traces fold through H's kinks; a FOLD on it is a cusp.
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
