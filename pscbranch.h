@@ -350,7 +350,7 @@
    branch). PC1 is silent where the branches a trace joins have opposite outward signs (the paper's
    block): branch_at_kinks runs Algorithm 2.2 at every kink (kink_spans: a short look first, enough
    where it met two pieces' tangents). JSON keys: format, version, n, param_index, complete
-   (nothing untraced, cut off or failed), failed_edges, untraced_branches, odd_nodes, nodes (id,
+   (psb_explore returned PSB_SUCCESS), failed_edges, untraced_branches, odd_nodes, nodes (id,
    kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
    from_branch, to, to_branch, end, result, points, length, path: the stored points); the CSV
    writers give the same tables. All numbers in the C locale's notation whatever setlocale.
@@ -1290,6 +1290,8 @@ typedef struct psb_diagram {
                                branches (manual section 6, "An odd count", PC1) */
     int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node, stored
                                points) */
+    psb_result result;      /* what the last psb_explore on d returned (PSB_SUCCESS: complete;
+                               PSB_ERR_INPUT before the first) */
     double *points;         /* the edges' stored points, n+1 each (psb_diagram_set_points) */
     long max_points, n_stored_points;
     /* private */
@@ -6533,6 +6535,7 @@ PSCBRANCH_DEF psb_result psb_diagram_init_with_memory(psb_diagram *d, int n, int
     if (bytes < need) return PSB_ERR_NOMEM;
     d->n = n;
     d->param_index = n;
+    d->result = PSB_ERR_INPUT; /* nothing explored yet */
     d->max_nodes = max_nodes;
     d->max_edges = max_edges;
     d->max_branches = max_branches;
@@ -7197,6 +7200,10 @@ static int psb__explore_point(const psb_point *pt, void *user)
         return 1;
     }
     if (pt->flags & PSB_POINT_SPECIAL) return psb__explore_special(x, pt->special);
+    if (eo->max_points && x->d->n_points >= eo->max_points) { /* the budget is spent: not counted */
+        x->stop = PSB__XS_POINTS;
+        return 1;
+    }
     x->d->n_points++;
     x->points++;
     x->length += pt->h;
@@ -7365,7 +7372,9 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
             r = PSB_LOOP_CLOSED;
             break;
         }
-        ED->length -= psb__dist_w(s, y, ND(x->stop_node)->y);
+        /* the trace went past the node by about this much (never below 0: an edge that passed
+           its node within its first step) */
+        ED->length = fmax(0, ED->length - psb__dist_w(s, y, ND(x->stop_node)->y));
         psb__explore_arrive(x, e, x->stop_node, t);
         nd = ND(x->stop_node);
         /* by its tangent or by its chord from the node, whichever matches better: the tangent
@@ -7526,6 +7535,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     d->n_nodes = d->n_edges = 0;
     d->n_points = d->n_stored_points = 0;
     d->n_branchings = d->n_kinks_plain = d->n_queued = d->n_failed = d->n_odd = d->truncated = 0;
+    d->result = PSB_ERR_NO_CONVERGENCE; /* until the call returns */
     d->param_index = p;
     memset(&x, 0, sizeof x);
     x.s = s;
@@ -7595,9 +7605,11 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
             }
         snprintf(buf, sizeof buf, "psb_explore: %d edge(s) ended in a failure, the first (edge %d) with %s",
                  d->n_failed, i, psb_result_string(first));
+        d->result = first;
         return psb__fail(s, first, buf);
     }
     if (result >= 0) s->message[0] = 0;
+    d->result = result;
     return result;
 }
 
@@ -7652,12 +7664,12 @@ PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f)
     int i, k, np1;
     if (!d || !f || !d->nodes) return PSB_ERR_NULL;
     np1 = d->n + 1;
-    /* complete: what psb_explore returned PSB_SUCCESS for (no branch left, nothing cut off,
+    /* complete: psb_explore returned PSB_SUCCESS (no branch left, nothing cut off or stopped,
        no edge failed) */
     fprintf(f, "{\n  \"format\": \"pscbranch-diagram\",\n  \"version\": 1,\n  \"n\": %d,\n"
                "  \"param_index\": %d,\n  \"complete\": %s,\n  \"failed_edges\": %d,\n"
                "  \"untraced_branches\": %d,\n  \"odd_nodes\": %d,\n  \"nodes\": [",
-            d->n, d->param_index, d->n_queued || d->truncated || d->n_failed ? "false" : "true",
+            d->n, d->param_index, d->result == PSB_SUCCESS ? "true" : "false",
             d->n_failed, d->n_queued, d->n_odd);
     for (i = 0; i < d->n_nodes; i++) {
         const psb_node *nd = d->nodes + i;
