@@ -835,7 +835,8 @@ typedef struct psb_special {
                              the last couple on the incoming smooth piece, within `precision`
                              of the kink (ready for psb_locate_end + psb_find_branches) */
     const double *kernel; /* BRANCH: unit (||.||_w) second kernel direction of dH at the point,
-                             w-orthogonal to t (for psb_branch_point_switch); NULL otherwise.
+                             w-orthogonal to t (for psb_branch_point_switch); NULL otherwise,
+                             and where it could not be computed (no fault: the point is kept).
                              y, t, kernel point into the solver's memory: valid during the
                              on_point call and until the next library call on the solver
                              (psb_branch_point_switch and psb_locate_end take them as input) */
@@ -2081,10 +2082,18 @@ PSCBRANCH_DEF double psb_norm_w(const psb_solver *s, const double *a)
 /* ||a - b||_w, formed from the differences (not from dot products, which cancel for close points) */
 static double psb__dist_w(const psb_solver *s, const double *a, const double *b)
 {
-    double sum = 0;
+    double sum = 0, big = 0, scaled = 0;
     int i;
     for (i = 0; i < s->internal_.np1; i++) sum += s->internal_.w[i] * (a[i] - b[i]) * (a[i] - b[i]);
-    return sqrt(sum);
+    if (!(sum > DBL_MAX)) return sqrt(sum); /* NaN included */
+    /* overflowed: halves, so that even a[i] - b[i] stays finite, scaled by the largest */
+    for (i = 0; i < s->internal_.np1; i++) big = fmax(big, fabs(0.5 * a[i] - 0.5 * b[i]));
+    if (!psb__finite(big)) return sum;
+    for (i = 0; i < s->internal_.np1; i++) {
+        double d = (0.5 * a[i] - 0.5 * b[i]) / big;
+        scaled += s->internal_.w[i] * d * d;
+    }
+    return 2 * big * sqrt(scaled);
 }
 
 static double psb__norm2(const double *a, int n)
@@ -2134,6 +2143,12 @@ static int psb__normalize_w(const psb_solver *s, double *a)
     double nrm = psb__norm_w(s, a);
     int i;
     if (!(nrm > 0) || !psb__finite(nrm)) return 0;
+    if (nrm < 1e-290) { /* a norm among subnormals has lost its digits: rescale a first */
+        double big = 0;
+        for (i = 0; i < s->internal_.np1; i++) big = fmax(big, fabs(a[i]));
+        for (i = 0; i < s->internal_.np1; i++) a[i] /= big;
+        nrm = psb__norm_w(s, a);
+    }
     for (i = 0; i < s->internal_.np1; i++) a[i] /= nrm;
     return 1;
 }
@@ -3082,7 +3097,8 @@ static int psb__is_fatal(psb_result r)
    traces ended at smooth points (an LCP scaled by 1e8: a wrong diagram, success reported). */
 static int psb__at_rounding(const psb_solver *s, double corr, double res, double res_before)
 {
-    return corr <= s->opt.tol_correction && res >= 0.5 * res_before;
+    /* an overflowed residual is no rounding (inf >= inf / 2) */
+    return corr <= s->opt.tol_correction && psb__finite(res) && res >= 0.5 * res_before;
 }
 
 /* What a caller watches in a corrector run beyond convergence (Algorithm 2.2's trials watch
@@ -4699,8 +4715,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             psb__copy(tkink, told, np1);
             if (r != PSB_SUCCESS) { rep->end = r; goto done; } /* PSB_NONSMOOTH_END too */
             /* the test function from the factors of the switch step's last corrector iteration */
-            flags |= PSB_POINT_SWITCH;
-            rep->n_switches++;
+            flags |= PSB_POINT_SWITCH; /* counted once its step is accepted (a bound may undo it) */
             h = s->opt.h_init;
             turn_rate = -1;
             if (opts.locate_kinks) { /* steps failed right before it: yold is the kink couple */
@@ -4750,6 +4765,7 @@ PSCBRANCH_DEF psb_result psb_trace(psb_solver *s, double *y, double *t,
             if (landed == 2) continue;
         }
         just_switched = (flags & PSB_POINT_SWITCH) != 0;
+        rep->n_switches += just_switched;
         landings_failed = 0;
         rep->steps++;
         pt.h = psb__dist_w(s, yold, yc);
@@ -6239,7 +6255,8 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
    random vectors, with B = [dH(y + delta t); (W t)^T], delta = 1e-4 r, whose near-null vectors
    span the kernel w-orthogonal to t to O(delta). A direction is new when its part outside t
    and the known ones is above 1e-3 (a near-null vector keeps O(1) of it, any other ~delta^2).
-   Returns the number of directions in ks (PSB__KERNEL_MAX at most), at least 1. */
+   Returns the number of directions in ks (PSB__KERNEL_MAX at most), at least 1, or a fatal
+   result code (< 0: a callback's stop). */
 static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, double r, double *ks)
 {
     int np1 = s->internal_.np1, kdim = 1, i, j, it, attempt;
@@ -6252,8 +6269,9 @@ static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, dou
         for (i = 0; i < np1; i++) row[i] = s->internal_.w[i] * t[i];
         res = psb__factor_bordered(s, row, NULL);
     }
+    if (psb__is_fatal(res)) return (int)res;
     if (res != PSB_SUCCESS) { /* the kernel beyond ks[0] unknown: a fault may hide branches */
-        if (!psb__is_fatal(res)) psb__note_fault(s, res);
+        psb__note_fault(s, res);
         return kdim;
     }
     while (kdim < PSB__KERNEL_MAX) {
@@ -6262,6 +6280,7 @@ static int psb__kernel_dirs(psb_solver *s, const double *y, const double *t, dou
         for (i = 0; i < np1; i++) v[i] = psb__gauss(s->internal_.rng) / sqrt(s->internal_.w[i]);
         for (it = 0; it < 2; it++) {
             res = psb__solve_factored(s, v, 1);
+            if (psb__is_fatal(res)) return (int)res;
             if (res != PSB_SUCCESS) psb__note_fault(s, res);
             if (res != PSB_SUCCESS || !psb__normalize_w(s, v)) return kdim;
         }
@@ -6410,11 +6429,14 @@ static psb_result psb__branch_point_switch(psb_solver *s, const double *y, const
     if (!psb__normalize_w(s, tc)) return psb__fail(s, PSB_ERR_INPUT, "t is zero");
     c = psb_dot_w(s, kernel, tc);
     for (i = 0; i < np1; i++) kc[i] = kernel[i] - c * tc[i];
-    if (!psb__normalize_w(s, kc)) return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
+    /* a part across t at rounding level of the kernel's own is no direction: parallel to t */
+    if (!(psb__norm_w(s, kc) > 64 * DBL_EPSILON * psb__norm_w(s, kernel)) || !psb__normalize_w(s, kc))
+        return psb__fail(s, PSB_ERR_INPUT, "kernel is zero or parallel to t");
     seed = s->opt.seed;
     for (i = 0; i < 4; i++) s->internal_.rng[i] = psb__splitmix(&seed);
     psb__faults_reset(s);
     kdim = psb__kernel_dirs(s, yc, tc, s->branch.h_init, kc);
+    if (kdim < 0) return (psb_result)kdim;
     rep->n_tangents = kdim;
     /* a simple branch point has four half-branches, two of them the traced curve; fewer at
        h_init (a radius beyond the branches' curvature, or crossings too close for Newton's
