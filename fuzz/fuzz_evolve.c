@@ -43,7 +43,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static const double dl[] = {0.1, -0.1, 0.5, 1, -1, 0.05, 0, 1e-3, 2, -2, 0.25, -0.5, 3};
     static const double jump[] = {0, 0, 0.1, 1, 1e-3};
-    static const double range[] = {0, -1, 1, -2, 2, -0.5, 0.5, -4, 4};
+    static const double range[] = {1, 2, 0.5, 4, 0, -0.5, 0.1, 10};
     static const double length[] = {0, 0, 1, 0.1, 10};
     static const int iters[] = {0, 20, 5, 1, 2};
     static const int steps[] = {50, 200, 10, 1, 0};
@@ -95,8 +95,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         eo.newton_max_jump = FZ_PICK(&b, jump);
         sel = fz_u8(&b);
         if (sel >= 128) {
-            eo.param_min = sel >= 250 ? fz_any(&b) : g0 + range[sel % 9];
-            eo.param_max = sel >= 250 ? fz_any(&b) : g0 + range[(sel / 9) % 9] + 0.5;
+            eo.param_min = sel >= 250 ? fz_any(&b) : g0 - range[sel % 8];
+            eo.param_max = sel >= 250 ? fz_any(&b) : g0 + range[sel / 8 % 8];
         }
         eo.max_steps = FZ_IPICK(&b, steps);
         if (eo.max_steps > 400) eo.max_steps = 400; /* 0: 10000, bounded by the budget */

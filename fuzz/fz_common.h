@@ -567,7 +567,8 @@ FZ_FN void fz_read_branch(fz_bytes *b, psb_branch_options *bo)
 /* psb_trace_options' fields other than callbacks: bounds, budget, switches, detectors */
 FZ_FN void fz_read_trace(fz_bytes *b, psb_trace_options *to, long max_steps_cap)
 {
-    static const double bound[] = {0, -1, 1, -2, 2, -0.5, 0.5, -0.25, 0.25, -4, 4, 0};
+    static const double bmin[] = {-1, -2, -0.5, 0, -4, -0.25, 1, -INFINITY};
+    static const double bmax[] = {1, 2, 0.5, 0, 4, 0.25, -1, INFINITY};
     static const double loctol[] = {0, 0, 1e-10, 1e-6, 1e-3, 1e-14, 0.1};
     static const int steps[] = {30, 60, 10, 100, 1, 3};
     unsigned s;
@@ -577,8 +578,8 @@ FZ_FN void fz_read_trace(fz_bytes *b, psb_trace_options *to, long max_steps_cap)
         to->param_min = fz_any(b);
         to->param_max = fz_any(b);
     } else if (s >= 64) { /* min >= max: no bounds */
-        to->param_min = bound[s % 12];
-        to->param_max = s & 0x80 ? INFINITY : bound[(s / 12) % 12];
+        to->param_min = bmin[s % 8];
+        to->param_max = bmax[s / 8 % 8];
     }
     to->max_steps = FZ_IPICK(b, steps);
     if (to->max_steps > max_steps_cap) to->max_steps = max_steps_cap; /* 0: 10000 */
