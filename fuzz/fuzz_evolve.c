@@ -126,7 +126,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             !(eo.newton_max_jump >= 0) || isnan(eo.param_min) || isnan(eo.param_max) || eo.max_steps < 0 ||
             !(eo.max_length >= 0))
             REQUIRE(r == PSB_ERR_OPTIONS);
-        else if (!isfinite(pn))
+        else if (!isfinite(pn) || !fz_finite(y0, np1))
             REQUIRE(r == PSB_ERR_NONFINITE);
         else if (ranged && (g0 < eo.param_min || g0 > eo.param_max || pn < eo.param_min || pn > eo.param_max))
             REQUIRE(r == PSB_ERR_INPUT);

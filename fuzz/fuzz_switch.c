@@ -16,7 +16,7 @@
 #define PSCBRANCH_IMPLEMENTATION
 #include "fz_common.h"
 
-#define BUDGET 20000
+#define BUDGET 8000
 #define MAX_BRANCHES 12
 
 typedef struct {
@@ -95,6 +95,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         to.on_point = on_point;
         to.point_user = &cap;
         to.n_events = 0;
+        fz_reset(&f, 4000);
         f.depth++; /* the trace is set-up here: fuzz_trace checks it */
         r = psb_trace(&s, y, t, &to, &tr);
         f.depth--;
