@@ -2,9 +2,9 @@
 
    The bytes choose the diagram's capacities (and whether it lives on caller memory), a
    problem, the solver's options and a start couple (fz_common.h), and psb_explore_options:
-   the traces' bounds, budget, detectors and events, the branching options, no_detect,
-   one_direction, branch_at_kinks and kink_spans, a box, state_max, max_traces, max_points,
-   node_tol, and a point callback that stops exploring or calls what a trace's callback must
+   the traces' bounds, budget, detectors and events, the branching options, detect 0,
+   one_direction, branch_at_kinks, kink_spans and kink_nodes, a box, state_max, max_traces,
+   max_points, node_tol, the diagram's growth and stored points, and a point callback that stops exploring or calls what a trace's callback must
    be refused. The diagram is then written by psb_diagram_write_json and _csv to memory
    streams (sometimes under a locale whose decimal point is a comma, sometimes to a stream
    that fails).
@@ -56,7 +56,7 @@ static int on_point(int edge, const psb_point *pt, void *user)
 static int is_branching(psb_node_kind k) { return k == PSB_NODE_NONSMOOTH || k == PSB_NODE_BRANCH || k == PSB_NODE_PC1; }
 
 /* 'complete' as the writers define it: nothing untraced, cut off or failed */
-static int complete(const psb_diagram *d) { return !d->n_queued && !d->truncated && !d->n_failed; }
+static int complete(const psb_diagram *d) { return d->result == PSB_SUCCESS; }
 
 /* The invariants of a diagram psb_explore made (manual, psb_explore and psb_diagram). */
 static void check_diagram(const psb_solver *s, const psb_diagram *d, const psb_explore_options *eo,
@@ -128,7 +128,9 @@ static void check_diagram(const psb_solver *s, const psb_diagram *d, const psb_e
     if (eo->max_points > 0) REQUIRE(d->n_points <= eo->max_points);
     if (eo->max_traces > 0) REQUIRE(d->n_edges <= eo->max_traces);
     if (r == PSB_BRANCH_CAPACITY) REQUIRE(d->truncated);
-    REQUIRE(complete(d) == (r == PSB_SUCCESS));
+    REQUIRE(d->result == r && complete(d) == (r == PSB_SUCCESS));
+    for (i = 0; d->points && i < d->n_edges; i++) /* stored points: one per accepted point */
+        REQUIRE(d->edges[i].n_stored == d->edges[i].n_points || d->truncated);
 }
 
 /* ---- the writers' output ------------------------------------------------------------------ */
@@ -356,13 +358,28 @@ static void check_writers(const psb_diagram *d, unsigned flags)
 
 /* ---- options --------------------------------------------------------------------------- */
 /* which eo the manual says psb_explore refuses (PSB_ERR_OPTIONS) */
-static int bad_options(const psb_explore_options *eo, int np1)
+/* The diagram's optional storage from a byte: bit 0 growth through PSCBRANCH_MALLOC (bits 4-5:
+   a bound on a block, or none), bit 1 stored points (bits 2-3: room for 0, 4, 64 or 1024),
+   kink_nodes from bit 6 (set by the caller). */
+static double points_a[FZ_MAX_NP1 * 1024], points_b[FZ_MAX_NP1 * 1024];
+static void set_storage(psb_diagram *d, unsigned store, double *buf, int n)
+{
+    static const long rooms[4] = {0, 4, 64, 1024};
+    if (store & 1)
+        REQUIRE(psb_diagram_set_growth(d, NULL, (store >> 4) & 3 ? psb_diagram_memory_size(n, 4 << (2 * ((store >> 4) & 3)), 16, 8) : 0) ==
+                PSB_SUCCESS);
+    if (store & 2) REQUIRE(psb_diagram_set_points(d, rooms[(store >> 2) & 3] ? buf : NULL, rooms[(store >> 2) & 3]) == PSB_SUCCESS);
+}
+
+static int bad_options(const psb_explore_options *eo, int np1, int user_backend)
 {
     const psb_trace_options *to = &eo->trace;
     int i;
     if (isnan(to->param_min) || isnan(to->param_max) || !(eo->node_tol >= 0) || !isfinite(eo->node_tol)) return 1;
     if (eo->kink_spans < 0 || eo->kink_spans > PSB_MAX_SPAN_LIMIT) return 1;
     if (to->detect < 0 || to->detect > PSB_DETECT_ALL || !(to->locate_tol >= 0) || !isfinite(to->locate_tol)) return 1;
+    if ((to->detect & PSB_DETECT_PC1) && user_backend) return 1;
+    if (eo->kink_nodes < 0 || eo->kink_nodes > 1) return 1;
     if (to->n_events < 0 || (to->n_events > 0 && (!to->event || !to->event_work))) return 1;
     if (!(eo->state_max >= 0) || eo->max_traces < 0 || eo->max_points < 0 || to->max_steps < 0) return 1;
     if (!eo->box_min != !eo->box_max) return 1;
@@ -392,7 +409,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     double *event_work = NULL;
     void *mem = NULL;
     int np1, i, max_nodes, max_edges, max_branches, n_d, replay;
-    unsigned sel, wflags, mem_mode;
+    unsigned sel, wflags, mem_mode, store;
     size_t bytes;
     psb_result r;
     b.p = data;
@@ -446,7 +463,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         eo.trace.event_work = event_work;
     }
     sel = fz_u8(&b);
-    eo.no_detect = (sel & 7) == 7;
+    if ((sel & 7) == 7) eo.trace.detect = 0;
     eo.one_direction = (sel >> 3) & 1;
     eo.branch_at_kinks = (sel >> 4) & 1;
     eo.kink_spans = kspans[(sel >> 5) % 4];
@@ -473,6 +490,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         eo.box_min = box_min;
         eo.box_max = sel == 249 ? NULL : box_max;
     }
+    store = fz_u8(&b);
+    eo.kink_nodes = (store >> 6) & 1;
+    if (n_d == f.n || (store & 0x80)) set_storage(&d, store, points_a, n_d);
     c.f = &f;
     c.s = &s;
     c.d = &d;
@@ -494,7 +514,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (f.first_stop) REQUIRE(r == f.first_stop);
     else REQUIRE(r != PSB_ERR_CALLBACK && r != PSB_STOPPED);
     if (n_d != f.n) REQUIRE(r == PSB_ERR_SIZE || r == PSB_ERR_NONFINITE || r == PSB_ERR_INPUT);
-    else if (bad_options(&eo, np1) && fz_finite(y, np1) && fz_finite(t, np1) && psb_norm_w(&s, t) > 0 &&
+    else if (bad_options(&eo, np1, f.backend == 3) && fz_finite(y, np1) && fz_finite(t, np1) && psb_norm_w(&s, t) > 0 &&
              isfinite(psb_norm_w(&s, t)))
         REQUIRE(r == PSB_ERR_OPTIONS);
     if (d.n_nodes == 0) {
@@ -512,6 +532,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             size_t l1, l2;
             REQUIRE(psb_solver_init(&s2, &prob, &o) == PSB_SUCCESS);
             REQUIRE(psb_diagram_init(&d2, n_d, max_nodes, max_edges, max_branches) == PSB_SUCCESS);
+            if (n_d == f.n || (store & 0x80)) set_storage(&d2, store, points_b, n_d);
             c.s = &s2;
             c.d = &d2;
             c.calls = 0;

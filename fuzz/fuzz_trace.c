@@ -106,8 +106,11 @@ static int on_point(const psb_point *pt, void *user)
         REQUIRE(sp->param == sp->y[c->p]);
         REQUIRE(isfinite(sp->precision) && sp->precision >= 0);
         if (sp->kind == PSB_SPECIAL_BRANCH) {
-            REQUIRE(sp->kernel && fz_finite(sp->kernel, np1) && unit_err(c->s, sp->kernel) < 1e-6);
-            REQUIRE(fabs(psb_dot_w(c->s, sp->kernel, sp->t)) < 1e-6);
+            /* NULL where the kernel could not be computed (manual: psb_special.kernel) */
+            if (sp->kernel) {
+                REQUIRE(fz_finite(sp->kernel, np1) && unit_err(c->s, sp->kernel) < 1e-6);
+                REQUIRE(fabs(psb_dot_w(c->s, sp->kernel, sp->t)) < 1e-6);
+            }
         } else {
             REQUIRE(!sp->kernel);
         }
