@@ -53,9 +53,13 @@ static int on_point(int edge, const psb_point *pt, void *user)
     return 0;
 }
 
-static int is_branching(psb_node_kind k) { return k == PSB_NODE_NONSMOOTH || k == PSB_NODE_BRANCH || k == PSB_NODE_PC1; }
+/* a node edges end at and leave from: a branching node, or an ordinary kink with kink_nodes */
+static int is_branching(psb_node_kind k)
+{
+    return k == PSB_NODE_NONSMOOTH || k == PSB_NODE_BRANCH || k == PSB_NODE_PC1 || k == PSB_NODE_KINK;
+}
 
-/* 'complete' as the writers define it: nothing untraced, cut off or failed */
+/* 'complete' as the writers define it: psb_explore returned PSB_SUCCESS */
 static int complete(const psb_diagram *d) { return d->result == PSB_SUCCESS; }
 
 /* The invariants of a diagram psb_explore made (manual, psb_explore and psb_diagram). */
@@ -69,7 +73,8 @@ static void check_diagram(const psb_solver *s, const psb_diagram *d, const psb_e
     REQUIRE(d->nodes[0].kind == PSB_NODE_START && fz_same(d->nodes[0].y, y, np1));
     for (i = 0; i < d->n_nodes; i++) {
         const psb_node *nd = d->nodes + i;
-        REQUIRE(nd->kind >= PSB_NODE_START && nd->kind <= PSB_NODE_FAILURE);
+        REQUIRE(nd->kind >= PSB_NODE_START && nd->kind <= PSB_NODE_KINK);
+        if (nd->kind == PSB_NODE_KINK) REQUIRE(eo->kink_nodes && nd->n_branches == 2);
         REQUIRE(fz_finite(nd->y, np1) && nd->param == nd->y[p]);
         REQUIRE(isfinite(nd->precision) && nd->precision >= 0);
         REQUIRE(nd->n_branches >= 0 && nd->n_branches <= d->max_branches);
