@@ -3922,6 +3922,19 @@ static psb_result psb__monitor(psb_solver *s, psb__mon *m)
    value. t (out, may be NULL): the unit tangent there, oriented along dir (or outwards), from
    the same factorisation as the last correction, whose factors stay for psb__monitor.
    Converged as the corrector, but on the last correction alone (<= tol_correction). */
+/* How far y lies from psb__newton_on's constraint, ||.||_w: from the plane <dir, y - base>_w =
+   value, or the sphere ||y - base||_w = value. A small last correction need not mean it holds
+   (an inaccurate solve, e.g. the banded backend's shifted A). */
+static double psb__newton_on_gap(const psb_solver *s, const double *y, const double *base,
+                                 const double *dir, double value)
+{
+    double dot = 0;
+    int i;
+    if (!dir) return fabs(psb__dist_w(s, y, base) - value);
+    for (i = 0; i < s->internal_.np1; i++) dot += s->internal_.w[i] * dir[i] * (y[i] - base[i]);
+    return fabs(dot - value) / psb__norm_w(s, dir);
+}
+
 static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const double *base,
                                  const double *dir, double value)
 {
@@ -3960,7 +3973,7 @@ static psb_result psb__newton_on(psb_solver *s, double *y, double *t, const doub
            factors at the iterate before the last correction, which must be as small as the
            location's precision */
         if ((res <= s->opt.tol_residual || psb__at_rounding(s, corr, res, res_prev)) &&
-            corr <= s->opt.tol_correction) {
+            corr <= s->opt.tol_correction && psb__newton_on_gap(s, yc, base, dir, value) <= s->opt.tol_correction) {
             if (!psb__all_finite(yc, np1)) return psb__fail(s, PSB_ERR_NONFINITE, "Newton iterate overflowed");
             if (t) {
                 psb__copy(t, s->internal_.rhs + np1, np1);
