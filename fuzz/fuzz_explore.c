@@ -437,13 +437,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     fz_read_problem(&b, &f, &prob);
     np1 = f.n + 1;
-    fz_read_options(&b, &o, weights, np1);
-    r = psb_solver_init(&s, &prob, &o);
-    fz_check_failure(&s, r);
-    if (r != PSB_SUCCESS) {
-        psb_solver_free(&s);
-        return 0;
-    }
+    if (!fz_solver(&b, &prob, &o, weights, np1, &s)) return 0;
     /* the diagram: its n is the problem's, rarely not (PSB_ERR_SIZE) */
     n_d = (wflags & 0x1f) == 0x1f ? f.n % 3 + 1 : f.n;
     bytes = psb_diagram_memory_size(n_d, max_nodes, max_edges, max_branches);

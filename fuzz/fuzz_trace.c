@@ -211,13 +211,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     fz_read_problem(&b, &f, &prob);
     np1 = f.n + 1;
-    fz_read_options(&b, &o, weights, np1);
-    r = psb_solver_init(&s, &prob, &o);
-    fz_check_failure(&s, r);
-    if (r != PSB_SUCCESS) {
-        psb_solver_free(&s);
-        return 0;
-    }
+    if (!fz_solver(&b, &prob, &o, weights, np1, &s)) return 0;
     fz_read_trace(&b, &to, 200);
     c.f = &f;
     c.s = &s;

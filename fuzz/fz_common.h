@@ -529,6 +529,20 @@ FZ_FN void fz_read_options(fz_bytes *b, psb_options *o, double *weights, int np1
     if (o->switch_n_dir > 24) o->switch_n_dir = 24;
 }
 
+/* Reads the solver's options and sets s up on prob: 1, or 0 (s freed) where init refused them,
+   the refusal checked as every failure is. */
+FZ_FN int fz_solver(fz_bytes *b, const psb_problem *prob, psb_options *o, double *weights, int np1,
+                    psb_solver *s)
+{
+    psb_result r;
+    fz_read_options(b, o, weights, np1);
+    r = psb_solver_init(s, prob, o);
+    fz_check_failure(s, r);
+    if (r == PSB_SUCCESS) return 1;
+    psb_solver_free(s);
+    return 0;
+}
+
 /* psb_branch_options: small sweeps (0 would be 20 directions, 15-60 spans) */
 FZ_FN void fz_read_branch(fz_bytes *b, psb_branch_options *bo)
 {
