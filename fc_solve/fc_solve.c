@@ -1626,7 +1626,8 @@ static int sparse_solve(const fc_bsr *S, fc_work *w, int na, double eta, double 
             }
             li = nl;
         }
-        memcpy(li + cnt, g[v].v, (size_t)g[v].n * sizeof(int));
+        if (g[v].n > 0) /* an isolated vertex has no list (memcpy's source may not be NULL) */
+            memcpy(li + cnt, g[v].v, (size_t)g[v].n * sizeof(int));
         cnt += g[v].n;
         for (q0 = lp[s]; q0 < cnt; q0++) /* v's neighbours become a clique, v leaves */
             if (!iset_merge(&g[li[q0]], li + lp[s], cnt - lp[s], v, li[q0])) {
