@@ -4277,9 +4277,14 @@ static psb_result psb__branch_directions(psb_solver *s, const double *y0, const 
         if (r != PSB_SUCCESS) return r;
         if (!psb__normalize_w(s, ks)) break;
     }
-    c = psb_dot_w(s, ks, ts);
-    for (i = 0; i < np1; i++) ks[i] -= c * ts[i];
-    if (!psb__normalize_w(s, ks)) return psb__fail(s, PSB_ERR_SINGULAR, "kernel estimate vanished");
+    /* projected twice: once leaves a part along ts of eps / (the part across it) */
+    for (it = 0; it < 2; it++) {
+        c = psb_dot_w(s, ks, ts);
+        for (i = 0; i < np1; i++) ks[i] -= c * ts[i];
+        if (it == 0 && !(psb__norm_w(s, ks) > 1e-8)) break; /* ks was unit: along the tangent */
+    }
+    if (it < 2 || !psb__normalize_w(s, ks))
+        return psb__fail(s, PSB_ERR_SINGULAR, "kernel estimate vanished or along the tangent");
     return PSB_SUCCESS;
 }
 
