@@ -81,6 +81,7 @@
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
    psb_two_param_problem_init; psb_fold_map_memory_size, _init, _start, _refine   fold curves
+   psb_count_map, _memory_size  branch counts at a nonsmooth point as a second parameter moves
    psb_explore                  every branch reachable from one couple, as a graph
    psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
@@ -90,8 +91,8 @@
    diagram the graph so far. Only psb_solver_init and psb_diagram_init allocate, and psb_explore
    through the allocator of a diagram set to grow. Single operations (psb_solve_at_param, _tangent,
    _correct, _step, _switch_tangent, _locate_end, _find_branches) may be called from a point or
-   event callback of psb_trace on the same solver; psb_trace, psb_explore, psb_evolve_step and
-   psb_branch_point_switch there return PSB_ERR_INPUT and leave the trace as it was. A solver is
+   event callback of psb_trace on the same solver; the other calls there return PSB_ERR_INPUT and
+   leave the trace as it was. A solver is
    not thread-safe, but there is no global state: distinct solvers may run in distinct threads.
    Same inputs, options and seed: same results, bit for bit. psb_solver is caller-owned; public:
    prob (fd_step resolved), opt (resolved), branch (the latest branching call's resolved options),
@@ -233,20 +234,17 @@
 
    6. ALGORITHMS ----------------------------------------------------------------------------------
    Linear algebra (problem.linear). Every system is bordered, B = [dH(y); row^T] (row = W t in the
-   corrector), so B stays regular at folds, where dH/dx is singular; one factorisation serves all
-   right-hand sides of an iteration. PSB_LINEAR_DENSE: dgetrf/dgetrs on B, ~2 (N+1)^2 doubles.
-   PSB_LINEAR_BANDED: A = dH/dx with kl sub- and ku super-diagonals (number coupled unknowns close
-   together), ~(4 kl + 3 ku) N doubles; B by block elimination, w = A^{-1} dH/dparameter once per
-   factorisation, then one banded solve per right-hand side. The LU is dgbtrf's algorithm in panels
-   of four columns (reference dgbtrf's factors, bit for bit). Where the Schur complement d - c.w
-   cancels (g = (|d| + sum |c_j w_j|) / |d - c.w| > 16: near folds) a solution is checked by its
-   residual in B and refined; where A is singular or refinement stalls, A + sqrt(eps) ||B|| I is
-   factored and refined against B. A bit-identical A (piecewise-linear H) reuses its factors
-   (stats.n_factor_reused). PSB_LINEAR_USER: problem.solver factors B in its own storage; contrib/
-   has three (outside this header): psb_sparse.h (UMFPACK, KLU), psb_mumps.h (MUMPS over MPI
-   ranks), psb_condense.h (static condensation where dH varies in a few rows). Every solver also
-   holds ~100 vectors of N+1 and Algorithm 2.2's memos, 2 or 3 x c (N+1) doubles, c = min(256,
-   max(32, 2^19 / (N+1))).
+   corrector), regular at folds where dH/dx is singular; one factorisation serves an iteration's
+   right-hand sides. PSB_LINEAR_DENSE: dgetrf/dgetrs on B, ~2 (N+1)^2 doubles. PSB_LINEAR_BANDED:
+   A = dH/dx with kl sub- and ku super-diagonals, ~(4 kl + 3 ku) N doubles; B by block elimination
+   (w = A^{-1} dH/dparameter per factorisation); the LU is dgbtrf's in panels of four columns
+   (its factors bit for bit). Where d - c.w cancels (g = (|d| + sum |c_j w_j|) / |d - c.w| > 16)
+   a solution is refined by its residual in B; where A is singular or that stalls, A + sqrt(eps)
+   ||B|| I is factored and refined against B. A bit-identical A (piecewise-linear H) reuses its
+   factors (stats.n_factor_reused). PSB_LINEAR_USER: problem.solver factors B itself; contrib/
+   has psb_sparse.h (UMFPACK, KLU), psb_mumps.h (MUMPS), psb_condense.h (static condensation).
+   A solver also holds ~100 vectors of N+1 and Algorithm 2.2's memos, 2 or 3 x c (N+1) doubles,
+   c = min(256, max(32, 2^19 / (N+1))).
 
    Corrector and tangent. The tangent at y solves [dH(y); (W r)^T] t = e_{N+1}, r the reference
    direction; where that is singular or (dense) its scaled condition estimate exceeds 1/sqrt(eps),
@@ -264,30 +262,28 @@
    take the corrector: keep h_max below the distances between branches.
 
    Trace and its detectors. psb_trace takes steps, h growing by h_inc after a step of fewer than
-   iter_threshold iterations, up to h_max. Where every trial fails down to h_min, the tangent
-   switch probes the tangent t~ at y + delta t, delta doubling from switch_delta_min to
-   switch_delta_max; once cos(t~, t) < c_diff it tries steps along +t~, then -t~, and takes the
-   first couple that does not go back along the incoming branch. With nothing straight ahead it
-   sweeps the plane of -t and the tangent ahead (switch_n_dir directions, three probe distances),
-   then both again for tangents within c_diff of t but beyond rounding; nothing found, and no
-   fault: PSB_NONSMOOTH_END. Where more than two branches meet the trace goes on along one or ends:
-   Algorithms 2.1 and 2.2 give them all. Folds: t[param] changes sign, estimated at the extremum of
-   the cubic Hermite interpolant. Kinks (locate_kinks): after a step that turned by more than
-   c_diff's angle, half (and quarter) steps tell a kink, whose turn does not shrink with the step,
-   from a smooth turn; bisection locates it to h_min, a step of 2 h_min across confirms it
-   (analytic dH). Bounds: a step across one gives way to Newton at the bound. Special points on the
-   path (detect; the accepted points stay the same): FOLD (located), FOLD_KINK (the couple before
-   the kink), BRANCH (sgn det [dH; (W t)^T] changed on a smooth piece: located, with the kernel
+   iter_threshold iterations, up to h_max. Where every trial fails down to h_min, the tangent switch
+   probes the tangent t~ at y + delta t, delta doubling from switch_delta_min to switch_delta_max;
+   once cos(t~, t) < c_diff it tries steps along +t~, then -t~, and takes the first couple that does
+   not go back along the incoming branch. With nothing straight ahead it sweeps the plane of -t and
+   the tangent ahead (switch_n_dir directions, three probe distances), then both again for tangents
+   within c_diff of t but beyond rounding; nothing found, and no fault: PSB_NONSMOOTH_END. Where
+   more than two branches meet it goes on along one. Folds: t[param] changes sign, estimated at the
+   extremum of the cubic Hermite interpolant. Kinks (locate_kinks): after a step that turned by more
+   than c_diff's angle, half (and quarter) steps tell a kink, whose turn does not shrink with the
+   step, from a smooth turn; bisection locates it to h_min, a step of 2 h_min across confirms it
+   (analytic dH). Bounds: a step across one gives way to Newton at the bound. Special points
+   (detect; the accepted points stay the same): FOLD (located), FOLD_KINK (the couple before the
+   kink), BRANCH (sgn det [dH; (W t)^T] changed on a smooth piece: located, with the kernel
    direction), PC1 (it changed across a kink: the couple before it), EVENT (located). The
    determinant, continuous along a curve oriented by its travel, vanishes where dH loses rank; its
    sign comes from the corrector's LU in O(N) (the user backend watches det B / det [B b_k; c_k^T
-   d_k] for two random borders instead: no PC1). A location is Illinois regula falsi along the
-   curve, each point checked to be on the bracket's own branch, to locate_tol. A det jump in a step
-   that did not turn is a nonsmooth point passed straight through: PC1 with special->located = 1
-   (give it to psb_find_branches as it is). Unseen: two sign changes in one step (lower h_max), a
-   branch point where det keeps its sign. PC1: the outward signs of the branches leaving a
-   nonsmooth point add up to 0, so the test fires only where more than two meet, though not at all
-   such points: a trace that must miss none stops at its kinks and runs Algorithm 2.2.
+   d_k] for two random borders instead: no PC1). Locations: Illinois regula falsi along the curve
+   (each point on the bracket's branch), to locate_tol. A det jump in a step that did not turn is a
+   nonsmooth point passed straight through: PC1 with special->located = 1 (for psb_find_branches as
+   it is). Unseen: two sign changes in a step, det keeping its sign. PC1: the outward signs of the
+   branches leaving a nonsmooth point add up to 0, so the test fires only where more than two meet,
+   not at all: to miss none, stop at kinks and run Algorithm 2.2.
 
    Algorithm 2.1 (psb_locate_end). As in the paper, h is halved from branch h to h_min, y moving to
    the correction of y + h t whenever that converges with a tangent within c_diff of t. After a
@@ -324,14 +320,13 @@
    flags what is left; a balanced set proves nothing. Kinks within h_init: the cones reach the next
    kink only; a landing chord turning from its tangent by over 0.05 rad, H off its affine map
    through y0, or an odd count restart the run with h_init / 16 (up to 3 times, staying >= 8 h).
-   Random numbers: xoshiro256**, reseeded from options.seed at each call. Thin regions may need
-   more n_span or n_dir (docs/branching-notes.md).
+   Random numbers: xoshiro256**, reseeded from options.seed at each call.
 
    Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
    to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
-   (cos a t + sin a k), r = branch h_init, 2 n_dir angles (-t, then +t first: branches 0 and 1, the
-   traced curve), are corrected by Newton on the sphere ||y - y*||_w = r to where a branch crosses
-   it, whatever its curvature (within r sqrt(2 (1 - c_diff)): one branch); fewer than 4 branches,
+   (cos a t + sin a k), r = branch h_init, 2 n_dir angles (-t, then +t first: branches 0 and 1),
+   are corrected by Newton on the sphere ||y - y*||_w = r to where a branch crosses it (within r
+   sqrt(2 (1 - c_diff)): one branch); fewer than 4 branches,
    or -t or +t lost: r/8, then r/64 (both lost: PSB_ERR_NO_CONVERGENCE). Each branch is walked back
    towards y*; a kink on the way brings the sweep inside it (three rounds at most). A larger
    kernel: up to 3 more directions by inverse iteration, 2 n_dir kdim^2 random trials in it.
@@ -352,22 +347,27 @@
    where it met two pieces' tangents). JSON keys: format, version, n, param_index, complete
    (psb_explore returned PSB_SUCCESS), failed_edges, untraced_branches, odd_nodes, nodes (id,
    kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
-   from_branch, to, to_branch, end, result, points, length, path: the stored points); the CSV
-   writers give the same tables. All numbers in the C locale's notation whatever setlocale.
+   from_branch, to, to_branch, end, result, points, length, path: the stored points); CSV: the
+   same tables. Numbers in the C locale's notation whatever setlocale.
 
    Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves H_k(u,
    lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls only).
-   Where Newton from u_{k-1} fails (a snap-through), Ligursky and Renard trace H_k = 0 from
-   (u_{k-1}, lambda_{k-1}), which solves it too, through folds and kinks to its first point at
-   lambda_k. Mode AUTO tries Newton first (kept unless farther than newton_max_jump); else y is
-   polished (a move over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, where it
-   lands exactly, and free on the other side (the path may pass below lambda_{k-1}). A path that
-   ends elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end), y kept.
+   Where Newton from u_{k-1} fails (a snap-through), H_k = 0 is traced from (u_{k-1},
+   lambda_{k-1}), which solves it too, through folds and kinks to its first point at lambda_k.
+   AUTO tries Newton first (kept unless farther than newton_max_jump); else y is polished (a move
+   over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, landing there exactly (it
+   may pass below lambda_{k-1}). Ending elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end).
 
    Fold curves in two parameters (psb_fold_map_*). H is written once on (x, lambda, mu): at_mu is H
    at mu held; fold is [H; sigma] = 0 with mu its parameter, sigma from [H_x b; c^T 0] [v; sigma] =
    [0; 1] (zero at folds; b, c the null vectors at the start; its gradient one central difference
    of the Jacobian along v). psb_trace traces fold through H's kinks; a FOLD on it is a cusp.
+
+   Branch counts in two parameters (psb_count_map). At each mu the point is found from a branch of
+   the last (walked to its first kink, then Algorithm 2.1), Algorithm 2.2 counts its branches. It
+   sees two within c_diff's angle as one: a change is bisected by counts, then the two closest
+   branches of the larger count are followed in mu and their angle is driven to zero by a secant
+   kept in a bracket where they are apart at one end and met at the other.
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
@@ -1168,6 +1168,80 @@ PSCBRANCH_DEF psb_result psb_fold_map_start(psb_fold_map *m, psb_solver *fold_so
    bordered matrix singular at y). y and the borders are untouched unless PSB_SUCCESS. */
 PSCBRANCH_DEF psb_result psb_fold_map_refine(psb_fold_map *m, psb_solver *fold_solver, double *y,
                                              int max_iter);
+
+/* ---- branch counts in two parameters (manual section 6, "Branch counts in two parameters") */
+
+/* Sets the second parameter mu of the solver's problem (e.g. a field of problem.user) for the
+   calls that follow. Returns 0; > 0: failed (PSB_ERR_CALLBACK_FAILED); < 0: stop
+   (PSB_ERR_CALLBACK). */
+typedef int (*psb_set_mu_fn)(double mu, void *user);
+
+/* Zero-initialise; every zero field takes the default in brackets. */
+typedef struct psb_count_map_options {
+    int n_samples;   /* values of mu from mu_from to mu_to, evenly spaced, 2..100000 [11] */
+    double mu_tol;   /* a change's bracket is narrowed to mu_tol (1 + |mu|), unless the
+                        merging pair is too close to tell apart first, in [1e-15, 0.1] [1e-10] */
+    int max_bisect;  /* halvings of a sample interval by counts before the merge is sought,
+                        1..60 [8] */
+    double approach; /* ||.||_w from the point (predicted from the last two) at which a
+                        branch of the last point is taken up at a new mu, followed by
+                        continuation to its end and Algorithm 2.1 [4 h_init] */
+} psb_count_map_options;
+
+/* The nonsmooth point at one sampled mu. */
+typedef struct psb_count_sample {
+    double mu;
+    int n_branches;    /* Algorithm 2.2's count there, the incoming branch included; -1 when
+                          the point was not found (result) */
+    int unbalanced;    /* psb_branch_report.unbalanced there */
+    psb_result result; /* of Algorithms 2.1 and 2.2 there */
+} psb_count_sample;
+
+/* Where the count changes between two samples. */
+typedef struct psb_count_change {
+    double mu;                   /* the change, in [mu_lo, mu_hi]: with merge, where the secant
+                                    of the pair's angle vanishes (to rounding on a piecewise-
+                                    linear H) or the bracket's middle once within mu_tol */
+    double mu_lo, mu_hi;         /* a bracket: merge: the pair apart at one end, met at the
+                                    other; else the counts differ at its ends */
+    int count_lo, count_hi;      /* Algorithm 2.2's counts below and above the change ... */
+    double mu_count_lo, mu_count_hi; /* ... found at these mu (mu_count_lo <= mu_lo, and
+                                        mu_hi <= mu_count_hi) */
+    int merge;                   /* 1: located where the two closest branches of the larger
+                                    count meet, following them in mu; 0: by counts alone */
+} psb_count_change;
+
+typedef struct psb_count_map_report {
+    int n_changes;  /* changes located (the first max_changes stored) */
+    long n_find;    /* runs of Algorithm 2.2 */
+    long n_follow;  /* corrections following a pair of branches in mu */
+    psb_stats stats; /* the solver's counters the map spent */
+} psb_count_map_report;
+
+/* Bytes of caller memory psb_count_map needs (0 when n < 1 or max_branches outside
+   2..100000): (10 max_branches + 28) (n+1) doubles. */
+PSCBRANCH_DEF size_t psb_count_map_memory_size(int n, int max_branches);
+/* The number of branches at a nonsmooth point as mu runs from mu_from to mu_to. s is a solver
+   of the problem at fixed mu (any backend; set_mu(mu, mu_user) moves its mu); (y, t) the last
+   couple of a branch ending at the point at mu_from, as for psb_locate_end. At each later
+   sample a branch of the previous point (the incoming one first) is taken up `approach`
+   before the point, followed to its end (psb_step, then Algorithm 2.1), and Algorithm 2.2
+   counts the branches there, with bo (NULL: defaults) and max_branches per point.
+   Between samples whose counts differ the change is bisected by counts, then located where
+   the two closest branches of the larger count merge (manual section 6). samples (n_samples)
+   and changes (max_changes, in order of mu from mu_from) are written; y, t are inputs only;
+   mu is left at the last one set. Returns PSB_SUCCESS; PSB_BRANCH_CAPACITY (more changes than
+   max_changes); the first failure of a sample after the first (the others go on from the last
+   point found); PSB_ERR_NULL, _SIZE, _NONFINITE (y, t, mu_from, mu_to), _INPUT (t zero, mu_from
+   == mu_to, a call from a trace's callback), _OPTIONS, _NOMEM (bytes), _CALLBACK(_FAILED),
+   or the first sample's failure. */
+PSCBRANCH_DEF psb_result psb_count_map(psb_solver *s, psb_set_mu_fn set_mu, void *mu_user,
+                                       const double *y, const double *t, double mu_from,
+                                       double mu_to, const psb_count_map_options *options,
+                                       const psb_branch_options *bo, int max_branches,
+                                       void *memory, size_t bytes, psb_count_sample *samples,
+                                       psb_count_change *changes, int max_changes,
+                                       psb_count_map_report *rep);
 
 /* ---- exploring the whole diagram (manual section 6, "Exploring the whole diagram") ------- */
 
@@ -8341,6 +8415,469 @@ PSCBRANCH_DEF psb_result psb_fold_map_refine(psb_fold_map *m, psb_solver *fold_s
     }
     psb__copy(y, m->internal_.y_try, m->two.n + 2);
     return PSB_SUCCESS;
+}
+
+/* ==== Branch counts in two parameters (psb_count_map) ===========================================
+   The nonsmooth point of a one-parameter problem followed as a second parameter mu moves (set by
+   the caller's set_mu): at each mu, Algorithm 2.1 from a branch of the previous mu's point (the
+   incoming one first) finds the point, Algorithm 2.2 counts its branches. A change of count
+   between two samples is bisected by the same two steps; then, where the many side has two
+   branches closest in angle, those two are followed in mu (a correction from each one's couple
+   at the last mu) and their angle, which vanishes where they merge, is driven to zero by a
+   secant safeguarded by the bracket: Algorithm 2.2 tells two branches apart only beyond c_diff's
+   angle, the followed pair down to rounding. */
+
+#define PSB__COUNT_STATES 5 /* the previous and current sample; bisection's low, high and trial */
+
+/* A nonsmooth point at one mu: (p, t) from Algorithm 2.1, the branches from Algorithm 2.2, and
+   the point's velocity dp/dmu from the state it was found from (0 at the first). */
+typedef struct psb__count_state {
+    double mu, *p, *t, *v, *ys, *ts;
+    int n_br, unbalanced;
+    psb_result result;
+} psb__count_state;
+
+typedef struct psb__count_run {
+    psb_solver *s;
+    psb_set_mu_fn set_mu;
+    void *mu_user;
+    const psb_count_map_options *o;
+    psb_branch_options bo;
+    int max_branches;
+    double approach;
+    psb__count_state st[PSB__COUNT_STATES];
+    double *pair[4], *next[4]; /* the followed pair (qi, ti, qj, tj) at pair_mu, and at a trial mu */
+    double pair_mu;
+    const double *pair_v; /* the point's velocity, which moves the pair's predictors */
+    double *scratch_y, *scratch_t, *walk_from, *walk_y, *walk_t; /* approaching the point */
+    psb_count_map_report *rep;
+} psb__count_run;
+
+static size_t psb__count_layout(int n, int max_branches, psb__count_run *c, void *memory)
+{
+    size_t np1 = (size_t)n + 1, per = (3 + 2 * (size_t)max_branches) * np1, off = 0;
+    double *base = (double *)memory;
+    int k;
+    for (k = 0; k < PSB__COUNT_STATES; k++, off += per) {
+        if (!c) continue;
+        c->st[k].p = base + off;
+        c->st[k].t = base + off + np1;
+        c->st[k].v = base + off + 2 * np1;
+        c->st[k].ys = base + off + 3 * np1;
+        c->st[k].ts = base + off + (3 + (size_t)max_branches) * np1;
+    }
+    for (k = 0; k < 4 && c; k++) {
+        c->pair[k] = base + off + (size_t)k * np1;
+        c->next[k] = base + off + (4 + (size_t)k) * np1;
+    }
+    if (c) {
+        c->scratch_y = base + off + 8 * np1;
+        c->scratch_t = base + off + 9 * np1;
+        c->walk_from = base + off + 10 * np1;
+        c->walk_y = base + off + 11 * np1;
+        c->walk_t = base + off + 12 * np1;
+    }
+    off += 13 * np1;
+    return off * sizeof(double);
+}
+
+static void psb__count_copy(const psb__count_run *c, psb__count_state *to, const psb__count_state *from)
+{
+    int np1 = c->s->internal_.np1;
+    to->mu = from->mu;
+    to->n_br = from->n_br;
+    to->unbalanced = from->unbalanced;
+    to->result = from->result;
+    psb__copy(to->p, from->p, np1);
+    psb__copy(to->t, from->t, np1);
+    psb__copy(to->v, from->v, np1);
+    psb__copy(to->ys, from->ys, from->n_br * np1);
+    psb__copy(to->ts, from->ts, from->n_br * np1);
+}
+
+static psb_result psb__count_set_mu(psb__count_run *c, double mu)
+{
+    int rc = c->set_mu(mu, c->mu_user);
+    if (rc < 0) return psb__fail(c->s, PSB_ERR_CALLBACK, "set_mu asked to stop");
+    if (rc > 0) return psb__fail(c->s, PSB_ERR_CALLBACK_FAILED, "set_mu failed");
+    return PSB_SUCCESS;
+}
+
+/* Algorithms 2.1 and 2.2 at the mu already set, from the couple (y, t) (scratch, overwritten)
+   approaching the point: into `to`. With walk > 0, continuation steps first bring y along t
+   next to the branch's first kink, for at most `walk`: Algorithm 2.1 moves by its h, too short
+   for the distance a point moves between samples. A step that turns the tangent beyond c_diff
+   crossed a kink (psb_step alone passes kinks of small turns): it is halved instead. */
+static psb_result psb__count_find(psb__count_run *c, double *y, double *t, double walk,
+                                  psb__count_state *to)
+{
+    psb_solver *s = c->s;
+    psb_branch_report br;
+    psb_result r = psb_correct(s, y, t, NULL);
+    int np1 = s->internal_.np1, steps;
+    double h = 0.25 * walk, h_end = 64 * (c->bo.h > 0 ? c->bo.h : s->opt.h_min);
+    psb__copy(c->walk_from, y, np1);
+    for (steps = 0; r == PSB_SUCCESS && steps < 1000 && h >= h_end; steps++) {
+        double step = h;
+        psb__copy(c->walk_y, y, np1);
+        psb__copy(c->walk_t, t, np1);
+        r = psb_step(s, c->walk_y, c->walk_t, &step);
+        if (psb__is_fatal(r)) return r;
+        if (r != PSB_SUCCESS || psb__cos_w(s, c->walk_t, t) < s->opt.c_diff ||
+            psb__dist_w(s, c->walk_y, c->walk_from) > walk) {
+            r = PSB_SUCCESS;
+            h *= 0.5;
+            continue;
+        }
+        psb__copy(y, c->walk_y, np1);
+        psb__copy(t, c->walk_t, np1);
+    }
+    if (r == PSB_SUCCESS) r = psb_locate_end(s, y, t, &c->bo, NULL);
+    if (r != PSB_SUCCESS) return r;
+    c->rep->n_find++;
+    r = psb_find_branches(s, y, t, &c->bo, c->max_branches, to->ys, to->ts, &br);
+    if (r < 0) return r;
+    psb__copy(to->p, y, s->internal_.np1);
+    psb__copy(to->t, t, s->internal_.np1);
+    to->n_br = br.n_branches < c->max_branches ? br.n_branches : c->max_branches;
+    to->unbalanced = br.unbalanced;
+    to->result = r;
+    return PSB_SUCCESS;
+}
+
+/* The point at mu from the point of `from`: continuation steps and Algorithm 2.1 along the
+   incoming branch, else along each other branch of `from`, from `approach` before the point
+   predicted by from's velocity. PSB_SUCCESS with `to` filled, or the first candidate's failure
+   (to->result too). */
+static psb_result psb__count_at(psb__count_run *c, const psb__count_state *from, double mu,
+                                psb__count_state *to)
+{
+    psb_solver *s = c->s;
+    int np1 = s->internal_.np1, j, k;
+    double *y = c->scratch_y, *t = c->scratch_t;
+    psb_result r = psb__count_set_mu(c, mu), first = PSB_SUCCESS;
+    to->mu = mu;
+    to->n_br = -1;
+    to->unbalanced = 0;
+    if (r != PSB_SUCCESS) return to->result = r;
+    for (j = 0; j < (from->n_br > 1 ? from->n_br : 1); j++) {
+        /* candidate j: branch 0 is the incoming one, arriving along from->t; the others leave
+           along their ts and are walked back */
+        for (k = 0; k < np1; k++) {
+            double dir = j == 0 ? from->t[k] : -from->ts[(size_t)j * np1 + k];
+            y[k] = from->p[k] + (mu - from->mu) * from->v[k] - c->approach * dir;
+            t[k] = dir;
+        }
+        r = psb__count_find(c, y, t, 2 * c->approach, to);
+        if (r == PSB_SUCCESS) {
+            for (k = 0; k < np1; k++) to->v[k] = (to->p[k] - from->p[k]) / (mu - from->mu);
+            return PSB_SUCCESS;
+        }
+        if (psb__is_fatal(r)) return to->result = r;
+        if (j == 0) first = r;
+    }
+    return to->result = first;
+}
+
+/* Follows the couple (q, tq) at pair_mu to mu (already set) into (qn, tn): a correction from q
+   moved with the point and pushed by 1e-2 of its distance away from the other branch (along
+   tq - t_other): near the merge the two lie on either side of a piece boundary closer to each
+   other than the point is known (Algorithm 2.1's precision), and a predictor on the wrong side
+   would land on the other's. The result must stay near the predictor (within reach, the
+   tangent within 60 degrees). 1 when it did. */
+static int psb__count_follow(psb__count_run *c, double mu, const double *q, const double *tq,
+                             const double *t_other, double *qn, double *tn, double reach,
+                             psb_result *fatal)
+{
+    psb_solver *s = c->s;
+    int np1 = s->internal_.np1, k;
+    double d = 0.01 * c->approach / fmax(psb__dist_w(s, tq, t_other), DBL_MIN);
+    psb_result r;
+    for (k = 0; k < np1; k++) qn[k] = q[k] + (mu - c->pair_mu) * c->pair_v[k] + d * (tq[k] - t_other[k]);
+    psb__copy(c->walk_from, qn, np1);
+    psb__copy(tn, tq, np1);
+    r = psb_correct(s, qn, tn, NULL);
+    c->rep->n_follow++;
+    if (psb__is_fatal(r)) *fatal = r;
+    return r == PSB_SUCCESS && psb__dist_w(s, qn, c->walk_from) <= reach && psb__cos_w(s, tn, tq) >= 0.5;
+}
+
+/* The angle between two unit tangents, accurate where it is small. */
+static double psb__count_angle(const psb_solver *s, const double *a, const double *b)
+{
+    double d = 0;
+    int k;
+    for (k = 0; k < s->internal_.np1; k++) d += s->internal_.w[k] * (a[k] - b[k]) * (a[k] - b[k]);
+    return 2 * asin(fmin(1, 0.5 * sqrt(d)));
+}
+
+/* The followed pair at mu: its angle in *phi (0 when the two met), or -1 when a follow failed:
+   past the merge. The pair moves to mu only when both followed and stayed apart. */
+static psb_result psb__count_pair_at(psb__count_run *c, double mu, double reach, double *phi)
+{
+    psb_result fatal = PSB_SUCCESS, r = psb__count_set_mu(c, mu);
+    int ok, k;
+    if (r != PSB_SUCCESS) return r;
+    ok = psb__count_follow(c, mu, c->pair[0], c->pair[1], c->pair[3], c->next[0], c->next[1], reach, &fatal) &&
+         psb__count_follow(c, mu, c->pair[2], c->pair[3], c->pair[1], c->next[2], c->next[3], reach, &fatal);
+    if (fatal != PSB_SUCCESS) return fatal;
+    *phi = ok ? psb__count_angle(c->s, c->next[1], c->next[3]) : -1;
+    if (*phi > 64 * DBL_EPSILON) {
+        for (k = 0; k < 4; k++) psb__copy(c->pair[k], c->next[k], c->s->internal_.np1);
+        c->pair_mu = mu;
+    }
+    return PSB_SUCCESS;
+}
+
+/* The merge of the two closest branches of `many`, gone at mu_few or else at mu_far (the
+   sample beyond): the followed pair's angle driven to zero by a secant kept inside the bracket
+   (halving where it leaves it), until the bracket is within the tolerance or the pair is too
+   close to tell from one that met (then the secant's root). Sets change->mu, its bracket
+   (the pair apart at one end, met at the other) and merge = 1; else change is untouched. */
+static psb_result psb__count_merge(psb__count_run *c, const psb__count_state *many, double mu_few,
+                                   double mu_far, psb_count_change *change)
+{
+    psb_solver *s = c->s;
+    int np1 = s->internal_.np1, i, j, bi = -1, bj = -1, it, overshot;
+    double best = -2, reach, mu_a, phi_a, mu_b, phi_b, mu_past, phi, tol, trust, close = 0;
+    psb_result r;
+    for (i = 0; i < many->n_br; i++)
+        for (j = i + 1; j < many->n_br; j++) {
+            double cs = psb__cos_w(s, many->ts + (size_t)i * np1, many->ts + (size_t)j * np1);
+            if (cs > best) best = cs, bi = i, bj = j;
+        }
+    if (bi < 0) return PSB_SUCCESS;
+    /* the pair taken up at `approach` from the point along the two tangents (on a ray of a
+       piecewise-linear H; a correction at many->mu puts it on curved branches) */
+    psb__axpy_to(c->pair[0], many->p, c->approach, many->ts + (size_t)bi * np1, np1);
+    psb__copy(c->pair[1], many->ts + (size_t)bi * np1, np1);
+    psb__axpy_to(c->pair[2], many->p, c->approach, many->ts + (size_t)bj * np1, np1);
+    psb__copy(c->pair[3], many->ts + (size_t)bj * np1, np1);
+    c->pair_mu = many->mu;
+    c->pair_v = many->v;
+    /* a followed point moves with the point and its branch, by much less than `approach` */
+    reach = 0.5 * c->approach;
+    r = psb__count_pair_at(c, many->mu, reach, &phi);
+    if (r != PSB_SUCCESS || !(phi > 64 * DBL_EPSILON)) return r;
+    mu_a = mu_b = many->mu;
+    phi_a = phi_b = phi;
+    tol = c->o->mu_tol * (1 + fabs(mu_few));
+    /* the few side must be past the merge for the pair too: Algorithm 2.2 merges branches
+       closer than c_diff's angle */
+    for (mu_past = mu_few, it = 0; it < 2; it++, mu_past = mu_far) {
+        r = psb__count_pair_at(c, mu_past, reach, &phi);
+        if (r != PSB_SUCCESS) return r;
+        if (phi <= 64 * DBL_EPSILON) break;
+        mu_a = mu_b, phi_a = phi_b, mu_b = mu_past, phi_b = phi;
+    }
+    if (it == 2) return PSB_SUCCESS;
+    /* a pair closer than this is not told apart from one that met: the corrector stops within
+       tol_correction, and past the merge it alternates between the two pieces at distance
+       approach * phi; a difference Jacobian mixes them within its steps of the boundary */
+    trust = 16 * fmax(s->opt.tol_correction, psb__fd_jacobian(&s->prob) ? 4 * s->prob.fd_step : 0) /
+            c->approach;
+    for (it = 0, overshot = 0; it < 200 && fabs(mu_past - mu_b) > tol; it++) {
+        /* after a secant step that overshot (it is now mu_past) or came too close to tell,
+           the root is near: just short of it */
+        double lo = fmin(mu_b, mu_past), hi = fmax(mu_b, mu_past);
+        double mu_next = overshot == 2 ? mu_b + 0.9 * (close - mu_b)
+                                       : mu_b + (overshot ? 0.9 : 0.5) * (mu_past - mu_b);
+        int secant = 0;
+        if (!overshot && phi_a != phi_b && mu_a != mu_b) {
+            double root = mu_b - phi_b * (mu_b - mu_a) / (phi_b - phi_a);
+            /* inside the bracket by a tenth of the tolerance, so that it shrinks */
+            if (root > lo + 0.1 * tol && root < hi - 0.1 * tol) mu_next = root, secant = 1;
+        }
+        r = psb__count_pair_at(c, mu_next, reach, &phi);
+        if (r != PSB_SUCCESS) return r;
+        overshot = 0;
+        if (phi >= trust) {
+            mu_a = mu_b, phi_a = phi_b, mu_b = mu_next, phi_b = phi;
+        } else if (phi <= 64 * DBL_EPSILON) {
+            mu_past = mu_next;
+            overshot = secant;
+        } else if (secant && fabs(mu_b - mu_a) > 1e4 * tol) {
+            close = mu_next; /* too close to tell, from a wide secant: a first guess */
+            overshot = 2;
+        } else { /* too close to tell: the root of the secant through the two nearest angles */
+            double root = phi_a != phi_b ? mu_b - phi_b * (mu_b - mu_a) / (phi_b - phi_a) : mu_next;
+            change->mu = root > lo - tol && root < hi + tol ? root : mu_next;
+            break;
+        }
+    }
+    if (it == 200) return PSB_SUCCESS;
+    if (fabs(mu_past - mu_b) <= tol) change->mu = 0.5 * (mu_b + mu_past);
+    change->mu_lo = fmin(mu_b, mu_past);
+    change->mu_hi = fmax(mu_b, mu_past);
+    change->merge = 1;
+    return PSB_SUCCESS;
+}
+
+static void psb__count_swap(psb__count_state **a, psb__count_state **b)
+{
+    psb__count_state *x = *a;
+    *a = *b;
+    *b = x;
+}
+
+/* Bisects the count's change between the samples a and b (a->mu < b->mu or >), first by
+   counts to 1/2^max_bisect of their distance, then by the merge, else by counts to mu_tol.
+   Near a merge Algorithm 2.2 may see one branch of the pair (an odd count between an even
+   pair): a count that is neither a's nor b's goes with the smaller one's side. Appends the
+   change (when there is room). */
+static psb_result psb__count_change(psb__count_run *c, const psb__count_state *a,
+                                    const psb__count_state *b, psb_count_change *changes,
+                                    int max_changes)
+{
+    psb__count_state *lo = &c->st[2], *hi = &c->st[3], *mid = &c->st[4];
+    psb_count_change ch;
+    double width = fabs(b->mu - a->mu), tol = c->o->mu_tol * (1 + fmax(fabs(a->mu), fabs(b->mu)));
+    double seen_a = a->mu, seen_b = b->mu; /* nearest mu where a's, b's count was found */
+    int phase, a_many = a->n_br > b->n_br;
+    psb_result r;
+    psb__count_copy(c, lo, a);
+    psb__count_copy(c, hi, b);
+    memset(&ch, 0, sizeof ch);
+    for (phase = 0; phase < 2; phase++) {
+        double stop = phase == 0 ? fmax(tol, width / ldexp(1.0, c->o->max_bisect)) : tol;
+        while (fabs(hi->mu - lo->mu) > stop) {
+            double m = 0.5 * (lo->mu + hi->mu);
+            r = psb__count_at(c, lo, m, mid);
+            if (r != PSB_SUCCESS && !psb__is_fatal(r)) r = psb__count_at(c, hi, m, mid);
+            if (psb__is_fatal(r)) return r;
+            if (r != PSB_SUCCESS) break; /* the point is lost here: the bracket stays */
+            if (mid->n_br == a->n_br) seen_a = m;
+            if (mid->n_br == b->n_br) seen_b = m;
+            if (mid->n_br == a->n_br || (mid->n_br != b->n_br && !a_many))
+                psb__count_swap(&lo, &mid);
+            else
+                psb__count_swap(&hi, &mid);
+        }
+        ch.mu = 0.5 * (lo->mu + hi->mu);
+        ch.mu_lo = fmin(lo->mu, hi->mu);
+        ch.mu_hi = fmax(lo->mu, hi->mu);
+        if (phase == 0 && (a->n_br - b->n_br) % 2 == 0) {
+            const psb__count_state *many = a_many ? lo : hi, *few = a_many ? hi : lo;
+            r = psb__count_merge(c, many, few->mu, a_many ? b->mu : a->mu, &ch);
+            if (r != PSB_SUCCESS) return r;
+            if (ch.merge) break;
+        }
+    }
+    /* the confirmations lie outside the bracket: else the sample's own */
+    if ((seen_a - ch.mu) * (a->mu - ch.mu) <= 0 || fabs(seen_a - ch.mu) < 0.5 * (ch.mu_hi - ch.mu_lo))
+        seen_a = a->mu;
+    if ((seen_b - ch.mu) * (b->mu - ch.mu) <= 0 || fabs(seen_b - ch.mu) < 0.5 * (ch.mu_hi - ch.mu_lo))
+        seen_b = b->mu;
+    ch.count_lo = a->mu < b->mu ? a->n_br : b->n_br;
+    ch.count_hi = a->mu < b->mu ? b->n_br : a->n_br;
+    ch.mu_count_lo = a->mu < b->mu ? seen_a : seen_b;
+    ch.mu_count_hi = a->mu < b->mu ? seen_b : seen_a;
+    if (c->rep->n_changes < max_changes) changes[c->rep->n_changes] = ch;
+    c->rep->n_changes++;
+    return PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF size_t psb_count_map_memory_size(int n, int max_branches)
+{
+    if (n < 1 || n > 100000000 || max_branches < 2 || max_branches > 100000) return 0;
+    return psb__count_layout(n, max_branches, NULL, NULL);
+}
+
+static psb_result psb__count_map(psb__count_run *c, const double *y, const double *t, double mu_from,
+                                 double mu_to, psb_count_sample *samples, psb_count_change *changes,
+                                 int max_changes)
+{
+    psb__count_state *prev = &c->st[0], *cur = &c->st[1];
+    int np1 = c->s->internal_.np1, k, n = c->o->n_samples;
+    psb_result r, first_failure = PSB_SUCCESS;
+    for (k = 0; k < n; k++) {
+        double mu = k == n - 1 ? mu_to : mu_from + (mu_to - mu_from) * k / (n - 1);
+        if (k == 0) {
+            r = psb__count_set_mu(c, mu);
+            psb__copy(c->scratch_y, y, np1);
+            psb__copy(c->scratch_t, t, np1);
+            if (r == PSB_SUCCESS) r = psb__count_find(c, c->scratch_y, c->scratch_t, 0, cur);
+            memset(cur->v, 0, (size_t)np1 * sizeof(double));
+            cur->mu = mu;
+            cur->result = r;
+        } else {
+            r = psb__count_at(c, prev, mu, cur);
+        }
+        samples[k].mu = mu;
+        samples[k].result = r;
+        samples[k].n_branches = r == PSB_SUCCESS ? cur->n_br : -1;
+        samples[k].unbalanced = r == PSB_SUCCESS ? cur->unbalanced : 0;
+        if (psb__is_fatal(r) || (k == 0 && r != PSB_SUCCESS)) return r;
+        if (r != PSB_SUCCESS) { /* the next sample starts from the last one found */
+            if (first_failure == PSB_SUCCESS) first_failure = r;
+            continue;
+        }
+        if (k > 0 && cur->n_br != prev->n_br) {
+            r = psb__count_change(c, prev, cur, changes, max_changes);
+            if (r != PSB_SUCCESS) return r;
+        }
+        psb__count_swap(&prev, &cur);
+    }
+    if (first_failure != PSB_SUCCESS) return first_failure;
+    return c->rep->n_changes > max_changes ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+}
+
+PSCBRANCH_DEF psb_result psb_count_map(psb_solver *s, psb_set_mu_fn set_mu, void *mu_user,
+                                       const double *y, const double *t, double mu_from,
+                                       double mu_to, const psb_count_map_options *options,
+                                       const psb_branch_options *bo, int max_branches,
+                                       void *memory, size_t bytes, psb_count_sample *samples,
+                                       psb_count_change *changes, int max_changes,
+                                       psb_count_map_report *rep)
+{
+    psb__count_run c;
+    psb_count_map_options o;
+    psb_count_map_report local;
+    psb_stats before;
+    psb_result r;
+    size_t need;
+    memset(&local, 0, sizeof local);
+    if (rep) memset(rep, 0, sizeof *rep);
+    r = psb__check_couple(s, y, t);
+    if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_count_map");
+    if (r != PSB_SUCCESS) return r;
+    if (!set_mu || !memory || !samples || (max_changes > 0 && !changes))
+        return psb__fail(s, PSB_ERR_NULL, "set_mu, memory, samples or changes is NULL");
+    if (max_changes < 0 || max_branches < 2 || max_branches > 100000)
+        return psb__fail(s, PSB_ERR_SIZE, "max_changes < 0, or max_branches outside 2..100000");
+    if (!psb__finite(mu_from) || !psb__finite(mu_to))
+        return psb__fail(s, PSB_ERR_NONFINITE, "mu_from or mu_to is NaN or Inf");
+    if (mu_from == mu_to) return psb__fail(s, PSB_ERR_INPUT, "mu_from equals mu_to");
+    memset(&o, 0, sizeof o);
+    if (options) o = *options;
+    if (o.n_samples == 0) o.n_samples = 11;
+    if (o.mu_tol == 0) o.mu_tol = 1e-10;
+    if (o.max_bisect == 0) o.max_bisect = 8;
+    memset(&c, 0, sizeof c);
+    c.bo = psb_branch_options_resolve(bo, s);
+    if (o.approach == 0) o.approach = 4 * s->opt.h_init;
+    if (o.n_samples < 2 || o.n_samples > 100000)
+        return psb__fail(s, PSB_ERR_OPTIONS, "n_samples outside 2..100000");
+    if (!(o.mu_tol >= 1e-15 && o.mu_tol <= 0.1))
+        return psb__fail(s, PSB_ERR_OPTIONS, "mu_tol outside [1e-15, 0.1]");
+    if (o.max_bisect < 1 || o.max_bisect > 60)
+        return psb__fail(s, PSB_ERR_OPTIONS, "max_bisect outside 1..60");
+    if (!(o.approach > 0 && o.approach <= 1e300))
+        return psb__fail(s, PSB_ERR_OPTIONS, "approach is not positive and finite");
+    need = psb_count_map_memory_size(s->prob.n, max_branches);
+    if (bytes < need) return psb__fail(s, PSB_ERR_NOMEM, "memory is smaller than psb_count_map_memory_size");
+    c.s = s;
+    c.set_mu = set_mu;
+    c.mu_user = mu_user;
+    c.o = &o;
+    c.max_branches = max_branches;
+    c.approach = o.approach;
+    c.rep = rep ? rep : &local;
+    psb__count_layout(s->prob.n, max_branches, &c, memory);
+    before = s->stats;
+    r = psb__count_map(&c, y, t, mu_from, mu_to, samples, changes, max_changes);
+    c.rep->stats = psb__stats_since(s, &before);
+    return r;
 }
 
 /* ==== Contact helpers =============================================================================
