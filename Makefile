@@ -222,6 +222,7 @@ SMOKE = "smoke:$(BUILD)/consumer" \
 	"smoke:fe/block --explore" \
 	"smoke:fe/triangle --mesh 16 --explore" \
 	"smoke:fe/triangle --mesh 16 --explore --problem fold" \
+	"smoke:fe/triangle --mesh 16 --count-map 24:25.2 --count-samples 7 > $(BUILD)/count_map16.txt && grep -q 'four branches for H1 in (24.402769[0-9]*, 24.886268' $(BUILD)/count_map16.txt" \
 	"smoke:fe/quasistatic --mesh 8 --dt 0.1" $(SMOKE_SPARSE) $(SMOKE_MUMPS) \
 	"smoke:bash tests/cli.sh" \
 	"smoke:bash tests/readme_program.sh"

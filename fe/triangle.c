@@ -73,6 +73,9 @@ static const char triangle_usage[] =
     "                        it (checks --fold-trace auto's meeting of two traces; 1..1000000)\n"
     "  --load H1|auto        branching load h = gamma (-H1, -7.5), 0 < H1 <= 1e6; auto: the middle of\n"
     "                        the loads with four branches on this mesh (default: 26.4 when inside, else auto)\n"
+    "  --count-map A:B       the number of branches at gamma = 0 as H1 of the load runs from A to B\n"
+    "                        (0 < A, B <= 1e6; psb_count_map), each change located\n"
+    "  --count-samples N     values of H1 the count map samples (default 11; 2..1000)\n"
     "  --ndir N              directions per span of Algorithm 2.2 (default 30; 1..10000)\n"
     "  --nspan N             spans of Algorithm 2.2 (default 10; 1..1000)\n"
     "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 1e-290 <= H <= 1)\n"
@@ -103,6 +106,8 @@ typedef struct args {
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
     double mult_weight;        /* weight of the multipliers relative to the displacements (< 0: 1/r^2) */
+    double count_from, count_to; /* --count-map: H1 from, to (0: no map) */
+    int count_samples;
     unsigned long long seed;
     const char *out, *save, *refine, *compare[4];
     int ncompare;
@@ -114,12 +119,12 @@ static int parse(int argc, char **argv, args *a)
     static const char *const problems[] = {"branching", "fold", NULL};
     static const char *const dirichlet[] = {"mult", "elim", NULL};
     static const char *const fold_traces[] = {"auto", "start", "end", NULL}; /* FOLD_* order */
-    const char *kappa = NULL, *load = NULL, *compare = NULL;
+    const char *kappa = NULL, *load = NULL, *compare = NULL, *count_map = NULL;
     int elim = 0;
     cli c;
     memset(a, 0, sizeof *a);
     a->n = 32; a->ndir = 30; a->nspan = 10; a->multipliers = 1;
-    a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->solver = FE_SOLVER_AUTO;
+    a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->solver = FE_SOLVER_AUTO; a->count_samples = 11;
     cli_init(&c, "triangle", argc, argv, triangle_usage);
     while (cli_next(&c)) {
         if (cli_flag(&c, "--verbose")) a->verbose = 1;
@@ -140,6 +145,20 @@ static int parse(int argc, char **argv, args *a)
             if (a->load_auto) a->load = -1;
             else cli_parse_double(&c, load, &a->load, 0, 1e6, 1);
         }
+        else if (cli_string(&c, "--count-map", &count_map)) {
+            const char *colon = strchr(count_map, ':');
+            char from[64];
+            if (!colon || colon == count_map || (size_t)(colon - count_map) >= sizeof from) {
+                cli_fail(&c, "--count-map %s: give A:B", count_map);
+            } else {
+                memcpy(from, count_map, (size_t)(colon - count_map));
+                from[colon - count_map] = 0;
+                if (cli_parse_double(&c, from, &a->count_from, 0, 1e6, 1) == 0 &&
+                    cli_parse_double(&c, colon + 1, &a->count_to, 0, 1e6, 1) == 0 && a->count_from == a->count_to)
+                    cli_fail(&c, "--count-map %s: A equals B", count_map);
+            }
+        }
+        else if (cli_int(&c, "--count-samples", &a->count_samples, 2, 1000)) {}
         else if (cli_u64(&c, "--seed", &a->seed)) {}
         else if (cli_string(&c, "--out", &a->out)) {}
         else if (cli_string(&c, "--save", &a->save)) {}
@@ -155,6 +174,13 @@ static int parse(int argc, char **argv, args *a)
         }
         else cli_unknown(&c);
     }
+    if (c.status == CLI_OK && a->count_to > 0 && (a->fold || a->explore || a->refine))
+        cli_fail(&c, "--count-map goes with the branching problem alone (no --problem fold, --explore, --refine)");
+    /* static condensation factors the load column's constant rows once: the map moves them */
+    if (c.status == CLI_OK && a->count_to > 0 && a->solver == FE_SOLVER_CONDENSED)
+        cli_fail(&c, "--count-map moves the load, which --solver condensed holds fixed: choose another solver");
+    if (c.status == CLI_OK && a->count_to > 0 && a->solver == FE_SOLVER_AUTO) a->solver = FE_SOLVER_BANDED;
+    if (c.status == CLI_OK && a->count_to > 0) a->load = a->count_from;
     if (c.status == CLI_OK && a->refine && !a->fold && !(a->load > 0))
         cli_fail(&c, "--refine needs --load H1, the load of the run that saved the end points");
     return c.status;
@@ -606,6 +632,105 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     return ok && !write_failed ? 0 : 1;
 }
 
+/* --count-map: the load h = gamma (-H1, -7.5) is linear in H1, load1 = load1(H1_0) + (H1 -
+   H1_0) dload; set_mu moves it. The solver's caches compare dH and dH/dgamma by value, so
+   moving the load between calls is safe. */
+typedef struct count_ctx {
+    fe_model *md;
+    const double *load1_base, *dload;
+    double h1_base;
+} count_ctx;
+
+static int count_set_h1(double h1, void *user)
+{
+    count_ctx *c = (count_ctx *)user;
+    int p;
+    for (p = 0; p < c->md->n; p++) c->md->load1[p] = c->load1_base[p] + (h1 - c->h1_base) * c->dload[p];
+    return 0;
+}
+
+/* The count map from the couple (y, t) arriving at gamma = 0 at H1 = a->count_from. Prints
+   the samples, the changes, the loads with four branches; 0 when every sample found its point
+   and every change was located where two branches merge. */
+static int run_count_map(fe_run *run, const fe_model *md_unit, const double *y, const double *t,
+                         const args *a, double t0)
+{
+    int n = run->md->n, k, ok = 1, stored;
+    count_ctx ctx;
+    psb_count_map_options o;
+    psb_count_map_report rep;
+    psb_count_sample *samples = calloc((size_t)a->count_samples, sizeof *samples);
+    psb_count_change changes[16];
+    size_t bytes = psb_count_map_memory_size(n, FE_MAX_BRANCHES);
+    double *base = malloc(sizeof(double) * (size_t)n), *dload = malloc(sizeof(double) * (size_t)n);
+    void *memory = malloc(bytes);
+    psb_result r;
+    if (!samples || !base || !dload || !memory) {
+        fprintf(stderr, "triangle: out of memory for the count map\n");
+        free(samples); free(base); free(dload); free(memory);
+        return 1;
+    }
+    memcpy(base, run->md->load1, sizeof(double) * (size_t)n);
+    for (k = 0; k < n; k++) dload[k] = md_unit->load1[k] - base[k]; /* the model at H1_0 + 1 */
+    ctx.md = run->md;
+    ctx.load1_base = base;
+    ctx.dload = dload;
+    ctx.h1_base = a->count_from;
+    memset(&o, 0, sizeof o);
+    o.n_samples = a->count_samples;
+    fe_run_progress(run, "the count map: H1 from %g to %g, %d samples", a->count_from, a->count_to, a->count_samples);
+    r = psb_count_map(&run->s, count_set_h1, &ctx, y, t, a->count_from, a->count_to, &o, &run->branch,
+                      FE_MAX_BRANCHES, memory, bytes, samples, changes, 16, &rep);
+    printf("\n  branches at gamma = 0 for the load h = gamma (-H1, -7.5) (psb_count_map):\n      H1        branches\n");
+    for (k = 0; k < a->count_samples; k++) {
+        printf("  %10.4f   %4d%s\n", samples[k].mu, samples[k].n_branches,
+               samples[k].result != PSB_SUCCESS ? "  (point not found)" : samples[k].unbalanced ? "  (unbalanced)" : "");
+        if (samples[k].result != PSB_SUCCESS) ok = 0;
+    }
+    stored = rep.n_changes < 16 ? rep.n_changes : 16;
+    for (k = 0; k < stored; k++) {
+        const psb_count_change *c = &changes[k];
+        printf("  the count changes from %d to %d at H1 = %.10f, in [%.10f, %.10f] (%s; counts confirmed by "
+               "Algorithm 2.2 at H1 = %.6f and %.6f)\n", c->count_lo, c->count_hi, c->mu, c->mu_lo, c->mu_hi,
+               c->merge ? "where two branches merge" : "by counts", c->mu_count_lo, c->mu_count_hi);
+        if (!c->merge) ok = 0;
+    }
+    for (k = 0; k + 1 < stored; k++)
+        if (changes[k].count_hi == 4 && changes[k + 1].count_lo == 4)
+            printf("  four branches for H1 in (%.8f, %.8f)\n", changes[k].mu, changes[k + 1].mu);
+    printf("  cost: %ld runs of Algorithm 2.2, %ld corrections following a pair, %ld factorisations, %.1f s\n",
+           rep.n_find, rep.n_follow, rep.stats.n_factor, seconds() - t0);
+    if (r != PSB_SUCCESS) {
+        printf("  psb_count_map: %s\n", psb_solver_message(&run->s));
+        ok = 0;
+    }
+    if (a->out) { /* count_map.csv: the samples; count_changes.csv: the changes */
+        char path[1024];
+        FILE *f = fe_run_open(run, path, a->out, "count_map.csv");
+        if (f) {
+            fprintf(f, "h1,branches\n");
+            for (k = 0; k < a->count_samples; k++) fprintf(f, "%.12g,%d\n", samples[k].mu, samples[k].n_branches);
+            if (fe_run_close(run, f, path)) ok = 0;
+        } else {
+            ok = 0;
+        }
+        f = fe_run_open(run, path, a->out, "count_changes.csv");
+        if (f) {
+            fprintf(f, "h1,h1_lo,h1_hi,count_lo,count_hi,merge\n");
+            for (k = 0; k < stored; k++)
+                fprintf(f, "%.12g,%.12g,%.12g,%d,%d,%d\n", changes[k].mu, changes[k].mu_lo, changes[k].mu_hi,
+                        changes[k].count_lo, changes[k].count_hi, changes[k].merge);
+            if (fe_run_close(run, f, path)) ok = 0;
+        } else {
+            ok = 0;
+        }
+    }
+    printf("triangle: %s\n", ok ? "OK (every count found, every change located)" : "FAILED (see above)");
+    count_set_h1(a->count_from, &ctx);
+    free(samples); free(base); free(dload); free(memory);
+    return ok ? 0 : 1;
+}
+
 int main(int argc, char **argv)
 {
     args a;
@@ -690,6 +815,24 @@ int main(int argc, char **argv)
            1 - opt.c_diff, run.branch.h, run.branch.h_min, run.branch.h_init, run.branch.n_dir, run.branch.n_span, a.seed);
     r = fe_run_approach(&run, y, t, a.verbose);
     if (r < 0) { fprintf(stderr, "triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
+    if (a.count_to > 0) { /* the model at H1 + 1 gives the load's derivative in H1 */
+        fe_model md_unit;
+        fe_mesh mesh_unit;
+        double unit0[2] = {0, 0}, unit1[2];
+        unit1[0] = -(a.count_from + 1);
+        unit1[1] = -7.5;
+        memset(&md_unit, 0, sizeof md_unit);
+        memset(&mesh_unit, 0, sizeof mesh_unit);
+        if (fe_triangle_model(&md_unit, &mesh_unit, a.n, a.multipliers, unit0, unit1)) {
+            fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a.n);
+            goto done;
+        }
+        rc = run_count_map(&run, &md_unit, y, t, &a, t0);
+        fe_model_free(&md_unit);
+        fe_mesh_free(&mesh_unit);
+        fe_solver_report(&fsol);
+        goto done;
+    }
     r = fe_run_branching(&run, y, t);
     if (r < 0) { fprintf(stderr, "triangle: branching failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
     if (a.verbose)
