@@ -5,8 +5,9 @@
    and kinks, and finds every smooth branch leaving a nonsmooth point, with the method of T.
    Ligursky and Y. Renard (CMAME 280 (2014); Algorithms 2.1 and 2.2 of "A method of piecewise-
    smooth numerical branching", ZAMM 97 (2017)). It also locates folds, branch points and events,
-   switches at smooth branch points, explores whole diagrams and steps quasi-static evolutions
-   through snap-throughs. Frictional contact is the motivating case; helpers for it are included.
+   switches at branch points, explores whole diagrams, steps quasi-static evolutions through
+   snap-throughs, and maps folds, kinks and branch counts in a second parameter. Frictional
+   contact is the motivating case; helpers for it are included.
 
    In exactly one C or C++ file:       #define PSCBRANCH_IMPLEMENTATION
                                        #include "pscbranch.h"
@@ -48,9 +49,8 @@
    Weighted inner product <a,b>_w = sum_i w_i a_i b_i, w_i = options.kappa for the state and 1 for
    the parameter (or options.weights). Every norm, cosine and normalisation in y uses it, so step
    sizes, tol_correction and branching lengths are lengths in it: y in units far from 1 wants
-   weights 1/u_i^2, u_i the size of component i. Weighting some unknowns (e.g. multipliers) far
-   below the others makes pieces that differ only there look alike. H's units need no weight,
-   but tol_residual is absolute (section 5).
+   weights 1/u_i^2, u_i the size of component i; unknowns weighted far below the others make
+   pieces that differ only there look alike. tol_residual is absolute (section 5).
    H is PC^1: continuous, and near every point equal to one of finitely many C^1 selections. The
    Jacobian callback returns the gradient of a selection active at y (a B-Jacobian element).
    Without one, dH comes from finite differences, column j stepping fd_step max(1, |y_j|) (rescale
@@ -80,8 +80,8 @@
    psb_locate_end, psb_find_branches   Algorithms 2.1, 2.2: a branch's end point, the branches there
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
-   psb_two_param_problem_init; psb_fold_map_memory_size, _init, _start, _refine   fold curves
-   psb_count_map, _memory_size  branch counts at a nonsmooth point as a second parameter moves
+   psb_two_param_problem_init, _lift; psb_fold_map_memory_size, _init, _start, _refine   folds
+   psb_event_curve_memory_size, _init, _side_folds   kink and event curves; psb_count_map, ...
    psb_explore                  every branch reachable from one couple, as a graph
    psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
@@ -112,16 +112,16 @@
        by points where one C^1 selection gives H; > 0: not known here
    Return 0 on success; > 0 for a recoverable failure (the trial is rejected and shortened; with
    no retry left, PSB_ERR_CALLBACK_FAILED); < 0 to stop at once (PSB_ERR_CALLBACK). NaN or Inf
-   counts as recoverable (then PSB_ERR_NONFINITE). A failed trial tells nothing about the curve:
-   an outcome that rests on one (an end point, a branch set) is reported as that failure, never
-   as a success; so is a Jacobian of rank < N (with differences only when nothing succeeded).
+   counts as recoverable (then PSB_ERR_NONFINITE). An outcome resting on a failed trial (an end
+   point, a branch set) or on a Jacobian of rank < N (differences: where nothing succeeded) is
+   reported as that failure, never as a success.
    int on_point(const psb_point *p, void *user)   psb_trace's start, accepted points, located
    kinks and special points; nonzero stops (PSB_STOPPED). p->flags: PSB_POINT_START; _FOLD (t's
    parameter component changed sign; p->fold_param estimates the limit point); _SWITCH (after a
    tangent switch); _BOUND (exactly on a bound); _KINK (the last couple before a kink, within
    h_min); _SPECIAL (p->special, reported before the accepted point that follows it).
-   int event(const double *y, double *g, void *user)   the n_events values g(y); < 0 stops
-   (PSB_ERR_CALLBACK), > 0 or NaN/Inf fails the trace (PSB_ERR_CALLBACK_FAILED, _NONFINITE).
+   int event(const double *y, double *g, void *user)   the n_events values g(y); < 0 stops,
+   > 0 or NaN/Inf fails the trace (PSB_ERR_CALLBACK, _CALLBACK_FAILED, _NONFINITE).
 
    4. RESULT CODES (0 success, > 0 informational, < 0 failure: test with `< 0`) -------------------
    PSB_SUCCESS              0  done
@@ -170,8 +170,7 @@
      tol_residual [1e-10]      ||H(y)||_2 at convergence, absolute (below)
      tol_correction [1e-10]    distance to the solution at convergence, ||.||_w
      c_min [0.9]               least cosine between a step's tangents, in (-1, 1)
-     switch_delta_min [h_min]  first probe distance of the tangent switch
-     switch_delta_max [h_init] last probe distance, >= switch_delta_min
+     switch_delta_min, _max [h_min, h_init]  first and last probe distance of the tangent switch
      switch_no_sweep [0]       1: no sweep around a kink when nothing lies straight ahead
      switch_n_dir [20]         directions of that sweep, <= PSB_MAX_DIR_LIMIT (10000)
      c_diff [0.99999]          cosine above which two tangents are one branch, in (0, 1)
@@ -367,7 +366,9 @@
    the last (walked to its first kink, then Algorithm 2.1), Algorithm 2.2 counts its branches. It
    sees two within c_diff's angle as one: a change is bisected by counts, then the two closest
    branches of the larger count are followed in mu and their angle is driven to zero by a secant
-   kept in a bracket where they are apart at one end and met at the other.
+   kept in a bracket where they are apart at one end and met at the other. Event curves
+   (psb_event_curve_*): [H; g_k] = 0, traced like fold; on a kink curve side_folds changes sign
+   where a side's fold curve meets it (the kink is a fold between).
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
@@ -378,8 +379,8 @@
    psb_proj_disk: onto {|x| <= s} in R^2 (s <= 0: {0}); IN, BOUNDARY (s x / |x|), ZERO.
    psb_proj_cone: onto {|x_T| <= mu x_N} in R^3; IN, POLAR (0), BOUNDARY; mu = 0: IN never default.
    psb_proj_half_active, _interval_active, _disk_active, _cone_active: the pieces active within tol.
-   psb_ac2d_node, _active, _state: a node's 2D Alart-Curnier residual (Haslinger et al.) with its
-     2 x 4 Jacobian and piece; its active pieces; its contact state.
+   psb_ac2d_node, _active, _state: a node's 2D Alart-Curnier residual, 2 x 4 Jacobian, piece;
+     its active pieces; its contact state (Haslinger et al.).
    psb_fc3d_ac, _jm, _nat: a contact's 3D Alart-Curnier, Jean-Moreau residuals and natural map with
      De Saxce's velocity (psb_fc3d_desaxce) (Acary et al.); psb_fc_nat_error: their eq. (15).
    psb_contact_convert: between the two conventions (r = -lam, u_N = g - u_n, u_T = -u_t).
@@ -388,8 +389,7 @@
    PSCBRANCH_IMPLEMENTATION   in exactly one file: compile the implementation there
    PSCBRANCH_STATIC           make every function static (a private copy per file)
    PSCBRANCH_DEF              the linkage of every public function [extern; static with _STATIC]
-   PSCBRANCH_MALLOC(size), PSCBRANCH_FREE(ptr)   the allocator of psb_solver_init and
-                              psb_diagram_init [malloc, free]; define both or neither
+   PSCBRANCH_MALLOC(size), _FREE(ptr)  both or neither: the solver's, diagram's allocator [malloc]
    PSCBRANCH_LAPACK_INT       the Fortran INTEGER of your LAPACK [int]; long for ILP64
    PSCBRANCH_FORTRAN(name)    the symbol of a LAPACK routine [name##_]
    PSCBRANCH_NO_FORTRAN_STRLEN  for a LAPACK whose character arguments carry no hidden length
@@ -397,8 +397,8 @@
    PSCBRANCH_NO_SIMD          no SSE2 intrinsics in the banded LU (the same results)
    PSCBRANCH_STDIO            declares and defines psb_diagram_write_json and _csv (FILE *)
    Defined here: PSCBRANCH_VERSION_MAJOR, _MINOR, _PATCH, _STRING; the guards PSCBRANCH_H,
-   PSCBRANCH_IMPLEMENTATION_DONE; with the implementation, PSCBRANCH_STRLEN_ONE for that file's
-   LAPACK calls. LAPACK used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf). */
+   PSCBRANCH_IMPLEMENTATION_DONE; with the implementation, PSCBRANCH_STRLEN_ONE for its LAPACK
+   calls. LAPACK used: dgetrf, dgetrs, dlacn2, dgeqr2, dorm2r (dgbtrf). */
 
 #ifndef PSCBRANCH_H
 #define PSCBRANCH_H
@@ -1242,6 +1242,53 @@ PSCBRANCH_DEF psb_result psb_count_map(psb_solver *s, psb_set_mu_fn set_mu, void
                                        void *memory, size_t bytes, psb_count_sample *samples,
                                        psb_count_change *changes, int max_changes,
                                        psb_count_map_report *rep);
+
+/* ---- event and kink curves in two parameters (manual section 6, "Event curves") ---------- */
+
+/* The user's y (n+2 components) from a one-parameter point y (n+1: the user's without the mu
+   component, those after it moved down one) at mu: the lift of an at_mu point. */
+PSCBRANCH_DEF void psb_two_param_lift(const psb_two_param_problem *p, const double *y, double mu,
+                                      double *full);
+
+/* The curve where event k vanishes on H = 0: n+1 equations [H(y); g_k(y)] = 0 in the user's y
+   (n+2 components), param_index = mu_index, as the problem `curve` (dense; its user pointer is
+   this struct: do not copy it). With g_k a switching function (the argument of the max, min or
+   projection whose active piece changes) it is the curve of kinks; with a user event, that
+   event's curve. g_k's gradient is a central difference (2 (n+2) event calls, steps fd_step
+   max(1, |y_j|)). psb_event_curve_side_folds is an event function of 2 values for psb_trace on
+   `curve`: on each side of the switching surface the sign of det H_x times |det H_x|^(1/n)
+   (from the Jacobian at 1 and 2 side_offsets off the surface, extrapolated to it); a
+   sign change of one of them is where a fold curve of that side meets the kink curve (between
+   such points the kink is a fold at a kink: the curve turns back there). Serves one thread. */
+typedef struct psb_event_curve {
+    psb_two_param_problem two; /* a copy of the problem */
+    psb_event_fn event;        /* the events, n_events values at the user's y */
+    void *event_user;
+    int n_events, k;           /* k: the event whose zero set is traced, 0 <= k < n_events */
+    double fd_step;            /* [6.06e-6] difference step of g_k's gradient, in (0, 1) */
+    double side_offset;        /* [1e-7] side_folds' points: y -+ side_offset max(1, |y|_inf)
+                                  along g_k's gradient, in (0, 1) */
+    psb_problem curve;         /* n+1 equations, n+2 unknowns, parameter mu */
+    struct {                   /* private: treat as opaque */
+        double *g, *y_eval, *grad, *jac, *lu;
+        void *ipiv;
+        unsigned ready;
+    } internal_;
+} psb_event_curve;
+
+/* Bytes psb_event_curve_init needs (0 when n outside 1..46000 or n_events < 1): about 2 n^2
+   doubles. */
+PSCBRANCH_DEF size_t psb_event_curve_memory_size(int n, int n_events);
+/* Sets up c on caller memory (aligned for double; never allocates). Returns PSB_SUCCESS,
+   PSB_ERR_NULL (c, p, event, memory, a callback), PSB_ERR_SIZE (n, the indices, n_events, k),
+   PSB_ERR_NOMEM (bytes); *c is cleared on failure. fd_step and side_offset may be set after. */
+PSCBRANCH_DEF psb_result psb_event_curve_init(psb_event_curve *c, const psb_two_param_problem *p,
+                                              psb_event_fn event, int n_events, int k,
+                                              void *event_user, void *memory, size_t bytes);
+/* The event function described above (user: the psb_event_curve; g: 2 values); 0, or the
+   callbacks' nonzero code, or 1 when fd_step, side_offset are out of range or H_x is not
+   finite. */
+PSCBRANCH_DEF int psb_event_curve_side_folds(const double *y, double *g, void *user);
 
 /* ---- exploring the whole diagram (manual section 6, "Exploring the whole diagram") ------- */
 
@@ -8878,6 +8925,178 @@ PSCBRANCH_DEF psb_result psb_count_map(psb_solver *s, psb_set_mu_fn set_mu, void
     r = psb__count_map(&c, y, t, mu_from, mu_to, samples, changes, max_changes);
     c.rep->stats = psb__stats_since(s, &before);
     return r;
+}
+
+/* ==== Event and kink curves in two parameters (psb_event_curve_*) ===============================
+   [H; g_k] = 0 is a PC^1 system of n+1 equations in n+2 unknowns like any other: psb_trace
+   traces it, with mu its parameter, through the kinks of H off the switching surface. */
+
+#define PSB__EVENT_READY 0x70736563u /* psb_event_curve.internal_.ready of a set-up curve */
+
+static size_t psb__event_layout(int n, int n_events, psb_event_curve *c, void *memory)
+{
+    size_t nn = (size_t)n, np2 = nn + 2, off = 0;
+    double *base = (double *)memory;
+    if (n < 1 || n > 46000 || n_events < 1 || n_events > 1000000) return 0;
+    if (c) {
+        c->internal_.g = base;
+        c->internal_.y_eval = base + n_events;
+        c->internal_.grad = base + n_events + np2;
+        c->internal_.jac = base + n_events + 2 * np2;
+        c->internal_.lu = base + n_events + 2 * np2 + nn * np2;
+    }
+    off = psb__align(((size_t)n_events + 2 * np2 + nn * np2 + nn * nn) * sizeof(double));
+    if (c) c->internal_.ipiv = (char *)memory + off;
+    return off + psb__align(nn * sizeof(psb__lint));
+}
+
+PSCBRANCH_DEF void psb_two_param_lift(const psb_two_param_problem *p, const double *y, double mu,
+                                      double *full)
+{
+    int j, k = 0;
+    if (!p || !y || !full) return;
+    for (j = 0; j < p->n + 2; j++) full[j] = j == p->mu_index ? mu : y[k++];
+}
+
+/* g_k at y (n+2); 0 or the callback's code (1 for NaN/Inf). */
+static int psb__event_value(psb_event_curve *c, const double *y, double *gk)
+{
+    int rc = c->event(y, c->internal_.g, c->event_user);
+    if (rc) return rc;
+    *gk = c->internal_.g[c->k];
+    return psb__finite(*gk) ? 0 : 1;
+}
+
+static int psb__event_curve_residual(const double *y, double *h, void *user)
+{
+    psb_event_curve *c = (psb_event_curve *)user;
+    int rc = c->two.residual(y, h, c->two.user);
+    return rc ? rc : psb__event_value(c, y, h + c->two.n);
+}
+
+/* g_k's gradient at y by central differences into internal_.grad. */
+static int psb__event_gradient(psb_event_curve *c, const double *y)
+{
+    int j, rc, np2 = c->two.n + 2;
+    double *ye = c->internal_.y_eval, gp, gm;
+    if (!(c->fd_step > 0 && c->fd_step < 1)) return 1;
+    memcpy(ye, y, (size_t)np2 * sizeof *ye);
+    for (j = 0; j < np2; j++) {
+        double step = c->fd_step * fmax(1, fabs(y[j]));
+        ye[j] = y[j] + step;
+        rc = psb__event_value(c, ye, &gp);
+        if (!rc) {
+            ye[j] = y[j] - step;
+            rc = psb__event_value(c, ye, &gm);
+        }
+        ye[j] = y[j];
+        if (rc) return rc;
+        c->internal_.grad[j] = (gp - gm) / (2 * step);
+    }
+    return 0;
+}
+
+static int psb__event_curve_jacobian(const double *y, double *jac, int ld, void *user)
+{
+    psb_event_curve *c = (psb_event_curve *)user;
+    int n = c->two.n, j, rc = c->two.jacobian(y, jac, ld, c->two.user);
+    if (rc || (rc = psb__event_gradient(c, y))) return rc;
+    for (j = 0; j < n + 2; j++) jac[(size_t)j * (size_t)ld + (size_t)n] = c->internal_.grad[j];
+    return 0;
+}
+
+PSCBRANCH_DEF size_t psb_event_curve_memory_size(int n, int n_events)
+{
+    return psb__event_layout(n, n_events, NULL, NULL);
+}
+
+PSCBRANCH_DEF psb_result psb_event_curve_init(psb_event_curve *c, const psb_two_param_problem *p,
+                                              psb_event_fn event, int n_events, int k,
+                                              void *event_user, void *memory, size_t bytes)
+{
+    size_t need;
+    if (!c) return PSB_ERR_NULL;
+    memset(c, 0, sizeof *c);
+    if (!p || !event || !memory || !p->residual || !p->jacobian) return PSB_ERR_NULL;
+    if (p->n < 1 || p->n > 46000 || p->lambda_index < 0 || p->lambda_index > p->n + 1 || p->mu_index < 0 ||
+        p->mu_index > p->n + 1 || p->lambda_index == p->mu_index || n_events < 1 || k < 0 || k >= n_events)
+        return PSB_ERR_SIZE;
+    need = psb__event_layout(p->n, n_events, NULL, NULL);
+    if (!need) return PSB_ERR_SIZE;
+    if (bytes < need) return PSB_ERR_NOMEM;
+    c->two = *p;
+    c->event = event;
+    c->event_user = event_user;
+    c->n_events = n_events;
+    c->k = k;
+    c->fd_step = 6.055454452393343e-06; /* cbrt(DBL_EPSILON): central differences */
+    c->side_offset = 1e-7;
+    psb__event_layout(p->n, n_events, c, memory);
+    psb_problem_init(&c->curve, p->n + 1, psb__event_curve_residual, psb__event_curve_jacobian, c);
+    c->curve.param_index = p->mu_index;
+    c->internal_.ready = PSB__EVENT_READY;
+    return PSB_SUCCESS;
+}
+
+/* sign(det A) |det A|^(1/n) of the state block of internal_.jac (n x (n+2)), by LU; 1 when it
+   is not finite. */
+static int psb__event_state_det(psb_event_curve *c, double *out)
+{
+    int n = c->two.n, j, k = 0;
+    psb__lint order = n, info = 0;
+    double logdet = 0;
+    int sign = 1;
+    for (j = 0; j < n + 2; j++)
+        if (j != c->two.lambda_index && j != c->two.mu_index)
+            memcpy(c->internal_.lu + (size_t)k++ * (size_t)n, c->internal_.jac + (size_t)j * (size_t)n,
+                   (size_t)n * sizeof(double));
+    if (!psb__all_finite(c->internal_.lu, (size_t)n * (size_t)n)) return 1;
+    PSCBRANCH_FORTRAN(dgetrf)(&order, &order, c->internal_.lu, &order, (psb__lint *)c->internal_.ipiv, &info);
+    if (info < 0) return 1;
+    for (j = 0; j < n; j++) {
+        double d = c->internal_.lu[(size_t)j * (size_t)n + (size_t)j];
+        if (d == 0) {
+            *out = 0;
+            return 0;
+        }
+        if (d < 0) sign = -sign;
+        if (((psb__lint *)c->internal_.ipiv)[j] != j + 1) sign = -sign;
+        logdet += log(fabs(d));
+    }
+    *out = sign * exp(logdet / n);
+    return 0;
+}
+
+PSCBRANCH_DEF int psb_event_curve_side_folds(const double *y, double *g, void *user)
+{
+    psb_event_curve *c = (psb_event_curve *)user;
+    int n, np2, j, side, rc;
+    double gnorm = 0, ynorm = 0, shift;
+    if (!c || c->internal_.ready != PSB__EVENT_READY || !y || !g) return 1;
+    if (!(c->side_offset > 0 && c->side_offset < 1)) return 1;
+    n = c->two.n;
+    np2 = n + 2;
+    if ((rc = psb__event_gradient(c, y))) return rc;
+    for (j = 0; j < np2; j++) {
+        gnorm = fmax(gnorm, fabs(c->internal_.grad[j]));
+        ynorm = fmax(ynorm, fabs(y[j]));
+    }
+    if (!(gnorm > 0) || !psb__finite(gnorm)) return 1;
+    shift = c->side_offset * fmax(1, ynorm) / gnorm;
+    /* each side's test at 1 and 2 offsets, extrapolated to the surface (2 f(d) - f(2 d)): the
+       offset's O(d) error goes, the piece stays the side's */
+    for (side = 0; side < 2; side++) {
+        double *ye = c->internal_.y_eval, at[2];
+        int m;
+        for (m = 0; m < 2; m++) {
+            for (j = 0; j < np2; j++) ye[j] = y[j] + (side ? 1 : -1) * (m + 1) * shift * c->internal_.grad[j];
+            rc = c->two.jacobian(ye, c->internal_.jac, n, c->two.user);
+            if (rc) return rc;
+            if (psb__event_state_det(c, at + m)) return 1;
+        }
+        g[side] = 2 * at[0] - at[1];
+    }
+    return 0;
 }
 
 /* ==== Contact helpers =============================================================================
