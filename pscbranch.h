@@ -363,12 +363,12 @@
    of the Jacobian along v). psb_trace traces fold through H's kinks; a FOLD on it is a cusp.
 
    Branch counts in two parameters (psb_count_map). At each mu the point is found from a branch of
-   the last (walked to its first kink, then Algorithm 2.1), Algorithm 2.2 counts its branches. It
-   sees two within c_diff's angle as one: a change is bisected by counts, then the two closest
-   branches of the larger count are followed in mu and their angle is driven to zero by a secant
-   kept in a bracket where they are apart at one end and met at the other. Event curves
-   (psb_event_curve_*): [H; g_k] = 0, traced like fold; on a kink curve side_folds changes sign
-   where a side's fold curve meets it (the kink is a fold between).
+   the last (walked to its first kink; Algorithm 2.1; mu halfway first if it moved too far),
+   Algorithm 2.2 counts its branches. It sees two within c_diff's angle as one: a change is bisected
+   by counts, then the two closest branches of the larger count are followed in mu and their angle
+   is driven to zero by a secant kept in a bracket, apart at one end and met at the other. Event
+   curves (psb_event_curve_*): [H; g_k] = 0, traced like fold; on a kink curve side_folds changes
+   sign where a side's fold curve meets it (the kink is a fold between).
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
@@ -1219,7 +1219,7 @@ typedef struct psb_count_map_report {
 } psb_count_map_report;
 
 /* Bytes of caller memory psb_count_map needs (0 when n < 1 or max_branches outside
-   2..100000): (10 max_branches + 28) (n+1) doubles. */
+   2..100000): (12 max_branches + 31) (n+1) doubles. */
 PSCBRANCH_DEF size_t psb_count_map_memory_size(int n, int max_branches);
 /* The number of branches at a nonsmooth point as mu runs from mu_from to mu_to. s is a solver
    of the problem at fixed mu (any backend; set_mu(mu, mu_user) moves its mu); (y, t) the last
@@ -8465,16 +8465,10 @@ PSCBRANCH_DEF psb_result psb_fold_map_refine(psb_fold_map *m, psb_solver *fold_s
 }
 
 /* ==== Branch counts in two parameters (psb_count_map) ===========================================
-   The nonsmooth point of a one-parameter problem followed as a second parameter mu moves (set by
-   the caller's set_mu): at each mu, Algorithm 2.1 from a branch of the previous mu's point (the
-   incoming one first) finds the point, Algorithm 2.2 counts its branches. A change of count
-   between two samples is bisected by the same two steps; then, where the many side has two
-   branches closest in angle, those two are followed in mu (a correction from each one's couple
-   at the last mu) and their angle, which vanishes where they merge, is driven to zero by a
-   secant safeguarded by the bracket: Algorithm 2.2 tells two branches apart only beyond c_diff's
-   angle, the followed pair down to rounding. */
+   The method: manual section 6, "Branch counts in two parameters". */
 
-#define PSB__COUNT_STATES 5 /* the previous and current sample; bisection's low, high and trial */
+#define PSB__COUNT_STATES 6 /* the previous and current sample; bisection's low, high and trial;
+                               a step on the way to a sample */
 
 /* A nonsmooth point at one mu: (p, t) from Algorithm 2.1, the branches from Algorithm 2.2, and
    the point's velocity dp/dmu from the state it was found from (0 at the first). */
@@ -8596,8 +8590,8 @@ static psb_result psb__count_find(psb__count_run *c, double *y, double *t, doubl
    incoming branch, else along each other branch of `from`, from `approach` before the point
    predicted by from's velocity. PSB_SUCCESS with `to` filled, or the first candidate's failure
    (to->result too). */
-static psb_result psb__count_at(psb__count_run *c, const psb__count_state *from, double mu,
-                                psb__count_state *to)
+static psb_result psb__count_try(psb__count_run *c, const psb__count_state *from, double mu,
+                                 psb__count_state *to)
 {
     psb_solver *s = c->s;
     int np1 = s->internal_.np1, j, k;
@@ -8624,6 +8618,32 @@ static psb_result psb__count_at(psb__count_run *c, const psb__count_state *from,
         if (j == 0) first = r;
     }
     return to->result = first;
+}
+
+/* psb__count_try, through points at mu halfway where the point moved too far to be found
+   (before the first velocity is known, or where it turns): 12 halvings at most. */
+static psb_result psb__count_at(psb__count_run *c, const psb__count_state *from, double mu,
+                                psb__count_state *to)
+{
+    psb__count_state *step = &c->st[5];
+    const psb__count_state *base = from;
+    double target = mu;
+    int halvings = 0;
+    for (;;) {
+        psb_result r = psb__count_try(c, base, target, to);
+        if (r == PSB_SUCCESS && target == mu) return r;
+        if (r == PSB_SUCCESS) {
+            psb__count_copy(c, step, to);
+            base = step;
+            target = mu;
+            continue;
+        }
+        if (psb__is_fatal(r) || ++halvings > 12) {
+            to->mu = mu;
+            return r;
+        }
+        target = base->mu + 0.5 * (target - base->mu);
+    }
 }
 
 /* Follows the couple (q, tq) at pair_mu to mu (already set) into (qn, tn): a correction from q

@@ -107,7 +107,7 @@ static void setup_init(setup *st, int extra, int backend, double mu_from)
     }
     CHECK(psb_solver_init(&st->s, &st->prob, NULL) == PSB_SUCCESS);
     st->bytes = psb_count_map_memory_size(n, 8);
-    CHECK(st->bytes == (size_t)(10 * 8 + 28) * (size_t)np1 * sizeof(double));
+    CHECK(st->bytes == (size_t)(12 * 8 + 31) * (size_t)np1 * sizeof(double));
     st->memory = malloc(st->bytes);
     /* within Algorithm 2.1's reach: 4 h from the point */
     x = lam = 4 * psb_branch_options_resolve(NULL, &st->s).h / sqrt(2.0);
