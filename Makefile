@@ -284,13 +284,14 @@ bench/bench_mumps_factor: bench/bench_mumps_factor.c bench/bench_time.h fe/fe_mu
 bench/bench_sparse: bench/bench_sparse.c bench/bench_time.h $(HEADER) fe/fe.h contrib/psb_sparse.h contrib/psb_condense.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $(SS_CFLAGS) $< -o $@ $(SS_LIBS) $(LIBS)
 
-bench: $(BENCH) fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse) \
+bench: $(BENCH) fe/block fe/triangle examples/06_count_map $(if $(SS_LIBS),bench/bench_sparse) \
 		$(if $(filter yes,$(MUMPS)),bench/bench_mumps_factor)
 	@mkdir -p bench/out
 	./bench/bench_linear --csv bench/out/linear.csv
 	./bench/bench_branching --csv bench/out/branching.csv
 	./bench/bench_detect --csv bench/out/detect.csv
 	OPENBLAS_NUM_THREADS=1 ./bench/bench_explore --csv bench/out/explore.csv
+	bash bench/bench_count_map.sh
 	$(if $(SS_LIBS),./bench/bench_sparse --csv bench/out/sparse.csv && bash bench/bench_solvers.sh)
 	bash bench/bench_block.sh
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh,echo "bench_mumps: no MUMPS with MPI, skipped")

@@ -107,4 +107,25 @@ mkdir -p "$scratch/quasistatic"
 render "$scratch/quasistatic" 640 400
 cp "$scratch/quasistatic/quasistatic.png" "$img/quasistatic.png"
 
+# triangle --count-map: the branches at gamma = 0 as H1 of the load runs across the window where
+# three solutions exist (M1024), with the two located changes.
+mkdir -p "$scratch/count_map"
+./fe/triangle --mesh 32 --count-map 24.6:26.4 --count-samples 19 --quiet --out "$scratch/count_map" >/dev/null
+cat >"$scratch/count_map/plot.gp" <<'GP'
+set datafile separator ','
+set terminal pngcairo size 640,400 font ',9'
+set output 'count_map.png'
+set title 'fe/triangle --mesh 32 --count-map: branches at {/Symbol g} = 0 for the load {/Symbol g} (-H1, -7.5)'
+set xlabel 'H1'
+set ylabel 'branches at the nonsmooth point'
+set yrange [0:5]
+set ytics 1
+set grid
+set key at 25.6,1.3 center
+plot 'count_map.csv' every ::1 using 1:2 with points pt 7 ps 1.2 lc rgb '#0072B2' title 'count at each sample', \
+     'count_changes.csv' every ::1 using 1:(4.6):(0):(-4.6) with vectors nohead dt 2 lw 1.5 lc rgb '#D55E00' title 'changes (psb\_count\_map)'
+GP
+(cd "$scratch/count_map" && gnuplot plot.gp)
+cp "$scratch/count_map/count_map.png" "$img/triangle_count_map.png"
+
 ls -l "$img"/*.png
