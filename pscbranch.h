@@ -1194,7 +1194,8 @@ typedef struct psb_count_sample {
     int n_branches;    /* Algorithm 2.2's count there, the incoming branch included; -1 when
                           the point was not found (result) */
     int unbalanced;    /* psb_branch_report.unbalanced there */
-    psb_result result; /* of Algorithms 2.1 and 2.2 there */
+    psb_result result; /* of Algorithms 2.1 and 2.2 there (PSB_BRANCH_CAPACITY: more branches
+                          than max_branches, the count is max_branches) */
 } psb_count_sample;
 
 /* Where the count changes between two samples. */
@@ -1231,10 +1232,10 @@ PSCBRANCH_DEF size_t psb_count_map_memory_size(int n, int max_branches);
    the two closest branches of the larger count merge (manual section 6). samples (n_samples)
    and changes (max_changes, in order of mu from mu_from) are written; y, t are inputs only;
    mu is left at the last one set. Returns PSB_SUCCESS; PSB_BRANCH_CAPACITY (more changes than
-   max_changes); the first failure of a sample after the first (the others go on from the last
-   point found); PSB_ERR_NULL, _SIZE, _NONFINITE (y, t, mu_from, mu_to), _INPUT (t zero, mu_from
-   == mu_to, a call from a trace's callback), _OPTIONS, _NOMEM (bytes), _CALLBACK(_FAILED),
-   or the first sample's failure. */
+   max_changes, or a sample with more branches than max_branches); the first failure of a
+   sample after the first (the others go on from the last point found); PSB_ERR_NULL, _SIZE,
+   _NONFINITE (y, t, mu_from, mu_to), _INPUT (t zero, mu_from == mu_to, a call from a trace's
+   callback), _OPTIONS, _NOMEM (bytes), _CALLBACK(_FAILED), or the first sample's failure. */
 PSCBRANCH_DEF psb_result psb_count_map(psb_solver *s, psb_set_mu_fn set_mu, void *mu_user,
                                        const double *y, const double *t, double mu_from,
                                        double mu_to, const psb_count_map_options *options,
@@ -8855,7 +8856,7 @@ static psb_result psb__count_map(psb__count_run *c, const double *y, const doubl
                                  int max_changes)
 {
     psb__count_state *prev = &c->st[0], *cur = &c->st[1];
-    int np1 = c->s->internal_.np1, k, n = c->o->n_samples;
+    int np1 = c->s->internal_.np1, k, n = c->o->n_samples, full = 0;
     psb_result r, first_failure = PSB_SUCCESS;
     for (k = 0; k < n; k++) {
         double mu = k == n - 1 ? mu_to : mu_from + (mu_to - mu_from) * k / (n - 1);
@@ -8871,7 +8872,8 @@ static psb_result psb__count_map(psb__count_run *c, const double *y, const doubl
             r = psb__count_at(c, prev, mu, cur);
         }
         samples[k].mu = mu;
-        samples[k].result = r;
+        samples[k].result = r == PSB_SUCCESS ? cur->result : r; /* PSB_BRANCH_CAPACITY too */
+        if (samples[k].result == PSB_BRANCH_CAPACITY) full = 1;
         samples[k].n_branches = r == PSB_SUCCESS ? cur->n_br : -1;
         samples[k].unbalanced = r == PSB_SUCCESS ? cur->unbalanced : 0;
         if (psb__is_fatal(r) || (k == 0 && r != PSB_SUCCESS)) return r;
@@ -8886,7 +8888,7 @@ static psb_result psb__count_map(psb__count_run *c, const double *y, const doubl
         psb__count_swap(&prev, &cur);
     }
     if (first_failure != PSB_SUCCESS) return first_failure;
-    return c->rep->n_changes > max_changes ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
+    return full || c->rep->n_changes > max_changes ? PSB_BRANCH_CAPACITY : PSB_SUCCESS;
 }
 
 PSCBRANCH_DEF psb_result psb_count_map(psb_solver *s, psb_set_mu_fn set_mu, void *mu_user,
