@@ -6300,7 +6300,7 @@ static psb_result psb__find_branches(psb_solver *s, psb__sweep_state *sw, const 
                                      int max_branches, double *ys, double *ts, psb_branch_report *rep)
 {
     double h_init = s->branch.h_init, *y0c = PSB__VEC(s, PSB__V_BR_Y0);
-    int round, before = -1;
+    int round, before = -1, full = 0;
     psb_branch_report local;
     psb_result r = PSB_SUCCESS;
     if (!rep) rep = &local;
@@ -6308,6 +6308,7 @@ static psb_result psb__find_branches(psb_solver *s, psb__sweep_state *sw, const 
     for (round = 0; round < 4; round++) {
         int turned;
         r = psb__find_branches_once(s, sw, y0c, t0, max_branches, ys, ts, rep);
+        full |= r == PSB_BRANCH_CAPACITY; /* a rerun that finds fewer does not undo it */
         if (r < 0 || round == 3 || s->branch.h_init / 16 < 8 * s->branch.h) break;
         turned = sw->chord_turn_max > PSB__CHORD_TURN || sw->cone_defect > psb__cone_tolerance(sw);
         /* an odd count that a smaller h_init kept is no kink's doing: on cones the run
@@ -6328,7 +6329,7 @@ static psb_result psb__find_branches(psb_solver *s, psb__sweep_state *sw, const 
     if ((r == PSB_SUCCESS || r == PSB_BRANCH_CAPACITY) && rep->n_branches % 2 == 0)
         rep->unbalanced = psb__unbalanced(s, sw, ys, ts, rep->n_branches, &r);
     s->branch.h_init = h_init;
-    return r;
+    return r == PSB_SUCCESS && full ? PSB_BRANCH_CAPACITY : r;
 }
 
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
@@ -8867,7 +8868,7 @@ static psb_result psb__count_map(psb__count_run *c, const double *y, const doubl
             if (r == PSB_SUCCESS) r = psb__count_find(c, c->scratch_y, c->scratch_t, 0, cur);
             memset(cur->v, 0, (size_t)np1 * sizeof(double));
             cur->mu = mu;
-            cur->result = r;
+            if (r != PSB_SUCCESS) cur->result = r;
         } else {
             r = psb__count_at(c, prev, mu, cur);
         }

@@ -236,6 +236,12 @@ static void test_bad_input(void)
     CHECK(psb_count_map(&st.s, set_mu, &st.pl, st.y, st.t, -0.25, 0.75, &o, NULL, 8, st.memory,
                         st.bytes, samples, NULL, 0, &rep) == PSB_BRANCH_CAPACITY);
     CHECK(rep.n_changes == 1);
+    /* room for three branches where there are four: the samples and the map say so */
+    CHECK(psb_count_map_memory_size(1, 3) <= st.bytes);
+    CHECK(psb_count_map(&st.s, set_mu, &st.pl, st.y, st.t, -0.25, 0.75, &o, NULL, 3, st.memory,
+                        st.bytes, samples, changes, 2, &rep) == PSB_BRANCH_CAPACITY);
+    CHECK(samples[0].result == PSB_BRANCH_CAPACITY && samples[0].n_branches == 3);
+    CHECK(samples[10].result == PSB_SUCCESS && samples[10].n_branches == 2);
     setup_free(&st);
 }
 
