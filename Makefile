@@ -266,7 +266,7 @@ images:
 images-run: $(EXAMPLES)
 	sh docs/make_images.sh
 
-BENCH = bench/bench_linear bench/bench_branching bench/bench_detect bench/bench_explore
+BENCH = bench/bench_linear bench/bench_branching bench/bench_detect bench/bench_explore bench/bench_fold_map
 
 bench/%: bench/%.c $(HEADER) tests/pl_problems.h bench/bench_time.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)

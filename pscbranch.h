@@ -1139,11 +1139,14 @@ typedef struct psb_fold_map {
     psb_problem at_mu;   /* H(., mu): n equations, n+1 unknowns */
     psb_problem fold;    /* the fold curve: n+1 equations, n+2 unknowns, parameter mu */
     const double *b, *c; /* the borders (n each, unit 2-norm; zero before the first start) */
-    long n_factor;       /* banded: LU factorisations of H_x the fold problem made (cumulative) */
+    long n_factor;       /* LUs made by fold's residual, Jacobian and banded solver, cumulative
+                            (dense: of [H_x b; c^T 0]; banded: of H_x) */
     struct {             /* private: treat as opaque */
         double *jac, *mat, *rhs, *y_eval, *y_lift, *y_try, *b, *c, *b_old, *c_old;
-        double *ab, *ab_d, *lu, *gbw, *dpar, *dpar_d, *bw, *bx, *bres, *bdx, *brow, *y_fac, *y_usr;
+        double *ab, *ab_d, *lu, *gbw, *dpar, *dpar_d, *bx, *bres, *bdx, *brow, *y_fac, *y_usr;
+        double *wc, *wkey; /* A^{-1} C (A^{-T} R) of three kinds of solve, and their C (R) */
         double dmat[4], mnorm; /* the fold matrix's lower right block; ||H_x||_1 of the LU */
+        long lu_gen, wgen[3]; /* factorisations made; the one each wc slot was made with */
         int *state;      /* y's component of each state column */
         void *ipiv;
         int lu_ok, shifted; /* lu holds the factors of H_x(y_fac) (+ a shift) */
@@ -8048,13 +8051,14 @@ static size_t psb__fold_layout(const psb_two_param_problem *p, psb_fold_map *m, 
         PSB__TAKE(gbw, ((size_t)p->kl + PSB__GB_NB) * PSB__GB_NB);
         PSB__TAKE(dpar, 2 * nn);
         PSB__TAKE(dpar_d, 2 * nn);
-        PSB__TAKE(bw, 2 * nn);
         PSB__TAKE(bx, np2);
         PSB__TAKE(bres, np2);
         PSB__TAKE(bdx, np2);
         PSB__TAKE(brow, 2 * nn);
         PSB__TAKE(y_fac, np2);
         PSB__TAKE(y_usr, np2);
+        PSB__TAKE(wc, 4 * nn);
+        PSB__TAKE(wkey, 4 * nn);
     }
 #undef PSB__TAKE
     off = psb__align(off * sizeof(double));
@@ -8109,6 +8113,7 @@ static int psb__fold_factor(psb_fold_map *m, const double *jac, int ldj, const d
     for (i = 0; i < n; i++) mat[(size_t)n * (size_t)np1 + (size_t)i] = col[i];
     mat[(size_t)n * (size_t)np1 + (size_t)n] = 0;
     if (!psb__all_finite(mat, (size_t)np1 * (size_t)np1)) return 2;
+    m->n_factor++;
     PSCBRANCH_FORTRAN(dgetrf)(&order, &order, mat, &order, (psb__lint *)m->internal_.ipiv, &info);
     return info != 0;
 }
@@ -8157,6 +8162,7 @@ static int psb__fold_band_lu(psb_fold_map *m, double shift)
 #endif
     m->internal_.shifted = shift != 0;
     m->internal_.lu_ok = info == 0;
+    m->internal_.lu_gen++;
     return info != 0;
 }
 
@@ -8198,32 +8204,46 @@ static void psb__fold_band_subst(const psb_fold_map *m, int trans, double *x)
     }
 }
 
-/* res = rhs - M sol (trans: M^T), A unshifted; returns ||res||_inf (Inf if not finite). */
+/* res = rhs - M sol (trans: M^T), A unshifted; returns ||res||_inf (Inf if not finite) and in
+   *scale the largest |rhs_i| + sum_j |M_ij sol_j|, the size of the rows' rounding. */
 static double psb__fold_band_residual(const psb_fold_map *m, int trans, int k, const double *C,
                                       const double *R, const double *D, const double *rhs,
-                                      const double *sol, double *res)
+                                      const double *sol, double *res, double *scale)
 {
     int n = m->two.n, kl = m->two.kl, ku = m->two.ku, ld = kl + ku + 1, i, j, l, l2;
     const double *ab = m->internal_.ab, *cc = trans ? R : C, *rr = trans ? C : R;
-    double big = 0;
-    for (i = 0; i < n + k; i++) res[i] = rhs[i];
+    double big = 0, *mag = m->internal_.bdx; /* |terms| per row; bdx is free until the update */
+    for (i = 0; i < n + k; i++) {
+        res[i] = rhs[i];
+        mag[i] = fabs(rhs[i]);
+    }
     for (j = 0; j < n; j++) {
         int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
-        if (!trans)
-            for (i = lo; i <= hi; i++) res[i] -= ab[PSB_BAND_INDEX(ku, ld, i, j)] * sol[j];
-        else
-            for (i = lo; i <= hi; i++) res[j] -= ab[PSB_BAND_INDEX(ku, ld, i, j)] * sol[i];
+        for (i = lo; i <= hi; i++) {
+            double a = ab[PSB_BAND_INDEX(ku, ld, i, j)], p = trans ? a * sol[i] : a * sol[j];
+            res[trans ? j : i] -= p;
+            mag[trans ? j : i] += fabs(p);
+        }
     }
     for (l = 0; l < k; l++) {
         for (i = 0; i < n; i++) {
-            res[i] -= cc[(size_t)l * (size_t)n + (size_t)i] * sol[n + l];
-            res[n + l] -= rr[(size_t)l * (size_t)n + (size_t)i] * sol[i];
+            double p = cc[(size_t)l * (size_t)n + (size_t)i] * sol[n + l], q = rr[(size_t)l * (size_t)n + (size_t)i] * sol[i];
+            res[i] -= p;
+            mag[i] += fabs(p);
+            res[n + l] -= q;
+            mag[n + l] += fabs(q);
         }
-        for (l2 = 0; l2 < k; l2++) res[n + l] -= (trans ? D[l2 * k + l] : D[l * k + l2]) * sol[n + l2];
+        for (l2 = 0; l2 < k; l2++) {
+            double p = (trans ? D[l2 * k + l] : D[l * k + l2]) * sol[n + l2];
+            res[n + l] -= p;
+            mag[n + l] += fabs(p);
+        }
     }
+    *scale = 0;
     for (i = 0; i < n + k; i++) {
         if (res[i] != res[i]) return HUGE_VAL;
         big = fmax(big, fabs(res[i]));
+        *scale = fmax(*scale, mag[i]);
     }
     return big;
 }
@@ -8235,12 +8255,16 @@ static int psb__fold_band_apply(psb_fold_map *m, int trans, int k, const double 
 {
     int n = m->two.n, i, l, l2;
     const double *cc = trans ? R : C, *rr = trans ? C : R;
-    double *w = m->internal_.bw, sc[4], g[2], xi[2], det;
+    int slot = k == 2 ? 2 : trans; /* each kind of solve borders with its own C: a slot each */
+    size_t off = (size_t)slot * (size_t)n, kn = (size_t)k * (size_t)n;
+    double *w = m->internal_.wc + off, *key = m->internal_.wkey + off, sc[4], g[2], xi[2], det;
     memcpy(sol, rhs, (size_t)n * sizeof *sol);
     psb__fold_band_subst(m, trans, sol);
-    for (l = 0; l < k; l++) {
-        memcpy(w + (size_t)l * (size_t)n, cc + (size_t)l * (size_t)n, (size_t)n * sizeof *w);
-        psb__fold_band_subst(m, trans, w + (size_t)l * (size_t)n);
+    if (m->internal_.wgen[slot] != m->internal_.lu_gen || memcmp(key, cc, kn * sizeof *key)) {
+        memcpy(key, cc, kn * sizeof *key);
+        memcpy(w, cc, kn * sizeof *w);
+        for (l = 0; l < k; l++) psb__fold_band_subst(m, trans, w + (size_t)l * (size_t)n);
+        m->internal_.wgen[slot] = m->internal_.lu_gen;
     }
     for (l = 0; l < k; l++) {
         const double *r = rr + (size_t)l * (size_t)n;
@@ -8269,32 +8293,26 @@ static int psb__fold_band_apply(psb_fold_map *m, int trans, int k, const double 
     return !psb__all_finite(sol, (size_t)n + (size_t)k);
 }
 
-/* M sol = rhs (trans: M^T sol = rhs) to working precision; 0, or 1 when M is singular (the
-   Schur complement vanishes, or refinement on the shifted factors stalls). */
+/* M sol = rhs (trans: M^T sol = rhs) to working precision: the residual down to the rounding
+   of its rows (32 eps their size; where refinement stalls, sqrt(n) times that, the rounding of
+   the borders' long dot products). 0, or 1 when M is singular (the Schur complement vanishes,
+   or refinement on the shifted factors stalls above that). */
 static int psb__fold_band_solve(psb_fold_map *m, int trans, int k, const double *C, const double *R,
                                 const double *D, const double *rhs, double *sol)
 {
-    int n = m->two.n, i, l, it, attempt;
-    double *res = m->internal_.bres, *dx = m->internal_.bdx, bn = 0, mn = m->internal_.mnorm;
-    for (i = 0; i < n + k; i++) bn = fmax(bn, fabs(rhs[i]));
-    for (l = 0; l < k; l++) {
-        double cs = 0, rs = 0;
-        for (i = 0; i < n; i++) {
-            cs += fabs(C[(size_t)l * (size_t)n + (size_t)i]);
-            rs = fmax(rs, fabs(R[(size_t)l * (size_t)n + (size_t)i]));
-        }
-        mn = fmax(mn, cs) + rs + fabs(D[l * k + l]);
-    }
+    int n = m->two.n, i, it, attempt;
+    double *res = m->internal_.bres, *dx = m->internal_.bdx, scale;
     for (attempt = 0; attempt < 2; attempt++) {
         double prev = HUGE_VAL;
         int max_it = m->internal_.shifted ? 30 : 4;
         if (m->internal_.lu_ok && !psb__fold_band_apply(m, trans, k, C, R, D, rhs, sol))
             for (it = 0; it <= max_it; it++) {
-                double xn = 0, rn;
-                for (i = 0; i < n + k; i++) xn = fmax(xn, fabs(sol[i]));
-                rn = psb__fold_band_residual(m, trans, k, C, R, D, rhs, sol, res);
-                if (rn <= 32 * DBL_EPSILON * (mn * xn + bn)) return 0;
-                if (!(rn < 0.5 * prev) && it >= 2) break; /* stalled */
+                double rn = psb__fold_band_residual(m, trans, k, C, R, D, rhs, sol, res, &scale);
+                if (rn <= 32 * DBL_EPSILON * scale) return 0;
+                if (!(rn < 0.5 * prev) && it >= 2) { /* stalled */
+                    if (rn <= 32 * DBL_EPSILON * sqrt((double)n + k) * scale) return 0;
+                    break;
+                }
                 prev = rn;
                 if (psb__fold_band_apply(m, trans, k, C, R, D, res, dx)) break;
                 for (i = 0; i < n + k; i++) sol[i] += dx[i];
