@@ -285,6 +285,8 @@ bench: $(BENCH) fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse) \
 	./bench/bench_branching --csv bench/out/branching.csv
 	./bench/bench_detect --csv bench/out/detect.csv
 	OPENBLAS_NUM_THREADS=1 ./bench/bench_explore --csv bench/out/explore.csv
+	OPENBLAS_NUM_THREADS=1 ./bench/bench_fold_map --csv bench/out/fold_map.csv
+	bash bench/bench_triangle_map.sh
 	$(if $(SS_LIBS),./bench/bench_sparse --csv bench/out/sparse.csv && bash bench/bench_solvers.sh)
 	bash bench/bench_block.sh
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh,echo "bench_mumps: no MUMPS with MPI, skipped")
