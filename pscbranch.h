@@ -1158,7 +1158,7 @@ typedef struct psb_fold_map {
    46000): about 2 (n+1)^2 doubles. */
 PSCBRANCH_DEF size_t psb_fold_map_memory_size(int n);
 /* Bytes psb_fold_map_init needs for p, dense or banded (0 when p is NULL or its n, kl, ku or
-   linear are out of range); banded: about (4 kl + 3 ku + 20) n doubles. */
+   linear are out of range); banded: about (4 kl + 3 ku + 31) n doubles. */
 PSCBRANCH_DEF size_t psb_fold_map_memory_size_for(const psb_two_param_problem *p);
 /* Sets up m for the problem p (copied) and the at_mu problem's mu, on caller memory (at least
    psb_fold_map_memory_size_for(p) bytes, aligned for double); never allocates. The fold curve

@@ -618,6 +618,7 @@ static int run_fold_map(fe_run *run, const args *a, double t0)
     double f_paper = run->md->friction, *y = calloc((size_t)n + 1, sizeof(double)), *t = calloc((size_t)n + 1, sizeof(double));
     map_run *runs = calloc(MAP_MAX_RUNS, sizeof *runs), paper;
     static map_run ends[2 * 64];
+    int end_at[64]; /* runs[end_at[k]], runs[end_at[k] + 1]: the two sides of change k */
     fold_study st;
     char buf[160], buf2[160];
     if (!y || !t || !runs) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
@@ -669,7 +670,7 @@ static int run_fold_map(fe_run *run, const args *a, double t0)
         if (runs[k].kind != runs[k + 1].kind) {
             ends[2 * nends] = runs[k];
             ends[2 * nends + 1] = runs[k + 1];
-            nends++;
+            end_at[nends++] = k;
         }
 
     printf("\n  %-12s  %-62s  %6s  %14s\n", "F", "the fold problem's trace from gamma = -3", "steps", "factorisations");
@@ -684,10 +685,16 @@ static int run_fold_map(fe_run *run, const args *a, double t0)
         printf("    F = %.8f: %s\n", lo->f, map_kind_text(lo, buf, sizeof buf));
         printf("    F = %.8f: %s\n", hi->f, map_kind_text(hi, buf2, sizeof buf2));
         if ((kl == MAP_TWO && ku == MAP_NONE) || (kl == MAP_NONE && ku == MAP_TWO)) {
-            const map_run *two = kl == MAP_TWO ? lo : hi;
+            /* the next run beyond the one with two limit points, for the gap's secant */
+            int i2 = kl == MAP_TWO ? end_at[k] : end_at[k] + 1, i3 = kl == MAP_TWO ? i2 - 1 : i2 + 1;
+            const map_run *two = runs + i2, *far = i3 >= 0 && i3 < nruns && runs[i3].kind == MAP_TWO ? runs + i3 : NULL;
             double gap = fabs(two->folds[0] - two->folds[1]);
             printf("    an end of the fold curves: the two limit points %s (%.1e apart at the last run)\n",
                    gap < 0.05 ? "merge, the S of the load path flattens out (a cusp)" : "vanish together", gap);
+            if (far) {
+                double gap2 = fabs(far->folds[0] - far->folds[1]), f0 = two->f - gap * (far->f - two->f) / (gap2 - gap);
+                printf("    their gap's secant through the two nearest runs vanishes at F = %.8f\n", f0);
+            }
         } else if ((kl == MAP_TWO && ku == MAP_ONE) || (kl == MAP_ONE && ku == MAP_TWO))
             printf("    the upper limit point goes on; the lower one leaves the path traced from -3, which past a kink\n"
                    "    turns back down along another branch (the load path is not unique there)\n");
