@@ -535,6 +535,51 @@ static void test_chain(void)
     }
     printf("chain: folds refined at 8 values of mu, banded - dense %.1e\n", max_diff);
     CHECK(max_diff <= 1e-10);
+    /* the banded fold solver against the dense fold Jacobian bordered by a row, solved by
+       Gaussian elimination, with a residual at another point between factor and solve (the
+       solver then forms H_x at its own point again) */
+    {
+        enum { NB = CH_N + 2 };
+        static double J[(CH_N + 1) * NB], B[NB * NB], z[NB], zb[NB], row[NB], h[CH_N + 1];
+        const double *y = rb.pts[rb.n_pts / 3], *y2 = rb.pts[rb.n_pts / 2];
+        double err = 0, big = 0;
+        int r, c2, p2;
+        for (i = 0; i < NB; i++) row[i] = 0.3 + 0.1 * cos(i);
+        CHECK(sd.map.fold.jacobian(y, J, CH_N + 1, sd.map.fold.user) == 0);
+        for (c2 = 0; c2 < NB; c2++) {
+            for (r = 0; r <= CH_N; r++) B[r + c2 * NB] = J[r + c2 * (CH_N + 1)];
+            B[CH_N + 1 + c2 * NB] = row[c2];
+        }
+        for (i = 0; i < NB; i++) z[i] = zb[i] = sin(1.0 + i);
+        for (c2 = 0; c2 < NB; c2++) { /* elimination with partial pivoting on (B | z) */
+            for (p2 = c2, r = c2 + 1; r < NB; r++)
+                if (fabs(B[r + c2 * NB]) > fabs(B[p2 + c2 * NB])) p2 = r;
+            for (k = c2; k < NB; k++) {
+                double tmp = B[c2 + k * NB];
+                B[c2 + k * NB] = B[p2 + k * NB];
+                B[p2 + k * NB] = tmp;
+            }
+            { double tmp = z[c2]; z[c2] = z[p2]; z[p2] = tmp; }
+            for (r = c2 + 1; r < NB; r++) {
+                double f = B[r + c2 * NB] / B[c2 + c2 * NB];
+                for (k = c2; k < NB; k++) B[r + k * NB] -= f * B[c2 + k * NB];
+                z[r] -= f * z[c2];
+            }
+        }
+        for (c2 = NB - 1; c2 >= 0; c2--) {
+            for (k = c2 + 1; k < NB; k++) z[c2] -= B[c2 + k * NB] * z[k];
+            z[c2] /= B[c2 + c2 * NB];
+        }
+        CHECK(sb.map.fold.solver.factor(y, row, sb.map.fold.solver.ctx) == 0);
+        CHECK(sb.map.fold.residual(y2, h, sb.map.fold.user) == 0);
+        CHECK(sb.map.fold.solver.solve(zb, 1, sb.map.fold.solver.ctx) == 0);
+        for (i = 0; i < NB; i++) {
+            err = fmax(err, fabs(zb[i] - z[i]));
+            big = fmax(big, fabs(z[i]));
+        }
+        printf("chain: the banded fold solver against dense elimination: %.1e (relative)\n", err / big);
+        CHECK(err <= 1e-9 * big);
+    }
     ch_free(&sd);
     ch_free(&sb);
 }
