@@ -334,7 +334,11 @@ static void test_jacobian(void)
    = the coupling, singular with right null vector (1, ..., 1) and (kp != km) another left one. */
 #define CH_N 40
 #define CH_MU 7
-typedef struct { double a[CH_N], kp, km; } chain;
+typedef struct {
+    double a[CH_N], kp, km;
+    int fail; /* ch_band: 0, or returns it, or (NAN_BAND) writes a NaN */
+} chain;
+#define NAN_BAND 99
 
 static int ch_col(int k) { return k < CH_MU ? k : k + 1; } /* state column k's y component */
 
@@ -380,7 +384,8 @@ static int ch_band(const double *y, double *band, int ld, double *dlam, double *
         dlam[i] = c->a[i];
         dmu[i] = -c->a[i] * x[i];
     }
-    return 0;
+    if (c->fail == NAN_BAND) band[PSB_BAND_INDEX(1, ld, 3, 3)] = NAN;
+    return c->fail == NAN_BAND ? 0 : c->fail;
 }
 
 static int ch_dense(const double *y, double *jac, int ld, void *u)
@@ -579,6 +584,23 @@ static void test_chain(void)
         }
         printf("chain: the banded fold solver against dense elimination: %.1e (relative)\n", err / big);
         CHECK(err <= 1e-9 * big);
+    }
+    /* band_jacobian's failures, as the library's codes; y and the borders untouched */
+    {
+        double yc[CH_N + 2], ycopy[CH_N + 2], b0 = sb.map.b[5];
+        memcpy(yc, rb.pts[rb.n_pts / 4], sizeof yc);
+        yc[0] += 1e-3;
+        memcpy(ycopy, yc, sizeof yc);
+        c.fail = -1;
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yc, 0) == PSB_ERR_CALLBACK);
+        c.fail = 1;
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yc, 0) == PSB_ERR_CALLBACK_FAILED);
+        c.fail = NAN_BAND;
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yc, 0) == PSB_ERR_NONFINITE);
+        printf("chain: a NaN in band_jacobian: %s\n", psb_solver_message(&sb.s2));
+        CHECK(!memcmp(yc, ycopy, sizeof yc) && sb.map.b[5] == b0);
+        c.fail = 0;
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yc, 0) == PSB_SUCCESS);
     }
     ch_free(&sd);
     ch_free(&sb);
