@@ -272,7 +272,7 @@ images:
 images-run: $(EXAMPLES)
 	sh docs/make_images.sh
 
-BENCH = bench/bench_linear bench/bench_branching bench/bench_detect bench/bench_explore
+BENCH = bench/bench_linear bench/bench_branching bench/bench_detect bench/bench_explore bench/bench_fold_map
 
 bench/%: bench/%.c $(HEADER) tests/pl_problems.h bench/bench_time.h
 	$(CC) $(ALL_CFLAGS) -D_POSIX_C_SOURCE=199309L $< -o $@ $(LIBS)
@@ -292,6 +292,8 @@ bench: $(BENCH) fe/block fe/triangle examples/06_count_map $(if $(SS_LIBS),bench
 	./bench/bench_detect --csv bench/out/detect.csv
 	OPENBLAS_NUM_THREADS=1 ./bench/bench_explore --csv bench/out/explore.csv
 	bash bench/bench_count_map.sh
+	OPENBLAS_NUM_THREADS=1 ./bench/bench_fold_map --csv bench/out/fold_map.csv
+	bash bench/bench_triangle_map.sh
 	$(if $(SS_LIBS),./bench/bench_sparse --csv bench/out/sparse.csv && bash bench/bench_solvers.sh)
 	bash bench/bench_block.sh
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh,echo "bench_mumps: no MUMPS with MPI, skipped")

@@ -80,8 +80,8 @@
    psb_locate_end, psb_find_branches   Algorithms 2.1, 2.2: a branch's end point, the branches there
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
-   psb_two_param_problem_init, _lift; psb_fold_map_memory_size, _init, _start, _refine   folds
-   psb_event_curve_memory_size, _init, _side_folds   kink and event curves; psb_count_map, ...
+   psb_two_param_problem_init, _lift; psb_fold_map_memory_size(_for), _init, _start, _refine
+   psb_event_curve_memory_size, _init, _side_folds; psb_count_map(_memory_size)   2-param maps
    psb_explore                  every branch reachable from one couple, as a graph
    psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
@@ -357,10 +357,10 @@
    over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, landing there exactly (it
    may pass below lambda_{k-1}). Ending elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end).
 
-   Fold curves in two parameters (psb_fold_map_*). H is written once on (x, lambda, mu): at_mu is H
-   at mu held; fold is [H; sigma] = 0 with mu its parameter, sigma from [H_x b; c^T 0] [v; sigma] =
-   [0; 1] (zero at folds; b, c the null vectors at the start; its gradient one central difference
-   of the Jacobian along v). psb_trace traces fold through H's kinks; a FOLD on it is a cusp.
+   Fold curves in two parameters (psb_fold_map_*). H on (x, lambda, mu): at_mu is H at mu held; fold
+   is [H; sigma] = 0, mu its parameter, [H_x b; c^T 0] [v; sigma] = [0; 1] (b, c: null vectors at
+   the start; sigma's gradient: dH's central difference along v), traced through H's kinks; a FOLD
+   on it is a cusp. Banded: fold's user backend eliminates on H_x's LU, refined, shifted as above.
 
    Branch counts in two parameters (psb_count_map). At each mu the point is found from a branch of
    the last (walked to its first kink; Algorithm 2.1; mu halfway first if it moved too far),
@@ -1095,6 +1095,13 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
 
 /* ---- fold curves in two parameters (manual section 6, "Fold curves in two parameters") ---- */
 
+/* A two-parameter problem's banded Jacobian (linear = PSB_LINEAR_BANDED): H_x, n x n with kl
+   sub- and ku super-diagonals, at band[PSB_BAND_INDEX(ku, ldband, i, j)] as for
+   psb_band_jacobian_fn (zeroed on entry; state column j is the j-th component of y that is
+   neither lambda nor mu), and the columns dlambda = dH/dlambda, dmu = dH/dmu (n each). */
+typedef int (*psb_two_band_jacobian_fn)(const double *y, double *band, int ldband,
+                                        double *dlambda, double *dmu, void *user);
+
 /* A problem in two parameters: n equations H(y) = 0 in n+2 unknowns y, the load lambda =
    y[lambda_index], a second parameter mu = y[mu_index], and the state x, the other n components
    in their order. residual and jacobian (psb_residual_fn, psb_jacobian_fn) take y with n+2
@@ -1102,9 +1109,13 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
 typedef struct psb_two_param_problem {
     int n;                      /* N >= 1, the number of equations */
     psb_residual_fn residual;   /* required */
-    psb_jacobian_fn jacobian;   /* required: H_x enters the fold condition (no differences) */
-    void *user;                 /* passed to both */
+    psb_jacobian_fn jacobian;   /* dense: required, H_x enters the fold condition (no
+                                   differences); banded: not used */
+    void *user;                 /* passed to every callback */
     int lambda_index, mu_index; /* distinct, in [0, n+1] (psb_two_param_problem_init: n, n+1) */
+    psb_linear linear;          /* PSB_LINEAR_DENSE (0) or _BANDED (not _USER) */
+    int kl, ku;                 /* banded: bandwidths of H_x, in [0, n-1] */
+    psb_two_band_jacobian_fn band_jacobian; /* banded: required */
 } psb_two_param_problem;
 
 /* Zeroes *p and fills it; lambda_index = n, mu_index = n+1 (y = (x, lambda, mu)). */
@@ -1117,30 +1128,44 @@ PSCBRANCH_DEF void psb_two_param_problem_init(psb_two_param_problem *p, int n,
    down one), its param_index lambda's. fold is the fold curve: N+1 equations [H(y); sigma(y)] =
    0 in the user's own y (N+2 components), param_index = mu_index, where sigma solves
    [H_x b; c^T 0] [v; sigma] = [0; 1] with the borders b, c of psb_fold_map_start. Give each to
-   psb_solver_init (both are dense; their user pointer is the map, so a map is not copied). A map
-   serves one thread at a time; it holds no allocation (nothing to free). */
+   psb_solver_init (their user pointer is the map, so a map is not copied). Dense problem: both
+   are dense. Banded: at_mu is banded (kl, ku), fold has the user backend (PSB_LINEAR_USER, no
+   PC1 detection) that the map implements by block elimination on the LU of H_x, refined
+   against the bordered matrix (manual, section 6). A map serves one thread at a time; it holds
+   no allocation (nothing to free). */
 typedef struct psb_fold_map {
     psb_two_param_problem two; /* a copy of the problem */
     double mu;           /* at_mu's mu: set it between calls only [psb_fold_map_init's] */
     psb_problem at_mu;   /* H(., mu): n equations, n+1 unknowns */
     psb_problem fold;    /* the fold curve: n+1 equations, n+2 unknowns, parameter mu */
     const double *b, *c; /* the borders (n each, unit 2-norm; zero before the first start) */
+    long n_factor;       /* LUs made by fold's residual, Jacobian and banded solver, cumulative
+                            (dense: of [H_x b; c^T 0]; banded: of H_x) */
     struct {             /* private: treat as opaque */
         double *jac, *mat, *rhs, *y_eval, *y_lift, *y_try, *b, *c, *b_old, *c_old;
+        double *ab, *ab_d, *lu, *gbw, *dpar, *dpar_d, *bx, *bres, *bdx, *brow, *y_fac, *y_usr;
+        double *wc, *wkey; /* A^{-1} C (A^{-T} R) of three kinds of solve, and their C (R) */
+        double dmat[4], mnorm; /* the fold matrix's lower right block; ||H_x||_1 of the LU */
+        long lu_gen, wgen[3]; /* factorisations made; the one each wc slot was made with */
         int *state;      /* y's component of each state column */
         void *ipiv;
+        int lu_ok, shifted; /* lu holds the factors of H_x(y_fac) (+ a shift) */
         unsigned ready;
     } internal_;
 } psb_fold_map;
 
-/* Bytes psb_fold_map_init needs for n equations (0 when n < 1 or n > 46000): about
-   2 (n+1)^2 doubles. */
+/* Bytes psb_fold_map_init needs for a dense problem of n equations (0 when n < 1 or n >
+   46000): about 2 (n+1)^2 doubles. */
 PSCBRANCH_DEF size_t psb_fold_map_memory_size(int n);
+/* Bytes psb_fold_map_init needs for p, dense or banded (0 when p is NULL or its n, kl, ku or
+   linear are out of range); banded: about (4 kl + 3 ku + 31) n doubles. */
+PSCBRANCH_DEF size_t psb_fold_map_memory_size_for(const psb_two_param_problem *p);
 /* Sets up m for the problem p (copied) and the at_mu problem's mu, on caller memory (at least
-   psb_fold_map_memory_size(p->n) bytes, aligned for double); never allocates. The fold curve
+   psb_fold_map_memory_size_for(p) bytes, aligned for double); never allocates. The fold curve
    needs borders: psb_fold_map_start. Returns PSB_SUCCESS, PSB_ERR_NULL (m, p, memory, a
-   callback), PSB_ERR_SIZE (n, lambda_index, mu_index), PSB_ERR_NONFINITE (mu), PSB_ERR_NOMEM
-   (block too small); *m is cleared on failure. */
+   required callback), PSB_ERR_SIZE (n, lambda_index, mu_index, kl, ku), PSB_ERR_OPTIONS
+   (linear not DENSE or BANDED), PSB_ERR_NONFINITE (mu), PSB_ERR_NOMEM (block too small); *m is
+   cleared on failure. */
 PSCBRANCH_DEF psb_result psb_fold_map_init(psb_fold_map *m, const psb_two_param_problem *p,
                                            double mu, void *memory, size_t bytes);
 /* From a fold of the one-parameter problem at_mu (a couple (y, t), n+1 each in at_mu's
@@ -8121,20 +8146,24 @@ PSCBRANCH_DEF psb_result psb_evolve_step(psb_solver *s, double *y, double param_
 
 #define PSB__FOLD_READY 0x70736266u /* psb_fold_map.internal_.ready of a set-up map */
 
-/* Bytes a map of n equations needs; carves m's arrays out of memory when m is not NULL. 0: n
-   out of range (the dense backend's limit). */
-static size_t psb__fold_layout(int n, psb_fold_map *m, void *memory)
+/* Bytes a map of p needs; carves m's arrays out of memory when m is not NULL. 0: p out of
+   range (dense: the dense backend's limit). */
+static size_t psb__fold_layout(const psb_two_param_problem *p, psb_fold_map *m, void *memory)
 {
-    size_t nn = (size_t)n, np1 = nn + 1, np2 = nn + 2, off = 0;
+    int n = p->n, band = p->linear == PSB_LINEAR_BANDED;
+    size_t nn = (size_t)n, np1 = nn + 1, np2 = nn + 2, off = 0, ld, ldlu;
     double *base = (double *)memory;
-    if (n < 1 || n > 46000) return 0;
+    if (n < 1 || (p->linear != PSB_LINEAR_DENSE && !band)) return 0;
+    if (band ? p->kl < 0 || p->ku < 0 || p->kl > n - 1 || p->ku > n - 1 : n > 46000) return 0;
+    ld = band ? (size_t)p->kl + (size_t)p->ku + 1 : 0;
+    ldlu = ld + (band ? (size_t)p->kl : 0);
 #define PSB__TAKE(field, count)                                                                    \
     do {                                                                                           \
         if (m) m->internal_.field = base + off;                                                    \
         off += (count);                                                                            \
     } while (0)
-    PSB__TAKE(jac, nn * np2);
-    PSB__TAKE(mat, np1 * np1);
+    PSB__TAKE(jac, band ? 0 : nn * np2);
+    PSB__TAKE(mat, band ? 0 : np1 * np1);
     PSB__TAKE(rhs, 2 * np1);
     PSB__TAKE(y_eval, np2);
     PSB__TAKE(y_lift, np2);
@@ -8143,10 +8172,26 @@ static size_t psb__fold_layout(int n, psb_fold_map *m, void *memory)
     PSB__TAKE(c, nn);
     PSB__TAKE(b_old, nn);
     PSB__TAKE(c_old, nn);
+    if (band) {
+        PSB__TAKE(ab, ld * nn);
+        PSB__TAKE(ab_d, ld * nn);
+        PSB__TAKE(lu, ldlu * nn);
+        PSB__TAKE(gbw, ((size_t)p->kl + PSB__GB_NB) * PSB__GB_NB);
+        PSB__TAKE(dpar, 2 * nn);
+        PSB__TAKE(dpar_d, 2 * nn);
+        PSB__TAKE(bx, np2);
+        PSB__TAKE(bres, np2);
+        PSB__TAKE(bdx, np2);
+        PSB__TAKE(brow, 2 * nn);
+        PSB__TAKE(y_fac, np2);
+        PSB__TAKE(y_usr, np2);
+        PSB__TAKE(wc, 4 * nn);
+        PSB__TAKE(wkey, 4 * nn);
+    }
 #undef PSB__TAKE
     off = psb__align(off * sizeof(double));
     if (m) m->internal_.ipiv = (char *)memory + off;
-    off += psb__align(np1 * sizeof(psb__lint));
+    off += psb__align((band ? nn : np1) * sizeof(psb__lint));
     if (m) m->internal_.state = (int *)(void *)((char *)memory + off);
     return off + psb__align(nn * sizeof(int));
 }
@@ -8196,6 +8241,7 @@ static int psb__fold_factor(psb_fold_map *m, const double *jac, int ldj, const d
     for (i = 0; i < n; i++) mat[(size_t)n * (size_t)np1 + (size_t)i] = col[i];
     mat[(size_t)n * (size_t)np1 + (size_t)n] = 0;
     if (!psb__all_finite(mat, (size_t)np1 * (size_t)np1)) return 2;
+    m->n_factor++;
     PSCBRANCH_FORTRAN(dgetrf)(&order, &order, mat, &order, (psb__lint *)m->internal_.ipiv, &info);
     return info != 0;
 }
@@ -8213,12 +8259,346 @@ static int psb__fold_solve_last(psb_fold_map *m, const char *trans, double *z)
     return info != 0 || !psb__all_finite(z, (size_t)np1);
 }
 
+/* ---- banded: block elimination on the LU of H_x ---------------------------------------------
+   The map borders A = H_x by k <= 2 columns C and rows R (n x k, column-major), M = [A C; R^T D]
+   (D k x k, row-major). On the fold curve A is singular by construction and M is not, so block
+   elimination on A's LU cancels: every solution is refined against M, and where that stalls, A +
+   sqrt(eps) ||A|| I is factored instead; refinement then converges at a rate ~ shift ||M^{-1}||
+   (the banded backend's bordering, with two borders). */
+
+/* ab (+ shift I) into lu, dgbtrf's layout and pivots; 0, or 1 at an exactly zero pivot. */
+static int psb__fold_band_lu(psb_fold_map *m, double shift)
+{
+    int n = m->two.n, kl = m->two.kl, ku = m->two.ku, ld = kl + ku + 1, ldlu = ld + kl, j;
+    long info;
+    for (j = 0; j < n; j++) {
+        double *dst = m->internal_.lu + (size_t)j * (size_t)ldlu;
+        memset(dst, 0, (size_t)kl * sizeof(double));
+        memcpy(dst + kl, m->internal_.ab + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
+        dst[kl + ku] += shift;
+    }
+    m->n_factor++;
+#ifdef PSCBRANCH_USE_DGBTRF
+    {
+        psb__lint nn = n, kkl = kl, kku = ku, lldlu = ldlu, linfo = 0;
+        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, m->internal_.lu, &lldlu,
+                                  (psb__lint *)m->internal_.ipiv, &linfo);
+        info = linfo != 0; /* arguments are checked at init: only a zero pivot */
+    }
+#else
+    info = psb__gbtrf(n, kl, ku, m->internal_.lu, ldlu, (psb__lint *)m->internal_.ipiv, m->internal_.gbw);
+#endif
+    m->internal_.shifted = shift != 0;
+    m->internal_.lu_ok = info == 0;
+    m->internal_.lu_gen++;
+    return info != 0;
+}
+
+/* x <- A^{-1} x, or A^{-T} x with trans, on lu's factors (dgbtrs' substitutions) */
+static void psb__fold_band_subst(const psb_fold_map *m, int trans, double *x)
+{
+    int n = m->two.n, kl = m->two.kl, kv = kl + m->two.ku, i, j;
+    size_t ldlu = (size_t)kv + 1 + (size_t)kl;
+    const double *lu = m->internal_.lu;
+    const psb__lint *ipiv = (const psb__lint *)m->internal_.ipiv;
+    double tmp, sum;
+    if (!trans) {
+        for (j = 0; kl > 0 && j < n - 1; j++) {
+            const double *col = lu + (size_t)j * ldlu + kv + 1;
+            int l = (int)ipiv[j] - 1, km = kl < n - 1 - j ? kl : n - 1 - j;
+            if (l != j) tmp = x[l], x[l] = x[j], x[j] = tmp;
+            for (i = 0; i < km; i++) x[j + 1 + i] -= col[i] * x[j];
+        }
+        for (j = n - 1; j >= 0; j--) {
+            const double *col = lu + (size_t)j * ldlu;
+            int above = j < kv ? j : kv;
+            x[j] /= col[kv];
+            for (i = 1; i <= above; i++) x[j - i] -= col[kv - i] * x[j];
+        }
+        return;
+    }
+    for (j = 0; j < n; j++) {
+        const double *col = lu + (size_t)j * ldlu;
+        int above = j < kv ? j : kv;
+        for (sum = x[j], i = 1; i <= above; i++) sum -= col[kv - i] * x[j - i];
+        x[j] = sum / col[kv];
+    }
+    for (j = n - 2; kl > 0 && j >= 0; j--) {
+        const double *col = lu + (size_t)j * ldlu + kv + 1;
+        int l = (int)ipiv[j] - 1, km = kl < n - 1 - j ? kl : n - 1 - j;
+        for (sum = x[j], i = 0; i < km; i++) sum -= col[i] * x[j + 1 + i];
+        x[j] = sum;
+        if (l != j) tmp = x[l], x[l] = x[j], x[j] = tmp;
+    }
+}
+
+/* res = rhs - M sol (trans: M^T), A unshifted; returns ||res||_inf (Inf if not finite) and in
+   *scale the largest |rhs_i| + sum_j |M_ij sol_j|, the size of the rows' rounding. */
+static double psb__fold_band_residual(const psb_fold_map *m, int trans, int k, const double *C,
+                                      const double *R, const double *D, const double *rhs,
+                                      const double *sol, double *res, double *scale)
+{
+    int n = m->two.n, kl = m->two.kl, ku = m->two.ku, ld = kl + ku + 1, i, j, l, l2;
+    const double *ab = m->internal_.ab, *cc = trans ? R : C, *rr = trans ? C : R;
+    double big = 0, *mag = m->internal_.bdx; /* |terms| per row; bdx is free until the update */
+    for (i = 0; i < n + k; i++) {
+        res[i] = rhs[i];
+        mag[i] = fabs(rhs[i]);
+    }
+    for (j = 0; j < n; j++) {
+        int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
+        for (i = lo; i <= hi; i++) {
+            double a = ab[PSB_BAND_INDEX(ku, ld, i, j)], p = trans ? a * sol[i] : a * sol[j];
+            res[trans ? j : i] -= p;
+            mag[trans ? j : i] += fabs(p);
+        }
+    }
+    for (l = 0; l < k; l++) {
+        for (i = 0; i < n; i++) {
+            double p = cc[(size_t)l * (size_t)n + (size_t)i] * sol[n + l], q = rr[(size_t)l * (size_t)n + (size_t)i] * sol[i];
+            res[i] -= p;
+            mag[i] += fabs(p);
+            res[n + l] -= q;
+            mag[n + l] += fabs(q);
+        }
+        for (l2 = 0; l2 < k; l2++) {
+            double p = (trans ? D[l2 * k + l] : D[l * k + l2]) * sol[n + l2];
+            res[n + l] -= p;
+            mag[n + l] += fabs(p);
+        }
+    }
+    *scale = 0;
+    for (i = 0; i < n + k; i++) {
+        if (res[i] != res[i]) return HUGE_VAL;
+        big = fmax(big, fabs(res[i]));
+        *scale = fmax(*scale, mag[i]);
+    }
+    return big;
+}
+
+/* sol = M_s^{-1} rhs (trans: M_s^{-T}) by block elimination, M_s being M with lu's shift:
+   0, or 1 when the k x k Schur complement is singular or the result not finite. */
+static int psb__fold_band_apply(psb_fold_map *m, int trans, int k, const double *C, const double *R,
+                                const double *D, const double *rhs, double *sol)
+{
+    int n = m->two.n, i, l, l2;
+    const double *cc = trans ? R : C, *rr = trans ? C : R;
+    int slot = k == 2 ? 2 : trans; /* each kind of solve borders with its own C: a slot each */
+    size_t off = (size_t)slot * (size_t)n, kn = (size_t)k * (size_t)n;
+    double *w = m->internal_.wc + off, *key = m->internal_.wkey + off, sc[4], g[2], xi[2], det;
+    memcpy(sol, rhs, (size_t)n * sizeof *sol);
+    psb__fold_band_subst(m, trans, sol);
+    if (m->internal_.wgen[slot] != m->internal_.lu_gen || memcmp(key, cc, kn * sizeof *key)) {
+        memcpy(key, cc, kn * sizeof *key);
+        memcpy(w, cc, kn * sizeof *w);
+        for (l = 0; l < k; l++) psb__fold_band_subst(m, trans, w + (size_t)l * (size_t)n);
+        m->internal_.wgen[slot] = m->internal_.lu_gen;
+    }
+    for (l = 0; l < k; l++) {
+        const double *r = rr + (size_t)l * (size_t)n;
+        for (g[l] = rhs[n + l], i = 0; i < n; i++) g[l] -= r[i] * sol[i];
+        for (l2 = 0; l2 < k; l2++) {
+            const double *wc = w + (size_t)l2 * (size_t)n;
+            double v = trans ? D[l2 * k + l] : D[l * k + l2];
+            for (i = 0; i < n; i++) v -= r[i] * wc[i];
+            sc[l * k + l2] = v;
+        }
+    }
+    if (k == 1) {
+        det = sc[0];
+        xi[0] = g[0] / det;
+    } else {
+        det = sc[0] * sc[3] - sc[1] * sc[2];
+        xi[0] = (sc[3] * g[0] - sc[1] * g[1]) / det;
+        xi[1] = (sc[0] * g[1] - sc[2] * g[0]) / det;
+    }
+    if (det == 0 || !psb__finite(det)) return 1;
+    for (l = 0; l < k; l++) {
+        const double *wc = w + (size_t)l * (size_t)n;
+        for (i = 0; i < n; i++) sol[i] -= wc[i] * xi[l];
+        sol[n + l] = xi[l];
+    }
+    return !psb__all_finite(sol, (size_t)n + (size_t)k);
+}
+
+/* M sol = rhs (trans: M^T sol = rhs) to working precision: the residual down to the rounding
+   of its rows (32 eps their size; where refinement stalls, sqrt(n) times that, the rounding of
+   the borders' long dot products). 0, or 1 when M is singular (the Schur complement vanishes,
+   or refinement on the shifted factors stalls above that). */
+static int psb__fold_band_solve(psb_fold_map *m, int trans, int k, const double *C, const double *R,
+                                const double *D, const double *rhs, double *sol)
+{
+    int n = m->two.n, i, it, attempt;
+    double *res = m->internal_.bres, *dx = m->internal_.bdx, scale;
+    for (attempt = 0; attempt < 2; attempt++) {
+        double prev = HUGE_VAL;
+        int max_it = m->internal_.shifted ? 30 : 4;
+        if (m->internal_.lu_ok && !psb__fold_band_apply(m, trans, k, C, R, D, rhs, sol))
+            for (it = 0; it <= max_it; it++) {
+                double rn = psb__fold_band_residual(m, trans, k, C, R, D, rhs, sol, res, &scale);
+                if (rn <= 32 * DBL_EPSILON * scale) return 0;
+                if (!(rn < 0.5 * prev) && it >= 2) { /* stalled */
+                    if (rn <= 32 * DBL_EPSILON * sqrt((double)n + k) * scale) return 0;
+                    break;
+                }
+                prev = rn;
+                if (psb__fold_band_apply(m, trans, k, C, R, D, res, dx)) break;
+                for (i = 0; i < n + k; i++) sol[i] += dx[i];
+            }
+        if (m->internal_.shifted) return 1;
+        psb__fold_band_lu(m, 1.4901161193847656e-08 * (m->internal_.mnorm > 0 ? m->internal_.mnorm : 1));
+    }
+    return 1;
+}
+
+/* H_x, H_lambda, H_mu at y into ab, dpar (lambda's column, mu's) and H_x's LU into lu, unless
+   they are y's already. Returns band_jacobian's nonzero code, else 0 with *bad 0, 2 for NaN or
+   Inf, 1 when A and A + shift I are both singular. */
+static int psb__fold_band_at(psb_fold_map *m, const double *y, int *bad)
+{
+    int n = m->two.n, ld = m->two.kl + m->two.ku + 1, rc, i, j;
+    size_t size = (size_t)ld * (size_t)n, np2 = (size_t)n + 2;
+    double big = 0;
+    *bad = 0;
+    if (m->internal_.lu_ok && !memcmp(m->internal_.y_fac, y, np2 * sizeof *y)) return 0;
+    m->internal_.lu_ok = 0;
+    memset(m->internal_.ab, 0, size * sizeof(double));
+    rc = m->two.band_jacobian(y, m->internal_.ab, ld, m->internal_.dpar, m->internal_.dpar + n, m->two.user);
+    if (rc) return rc;
+    if (!psb__all_finite(m->internal_.ab, size) || !psb__all_finite(m->internal_.dpar, 2 * (size_t)n)) {
+        *bad = 2;
+        return 0;
+    }
+    for (j = 0; j < n; j++) {
+        double sum = 0;
+        for (i = 0; i < ld; i++) sum += fabs(m->internal_.ab[(size_t)j * (size_t)ld + (size_t)i]);
+        big = fmax(big, sum);
+    }
+    m->internal_.mnorm = big;
+    memcpy(m->internal_.y_fac, y, np2 * sizeof *y);
+    if (psb__fold_band_lu(m, 0) && psb__fold_band_lu(m, 1.4901161193847656e-08 * (big > 0 ? big : 1))) *bad = 1;
+    return 0;
+}
+
+/* v (n+1: v and sigma) from [H_x b; c^T 0] [v; sigma] = e_{n+1}, and w (n+1) from its
+   transpose when w is not NULL, on the factors at y_fac; 0 or 1 (singular). */
+static int psb__fold_band_vw(psb_fold_map *m, double *v, double *w)
+{
+    int n = m->two.n;
+    double *e = m->internal_.bx, zero = 0;
+    memset(e, 0, (size_t)(n + 1) * sizeof *e);
+    e[n] = 1;
+    if (psb__fold_band_solve(m, 0, 1, m->internal_.b, m->internal_.c, &zero, e, v)) return 1;
+    return w && psb__fold_band_solve(m, 1, 1, m->internal_.b, m->internal_.c, &zero, e, w);
+}
+
+/* the fold problem's banded residual: H(y), sigma(y) */
+static int psb__fold_band_residual_fn(psb_fold_map *m, const double *y, double *h)
+{
+    int n = m->two.n, bad, rc = m->two.residual(y, h, m->two.user);
+    if (rc) return rc;
+    rc = psb__fold_band_at(m, y, &bad);
+    if (rc) return rc;
+    if (bad == 2) {
+        h[n] = NAN;
+        return 0;
+    }
+    if (bad || psb__fold_band_vw(m, m->internal_.rhs, NULL)) return 1;
+    h[n] = m->internal_.rhs[n];
+    return 0;
+}
+
+/* The fold problem's solver.factor: the matrix [H_x H_lambda H_mu; d sigma; row^T], kept as
+   A = H_x's LU with the borders C = (H_lambda, H_mu), R = (sigma's gradient, row) over the
+   state, D their lambda and mu entries; sigma's gradient as psb__fold_jacobian's. */
+static int psb__fold_band_factor(const double *y, const double *row, void *ctx)
+{
+    psb_fold_map *m = (psb_fold_map *)ctx;
+    int n = m->two.n, np2 = n + 2, ld = m->two.kl + m->two.ku + 1, kl = m->two.kl, ku = m->two.ku;
+    int i, j, k, rc, bad, side, li = m->two.lambda_index, mi = m->two.mu_index;
+    const int *state = m->internal_.state;
+    double *v = m->internal_.rhs, *w = m->internal_.rhs + n + 1, *yd = m->internal_.y_eval;
+    double *g = m->internal_.brow, *ad = m->internal_.ab_d, *dd = m->internal_.dpar_d;
+    double vmax = 0, ymax = 1, step, gl = 0, gm = 0;
+    psb__copy(m->internal_.y_usr, y, np2);
+    rc = psb__fold_band_at(m, y, &bad);
+    if (rc) return rc;
+    if (bad || psb__fold_band_vw(m, v, w)) return 1;
+    for (k = 0; k < n; k++) {
+        vmax = fmax(vmax, fabs(v[k]));
+        ymax = fmax(ymax, fabs(y[state[k]]));
+    }
+    step = 6.0554544523933395e-06 * ymax / vmax; /* cbrt(eps) relative, in the largest component */
+    memset(g, 0, (size_t)n * sizeof *g);
+    for (side = 1; side >= -1; side -= 2) {
+        memcpy(yd, y, (size_t)np2 * sizeof *yd);
+        for (k = 0; k < n; k++) yd[state[k]] += side * step * v[k];
+        memset(ad, 0, (size_t)ld * (size_t)n * sizeof *ad);
+        rc = m->two.band_jacobian(yd, ad, ld, dd, dd + n, m->two.user);
+        if (rc) return rc;
+        for (j = 0; j < n; j++) {
+            int lo = j - ku > 0 ? j - ku : 0, hi = j + kl < n - 1 ? j + kl : n - 1;
+            double dot = 0;
+            for (i = lo; i <= hi; i++) dot += w[i] * ad[PSB_BAND_INDEX(ku, ld, i, j)];
+            g[j] -= side * dot;
+        }
+        for (i = 0; i < n; i++) {
+            gl -= side * w[i] * dd[i];
+            gm -= side * w[i] * dd[n + i];
+        }
+    }
+    for (j = 0; j < n; j++) {
+        g[j] /= 2 * step;
+        g[n + j] = row[state[j]];
+    }
+    m->internal_.dmat[0] = gl / (2 * step);
+    m->internal_.dmat[1] = gm / (2 * step);
+    m->internal_.dmat[2] = row[li];
+    m->internal_.dmat[3] = row[mi];
+    return !psb__all_finite(g, (size_t)n) || !psb__finite(m->internal_.dmat[0]) || !psb__finite(m->internal_.dmat[1]);
+}
+
+/* The fold problem's solver.solve, in place, nrhs columns of n+2 (rows: H, sigma, the border
+   row; solutions in y's order). A residual evaluated since the factorisation moved H_x's LU
+   elsewhere: it is formed again at the factorisation's y. */
+static int psb__fold_band_solve_user(double *b, int nrhs, void *ctx)
+{
+    psb_fold_map *m = (psb_fold_map *)ctx;
+    int n = m->two.n, np2 = n + 2, col, j, bad, rc;
+    double *sol = m->internal_.rhs, *z;
+    if (!m->internal_.lu_ok || memcmp(m->internal_.y_fac, m->internal_.y_usr, (size_t)np2 * sizeof(double))) {
+        rc = psb__fold_band_at(m, m->internal_.y_usr, &bad);
+        if (rc) return rc;
+        if (bad) return 1;
+    }
+    for (col = 0; col < nrhs; col++) {
+        z = b + (size_t)col * (size_t)np2;
+        memcpy(m->internal_.y_eval, z, (size_t)np2 * sizeof *z);
+        if (psb__fold_band_solve(m, 0, 2, m->internal_.dpar, m->internal_.brow, m->internal_.dmat,
+                                 m->internal_.y_eval, sol))
+            return 1;
+        for (j = 0; j < n; j++) z[m->internal_.state[j]] = sol[j];
+        z[m->two.lambda_index] = sol[n];
+        z[m->two.mu_index] = sol[n + 1];
+    }
+    return 0;
+}
+
+static int psb__fold_at_mu_band(const double *y, double *band, int ldband, double *dparam, void *user)
+{
+    psb_fold_map *m = (psb_fold_map *)user;
+    psb__fold_lift(m, y, m->mu, m->internal_.y_eval);
+    return m->two.band_jacobian(m->internal_.y_eval, band, ldband, dparam, m->internal_.dpar_d + m->two.n,
+                                m->two.user);
+}
+
 /* fold's residual: H(y) and sigma(y). A singular bordered matrix is a recoverable failure (the
    step shortens); a NaN in the Jacobian shows as sigma = NaN (PSB_ERR_NONFINITE). */
 static int psb__fold_residual(const double *y, double *h, void *user)
 {
     psb_fold_map *m = (psb_fold_map *)user;
     int n = m->two.n, rc, f;
+    if (m->two.linear == PSB_LINEAR_BANDED) return psb__fold_band_residual_fn(m, y, h);
     rc = m->two.residual(y, h, m->two.user);
     if (rc) return rc;
     rc = m->two.jacobian(y, m->internal_.jac, n, m->two.user);
@@ -8290,7 +8670,18 @@ PSCBRANCH_DEF void psb_two_param_problem_init(psb_two_param_problem *p, int n,
     p->mu_index = n + 1;
 }
 
-PSCBRANCH_DEF size_t psb_fold_map_memory_size(int n) { return psb__fold_layout(n, NULL, NULL); }
+PSCBRANCH_DEF size_t psb_fold_map_memory_size(int n)
+{
+    psb_two_param_problem p;
+    memset(&p, 0, sizeof p);
+    p.n = n;
+    return psb__fold_layout(&p, NULL, NULL);
+}
+
+PSCBRANCH_DEF size_t psb_fold_map_memory_size_for(const psb_two_param_problem *p)
+{
+    return p ? psb__fold_layout(p, NULL, NULL) : 0;
+}
 
 PSCBRANCH_DEF psb_result psb_fold_map_init(psb_fold_map *m, const psb_two_param_problem *p,
                                            double mu, void *memory, size_t bytes)
@@ -8299,9 +8690,11 @@ PSCBRANCH_DEF psb_result psb_fold_map_init(psb_fold_map *m, const psb_two_param_
     int n, j, k = 0;
     if (!m) return PSB_ERR_NULL;
     memset(m, 0, sizeof *m);
-    if (!p || !memory || !p->residual || !p->jacobian) return PSB_ERR_NULL;
+    if (!p || !memory || !p->residual) return PSB_ERR_NULL;
+    if (p->linear != PSB_LINEAR_DENSE && p->linear != PSB_LINEAR_BANDED) return PSB_ERR_OPTIONS;
+    if (p->linear == PSB_LINEAR_BANDED ? !p->band_jacobian : !p->jacobian) return PSB_ERR_NULL;
     n = p->n;
-    need = psb__fold_layout(n, NULL, NULL);
+    need = psb__fold_layout(p, NULL, NULL);
     if (!need || p->lambda_index < 0 || p->lambda_index > n + 1 || p->mu_index < 0 ||
         p->mu_index > n + 1 || p->lambda_index == p->mu_index)
         return PSB_ERR_SIZE;
@@ -8310,13 +8703,25 @@ PSCBRANCH_DEF psb_result psb_fold_map_init(psb_fold_map *m, const psb_two_param_
     memset(memory, 0, need); /* zero borders until a start */
     m->two = *p;
     m->mu = mu;
-    psb__fold_layout(n, m, memory);
+    psb__fold_layout(p, m, memory);
     for (j = 0; j < n + 2; j++)
         if (j != p->lambda_index && j != p->mu_index) m->internal_.state[k++] = j;
     psb_problem_init(&m->at_mu, n, psb__fold_at_mu_residual, psb__fold_at_mu_jacobian, m);
     m->at_mu.param_index = p->lambda_index - (p->lambda_index > p->mu_index);
     psb_problem_init(&m->fold, n + 1, psb__fold_residual, psb__fold_jacobian, m);
     m->fold.param_index = p->mu_index;
+    if (p->linear == PSB_LINEAR_BANDED) {
+        m->at_mu.jacobian = NULL;
+        m->at_mu.linear = PSB_LINEAR_BANDED;
+        m->at_mu.kl = p->kl;
+        m->at_mu.ku = p->ku;
+        m->at_mu.band_jacobian = psb__fold_at_mu_band;
+        m->fold.jacobian = NULL;
+        m->fold.linear = PSB_LINEAR_USER;
+        m->fold.solver.factor = psb__fold_band_factor;
+        m->fold.solver.solve = psb__fold_band_solve_user;
+        m->fold.solver.ctx = m;
+    }
     m->b = m->internal_.b;
     m->c = m->internal_.c;
     m->internal_.ready = PSB__FOLD_READY;
@@ -8342,9 +8747,17 @@ static psb_result psb__fold_check(psb_fold_map *m, psb_solver *s, const char *wh
 /* The user's Jacobian at y into internal_.jac, its failures mapped as the library's. */
 static psb_result psb__fold_user_jacobian(psb_fold_map *m, psb_solver *s, const double *y)
 {
-    int n = m->two.n;
-    psb_result r = psb__callback_code(s, m->two.jacobian(y, m->internal_.jac, n, m->two.user),
-                                      "jacobian callback returned nonzero");
+    int n = m->two.n, bad;
+    psb_result r;
+    if (m->two.linear == PSB_LINEAR_BANDED) {
+        r = psb__callback_code(s, psb__fold_band_at(m, y, &bad), "band_jacobian callback returned nonzero");
+        if (r != PSB_SUCCESS) return r;
+        if (bad == 2) return psb__fail(s, PSB_ERR_NONFINITE, "band_jacobian callback returned NaN or Inf");
+        if (bad) return psb__fail(s, PSB_ERR_SINGULAR, "H_x and H_x + sqrt(eps) ||H_x|| I are singular at y");
+        return PSB_SUCCESS;
+    }
+    r = psb__callback_code(s, m->two.jacobian(y, m->internal_.jac, n, m->two.user),
+                           "jacobian callback returned nonzero");
     if (r != PSB_SUCCESS) return r;
     if (!psb__all_finite(m->internal_.jac, (size_t)n * (size_t)(n + 2)))
         return psb__fail(s, PSB_ERR_NONFINITE, "jacobian callback returned NaN or Inf");
@@ -8359,8 +8772,9 @@ static psb_result psb__fold_new_borders(psb_fold_map *m, psb_solver *s, const do
     double *v = m->internal_.rhs, *w = m->internal_.rhs + n + 1, nv, nw;
     psb_result r = psb__fold_user_jacobian(m, s, y);
     if (r != PSB_SUCCESS) return r;
-    if (psb__fold_factor(m, m->internal_.jac, n, m->internal_.b, m->internal_.c) ||
-        psb__fold_solve_last(m, "N", v) || psb__fold_solve_last(m, "T", w))
+    if (m->two.linear == PSB_LINEAR_BANDED ? psb__fold_band_vw(m, v, w)
+                                           : psb__fold_factor(m, m->internal_.jac, n, m->internal_.b, m->internal_.c) ||
+                                                 psb__fold_solve_last(m, "N", v) || psb__fold_solve_last(m, "T", w))
         return psb__fail(s, PSB_ERR_SINGULAR, "the bordered matrix [H_x b; c^T 0] is singular at y");
     nv = psb__norm2(v, n);
     nw = psb__norm2(w, n);
@@ -8424,9 +8838,17 @@ PSCBRANCH_DEF psb_result psb_fold_map_start(psb_fold_map *m, psb_solver *fold_so
        [H_x H_lambda; c^T 0]^T [b; .] = e_{n+1} (regular where dH has rank n and c is not
        orthogonal to the kernel of H_x) */
     for (k = 0; k < n; k++) m->internal_.c[k] = q[k] / nq;
-    if (psb__fold_factor(m, m->internal_.jac, n,
-                         m->internal_.jac + (size_t)m->two.lambda_index * (size_t)n, m->internal_.c) ||
-        psb__fold_solve_last(m, "T", p) || !((np = psb__norm2(p, n)) > 0)) {
+    if (m->two.linear == PSB_LINEAR_BANDED) {
+        double zero = 0, *e = m->internal_.bx;
+        memset(e, 0, (size_t)(n + 1) * sizeof *e);
+        e[n] = 1;
+        k = psb__fold_band_solve(m, 1, 1, m->internal_.dpar, m->internal_.c, &zero, e, p);
+    } else {
+        k = psb__fold_factor(m, m->internal_.jac, n, m->internal_.jac + (size_t)m->two.lambda_index * (size_t)n,
+                             m->internal_.c) ||
+            psb__fold_solve_last(m, "T", p);
+    }
+    if (k || !((np = psb__norm2(p, n)) > 0)) {
         psb__fold_keep_borders(m, 1);
         return psb__fail(s, PSB_ERR_SINGULAR, "dH has rank < n at (y, t), or t is no tangent there");
     }

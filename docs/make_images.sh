@@ -82,6 +82,13 @@ mkdir -p "$scratch/triangle"
 render "$scratch/triangle" 640 400
 cp "$scratch/triangle/diagram.png" "$img/triangle_diagram.png"
 
+# triangle --problem fold --map on the paper's M4096: the two limit points against the friction
+# coefficient, to where they merge (about a minute).
+mkdir -p "$scratch/triangle_map"
+OPENBLAS_NUM_THREADS=1 ./fe/triangle --quiet --mesh 64 --problem fold --map --out "$scratch/triangle_map" >/dev/null
+render "$scratch/triangle_map" 640 400
+cp "$scratch/triangle_map/fold_map.png" "$img/triangle_fold_map.png"
+
 # 02_explore and 03_pitchforks: the graphs psb_explore finds (a PC1 point with four rays; three
 # pitchforks and six folds), and block --explore: the block's diagram from one start point.
 for ex in 02_explore 03_pitchforks; do

@@ -19,6 +19,12 @@
      such a kink (the upper limit point on M262144), a second trace from gamma = 1 (every
      contact node separated) comes back to it: the two meet there with gamma rising on both
      sides, which makes that kink a limit point (--fold-trace).
+   --problem fold --map: the two limit points against Coulomb's F (--friction F sets it for any
+     run), by one-parameter runs of the fold problem on a grid of F (gamma up to 3), each change
+     of what the curve does bisected in F; the runs on the two sides of a change confirm it. On
+     M4096 the lower limit point stays at gamma = 0.56541 while the upper one rises with F: they
+     merge, and the snap-through ends, at F = 1.6371. H being piecewise linear at each F, sigma
+     of the library's fold map (psb_fold_map_*) is constant on each piece: it cannot trace these.
 
    --solver dense|banded|umfpack|klu|condensed: how the bordered systems are solved
      (fe/fe_solvers.h). In a build with SuiteSparse the default is `condensed` through M16384: the
@@ -32,6 +38,7 @@
    displacements against this run's, branch by branch.
 
    Usage: triangle [--mesh N] [--problem branching|fold] [--fold-trace auto|start|end] [--fold-stop-kink K] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
+                   [--friction F] [--map [--map-min F] [--map-max F] [--map-step D] [--map-tol T]]
                    [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
                    [--solver dense|banded|umfpack|klu|condensed] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
    (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
@@ -71,6 +78,12 @@ static const char triangle_usage[] =
     "                        kink it cannot pass, also from 1 back to that kink\n"
     "  --fold-stop-kink K    stop the trace from gamma = -3 on its K-th kink as if it could not pass\n"
     "                        it (checks --fold-trace auto's meeting of two traces; 1..1000000)\n"
+    "  --friction F          Coulomb's friction coefficient (default 1.7, the paper's; 0 < F <= 100)\n"
+    "  --map                 with --problem fold: the limit points against the friction coefficient F,\n"
+    "                        each change of their number located by bisection in F and confirmed\n"
+    "  --map-min F, --map-max F   the range of F (default 1.5, 1.95)\n"
+    "  --map-step D          the grid step in F (default 0.05)\n"
+    "  --map-tol T           the bisection's final bracket in F (default 1e-5; 1e-12 <= T <= 1)\n"
     "  --load H1|auto        branching load h = gamma (-H1, -7.5), 0 < H1 <= 1e6; auto: the middle of\n"
     "                        the loads with four branches on this mesh (default: 26.4 when inside, else auto)\n"
     "  --count-map A:B       the number of branches at gamma = 0 as H1 of the load runs from A to B\n"
@@ -102,6 +115,9 @@ typedef struct args {
     int n, fold, ndir, nspan, multipliers, verbose, quiet, solver, load_auto, explore, no_piece_memo;
     int fold_trace;     /* FOLD_AUTO, FOLD_START, FOLD_END */
     int fold_stop_kink; /* 0, or stop the trace from gamma = -3 on its K-th kink */
+    int map;            /* --map: the limit points against the friction coefficient */
+    double friction;    /* Coulomb's F (0: the paper's 1.7) */
+    double map_min, map_max, map_step, map_tol;
     double keep_mb;
     double kappa, hmin, load; /* h1 of h = gamma (-h1, -7.5); 0: the paper's if possible, < 0: auto */
     /* hmin: smallest trial step of Algorithm 2.2; h_init = one trial per direction (manual) */
@@ -125,12 +141,19 @@ static int parse(int argc, char **argv, args *a)
     memset(a, 0, sizeof *a);
     a->n = 32; a->ndir = 30; a->nspan = 10; a->multipliers = 1;
     a->kappa = -1; a->hmin = 5e-4; a->mult_weight = -1; a->solver = FE_SOLVER_AUTO; a->count_samples = 11;
+    a->map_min = 1.5; a->map_max = 1.95; a->map_step = 0.05; a->map_tol = 1e-5;
     cli_init(&c, "triangle", argc, argv, triangle_usage);
     while (cli_next(&c)) {
         if (cli_flag(&c, "--verbose")) a->verbose = 1;
         else if (cli_flag(&c, "--quiet")) a->quiet = 1;
         else if (cli_flag(&c, "--explore")) a->explore = 1;
         else if (cli_flag(&c, "--no-piece-memo")) a->no_piece_memo = 1;
+        else if (cli_flag(&c, "--map")) a->map = 1;
+        else if (cli_double(&c, "--friction", &a->friction, 0, 100, 1)) {}
+        else if (cli_double(&c, "--map-min", &a->map_min, 0, 100, 1)) {}
+        else if (cli_double(&c, "--map-max", &a->map_max, 0, 100, 1)) {}
+        else if (cli_double(&c, "--map-step", &a->map_step, 1e-6, 100, 0)) {}
+        else if (cli_double(&c, "--map-tol", &a->map_tol, 1e-12, 1, 0)) {}
         else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {}
         else if (cli_int(&c, "--mesh", &a->n, 2, TRI_MAX_MESH)) {}
         else if (cli_choice(&c, "--problem", &a->fold, problems)) {}
@@ -181,6 +204,10 @@ static int parse(int argc, char **argv, args *a)
         cli_fail(&c, "--count-map moves the load, which --solver condensed holds fixed: choose another solver");
     if (c.status == CLI_OK && a->count_to > 0 && a->solver == FE_SOLVER_AUTO) a->solver = FE_SOLVER_BANDED;
     if (c.status == CLI_OK && a->count_to > 0) a->load = a->count_from;
+    if (c.status == CLI_OK && a->map && (!a->fold || a->explore))
+        cli_fail(&c, "--map needs --problem fold (and no --explore)");
+    if (c.status == CLI_OK && a->map && !(a->map_min < a->map_max))
+        cli_fail(&c, "--map-min %g: must be below --map-max %g", a->map_min, a->map_max);
     if (c.status == CLI_OK && a->refine && !a->fold && !(a->load > 0))
         cli_fail(&c, "--refine needs --load H1, the load of the run that saved the end points");
     return c.status;
@@ -275,10 +302,11 @@ static int fold_point(const psb_point *pt, void *user)
     return 0;
 }
 
-/* Traces the fold problem from (y, t) (at gamma = -3 or 1) within [-3, 1], recording the points as
-   trace `which` (run->br index) and collecting the limit points; meet: see fold_state. */
+/* Traces the fold problem from (y, t) (at gamma = -3 or 1) within [-3, gmax], recording the points
+   as trace `which` (run->br index; -1: none) and collecting the limit points; meet: see
+   fold_state. */
 static psb_result trace_fold(fe_run *run, double *y, double *t, fold_state *fs, psb_trace_report *rep, int verbose,
-                             int which, const double *meet, double *diff, int stop_kink)
+                             int which, const double *meet, double *diff, int stop_kink, double gmax)
 {
     psb_trace_options to;
     memset(fs, 0, sizeof *fs);
@@ -289,7 +317,7 @@ static psb_result trace_fold(fe_run *run, double *y, double *t, fold_state *fs, 
     fs->stop_kink = stop_kink;
     memset(&to, 0, sizeof to);
     to.param_min = -3;
-    to.param_max = 1;
+    to.param_max = gmax;
     to.locate_kinks = 1;
     to.on_point = fold_point;
     to.point_user = fs;
@@ -322,7 +350,8 @@ typedef struct fold_study {
 } fold_study;
 
 /* Returns 0, or -1 after a message (out of memory, Newton or the tangent at gamma = 1 failed). */
-static int run_fold_study(fe_run *run, double *y, double *t, int from, int stop_kink, int verbose, fold_study *st)
+static int run_fold_study(fe_run *run, double *y, double *t, int from, int stop_kink, int verbose, fold_study *st,
+                          double gmax)
 {
     int n = run->md->n, k, rc = 0;
     size_t bytes = sizeof(double) * ((size_t)n + 1);
@@ -332,31 +361,31 @@ static int run_fold_study(fe_run *run, double *y, double *t, int from, int stop_
     st->y[0] = y;
     if (from != FOLD_END) {
         st->ran[0] = 1;
-        st->end[0] = trace_fold(run, y, t, &fs, &st->rep[0], verbose, 0, NULL, NULL, stop_kink);
+        st->end[0] = trace_fold(run, y, t, &fs, &st->rep[0], verbose, 0, NULL, NULL, stop_kink, gmax);
         for (k = 0; k < fs.nfold; k++) st->folds[st->nfold++] = fs.folds[k];
-        st->covered = st->end[0] == PSB_PARAM_BOUND && y[n] == 1.0;
+        st->covered = st->end[0] == PSB_PARAM_BOUND && y[n] == gmax;
         if (from == FOLD_START || !(st->end[0] == PSB_NONSMOOTH_END || (stop_kink && st->end[0] == PSB_STOPPED))) return 0;
     }
     yb = calloc((size_t)n + 1, sizeof(double));
     tb = calloc((size_t)n + 1, sizeof(double));
     diff = malloc(bytes);
     if (!yb || !tb || !diff) { fprintf(stderr, "%s: out of memory\n", fe_run_prog(run)); rc = -1; goto done; }
-    yb[n] = 1;
-    fe_run_progress(run, "Newton at gamma = 1");
+    yb[n] = gmax;
+    fe_run_progress(run, "Newton at gamma = %g", gmax);
     if (psb_solve_at_param(&run->s, yb, 50) != PSB_SUCCESS) {
-        fprintf(stderr, "%s: Newton at gamma = 1 failed: %s\n", fe_run_prog(run), psb_solver_message(&run->s));
+        fprintf(stderr, "%s: Newton at gamma = %g failed: %s\n", fe_run_prog(run), gmax, psb_solver_message(&run->s));
         rc = -1;
         goto done;
     }
     tb[n] = -1; /* towards smaller gamma */
     if (psb_tangent(&run->s, yb, tb, tb) != PSB_SUCCESS) {
-        fprintf(stderr, "%s: tangent at gamma = 1 failed: %s\n", fe_run_prog(run), psb_solver_message(&run->s));
+        fprintf(stderr, "%s: tangent at gamma = %g failed: %s\n", fe_run_prog(run), gmax, psb_solver_message(&run->s));
         rc = -1;
         goto done;
     }
-    fe_run_progress(run, "tracing from gamma = 1%s", st->ran[0] ? " back to where the trace from gamma = -3 stopped" : "");
+    fe_run_progress(run, "tracing from gamma = %g%s", gmax, st->ran[0] ? " back to where the trace from gamma = -3 stopped" : "");
     st->ran[1] = 1;
-    st->end[1] = trace_fold(run, yb, tb, &fs, &st->rep[1], verbose, st->ran[0], st->ran[0] ? y : NULL, diff, 0);
+    st->end[1] = trace_fold(run, yb, tb, &fs, &st->rep[1], verbose, st->ran[0], st->ran[0] ? y : NULL, diff, 0, gmax);
     if (fs.met) {
         st->met = 1;
         st->meet_gamma = y[n];
@@ -394,7 +423,7 @@ static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
     static const char *const from_label[2] = {"from gamma = -3", "from gamma = 1"};
     int n = run->md->n, k, j, ok;
     fold_study st;
-    if (run_fold_study(run, y, t, a->fold_trace, a->fold_stop_kink, a->verbose, &st)) return 1;
+    if (run_fold_study(run, y, t, a->fold_trace, a->fold_stop_kink, a->verbose, &st, 1)) return 1;
     printf("\n");
     for (j = 0, k = 0; k < 2; k++) {
         fe_branch *b;
@@ -454,6 +483,280 @@ static int run_fold(fe_run *run, double *y, double *t, const args *a, double t0)
     return ok ? 0 : 1;
 }
 
+/* ---- --map: the limit points as the friction coefficient F moves ----------------------------
+   H is piecewise linear in (u, lambda, gamma) at each F, so its limit points are kinks (nonsmooth
+   folds): sigma = det H_x / det [H_x b; c^T 0] is constant on each piece and never vanishes, and
+   the fold map of the library (psb_fold_map_*, smooth folds) has nothing to trace. The fold curves
+   gamma(F) are followed instead by one-parameter runs of the fold problem at F on a grid, and each
+   change of the number of limit points between neighbours is bracketed by bisection in F. The
+   last bracket's two runs are the confirmation: two limit points on one side, not on the other. */
+
+#define MAP_MAX_RUNS 4096
+#define MAP_GMAX 3.0 /* every contact node is separated well below: the curve is a line there */
+
+/* what the fold problem's curve from gamma = -3 does at one F: rises to MAP_GMAX with two limit
+   points (MAP_TWO) or none (MAP_NONE), or has one limit point and comes back to gamma = -3
+   (MAP_ONE: past a kink the trace went on along another branch); MAP_OTHER: anything else */
+enum { MAP_TWO, MAP_ONE, MAP_NONE, MAP_OTHER };
+static const char *const map_kind_name[] = {"two", "one", "none", "other"};
+#define MAP_SNAP(kind) ((kind) == MAP_TWO || (kind) == MAP_ONE) /* loading from -3 meets a limit point */
+
+typedef struct map_run {
+    double f;          /* the friction coefficient */
+    int kind;          /* MAP_TWO: the fold problem's curve from -3 to MAP_GMAX has two limit points */
+    int nfold;
+    double folds[2 * PSB_MAX_FOLDS + 1];
+    psb_result end[2]; /* the traces from gamma = -3 and (when that one stopped) from MAP_GMAX */
+    double end_gamma[2];
+    int ran1, met;
+    long factor, steps;
+    double seconds;
+} map_run;
+
+/* One run of the fold problem at friction f, as --problem fold runs it (--fold-trace auto) with
+   gamma in [-3, MAP_GMAX]. Returns 0, or -1 when Newton or a tangent failed (reported). */
+static int map_one(fe_run *run, double f, double *y, double *t, map_run *mr)
+{
+    int n = run->md->n, k;
+    long f0 = run->s.stats.n_factor;
+    double t0 = seconds();
+    fold_study st;
+    memset(mr, 0, sizeof *mr);
+    mr->f = f;
+    mr->kind = MAP_OTHER;
+    run->md->friction = f;
+    memset(y, 0, sizeof(double) * ((size_t)n + 1));
+    memset(t, 0, sizeof(double) * ((size_t)n + 1));
+    y[n] = -3;
+    t[n] = 1;
+    if (psb_solve_at_param(&run->s, y, 50) != PSB_SUCCESS || psb_tangent(&run->s, y, t, t) != PSB_SUCCESS) {
+        fprintf(stderr, "triangle: Newton or the tangent at gamma = -3 failed for F = %g: %s\n", f, psb_solver_message(&run->s));
+        return -1;
+    }
+    if (run_fold_study(run, y, t, FOLD_AUTO, 0, 0, &st, MAP_GMAX)) return -1;
+    mr->nfold = st.nfold;
+    for (k = 0; k < st.nfold; k++) mr->folds[k] = st.folds[k];
+    for (k = 0; k < 2; k++) {
+        mr->end[k] = st.end[k];
+        mr->end_gamma[k] = st.ran[k] ? st.y[k][n] : NAN;
+        mr->steps += st.ran[k] ? st.rep[k].steps : 0;
+    }
+    mr->ran1 = st.ran[1];
+    mr->met = st.met;
+    if (st.covered) mr->kind = st.nfold == 2 ? MAP_TWO : st.nfold == 0 ? MAP_NONE : MAP_OTHER;
+    else if (!st.ran[1] && st.end[0] == PSB_PARAM_BOUND && y[n] == -3 && st.nfold == 1) mr->kind = MAP_ONE;
+    fold_study_free(&st);
+    mr->factor = run->s.stats.n_factor - f0;
+    mr->seconds = seconds() - t0;
+    fe_run_progress(run, "F = %.8f: %d limit point(s)%s", f, mr->nfold, st.covered ? "" : ", the curve not covered");
+    return 0;
+}
+
+static const char *map_kind_text(const map_run *mr, char *buf, size_t size)
+{
+    if (mr->kind == MAP_TWO)
+        snprintf(buf, size, "two limit points, gamma = %.8f and %.8f", fmax(mr->folds[0], mr->folds[1]),
+                 fmin(mr->folds[0], mr->folds[1]));
+    else if (mr->kind == MAP_NONE)
+        snprintf(buf, size, "no limit point (gamma increases from -3 to %g)", MAP_GMAX);
+    else if (mr->kind == MAP_ONE)
+        snprintf(buf, size, "one limit point, gamma = %.8f; the curve comes back to gamma = -3", mr->folds[0]);
+    else
+        snprintf(buf, size, "%d limit point(s); from -3: %s at gamma = %.6f%s%s", mr->nfold,
+                 mr->end[0] == PSB_NONSMOOTH_END ? "a kink not passed" : psb_result_string(mr->end[0]), mr->end_gamma[0],
+                 mr->ran1 ? "; from 3: " : "", !mr->ran1 ? "" : mr->met ? "met there" : psb_result_string(mr->end[1]));
+    return buf;
+}
+
+static int map_cmp(const void *a, const void *b)
+{
+    double fa = ((const map_run *)a)->f, fb = ((const map_run *)b)->f;
+    return (fa > fb) - (fa < fb);
+}
+
+/* Writes fold_map.csv (every run), fold_map_ends.csv and plot.gp (fold_map.png) into dir. */
+static int map_write(const fe_run *run, const char *dir, const map_run *runs, int nruns, const map_run *ends, int nends,
+                     double fmin_, double fmax_)
+{
+    char path[1024];
+    FILE *fp = fe_run_open(run, path, dir, "fold_map.csv");
+    int k, bad;
+    if (!fp) return -1;
+    fprintf(fp, "F,kind,n_limit_points,gamma_upper,gamma_lower,factorisations,steps\n");
+    for (k = 0; k < nruns; k++) {
+        const map_run *r = runs + k;
+        if (r->kind == MAP_TWO || r->kind == MAP_ONE)
+            fprintf(fp, "%.10f,%s,%d,%.10f,", r->f, map_kind_name[r->kind], r->nfold,
+                    r->kind == MAP_ONE ? r->folds[0] : fmax(r->folds[0], r->folds[1]));
+        else
+            fprintf(fp, "%.10f,%s,%d,,", r->f, map_kind_name[r->kind], r->nfold);
+        if (r->kind == MAP_TWO) fprintf(fp, "%.10f", fmin(r->folds[0], r->folds[1]));
+        fprintf(fp, ",%ld,%ld\n", r->factor, r->steps);
+    }
+    if (fe_run_close(run, fp, path)) return -1;
+    fp = fe_run_open(run, path, dir, "fold_map_ends.csv");
+    if (!fp) return -1;
+    fprintf(fp, "F,F_below,kind_below,F_above,kind_above,gamma_upper,gamma_lower\n");
+    for (k = 0; k < nends; k++) {
+        const map_run *lo = ends + 2 * k, *hi = ends + 2 * k + 1, *two = lo->kind == MAP_TWO ? lo : hi;
+        fprintf(fp, "%.10f,%.10f,%s,%.10f,%s,", 0.5 * (lo->f + hi->f), lo->f, map_kind_name[lo->kind], hi->f,
+                map_kind_name[hi->kind]);
+        if (two->kind == MAP_TWO)
+            fprintf(fp, "%.10f,%.10f\n", fmax(two->folds[0], two->folds[1]), fmin(two->folds[0], two->folds[1]));
+        else
+            fprintf(fp, ",\n");
+    }
+    if (fe_run_close(run, fp, path)) return -1;
+    fp = fe_run_open(run, path, dir, "plot.gp");
+    if (!fp) return -1;
+    fprintf(fp, "# gnuplot plot.gp: fold_map.png, the triangle's limit points against the friction coefficient\n"
+                "set datafile separator ','\n"
+                "set terminal pngcairo size 800,500 noenhanced\n"
+                "set output 'fold_map.png'\n"
+                "set title 'triangle M%d: the limit points of h = (-20 - 10 gamma, -7.5) against the friction coefficient F'\n"
+                "set xlabel 'friction coefficient F'\n"
+                "set ylabel 'gamma at the limit point'\n"
+                "set grid\n"
+                "set key top left opaque\n"
+                "set xrange [%g:%g]\n",
+            run->md->mesh->nelem, fmin_, fmax_);
+    for (k = 0; k < nends; k++) {
+        double f = 0.5 * (ends[2 * k].f + ends[2 * k + 1].f);
+        fprintf(fp, "set arrow from %.10f, graph 0 to %.10f, graph 1 nohead dt 2 lc rgb '#777777'\n", f, f);
+        fprintf(fp, "set label 'F = %.5f' at %.10f, graph 0.55 right offset -0.5,0\n", f, f);
+    }
+    fprintf(fp, "set arrow from 1.7, graph 0 to 1.7, graph 1 nohead dt 3 lc rgb '#009E73'\n"
+                "set label 'the paper: F = 1.7' at 1.7, graph 0.55 offset 0.5,0 tc rgb '#009E73'\n"
+                "plot 'fold_map.csv' every ::1 using 1:(strcol(2) ne 'none' && strcol(2) ne 'other' ? $4 : 1/0) "
+                "with linespoints pt 7 ps 0.6 lw 2 lc rgb '#D55E00' title 'upper limit point: snap-through on loading', \\\n"
+                "     'fold_map.csv' every ::1 using 1:(strcol(2) eq 'two' ? $5 : 1/0) with linespoints pt 7 ps 0.6 lw 2 "
+                "lc rgb '#0072B2' title 'lower limit point', \\\n"
+                "     'fold_map_ends.csv' every ::1 using 1:6 with points pt 6 ps 2 lw 2 lc rgb '#000000' "
+                "title 'changes located by bisection in F', \\\n"
+                "     'fold_map_ends.csv' every ::1 using 1:7 with points pt 6 ps 2 lw 2 lc rgb '#000000' notitle\n");
+    bad = fe_run_close(run, fp, path);
+    return bad;
+}
+
+static int run_fold_map(fe_run *run, const args *a, double t0)
+{
+    int n = run->md->n, nruns = 0, ngrid, k, j, nends = 0, ok = 1, rc = 1, write_failed = 0;
+    double f_paper = run->md->friction, *y = calloc((size_t)n + 1, sizeof(double)), *t = calloc((size_t)n + 1, sizeof(double));
+    map_run *runs = calloc(MAP_MAX_RUNS, sizeof *runs), paper;
+    static map_run ends[2 * 64];
+    int end_at[64]; /* runs[end_at[k]], runs[end_at[k] + 1]: the two sides of change k */
+    fold_study st;
+    char buf[160], buf2[160];
+    if (!y || !t || !runs) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
+    ngrid = (int)floor((a->map_max - a->map_min) / a->map_step + 1e-9) + 1;
+    if (ngrid > MAP_MAX_RUNS / 4) { fprintf(stderr, "triangle: --map-step too small for --map-range (over %d runs)\n", MAP_MAX_RUNS / 4); goto done; }
+    printf("\n  fold map: the fold problem h = (-20 - 10 gamma, -7.5) traced from gamma = -3 to %g at each friction\n"
+           "  coefficient F of a grid of [%g, %g] step %g, each change of the number of limit points bisected in F to %g\n",
+           MAP_GMAX, a->map_min, a->map_max, a->map_step, a->map_tol);
+
+    /* at the paper's friction: the map's run against the one-parameter fold problem's */
+    run->md->friction = f_paper;
+    y[n] = -3;
+    t[n] = 1;
+    if (psb_solve_at_param(&run->s, y, 50) != PSB_SUCCESS || psb_tangent(&run->s, y, t, t) != PSB_SUCCESS ||
+        run_fold_study(run, y, t, FOLD_AUTO, 0, 0, &st, 1)) {
+        fprintf(stderr, "triangle: the fold problem at F = %g failed: %s\n", f_paper, psb_solver_message(&run->s));
+        goto done;
+    }
+    fold_study_free(&st);
+    if (map_one(run, f_paper, y, t, &paper)) goto done;
+    {
+        double d = HUGE_VAL;
+        if (paper.kind == MAP_TWO && st.nfold == 2 && st.covered)
+            d = fmax(fabs(fmax(paper.folds[0], paper.folds[1]) - fmax(st.folds[0], st.folds[1])),
+                     fabs(fmin(paper.folds[0], paper.folds[1]) - fmin(st.folds[0], st.folds[1])));
+        printf("  at the paper's F = %g: %s; the one-parameter run's %.8f, %.8f: difference %.1e\n", f_paper,
+               map_kind_text(&paper, buf, sizeof buf), st.nfold > 0 ? st.folds[0] : NAN, st.nfold > 1 ? st.folds[1] : NAN, d);
+        ok = d <= 1e-8;
+    }
+
+    /* the grid */
+    for (k = 0; k < ngrid; k++) {
+        double f = a->map_min + k * a->map_step;
+        if (map_one(run, f, y, t, runs + nruns)) goto done;
+        nruns++;
+    }
+    /* each change of kind between neighbours in F, bisected until every such pair is closer than
+       the tolerance (a third kind met inside brings a change of its own) */
+    for (;;) {
+        qsort(runs, (size_t)nruns, sizeof *runs, map_cmp);
+        for (k = 0; k + 1 < nruns; k++)
+            if (runs[k].kind != runs[k + 1].kind && runs[k + 1].f - runs[k].f > a->map_tol) break;
+        if (k + 1 >= nruns || nruns == MAP_MAX_RUNS) break;
+        if (map_one(run, 0.5 * (runs[k].f + runs[k + 1].f), y, t, runs + nruns)) goto done;
+        nruns++;
+    }
+    /* the located ends: neighbours in F, two limit points on one side only */
+    for (k = 0; k + 1 < nruns && nends < 64; k++)
+        if (runs[k].kind != runs[k + 1].kind) {
+            ends[2 * nends] = runs[k];
+            ends[2 * nends + 1] = runs[k + 1];
+            end_at[nends++] = k;
+        }
+
+    printf("\n  %-12s  %-62s  %6s  %14s\n", "F", "the fold problem's trace from gamma = -3", "steps", "factorisations");
+    for (k = 0; k < nruns; k++)
+        printf("  %-12.8f  %-62s  %6ld  %14ld\n", runs[k].f, map_kind_text(runs + k, buf, sizeof buf), runs[k].steps, runs[k].factor);
+    printf("\n");
+    for (k = 0; k < nends; k++) {
+        const map_run *lo = ends + 2 * k, *hi = ends + 2 * k + 1;
+        int kl = lo->kind, ku = hi->kind;
+        printf("  change at F = %.8f (in (%.8f, %.8f)), confirmed by the runs on each side:\n", 0.5 * (lo->f + hi->f), lo->f,
+               hi->f);
+        printf("    F = %.8f: %s\n", lo->f, map_kind_text(lo, buf, sizeof buf));
+        printf("    F = %.8f: %s\n", hi->f, map_kind_text(hi, buf2, sizeof buf2));
+        if ((kl == MAP_TWO && ku == MAP_NONE) || (kl == MAP_NONE && ku == MAP_TWO)) {
+            /* the next run beyond the one with two limit points, for the gap's secant */
+            int i2 = kl == MAP_TWO ? end_at[k] : end_at[k] + 1, i3 = kl == MAP_TWO ? i2 - 1 : i2 + 1;
+            const map_run *two = runs + i2, *far = i3 >= 0 && i3 < nruns && runs[i3].kind == MAP_TWO ? runs + i3 : NULL;
+            double gap = fabs(two->folds[0] - two->folds[1]);
+            printf("    an end of the fold curves: the two limit points %s (%.1e apart at the last run)\n",
+                   gap < 0.05 ? "merge, the S of the load path flattens out (a cusp)" : "vanish together", gap);
+            if (far) {
+                double gap2 = fabs(far->folds[0] - far->folds[1]), f0 = two->f - gap * (far->f - two->f) / (gap2 - gap);
+                printf("    their gap's secant through the two nearest runs vanishes at F = %.8f\n", f0);
+            }
+        } else if ((kl == MAP_TWO && ku == MAP_ONE) || (kl == MAP_ONE && ku == MAP_TWO))
+            printf("    the upper limit point goes on; the lower one leaves the path traced from -3, which past a kink\n"
+                   "    turns back down along another branch (the load path is not unique there)\n");
+    }
+    /* the union of the intervals of F where loading from gamma = -3 meets a limit point: runs of
+       neighbours that do, each bounded by the midpoint to the next run (a located change) or by
+       the range */
+    printf("  snap-through exists for F in ");
+    for (j = 0, k = 0; k < nruns; k++) {
+        int last;
+        if (!MAP_SNAP(runs[k].kind) || (k > 0 && MAP_SNAP(runs[k - 1].kind))) continue;
+        for (last = k; last + 1 < nruns && MAP_SNAP(runs[last + 1].kind); last++) {}
+        printf("%s(%.6f, %.6f)%s%s", j++ ? " U " : "", k ? 0.5 * (runs[k - 1].f + runs[k].f) : runs[k].f,
+               last + 1 < nruns ? 0.5 * (runs[last].f + runs[last + 1].f) : runs[last].f,
+               k ? "" : " [from the range's lower bound]", last + 1 < nruns ? "" : " [to the range's upper bound]");
+    }
+    printf("%s\n", j ? "" : "no F of the range");
+    {
+        long nf = 0;
+        double secs = 0;
+        for (k = 0; k < nruns; k++) nf += runs[k].factor, secs += runs[k].seconds;
+        printf("  %d runs (points of the map), %ld factorisations, %.0f a run; time %.2f s (CPU), %.2f s a run\n", nruns, nf,
+               (double)nf / nruns, seconds() - t0, secs / nruns);
+    }
+    ok = ok && nends > 0;
+    if (a->out && map_write(run, a->out, runs, nruns, ends, nends, a->map_min, a->map_max)) write_failed = 1;
+    else if (a->out) printf("  wrote %s/fold_map.csv, fold_map_ends.csv and plot.gp (gnuplot plot.gp: fold_map.png)\n", a->out);
+    printf("triangle: %s\n", ok ? "OK (the map's limit points at the paper's friction are the fold problem's; each end confirmed)"
+                                 : "FAILED (no end located, or the limit points at the paper's friction differ)");
+    rc = ok && !write_failed ? 0 : 1;
+done:
+    run->md->friction = f_paper;
+    free(y); free(t); free(runs);
+    return rc;
+}
+
 static void set_options(psb_options *opt, psb_branch_options *bo, const args *a, const fe_model *md, double *w,
                         int fold)
 {
@@ -498,6 +801,7 @@ static int choose_load(args *a)
         goto done;
     }
     md.no_piece_ids = a->no_piece_memo;
+    if (a->friction > 0) md.friction = a->friction;
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
@@ -515,7 +819,7 @@ static int choose_load(args *a)
     y[n] = -3;
     t[n] = 1;
     ok = psb_solve_at_param(&run.s, y, 50) == PSB_SUCCESS && psb_tangent(&run.s, y, t, t) == PSB_SUCCESS &&
-         !run_fold_study(&run, y, t, a->fold_trace, 0, 0, &st);
+         !run_fold_study(&run, y, t, a->fold_trace, 0, 0, &st, 1);
     if (ok) fold_study_free(&st);
     ok = ok && st.covered && st.nfold == 2;
     if (ok) {
@@ -612,7 +916,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
             double worst = 0;
             memcpy(ye, y, bytes);
             memcpy(te, t, bytes);
-            trace_fold(run, ye, te, &fs, &rep, 0, 0, NULL, NULL, 0);
+            trace_fold(run, ye, te, &fs, &rep, 0, 0, NULL, NULL, 0, 1);
             ok = ok && fs.nfold == n_fold;
             for (i = 0; i < n_fold && i < fs.nfold; i++) worst = fmax(worst, fabs(folds[i] - fs.folds[i]));
             printf("  hand-driven fold run: %d limit points, largest difference %.1e in gamma\n", fs.nfold, worst);
@@ -760,6 +1064,7 @@ int main(int argc, char **argv)
     if (!a.quiet) fprintf(stderr, "triangle: building the mesh with n = %d and its model\n", a.n);
     if (fe_triangle_model(&md, &mesh, a.n, a.multipliers, h0, h1)) { fprintf(stderr, "triangle: out of memory building the mesh with n = %d\n", a.n); goto done; }
     md.no_piece_ids = a.no_piece_memo;
+    if (a.friction > 0) md.friction = a.friction;
     n = md.n;
     w = malloc(sizeof(double) * ((size_t)n + 1));
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
@@ -789,6 +1094,11 @@ int main(int argc, char **argv)
                a.refine, a.load);
         t1 = seconds();
         goto table;
+    }
+    if (a.map) {
+        rc = run_fold_map(&run, &a, t0);
+        fe_solver_report(&fsol);
+        goto done;
     }
     if (a.fold && !a.explore && a.fold_trace == FOLD_END) {
         rc = run_fold(&run, y, t, &a, t0);

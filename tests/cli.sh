@@ -146,6 +146,10 @@ usage "--nspan 1001: must be between 1 and 1000" triangle --nspan 1001
 usage "--refine needs --load" triangle --refine "$tmp/short.txt"
 usage "--seed 12abc: expected a non-negative integer" triangle --seed 12abc
 usage "--dirichlet foo: expected one of mult, elim" triangle --dirichlet foo
+usage "--map needs --problem fold" triangle --map
+usage "--map-min 2: must be below --map-max 1.95" triangle --problem fold --map --map-min 2
+usage "--friction 0: must be > 0" triangle --friction 0
+usage "--map-tol 0: must be >= 1e-12" triangle --problem fold --map --map-tol 0
 fails "/dev/full is not a directory" triangle --quiet --mesh 16 --problem fold --out /dev/full
 fails "cannot write /dev/full" triangle --quiet --mesh 8 --problem branching --save /dev/full
 fails "cannot write $tmp/o2/folds.csv: Is a directory" triangle --quiet --mesh 16 --problem fold --out "$tmp/o2"
@@ -154,6 +158,23 @@ fails "not a valid end-point file" triangle --quiet --mesh 8 --load 26 --refine 
 fails "q1.txt: its mesh is not a coarser mesh nested in this one" triangle --quiet --mesh 8 --load 26 --refine "$tmp/q1.txt"
 fails "tri16.txt: its mesh is not a coarser mesh nested in this one" triangle --quiet --mesh 8 --load 26 --refine "$tmp/tri16.txt"
 fails "rect3.txt: its mesh is not a coarser mesh nested in this one" block --quiet --mesh 4x4 --refine "$tmp/rect3.txt"
+mkdir -p "$tmp/o11/fold_map.csv"
+fails "cannot write $tmp/o11/fold_map.csv: Is a directory" triangle --quiet --mesh 8 --problem fold --map --map-max 1.8 --map-tol 1e-3 --out "$tmp/o11"
+# the fold map at M64 (--mesh 8): the limit points against the friction coefficient, its end (the two limit
+# points merge at F = 1.6915) bracketed by two one-parameter runs 1e-5 apart and confirmed by
+# them (two limit points, none), its files written
+"$(where triangle)" --quiet --mesh 8 --problem fold --map --out "$tmp/map" >"$tmp/out" 2>"$tmp/err"
+rc=$?
+if [ $rc -eq 0 ] && grep -q "snap-through exists for F in (1.69145[0-9], 1.950000)" "$tmp/out" &&
+    grep -q "an end of the fold curves: the two limit points merge" "$tmp/out" &&
+    grep -A2 "^  change at F = 1.6914" "$tmp/out" | grep -q "F = 1.69145[0-9]*: no limit point" &&
+    grep -A2 "^  change at F = 1.6914" "$tmp/out" | grep -q "F = 1.69146[0-9]*: two limit points" &&
+    [ "$(grep -c '^1\.[0-9]*,two,2,' "$tmp/map/fold_map.csv")" -ge 10 ] && [ -s "$tmp/map/fold_map_ends.csv" ] &&
+    grep -q "fold_map.png" "$tmp/map/plot.gp" && ! grep -qE 'Sanitizer|runtime error:' "$tmp/err"; then
+    pass
+else
+    fail "triangle --mesh 8 --problem fold --map: exit $rc, $(grep -E 'snap-through|FAILED' "$tmp/out" | head -n 2)"
+fi
 # --mesh 2: the default load's fold problem fails; the message must not blame a --load not given
 fails "choosing the default load" triangle --quiet --mesh 2
 if grep -qF -- "--load auto" "$tmp/err"; then fail "triangle --mesh 2 blames --load auto"; else pass; fi

@@ -326,6 +326,286 @@ static void test_jacobian(void)
     setup_free(&st);
 }
 
+/* ---- (f) a chain of cusps, banded against dense ----------------------------------------- */
+
+/* a_i (x_i^3 - mu x_i + lambda) + kp (x_i - x_{i+1}) + km (x_i - x_{i-1}) (no neighbour at the
+   ends), y = (x_0 .. x_{M-1}, with mu at component CH_MU and lambda last). The coupling vanishes
+   on uniform states, so the uniform folds are the cusp's, mu = 3 x^2, lambda = 2 x^3: there H_x
+   = the coupling, singular with right null vector (1, ..., 1) and (kp != km) another left one. */
+#define CH_N 40
+#define CH_MU 7
+typedef struct {
+    double a[CH_N], kp, km;
+    int fail; /* ch_band: 0, or returns it, or (NAN_BAND) writes a NaN */
+} chain;
+#define NAN_BAND 99
+
+static int ch_col(int k) { return k < CH_MU ? k : k + 1; } /* state column k's y component */
+
+static void ch_x(const double *y, double *x, double *lam, double *mu)
+{
+    int k;
+    for (k = 0; k < CH_N; k++) x[k] = y[ch_col(k)];
+    *mu = y[CH_MU];
+    *lam = y[CH_N + 1];
+}
+
+static int ch_res(const double *y, double *h, void *u)
+{
+    const chain *c = (const chain *)u;
+    double x[CH_N], lam, mu;
+    int i;
+    ch_x(y, x, &lam, &mu);
+    for (i = 0; i < CH_N; i++) {
+        h[i] = c->a[i] * (x[i] * x[i] * x[i] - mu * x[i] + lam);
+        if (i + 1 < CH_N) h[i] += c->kp * (x[i] - x[i + 1]);
+        if (i > 0) h[i] += c->km * (x[i] - x[i - 1]);
+    }
+    return 0;
+}
+
+static int ch_band(const double *y, double *band, int ld, double *dlam, double *dmu, void *u)
+{
+    const chain *c = (const chain *)u;
+    double x[CH_N], lam, mu;
+    int i;
+    ch_x(y, x, &lam, &mu);
+    for (i = 0; i < CH_N; i++) {
+        double d = c->a[i] * (3 * x[i] * x[i] - mu);
+        if (i + 1 < CH_N) {
+            d += c->kp;
+            band[PSB_BAND_INDEX(1, ld, i, i + 1)] = -c->kp;
+        }
+        if (i > 0) {
+            d += c->km;
+            band[PSB_BAND_INDEX(1, ld, i, i - 1)] = -c->km;
+        }
+        band[PSB_BAND_INDEX(1, ld, i, i)] = d;
+        dlam[i] = c->a[i];
+        dmu[i] = -c->a[i] * x[i];
+    }
+    if (c->fail == NAN_BAND) band[PSB_BAND_INDEX(1, ld, 3, 3)] = NAN;
+    return c->fail == NAN_BAND ? 0 : c->fail;
+}
+
+static int ch_dense(const double *y, double *jac, int ld, void *u)
+{
+    double band[3 * CH_N], dlam[CH_N], dmu[CH_N];
+    int i, j;
+    memset(band, 0, sizeof band);
+    ch_band(y, band, 3, dlam, dmu, u);
+    for (j = 0; j < CH_N + 2; j++)
+        for (i = 0; i < CH_N; i++) jac[i + j * ld] = 0;
+    for (j = 0; j < CH_N; j++)
+        for (i = j - 1; i <= j + 1; i++)
+            if (i >= 0 && i < CH_N) jac[i + ch_col(j) * ld] = band[PSB_BAND_INDEX(1, 3, i, j)];
+    for (i = 0; i < CH_N; i++) {
+        jac[i + CH_MU * ld] = dmu[i];
+        jac[i + (CH_N + 1) * ld] = dlam[i];
+    }
+    return 0;
+}
+
+typedef struct {
+    psb_fold_map map;
+    void *mem;
+    psb_solver s1, s2;
+} ch_setup;
+
+static void ch_init(ch_setup *st, chain *c, int banded)
+{
+    psb_two_param_problem two;
+    psb_options opt;
+    size_t bytes;
+    psb_two_param_problem_init(&two, CH_N, ch_res, banded ? NULL : ch_dense, c);
+    two.mu_index = CH_MU;
+    two.lambda_index = CH_N + 1;
+    if (banded) {
+        two.linear = PSB_LINEAR_BANDED;
+        two.kl = two.ku = 1;
+        two.band_jacobian = ch_band;
+    }
+    bytes = psb_fold_map_memory_size_for(&two);
+    CHECK(bytes > 0);
+    st->mem = malloc(bytes);
+    CHECK(psb_fold_map_init(&st->map, &two, 1.0, st->mem, bytes) == PSB_SUCCESS);
+    memset(&opt, 0, sizeof opt);
+    opt.h_max = 0.02;
+    CHECK(psb_solver_init(&st->s1, &st->map.at_mu, &opt) == PSB_SUCCESS);
+    CHECK(psb_solver_init(&st->s2, &st->map.fold, &opt) == PSB_SUCCESS);
+}
+
+static void ch_free(ch_setup *st)
+{
+    psb_solver_free(&st->s1);
+    psb_solver_free(&st->s2);
+    free(st->mem);
+}
+
+typedef struct {
+    int n_pts, n_cusps;
+    double max_err, max_nonuniform, pts[MAX_PTS][CH_N + 2], cusp[CH_N + 2];
+} ch_record;
+
+static int ch_point(const psb_point *pt, void *u)
+{
+    ch_record *r = (ch_record *)u;
+    double x[CH_N], lam, mu;
+    int k;
+    if (pt->flags & PSB_POINT_SPECIAL) {
+        if (pt->special->kind == PSB_SPECIAL_FOLD && r->n_cusps++ == 0)
+            memcpy(r->cusp, pt->special->y, sizeof r->cusp);
+        return 0;
+    }
+    ch_x(pt->y, x, &lam, &mu);
+    for (k = 0; k < CH_N; k++) r->max_nonuniform = fmax(r->max_nonuniform, fabs(x[k] - x[0]));
+    r->max_err = fmax(r->max_err, fabs(mu - 3 * x[0] * x[0]) / fmax(1, mu));
+    r->max_err = fmax(r->max_err, fabs(lam - 2 * x[0] * x[0] * x[0]) / fmax(1, fabs(lam)));
+    if (r->n_pts < MAX_PTS) memcpy(r->pts[r->n_pts++], pt->y, sizeof r->pts[0]);
+    return 0;
+}
+
+/* From the uniform state x = 1 at mu = 1 (lambda = 0) to the fold, the fold curve through the
+   cusp to mu = 1.2 on the other side. */
+static psb_result ch_trace(ch_setup *st, ch_record *rec, double *yf_out, psb_trace_report *rep)
+{
+    double y1[CH_N + 1], t1[CH_N + 1], yf[CH_N + 2], tf[CH_N + 2];
+    psb_trace_options to;
+    int i;
+    for (i = 0; i < CH_N; i++) y1[i < CH_MU ? i : i] = 1; /* at_mu: (x, lambda), mu removed */
+    y1[CH_N] = 0;
+    CHECK(fold_at_mu(&st->s1, y1, t1) == PSB_STOPPED);
+    CHECK(psb_fold_map_start(&st->map, &st->s2, y1, t1, yf, tf) == PSB_SUCCESS);
+    memcpy(yf_out, yf, sizeof yf);
+    if (tf[CH_MU] > 0)
+        for (i = 0; i < CH_N + 2; i++) tf[i] = -tf[i];
+    memset(rec, 0, sizeof *rec);
+    memset(&to, 0, sizeof to);
+    to.param_min = -1;
+    to.param_max = 1.2;
+    to.detect = PSB_DETECT_FOLDS;
+    to.on_point = ch_point;
+    to.point_user = rec;
+    to.max_steps = MAX_PTS - 10;
+    return psb_trace(&st->s2, yf, tf, &to, rep);
+}
+
+static void test_chain(void)
+{
+    static chain c;
+    static ch_setup sd, sb;
+    static ch_record rd, rb;
+    psb_trace_report repd, repb;
+    double yfd[CH_N + 2], yfb[CH_N + 2], start_diff = 0, max_diff = 0;
+    int i, k;
+    for (i = 0; i < CH_N; i++) c.a[i] = 1 + 0.5 * sin(i);
+    c.kp = 0.3;
+    c.km = 0.1;
+    ch_init(&sd, &c, 0);
+    ch_init(&sb, &c, 1);
+    CHECK(sb.map.at_mu.linear == PSB_LINEAR_BANDED && sb.map.fold.linear == PSB_LINEAR_USER);
+    CHECK(ch_trace(&sd, &rd, yfd, &repd) == PSB_PARAM_BOUND);
+    CHECK(ch_trace(&sb, &rb, yfb, &repb) == PSB_PARAM_BOUND);
+    for (i = 0; i < CH_N + 2; i++) start_diff = fmax(start_diff, fabs(yfd[i] - yfb[i]));
+    printf("chain of %d cusps: dense %d points (%.1f LUs a point), banded %d (%.1f LUs of H_x a point); "
+           "closed-form error %.1e, %.1e; start %.1e apart; cusp at mu %.1e, %.1e\n", CH_N, rd.n_pts,
+           (double)sd.map.n_factor / rd.n_pts, rb.n_pts, (double)sb.map.n_factor / rb.n_pts, rd.max_err,
+           rb.max_err, start_diff, rd.cusp[CH_MU], rb.cusp[CH_MU]);
+    CHECK(start_diff <= 1e-10);
+    CHECK(rb.n_pts > 50 && rb.n_pts == rd.n_pts);
+    CHECK(rd.max_err <= 1e-8 && rb.max_err <= 1e-8);
+    CHECK(rb.max_nonuniform <= 1e-8);
+    CHECK(rd.n_cusps == 1 && rb.n_cusps == 1);
+    CHECK(fabs(rb.cusp[CH_MU]) <= 1e-8 && fabs(rb.cusp[CH_MU] - rd.cusp[CH_MU]) <= 1e-10);
+    CHECK(sd.map.n_factor > 0 && sb.map.n_factor > 0);
+    /* the two traces point by point, and folds refined at given mu from the recorded points */
+    for (k = 0; k < rb.n_pts && k < rd.n_pts; k++)
+        for (i = 0; i < CH_N + 2; i++) max_diff = fmax(max_diff, fabs(rb.pts[k][i] - rd.pts[k][i]));
+    printf("chain: banded and dense traces differ by %.1e at most\n", max_diff);
+    CHECK(max_diff <= 1e-10);
+    max_diff = 0;
+    for (k = 0; k < 8; k++) {
+        double mu = 0.1 + 0.12 * k, yd[CH_N + 2], yb[CH_N + 2];
+        int best = 0;
+        for (i = 0; i < rd.n_pts; i++)
+            if (rd.pts[i][0] > 0 && fabs(rd.pts[i][CH_MU] - mu) < fabs(rd.pts[best][CH_MU] - mu)) best = i;
+        memcpy(yd, rd.pts[best], sizeof yd);
+        for (i = 0; i < CH_N; i++) yd[ch_col(i)] += 1e-3 * sin(3.0 * i); /* off the uniform state */
+        yd[CH_MU] = mu;
+        memcpy(yb, yd, sizeof yb);
+        CHECK(psb_fold_map_refine(&sd.map, &sd.s2, yd, 0) == PSB_SUCCESS);
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yb, 0) == PSB_SUCCESS);
+        for (i = 0; i < CH_N + 2; i++) max_diff = fmax(max_diff, fabs(yd[i] - yb[i]));
+        CHECK_NEAR(yb[CH_N + 1], 2 * pow(mu / 3, 1.5), 1e-10);
+    }
+    printf("chain: folds refined at 8 values of mu, banded - dense %.1e\n", max_diff);
+    CHECK(max_diff <= 1e-10);
+    /* the banded fold solver against the dense fold Jacobian bordered by a row, solved by
+       Gaussian elimination, with a residual at another point between factor and solve (the
+       solver then forms H_x at its own point again) */
+    {
+        enum { NB = CH_N + 2 };
+        static double J[(CH_N + 1) * NB], B[NB * NB], z[NB], zb[NB], row[NB], h[CH_N + 1];
+        const double *y = rb.pts[rb.n_pts / 3], *y2 = rb.pts[rb.n_pts / 2];
+        double err = 0, big = 0;
+        int r, c2, p2;
+        for (i = 0; i < NB; i++) row[i] = 0.3 + 0.1 * cos(i);
+        CHECK(sd.map.fold.jacobian(y, J, CH_N + 1, sd.map.fold.user) == 0);
+        for (c2 = 0; c2 < NB; c2++) {
+            for (r = 0; r <= CH_N; r++) B[r + c2 * NB] = J[r + c2 * (CH_N + 1)];
+            B[CH_N + 1 + c2 * NB] = row[c2];
+        }
+        for (i = 0; i < NB; i++) z[i] = zb[i] = sin(1.0 + i);
+        for (c2 = 0; c2 < NB; c2++) { /* elimination with partial pivoting on (B | z) */
+            for (p2 = c2, r = c2 + 1; r < NB; r++)
+                if (fabs(B[r + c2 * NB]) > fabs(B[p2 + c2 * NB])) p2 = r;
+            for (k = c2; k < NB; k++) {
+                double tmp = B[c2 + k * NB];
+                B[c2 + k * NB] = B[p2 + k * NB];
+                B[p2 + k * NB] = tmp;
+            }
+            { double tmp = z[c2]; z[c2] = z[p2]; z[p2] = tmp; }
+            for (r = c2 + 1; r < NB; r++) {
+                double f = B[r + c2 * NB] / B[c2 + c2 * NB];
+                for (k = c2; k < NB; k++) B[r + k * NB] -= f * B[c2 + k * NB];
+                z[r] -= f * z[c2];
+            }
+        }
+        for (c2 = NB - 1; c2 >= 0; c2--) {
+            for (k = c2 + 1; k < NB; k++) z[c2] -= B[c2 + k * NB] * z[k];
+            z[c2] /= B[c2 + c2 * NB];
+        }
+        CHECK(sb.map.fold.solver.factor(y, row, sb.map.fold.solver.ctx) == 0);
+        CHECK(sb.map.fold.residual(y2, h, sb.map.fold.user) == 0);
+        CHECK(sb.map.fold.solver.solve(zb, 1, sb.map.fold.solver.ctx) == 0);
+        for (i = 0; i < NB; i++) {
+            err = fmax(err, fabs(zb[i] - z[i]));
+            big = fmax(big, fabs(z[i]));
+        }
+        printf("chain: the banded fold solver against dense elimination: %.1e (relative)\n", err / big);
+        CHECK(err <= 1e-9 * big);
+    }
+    /* band_jacobian's failures, as the library's codes; y and the borders untouched */
+    {
+        double yc[CH_N + 2], ycopy[CH_N + 2], b0 = sb.map.b[5];
+        memcpy(yc, rb.pts[rb.n_pts / 4], sizeof yc);
+        yc[0] += 1e-3;
+        memcpy(ycopy, yc, sizeof yc);
+        c.fail = -1;
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yc, 0) == PSB_ERR_CALLBACK);
+        c.fail = 1;
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yc, 0) == PSB_ERR_CALLBACK_FAILED);
+        c.fail = NAN_BAND;
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yc, 0) == PSB_ERR_NONFINITE);
+        printf("chain: a NaN in band_jacobian: %s\n", psb_solver_message(&sb.s2));
+        CHECK(!memcmp(yc, ycopy, sizeof yc) && sb.map.b[5] == b0);
+        c.fail = 0;
+        CHECK(psb_fold_map_refine(&sb.map, &sb.s2, yc, 0) == PSB_SUCCESS);
+    }
+    ch_free(&sd);
+    ch_free(&sb);
+}
+
 /* ---- (d) bad input ----------------------------------------------------------------------- */
 
 static void test_bad_input(void)
@@ -370,6 +650,38 @@ static void test_bad_input(void)
     CHECK(psb_fold_map_init(&m, &two, 1, mem, bytes) == PSB_SUCCESS);
     CHECK(m.b[0] == 0 && m.c[0] == 0);
     CHECK(psb_fold_map_init(&other, &two, 1, mem2, bytes) == PSB_SUCCESS);
+    CHECK(psb_fold_map_memory_size_for(NULL) == 0);
+    CHECK(psb_fold_map_memory_size_for(&two) == bytes);
+    {
+        static chain c;
+        psb_two_param_problem tb;
+        psb_fold_map mb;
+        size_t bb;
+        void *memb;
+        psb_two_param_problem_init(&tb, CH_N, ch_res, NULL, &c);
+        tb.linear = PSB_LINEAR_BANDED;
+        tb.kl = tb.ku = 1;
+        bb = psb_fold_map_memory_size_for(&tb);
+        memb = malloc(bb);
+        CHECK(bb > 0 && bb < psb_fold_map_memory_size(CH_N));
+        CHECK(psb_fold_map_init(&mb, &tb, 1, memb, bb) == PSB_ERR_NULL); /* no band_jacobian */
+        tb.band_jacobian = ch_band;
+        CHECK(psb_fold_map_init(&mb, &tb, 1, memb, bb - 1) == PSB_ERR_NOMEM);
+        tb.kl = CH_N;
+        CHECK(psb_fold_map_memory_size_for(&tb) == 0);
+        CHECK(psb_fold_map_init(&mb, &tb, 1, memb, bb) == PSB_ERR_SIZE);
+        tb.kl = 1;
+        tb.ku = -1;
+        CHECK(psb_fold_map_init(&mb, &tb, 1, memb, bb) == PSB_ERR_SIZE);
+        tb.ku = 1;
+        tb.linear = PSB_LINEAR_USER;
+        CHECK(psb_fold_map_memory_size_for(&tb) == 0);
+        CHECK(psb_fold_map_init(&mb, &tb, 1, memb, bb) == PSB_ERR_OPTIONS);
+        tb.linear = PSB_LINEAR_BANDED;
+        CHECK(psb_fold_map_init(&mb, &tb, 1, memb, bb) == PSB_SUCCESS);
+        CHECK(mb.n_factor == 0 && mb.fold.solver.ctx == (void *)&mb);
+        free(memb);
+    }
 
     setup_init(&st, &p, 1, 1, 2, 1.0);
     CHECK(fold_at_mu(&st.s1, y1, t1) == PSB_STOPPED);
@@ -432,6 +744,7 @@ int main(void)
     test_kink();
     test_two();
     test_jacobian();
+    test_chain();
     test_bad_input();
     return HARNESS_END();
 }
