@@ -2,7 +2,8 @@
    kink, H = x^3 - mu x + lambda + a max(x - c, 0), against its closed form x = c, lambda = mu c
    - c^3; the two points where a fold curve meets it (mu = 3 c^2 from the left piece, 3 c^2 + a
    from the right), located by side_folds; the curve through the kink a one-parameter trace
-   locates at each of 11 values of mu; a problem with its own index order; bad input. */
+   locates at each of 11 values of mu; the curve explored as a graph; a problem with its own
+   index order; bad input. */
 #define PSCBRANCH_IMPLEMENTATION
 #include "pscbranch.h"
 #include "harness.h"
@@ -115,7 +116,7 @@ static void check_curve(int reordered)
     psb_trace_options to;
     psb_options opt;
     record rec;
-    double event_work[6], y[3], t[3], full[3], ref[3] = {0, 0, 0};
+    double event_work[6], y[3], t[3], full[3], rec_start[3], ref[3] = {0, 0, 0};
     size_t bytes = psb_event_curve_memory_size(1, 2), fold_bytes = psb_fold_map_memory_size(1);
     void *mem = malloc(bytes), *fold_mem = malloc(fold_bytes);
     int k, mi;
@@ -166,6 +167,7 @@ static void check_curve(int reordered)
     /* the kink curve from the kink at mu = -1, traced towards larger mu to mu = 3, with the
        side fold tests as events */
     CHECK(psb_solve_at_param(&s_curve, full, 20) == PSB_SUCCESS);
+    memcpy(rec_start, full, sizeof rec_start);
     memset(ref, 0, sizeof ref);
     ref[mi] = 1;
     CHECK(psb_tangent(&s_curve, full, ref, t) == PSB_SUCCESS);
@@ -190,6 +192,31 @@ static void check_curve(int reordered)
     /* fold meets kink: from the left at 3 c^2, from the right at 3 c^2 + a */
     CHECK_NEAR(rec.fold_mu[0], 3 * C_KINK * C_KINK, 1e-11);
     CHECK_NEAR(rec.fold_mu[1], 3 * C_KINK * C_KINK + A_KINK, 1e-11);
+
+    /* the same curve as a graph (psb_explore from the kink at mu = -1 both ways, to the bounds
+       mu = -1.5, 3): one start, two event nodes where fold curves meet it, two bound nodes */
+    {
+        psb_explore_options eo;
+        psb_diagram d;
+        int kinds[10] = {0}, i;
+        CHECK(psb_diagram_init(&d, 2, 16, 16, 4) == PSB_SUCCESS);
+        memset(&eo, 0, sizeof eo);
+        eo.trace = to;
+        eo.trace.on_point = NULL;
+        eo.trace.point_user = NULL;
+        memcpy(full, rec_start, sizeof full);
+        CHECK(psb_tangent(&s_curve, full, ref, t) == PSB_SUCCESS);
+        r = psb_explore(&s_curve, full, t, &eo, &d);
+        CHECK(r == PSB_SUCCESS);
+        for (i = 0; i < d.n_nodes; i++) {
+            kinds[d.nodes[i].kind]++;
+            if (d.nodes[i].kind == PSB_NODE_EVENT)
+                CHECK_NEAR(d.nodes[i].param, 3 * C_KINK * C_KINK + (d.nodes[i].event == 1 ? A_KINK : 0), 1e-11);
+        }
+        CHECK(kinds[PSB_NODE_START] == 1 && kinds[PSB_NODE_EVENT] == 2 && kinds[PSB_NODE_BOUND] == 2);
+        CHECK(d.n_edges == 2 && d.n_failed == 0);
+        psb_diagram_free(&d);
+    }
     psb_solver_free(&s_mu);
     psb_solver_free(&s_curve);
     free(mem);
