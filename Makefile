@@ -38,7 +38,7 @@ TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BU
 	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_detect $(BUILD)/test_faults \
 	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic $(BUILD)/test_explore \
 	$(BUILD)/test_diagram $(BUILD)/test_fold_map $(BUILD)/test_count_map \
-	$(BUILD)/test_event_curve $(SPARSE_TESTS)
+	$(BUILD)/test_event_curve $(BUILD)/test_branch_curve $(SPARSE_TESTS)
 # the teaching examples (examples/NN_name.c, each one file on pscbranch.h alone) and the applications
 TEACHING = $(patsubst %.c,%,$(sort $(wildcard examples/[0-9][0-9]_*.c)))
 APPS = fe/block fe/triangle fe/quasistatic fc_solve/fc_solve
@@ -95,6 +95,8 @@ $(BUILD)/test_count_map: tests/test_count_map.c tests/harness.h $(HEADER) | $(BU
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_count_map.c -o $@ $(LIBS)
 $(BUILD)/test_event_curve: tests/test_event_curve.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_event_curve.c -o $@ $(LIBS)
+$(BUILD)/test_branch_curve: tests/test_branch_curve.c tests/harness.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_branch_curve.c -o $@ $(LIBS)
 
 $(BUILD)/test_static: tests/test_static.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_static.c -o $@ $(LIBS)

@@ -1316,6 +1316,50 @@ PSCBRANCH_DEF psb_result psb_event_curve_init(psb_event_curve *c, const psb_two_
    finite. */
 PSCBRANCH_DEF int psb_event_curve_side_folds(const double *y, double *g, void *user);
 
+/* ---- branch point curves in two parameters (manual section 6, "Event curves") ------------- */
+
+/* The curve of smooth branch points (dH of rank n-1) in two parameters: n+2 equations
+   [H(y) + beta b; s_1(y); s_2(y)] = 0 in n+3 unknowns (the user's y, then beta), param_index =
+   mu_index, as the problem `curve` (dense; its user pointer is this struct). s solves [D b;
+   C^T 0] [V; s] = [0; I_2], D = dH without its mu column, b and C (two columns) near the left
+   null vector and the kernel of D at the start: s = 0 exactly where D has rank n-1. A branch
+   point persists in mu only where a symmetry or structure keeps it: there beta = 0 on the
+   curve; beta != 0 follows the branch points of H + beta b, the problem the perturbation
+   breaks. The gradients of s are one central difference of the Jacobian along each V_i. */
+typedef struct psb_branch_curve {
+    psb_two_param_problem two; /* a copy of the problem (dense) */
+    double fd_step;            /* [6.06e-6] difference step of s's gradient (relative), (0, 1) */
+    psb_problem curve;         /* n+2 equations, n+3 unknowns (y, beta), parameter mu */
+    const double *b, *c;       /* the borders: b (n), c (2 columns of n+1); zero before start */
+    struct {                   /* private: treat as opaque */
+        double *jac, *jac2, *mat, *rhs, *y_eval, *y_pt, *y_first, *e_mu, *b, *c;
+        int *z_index;          /* y's component of each column of D */
+        void *ipiv;
+        unsigned ready;
+    } internal_;
+} psb_branch_curve;
+
+/* Bytes psb_branch_curve_init needs (0 when n outside 1..46000): about 3 n^2 doubles. */
+PSCBRANCH_DEF size_t psb_branch_curve_memory_size(int n);
+/* Sets up c on caller memory (aligned for double; never allocates). Returns PSB_SUCCESS,
+   PSB_ERR_NULL (c, p, memory, a callback), PSB_ERR_SIZE (n, the indices), PSB_ERR_OPTIONS (a
+   banded problem), PSB_ERR_NOMEM (bytes); *c is cleared on failure. */
+PSCBRANCH_DEF psb_result psb_branch_curve_init(psb_branch_curve *c, const psb_two_param_problem *p,
+                                               void *memory, size_t bytes);
+/* From a branch point of the problem at mu (y, t, kernel: n+1 each in at_mu's coordinates, a
+   PSB_SPECIAL_BRANCH's special->y, ->t, ->kernel) to the curve: borders C = (t, kernel), b the
+   left null vector of D there, then Newton on `curve` at fixed mu (curve_solver: a solver of
+   c->curve), borders again at the result and Newton again. y_bp (out, n+3: the user's y, then
+   beta); t_bp (out, may be NULL): the curve's unit tangent there, towards larger mu. Returns
+   PSB_SUCCESS; PSB_ERR_NULL; PSB_ERR_INPUT (curve_solver not on c->curve; t, kernel parallel;
+   Newton fails or moves the point more than h_init); PSB_ERR_NONFINITE; PSB_ERR_SINGULAR (the
+   bordered matrix singular: no branch point of corank one there); PSB_ERR_CALLBACK(_FAILED).
+   On failure y_bp, t_bp and the borders are untouched. */
+PSCBRANCH_DEF psb_result psb_branch_curve_start(psb_branch_curve *c, psb_solver *curve_solver,
+                                                const double *y, const double *t,
+                                                const double *kernel, double mu, double *y_bp,
+                                                double *t_bp);
+
 /* ---- exploring the whole diagram (manual section 6, "Exploring the whole diagram") ------- */
 
 /* What a node of a diagram is. */
@@ -9542,6 +9586,270 @@ PSCBRANCH_DEF int psb_event_curve_side_folds(const double *y, double *g, void *u
         g[side] = 2 * at[0] - at[1];
     }
     return 0;
+}
+
+/* ==== Branch point curves in two parameters (psb_branch_curve_*) ================================
+   The minimally augmented system of a corank-one rank defect of dH (Govaerts, Numerical
+   Methods for Bifurcations of Dynamical Equilibria, SIAM 2000), with the unfolding beta. */
+
+#define PSB__BP_READY 0x70736262u /* psb_branch_curve.internal_.ready of a set-up curve */
+
+static size_t psb__bp_layout(int n, psb_branch_curve *c, void *memory)
+{
+    size_t nn = (size_t)n, np1 = nn + 1, np2 = nn + 2, off = 0;
+    double *base = (double *)memory;
+    if (n < 1 || n > 46000) return 0;
+#define PSB__TAKE(field, count)                                                                    \
+    do {                                                                                           \
+        if (c) c->internal_.field = base + off;                                                    \
+        off += (count);                                                                            \
+    } while (0)
+    PSB__TAKE(jac, nn * np2);
+    PSB__TAKE(jac2, nn * np2);
+    PSB__TAKE(mat, np2 * np2);
+    PSB__TAKE(rhs, 3 * np2);
+    PSB__TAKE(y_eval, np2);
+    PSB__TAKE(y_pt, np2 + 1);     /* start's point, its first value, e_mu */
+    PSB__TAKE(y_first, np2 + 1);
+    PSB__TAKE(e_mu, np2 + 1);
+    PSB__TAKE(b, 2 * nn);         /* b, then its copy while start runs */
+    PSB__TAKE(c, 4 * np1);        /* C, then its copy */
+#undef PSB__TAKE
+    off = psb__align(off * sizeof(double));
+    if (c) c->internal_.ipiv = (char *)memory + off;
+    off += psb__align(np2 * sizeof(psb__lint));
+    if (c) c->internal_.z_index = (int *)(void *)((char *)memory + off);
+    return off + psb__align(np1 * sizeof(int));
+}
+
+/* LU of [D b; C^T 0] from jac (n x (n+2), leading dimension n). 0; 1 singular; 2 not finite. */
+static int psb__bp_factor(psb_branch_curve *c, const double *jac)
+{
+    int n = c->two.n, np1 = n + 1, np2 = n + 2, i, k;
+    psb__lint order = np2, info = 0;
+    double *mat = c->internal_.mat;
+    for (k = 0; k < np1; k++) {
+        const double *src = jac + (size_t)c->internal_.z_index[k] * (size_t)n;
+        double *dst = mat + (size_t)k * (size_t)np2;
+        for (i = 0; i < n; i++) dst[i] = src[i];
+        dst[n] = c->internal_.c[k];
+        dst[n + 1] = c->internal_.c[(size_t)np1 + (size_t)k];
+    }
+    for (i = 0; i < n; i++) mat[(size_t)np1 * (size_t)np2 + (size_t)i] = c->internal_.b[i];
+    mat[(size_t)np1 * (size_t)np2 + (size_t)n] = mat[(size_t)np1 * (size_t)np2 + (size_t)n + 1] = 0;
+    if (!psb__all_finite(mat, (size_t)np2 * (size_t)np2)) return 2;
+    PSCBRANCH_FORTRAN(dgetrf)(&order, &order, mat, &order, (psb__lint *)c->internal_.ipiv, &info);
+    return info != 0;
+}
+
+/* After psb__bp_factor: rhs columns 0, 1 = [V_i; s_i] (A [V; s] = [0; I_2]), column 2 = u
+   (A^T u = e_{n+2}, whose first n components w give s's gradient). 0, or 1 when not finite. */
+static int psb__bp_solve(psb_branch_curve *c)
+{
+    int np2 = c->two.n + 2;
+    psb__lint order = np2, two = 2, one = 1, info = 0;
+    double *rhs = c->internal_.rhs;
+    memset(rhs, 0, 3 * (size_t)np2 * sizeof *rhs);
+    rhs[np2 - 2] = 1;
+    rhs[(size_t)np2 + (size_t)np2 - 1] = 1;
+    rhs[2 * (size_t)np2 + (size_t)np2 - 1] = 1;
+    PSCBRANCH_FORTRAN(dgetrs)("N", &order, &two, c->internal_.mat, &order, (psb__lint *)c->internal_.ipiv,
+                              rhs, &order, &info PSB__STRLEN_ONE);
+    if (info == 0)
+        PSCBRANCH_FORTRAN(dgetrs)("T", &order, &one, c->internal_.mat, &order, (psb__lint *)c->internal_.ipiv,
+                                  rhs + 2 * (size_t)np2, &order, &info PSB__STRLEN_ONE);
+    return info != 0 || !psb__all_finite(rhs, 3 * (size_t)np2);
+}
+
+/* The user's Jacobian at y into internal_.jac, factored with s solved: 0, the callback's code,
+   or 1 (singular, not finite). */
+static int psb__bp_at(psb_branch_curve *c, const double *y)
+{
+    int rc = c->two.jacobian(y, c->internal_.jac, c->two.n, c->two.user);
+    if (rc) return rc;
+    return psb__bp_factor(c, c->internal_.jac) || psb__bp_solve(c) ? 1 : 0;
+}
+
+static int psb__bp_residual(const double *yb, double *h, void *user)
+{
+    psb_branch_curve *c = (psb_branch_curve *)user;
+    int n = c->two.n, i, rc = c->two.residual(yb, h, c->two.user);
+    if (rc) return rc;
+    for (i = 0; i < n; i++) h[i] += yb[n + 2] * c->internal_.b[i];
+    if ((rc = psb__bp_at(c, yb))) return rc;
+    h[n] = c->internal_.rhs[n + 1];
+    h[n + 1] = c->internal_.rhs[(size_t)(n + 2) + (size_t)n + 1];
+    return 0;
+}
+
+static int psb__bp_jacobian(const double *yb, double *jac, int ld, void *user)
+{
+    psb_branch_curve *c = (psb_branch_curve *)user;
+    int n = c->two.n, np2 = n + 2, i, j, k, rc = c->two.jacobian(yb, jac, ld, c->two.user);
+    const double *w = c->internal_.rhs + 2 * (size_t)np2;
+    double *ye = c->internal_.y_eval;
+    if (rc) return rc;
+    for (i = 0; i < n; i++) jac[(size_t)(n + 2) * (size_t)ld + (size_t)i] = c->internal_.b[i];
+    if ((rc = psb__bp_at(c, yb))) return rc;
+    if (!(c->fd_step > 0 && c->fd_step < 1)) return 1;
+    for (i = 0; i < 2; i++) { /* row n+i: -w^T (dH(y + e V_i) - dH(y - e V_i)) / (2 e) */
+        const double *v = c->internal_.rhs + (size_t)i * (size_t)np2;
+        double vmax = 0, ymax = 0, e;
+        for (k = 0; k <= n; k++) vmax = fmax(vmax, fabs(v[k]));
+        for (j = 0; j < np2; j++) ymax = fmax(ymax, fabs(yb[j]));
+        if (!(vmax > 0)) return 1;
+        e = c->fd_step * fmax(1, ymax) / vmax;
+        for (k = 0; k < 2; k++) {
+            memcpy(ye, yb, (size_t)np2 * sizeof *ye);
+            for (j = 0; j <= n; j++) ye[c->internal_.z_index[j]] += (k ? -e : e) * v[j];
+            rc = c->two.jacobian(ye, k ? c->internal_.jac2 : c->internal_.jac, n, c->two.user);
+            if (rc) return rc;
+        }
+        for (j = 0; j < np2; j++) {
+            double sum = 0;
+            for (k = 0; k < n; k++)
+                sum += w[k] * (c->internal_.jac[(size_t)j * (size_t)n + (size_t)k] -
+                               c->internal_.jac2[(size_t)j * (size_t)n + (size_t)k]);
+            jac[(size_t)j * (size_t)ld + (size_t)(n + i)] = -sum / (2 * e);
+        }
+        jac[(size_t)(n + 2) * (size_t)ld + (size_t)(n + i)] = 0;
+    }
+    return 0;
+}
+
+PSCBRANCH_DEF size_t psb_branch_curve_memory_size(int n) { return psb__bp_layout(n, NULL, NULL); }
+
+PSCBRANCH_DEF psb_result psb_branch_curve_init(psb_branch_curve *c, const psb_two_param_problem *p,
+                                               void *memory, size_t bytes)
+{
+    int j, k = 0;
+    if (!c) return PSB_ERR_NULL;
+    memset(c, 0, sizeof *c);
+    if (!p || !memory || !p->residual || !p->jacobian) return PSB_ERR_NULL;
+    if (p->n < 1 || p->n > 46000 || p->lambda_index < 0 || p->lambda_index > p->n + 1 || p->mu_index < 0 ||
+        p->mu_index > p->n + 1 || p->lambda_index == p->mu_index)
+        return PSB_ERR_SIZE;
+    if (p->linear != PSB_LINEAR_DENSE) return PSB_ERR_OPTIONS;
+    if (bytes < psb__bp_layout(p->n, NULL, NULL)) return PSB_ERR_NOMEM;
+    c->two = *p;
+    c->fd_step = 6.055454452393343e-06; /* cbrt(DBL_EPSILON): central differences */
+    psb__bp_layout(p->n, c, memory);
+    memset(c->internal_.b, 0, 2 * (size_t)p->n * sizeof(double));
+    memset(c->internal_.c, 0, 4 * ((size_t)p->n + 1) * sizeof(double));
+    for (j = 0; j < p->n + 2; j++)
+        if (j != p->mu_index) c->internal_.z_index[k++] = j;
+    c->b = c->internal_.b;
+    c->c = c->internal_.c;
+    psb_problem_init(&c->curve, p->n + 2, psb__bp_residual, psb__bp_jacobian, c);
+    c->curve.param_index = p->mu_index;
+    c->internal_.ready = PSB__BP_READY;
+    return PSB_SUCCESS;
+}
+
+/* C = the two columns (a, b) made orthonormal (2-norm); 0 when they are (nearly) parallel. */
+static int psb__bp_set_kernel(psb_branch_curve *c, const double *a, const double *b)
+{
+    int np1 = c->two.n + 1, k;
+    double *c1 = c->internal_.c, *c2 = c1 + np1, na = psb__norm2(a, np1), nb, d = 0;
+    if (!(na > 0)) return 0;
+    for (k = 0; k < np1; k++) c1[k] = a[k] / na;
+    for (k = 0; k < np1; k++) d += c1[k] * b[k];
+    for (k = 0; k < np1; k++) c2[k] = b[k] - d * c1[k];
+    nb = psb__norm2(c2, np1);
+    if (!(nb > 1e-8 * psb__norm2(b, np1))) return 0;
+    for (k = 0; k < np1; k++) c2[k] /= nb;
+    return 1;
+}
+
+/* New borders at y (the user's n+2): b from u's w, C from the span of V. */
+static psb_result psb__bp_borders(psb_branch_curve *c, psb_solver *s, const double *y)
+{
+    int n = c->two.n, np2 = n + 2, k, rc = c->two.jacobian(y, c->internal_.jac, n, c->two.user);
+    double *w = c->internal_.rhs + 2 * (size_t)np2, nw;
+    if (rc) return psb__callback_code(s, rc, "jacobian callback failed");
+    if (!psb__all_finite(c->internal_.jac, (size_t)n * (size_t)np2))
+        return psb__fail(s, PSB_ERR_NONFINITE, "the Jacobian contains NaN or Inf");
+    if (psb__bp_factor(c, c->internal_.jac) || psb__bp_solve(c) || !((nw = psb__norm2(w, n)) > 0))
+        return psb__fail(s, PSB_ERR_SINGULAR, "[D b; C^T 0] is singular here: no branch point of corank one");
+    for (k = 0; k < n; k++) c->internal_.b[k] = w[k] / nw;
+    if (!psb__bp_set_kernel(c, c->internal_.rhs, c->internal_.rhs + np2))
+        return psb__fail(s, PSB_ERR_SINGULAR, "[D b; C^T 0] is singular here: no branch point of corank one");
+    return PSB_SUCCESS;
+}
+
+/* Saves (restore 0) or restores (1) the borders. */
+static void psb__bp_keep_borders(psb_branch_curve *c, int restore)
+{
+    size_t nb = (size_t)c->two.n * sizeof(double), nc = 2 * ((size_t)c->two.n + 1) * sizeof(double);
+    double *b_old = c->internal_.b + c->two.n, *c_old = c->internal_.c + 2 * (c->two.n + 1);
+    if (restore) {
+        memcpy(c->internal_.b, b_old, nb);
+        memcpy(c->internal_.c, c_old, nc);
+    } else {
+        memcpy(b_old, c->internal_.b, nb);
+        memcpy(c_old, c->internal_.c, nc);
+    }
+}
+
+PSCBRANCH_DEF psb_result psb_branch_curve_start(psb_branch_curve *c, psb_solver *curve_solver,
+                                                const double *y, const double *t,
+                                                const double *kernel, double mu, double *y_bp,
+                                                double *t_bp)
+{
+    psb_solver *s = curve_solver;
+    int n, np1, np2, k, pass;
+    double *yb;
+    unsigned long long seed = 0x70736262ull;
+    psb_result r;
+    if (!psb__ready(s)) return PSB_ERR_NULL;
+    s->message[0] = 0;
+    if (!c || c->internal_.ready != PSB__BP_READY)
+        return psb__fail(s, PSB_ERR_NULL, "the branch curve is NULL or not set up (psb_branch_curve_init)");
+    if (s->prob.residual != psb__bp_residual || s->prob.user != (void *)c)
+        return psb__fail(s, PSB_ERR_INPUT, "psb_branch_curve_start: the solver is not one of this curve's problem");
+    r = psb__trace_busy(s, "psb_branch_curve_start");
+    if (r != PSB_SUCCESS) return r;
+    if (!y || !t || !kernel || !y_bp) return psb__fail(s, PSB_ERR_NULL, "y, t, kernel or y_bp is NULL");
+    n = c->two.n;
+    np1 = n + 1;
+    np2 = n + 2;
+    if (!psb__all_finite(y, (size_t)np1) || !psb__all_finite(t, (size_t)np1) ||
+        !psb__all_finite(kernel, (size_t)np1) || !psb__finite(mu))
+        return psb__fail(s, PSB_ERR_NONFINITE, "y, t, kernel or mu contains NaN or Inf");
+    psb__bp_keep_borders(c, 0);
+    if (!psb__bp_set_kernel(c, t, kernel)) {
+        psb__bp_keep_borders(c, 1);
+        return psb__fail(s, PSB_ERR_INPUT, "t and kernel are zero or parallel");
+    }
+    /* a first b off range(D) (any vector not orthogonal to the left null vector); the solve
+       then gives that null vector (psb__bp_borders) */
+    for (k = 0; k < n; k++) c->internal_.b[k] = 0.5 + (double)(psb__splitmix(&seed) >> 11) * 0x1.0p-53;
+    yb = c->internal_.y_pt; /* the point: the user's y, then beta = 0 */
+    psb_two_param_lift(&c->two, y, mu, yb);
+    yb[np2] = 0;
+    psb__copy(c->internal_.y_first, yb, np2 + 1);
+    r = PSB_SUCCESS;
+    for (pass = 0; pass < 2 && r == PSB_SUCCESS; pass++) {
+        r = psb__bp_borders(c, s, yb);
+        if (r == PSB_SUCCESS) r = psb_solve_at_param(s, yb, 0);
+    }
+    /* Newton failing for the geometry's sake, or landing far: no branch point here */
+    if ((r != PSB_SUCCESS && !psb__is_fatal(r) && r != PSB_ERR_CALLBACK_FAILED && r != PSB_ERR_NONFINITE &&
+         r != PSB_ERR_SINGULAR) ||
+        (r == PSB_SUCCESS && psb__dist_w(s, yb, c->internal_.y_first) > s->opt.h_init))
+        r = psb__fail(s, PSB_ERR_INPUT, "(y, t, kernel) is no branch point: Newton at fixed mu finds none within h_init");
+    if (r == PSB_SUCCESS && t_bp) {
+        double *e = c->internal_.e_mu;
+        memset(e, 0, ((size_t)np2 + 1) * sizeof(double));
+        e[c->two.mu_index] = 1;
+        r = psb_tangent(s, yb, e, t_bp);
+    }
+    if (r != PSB_SUCCESS) {
+        psb__bp_keep_borders(c, 1);
+        return r;
+    }
+    psb__copy(y_bp, yb, np2 + 1);
+    return PSB_SUCCESS;
 }
 
 /* ==== Contact helpers =============================================================================
