@@ -81,7 +81,7 @@
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
    psb_two_param_problem_init, _lift; psb_fold_map_memory_size(_for), _init, _start, _refine
-   psb_event_curve_memory_size, _init, _side_folds; psb_count_map(_memory_size)   2-param maps
+   psb_event_curve_*, psb_branch_curve_*, psb_count_map(_memory_size)   maps in two parameters
    psb_explore                  every branch reachable from one couple, as a graph
    psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
@@ -362,13 +362,13 @@
    the start; sigma's gradient: dH's central difference along v), traced through H's kinks; a FOLD
    on it is a cusp. Banded: fold's user backend eliminates on H_x's LU, refined, shifted as above.
 
-   Branch counts in two parameters (psb_count_map). At each mu the point is found from a branch of
-   the last (walked to its first kink; Algorithm 2.1; mu halfway first if it moved too far),
-   Algorithm 2.2 counts its branches. It sees two within c_diff's angle as one: a change is bisected
-   by counts, then the two closest branches of the larger count are followed in mu and their angle
-   is driven to zero by a secant kept in a bracket, apart at one end and met at the other. Event
-   curves (psb_event_curve_*): [H; g_k] = 0, traced like fold; on a kink curve side_folds changes
-   sign where a side's fold curve meets it (the kink is a fold between).
+   Branch counts in two parameters (psb_count_map). At each mu the point is found from one of the
+   last's branches (walked to its first kink, Algorithm 2.1; via mu halfway if it moved far),
+   Algorithm 2.2 counts its branches, two within c_diff's angle as one: so a change is bisected by
+   counts, then the larger count's two closest branches are followed in mu, their angle driven to
+   zero by a secant in a bracket (apart at one end, met at the other). Event, branch point curves
+   (psb_event_curve_*, _branch_curve_*): [H; g_k] = 0, [H + beta b; s] = 0 (s: dH's corank-one test;
+   beta = 0 where a symmetry keeps the point), traced like fold.
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
