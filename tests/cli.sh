@@ -26,7 +26,7 @@ trap 'rm -rf "$tmp"' EXIT
 passed=0
 failed=0
 
-for prog in 01_branching 02_explore 03_pitchforks 04_evolution block triangle fc_solve quasistatic; do
+for prog in 01_branching 02_explore 03_pitchforks 04_evolution 06_count_map block triangle fc_solve quasistatic; do
     if [ ! -x "$(where "$prog")" ]; then
         echo "tests/cli.sh: $(where "$prog") is missing (make examples)"
         exit 1
@@ -71,7 +71,7 @@ expect() {
 usage() { expect 2 "$@"; }
 fails() { expect 1 "$@"; }
 
-for prog in 01_branching 02_explore 03_pitchforks 04_evolution block triangle fc_solve quasistatic; do help "$prog"; done
+for prog in 01_branching 02_explore 03_pitchforks 04_evolution 06_count_map block triangle fc_solve quasistatic; do help "$prog"; done
 
 # end-point files for --refine: a hostile header (a heap overflow once), a missing file
 printf 'fe-ends rect 40 80 65536 65536\n1 4295098369\n' >"$tmp/hostile.txt"
@@ -150,6 +150,11 @@ usage "--map needs --problem fold" triangle --map
 usage "--map-min 2: must be below --map-max 1.95" triangle --problem fold --map --map-min 2
 usage "--friction 0: must be > 0" triangle --friction 0
 usage "--map-tol 0: must be >= 1e-12" triangle --problem fold --map --map-tol 0
+usage "--count-map 3: give A:B" triangle --count-map 3
+usage "--count-map 3:3: A equals B" triangle --count-map 3:3
+usage "--count-map goes with the branching problem alone" triangle --count-map 24:25 --problem fold
+usage "--count-map moves the load" triangle --count-map 24:25 --solver condensed
+usage "unexpected argument 'x'" 06_count_map x
 fails "/dev/full is not a directory" triangle --quiet --mesh 16 --problem fold --out /dev/full
 fails "cannot write /dev/full" triangle --quiet --mesh 8 --problem branching --save /dev/full
 fails "cannot write $tmp/o2/folds.csv: Is a directory" triangle --quiet --mesh 16 --problem fold --out "$tmp/o2"
