@@ -37,7 +37,7 @@ HEADER = pscbranch.h
 TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BUILD)/test_linear_nosimd \
 	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_detect $(BUILD)/test_faults \
 	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic $(BUILD)/test_explore \
-	$(BUILD)/test_diagram $(BUILD)/test_fold_map $(SPARSE_TESTS)
+	$(BUILD)/test_diagram $(BUILD)/test_fold_map $(BUILD)/test_workers $(SPARSE_TESTS)
 # the teaching examples (examples/NN_name.c, each one file on pscbranch.h alone) and the applications
 TEACHING = $(patsubst %.c,%,$(sort $(wildcard examples/[0-9][0-9]_*.c)))
 APPS = fe/block fe/triangle fe/quasistatic fc_solve/fc_solve
@@ -87,6 +87,10 @@ $(BUILD)/test_explore: tests/test_explore.c tests/harness.h tests/pl_problems.h 
 
 $(BUILD)/test_diagram: tests/test_diagram.c tests/harness.h tests/pl_problems.h tests/kink_curves.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_diagram.c -o $@ $(LIBS)
+
+# Algorithm 2.2 on workers: POSIX threads and logical workers (contrib/psb_workers.h)
+$(BUILD)/test_workers: tests/test_workers.c tests/harness.h tests/pl_problems.h contrib/psb_workers.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_workers.c -o $@ $(LIBS) -pthread
 
 $(BUILD)/test_fold_map: tests/test_fold_map.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_fold_map.c -o $@ $(LIBS)

@@ -612,6 +612,25 @@ typedef struct psb_branch_expert {
                              [0: never] */
 } psb_branch_expert;
 
+/* Workers for Algorithm 2.2's sweep (psb_branch_options.workers; manual, section 6, "Workers").
+   run(ctx, n_tasks, task, arg) calls task(arg, i, w) once for each i in 0 .. n_tasks - 1, on
+   workers w in 0 .. n_workers - 1, one task at a time on each, in any order and concurrently,
+   and returns once all are done: 0, or nonzero for a failure (PSB_ERR_CALLBACK). solver[w] is
+   worker w's solver: initialised on the same problem (its own user data and backend), distinct
+   from the others and from the calling solver; each call sets its options to the caller's.
+   memory: at least psb_workers_memory_size(n, n_dir) bytes, aligned for double. */
+#define PSB_MAX_WORKERS 1024
+struct psb_solver;
+typedef void (*psb_task_fn)(void *arg, int task, int worker);
+typedef struct psb_workers {
+    int n_workers;               /* in [1, PSB_MAX_WORKERS] */
+    struct psb_solver *const *solver; /* n_workers solvers */
+    int (*run)(void *ctx, int n_tasks, psb_task_fn task, void *arg);
+    void *ctx;                   /* run's */
+    void *memory;                /* the tasks' results, bytes long */
+    size_t bytes;
+} psb_workers;
+
 /* Given to psb_locate_end, psb_find_branches and psb_branch_point_switch (NULL: defaults) and
    in psb_explore_options.branch; every zero field takes the default in brackets (manual,
    section 5). "h_min", "h_init" in brackets are psb_options', the continuation's. */
@@ -631,6 +650,7 @@ typedef struct psb_branch_options {
                              n_span_max adapts; n_span_max = n_span is a fixed length */
     long max_pc;          /* stop the sweep when n_pc reaches this budget [0: no budget] */
     psb_branch_expert expert; /* paper reproduction and experiments [all 0] */
+    const psb_workers *workers; /* Algorithm 2.2's directions on these workers [NULL: none] */
 } psb_branch_options;
 
 /* ---- counters ---------------------------------------------------------------------------- */
@@ -680,6 +700,10 @@ typedef struct psb__sweep_state {
     int branch_signs_n;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
     double sweep_offset; /* span directions at angles 2 pi (i + offset) / n, */
     int sweep_n_dir;     /* i < n = this (0: n_dir) */
+    int frozen;          /* a worker's copy: the memos are read only; the last entry that would
+                            have been stored goes to held (tangent aside) */
+    int held, held_sign;
+    unsigned long long held_key[2];
 } psb__sweep_state;
 
 /* The solver's working storage and the algorithms' state: private, treat as opaque. */
@@ -999,6 +1023,12 @@ typedef struct psb_branch_report {
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            const psb_branch_options *bo, int max_branches,
                                            double *ys, double *ts, psb_branch_report *rep);
+/* Bytes of psb_workers.memory for problems of n unknowns swept in n_dir directions (0 when
+   either is below 1). With bo->workers set, psb_find_branches (psb_explore too) also returns
+   PSB_ERR_NULL (run or a solver NULL or not initialised), PSB_ERR_SIZE (n_workers out of range,
+   or a solver of another size or backend), PSB_ERR_INPUT (a solver given twice, or the calling
+   one), PSB_ERR_NOMEM (memory too small) and PSB_ERR_CALLBACK (run failed). */
+PSCBRANCH_DEF size_t psb_workers_memory_size(int n, int n_dir);
 
 /* Branches through a smooth branch point located by psb_trace (y, t, kernel of a
    PSB_SPECIAL_BRANCH point): every branch's couple (ys[k*(n+1) ...], ts[k*(n+1) ...],
@@ -4866,6 +4896,8 @@ static psb_result psb__branch_h(psb_solver *s, const double *y)
     return PSB_SUCCESS;
 }
 
+static psb_result psb__check_workers(psb_solver *s, const psb_branch_options *b);
+
 /* Resolves and checks the branching options of a call at the point y into s->branch (left as
    it was when they are bad): where h follows the point, a set h_min is checked against it at
    y, as against a set h. */
@@ -4873,8 +4905,11 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo,
 {
     psb_branch_options b = psb_branch_options_resolve(bo, s);
     const char *bad = psb__check_branch(&b);
+    psb_result r;
     if (!bad && b.h == 0 && psb__point_h(s, &b, b.h_min != 0, y) < 0) bad = PSB__H_MIN_ABOVE;
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    r = psb__check_workers(s, &b);
+    if (r != PSB_SUCCESS) return r;
     s->branch = b;
     /* finite differences and h left at 0: h follows the difference steps at each point */
     s->internal_.branch_h_auto = b.h == 0;
@@ -5164,6 +5199,13 @@ static int psb__jmemo_get(psb_solver *s, psb__sweep_state *sw, const unsigned lo
 static void psb__jmemo_store(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *t, int sign)
 {
     int m = sw->jmemo_n % sw->memo_cap;
+    if (sw->frozen) {
+        sw->held = 1;
+        sw->held_sign = sign;
+        sw->held_key[0] = key[0];
+        sw->held_key[1] = key[1];
+        return;
+    }
     sw->jmemo_key[2 * m] = key[0];
     sw->jmemo_key[2 * m + 1] = key[1];
     sw->jmemo_sign[m] = (signed char)sign;
@@ -5821,6 +5863,428 @@ static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys
     return sum != 0;
 }
 
+/* ---- Algorithm 2.2 on workers (psb_branch_options.workers) ----------------------------------
+   A span's directions go in batches of n_dir: phase A samples every direction's tangent on the
+   workers, phase B screens them in order (Step 4, the memo) on the calling solver, phase C makes
+   the chosen directions' trials on the workers, phase D merges them in order. A task reads the
+   memos as the batch found them (psb__sweep_state.frozen) and its results are merged, its memo
+   entries included, as a serial pass would take them, so the result depends on the batch
+   alone, never on which worker ran what or when. */
+
+#define PSB__TASK_VECS 7 /* a direction's vectors: its tangent; screen tangent, landing point and
+                            tangent for each sign */
+
+/* One direction's task results and the counters its tasks spent (merged and cleared in
+   order by psb__task_merge). */
+typedef struct psb__task {
+    int skip;                /* no direction (v was 0) */
+    int ra, from_memo;       /* phase A: the sample tangent's result, and its memo hit (1, 2) */
+    int held, held_sign;     /* its tangent for the Jacobian memo, under held_key */
+    unsigned long long held_key[2];
+    int pick;                /* phase C's task j: direction rec[j].pick */
+    int rc, seen;            /* phase C: the refreshed tangent's result (or a fatal code); its
+                                tangent was tried before */
+    int rs[2], screened[2], rt[2], fail[2]; /* each sign: the screen tangent's result, screened
+                                               on the frozen memos, the trial's result, why it failed */
+    psb_stats stats;         /* counters spent, merged in order */
+    long faults[4], n_ok, looks, hits, memo_cuts, n_tangents, n_pc;
+    int pchecks;
+    double pdrift, cone;
+    char message[200];
+} psb__task;
+
+typedef struct psb__par {
+    psb_solver *s;                  /* the calling solver: read only while tasks run */
+    psb__sweep_state *sw;           /* its memos, frozen while tasks run */
+    const psb_workers *wk;
+    const double *y0, *t1, *q, *ts; /* the point, the span's plane, the found branches */
+    int n_br, n_dir, first;         /* found branches; directions first + i of n_dir */
+    psb__task *rec;
+    double *vec;                    /* PSB__TASK_VECS vectors per direction */
+} psb__par;
+
+PSCBRANCH_DEF size_t psb_workers_memory_size(int n, int n_dir)
+{
+    if (n < 1 || n_dir < 1 || n_dir > PSB_MAX_DIR_LIMIT) return 0;
+    return (size_t)n_dir * (sizeof(psb__task) + (size_t)PSB__TASK_VECS * ((size_t)n + 1) * sizeof(double));
+}
+
+/* Checks s->branch.workers for a call on s (PSB_SUCCESS when there are none). */
+static psb_result psb__check_workers(psb_solver *s, const psb_branch_options *b)
+{
+    const psb_workers *wk = b->workers;
+    int w, v;
+    if (!wk) return PSB_SUCCESS;
+    if (wk->n_workers < 1 || wk->n_workers > PSB_MAX_WORKERS)
+        return psb__fail(s, PSB_ERR_SIZE, "workers: n_workers must lie in [1, PSB_MAX_WORKERS = 1024]");
+    if (!wk->run || !wk->solver || !wk->memory) return psb__fail(s, PSB_ERR_NULL, "workers: run, solver or memory is NULL");
+    for (w = 0; w < wk->n_workers; w++) {
+        const psb_solver *ws = wk->solver[w];
+        if (!ws || ws->internal_.ready != PSB__READY)
+            return psb__fail(s, PSB_ERR_NULL, "workers: a solver is NULL or not initialised");
+        if (ws->internal_.np1 != s->internal_.np1 || ws->prob.param_index != s->prob.param_index ||
+            ws->prob.linear != s->prob.linear || ws->prob.kl != s->prob.kl || ws->prob.ku != s->prob.ku ||
+            ws->prob.band_lean != s->prob.band_lean || !ws->prob.jacobian != !s->prob.jacobian ||
+            !ws->prob.band_jacobian != !s->prob.band_jacobian || !ws->prob.piece != !s->prob.piece)
+            return psb__fail(s, PSB_ERR_SIZE, "workers: a solver's problem differs in size, backend or callbacks");
+        if (ws == s) return psb__fail(s, PSB_ERR_INPUT, "workers: the calling solver is a worker");
+        for (v = 0; v < w; v++)
+            if (wk->solver[v] == ws) return psb__fail(s, PSB_ERR_INPUT, "workers: a solver is given twice");
+    }
+    if (wk->bytes < psb_workers_memory_size(s->internal_.n, b->n_dir))
+        return psb__fail(s, PSB_ERR_NOMEM, "workers: memory is below psb_workers_memory_size(n, n_dir)");
+    return PSB_SUCCESS;
+}
+
+/* Vector k of direction i's task. */
+static double *psb__task_vec(const psb__par *p, int i, int k)
+{
+    return p->vec + ((size_t)i * PSB__TASK_VECS + (size_t)k) * (size_t)p->s->internal_.np1;
+}
+
+/* Sets the workers to the calling solver's options, weights and H(y0) (before a batch). */
+static void psb__workers_sync(psb_solver *s, const psb_workers *wk)
+{
+    int w, np1 = s->internal_.np1;
+    for (w = 0; w < wk->n_workers; w++) {
+        psb_solver *ws = wk->solver[w];
+        ws->opt = s->opt;
+        ws->branch = s->branch;
+        psb__copy(ws->internal_.w, s->internal_.w, np1);
+        psb__copy(PSB__VEC(ws, PSB__V_BR_H0), PSB__VEC(s, PSB__V_BR_H0), np1);
+    }
+}
+
+/* A task's start on worker ws: sw becomes a frozen copy of the batch's memos with ws's own path,
+   and ws forgets the factors it holds, so that what the task spends never depends on the task
+   before it. The counters are taken from here on (psb__task_end). */
+static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state *sw, psb__task *rec)
+{
+    *sw = *p->sw;
+    sw->frozen = 1;
+    sw->held = 0;
+    sw->path = ws->internal_.sweep.path;
+    ws->internal_.afac = NULL;
+    ws->internal_.bv_ok = ws->internal_.border_ok = 0;
+    ws->internal_.in_trace_callback = 0;
+    ws->message[0] = 0;
+    rec->stats.n_residual -= ws->stats.n_residual;
+    rec->stats.n_jacobian -= ws->stats.n_jacobian;
+    rec->stats.n_factor -= ws->stats.n_factor;
+    rec->stats.n_factor_reused -= ws->stats.n_factor_reused;
+    rec->stats.n_pc_steps -= ws->stats.n_pc_steps;
+    rec->stats.n_newton -= ws->stats.n_newton;
+    rec->stats.n_rejected -= ws->stats.n_rejected;
+    rec->stats.n_switches -= ws->stats.n_switches;
+    rec->stats.n_tangents -= ws->stats.n_tangents;
+    rec->stats.n_tangent_reused -= ws->stats.n_tangent_reused;
+    rec->faults[0] -= ws->internal_.faults[0];
+    rec->faults[1] -= ws->internal_.faults[1];
+    rec->faults[2] -= ws->internal_.faults[2];
+    rec->faults[3] -= ws->internal_.faults[3];
+    rec->n_ok -= ws->internal_.n_ok;
+}
+
+/* A task's end: what it spent into rec (the fatal message too). */
+static void psb__task_end(const psb__par *p, psb_solver *ws, const psb__sweep_state *sw, psb__task *rec, psb_result r)
+{
+    rec->stats.n_residual += ws->stats.n_residual;
+    rec->stats.n_jacobian += ws->stats.n_jacobian;
+    rec->stats.n_factor += ws->stats.n_factor;
+    rec->stats.n_factor_reused += ws->stats.n_factor_reused;
+    rec->stats.n_pc_steps += ws->stats.n_pc_steps;
+    rec->stats.n_newton += ws->stats.n_newton;
+    rec->stats.n_rejected += ws->stats.n_rejected;
+    rec->stats.n_switches += ws->stats.n_switches;
+    rec->stats.n_tangents += ws->stats.n_tangents;
+    rec->stats.n_tangent_reused += ws->stats.n_tangent_reused;
+    rec->faults[0] += ws->internal_.faults[0];
+    rec->faults[1] += ws->internal_.faults[1];
+    rec->faults[2] += ws->internal_.faults[2];
+    rec->faults[3] += ws->internal_.faults[3];
+    rec->n_ok += ws->internal_.n_ok;
+    rec->looks += sw->jmemo_looks - p->sw->jmemo_looks;
+    rec->hits += sw->jmemo_hits - p->sw->jmemo_hits;
+    rec->memo_cuts += sw->memo_cuts - p->sw->memo_cuts;
+    rec->pchecks += sw->pmemo_checks - p->sw->pmemo_checks;
+    if (sw->pmemo_drift > rec->pdrift || isnan(sw->pmemo_drift)) rec->pdrift = sw->pmemo_drift;
+    if (sw->cone_defect > rec->cone) rec->cone = sw->cone_defect;
+    if (psb__is_fatal(r)) memcpy(rec->message, ws->message, sizeof rec->message);
+}
+
+/* Direction i's sample point pt and direction v (0: none). */
+static int psb__task_point(const psb__par *p, psb_solver *ws, int i, double *v, double *pt)
+{
+    int k, np1 = ws->internal_.np1;
+    double alpha = 6.283185307179586 * (p->first + i + p->sw->sweep_offset) / p->n_dir;
+    for (k = 0; k < np1; k++) v[k] = sin(alpha) * p->t1[k] + cos(alpha) * p->q[k];
+    if (!psb__normalize_w(ws, v)) return 0;
+    psb__axpy_to(pt, p->y0, ws->branch.h, v, np1);
+    return 1;
+}
+
+/* Phase A, direction i on worker w: the tangent at y0 + h v (psb__sample_tangent). */
+static void psb__task_sample(void *arg, int i, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    psb__task *rec = p->rec + i;
+    psb__sweep_state sw;
+    double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
+    psb_result r = PSB_SUCCESS;
+    psb__task_begin(p, ws, &sw, rec);
+    rec->skip = !psb__task_point(p, ws, i, v, pt);
+    if (!rec->skip) {
+        rec->n_tangents++;
+        r = psb__sample_tangent(ws, &sw, pt, v, psb__task_vec(p, i, 0), &rec->from_memo, NULL);
+        psb__note_fault(ws, r);
+        rec->held = sw.held;
+        rec->held_sign = sw.held_sign;
+        rec->held_key[0] = sw.held_key[0];
+        rec->held_key[1] = sw.held_key[1];
+    }
+    rec->ra = r;
+    psb__task_end(p, ws, &sw, rec, r);
+}
+
+/* Phase C, task j on worker w: the trials of direction rec[j].pick (psb__try_tangent on the
+   frozen memos; its entries are merged by psb__par_merge). */
+static void psb__task_trials(void *arg, int j, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    int i = p->rec[j].pick, np1 = ws->internal_.np1, k, side, iters, from_memo;
+    psb__task *rec = p->rec + i;
+    psb__sweep_state sw;
+    psb__trial_watch tw;
+    double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P), *pk = PSB__VEC(ws, PSB__V_BR_S);
+    double *tt = psb__task_vec(p, i, 0);
+    psb_result r = PSB_SUCCESS;
+    psb__task_begin(p, ws, &sw, rec);
+    rec->rc = PSB_SUCCESS;
+    if (rec->from_memo) { /* the memo's tangent only chose: the trials take the one at pt */
+        psb__task_point(p, ws, i, v, pt);
+        r = psb__sample_tangent_at(ws, pt, v, tt);
+        psb__note_fault(ws, r);
+        rec->rc = r;
+    }
+    if (r == PSB_SUCCESS && !ws->branch.expert.no_memo && psb__memo_seen(ws, &sw, tt)) rec->seen = 1;
+    for (side = 0; side < 2 && r == PSB_SUCCESS && !rec->seen; side++) {
+        double *kx = psb__task_vec(p, i, 1 + 3 * side), *yb = psb__task_vec(p, i, 2 + 3 * side);
+        double *tb = psb__task_vec(p, i, 3 + 3 * side), hh = ws->branch.h_init;
+        int sign = side ? -1 : 1, watched;
+        psb_result rs = PSB_SUCCESS;
+        for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
+        if (!ws->branch.expert.no_screen) {
+            psb__axpy_to(pk, p->y0, hh, tb, np1);
+            rec->n_tangents++;
+            rs = psb__sample_tangent(ws, &sw, pk, tb, kx, &from_memo, p->y0);
+            if (rs == PSB_SUCCESS && psb__trial_known(ws, &sw, kx, p->ts, p->n_br, sign < 0 ? tt : NULL, -1)) {
+                rec->rs[side] = rs;
+                rec->screened[side] = 1;
+                continue;
+            }
+            if (rs == PSB_SUCCESS && from_memo) rs = psb__sample_tangent_at(ws, pk, tb, kx);
+            rec->rs[side] = rs;
+            if (psb__is_fatal(rs)) {
+                r = rec->rc = rs;
+                break;
+            }
+            if (rs == PSB_SUCCESS) psb__copy(tb, kx, np1);
+        }
+        psb__copy(yb, p->y0, np1);
+        rec->n_pc++;
+        watched = !ws->branch.expert.no_screen && !psb__fd_jacobian(&ws->prob);
+        psb__trial_watch_init(&tw, &sw, p->ts, p->n_br, -1, sw.conic_h0_ok ? p->y0 : NULL);
+        rec->rt[side] = psb__try_step_from(ws, yb, tb, &hh, ws->branch.expert.trial_h_min, &iters, p->y0,
+                                           watched ? &tw.base : NULL);
+        rec->fail[side] = ws->internal_.last_fail;
+        if (psb__is_fatal(rec->rt[side])) r = rec->rc = rec->rt[side];
+        psb__note_fault(ws, rec->rt[side]);
+    }
+    psb__task_end(p, ws, &sw, rec, r);
+}
+
+/* Merges what direction i's tasks spent into s, sw and rep, in order; their fatal code (or
+   PSB_SUCCESS) with its message. */
+static psb_result psb__task_merge(psb_solver *s, psb__sweep_state *sw, psb__task *rec, psb_branch_report *rep,
+                                  psb_result r)
+{
+    psb_stats *d = &rec->stats;
+    int k;
+    s->stats.n_residual += d->n_residual;
+    s->stats.n_jacobian += d->n_jacobian;
+    s->stats.n_factor += d->n_factor;
+    s->stats.n_factor_reused += d->n_factor_reused;
+    s->stats.n_pc_steps += d->n_pc_steps;
+    s->stats.n_newton += d->n_newton;
+    s->stats.n_rejected += d->n_rejected;
+    s->stats.n_switches += d->n_switches;
+    s->stats.n_tangents += d->n_tangents;
+    s->stats.n_tangent_reused += d->n_tangent_reused;
+    memset(d, 0, sizeof *d);
+    for (k = 0; k < 4; k++) s->internal_.faults[k] += rec->faults[k], rec->faults[k] = 0;
+    s->internal_.n_ok += rec->n_ok;
+    sw->jmemo_looks += rec->looks;
+    sw->jmemo_hits += rec->hits;
+    sw->memo_cuts += rec->memo_cuts;
+    rep->n_cut_memo += rec->memo_cuts;
+    sw->pmemo_checks += rec->pchecks;
+    if (rec->pdrift > sw->pmemo_drift || isnan(rec->pdrift)) sw->pmemo_drift = rec->pdrift;
+    psb__note_cone_excess(sw, rec->cone);
+    rep->n_tangents += rec->n_tangents;
+    rep->n_pc += rec->n_pc;
+    rec->n_ok = rec->looks = rec->hits = rec->memo_cuts = rec->n_tangents = rec->n_pc = 0;
+    rec->pchecks = 0;
+    rec->pdrift = rec->cone = 0;
+    if (!psb__is_fatal(r)) return PSB_SUCCESS;
+    memcpy(s->message, rec->message, sizeof s->message);
+    s->message[sizeof s->message - 1] = 0;
+    return r;
+}
+
+/* Runs n tasks on the workers. */
+static psb_result psb__par_run(psb__par *p, int n, psb_task_fn task)
+{
+    if (n == 0) return PSB_SUCCESS;
+    if (p->wk->run(p->wk->ctx, n, task, p) != 0)
+        return psb__fail(p->s, PSB_ERR_CALLBACK, "workers: run failed");
+    return PSB_SUCCESS;
+}
+
+/* Phase D for direction i (phase C's results): psb__try_tangent's decisions, in order, on the
+   memos and branches as the directions before it left them. */
+static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *ys, double *ts,
+                                 psb_branch_report *rep, int *overflow)
+{
+    psb_solver *s = p->s;
+    psb__sweep_state *sw = p->sw;
+    psb__task *rec = p->rec + i;
+    const double *y0 = p->y0, *tt = psb__task_vec(p, i, 0);
+    double *pk = PSB__VEC(s, PSB__V_BR_S);
+    int np1 = s->internal_.np1, side, j, k;
+    psb_result r = psb__task_merge(s, sw, rec, rep, rec->rc);
+    if (r != PSB_SUCCESS) return r;
+    if (rec->rc != PSB_SUCCESS) return PSB_SUCCESS; /* a fault, counted */
+    if (!s->branch.expert.no_memo && (rec->seen || psb__memo_seen(s, sw, tt))) {
+        rep->n_memo++;
+        return PSB_SUCCESS;
+    }
+    for (side = 0; side < 2; side++) {
+        double *kx = psb__task_vec(p, i, 1 + 3 * side), *yb = psb__task_vec(p, i, 2 + 3 * side);
+        double *tb = psb__task_vec(p, i, 3 + 3 * side), dist, dotp, turn;
+        int is_new = 1, cut;
+        if (rec->screened[side]) {
+            rep->n_screened++;
+            continue;
+        }
+        if (!s->branch.expert.no_screen && rec->rs[side] == PSB_SUCCESS) {
+            if (psb__trial_known(s, sw, kx, ts, rep->n_branches, side ? tt : NULL, -1)) {
+                rep->n_screened++;
+                continue;
+            }
+            psb__store_add(s, sw, sw->known, &sw->known_n, kx);
+        }
+        r = (psb_result)rec->rt[side];
+        if (psb__is_fault(r)) continue;
+        cut = r != PSB_SUCCESS && rec->fail[side] == PSB__FAIL_KNOWN;
+        rep->n_cut += cut;
+        if (r != PSB_SUCCESS) continue;
+        dist = psb__dist_w(s, yb, y0);
+        if (dist < s->branch.h) continue;
+        dotp = 0;
+        for (k = 0; k < np1; k++) dotp += s->internal_.w[k] * tb[k] * (yb[k] - y0[k]);
+        if (dotp < 0)
+            for (k = 0; k < np1; k++) tb[k] = -tb[k];
+        turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
+        if (turn > sw->chord_turn_max) sw->chord_turn_max = turn;
+        if (turn < sw->chord_turn_min) sw->chord_turn_min = turn;
+        for (j = 0; j < rep->n_branches; j++)
+            if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
+        for (j = 0; j < rep->n_branches && is_new; j++) {
+            int same = psb__same_curved_branch(s, y0, yb, tb, ys + (size_t)j * (size_t)np1,
+                                               ts + (size_t)j * (size_t)np1);
+            if (same < 0) return (psb_result)same;
+            is_new = !same;
+        }
+        if (!is_new) continue;
+        if (rep->n_branches >= max_branches) {
+            *overflow = 1;
+            continue;
+        }
+        psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
+        psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
+        rep->n_branches++;
+    }
+    if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);
+    return PSB_SUCCESS;
+}
+
+/* psb__sweep on workers: the n_dir directions of the span of t1 and q (t2 made orthogonal), in
+   batches of s->branch.n_dir. Counts differ from the serial sweep's (the trials of a batch
+   neither see each other's memo entries nor record their corrector paths), results not at all
+   with the number of workers. */
+static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t1,
+                                 const double *q, int n_dir, int max_branches, double *ys, double *ts,
+                                 psb_branch_report *rep, int *overflow)
+{
+    const psb_workers *wk = s->branch.workers;
+    int np1 = s->internal_.np1, batch = s->branch.n_dir, first, i, j, m;
+    double *tprev = PSB__VEC(s, PSB__V_BR_TP);
+    psb__par p;
+    psb_result r;
+    p.s = s;
+    p.sw = sw;
+    p.wk = wk;
+    p.y0 = y0;
+    p.t1 = t1;
+    p.q = q;
+    p.n_dir = n_dir;
+    p.rec = (psb__task *)wk->memory;
+    p.vec = (double *)(void *)(p.rec + batch);
+    psb__workers_sync(s, wk);
+    for (first = 0; first < n_dir; first += batch) {
+        int count = n_dir - first < batch ? n_dir - first : batch, n_pick = 0;
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
+        memset(p.rec, 0, (size_t)count * sizeof *p.rec);
+        p.first = first;
+        r = psb__par_run(&p, count, psb__task_sample);
+        if (r != PSB_SUCCESS) return r;
+        /* phase B: Step 4 and the memo in order, the Jacobian memo's entries stored */
+        for (i = 0; i < count; i++) {
+            psb__task *rec = p.rec + i;
+            double *tt = psb__task_vec(&p, i, 0);
+            int seen = 0;
+            r = psb__task_merge(s, sw, rec, rep, rec->ra);
+            if (r != PSB_SUCCESS) return r;
+            if (rec->skip || rec->ra != PSB_SUCCESS) continue;
+            if (rec->held && psb__jmemo_find(sw, rec->held_key) < 0) psb__jmemo_store(s, sw, rec->held_key, tt, rec->held_sign);
+            if (first + i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
+            psb__copy(tprev, tt, np1);
+            if (!s->branch.expert.no_memo) {
+                seen = psb__memo_seen(s, sw, tt);
+                for (m = 0; m < n_pick && !seen; m++)
+                    seen = fabs(psb__cos_w(s, tt, psb__task_vec(&p, p.rec[m].pick, 0))) >= s->opt.c_diff;
+            }
+            if (seen) {
+                rep->n_memo++;
+                continue;
+            }
+            p.rec[n_pick++].pick = i;
+        }
+        /* phase C: the trials on the memos as they are now; phase D: their merge in order */
+        p.ts = ts;
+        p.n_br = rep->n_branches;
+        r = psb__par_run(&p, n_pick, psb__task_trials);
+        if (r != PSB_SUCCESS) return r;
+        for (j = 0; j < n_pick; j++) {
+            r = psb__par_merge(&p, p.rec[j].pick, max_branches, ys, ts, rep, overflow);
+            if (r != PSB_SUCCESS) return r;
+        }
+    }
+    return PSB_SUCCESS;
+}
+
 /* One span of Algorithm 2.2 (Steps 2-7) with the spanning tangents t1, t2. */
 static psb_result psb__sweep(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t1, const double *t2,
                              int max_branches, double *ys, double *ts, psb_branch_report *rep,
@@ -5841,6 +6305,7 @@ static psb_result psb__sweep(psb_solver *s, psb__sweep_state *sw, const double *
         if (!psb__normalize_w(s, q)) return PSB_SUCCESS; /* t2 parallel to t1: no plane */
         for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
+    if (s->branch.workers) return psb__sweep_par(s, sw, y0, t1, q, n_dir, max_branches, ys, ts, rep, overflow);
     for (i = 0; i < n_dir; i++) {
         double alpha = 6.283185307179586 * (i + sw->sweep_offset) / n_dir;
         for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
