@@ -190,10 +190,10 @@ endif
 $(BUILD)/suitesparse-$(SUITESPARSE): | $(BUILD)
 	rm -f $(BUILD)/suitesparse-*
 	touch $@
-fe/block fe/triangle: fe/%: fe/%.c $(HEADER) fe/fe.h fe/explore_out.h fe/cli.h fe/fe_solvers.h \
-		contrib/psb_sparse.h contrib/psb_condense.h $(BUILD)/suitesparse-$(SUITESPARSE)
+fe/block fe/triangle: fe/%: fe/%.c $(HEADER) fe/fe.h fe/explore_out.h fe/cli.h fe/fe_solvers.h fe/fe_workers.h \
+		contrib/psb_sparse.h contrib/psb_condense.h contrib/psb_workers.h $(BUILD)/suitesparse-$(SUITESPARSE)
 	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(if $(filter fe/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
-		$(if $(filter fe/block,$@),$(BLOCK_LIBS)) $(LIBS)
+		$(if $(filter fe/block,$@),$(BLOCK_LIBS)) $(LIBS) -pthread
 fe/block: fe/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
 
 $(BUILD)/test_sparse: tests/test_sparse.c tests/condense_decl.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h \

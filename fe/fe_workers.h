@@ -1,0 +1,80 @@
+/* fe_workers.h - --workers N for the FE applications: Algorithm 2.2's directions on N threads
+   (contrib/psb_workers.h), each worker with its own copy of the model's scratch and its own
+   solver and backend (fe_solver_run_init). Include after fe_solvers.h; link with -pthread. */
+#ifndef FE_WORKERS_H
+#define FE_WORKERS_H
+
+#include "contrib/psb_workers.h"
+
+#define FE_MAX_WORKERS 64
+
+typedef struct fe_workers {
+    int n;              /* 0: none (the serial sweep) */
+    fe_model *md;       /* n copies of the model sharing all but their scratch */
+    fe_solver *fs;
+    fe_run *run;        /* worker w's solver is run[w].s */
+    psb_solver **solver;
+    psb_threads th;
+    psb_workers wk;
+} fe_workers;
+
+static inline void fe_workers_free(fe_workers *fw)
+{
+    int w;
+    for (w = 0; w < fw->n; w++) {
+        if (fw->run) fe_run_free(&fw->run[w]);
+        if (fw->fs) fe_solver_free(&fw->fs[w]);
+        if (fw->md) free(fw->md[w].work);
+    }
+    if (fw->th.thread) psb_threads_free(&fw->th);
+    free(fw->md); free(fw->fs); free(fw->run); free(fw->solver); free(fw->wk.memory);
+    memset(fw, 0, sizeof *fw);
+}
+
+/* n workers (n <= FE_MAX_WORKERS) for the model md solved by `kind` with options opt, sweeping
+   n_dir directions. 0, or -1 (said on stderr, nothing held). */
+static inline int fe_workers_init(fe_workers *fw, int n, const fe_model *md, const psb_options *opt, int kind,
+                                  double keep_mb, int n_dir, const char *prog)
+{
+    int w;
+    memset(fw, 0, sizeof *fw);
+    fw->md = calloc((size_t)n, sizeof *fw->md);
+    fw->fs = calloc((size_t)n, sizeof *fw->fs);
+    fw->run = calloc((size_t)n, sizeof *fw->run);
+    fw->solver = calloc((size_t)n, sizeof *fw->solver);
+    fw->wk.bytes = psb_workers_memory_size(md->n, n_dir);
+    fw->wk.memory = malloc(fw->wk.bytes);
+    if (!fw->md || !fw->fs || !fw->run || !fw->solver || !fw->wk.memory) {
+        fprintf(stderr, "%s: out of memory (workers)\n", prog);
+        fe_workers_free(fw);
+        return -1;
+    }
+    for (w = 0; w < n; w++) {
+        fw->md[w] = *md;
+        fw->md[w].work = malloc(sizeof(double) * 4 * (size_t)md->mesh->nnode);
+        fw->n = w + 1;
+        if (!fw->md[w].work) {
+            fprintf(stderr, "%s: out of memory (workers)\n", prog);
+            fe_workers_free(fw);
+            return -1;
+        }
+        if (fe_solver_run_init(&fw->fs[w], &fw->run[w], &fw->md[w], opt, kind, keep_mb, prog)) {
+            fprintf(stderr, "%s: worker %d: solver set-up failed: %s\n", prog, w, psb_solver_message(&fw->run[w].s));
+            fe_workers_free(fw);
+            return -1;
+        }
+        fw->solver[w] = &fw->run[w].s;
+    }
+    if (psb_threads_init(&fw->th, n) != 0) {
+        fprintf(stderr, "%s: cannot start %d threads\n", prog, n - 1);
+        fe_workers_free(fw);
+        return -1;
+    }
+    fw->wk.n_workers = n;
+    fw->wk.solver = fw->solver;
+    fw->wk.run = psb_threads_run;
+    fw->wk.ctx = &fw->th;
+    return 0;
+}
+
+#endif
