@@ -700,10 +700,7 @@ typedef struct psb__sweep_state {
     int branch_signs_n;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
     double sweep_offset; /* span directions at angles 2 pi (i + offset) / n, */
     int sweep_n_dir;     /* i < n = this (0: n_dir) */
-    int frozen;          /* a worker's copy: the memos are read only; the last entry that would
-                            have been stored goes to held (tangent aside) */
-    int held, held_sign;
-    unsigned long long held_key[2];
+    int frozen;          /* a worker's copy: the memos are read only */
 } psb__sweep_state;
 
 /* The solver's working storage and the algorithms' state: private, treat as opaque. */
@@ -5199,13 +5196,7 @@ static int psb__jmemo_get(psb_solver *s, psb__sweep_state *sw, const unsigned lo
 static void psb__jmemo_store(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *t, int sign)
 {
     int m = sw->jmemo_n % sw->memo_cap;
-    if (sw->frozen) {
-        sw->held = 1;
-        sw->held_sign = sign;
-        sw->held_key[0] = key[0];
-        sw->held_key[1] = key[1];
-        return;
-    }
+    if (sw->frozen) return;
     sw->jmemo_key[2 * m] = key[0];
     sw->jmemo_key[2 * m + 1] = key[1];
     sw->jmemo_sign[m] = (signed char)sign;
@@ -5879,9 +5870,12 @@ static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys
 typedef struct psb__task {
     int skip;                /* no direction (v was 0) */
     int ra, from_memo;       /* phase A: the sample tangent's result, and its memo hit (1, 2) */
-    int held, held_sign;     /* its tangent for the Jacobian memo, under held_key */
-    unsigned long long held_key[2];
-    int pick;                /* phase C's task j: direction rec[j].pick */
+    int keyed, need, lead;   /* its memo key (1 dH's hash, 2 a piece id), to be computed, leads its
+                                key (stores its tangent) */
+    int follow;              /* takes its tangent from that direction's, the lead of its key (-1) */
+    int sign;                /* its outward sign (psb__jmemo_store) */
+    unsigned long long key[2];
+    int todo, pick;          /* the j-th task of a run: direction rec[j].todo (phase A), .pick (C) */
     int rc, seen;            /* phase C: the refreshed tangent's result (or a fatal code); its
                                 tangent was tried before */
     int rs[2], screened[2], rt[2], fail[2]; /* each sign: the screen tangent's result, screened
@@ -5962,7 +5956,6 @@ static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state 
 {
     *sw = *p->sw;
     sw->frozen = 1;
-    sw->held = 0;
     sw->path = ws->internal_.sweep.path;
     ws->internal_.afac = NULL;
     ws->internal_.bv_ok = ws->internal_.border_ok = 0;
@@ -6023,8 +6016,8 @@ static int psb__task_point(const psb__par *p, psb_solver *ws, int i, double *v, 
     return 1;
 }
 
-/* Phase A, direction i on worker w: the tangent at y0 + h v (psb__sample_tangent). */
-static void psb__task_sample(void *arg, int i, int w)
+/* Phase A, direction i on worker w: the memo key of y0 + h v (psb__sample_tangent's). */
+static void psb__task_key(void *arg, int i, int w)
 {
     psb__par *p = (psb__par *)arg;
     psb_solver *ws = p->wk->solver[w];
@@ -6032,17 +6025,40 @@ static void psb__task_sample(void *arg, int i, int w)
     psb__sweep_state sw;
     double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
     psb_result r = PSB_SUCCESS;
+    int by_piece = ws->prob.piece != NULL;
     psb__task_begin(p, ws, &sw, rec);
     rec->skip = !psb__task_point(p, ws, i, v, pt);
     if (!rec->skip) {
         rec->n_tangents++;
-        r = psb__sample_tangent(ws, &sw, pt, v, psb__task_vec(p, i, 0), &rec->from_memo, NULL);
-        psb__note_fault(ws, r);
-        rec->held = sw.held;
-        rec->held_sign = sw.held_sign;
-        rec->held_key[0] = sw.held_key[0];
-        rec->held_key[1] = sw.held_key[1];
+        if (by_piece) r = psb__piece_key(ws, pt, rec->key, &by_piece);
+        if (r == PSB_SUCCESS && !by_piece && psb__jmemo_hashing(&sw)) {
+            ws->stats.n_tangents++;
+            r = psb__jacobian(ws, pt, NULL);
+            if (r == PSB_SUCCESS) psb__jmemo_key(ws, rec->key);
+            psb__note_fault(ws, r);
+            by_piece = -1;
+        }
+        rec->keyed = r != PSB_SUCCESS ? 0 : by_piece < 0 ? 1 : by_piece ? 2 : 0;
     }
+    rec->ra = r;
+    psb__task_end(p, ws, &sw, rec, r);
+}
+
+/* Phase A, task j on worker w: the tangent at direction rec[j].todo's sample point. */
+static void psb__task_tangent(void *arg, int j, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    int i = p->rec[j].todo;
+    psb__task *rec = p->rec + i;
+    psb__sweep_state sw;
+    double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
+    psb_result r;
+    psb__task_begin(p, ws, &sw, rec);
+    psb__task_point(p, ws, i, v, pt);
+    r = psb__sample_tangent_at(ws, pt, v, psb__task_vec(p, i, 0));
+    psb__note_fault(ws, r);
+    rec->sign = ws->internal_.tangent_sign;
     rec->ra = r;
     psb__task_end(p, ws, &sw, rec, r);
 }
@@ -6152,6 +6168,95 @@ static psb_result psb__par_run(psb__par *p, int n, psb_task_fn task)
     return PSB_SUCCESS;
 }
 
+/* Orients the memo tangent tm by direction i's v into its tangent (psb__jmemo_get's test): 1, or
+   0 when v is nearly orthogonal to it (the tangent is then computed). */
+static int psb__par_oriented(psb__par *p, int i, const double *tm)
+{
+    psb_solver *s = p->s;
+    double *v = PSB__VEC(s, PSB__V_BR_V), *pt = PSB__VEC(s, PSB__V_BR_P), *tt = psb__task_vec(p, i, 0), dot;
+    int k;
+    psb__task_point(p, s, i, v, pt);
+    dot = psb__dot_w(s, tm, v);
+    if (!(fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, v))) return 0;
+    for (k = 0; k < s->internal_.np1; k++) tt[k] = dot < 0 ? -tm[k] : tm[k];
+    s->stats.n_tangent_reused++;
+    s->internal_.n_ok++;
+    return 1;
+}
+
+/* Phase A: the sample tangents of directions 0 .. count - 1 of the batch, as psb__sample_tangent
+   gives them in order: the memo keys first (when the memo keys), then the tangents of the
+   directions whose key neither the memo nor an earlier direction holds, then of those whose
+   key's lead failed or whose memo tangent is nearly orthogonal to v. Returns PSB_SUCCESS or the
+   first fatal code in order. */
+static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *rep)
+{
+    psb_solver *s = p->s;
+    psb__sweep_state *sw = p->sw;
+    int np1 = s->internal_.np1, i, j, m, n, round;
+    psb_result r;
+    if (s->prob.piece || psb__jmemo_hashing(sw)) {
+        r = psb__par_run(p, count, psb__task_key);
+        if (r != PSB_SUCCESS) return r;
+    } else {
+        for (i = 0; i < count; i++) {
+            p->rec[i].skip = !psb__task_point(p, s, i, PSB__VEC(s, PSB__V_BR_V), PSB__VEC(s, PSB__V_BR_P));
+            p->rec[i].n_tangents = !p->rec[i].skip;
+        }
+    }
+    for (i = 0; i < count; i++) {
+        psb__task *rec = p->rec + i;
+        r = psb__task_merge(s, sw, rec, rep, rec->ra);
+        if (r != PSB_SUCCESS) return r;
+        rec->follow = -1;
+        if (rec->skip || rec->ra != PSB_SUCCESS) continue;
+        rec->need = 1;
+        if (!rec->keyed) continue;
+        sw->jmemo_looks++;
+        m = psb__jmemo_find(sw, rec->key);
+        if (m >= 0) {
+            sw->jmemo_hits++;
+            if (psb__par_oriented(p, i, sw->jmemo_t + (size_t)m * (size_t)np1)) {
+                rec->need = 0;
+                rec->from_memo = rec->keyed;
+            }
+            continue;
+        }
+        for (j = 0; j < i; j++)
+            if (p->rec[j].lead && p->rec[j].key[0] == rec->key[0] && p->rec[j].key[1] == rec->key[1]) break;
+        if (j < i) {
+            sw->jmemo_hits++;
+            rec->need = 0;
+            rec->follow = j;
+        } else {
+            rec->lead = 1;
+        }
+    }
+    for (round = 0; round < 2; round++) {
+        for (i = n = 0; i < count; i++)
+            if (p->rec[i].need) p->rec[n++].todo = i;
+        r = psb__par_run(p, n, psb__task_tangent);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < count; i++) {
+            psb__task *rec = p->rec + i;
+            if (rec->need) {
+                rec->need = 0;
+                r = psb__task_merge(s, sw, rec, rep, rec->ra);
+                if (r != PSB_SUCCESS) return r;
+                if (rec->lead && rec->ra == PSB_SUCCESS) psb__jmemo_store(s, sw, rec->key, psb__task_vec(p, i, 0), rec->sign);
+            } else if (rec->follow >= 0) {
+                const psb__task *lead = p->rec + rec->follow;
+                if (lead->ra == PSB_SUCCESS && psb__par_oriented(p, i, psb__task_vec(p, rec->follow, 0)))
+                    rec->from_memo = rec->keyed;
+                else
+                    rec->need = 1; /* computed in the next round, not stored */
+                rec->follow = -1;
+            }
+        }
+    }
+    return PSB_SUCCESS;
+}
+
 /* Phase D for direction i (phase C's results): psb__try_tangent's decisions, in order, on the
    memos and branches as the directions before it left them. */
 static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *ys, double *ts,
@@ -6248,17 +6353,14 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
         memset(p.rec, 0, (size_t)count * sizeof *p.rec);
         p.first = first;
-        r = psb__par_run(&p, count, psb__task_sample);
+        r = psb__par_tangents(&p, count, rep);
         if (r != PSB_SUCCESS) return r;
-        /* phase B: Step 4 and the memo in order, the Jacobian memo's entries stored */
+        /* phase B: Step 4 and the memo in order */
         for (i = 0; i < count; i++) {
             psb__task *rec = p.rec + i;
             double *tt = psb__task_vec(&p, i, 0);
             int seen = 0;
-            r = psb__task_merge(s, sw, rec, rep, rec->ra);
-            if (r != PSB_SUCCESS) return r;
             if (rec->skip || rec->ra != PSB_SUCCESS) continue;
-            if (rec->held && psb__jmemo_find(sw, rec->held_key) < 0) psb__jmemo_store(s, sw, rec->held_key, tt, rec->held_sign);
             if (first + i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
             psb__copy(tprev, tt, np1);
             if (!s->branch.expert.no_memo) {
