@@ -6,6 +6,7 @@
 #   make examples  every program: the teaching examples (examples/), the FE applications (fe/)
 #                  and the frictional-contact solver (fc_solve/)
 #   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
+#   make tsan      Algorithm 2.2 on threads (tests/test_workers.c) under ThreadSanitizer
 #   make bench     the benchmarks (bench/out/), with GetFEM side by side when python3-getfem is there
 #                  (bash bench/bench_mumps.sh --large: banded against MUMPS on 1 and 2 ranks up to M12800)
 #   make fuzz [FUZZ_SECONDS=30 | FUZZ_RUNS=N [FUZZ_SEED=1]]   every libFuzzer target in fuzz/
@@ -43,7 +44,7 @@ TEACHING = $(patsubst %.c,%,$(sort $(wildcard examples/[0-9][0-9]_*.c)))
 APPS = fe/block fe/triangle fe/quasistatic fc_solve/fc_solve
 EXAMPLES = $(TEACHING) $(APPS)
 
-.PHONY: all test check demo demo-run examples bench bench-large asan ubsan fuzz fuzz-run install uninstall clean \
+.PHONY: all test check demo demo-run examples bench bench-large asan ubsan tsan fuzz fuzz-run install uninstall clean \
 	quasistatic-demo quasistatic-demo-run images images-run
 
 all: $(TESTS) $(EXAMPLES)
@@ -310,6 +311,11 @@ asan:
 ubsan:
 	@$(DEPS) cc cxx lapack
 	$(MAKE) BUILD=build-ubsan OPT="-O1 -g" SAN="-fsanitize=undefined -fno-sanitize-recover=all" EXAMPLES= SMOKE= check
+
+# the threaded runs of Algorithm 2.2 (tests/test_workers.c) under ThreadSanitizer
+tsan:
+	@$(DEPS) cc cxx lapack
+	$(MAKE) BUILD=build-tsan OPT="-O1 -g" SAN="-fsanitize=thread" EXAMPLES= SMOKE= TESTS=build-tsan/test_workers check
 
 # ---- install: header-only, so nothing is compiled; the version comes from the header ----------
 PREFIX ?= /usr/local
