@@ -700,7 +700,10 @@ typedef struct psb__sweep_state {
     int branch_signs_n;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
     double sweep_offset; /* span directions at angles 2 pi (i + offset) / n, */
     int sweep_n_dir;     /* i < n = this (0: n_dir) */
-    int frozen;          /* a worker's copy: the memos are read only */
+    int frozen;          /* a worker's copy: the memos are read only; the last entry that would
+                            have been stored goes to held (its tangent aside) */
+    int held, held_sign;
+    unsigned long long held_key[2];
 } psb__sweep_state;
 
 /* The solver's working storage and the algorithms' state: private, treat as opaque. */
@@ -5196,7 +5199,13 @@ static int psb__jmemo_get(psb_solver *s, psb__sweep_state *sw, const unsigned lo
 static void psb__jmemo_store(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *t, int sign)
 {
     int m = sw->jmemo_n % sw->memo_cap;
-    if (sw->frozen) return;
+    if (sw->frozen) {
+        sw->held = 1;
+        sw->held_sign = sign;
+        sw->held_key[0] = key[0];
+        sw->held_key[1] = key[1];
+        return;
+    }
     sw->jmemo_key[2 * m] = key[0];
     sw->jmemo_key[2 * m + 1] = key[1];
     sw->jmemo_sign[m] = (signed char)sign;
@@ -5247,6 +5256,9 @@ typedef struct psb__trial_watch {
     unsigned long long store_key[2], dh_key[2]; /* the current iterate's memo key, dH's hash */
     int by_piece;      /* store_key is a piece id */
     int pmemo_check;   /* the next tangent is compared with the piece memo's (BR_MT) */
+    /* on a frozen sw: the memo entry each path tangent would have made (psb__task_trials) */
+    int path_held[PSB__PATH_MAX], path_sign[PSB__PATH_MAX];
+    unsigned long long path_key[2 * PSB__PATH_MAX];
 } psb__trial_watch;
 
 /* Whether a piece's tangent may decide (psb__path_memo_cut): the memo's pieces checked that
@@ -5412,10 +5424,17 @@ static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_even
         }
         return 0;
     case PSB__CORR_TANGENT:
-        if (tw->path_n < PSB__PATH_MAX)
-            psb__copy(sw->path + (size_t)tw->path_n++ * (size_t)np1, t, np1);
+        i = tw->path_n < PSB__PATH_MAX ? tw->path_n++ : -1;
+        if (i >= 0) psb__copy(sw->path + (size_t)i * (size_t)np1, t, np1);
+        sw->held = 0;
         if ((tw->store_key[0] || tw->store_key[1]) && (!tw->by_piece || psb__pmemo_trusted(s, sw, 0)))
             psb__jmemo_store(s, sw, tw->store_key, t, sign);
+        if (i >= 0) {
+            tw->path_held[i] = sw->held;
+            tw->path_sign[i] = sw->held_sign;
+            tw->path_key[2 * i] = sw->held_key[0];
+            tw->path_key[2 * i + 1] = sw->held_key[1];
+        }
         if (tw->pmemo_check) {
             double drift = psb__angle_w(s, t, PSB__VEC(s, PSB__V_BR_MT));
             tw->pmemo_check = 0;
@@ -5862,8 +5881,9 @@ static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys
    entries included, as a serial pass would take them, so the result depends on the batch
    alone, never on which worker ran what or when. */
 
-#define PSB__TASK_VECS 7 /* a direction's vectors: its tangent; screen tangent, landing point and
-                            tangent for each sign */
+/* a direction's vectors: its tangent; for each sign the screen tangent, landing point and tangent,
+   and the trial's path (psb__trial_watch) */
+#define PSB__TASK_VECS (7 + 2 * PSB__PATH_MAX)
 
 /* One direction's task results and the counters its tasks spent (merged and cleared in
    order by psb__task_merge). */
@@ -5880,6 +5900,8 @@ typedef struct psb__task {
                                 tangent was tried before */
     int rs[2], screened[2], rt[2], fail[2]; /* each sign: the screen tangent's result, screened
                                                on the frozen memos, the trial's result, why it failed */
+    int path_n[2], held[2][1 + PSB__PATH_MAX], held_sign[2][1 + PSB__PATH_MAX]; /* the trial's path, and the */
+    unsigned long long held_key[2][2 + 2 * PSB__PATH_MAX];   /* memo entries of its screen tangent and path */
     psb_stats stats;         /* counters spent, merged in order */
     long faults[4], n_ok, looks, hits, memo_cuts, n_tangents, n_pc;
     int pchecks;
@@ -6094,7 +6116,12 @@ static void psb__task_trials(void *arg, int j, int w)
         if (!ws->branch.expert.no_screen) {
             psb__axpy_to(pk, p->y0, hh, tb, np1);
             rec->n_tangents++;
+            sw.held = 0;
             rs = psb__sample_tangent(ws, &sw, pk, tb, kx, &from_memo, p->y0);
+            rec->held[side][0] = sw.held;
+            rec->held_sign[side][0] = sw.held_sign;
+            rec->held_key[side][0] = sw.held_key[0];
+            rec->held_key[side][1] = sw.held_key[1];
             if (rs == PSB_SUCCESS && psb__trial_known(ws, &sw, kx, p->ts, p->n_br, sign < 0 ? tt : NULL, -1)) {
                 rec->rs[side] = rs;
                 rec->screened[side] = 1;
@@ -6115,6 +6142,14 @@ static void psb__task_trials(void *arg, int j, int w)
         rec->rt[side] = psb__try_step_from(ws, yb, tb, &hh, ws->branch.expert.trial_h_min, &iters, p->y0,
                                            watched ? &tw.base : NULL);
         rec->fail[side] = ws->internal_.last_fail;
+        rec->path_n[side] = watched ? tw.path_n : 0;
+        for (k = 0; k < rec->path_n[side]; k++) {
+            psb__copy(psb__task_vec(p, i, 7 + side * PSB__PATH_MAX + k), sw.path + (size_t)k * (size_t)np1, np1);
+            rec->held[side][1 + k] = tw.path_held[k];
+            rec->held_sign[side][1 + k] = tw.path_sign[k];
+            rec->held_key[side][2 + 2 * k] = tw.path_key[2 * k];
+            rec->held_key[side][3 + 2 * k] = tw.path_key[2 * k + 1];
+        }
         if (psb__is_fatal(rec->rt[side])) r = rec->rc = rec->rt[side];
         psb__note_fault(ws, rec->rt[side]);
     }
@@ -6290,11 +6325,21 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
             }
             psb__store_add(s, sw, sw->known, &sw->known_n, kx);
         }
+        /* the memo entries the trial made, as the serial sweep makes them */
+        for (k = 0; k <= rec->path_n[side]; k++)
+            if (rec->held[side][k] && psb__jmemo_find(sw, rec->held_key[side] + 2 * k) < 0)
+                psb__jmemo_store(s, sw, rec->held_key[side] + 2 * k,
+                                 k ? psb__task_vec(p, i, 6 + side * PSB__PATH_MAX + k) : kx, rec->held_sign[side][k]);
         r = (psb_result)rec->rt[side];
         if (psb__is_fault(r)) continue;
         cut = r != PSB_SUCCESS && rec->fail[side] == PSB__FAIL_KNOWN;
         rep->n_cut += cut;
-        if (r != PSB_SUCCESS) continue;
+        if (r != PSB_SUCCESS && !cut) continue;
+        for (k = 0; k < rec->path_n[side]; k++) {
+            const double *ki = psb__task_vec(p, i, 7 + side * PSB__PATH_MAX + k);
+            if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1)) psb__store_add(s, sw, sw->known, &sw->known_n, ki);
+        }
+        if (cut) continue;
         dist = psb__dist_w(s, yb, y0);
         if (dist < s->branch.h) continue;
         dotp = 0;
@@ -6326,9 +6371,8 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
 }
 
 /* psb__sweep on workers: the n_dir directions of the span of t1 and q (t2 made orthogonal), in
-   batches of s->branch.n_dir. Counts differ from the serial sweep's (the trials of a batch
-   neither see each other's memo entries nor record their corrector paths), results not at all
-   with the number of workers. */
+   batches of s->branch.n_dir. Counts differ from the serial sweep's (the trials of a batch do not
+   see each other's memo entries), results not at all with the number of workers. */
 static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t1,
                                  const double *q, int n_dir, int max_branches, double *ys, double *ts,
                                  psb_branch_report *rep, int *overflow)
