@@ -5885,8 +5885,16 @@ static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys
    and the trial's path (psb__trial_watch) */
 #define PSB__TASK_VECS (7 + 2 * PSB__PATH_MAX)
 
-/* One direction's task results and the counters its tasks spent (merged and cleared in
-   order by psb__task_merge). */
+/* What tasks spent, merged and cleared in order by psb__task_merge. */
+typedef struct psb__spent {
+    psb_stats stats;
+    long faults[4], n_ok, looks, hits, memo_cuts, n_tangents, n_pc;
+    int pchecks;
+    double pdrift, cone;
+    char message[200]; /* a fatal code's */
+} psb__spent;
+
+/* One direction's task results. */
 typedef struct psb__task {
     int skip;                /* no direction (v was 0) */
     int ra, from_memo;       /* phase A: the sample tangent's result, and its memo hit (1, 2) */
@@ -5895,18 +5903,15 @@ typedef struct psb__task {
     int follow;              /* takes its tangent from that direction's, the lead of its key (-1) */
     int sign;                /* its outward sign (psb__jmemo_store) */
     unsigned long long key[2];
-    int todo, pick;          /* the j-th task of a run: direction rec[j].todo (phase A), .pick (C) */
-    int rc, seen;            /* phase C: the refreshed tangent's result (or a fatal code); its
-                                tangent was tried before */
+    int todo, pick;          /* lists: rec[j].todo the j-th task's direction, rec[j].pick the j-th
+                                chosen direction */
+    int rc, seen, rcs[2];    /* phase C: the refreshed tangent's result; it was tried before; each
+                                sign's fatal code */
     int rs[2], screened[2], rt[2], fail[2]; /* each sign: the screen tangent's result, screened
                                                on the frozen memos, the trial's result, why it failed */
     int path_n[2], held[2][1 + PSB__PATH_MAX], held_sign[2][1 + PSB__PATH_MAX]; /* the trial's path, and the */
     unsigned long long held_key[2][2 + 2 * PSB__PATH_MAX];   /* memo entries of its screen tangent and path */
-    psb_stats stats;         /* counters spent, merged in order */
-    long faults[4], n_ok, looks, hits, memo_cuts, n_tangents, n_pc;
-    int pchecks;
-    double pdrift, cone;
-    char message[200];
+    psb__spent spent[2];     /* by its tasks: phase A's and the first sign's, the second sign's */
 } psb__task;
 
 typedef struct psb__par {
@@ -5974,7 +5979,7 @@ static void psb__workers_sync(psb_solver *s, const psb_workers *wk)
 /* A task's start on worker ws: sw becomes a frozen copy of the batch's memos with ws's own path,
    and ws forgets the factors it holds, so that what the task spends never depends on the task
    before it. The counters are taken from here on (psb__task_end). */
-static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state *sw, psb__task *rec)
+static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state *sw, psb__spent *rec)
 {
     *sw = *p->sw;
     sw->frozen = 1;
@@ -6001,7 +6006,7 @@ static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state 
 }
 
 /* A task's end: what it spent into rec (the fatal message too). */
-static void psb__task_end(const psb__par *p, psb_solver *ws, const psb__sweep_state *sw, psb__task *rec, psb_result r)
+static void psb__task_end(const psb__par *p, psb_solver *ws, const psb__sweep_state *sw, psb__spent *rec, psb_result r)
 {
     rec->stats.n_residual += ws->stats.n_residual;
     rec->stats.n_jacobian += ws->stats.n_jacobian;
@@ -6048,10 +6053,10 @@ static void psb__task_key(void *arg, int i, int w)
     double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
     psb_result r = PSB_SUCCESS;
     int by_piece = ws->prob.piece != NULL;
-    psb__task_begin(p, ws, &sw, rec);
+    psb__task_begin(p, ws, &sw, rec->spent);
     rec->skip = !psb__task_point(p, ws, i, v, pt);
     if (!rec->skip) {
-        rec->n_tangents++;
+        rec->spent[0].n_tangents++;
         if (by_piece) r = psb__piece_key(ws, pt, rec->key, &by_piece);
         if (r == PSB_SUCCESS && !by_piece && psb__jmemo_hashing(&sw)) {
             ws->stats.n_tangents++;
@@ -6063,7 +6068,7 @@ static void psb__task_key(void *arg, int i, int w)
         rec->keyed = r != PSB_SUCCESS ? 0 : by_piece < 0 ? 1 : by_piece ? 2 : 0;
     }
     rec->ra = r;
-    psb__task_end(p, ws, &sw, rec, r);
+    psb__task_end(p, ws, &sw, rec->spent, r);
 }
 
 /* Phase A, task j on worker w: the tangent at direction rec[j].todo's sample point. */
@@ -6076,71 +6081,72 @@ static void psb__task_tangent(void *arg, int j, int w)
     psb__sweep_state sw;
     double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
     psb_result r;
-    psb__task_begin(p, ws, &sw, rec);
+    psb__task_begin(p, ws, &sw, rec->spent);
     psb__task_point(p, ws, i, v, pt);
     r = psb__sample_tangent_at(ws, pt, v, psb__task_vec(p, i, 0));
     psb__note_fault(ws, r);
     rec->sign = ws->internal_.tangent_sign;
     rec->ra = r;
-    psb__task_end(p, ws, &sw, rec, r);
+    psb__task_end(p, ws, &sw, rec->spent, r);
 }
 
-/* Phase C, task j on worker w: the trials of direction rec[j].pick (psb__try_tangent on the
-   frozen memos; its entries are merged by psb__par_merge). */
-static void psb__task_trials(void *arg, int j, int w)
+/* Phase C, task j on worker w: the tangent at direction rec[j].todo's sample point again, where
+   phase A took it from the memo, which only chose it: the trials take the one at pt. */
+static void psb__task_refresh(void *arg, int j, int w)
 {
     psb__par *p = (psb__par *)arg;
     psb_solver *ws = p->wk->solver[w];
-    int i = p->rec[j].pick, np1 = ws->internal_.np1, k, side, iters, from_memo;
+    int i = p->rec[j].todo;
     psb__task *rec = p->rec + i;
     psb__sweep_state sw;
+    double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
+    psb_result r;
+    psb__task_begin(p, ws, &sw, rec->spent);
+    psb__task_point(p, ws, i, v, pt);
+    r = psb__sample_tangent_at(ws, pt, v, psb__task_vec(p, i, 0));
+    psb__note_fault(ws, r);
+    rec->rc = r;
+    psb__task_end(p, ws, &sw, rec->spent, r);
+}
+
+/* Phase C, task j on worker w: the trial of direction rec[j / 2].todo along +tt (j even) or -tt
+   (psb__try_tangent's, on the frozen memos; its memo entries and path are kept for the merge). */
+static void psb__task_side(void *arg, int j, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    int i = p->rec[j / 2].todo, side = j % 2, sign = side ? -1 : 1, np1 = ws->internal_.np1, k, iters, from_memo;
+    int watched = !ws->branch.expert.no_screen && !psb__fd_jacobian(&ws->prob);
+    psb__task *rec = p->rec + i;
+    psb__spent *sp = rec->spent + side;
+    psb__sweep_state sw;
     psb__trial_watch tw;
-    double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P), *pk = PSB__VEC(ws, PSB__V_BR_S);
-    double *tt = psb__task_vec(p, i, 0);
+    double *pk = PSB__VEC(ws, PSB__V_BR_S), *tt = psb__task_vec(p, i, 0), hh = ws->branch.h_init;
+    double *kx = psb__task_vec(p, i, 1 + 3 * side), *yb = psb__task_vec(p, i, 2 + 3 * side);
+    double *tb = psb__task_vec(p, i, 3 + 3 * side);
     psb_result r = PSB_SUCCESS;
-    psb__task_begin(p, ws, &sw, rec);
-    rec->rc = PSB_SUCCESS;
-    if (rec->from_memo) { /* the memo's tangent only chose: the trials take the one at pt */
-        psb__task_point(p, ws, i, v, pt);
-        r = psb__sample_tangent_at(ws, pt, v, tt);
-        psb__note_fault(ws, r);
-        rec->rc = r;
+    psb__task_begin(p, ws, &sw, sp);
+    for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
+    if (!ws->branch.expert.no_screen) {
+        psb__axpy_to(pk, p->y0, hh, tb, np1);
+        sp->n_tangents++;
+        sw.held = 0;
+        r = psb__sample_tangent(ws, &sw, pk, tb, kx, &from_memo, p->y0);
+        rec->held[side][0] = sw.held;
+        rec->held_sign[side][0] = sw.held_sign;
+        rec->held_key[side][0] = sw.held_key[0];
+        rec->held_key[side][1] = sw.held_key[1];
+        rec->screened[side] = r == PSB_SUCCESS && psb__trial_known(ws, &sw, kx, p->ts, p->n_br, side ? tt : NULL, -1);
+        if (r == PSB_SUCCESS && from_memo && !rec->screened[side]) r = psb__sample_tangent_at(ws, pk, tb, kx);
+        rec->rs[side] = r;
+        if (r == PSB_SUCCESS) psb__copy(tb, kx, np1);
     }
-    if (r == PSB_SUCCESS && !ws->branch.expert.no_memo && psb__memo_seen(ws, &sw, tt)) rec->seen = 1;
-    for (side = 0; side < 2 && r == PSB_SUCCESS && !rec->seen; side++) {
-        double *kx = psb__task_vec(p, i, 1 + 3 * side), *yb = psb__task_vec(p, i, 2 + 3 * side);
-        double *tb = psb__task_vec(p, i, 3 + 3 * side), hh = ws->branch.h_init;
-        int sign = side ? -1 : 1, watched;
-        psb_result rs = PSB_SUCCESS;
-        for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
-        if (!ws->branch.expert.no_screen) {
-            psb__axpy_to(pk, p->y0, hh, tb, np1);
-            rec->n_tangents++;
-            sw.held = 0;
-            rs = psb__sample_tangent(ws, &sw, pk, tb, kx, &from_memo, p->y0);
-            rec->held[side][0] = sw.held;
-            rec->held_sign[side][0] = sw.held_sign;
-            rec->held_key[side][0] = sw.held_key[0];
-            rec->held_key[side][1] = sw.held_key[1];
-            if (rs == PSB_SUCCESS && psb__trial_known(ws, &sw, kx, p->ts, p->n_br, sign < 0 ? tt : NULL, -1)) {
-                rec->rs[side] = rs;
-                rec->screened[side] = 1;
-                continue;
-            }
-            if (rs == PSB_SUCCESS && from_memo) rs = psb__sample_tangent_at(ws, pk, tb, kx);
-            rec->rs[side] = rs;
-            if (psb__is_fatal(rs)) {
-                r = rec->rc = rs;
-                break;
-            }
-            if (rs == PSB_SUCCESS) psb__copy(tb, kx, np1);
-        }
+    if (!psb__is_fatal(r) && !rec->screened[side]) {
         psb__copy(yb, p->y0, np1);
-        rec->n_pc++;
-        watched = !ws->branch.expert.no_screen && !psb__fd_jacobian(&ws->prob);
+        sp->n_pc++;
         psb__trial_watch_init(&tw, &sw, p->ts, p->n_br, -1, sw.conic_h0_ok ? p->y0 : NULL);
-        rec->rt[side] = psb__try_step_from(ws, yb, tb, &hh, ws->branch.expert.trial_h_min, &iters, p->y0,
-                                           watched ? &tw.base : NULL);
+        r = rec->rt[side] = psb__try_step_from(ws, yb, tb, &hh, ws->branch.expert.trial_h_min, &iters, p->y0,
+                                               watched ? &tw.base : NULL);
         rec->fail[side] = ws->internal_.last_fail;
         rec->path_n[side] = watched ? tw.path_n : 0;
         for (k = 0; k < rec->path_n[side]; k++) {
@@ -6150,15 +6156,15 @@ static void psb__task_trials(void *arg, int j, int w)
             rec->held_key[side][2 + 2 * k] = tw.path_key[2 * k];
             rec->held_key[side][3 + 2 * k] = tw.path_key[2 * k + 1];
         }
-        if (psb__is_fatal(rec->rt[side])) r = rec->rc = rec->rt[side];
-        psb__note_fault(ws, rec->rt[side]);
+        psb__note_fault(ws, r);
     }
-    psb__task_end(p, ws, &sw, rec, r);
+    rec->rcs[side] = psb__is_fatal(r) ? r : PSB_SUCCESS;
+    psb__task_end(p, ws, &sw, sp, r);
 }
 
 /* Merges what direction i's tasks spent into s, sw and rep, in order; their fatal code (or
    PSB_SUCCESS) with its message. */
-static psb_result psb__task_merge(psb_solver *s, psb__sweep_state *sw, psb__task *rec, psb_branch_report *rep,
+static psb_result psb__task_merge(psb_solver *s, psb__sweep_state *sw, psb__spent *rec, psb_branch_report *rep,
                                   psb_result r)
 {
     psb_stats *d = &rec->stats;
@@ -6236,12 +6242,12 @@ static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *r
     } else {
         for (i = 0; i < count; i++) {
             p->rec[i].skip = !psb__task_point(p, s, i, PSB__VEC(s, PSB__V_BR_V), PSB__VEC(s, PSB__V_BR_P));
-            p->rec[i].n_tangents = !p->rec[i].skip;
+            p->rec[i].spent[0].n_tangents = !p->rec[i].skip;
         }
     }
     for (i = 0; i < count; i++) {
         psb__task *rec = p->rec + i;
-        r = psb__task_merge(s, sw, rec, rep, rec->ra);
+        r = psb__task_merge(s, sw, rec->spent, rep, rec->ra);
         if (r != PSB_SUCCESS) return r;
         rec->follow = -1;
         if (rec->skip || rec->ra != PSB_SUCCESS) continue;
@@ -6276,7 +6282,7 @@ static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *r
             psb__task *rec = p->rec + i;
             if (rec->need) {
                 rec->need = 0;
-                r = psb__task_merge(s, sw, rec, rep, rec->ra);
+                r = psb__task_merge(s, sw, rec->spent, rep, rec->ra);
                 if (r != PSB_SUCCESS) return r;
                 if (rec->lead && rec->ra == PSB_SUCCESS) psb__jmemo_store(s, sw, rec->key, psb__task_vec(p, i, 0), rec->sign);
             } else if (rec->follow >= 0) {
@@ -6303,7 +6309,8 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
     const double *y0 = p->y0, *tt = psb__task_vec(p, i, 0);
     double *pk = PSB__VEC(s, PSB__V_BR_S);
     int np1 = s->internal_.np1, side, j, k;
-    psb_result r = psb__task_merge(s, sw, rec, rep, rec->rc);
+    psb_result r = psb__task_merge(s, sw, rec->spent, rep, psb__is_fatal(rec->rc) ? rec->rc : rec->rcs[0]);
+    if (r == PSB_SUCCESS) r = psb__task_merge(s, sw, rec->spent + 1, rep, rec->rcs[1]);
     if (r != PSB_SUCCESS) return r;
     if (rec->rc != PSB_SUCCESS) return PSB_SUCCESS; /* a fault, counted */
     if (!s->branch.expert.no_memo && (rec->seen || psb__memo_seen(s, sw, tt))) {
@@ -6378,7 +6385,7 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
                                  psb_branch_report *rep, int *overflow)
 {
     const psb_workers *wk = s->branch.workers;
-    int np1 = s->internal_.np1, batch = s->branch.n_dir, first, i, j, m;
+    int np1 = s->internal_.np1, batch = s->branch.n_dir, first, i, j, m, n;
     double *tprev = PSB__VEC(s, PSB__V_BR_TP);
     psb__par p;
     psb_result r;
@@ -6418,10 +6425,23 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
             }
             p.rec[n_pick++].pick = i;
         }
-        /* phase C: the trials on the memos as they are now; phase D: their merge in order */
+        /* phase C: the trials (both signs apart) on the memos as they are now; phase D: their
+           merge in order. A tangent phase A took from the memo places the screening points as
+           well as the computed one would (the trials go along the tangents there), so only
+           unscreened trials wait for it to be computed */
         p.ts = ts;
         p.n_br = rep->n_branches;
-        r = psb__par_run(&p, n_pick, psb__task_trials);
+        for (j = n = 0; j < n_pick; j++)
+            if (p.rec[p.rec[j].pick].from_memo && s->branch.expert.no_screen) p.rec[n++].todo = p.rec[j].pick;
+        r = psb__par_run(&p, n, psb__task_refresh);
+        if (r != PSB_SUCCESS) return r;
+        for (j = n = 0; j < n_pick; j++) {
+            psb__task *rec = p.rec + p.rec[j].pick;
+            if (rec->rc == PSB_SUCCESS && !s->branch.expert.no_memo)
+                rec->seen = psb__memo_seen(s, sw, psb__task_vec(&p, p.rec[j].pick, 0));
+            if (rec->rc == PSB_SUCCESS && !rec->seen) p.rec[n++].todo = p.rec[j].pick;
+        }
+        r = psb__par_run(&p, 2 * n, psb__task_side);
         if (r != PSB_SUCCESS) return r;
         for (j = 0; j < n_pick; j++) {
             r = psb__par_merge(&p, p.rec[j].pick, max_branches, ys, ts, rep, overflow);

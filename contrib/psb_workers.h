@@ -156,22 +156,28 @@ typedef struct psb_serial_workers {
     long critical, total, calls;
 } psb_serial_workers;
 
-/* psb_workers.run on ctx (psb_serial_workers, n <= PSB_SERIAL_MAX): task i on worker i % n. */
+/* psb_workers.run on ctx (psb_serial_workers, n <= PSB_SERIAL_MAX): each task in turn on the
+   worker that has made the fewest factorisations in this call (the first of them), as a pool
+   whose threads take the next task when free would place it. */
 static PSB_WORKERS_UNUSED int psb_serial_run(void *ctx, int n_tasks, psb_task_fn task, void *arg)
 {
     psb_serial_workers *p = (psb_serial_workers *)ctx;
     long spent[PSB_SERIAL_MAX] = {0}, most = 0;
-    int i;
+    int i, w, k;
     if (p->n < 1 || p->n > PSB_SERIAL_MAX) return -1;
     for (i = 0; i < n_tasks; i++) {
-        psb_solver *ws = p->solver[i % p->n];
-        long before = ws->stats.n_factor;
-        task(arg, i, i % p->n);
-        spent[i % p->n] += ws->stats.n_factor - before;
+        psb_solver *ws;
+        long before;
+        for (w = 0, k = 1; k < p->n; k++)
+            if (spent[k] < spent[w]) w = k;
+        ws = p->solver[w];
+        before = ws->stats.n_factor;
+        task(arg, i, w);
+        spent[w] += ws->stats.n_factor - before;
         p->total += ws->stats.n_factor - before;
     }
-    for (i = 0; i < p->n; i++)
-        if (spent[i] > most) most = spent[i];
+    for (w = 0; w < p->n; w++)
+        if (spent[w] > most) most = spent[w];
     p->critical += most;
     p->calls++;
     return 0;

@@ -22,7 +22,7 @@
                 [--start -1|1]
                 [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--no-screen] [--seed S]
                 [--solver dense|banded|umfpack|klu|mumps] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
-                [--expect-npc N] [--workers N]
+                [--expect-npc N] [--workers N [--logical]]
    (`block --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
    --save writes the branches' end points at |gamma| = 1; --refine reads such a file of a coarser
@@ -32,7 +32,8 @@
    this run's, branch by branch (Table 3). --expect-npc N: exit status 1 unless Algorithm 2.2's
    n_pc is N (the tests check Table 1's n_pc = 72 this way). --workers N: Algorithm 2.2's
    directions on N threads (fe/fe_workers.h; its results are the same for every N, and differ
-   from the serial sweep's, the default, in counts).
+   from the serial sweep's, the default, in counts); with --logical, N logical workers run one
+   after another, and the sweep's critical path in factorisations is printed.
    --solver: how the bordered systems are solved (fe/fe_solvers.h); by default the banded
    LU, and UMFPACK from M12800 (in a build with SuiteSparse), where it is 1.6x faster. --solver
    mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are installed):
@@ -99,6 +100,7 @@ static const char block_usage[] =
     "  --compare FILE        relative H1 errors of a coarser file's end points (up to 4 times)\n"
     "  --expect-npc N        fail unless Algorithm 2.2's n_pc is N\n"
     "  --workers N           Algorithm 2.2's directions on N threads, 1..64 (default: the serial sweep)\n"
+    "  --logical             --workers N as N logical workers in turn: the sweep's critical path\n"
     "  --out DIR             write CSV, VTK and plot.gp into DIR (created if missing)\n"
     "  --verbose             more detail on stdout\n"
     "  --quiet               no progress on stderr\n"
@@ -106,7 +108,7 @@ static const char block_usage[] =
 
 typedef struct args {
     int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, solver, maxiter, restart, paper_sweep, patience, no_screen, explore, no_piece_memo;
-    int workers; /* --workers N (0: the serial sweep) */
+    int workers, logical; /* --workers N (0: the serial sweep), --logical */
     double keep_mb;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (psb_branch_options.trial_h_min); h_init: one trial
@@ -144,6 +146,7 @@ static int parse(int argc, char **argv, args *a)
         else if (cli_flag(&c, "--paper-sweep")) a->paper_sweep = 1;
         else if (cli_flag(&c, "--no-screen")) a->no_screen = 1;
         else if (cli_flag(&c, "--no-piece-memo")) a->no_piece_memo = 1;
+        else if (cli_flag(&c, "--logical")) a->logical = 1;
         else if (cli_pair(&c, "--mesh", &a->nx, &a->ny, 2, BLOCK_MAX_MESH)) {}
         else if (cli_int(&c, "--ndir", &a->ndir, 1, BLOCK_MAX_NDIR)) {}
         else if (cli_int(&c, "--nspan", &a->nspan, 1, BLOCK_MAX_NSPAN)) {}
@@ -387,7 +390,7 @@ static int block_main(int argc, char **argv)
     }
     if (a.workers) {
         if (fs.kind == FE_SOLVER_MUMPS) { fprintf(stderr, "block: --workers: not with --solver mumps\n"); rc = 2; goto done; }
-        if (fe_workers_init(&fw, a.workers, &md, &opt, fs.kind, a.keep_mb, bo.n_dir, "block")) goto done;
+        if (fe_workers_init(&fw, a.workers, a.logical, &md, &opt, fs.kind, a.keep_mb, bo.n_dir, "block")) goto done;
         bo.workers = &fw.wk;
     }
     run.branch = bo;
@@ -418,7 +421,7 @@ static int block_main(int argc, char **argv)
     if (bw) printf("  weights of Algorithms 2.1-2.2: %g kappa for multipliers\n", a.branch_mult_weight);
     printf("  Algorithms 2.1-2.2: c_diff = %g, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            opt.c_diff, bo.h, bo.h_min, bo.h_init, bo.n_dir, bo.n_span, a.seed);
-    if (a.workers) printf("  Algorithm 2.2 on %d worker thread%s\n", a.workers, a.workers > 1 ? "s" : "");
+    if (a.workers) printf("  Algorithm 2.2 on %d %s\n", a.workers, a.logical ? "logical workers in turn" : a.workers > 1 ? "threads" : "thread");
     t0 = seconds();
     if (a.refine) {
         if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("block", a.refine, k); goto done; }
@@ -482,6 +485,11 @@ static int block_main(int argc, char **argv)
            run.brep.n_screened, run.brep.n_cut, run.brep.n_cut_memo);
     printf("  last new branch in span %d (a run with n_span = %d: n_pc = %ld, n_rand = %d)\n",
            run.brep.span_last_new, run.brep.span_last_new, run.brep.n_pc_last_new, run.brep.n_rand_last_new);
+    printf("  Algorithm 2.2: %ld factorisations", run.f22);
+    if (a.logical)
+        printf("; on %d logical workers the longest path %ld (%ld of them on the calling solver)", a.workers,
+               run.f22 - fw.logical.total + fw.logical.critical, run.f22 - fw.logical.total);
+    printf("\n");
 table:
     t1 = seconds();
     printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");

@@ -1,12 +1,14 @@
 /* fe_workers.h - --workers N for the FE applications: Algorithm 2.2's directions on N threads
    (contrib/psb_workers.h), each worker with its own copy of the model's scratch and its own
-   solver and backend (fe_solver_run_init). Include after fe_solvers.h; link with -pthread. */
+   solver and backend (fe_solver_run_init); with logical set, logical workers run one after
+   another instead, counting the factorisations of the longest (psb_serial_workers: a model of
+   the critical path). Include after fe_solvers.h; link with -pthread. */
 #ifndef FE_WORKERS_H
 #define FE_WORKERS_H
 
 #include "contrib/psb_workers.h"
 
-#define FE_MAX_WORKERS 64
+#define FE_MAX_WORKERS 64 /* PSB_SERIAL_MAX too */
 
 typedef struct fe_workers {
     int n;              /* 0: none (the serial sweep) */
@@ -15,6 +17,7 @@ typedef struct fe_workers {
     fe_run *run;        /* worker w's solver is run[w].s */
     psb_solver **solver;
     psb_threads th;
+    psb_serial_workers logical;
     psb_workers wk;
 } fe_workers;
 
@@ -33,8 +36,8 @@ static inline void fe_workers_free(fe_workers *fw)
 
 /* n workers (n <= FE_MAX_WORKERS) for the model md solved by `kind` with options opt, sweeping
    n_dir directions. 0, or -1 (said on stderr, nothing held). */
-static inline int fe_workers_init(fe_workers *fw, int n, const fe_model *md, const psb_options *opt, int kind,
-                                  double keep_mb, int n_dir, const char *prog)
+static inline int fe_workers_init(fe_workers *fw, int n, int logical, const fe_model *md, const psb_options *opt,
+                                  int kind, double keep_mb, int n_dir, const char *prog)
 {
     int w;
     memset(fw, 0, sizeof *fw);
@@ -65,13 +68,20 @@ static inline int fe_workers_init(fe_workers *fw, int n, const fe_model *md, con
         }
         fw->solver[w] = &fw->run[w].s;
     }
+    fw->wk.n_workers = n;
+    fw->wk.solver = fw->solver;
+    if (logical) {
+        fw->logical.n = n;
+        fw->logical.solver = fw->solver;
+        fw->wk.run = psb_serial_run;
+        fw->wk.ctx = &fw->logical;
+        return 0;
+    }
     if (psb_threads_init(&fw->th, n) != 0) {
         fprintf(stderr, "%s: cannot start %d threads\n", prog, n - 1);
         fe_workers_free(fw);
         return -1;
     }
-    fw->wk.n_workers = n;
-    fw->wk.solver = fw->solver;
     fw->wk.run = psb_threads_run;
     fw->wk.ctx = &fw->th;
     return 0;
