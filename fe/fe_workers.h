@@ -87,4 +87,15 @@ static inline int fe_workers_init(fe_workers *fw, int n, int logical, const fe_m
     return 0;
 }
 
+/* "Algorithm 2.2: F factorisations", F those of its last run, and with logical workers the
+   longest path through them. */
+static inline void fe_workers_print(const fe_workers *fw, long f22)
+{
+    printf("  Algorithm 2.2: %ld factorisations", f22);
+    if (fw->wk.run == psb_serial_run)
+        printf("; on %d logical workers the longest path %ld (%ld of them on the calling solver)", fw->n,
+               f22 - fw->logical.total + fw->logical.critical, f22 - fw->logical.total);
+    printf("\n");
+}
+
 #endif
