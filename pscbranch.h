@@ -78,6 +78,7 @@
    psb_switch_tangent           the tangent switch at a couple where steps fail
    psb_trace                    the driver: from (y, t) to a bound, budget, end point or loop
    psb_locate_end, psb_find_branches   Algorithms 2.1, 2.2: a branch's end point, the branches there
+   psb_workers_memory_size      the memory of Algorithm 2.2 on the caller's workers (section 6)
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
    psb_two_param_problem_init; psb_fold_map_memory_size, _init, _start, _refine   fold curves
@@ -200,7 +201,8 @@
      n_dir [20]                directions per span (branch point switch: 2 n_dir), <= 10000
      n_span [15]               counted spans, <= 10000; left at 0 (memo on), the length adapts
      n_span_max [60 if n_span is 0 and the memo is on, else n_span]  above n_span: adapts
-     max_pc [0: none]          stop the sweep once n_pc reaches this budget
+     max_pc [0: none]          stop the sweep once n_pc reaches this budget (workers: per n_dir)
+     workers [NULL: none]      Algorithm 2.2's directions on these workers (section 6, "Workers")
      expert (psb_branch_expert) for reproducing the paper and for experiments; a user leaves it 0:
      expert.as_printed [0]     1: as printed: the next three 1, restart _PAPER (_GLOBAL refused)
      expert.paper_sweep [0]    1: directions sin(a) t~1 + cos(a) t~2 as printed; closest pair first
@@ -245,8 +247,7 @@
    (stats.n_factor_reused). PSB_LINEAR_USER: problem.solver factors B in its own storage; contrib/
    has three (outside this header): psb_sparse.h (UMFPACK, KLU), psb_mumps.h (MUMPS over MPI
    ranks), psb_condense.h (static condensation where dH varies in a few rows). Every solver also
-   holds ~100 vectors of N+1 and Algorithm 2.2's memos, 2 or 3 x c (N+1) doubles, c = min(256,
-   max(32, 2^19 / (N+1))).
+   holds ~100 vectors of N+1 and Algorithm 2.2's memos (psb_solver_memory_size).
 
    Corrector and tangent. The tangent at y solves [dH(y); (W r)^T] t = e_{N+1}, r the reference
    direction; where that is singular or (dense) its scaled condition estimate exceeds 1/sqrt(eps),
@@ -327,14 +328,20 @@
    Random numbers: xoshiro256**, reseeded from options.seed at each call. Thin regions may need
    more n_span or n_dir (docs/branching-notes.md).
 
+   Workers (branch options' workers). run(ctx, n, task, arg) runs n tasks on the caller's workers,
+   each on its own solver of the problem (own user data, backend). A span goes in phases: sample
+   tangents (memo keys first: one piece, one tangent) on the workers; Step 4, the memo in order;
+   the trials, a task each sign, on the memos as the phase found them; all merged in order. Counts
+   differ from the serial sweep's (no trial sees another's memo entries), never with the workers.
+
    Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
    to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
-   (cos a t + sin a k), r = branch h_init, 2 n_dir angles (-t, then +t first: branches 0 and 1, the
-   traced curve), are corrected by Newton on the sphere ||y - y*||_w = r to where a branch crosses
-   it, whatever its curvature (within r sqrt(2 (1 - c_diff)): one branch); fewer than 4 branches,
-   or -t or +t lost: r/8, then r/64 (both lost: PSB_ERR_NO_CONVERGENCE). Each branch is walked back
-   towards y*; a kink on the way brings the sweep inside it (three rounds at most). A larger
-   kernel: up to 3 more directions by inverse iteration, 2 n_dir kdim^2 random trials in it.
+   (cos a t + sin a k), r = branch h_init, 2 n_dir angles (-t, then +t first: branches 0 and 1),
+   are corrected by Newton on the sphere ||y - y*||_w = r to where a branch crosses it (within r
+   sqrt(2 (1 - c_diff)): one branch); fewer than 4 branches, or -t or +t lost: r/8, then r/64
+   (both lost: PSB_ERR_NO_CONVERGENCE). Each branch is walked back towards y*; a kink on the way
+   brings the sweep inside it (three rounds at most). A larger kernel: up to 3 more directions by
+   inverse iteration, 2 n_dir kdim^2 random trials in it.
 
    Exploring the whole diagram (psb_explore). From a regular couple it traces every branch it can
    reach: nodes are special points, edges the segments between. The queue is the untraced branches,
@@ -344,25 +351,19 @@
    (nonsmooth, pc1 nodes), the branch point switch at a smooth branch point (branch node); branch 0
    is the one arrived by, the others join the queue. Folds and events are nodes on their edge. A
    branching point within node_tol + 4 (both precisions) of a node, or a chord passing that close,
-   arrives there (found through an index: the cost a node does not grow with the diagram). Two
-   branches whose signs cancel make an ordinary kink (d->n_kinks_plain): the edge goes on, or ends
-   at a kink node (kink_nodes). Odd or unbalanced nodes count in d->n_odd (they most likely miss a
-   branch). PC1 is silent where the branches a trace joins have opposite outward signs (the paper's
-   block): branch_at_kinks runs Algorithm 2.2 at every kink (kink_spans: a short look first, enough
-   where it met two pieces' tangents). JSON keys: format, version, n, param_index, complete
-   (psb_explore returned PSB_SUCCESS), failed_edges, untraced_branches, odd_nodes, nodes (id,
-   kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
-   from_branch, to, to_branch, end, result, points, length, path: the stored points); the CSV
-   writers give the same tables. All numbers in the C locale's notation whatever setlocale.
+   arrives there (found through an index). Two branches whose signs cancel make an ordinary kink
+   (d->n_kinks_plain): the edge goes on, or ends at a kink node (kink_nodes). Odd or unbalanced
+   nodes count in d->n_odd. PC1 is silent where the branches a trace joins have opposite outward
+   signs (the paper's block): branch_at_kinks runs Algorithm 2.2 at every kink (kink_spans: a
+   short look first). psb_diagram_write_json's declaration has the JSON keys.
 
-   Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves H_k(u,
-   lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls only).
-   Where Newton from u_{k-1} fails (a snap-through), Ligursky and Renard trace H_k = 0 from
-   (u_{k-1}, lambda_{k-1}), which solves it too, through folds and kinks to its first point at
-   lambda_k. Mode AUTO tries Newton first (kept unless farther than newton_max_jump); else y is
-   polished (a move over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, where it
-   lands exactly, and free on the other side (the path may pass below lambda_{k-1}). A path that
-   ends elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end), y kept.
+   Quasi-static evolution (psb_evolve_step). Step k solves H_k(u, lambda_k) = 0, H_k holding the
+   previous state (problem.user: update it between calls only). Where Newton from u_{k-1} fails (a
+   snap-through), H_k = 0 is traced from (u_{k-1}, lambda_{k-1}), which solves it too, through
+   folds and kinks to its first point at lambda_k. AUTO tries Newton first (kept unless farther
+   than newton_max_jump); else y is polished (a move over h_init: PSB_ERR_INPUT) and the trace is
+   bounded at lambda_k, where it lands exactly, free on the other side. A path that ends
+   elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end), y kept.
 
    Fold curves in two parameters (psb_fold_map_*). H is written once on (x, lambda, mu): at_mu is H
    at mu held; fold is [H; sigma] = 0 with mu its parameter, sigma from [H_x b; c^T 0] [v; sigma] =
@@ -373,16 +374,15 @@
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
    one piece: piece_request PSB_PIECE_DEFAULT (-1) picks it by the rules below, k >= 0 takes piece
    k's formula. Failures write nothing: PSB_ERR_NULL, _NONFINITE (also on overflow), _INPUT, _SIZE.
-   psb_proj_nonpos: min(x, 0); psb_proj_nonneg: max(x, 0). Pieces IN (x), OUT (0); x = 0: IN.
-   psb_proj_interval: min(max(x, a), b); IN, LOWER, UPPER (a == b: LOWER, or UPPER if x > b).
-   psb_proj_disk: onto {|x| <= s} in R^2 (s <= 0: {0}); IN, BOUNDARY (s x / |x|), ZERO.
-   psb_proj_cone: onto {|x_T| <= mu x_N} in R^3; IN, POLAR (0), BOUNDARY; mu = 0: IN never default.
-   psb_proj_half_active, _interval_active, _disk_active, _cone_active: the pieces active within tol.
-   psb_ac2d_node, _active, _state: a node's 2D Alart-Curnier residual (Haslinger et al.) with its
-     2 x 4 Jacobian and piece; its active pieces; its contact state.
-   psb_fc3d_ac, _jm, _nat: a contact's 3D Alart-Curnier, Jean-Moreau residuals and natural map with
-     De Saxce's velocity (psb_fc3d_desaxce) (Acary et al.); psb_fc_nat_error: their eq. (15).
-   psb_contact_convert: between the two conventions (r = -lam, u_N = g - u_n, u_T = -u_t).
+   psb_proj_nonpos, _nonneg: min(x, 0), max(x, 0); IN (x), OUT (0); x = 0: IN. psb_proj_interval:
+   min(max(x, a), b); IN, LOWER, UPPER (a == b: LOWER, or UPPER if x > b). psb_proj_disk: onto
+   {|x| <= s} in R^2 (s <= 0: {0}); IN, BOUNDARY (s x / |x|), ZERO. psb_proj_cone: onto {|x_T| <=
+   mu x_N} in R^3; IN, POLAR (0), BOUNDARY; mu = 0: IN never default. psb_proj_*_active: the pieces
+   active within tol. psb_ac2d_node, _active, _state: a node's 2D Alart-Curnier residual (Haslinger
+   et al.), its 2 x 4 Jacobian and piece; its active pieces; its state. psb_fc3d_ac, _jm, _nat: a
+   contact's 3D Alart-Curnier, Jean-Moreau residuals, natural map with De Saxce's velocity
+   (psb_fc3d_desaxce) (Acary et al.); psb_fc_nat_error: their eq. (15). psb_contact_convert:
+   between the two conventions (r = -lam, u_N = g - u_n, u_T = -u_t).
 
    8. COMPILE-TIME MACROS (define before including the header) ------------------------------------
    PSCBRANCH_IMPLEMENTATION   in exactly one file: compile the implementation there
@@ -618,7 +618,10 @@ typedef struct psb_branch_expert {
    and returns once all are done: 0, or nonzero for a failure (PSB_ERR_CALLBACK). solver[w] is
    worker w's solver: initialised on the same problem (its own user data and backend), distinct
    from the others and from the calling solver; each call sets its options to the caller's.
-   memory: at least psb_workers_memory_size(n, n_dir) bytes, aligned for double. */
+   memory: at least psb_workers_memory_size(n, n_dir) bytes, aligned for double. Same inputs:
+   same results, reports and counters, bit for bit, whatever n_workers and the order the tasks
+   ran in; counts differ from the serial sweep's (workers NULL). contrib/psb_workers.h has a run
+   on POSIX threads and one on logical workers in turn (a model of the critical path). */
 #define PSB_MAX_WORKERS 1024
 struct psb_solver;
 typedef void (*psb_task_fn)(void *arg, int task, int worker);
@@ -765,7 +768,8 @@ PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_opt
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
    invalid): the backend's matrices (dense ~ 2 (n+1)^2 doubles, banded ~ (4 kl + 3 ku) n), about
-   100 vectors of n+1 and Algorithm 2.2's memos (manual, section 6, "Linear algebra"). */
+   100 vectors of n+1 and Algorithm 2.2's memos, 2 or 3 x c (n+1) doubles, c = min(256, max(32,
+   2^19 / (n+1))). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
@@ -1408,10 +1412,13 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
 
 #ifdef PSCBRANCH_STDIO
 #include <stdio.h>
-/* The diagram as JSON (schema: manual section 6, "Exploring the whole diagram"), and as two
-   CSV tables, nodes and edges (either FILE may be NULL). Return PSB_SUCCESS, PSB_ERR_NULL, or
-   PSB_ERR_INPUT when writing failed. Defined where PSCBRANCH_STDIO is defined with the
-   implementation. */
+/* The diagram as JSON, and as two CSV tables, nodes and edges (either FILE may be NULL). JSON
+   keys: format, version, n, param_index, complete (psb_explore returned PSB_SUCCESS),
+   failed_edges, untraced_branches, odd_nodes, nodes (id, kind, param, precision, edge, event,
+   direction, y, branches: edge, y, t), edges (id, from, from_branch, to, to_branch, end, result,
+   points, length, path: the stored points); the CSV tables are the same. All numbers in the C
+   locale's notation whatever setlocale. Return PSB_SUCCESS, PSB_ERR_NULL, or PSB_ERR_INPUT when
+   writing failed. Defined where PSCBRANCH_STDIO is defined with the implementation. */
 PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f);
 PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes, FILE *edges);
 /* The edges' stored points (psb_diagram_set_points) as CSV: edge, index, y0 ... yn, one row a
@@ -5897,7 +5904,8 @@ typedef struct psb__spent {
 /* One direction's task results. */
 typedef struct psb__task {
     int skip;                /* no direction (v was 0) */
-    int ra, from_memo;       /* phase A: the sample tangent's result, and its memo hit (1, 2) */
+    psb_result ra;           /* phase A: the sample tangent's result, */
+    int from_memo;           /* and its memo hit (1, 2) */
     int keyed, need, lead;   /* its memo key (1 dH's hash, 2 a piece id), to be computed, leads its
                                 key (stores its tangent) */
     int follow;              /* takes its tangent from that direction's, the lead of its key (-1) */
@@ -5905,10 +5913,10 @@ typedef struct psb__task {
     unsigned long long key[2];
     int todo, pick;          /* lists: rec[j].todo the j-th task's direction, rec[j].pick the j-th
                                 chosen direction */
-    int rc, seen, rcs[2];    /* phase C: the refreshed tangent's result; it was tried before; each
-                                sign's fatal code */
-    int rs[2], screened[2], rt[2], fail[2]; /* each sign: the screen tangent's result, screened
-                                               on the frozen memos, the trial's result, why it failed */
+    psb_result rc, rcs[2];   /* phase C: the refreshed tangent's result; each sign's fatal code */
+    int seen;                /* its tangent was tried before */
+    psb_result rs[2], rt[2]; /* each sign: the screen tangent's result, the trial's; */
+    int screened[2], fail[2]; /* screened on the frozen memos, why the trial failed */
     int path_n[2], held[2][1 + PSB__PATH_MAX], held_sign[2][1 + PSB__PATH_MAX]; /* the trial's path, and the */
     unsigned long long held_key[2][2 + 2 * PSB__PATH_MAX];   /* memo entries of its screen tangent and path */
     psb__spent spent[2];     /* by its tasks: phase A's and the first sign's, the second sign's */
@@ -6337,7 +6345,7 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
             if (rec->held[side][k] && psb__jmemo_find(sw, rec->held_key[side] + 2 * k) < 0)
                 psb__jmemo_store(s, sw, rec->held_key[side] + 2 * k,
                                  k ? psb__task_vec(p, i, 6 + side * PSB__PATH_MAX + k) : kx, rec->held_sign[side][k]);
-        r = (psb_result)rec->rt[side];
+        r = rec->rt[side];
         if (psb__is_fault(r)) continue;
         cut = r != PSB_SUCCESS && rec->fail[side] == PSB__FAIL_KNOWN;
         rep->n_cut += cut;
