@@ -16,7 +16,8 @@
 #                  (find_package(pscbranch)), the docs and the programs' sources
 #   make uninstall PREFIX=... [DESTDIR=...]        removes what install put there
 #   (bash tests/packaging.sh checks install with pkg-config and CMake consumers; CI: .ci/run)
-#   make bench-large   the long benchmarks: block M12800 per backend, triangle fold studies
+#   make bench-large   the long benchmarks: block M12800 per backend and on 1 and 2 workers,
+#                  triangle fold studies
 # LAPACK_LIBS chooses the LAPACK/BLAS (default -llapack -lblas); HDF5= builds fc_solve without
 # HDF5 even when libhdf5-dev is installed; SUITESPARSE= builds the FE applications without
 # SuiteSparse; MUMPS= and MUMPS_SEQ= leave MUMPS out (below).
@@ -292,6 +293,7 @@ bench: $(BENCH) fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse) \
 	OPENBLAS_NUM_THREADS=1 ./bench/bench_explore --csv bench/out/explore.csv
 	$(if $(SS_LIBS),./bench/bench_sparse --csv bench/out/sparse.csv && bash bench/bench_solvers.sh)
 	bash bench/bench_block.sh
+	bash bench/bench_workers.sh
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh,echo "bench_mumps: no MUMPS with MPI, skipped")
 	REPEAT=1 bash bench/getfem_side_by_side.sh
 
@@ -301,6 +303,7 @@ bench-large: fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse)
 	@mkdir -p bench/out
 	$(if $(SS_LIBS),./bench/bench_sparse --large --csv bench/out/sparse_large.csv && bash bench/bench_solvers.sh --large,@echo "bench-large: needs SuiteSparse (libsuitesparse-dev)")
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh --large,@echo "bench-large: MUMPS with MPI not found, its runs skipped")
+	bash bench/bench_workers.sh --large
 
 # MUMPS= : Open MPI leaves its own allocations (~120 kB, none of ours) at MPI_Finalize, which
 # LeakSanitizer reports; the sequential MUMPS build runs under AddressSanitizer instead

@@ -485,7 +485,7 @@ static int block_main(int argc, char **argv)
            run.brep.n_screened, run.brep.n_cut, run.brep.n_cut_memo);
     printf("  last new branch in span %d (a run with n_span = %d: n_pc = %ld, n_rand = %d)\n",
            run.brep.span_last_new, run.brep.span_last_new, run.brep.n_pc_last_new, run.brep.n_rand_last_new);
-    if (a.workers) fe_workers_print(&fw, run.f22);
+    if (a.workers || a.verbose) fe_workers_print(&fw, run.f22);
 table:
     t1 = seconds();
     printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");

@@ -736,7 +736,7 @@ int main(int argc, char **argv)
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld, cut = %ld (by the memo %ld)\n",
            run.br[0].number, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_span_idle, run.brep.n_tangents,
            run.brep.n_screened, run.brep.n_cut, run.brep.n_cut_memo);
-    if (a.workers) fe_workers_print(&fw, run.f22);
+    if (a.workers || a.verbose) fe_workers_print(&fw, run.f22);
 table:
     printf("\n  branch  gamma   state                           contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
     ok = 1;

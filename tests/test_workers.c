@@ -1,7 +1,8 @@
 /* Algorithm 2.2 on workers (psb_branch_options.workers): bit-identical branch sets, reports and
    counters for 1, 2 and 4 workers, as threads (contrib/psb_workers.h) and as logical workers run
-   in turn, on the piecewise-linear families of bench/bench_branching.c and in psb_explore;
-   every branch the serial sweep finds is found; bad workers are refused. */
+   in turn, on the piecewise-linear families of bench/bench_branching.c, in psb_explore on them
+   and through pitchforks; every branch the serial sweep finds is found; bad workers are
+   refused. */
 #define PSCBRANCH_IMPLEMENTATION
 #include "../pscbranch.h"
 #include "../contrib/psb_workers.h"
@@ -291,6 +292,69 @@ static void test_explore(void)
     team_free(&t);
 }
 
+/* Two pitchforks, x1 at l = 0 and x2 at l = 1/2: H = (x1 (l - x1^2), x2 (l - 1/2 - x2^2)). */
+static int fork_res(const double *y, double *h, void *user)
+{
+    (void)user;
+    h[0] = y[0] * (y[2] - y[0] * y[0]);
+    h[1] = y[1] * (y[2] - 0.5 - y[1] * y[1]);
+    return 0;
+}
+
+static int fork_jac(const double *y, double *jac, int ld, void *user)
+{
+    (void)user;
+    jac[0] = y[2] - 3 * y[0] * y[0];
+    jac[1] = 0;
+    jac[ld] = 0;
+    jac[1 + ld] = y[2] - 0.5 - 3 * y[1] * y[1];
+    jac[2 * ld] = y[0];
+    jac[1 + 2 * ld] = y[1];
+    return 0;
+}
+
+/* psb_explore through the pitchforks (branch point switches, no Algorithm 2.2): the diagram
+   without workers, and the same one with 1, 2, 4 of them. */
+static void test_pitchforks(void)
+{
+    psb_problem prob;
+    psb_diagram first, other;
+    team t;
+    int k;
+    psb_problem_init(&prob, 2, fork_res, fork_jac, NULL);
+    if (team_init(&t, &prob) != 0) {
+        CHECK(!"team_init");
+        team_free(&t);
+        return;
+    }
+    for (k = 0; k < 7; k++) {
+        psb_solver s;
+        psb_explore_options eo;
+        psb_workers wk = team_workers(&t, k < 1 ? 1 : 1 << ((k - 1) % 3), k >= 4);
+        psb_diagram *d = k ? &other : &first;
+        double y[3] = {0, 0, -0.5}, tt[3] = {0, 0, 1}, lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 2};
+        CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(d, 2, 64, 64, 8) == PSB_SUCCESS);
+        memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH;
+        eo.trace.param_min = -0.5;
+        eo.trace.param_max = 1.5;
+        eo.box_min = lo;
+        eo.box_max = hi;
+        eo.branch.workers = k ? &wk : NULL;
+        CHECK(psb_explore(&s, y, tt, &eo, d) == PSB_SUCCESS);
+        if (k) {
+            CHECK(same_diagram(&first, &other));
+            psb_diagram_free(&other);
+        } else {
+            CHECK(first.n_branchings == 4); /* x2's pitchfork on x1's arms too */
+        }
+        psb_solver_free(&s);
+    }
+    psb_diagram_free(&first);
+    team_free(&t);
+}
+
 static int fail_run(void *ctx, int n_tasks, psb_task_fn task, void *arg)
 {
     (void)ctx, (void)n_tasks, (void)task, (void)arg;
@@ -369,6 +433,7 @@ int main(void)
 {
     test_families();
     test_explore();
+    test_pitchforks();
     test_bad_workers();
     return HARNESS_END();
 }
