@@ -5916,7 +5916,8 @@ typedef struct psb__task {
     psb_result rc, rcs[2];   /* phase C: the refreshed tangent's result; each sign's fatal code */
     int seen;                /* its tangent was tried before */
     psb_result rs[2], rt[2]; /* each sign: the screen tangent's result, the trial's; */
-    int screened[2], fail[2]; /* screened on the frozen memos, why the trial failed */
+    int screened[2], go[2], fail[2]; /* screened (frozen memos, earlier screening tangents), the
+                                        trial to make, why it failed */
     int path_n[2], held[2][1 + PSB__PATH_MAX], held_sign[2][1 + PSB__PATH_MAX]; /* the trial's path, and the */
     unsigned long long held_key[2][2 + 2 * PSB__PATH_MAX];   /* memo entries of its screen tangent and path */
     psb__spent spent[2];     /* by its tasks: phase A's and the first sign's, the second sign's */
@@ -6117,55 +6118,73 @@ static void psb__task_refresh(void *arg, int j, int w)
     psb__task_end(p, ws, &sw, rec->spent, r);
 }
 
-/* Phase C, task j on worker w: the trial of direction rec[j / 2].todo along +tt (j even) or -tt
-   (psb__try_tangent's, on the frozen memos; its memo entries and path are kept for the merge). */
-static void psb__task_side(void *arg, int j, int w)
+/* Phase C, task j on worker w: the screening tangent of direction rec[j / 2].todo along +tt (j
+   even) or -tt (psb__try_tangent's, on the frozen memos, its memo entry kept for the merge). */
+static void psb__task_screen(void *arg, int j, int w)
 {
     psb__par *p = (psb__par *)arg;
     psb_solver *ws = p->wk->solver[w];
-    int i = p->rec[j / 2].todo, side = j % 2, sign = side ? -1 : 1, np1 = ws->internal_.np1, k, iters, from_memo;
+    int i = p->rec[j / 2].todo, side = j % 2, np1 = ws->internal_.np1, k, from_memo;
+    psb__task *rec = p->rec + i;
+    psb__spent *sp = rec->spent + side;
+    psb__sweep_state sw;
+    double *pk = PSB__VEC(ws, PSB__V_BR_S), *tt = psb__task_vec(p, i, 0);
+    double *kx = psb__task_vec(p, i, 1 + 3 * side), *tb = psb__task_vec(p, i, 3 + 3 * side);
+    psb_result r;
+    psb__task_begin(p, ws, &sw, sp);
+    for (k = 0; k < np1; k++) tb[k] = (side ? -1 : 1) * tt[k];
+    psb__axpy_to(pk, p->y0, ws->branch.h_init, tb, np1);
+    sp->n_tangents++;
+    sw.held = 0;
+    r = psb__sample_tangent(ws, &sw, pk, tb, kx, &from_memo, p->y0);
+    rec->held[side][0] = sw.held;
+    rec->held_sign[side][0] = sw.held_sign;
+    rec->held_key[side][0] = sw.held_key[0];
+    rec->held_key[side][1] = sw.held_key[1];
+    rec->screened[side] = r == PSB_SUCCESS && psb__trial_known(ws, &sw, kx, p->ts, p->n_br, side ? tt : NULL, -1);
+    if (r == PSB_SUCCESS && from_memo && !rec->screened[side]) r = psb__sample_tangent_at(ws, pk, tb, kx);
+    rec->rs[side] = r;
+    rec->rcs[side] = psb__is_fatal(r) ? r : PSB_SUCCESS;
+    psb__task_end(p, ws, &sw, sp, r);
+}
+
+/* Phase C, task j on worker w: the trial of direction rec[j / 2].todo along +tt (j even) or -tt,
+   when the screening let it through (go), along the screening tangent (psb__try_tangent's, on the
+   frozen memos; its memo entries and path are kept for the merge). */
+static void psb__task_trial(void *arg, int j, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    int i = p->rec[j / 2].todo, side = j % 2, np1 = ws->internal_.np1, k, iters;
     int watched = !ws->branch.expert.no_screen && !psb__fd_jacobian(&ws->prob);
     psb__task *rec = p->rec + i;
     psb__spent *sp = rec->spent + side;
     psb__sweep_state sw;
     psb__trial_watch tw;
-    double *pk = PSB__VEC(ws, PSB__V_BR_S), *tt = psb__task_vec(p, i, 0), hh = ws->branch.h_init;
-    double *kx = psb__task_vec(p, i, 1 + 3 * side), *yb = psb__task_vec(p, i, 2 + 3 * side);
-    double *tb = psb__task_vec(p, i, 3 + 3 * side);
-    psb_result r = PSB_SUCCESS;
+    double *tt = psb__task_vec(p, i, 0), hh = ws->branch.h_init;
+    double *yb = psb__task_vec(p, i, 2 + 3 * side), *tb = psb__task_vec(p, i, 3 + 3 * side);
+    psb_result r;
+    if (!rec->go[side]) return;
     psb__task_begin(p, ws, &sw, sp);
-    for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
-    if (!ws->branch.expert.no_screen) {
-        psb__axpy_to(pk, p->y0, hh, tb, np1);
-        sp->n_tangents++;
-        sw.held = 0;
-        r = psb__sample_tangent(ws, &sw, pk, tb, kx, &from_memo, p->y0);
-        rec->held[side][0] = sw.held;
-        rec->held_sign[side][0] = sw.held_sign;
-        rec->held_key[side][0] = sw.held_key[0];
-        rec->held_key[side][1] = sw.held_key[1];
-        rec->screened[side] = r == PSB_SUCCESS && psb__trial_known(ws, &sw, kx, p->ts, p->n_br, side ? tt : NULL, -1);
-        if (r == PSB_SUCCESS && from_memo && !rec->screened[side]) r = psb__sample_tangent_at(ws, pk, tb, kx);
-        rec->rs[side] = r;
-        if (r == PSB_SUCCESS) psb__copy(tb, kx, np1);
+    if (ws->branch.expert.no_screen || rec->rs[side] != PSB_SUCCESS)
+        for (k = 0; k < np1; k++) tb[k] = (side ? -1 : 1) * tt[k];
+    else
+        psb__copy(tb, psb__task_vec(p, i, 1 + 3 * side), np1);
+    psb__copy(yb, p->y0, np1);
+    sp->n_pc++;
+    psb__trial_watch_init(&tw, &sw, p->ts, p->n_br, -1, sw.conic_h0_ok ? p->y0 : NULL);
+    r = rec->rt[side] = psb__try_step_from(ws, yb, tb, &hh, ws->branch.expert.trial_h_min, &iters, p->y0,
+                                           watched ? &tw.base : NULL);
+    rec->fail[side] = ws->internal_.last_fail;
+    rec->path_n[side] = watched ? tw.path_n : 0;
+    for (k = 0; k < rec->path_n[side]; k++) {
+        psb__copy(psb__task_vec(p, i, 7 + side * PSB__PATH_MAX + k), sw.path + (size_t)k * (size_t)np1, np1);
+        rec->held[side][1 + k] = tw.path_held[k];
+        rec->held_sign[side][1 + k] = tw.path_sign[k];
+        rec->held_key[side][2 + 2 * k] = tw.path_key[2 * k];
+        rec->held_key[side][3 + 2 * k] = tw.path_key[2 * k + 1];
     }
-    if (!psb__is_fatal(r) && !rec->screened[side]) {
-        psb__copy(yb, p->y0, np1);
-        sp->n_pc++;
-        psb__trial_watch_init(&tw, &sw, p->ts, p->n_br, -1, sw.conic_h0_ok ? p->y0 : NULL);
-        r = rec->rt[side] = psb__try_step_from(ws, yb, tb, &hh, ws->branch.expert.trial_h_min, &iters, p->y0,
-                                               watched ? &tw.base : NULL);
-        rec->fail[side] = ws->internal_.last_fail;
-        rec->path_n[side] = watched ? tw.path_n : 0;
-        for (k = 0; k < rec->path_n[side]; k++) {
-            psb__copy(psb__task_vec(p, i, 7 + side * PSB__PATH_MAX + k), sw.path + (size_t)k * (size_t)np1, np1);
-            rec->held[side][1 + k] = tw.path_held[k];
-            rec->held_sign[side][1 + k] = tw.path_sign[k];
-            rec->held_key[side][2 + 2 * k] = tw.path_key[2 * k];
-            rec->held_key[side][3 + 2 * k] = tw.path_key[2 * k + 1];
-        }
-        psb__note_fault(ws, r);
-    }
+    psb__note_fault(ws, r);
     rec->rcs[side] = psb__is_fatal(r) ? r : PSB_SUCCESS;
     psb__task_end(p, ws, &sw, sp, r);
 }
@@ -6215,6 +6234,35 @@ static psb_result psb__par_run(psb__par *p, int n, psb_task_fn task)
     if (p->wk->run(p->wk->ctx, n, task, p) != 0)
         return psb__fail(p->s, PSB_ERR_CALLBACK, "workers: run failed");
     return PSB_SUCCESS;
+}
+
+/* Which trials of the n directions rec[j].todo to make: those the screening on the frozen memos
+   let through, unless the screening tangent of one before it (in order) already stands for it,
+   as it would in the known memo of the serial sweep. A fatal screening ends the list there. */
+static void psb__par_screen(psb__par *p, int n)
+{
+    psb_solver *s = p->s;
+    int j, side, m, other, fatal = 0;
+    for (j = 0; j < n; j++)
+        for (side = 0; side < 2; side++) {
+            psb__task *rec = p->rec + p->rec[j].todo;
+            const double *kx = psb__task_vec(p, p->rec[j].todo, 1 + 3 * side);
+            double nx;
+            rec->go[side] = 0;
+            if (fatal || rec->screened[side]) continue;
+            fatal = rec->rcs[side] != PSB_SUCCESS;
+            rec->go[side] = !fatal;
+            if (fatal || s->branch.expert.no_screen || rec->rs[side] != PSB_SUCCESS) continue;
+            nx = psb__norm_w(s, kx);
+            for (m = 0; m <= j && !rec->screened[side]; m++)
+                for (other = 0; other < (m < j ? 2 : side); other++) {
+                    const psb__task *o = p->rec + p->rec[m].todo;
+                    if (o->go[other] && o->rs[other] == PSB_SUCCESS &&
+                        psb__cos_w_na(s, kx, nx, psb__task_vec(p, p->rec[m].todo, 1 + 3 * other)) >= s->opt.c_diff)
+                        rec->screened[side] = 1;
+                }
+            rec->go[side] = !rec->screened[side];
+        }
 }
 
 /* Orients the memo tangent tm by direction i's v into its tangent (psb__jmemo_get's test): 1, or
@@ -6449,7 +6497,10 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
                 rec->seen = psb__memo_seen(s, sw, psb__task_vec(&p, p.rec[j].pick, 0));
             if (rec->rc == PSB_SUCCESS && !rec->seen) p.rec[n++].todo = p.rec[j].pick;
         }
-        r = psb__par_run(&p, 2 * n, psb__task_side);
+        r = psb__par_run(&p, s->branch.expert.no_screen ? 0 : 2 * n, psb__task_screen);
+        if (r != PSB_SUCCESS) return r;
+        psb__par_screen(&p, n);
+        r = psb__par_run(&p, 2 * n, psb__task_trial);
         if (r != PSB_SUCCESS) return r;
         for (j = 0; j < n_pick; j++) {
             r = psb__par_merge(&p, p.rec[j].pick, max_branches, ys, ts, rep, overflow);
