@@ -5677,6 +5677,53 @@ static int psb__same_curved_branch(psb_solver *s, const double *y0, const double
     return psb__dist_w(s, z, yb) <= d * sqrt(2 * (1 - s->opt.c_diff));
 }
 
+/* Appends the branch (yb, tb) to (ys, ts), or sets *overflow when there is no room. */
+static void psb__add_branch(const psb_solver *s, const double *yb, const double *tb, int max_branches, double *ys,
+                            double *ts, psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->internal_.np1;
+    if (rep->n_branches >= max_branches) {
+        *overflow = 1;
+        return;
+    }
+    psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
+    psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
+    rep->n_branches++;
+}
+
+/* Step 5 for a trial from y0 that landed at yb with tangent tb (turned away from y0 here): a new
+   branch into (ys, ts) unless it lies within h of y0 or is a found one (*overflow when there is
+   no room). Returns PSB_SUCCESS or a fatal code. */
+static psb_result psb__take_landing(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *yb,
+                                    double *tb, int max_branches, double *ys, double *ts,
+                                    psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->internal_.np1, j, k, is_new = 1;
+    double *pk = PSB__VEC(s, PSB__V_BR_S), dotp = 0, turn, dist = psb__dist_w(s, yb, y0);
+    /* a point closer to y0 than the sampling distance h tells nothing reliable about the
+       branches: pieces that touch the end point are active there */
+    if (dist < s->branch.h) return PSB_SUCCESS;
+    /* Step 5(i): orient away from the point */
+    for (k = 0; k < np1; k++) dotp += s->internal_.w[k] * tb[k] * (yb[k] - y0[k]);
+    if (dotp < 0)
+        for (k = 0; k < np1; k++) tb[k] = -tb[k];
+    turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
+    if (turn > sw->chord_turn_max) sw->chord_turn_max = turn;
+    if (turn < sw->chord_turn_min) sw->chord_turn_min = turn;
+    /* Step 5(ii): a new branch unless it is within c_diff of a known one */
+    for (j = 0; j < rep->n_branches; j++)
+        if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
+    for (j = 0; j < rep->n_branches && is_new; j++) {
+        int same = psb__same_curved_branch(s, y0, yb, tb, ys + (size_t)j * (size_t)np1,
+                                           ts + (size_t)j * (size_t)np1);
+        if (same < 0) return (psb_result)same;
+        is_new = !same;
+    }
+    if (!is_new) return PSB_SUCCESS;
+    psb__add_branch(s, yb, tb, max_branches, ys, ts, rep, overflow);
+    return PSB_SUCCESS;
+}
+
 /* Steps 5-7 of Algorithm 2.2 for the tangent tt: trial steps from y0 along +tt and -tt, and
    a new branch for each that converges away from y0 in a direction no known branch has.
    Skipped when tt was tried before in this call (memo). Stops before a trial when the n_pc
@@ -5711,8 +5758,8 @@ static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const do
         return PSB_SUCCESS;
     }
     for (sign = 1; sign >= -1; sign -= 2) {
-        double hh = s->branch.h_init, dotp, dist, turn;
-        int j, is_new = 1;
+        double hh = s->branch.h_init;
+        int j;
         own = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
@@ -5768,35 +5815,8 @@ static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const do
                 psb__store_add(s, sw, sw->known, &sw->known_n, ki);
         }
         if (cut) continue;
-        /* a point closer to y0 than the sampling distance h tells nothing reliable about the
-           branches: pieces that touch the end point are active there */
-        dist = psb__dist_w(s, yb, y0);
-        if (dist < s->branch.h) continue;
-        /* Step 5(i): orient away from the point */
-        dotp = 0;
-        for (k = 0; k < np1; k++) dotp += s->internal_.w[k] * tb[k] * (yb[k] - y0[k]);
-        if (dotp < 0)
-            for (k = 0; k < np1; k++) tb[k] = -tb[k];
-        turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
-        if (turn > sw->chord_turn_max) sw->chord_turn_max = turn;
-        if (turn < sw->chord_turn_min) sw->chord_turn_min = turn;
-        /* Step 5(ii): a new branch unless it is within c_diff of a known one */
-        for (j = 0; j < rep->n_branches; j++)
-            if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
-        for (j = 0; j < rep->n_branches && is_new; j++) {
-            int same = psb__same_curved_branch(s, y0, yb, tb, ys + (size_t)j * (size_t)np1,
-                                               ts + (size_t)j * (size_t)np1);
-            if (same < 0) return (psb_result)same;
-            is_new = !same;
-        }
-        if (!is_new) continue;
-        if (rep->n_branches >= max_branches) {
-            *overflow = 1;
-            continue;
-        }
-        psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
-        psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
-        rep->n_branches++;
+        r = psb__take_landing(s, sw, y0, yb, tb, max_branches, ys, ts, rep, overflow);
+        if (r != PSB_SUCCESS) return r;
     }
     if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);
     return PSB_SUCCESS;
@@ -6080,7 +6100,8 @@ static void psb__task_key(void *arg, int i, int w)
     psb__task_end(p, ws, &sw, rec->spent, r);
 }
 
-/* Phase A, task j on worker w: the tangent at direction rec[j].todo's sample point. */
+/* Phase A, task j on worker w: the tangent at direction rec[j].todo's sample point (phase C
+   again where phase A took it from the memo, which only chose it, and the trial goes along it). */
 static void psb__task_tangent(void *arg, int j, int w)
 {
     psb__par *p = (psb__par *)arg;
@@ -6096,25 +6117,6 @@ static void psb__task_tangent(void *arg, int j, int w)
     psb__note_fault(ws, r);
     rec->sign = ws->internal_.tangent_sign;
     rec->ra = r;
-    psb__task_end(p, ws, &sw, rec->spent, r);
-}
-
-/* Phase C, task j on worker w: the tangent at direction rec[j].todo's sample point again, where
-   phase A took it from the memo, which only chose it: the trials take the one at pt. */
-static void psb__task_refresh(void *arg, int j, int w)
-{
-    psb__par *p = (psb__par *)arg;
-    psb_solver *ws = p->wk->solver[w];
-    int i = p->rec[j].todo;
-    psb__task *rec = p->rec + i;
-    psb__sweep_state sw;
-    double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
-    psb_result r;
-    psb__task_begin(p, ws, &sw, rec->spent);
-    psb__task_point(p, ws, i, v, pt);
-    r = psb__sample_tangent_at(ws, pt, v, psb__task_vec(p, i, 0));
-    psb__note_fault(ws, r);
-    rec->rc = r;
     psb__task_end(p, ws, &sw, rec->spent, r);
 }
 
@@ -6363,8 +6365,7 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
     psb__sweep_state *sw = p->sw;
     psb__task *rec = p->rec + i;
     const double *y0 = p->y0, *tt = psb__task_vec(p, i, 0);
-    double *pk = PSB__VEC(s, PSB__V_BR_S);
-    int np1 = s->internal_.np1, side, j, k;
+    int side, k;
     psb_result r = psb__task_merge(s, sw, rec->spent, rep, psb__is_fatal(rec->rc) ? rec->rc : rec->rcs[0]);
     if (r == PSB_SUCCESS) r = psb__task_merge(s, sw, rec->spent + 1, rep, rec->rcs[1]);
     if (r != PSB_SUCCESS) return r;
@@ -6375,8 +6376,8 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
     }
     for (side = 0; side < 2; side++) {
         double *kx = psb__task_vec(p, i, 1 + 3 * side), *yb = psb__task_vec(p, i, 2 + 3 * side);
-        double *tb = psb__task_vec(p, i, 3 + 3 * side), dist, dotp, turn;
-        int is_new = 1, cut;
+        double *tb = psb__task_vec(p, i, 3 + 3 * side);
+        int cut;
         if (rec->screened[side]) {
             rep->n_screened++;
             continue;
@@ -6403,31 +6404,8 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
             if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1)) psb__store_add(s, sw, sw->known, &sw->known_n, ki);
         }
         if (cut) continue;
-        dist = psb__dist_w(s, yb, y0);
-        if (dist < s->branch.h) continue;
-        dotp = 0;
-        for (k = 0; k < np1; k++) dotp += s->internal_.w[k] * tb[k] * (yb[k] - y0[k]);
-        if (dotp < 0)
-            for (k = 0; k < np1; k++) tb[k] = -tb[k];
-        turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
-        if (turn > sw->chord_turn_max) sw->chord_turn_max = turn;
-        if (turn < sw->chord_turn_min) sw->chord_turn_min = turn;
-        for (j = 0; j < rep->n_branches; j++)
-            if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
-        for (j = 0; j < rep->n_branches && is_new; j++) {
-            int same = psb__same_curved_branch(s, y0, yb, tb, ys + (size_t)j * (size_t)np1,
-                                               ts + (size_t)j * (size_t)np1);
-            if (same < 0) return (psb_result)same;
-            is_new = !same;
-        }
-        if (!is_new) continue;
-        if (rep->n_branches >= max_branches) {
-            *overflow = 1;
-            continue;
-        }
-        psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
-        psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
-        rep->n_branches++;
+        r = psb__take_landing(s, sw, y0, yb, tb, max_branches, ys, ts, rep, overflow);
+        if (r != PSB_SUCCESS) return r;
     }
     if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);
     return PSB_SUCCESS;
@@ -6489,8 +6467,9 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
         p.n_br = rep->n_branches;
         for (j = n = 0; j < n_pick; j++)
             if (p.rec[p.rec[j].pick].from_memo && s->branch.expert.no_screen) p.rec[n++].todo = p.rec[j].pick;
-        r = psb__par_run(&p, n, psb__task_refresh);
+        r = psb__par_run(&p, n, psb__task_tangent);
         if (r != PSB_SUCCESS) return r;
+        for (j = 0; j < n; j++) p.rec[p.rec[j].todo].rc = p.rec[p.rec[j].todo].ra;
         for (j = n = 0; j < n_pick; j++) {
             psb__task *rec = p.rec + p.rec[j].pick;
             if (rec->rc == PSB_SUCCESS && !s->branch.expert.no_memo)
@@ -6944,13 +6923,7 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
         for (j = 0; j < rep->n_branches; j++)
             if (psb__dist_w(s, yb, ys + (size_t)j * (size_t)np1) <= same) return PSB_SUCCESS;
     }
-    if (rep->n_branches >= max_branches) {
-        *overflow = 1;
-        return PSB_SUCCESS;
-    }
-    psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
-    psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
-    rep->n_branches++;
+    psb__add_branch(s, yb, tb, max_branches, ys, ts, rep, overflow);
     return PSB_SUCCESS;
 }
 
