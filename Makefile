@@ -226,6 +226,8 @@ SMOKE = "smoke:$(BUILD)/consumer" \
 	"smoke:fe/block --explore" \
 	"smoke:fe/triangle --mesh 16 --explore" \
 	"smoke:fe/triangle --mesh 16 --explore --problem fold" \
+	"smoke:bash tests/workers_fe.sh fe/block" "smoke:bash tests/workers_fe.sh fe/block --explore" \
+	"smoke:bash tests/workers_fe.sh fe/triangle --mesh 16" \
 	"smoke:fe/quasistatic --mesh 8 --dt 0.1" $(SMOKE_SPARSE) $(SMOKE_MUMPS) \
 	"smoke:bash tests/cli.sh" \
 	"smoke:bash tests/readme_program.sh"

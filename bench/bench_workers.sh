@@ -8,11 +8,13 @@
 #      the calling solver's own added; against the serial sweep's factorisations.
 # Tables on stdout; CSV in bench/out/workers_wall.csv, workers_model.csv; the log-log plot of 2 in
 # docs/img/workers_critical_path.png when gnuplot is there. Usage: bench/bench_workers.sh [--large]
+# [--plot] (--plot: only redraw the plot from bench/out/workers_model.csv)
 set -u
 cd "$(dirname "$0")/.."
 large=0
+plot_only=0
 for a in "$@"; do
-    case "$a" in --large) large=1 ;; esac
+    case "$a" in --large) large=1 ;; --plot) plot_only=1 ;; esac
 done
 mkdir -p bench/out
 export OPENBLAS_NUM_THREADS=1
@@ -22,6 +24,8 @@ for p in fe/block fe/triangle; do [ -x "$p" ] || { echo "build $p first (make ex
 f22() { printf '%s\n' "$1" | sed -n 's/.*Algorithm 2.2: \([0-9]*\) factorisations.*/\1/p' | head -n 1; }
 crit() { printf '%s\n' "$1" | sed -n 's/.*the longest path \([0-9]*\).*/\1/p' | head -n 1; }
 
+model_csv=bench/out/workers_model.csv
+if [ "$plot_only" = 0 ]; then
 echo "bench_workers: Algorithm 2.2 on workers (nproc $(nproc), OPENBLAS_NUM_THREADS=1)"
 echo
 echo "  case            sweep       wall [s]  CPU [s]  factorisations in 2.2  branches  ratio to 1 worker"
@@ -54,7 +58,6 @@ done
 echo
 echo "  the sweep's critical path in factorisations (logical workers in turn)"
 echo "  case            serial sweep  phased total      W=1    W=2    W=4    W=8   W=16   W=32  (W=32)/serial"
-model_csv=bench/out/workers_model.csv
 echo "case,workers,critical_path,phased_total,serial_sweep" >"$model_csv"
 for c in "block-M200:fe/block" "block-M800:fe/block --mesh 20x40" "triangle-M256:fe/triangle --mesh 16" \
          "triangle-M1024:fe/triangle --mesh 32"; do
@@ -73,6 +76,7 @@ for c in "block-M200:fe/block" "block-M800:fe/block --mesh 20x40" "triangle-M256
     printf '  %-15s %12s %13s %s  %13s\n' "$name" "$serial" "$total" "$row" \
         "$(awk -v a="$cp" -v b="$serial" 'BEGIN { printf "%.3f", a / b }')"
 done
+fi
 
 if command -v gnuplot >/dev/null 2>&1; then
     mkdir -p docs/img
@@ -82,14 +86,14 @@ set output "docs/img/workers_critical_path.png"
 set datafile separator ","
 set logscale xy 2
 set xlabel "logical workers W"
-set ylabel "factorisations on the critical path of Algorithm 2.2"
-set key outside right
+set ylabel "factorisations on the critical path"
+set title "Algorithm 2.2 on W workers: the longest worker's factorisations (dashed: serial sweep / 8)"
+set key top right
 set grid
 set xtics (1, 2, 4, 8, 16, 32)
-plot for [c in "block-M200 block-M800 triangle-M256 triangle-M1024"] \
-       "< grep '^".c.",' $model_csv" using 2:3 with linespoints title c, \
-     for [c in "block-M200 block-M800 triangle-M256 triangle-M1024"] \
-       "< grep '^".c.",' $model_csv" using 2:(\$5 / 8) with lines dashtype 2 title c." serial / 8"
+cases = "block-M200 block-M800 triangle-M256 triangle-M1024"
+plot for [i = 1:4] "< grep '^".word(cases, i).",' $model_csv" using 2:3 with linespoints lc i title word(cases, i), \
+     for [i = 1:4] "< grep '^".word(cases, i).",' $model_csv" using 2:(\$5 / 8) with lines dashtype 2 lc i notitle
 GP
     echo
     echo "  wrote docs/img/workers_critical_path.png"
