@@ -1,8 +1,8 @@
 /* Algorithm 2.2 on workers (psb_branch_options.workers): bit-identical branch sets, reports and
    counters for 1, 2 and 4 workers, as threads (contrib/psb_workers.h) and as logical workers run
    in turn, on the piecewise-linear families of bench/bench_branching.c, in psb_explore on them
-   and through pitchforks; every branch the serial sweep finds is found; bad workers are
-   refused. */
+   and through pitchforks; every branch the serial sweep finds is found; a callback failing on a
+   worker fails the call as it fails the serial sweep; bad workers are refused. */
 #define PSCBRANCH_IMPLEMENTATION
 #include "../pscbranch.h"
 #include "../contrib/psb_workers.h"
@@ -355,6 +355,80 @@ static void test_pitchforks(void)
     team_free(&t);
 }
 
+/* The crossing kinks, whose callbacks fail (mode 1: > 0, a fault; -1: < 0, fatal) where x_0 < 0
+   once armed. */
+typedef struct failing {
+    pl_problem p;
+    int mode, armed;
+} failing;
+
+static int failing_res(const double *y, double *h, void *user)
+{
+    const failing *f = (const failing *)user;
+    if (f->armed && y[0] < 0) return f->mode;
+    return pl_residual(y, h, (void *)&f->p);
+}
+
+static int failing_jac(const double *y, double *jac, int ld, void *user)
+{
+    const failing *f = (const failing *)user;
+    if (f->armed && y[0] < 0) return f->mode;
+    return pl_jacobian(y, jac, ld, (void *)&f->p);
+}
+
+/* A callback's failure on a worker: the serial sweep's code, and the same code, report, counters
+   and message for every worker count. */
+static void test_failing_callbacks(void)
+{
+    static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    static outcome o;
+    failing f;
+    psb_problem prob;
+    team t;
+    int mode, k;
+    pl_crossing_kinks(&f.p, 3, rays);
+    psb_problem_init(&prob, 3, failing_res, failing_jac, &f);
+    if (team_init(&t, &prob) != 0) {
+        CHECK(!"team_init");
+        team_free(&t);
+        return;
+    }
+    for (mode = -1; mode <= 1; mode += 2) {
+        char first_message[200] = "";
+        psb_branch_report first_rep;
+        for (k = 0; k < 7; k++) {
+            psb_solver s;
+            psb_branch_options bo;
+            psb_workers wk = team_workers(&t, k < 1 ? 1 : 1 << ((k - 1) % 3), k >= 4);
+            double y[4], tt[4];
+            psb_result r;
+            f.mode = mode;
+            f.armed = 0;
+            memset(&bo, 0, sizeof bo);
+            CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+            pl_start_on_ray(4, rays, 1, y, tt);
+            r = pl_trace_to_kink(&s, y, tt, NULL);
+            CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
+            CHECK(psb_locate_end(&s, y, tt, &bo, NULL) == PSB_SUCCESS);
+            f.armed = 1;
+            bo.workers = k ? &wk : NULL;
+            r = psb_find_branches(&s, y, tt, &bo, PL_MAX_RAYS, o.ys, o.ts, &o.rep);
+            CHECK(r == (mode < 0 ? PSB_ERR_CALLBACK : PSB_ERR_CALLBACK_FAILED));
+            CHECK(s.message[0] != 0);
+            if (mode > 0) CHECK(o.rep.n_failed_callback > 0);
+            if (k == 1) {
+                first_rep = o.rep;
+                memcpy(first_message, s.message, sizeof first_message);
+            } else if (k > 1) {
+                CHECK(!memcmp(&first_rep, &o.rep, sizeof first_rep));
+                CHECK(!strcmp(first_message, s.message));
+            }
+            psb_solver_free(&s);
+        }
+    }
+    team_free(&t);
+}
+
 static int fail_run(void *ctx, int n_tasks, psb_task_fn task, void *arg)
 {
     (void)ctx, (void)n_tasks, (void)task, (void)arg;
@@ -434,6 +508,7 @@ int main(void)
     test_families();
     test_explore();
     test_pitchforks();
+    test_failing_callbacks();
     test_bad_workers();
     return HARNESS_END();
 }
