@@ -93,9 +93,10 @@ static psb_workers team_workers(team *t, int n, int threads)
     return wk;
 }
 
-/* Algorithm 2.2 entered along ray `incoming`, with workers wk (NULL: none), into *o. */
+/* Algorithm 2.2 entered along ray `incoming`, with the options bo0 and workers wk (NULL: none),
+   into *o. */
 static void branch_on_ray(const psb_problem *prob, const double *rays, int n_rays, int incoming,
-                          const psb_workers *wk, outcome *o)
+                          const psb_branch_options *bo0, const psb_workers *wk, outcome *o)
 {
     psb_solver s;
     psb_branch_options bo;
@@ -104,7 +105,7 @@ static void branch_on_ray(const psb_problem *prob, const double *rays, int n_ray
     int np1 = prob->n + 1;
     psb_result r;
     memset(o, 0, sizeof *o);
-    memset(&bo, 0, sizeof bo);
+    bo = *bo0;
     o->r = PSB_ERR_INPUT;
     if (psb_solver_init(&s, prob, NULL) != PSB_SUCCESS) return;
     pl_start_on_ray(np1, rays, incoming, y, t);
@@ -126,8 +127,10 @@ static int same_outcome(const outcome *a, const outcome *b, int np1)
            !memcmp(a->ys, b->ys, len) && !memcmp(a->ts, b->ts, len);
 }
 
-/* Every ray of a problem entered in turn: serial, then 1, 2, 4 workers both ways. */
-static void check_problem(const char *name, const psb_problem *prob, const double *rays, int n_rays)
+/* Every ray of a problem entered in turn with the options bo: serial, then 1, 2, 4 workers both
+   ways. */
+static void check_problem(const char *name, const psb_problem *prob, const double *rays, int n_rays,
+                          const psb_branch_options *bo)
 {
     static outcome serial, first, other;
     team t;
@@ -139,12 +142,12 @@ static void check_problem(const char *name, const psb_problem *prob, const doubl
     }
     for (incoming = 0; incoming < n_rays; incoming++) {
         int n, threads;
-        branch_on_ray(prob, rays, n_rays, incoming, NULL, &serial);
+        branch_on_ray(prob, rays, n_rays, incoming, bo, NULL, &serial);
         for (threads = 0; threads <= 1; threads++)
             for (n = 1; n <= MAX_W; n *= 2) {
                 psb_workers wk = team_workers(&t, n, threads);
                 outcome *o = !threads && n == 1 ? &first : &other;
-                branch_on_ray(prob, rays, n_rays, incoming, &wk, o);
+                branch_on_ray(prob, rays, n_rays, incoming, bo, &wk, o);
                 if (o != &first) bad += !same_outcome(&first, o, np1);
             }
         CHECK(first.r == PSB_SUCCESS);
@@ -166,12 +169,21 @@ static void test_families(void)
 {
     static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
     psb_problem prob;
+    psb_branch_options bo, printed;
     int k, d;
+    memset(&bo, 0, sizeof bo);
+    printed = bo;
+    printed.expert.as_printed = 1;
+    printed.expert.restart = PSB_RESTART_PAPER;
     for (k = 2; k <= 4; k++) {
         pl_problem p;
         int n_rays = pl_crossing_kinks(&p, k, rays);
         psb_problem_init(&prob, k, pl_residual, pl_jacobian, &p);
-        check_problem("crossing kinks", &prob, rays, n_rays);
+        check_problem("crossing kinks", &prob, rays, n_rays, &bo);
+        if (k > 3) continue; /* the printed sweep and differences cost 10x */
+        check_problem("crossing kinks, as printed", &prob, rays, n_rays, &printed);
+        prob.jacobian = NULL;
+        check_problem("crossing kinks, differences", &prob, rays, n_rays, &bo);
     }
     for (k = 4; k <= 6; k += 2) {
         unsigned long long st = 777 + (unsigned long long)k;
@@ -180,7 +192,7 @@ static void test_families(void)
             int n_rays = pl_random_lcp(&p, k, &st, 1, rays);
             if (!n_rays) break;
             psb_problem_init(&prob, k, pl_residual, pl_jacobian, &p);
-            check_problem("random LCP", &prob, rays, n_rays);
+            check_problem("random LCP", &prob, rays, n_rays, &bo);
         }
     }
     for (k = 1; k <= 3; k++) {
@@ -190,7 +202,7 @@ static void test_families(void)
             int n_rays = pl_random_contact(&p, k, &st, rays);
             if (!n_rays) break;
             psb_problem_init(&prob, 4 * k, pl_contact_residual, pl_contact_jacobian, &p);
-            check_problem("contact system", &prob, rays, n_rays);
+            check_problem("contact system", &prob, rays, n_rays, &bo);
         }
     }
     {
@@ -200,7 +212,7 @@ static void test_families(void)
             int n_rays = pl_random_ave(&p, 4, &st, rays);
             if (!n_rays) break;
             psb_problem_init(&prob, 4, pl_ave_residual, pl_ave_jacobian, &p);
-            check_problem("abs. value eqs", &prob, rays, n_rays);
+            check_problem("abs. value eqs", &prob, rays, n_rays, &bo);
         }
     }
     printf("  %ld runs: factorisations %ld serial, %ld on workers; n_pc %ld, %ld\n", summary_runs,
