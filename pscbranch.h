@@ -5901,12 +5901,14 @@ static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys
 }
 
 /* ---- Algorithm 2.2 on workers (psb_branch_options.workers) ----------------------------------
-   A span's directions go in batches of n_dir: phase A samples every direction's tangent on the
-   workers, phase B screens them in order (Step 4, the memo) on the calling solver, phase C makes
-   the chosen directions' trials on the workers, phase D merges them in order. A task reads the
-   memos as the batch found them (psb__sweep_state.frozen) and its results are merged, its memo
-   entries included, as a serial pass would take them, so the result depends on the batch
-   alone, never on which worker ran what or when. */
+   A span's directions go in batches of n_dir. Phase A, on the workers: every direction's memo
+   key, then the tangents of the keys neither the memo nor an earlier direction holds. Phase B, in
+   order on the calling solver: Step 4 and the memo choose the directions to try. Phase C, on the
+   workers: their screening tangents, then (after a screening in order) their trials, each sign a
+   task. Phase D, in order: psb__try_tangent's decisions on the trials' results. A task reads the
+   memos as its phase found them (psb__sweep_state.frozen) and writes only its own record; the
+   merges take records in order. So the result depends on the batch alone, never on which worker
+   ran what or when. */
 
 /* a direction's vectors: its tangent; for each sign the screen tangent, landing point and tangent,
    and the trial's path (psb__trial_watch) */
@@ -5933,13 +5935,15 @@ typedef struct psb__task {
     unsigned long long key[2];
     int todo, pick;          /* lists: rec[j].todo the j-th task's direction, rec[j].pick the j-th
                                 chosen direction */
-    psb_result rc, rcs[2];   /* phase C: the refreshed tangent's result; each sign's fatal code */
+    psb_result rc, rcs[2];   /* phase C: the recomputed tangent's result (unscreened trials);
+                                each sign's fatal code */
     int seen;                /* its tangent was tried before */
     psb_result rs[2], rt[2]; /* each sign: the screen tangent's result, the trial's; */
     int screened[2], go[2], fail[2]; /* screened (frozen memos, earlier screening tangents), the
                                         trial to make, why it failed */
-    int path_n[2], held[2][1 + PSB__PATH_MAX], held_sign[2][1 + PSB__PATH_MAX]; /* the trial's path, and the */
-    unsigned long long held_key[2][2 + 2 * PSB__PATH_MAX];   /* memo entries of its screen tangent and path */
+    int path_n[2];           /* each sign: the trial's path, and the memo entries of its screening */
+    int held[2][1 + PSB__PATH_MAX], held_sign[2][1 + PSB__PATH_MAX]; /* tangent and its path */
+    unsigned long long held_key[2][2 + 2 * PSB__PATH_MAX];
     psb__spent spent[2];     /* by its tasks: phase A's and the first sign's, the second sign's */
 } psb__task;
 
@@ -5967,7 +5971,8 @@ static psb_result psb__check_workers(psb_solver *s, const psb_branch_options *b)
     if (!wk) return PSB_SUCCESS;
     if (wk->n_workers < 1 || wk->n_workers > PSB_MAX_WORKERS)
         return psb__fail(s, PSB_ERR_SIZE, "workers: n_workers must lie in [1, PSB_MAX_WORKERS = 1024]");
-    if (!wk->run || !wk->solver || !wk->memory) return psb__fail(s, PSB_ERR_NULL, "workers: run, solver or memory is NULL");
+    if (!wk->run || !wk->solver || !wk->memory)
+        return psb__fail(s, PSB_ERR_NULL, "workers: run, solver or memory is NULL");
     for (w = 0; w < wk->n_workers; w++) {
         const psb_solver *ws = wk->solver[w];
         if (!ws || ws->internal_.ready != PSB__READY)
@@ -6342,7 +6347,8 @@ static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *r
                 rec->need = 0;
                 r = psb__task_merge(s, sw, rec->spent, rep, rec->ra);
                 if (r != PSB_SUCCESS) return r;
-                if (rec->lead && rec->ra == PSB_SUCCESS) psb__jmemo_store(s, sw, rec->key, psb__task_vec(p, i, 0), rec->sign);
+                if (rec->lead && rec->ra == PSB_SUCCESS)
+                    psb__jmemo_store(s, sw, rec->key, psb__task_vec(p, i, 0), rec->sign);
             } else if (rec->follow >= 0) {
                 const psb__task *lead = p->rec + rec->follow;
                 if (lead->ra == PSB_SUCCESS && psb__par_oriented(p, i, psb__task_vec(p, rec->follow, 0)))
@@ -6401,7 +6407,8 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
         if (r != PSB_SUCCESS && !cut) continue;
         for (k = 0; k < rec->path_n[side]; k++) {
             const double *ki = psb__task_vec(p, i, 7 + side * PSB__PATH_MAX + k);
-            if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1)) psb__store_add(s, sw, sw->known, &sw->known_n, ki);
+            if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1))
+                psb__store_add(s, sw, sw->known, &sw->known_n, ki);
         }
         if (cut) continue;
         r = psb__take_landing(s, sw, y0, yb, tb, max_branches, ys, ts, rep, overflow);
