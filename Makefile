@@ -154,6 +154,8 @@ TESTS += $(BUILD)/test_mumps
 SMOKE_MUMPS = "smoke:bash tests/mumps_ends.sh fe/block"
 ifneq ($(MPIRUN),)
 TESTS += $(BUILD)/test_mumps_np2
+# Algorithm 2.2 on 1, 2, 4 MPI ranks (contrib/psb_workers_mpi.h): fe/block --workers mpi
+SMOKE_MUMPS += "smoke:bash tests/workers_mpi.sh" "smoke:bash tests/workers_mpi.sh --explore"
 endif
 endif
 ifeq ($(MUMPS_SEQ),yes)
@@ -196,7 +198,7 @@ fe/block fe/triangle: fe/%: fe/%.c $(HEADER) fe/fe.h fe/explore_out.h fe/cli.h f
 		contrib/psb_sparse.h contrib/psb_condense.h contrib/psb_workers.h $(BUILD)/suitesparse-$(SUITESPARSE)
 	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(if $(filter fe/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
 		$(if $(filter fe/block,$@),$(BLOCK_LIBS)) $(LIBS) -pthread
-fe/block: fe/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
+fe/block: fe/fe_mumps.h contrib/psb_mumps.h contrib/psb_workers_mpi.h $(BUILD)/block-mumps-$(MUMPS)
 
 $(BUILD)/test_sparse: tests/test_sparse.c tests/condense_decl.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h \
 		fe/fe.h $(HEADER) $(BUILD)/contrib_cxx.o | $(BUILD)

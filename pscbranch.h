@@ -1033,6 +1033,12 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
    or a solver of another size or backend), PSB_ERR_INPUT (a solver given twice, or the calling
    one), PSB_ERR_NOMEM (memory too small) and PSB_ERR_CALLBACK (run failed). */
 PSCBRANCH_DEF size_t psb_workers_memory_size(int n, int n_dir);
+/* For workers in address spaces of their own (MPI ranks that all run the same program on the
+   same data, each with one solver, n_workers 1): what task `task` of a run (arg as given to run)
+   writes, bytes at out, and its group; tasks of one group must run on one rank, and once they
+   ran, their bytes go to every other rank (MPI_Bcast from it: contrib/psb_workers_mpi.h). */
+PSCBRANCH_DEF void psb_workers_task_output(const void *arg, int task, int *group, void **out,
+                                           size_t *bytes);
 
 /* Branches through a smooth branch point located by psb_trace (y, t, kernel of a
    PSB_SPECIAL_BRANCH point): every branch's couple (ys[k*(n+1) ...], ts[k*(n+1) ...],
@@ -5953,9 +5959,30 @@ typedef struct psb__par {
     const psb_workers *wk;
     const double *y0, *t1, *q, *ts; /* the point, the span's plane, the found branches */
     int n_br, n_dir, first;         /* found branches; directions first + i of n_dir */
-    psb__task *rec;
-    double *vec;                    /* PSB__TASK_VECS vectors per direction */
+    char *mem;                      /* the records: each direction's psb__task and its */
+    size_t stride;                  /* PSB__TASK_VECS vectors, stride bytes in all */
+    int phase;                      /* the current run's tasks (PSB__PHASE_*) */
 } psb__par;
+
+/* The tasks of a run: memo keys (task j: direction j), tangents (direction rec[j].todo), screening
+   tangents and trials (direction rec[j / 2].todo, sign j % 2). */
+enum { PSB__PHASE_KEY, PSB__PHASE_TANGENT, PSB__PHASE_SCREEN, PSB__PHASE_TRIAL };
+
+/* Direction i's record. */
+static psb__task *psb__rec(const psb__par *p, int i)
+{
+    return (psb__task *)(void *)(p->mem + (size_t)i * p->stride);
+}
+
+PSCBRANCH_DEF void psb_workers_task_output(const void *arg, int task, int *group, void **out, size_t *bytes)
+{
+    const psb__par *p = (const psb__par *)arg;
+    static const int vecs[4] = {0, 1, 7, PSB__TASK_VECS}; /* the vectors each phase's tasks write */
+    int i = p->phase == PSB__PHASE_KEY ? task : psb__rec(p, p->phase == PSB__PHASE_TANGENT ? task : task / 2)->todo;
+    *group = i;
+    *out = psb__rec(p, i);
+    *bytes = sizeof(psb__task) + (size_t)vecs[p->phase] * (size_t)p->s->internal_.np1 * sizeof(double);
+}
 
 PSCBRANCH_DEF size_t psb_workers_memory_size(int n, int n_dir)
 {
@@ -5994,7 +6021,7 @@ static psb_result psb__check_workers(psb_solver *s, const psb_branch_options *b)
 /* Vector k of direction i's task. */
 static double *psb__task_vec(const psb__par *p, int i, int k)
 {
-    return p->vec + ((size_t)i * PSB__TASK_VECS + (size_t)k) * (size_t)p->s->internal_.np1;
+    return (double *)(void *)(psb__rec(p, i) + 1) + (size_t)k * (size_t)p->s->internal_.np1;
 }
 
 /* Sets the workers to the calling solver's options, weights and H(y0) (before a batch). */
@@ -6082,7 +6109,7 @@ static void psb__task_key(void *arg, int i, int w)
 {
     psb__par *p = (psb__par *)arg;
     psb_solver *ws = p->wk->solver[w];
-    psb__task *rec = p->rec + i;
+    psb__task *rec = psb__rec(p, i);
     psb__sweep_state sw;
     double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
     psb_result r = PSB_SUCCESS;
@@ -6111,8 +6138,8 @@ static void psb__task_tangent(void *arg, int j, int w)
 {
     psb__par *p = (psb__par *)arg;
     psb_solver *ws = p->wk->solver[w];
-    int i = p->rec[j].todo;
-    psb__task *rec = p->rec + i;
+    int i = psb__rec(p, j)->todo;
+    psb__task *rec = psb__rec(p, i);
     psb__sweep_state sw;
     double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
     psb_result r;
@@ -6131,8 +6158,8 @@ static void psb__task_screen(void *arg, int j, int w)
 {
     psb__par *p = (psb__par *)arg;
     psb_solver *ws = p->wk->solver[w];
-    int i = p->rec[j / 2].todo, side = j % 2, np1 = ws->internal_.np1, k, from_memo;
-    psb__task *rec = p->rec + i;
+    int i = psb__rec(p, j / 2)->todo, side = j % 2, np1 = ws->internal_.np1, k, from_memo;
+    psb__task *rec = psb__rec(p, i);
     psb__spent *sp = rec->spent + side;
     psb__sweep_state sw;
     double *pk = PSB__VEC(ws, PSB__V_BR_S), *tt = psb__task_vec(p, i, 0);
@@ -6162,9 +6189,9 @@ static void psb__task_trial(void *arg, int j, int w)
 {
     psb__par *p = (psb__par *)arg;
     psb_solver *ws = p->wk->solver[w];
-    int i = p->rec[j / 2].todo, side = j % 2, np1 = ws->internal_.np1, k, iters;
+    int i = psb__rec(p, j / 2)->todo, side = j % 2, np1 = ws->internal_.np1, k, iters;
     int watched = !ws->branch.expert.no_screen && !psb__fd_jacobian(&ws->prob);
-    psb__task *rec = p->rec + i;
+    psb__task *rec = psb__rec(p, i);
     psb__spent *sp = rec->spent + side;
     psb__sweep_state sw;
     psb__trial_watch tw;
@@ -6235,9 +6262,10 @@ static psb_result psb__task_merge(psb_solver *s, psb__sweep_state *sw, psb__spen
 }
 
 /* Runs n tasks on the workers. */
-static psb_result psb__par_run(psb__par *p, int n, psb_task_fn task)
+static psb_result psb__par_run(psb__par *p, int n, psb_task_fn task, int phase)
 {
     if (n == 0) return PSB_SUCCESS;
+    p->phase = phase;
     if (p->wk->run(p->wk->ctx, n, task, p) != 0)
         return psb__fail(p->s, PSB_ERR_CALLBACK, "workers: run failed");
     return PSB_SUCCESS;
@@ -6252,8 +6280,8 @@ static void psb__par_screen(psb__par *p, int n)
     int j, side, m, other, fatal = 0;
     for (j = 0; j < n; j++)
         for (side = 0; side < 2; side++) {
-            psb__task *rec = p->rec + p->rec[j].todo;
-            const double *kx = psb__task_vec(p, p->rec[j].todo, 1 + 3 * side);
+            psb__task *rec = psb__rec(p, psb__rec(p, j)->todo);
+            const double *kx = psb__task_vec(p, psb__rec(p, j)->todo, 1 + 3 * side);
             double nx;
             rec->go[side] = 0;
             if (fatal || rec->screened[side]) continue;
@@ -6263,9 +6291,9 @@ static void psb__par_screen(psb__par *p, int n)
             nx = psb__norm_w(s, kx);
             for (m = 0; m <= j && !rec->screened[side]; m++)
                 for (other = 0; other < (m < j ? 2 : side); other++) {
-                    const psb__task *o = p->rec + p->rec[m].todo;
+                    const psb__task *o = psb__rec(p, psb__rec(p, m)->todo);
                     if (o->go[other] && o->rs[other] == PSB_SUCCESS &&
-                        psb__cos_w_na(s, kx, nx, psb__task_vec(p, p->rec[m].todo, 1 + 3 * other)) >= s->opt.c_diff)
+                        psb__cos_w_na(s, kx, nx, psb__task_vec(p, psb__rec(p, m)->todo, 1 + 3 * other)) >= s->opt.c_diff)
                         rec->screened[side] = 1;
                 }
             rec->go[side] = !rec->screened[side];
@@ -6300,16 +6328,16 @@ static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *r
     int np1 = s->internal_.np1, i, j, m, n, round;
     psb_result r;
     if (s->prob.piece || psb__jmemo_hashing(sw)) {
-        r = psb__par_run(p, count, psb__task_key);
+        r = psb__par_run(p, count, psb__task_key, PSB__PHASE_KEY);
         if (r != PSB_SUCCESS) return r;
     } else {
         for (i = 0; i < count; i++) {
-            p->rec[i].skip = !psb__task_point(p, s, i, PSB__VEC(s, PSB__V_BR_V), PSB__VEC(s, PSB__V_BR_P));
-            p->rec[i].spent[0].n_tangents = !p->rec[i].skip;
+            psb__rec(p, i)->skip = !psb__task_point(p, s, i, PSB__VEC(s, PSB__V_BR_V), PSB__VEC(s, PSB__V_BR_P));
+            psb__rec(p, i)->spent[0].n_tangents = !psb__rec(p, i)->skip;
         }
     }
     for (i = 0; i < count; i++) {
-        psb__task *rec = p->rec + i;
+        psb__task *rec = psb__rec(p, i);
         r = psb__task_merge(s, sw, rec->spent, rep, rec->ra);
         if (r != PSB_SUCCESS) return r;
         rec->follow = -1;
@@ -6327,7 +6355,7 @@ static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *r
             continue;
         }
         for (j = 0; j < i; j++)
-            if (p->rec[j].lead && p->rec[j].key[0] == rec->key[0] && p->rec[j].key[1] == rec->key[1]) break;
+            if (psb__rec(p, j)->lead && psb__rec(p, j)->key[0] == rec->key[0] && psb__rec(p, j)->key[1] == rec->key[1]) break;
         if (j < i) {
             sw->jmemo_hits++;
             rec->need = 0;
@@ -6338,11 +6366,11 @@ static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *r
     }
     for (round = 0; round < 2; round++) {
         for (i = n = 0; i < count; i++)
-            if (p->rec[i].need) p->rec[n++].todo = i;
-        r = psb__par_run(p, n, psb__task_tangent);
+            if (psb__rec(p, i)->need) psb__rec(p, n++)->todo = i;
+        r = psb__par_run(p, n, psb__task_tangent, PSB__PHASE_TANGENT);
         if (r != PSB_SUCCESS) return r;
         for (i = 0; i < count; i++) {
-            psb__task *rec = p->rec + i;
+            psb__task *rec = psb__rec(p, i);
             if (rec->need) {
                 rec->need = 0;
                 r = psb__task_merge(s, sw, rec->spent, rep, rec->ra);
@@ -6350,7 +6378,7 @@ static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *r
                 if (rec->lead && rec->ra == PSB_SUCCESS)
                     psb__jmemo_store(s, sw, rec->key, psb__task_vec(p, i, 0), rec->sign);
             } else if (rec->follow >= 0) {
-                const psb__task *lead = p->rec + rec->follow;
+                const psb__task *lead = psb__rec(p, rec->follow);
                 if (lead->ra == PSB_SUCCESS && psb__par_oriented(p, i, psb__task_vec(p, rec->follow, 0)))
                     rec->from_memo = rec->keyed;
                 else
@@ -6369,7 +6397,7 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
 {
     psb_solver *s = p->s;
     psb__sweep_state *sw = p->sw;
-    psb__task *rec = p->rec + i;
+    psb__task *rec = psb__rec(p, i);
     const double *y0 = p->y0, *tt = psb__task_vec(p, i, 0);
     int side, k;
     psb_result r = psb__task_merge(s, sw, rec->spent, rep, psb__is_fatal(rec->rc) ? rec->rc : rec->rcs[0]);
@@ -6437,19 +6465,19 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
     p.t1 = t1;
     p.q = q;
     p.n_dir = n_dir;
-    p.rec = (psb__task *)wk->memory;
-    p.vec = (double *)(void *)(p.rec + batch);
+    p.mem = (char *)wk->memory;
+    p.stride = sizeof(psb__task) + (size_t)PSB__TASK_VECS * (size_t)np1 * sizeof(double);
     psb__workers_sync(s, wk);
     for (first = 0; first < n_dir; first += batch) {
         int count = n_dir - first < batch ? n_dir - first : batch, n_pick = 0;
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
-        memset(p.rec, 0, (size_t)count * sizeof *p.rec);
+        for (i = 0; i < count; i++) memset(psb__rec(&p, i), 0, sizeof(psb__task));
         p.first = first;
         r = psb__par_tangents(&p, count, rep);
         if (r != PSB_SUCCESS) return r;
         /* phase B: Step 4 and the memo in order */
         for (i = 0; i < count; i++) {
-            psb__task *rec = p.rec + i;
+            psb__task *rec = psb__rec(&p, i);
             double *tt = psb__task_vec(&p, i, 0);
             int seen = 0;
             if (rec->skip || rec->ra != PSB_SUCCESS) continue;
@@ -6458,13 +6486,13 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
             if (!s->branch.expert.no_memo) {
                 seen = psb__memo_seen(s, sw, tt);
                 for (m = 0; m < n_pick && !seen; m++)
-                    seen = fabs(psb__cos_w(s, tt, psb__task_vec(&p, p.rec[m].pick, 0))) >= s->opt.c_diff;
+                    seen = fabs(psb__cos_w(s, tt, psb__task_vec(&p, psb__rec(&p, m)->pick, 0))) >= s->opt.c_diff;
             }
             if (seen) {
                 rep->n_memo++;
                 continue;
             }
-            p.rec[n_pick++].pick = i;
+            psb__rec(&p, n_pick++)->pick = i;
         }
         /* phase C: the trials (both signs apart) on the memos as they are now; phase D: their
            merge in order. A tangent phase A took from the memo places the screening points as
@@ -6473,23 +6501,24 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
         p.ts = ts;
         p.n_br = rep->n_branches;
         for (j = n = 0; j < n_pick; j++)
-            if (p.rec[p.rec[j].pick].from_memo && s->branch.expert.no_screen) p.rec[n++].todo = p.rec[j].pick;
-        r = psb__par_run(&p, n, psb__task_tangent);
+            if (psb__rec(&p, psb__rec(&p, j)->pick)->from_memo && s->branch.expert.no_screen)
+                psb__rec(&p, n++)->todo = psb__rec(&p, j)->pick;
+        r = psb__par_run(&p, n, psb__task_tangent, PSB__PHASE_TANGENT);
         if (r != PSB_SUCCESS) return r;
-        for (j = 0; j < n; j++) p.rec[p.rec[j].todo].rc = p.rec[p.rec[j].todo].ra;
+        for (j = 0; j < n; j++) psb__rec(&p, psb__rec(&p, j)->todo)->rc = psb__rec(&p, psb__rec(&p, j)->todo)->ra;
         for (j = n = 0; j < n_pick; j++) {
-            psb__task *rec = p.rec + p.rec[j].pick;
+            psb__task *rec = psb__rec(&p, psb__rec(&p, j)->pick);
             if (rec->rc == PSB_SUCCESS && !s->branch.expert.no_memo)
-                rec->seen = psb__memo_seen(s, sw, psb__task_vec(&p, p.rec[j].pick, 0));
-            if (rec->rc == PSB_SUCCESS && !rec->seen) p.rec[n++].todo = p.rec[j].pick;
+                rec->seen = psb__memo_seen(s, sw, psb__task_vec(&p, psb__rec(&p, j)->pick, 0));
+            if (rec->rc == PSB_SUCCESS && !rec->seen) psb__rec(&p, n++)->todo = psb__rec(&p, j)->pick;
         }
-        r = psb__par_run(&p, s->branch.expert.no_screen ? 0 : 2 * n, psb__task_screen);
+        r = psb__par_run(&p, s->branch.expert.no_screen ? 0 : 2 * n, psb__task_screen, PSB__PHASE_SCREEN);
         if (r != PSB_SUCCESS) return r;
         psb__par_screen(&p, n);
-        r = psb__par_run(&p, 2 * n, psb__task_trial);
+        r = psb__par_run(&p, 2 * n, psb__task_trial, PSB__PHASE_TRIAL);
         if (r != PSB_SUCCESS) return r;
         for (j = 0; j < n_pick; j++) {
-            r = psb__par_merge(&p, p.rec[j].pick, max_branches, ys, ts, rep, overflow);
+            r = psb__par_merge(&p, psb__rec(&p, j)->pick, max_branches, ys, ts, rep, overflow);
             if (r != PSB_SUCCESS) return r;
         }
     }

@@ -1,12 +1,19 @@
 /* fe_workers.h - --workers N for the FE applications: Algorithm 2.2's directions on N threads
    (contrib/psb_workers.h), each worker with its own copy of the model's scratch and its own
-   solver and backend (fe_solver_run_init); with logical set, logical workers run one after
+   solver and backend (fe_solver_run_init); FE_WORKERS_LOGICAL: logical workers run one after
    another instead, counting the factorisations of the longest (psb_serial_workers: a model of
-   the critical path). Include after fe_solvers.h; link with -pthread. */
+   the critical path); FE_WORKERS_MPI (builds with FE_MUMPS, which have MPI): the MPI ranks,
+   each running the whole program, one worker each (contrib/psb_workers_mpi.h; fe_workers_main
+   starts them). Include after fe_solvers.h; link with -pthread. */
 #ifndef FE_WORKERS_H
 #define FE_WORKERS_H
 
 #include "contrib/psb_workers.h"
+#ifdef FE_MUMPS
+#include "contrib/psb_workers_mpi.h"
+#endif
+
+enum { FE_WORKERS_THREADS, FE_WORKERS_LOGICAL, FE_WORKERS_MPI };
 
 #define FE_MAX_WORKERS 64 /* PSB_SERIAL_MAX too */
 
@@ -18,6 +25,9 @@ typedef struct fe_workers {
     psb_solver **solver;
     psb_threads th;
     psb_serial_workers logical;
+#ifdef FE_MUMPS
+    psb_mpi_workers mpi;
+#endif
     psb_workers wk;
 } fe_workers;
 
@@ -34,12 +44,14 @@ static inline void fe_workers_free(fe_workers *fw)
     memset(fw, 0, sizeof *fw);
 }
 
-/* n workers (n <= FE_MAX_WORKERS) for the model md solved by `kind` with options opt, sweeping
-   n_dir directions. 0, or -1 (said on stderr, nothing held). */
-static inline int fe_workers_init(fe_workers *fw, int n, int logical, const fe_model *md, const psb_options *opt,
+/* n workers (n <= FE_MAX_WORKERS; FE_WORKERS_MPI: 1, this rank) of the kind mode for the model
+   md solved by `kind` with options opt, sweeping n_dir directions. 0, or -1 (said on stderr,
+   nothing held). */
+static inline int fe_workers_init(fe_workers *fw, int n, int mode, const fe_model *md, const psb_options *opt,
                                   int kind, double keep_mb, int n_dir, const char *prog)
 {
     int w;
+    if (mode == FE_WORKERS_MPI) n = 1;
     memset(fw, 0, sizeof *fw);
     fw->md = calloc((size_t)n, sizeof *fw->md);
     fw->fs = calloc((size_t)n, sizeof *fw->fs);
@@ -70,7 +82,17 @@ static inline int fe_workers_init(fe_workers *fw, int n, int logical, const fe_m
     }
     fw->wk.n_workers = n;
     fw->wk.solver = fw->solver;
-    if (logical) {
+#ifdef FE_MUMPS
+    if (mode == FE_WORKERS_MPI) {
+        fw->wk.run = psb_mpi_run;
+        fw->wk.ctx = &fw->mpi;
+        if (psb_mpi_workers_init(&fw->mpi, MPI_COMM_WORLD) == 0) return 0;
+        fprintf(stderr, "%s: --workers mpi: no MPI ranks\n", prog);
+        fe_workers_free(fw);
+        return -1;
+    }
+#endif
+    if (mode == FE_WORKERS_LOGICAL) {
         fw->logical.n = n;
         fw->logical.solver = fw->solver;
         fw->wk.run = psb_serial_run;
@@ -92,10 +114,40 @@ static inline int fe_workers_init(fe_workers *fw, int n, int logical, const fe_m
 static inline void fe_workers_print(const fe_workers *fw, long f22)
 {
     printf("  Algorithm 2.2: %ld factorisations", f22);
-    if (fw->wk.run == psb_serial_run)
+    if (fw->wk.run == psb_serial_run && fw->n > 0)
         printf("; on %d logical workers the longest path %ld (%ld of them on the calling solver)", fw->n,
                f22 - fw->logical.total + fw->logical.critical, f22 - fw->logical.total);
     printf("\n");
 }
+
+#ifdef FE_MUMPS
+/* --workers mpi among the options, before any "--" */
+static inline int fe_workers_wants_mpi(int argc, char **argv)
+{
+    int i;
+    for (i = 1; i < argc && strcmp(argv[i], "--"); i++)
+        if (!strcmp(argv[i], "--workers=mpi") || (!strcmp(argv[i], "--workers") && i + 1 < argc && !strcmp(argv[i + 1], "mpi")))
+            return 1;
+    return 0;
+}
+
+/* Runs program_main on every MPI rank (the same run, Algorithm 2.2's directions shared out);
+   rank 0 reports, the others' stdout and stderr go nowhere. Returns rank 0's exit status. */
+static inline int fe_workers_main(int argc, char **argv, int (*program_main)(int, char **))
+{
+    int rank = 0, rc;
+    if (MPI_Init(&argc, &argv) != MPI_SUCCESS) {
+        fprintf(stderr, "--workers mpi: MPI_Init failed\n");
+        return 1;
+    }
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    if (rank != 0 && (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)))
+        fprintf(stderr, "--workers mpi: rank %d prints too\n", rank);
+    rc = program_main(argc, argv);
+    MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Finalize();
+    return rc;
+}
+#endif
 
 #endif

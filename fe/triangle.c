@@ -659,7 +659,7 @@ int main(int argc, char **argv)
         goto done;
     }
     if (a.workers) {
-        k = fe_workers_init(&fw, a.workers, a.logical, &md, &opt, fsol.kind, a.keep_mb, bo.n_dir, "triangle");
+        k = fe_workers_init(&fw, a.workers, a.logical ? FE_WORKERS_LOGICAL : FE_WORKERS_THREADS, &md, &opt, fsol.kind, a.keep_mb, bo.n_dir, "triangle");
         bo.workers = &fw.wk;
     }
     free(w);
