@@ -328,11 +328,11 @@
    Random numbers: xoshiro256**, reseeded from options.seed at each call. Thin regions may need
    more n_span or n_dir (docs/branching-notes.md).
 
-   Workers (branch options' workers). run(ctx, n, task, arg) runs n tasks on the caller's workers,
-   each on its own solver of the problem (own user data, backend). A span goes in phases: sample
-   tangents (memo keys first: one piece, one tangent) on the workers; Step 4, the memo in order;
-   the trials, a task each sign, on the memos as the phase found them; all merged in order. Counts
-   differ from the serial sweep's (no trial sees another's memo entries), never with the workers.
+   Workers (branch options' workers). run(ctx, n, task, arg) runs n tasks on the caller's workers
+   (threads; MPI ranks all running the program: psb_workers_task_output), each on its own solver.
+   A span goes in phases: sample tangents (memo keys first) on the workers; Step 4, the memo in
+   order; the trials, a task each sign, on the memos as the phase found them; all merged in order.
+   Counts differ from the serial sweep's (no trial sees another's memo entries), never with W.
 
    Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
    to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
@@ -621,7 +621,8 @@ typedef struct psb_branch_expert {
    memory: at least psb_workers_memory_size(n, n_dir) bytes, aligned for double. Same inputs:
    same results, reports and counters, bit for bit, whatever n_workers and the order the tasks
    ran in; counts differ from the serial sweep's (workers NULL). contrib/psb_workers.h has a run
-   on POSIX threads and one on logical workers in turn (a model of the critical path). */
+   on POSIX threads and one on logical workers in turn (a model of the critical path),
+   contrib/psb_workers_mpi.h one on MPI ranks (psb_workers_task_output). */
 #define PSB_MAX_WORKERS 1024
 struct psb_solver;
 typedef void (*psb_task_fn)(void *arg, int task, int worker);
