@@ -155,7 +155,7 @@ SMOKE_MUMPS = "smoke:bash tests/mumps_ends.sh fe/block"
 ifneq ($(MPIRUN),)
 TESTS += $(BUILD)/test_mumps_np2
 # Algorithm 2.2 on 1, 2, 4 MPI ranks (contrib/psb_workers_mpi.h): fe/block --workers mpi
-SMOKE_MUMPS += "smoke:bash tests/workers_mpi.sh" "smoke:bash tests/workers_mpi.sh --explore"
+SMOKE_MUMPS += "smoke:bash tests/workers_fe.sh --mpi fe/block" "smoke:bash tests/workers_fe.sh --mpi fe/block --explore"
 endif
 endif
 ifeq ($(MUMPS_SEQ),yes)

@@ -5731,6 +5731,20 @@ static psb_result psb__take_landing(psb_solver *s, psb__sweep_state *sw, const d
     return PSB_SUCCESS;
 }
 
+/* After a trial from y0 that landed at (yb, tb) or was cut (cut): the n tangents of its path
+   (path, n + 1 apart) are known, and a landing goes to Step 5 (psb__take_landing). */
+static psb_result psb__trial_done(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *path, int n,
+                                  int cut, const double *yb, double *tb, int max_branches, double *ys, double *ts,
+                                  psb_branch_report *rep, int *overflow)
+{
+    int j, np1 = s->internal_.np1;
+    for (j = 0; j < n; j++) {
+        const double *ki = path + (size_t)j * (size_t)np1;
+        if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1)) psb__store_add(s, sw, sw->known, &sw->known_n, ki);
+    }
+    return cut ? PSB_SUCCESS : psb__take_landing(s, sw, y0, yb, tb, max_branches, ys, ts, rep, overflow);
+}
+
 /* Steps 5-7 of Algorithm 2.2 for the tangent tt: trial steps from y0 along +tt and -tt, and
    a new branch for each that converges away from y0 in a direction no known branch has.
    Skipped when tt was tried before in this call (memo). Stops before a trial when the n_pc
@@ -5766,7 +5780,6 @@ static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const do
     }
     for (sign = 1; sign >= -1; sign -= 2) {
         double hh = s->branch.h_init;
-        int j;
         own = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
@@ -5816,13 +5829,8 @@ static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const do
            in, scaled up: that trial would land on the same ray, sooner and nearer, so the
            k_i of a trial that landed or was cut are known too (a failed trial's are not: with
            i more iterations to spare the trial along k_i might converge) */
-        for (j = 0; watched && j < tw.path_n; j++) {
-            const double *ki = sw->path + (size_t)j * (size_t)np1;
-            if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1))
-                psb__store_add(s, sw, sw->known, &sw->known_n, ki);
-        }
-        if (cut) continue;
-        r = psb__take_landing(s, sw, y0, yb, tb, max_branches, ys, ts, rep, overflow);
+        r = psb__trial_done(s, sw, y0, sw->path, watched ? tw.path_n : 0, cut, yb, tb, max_branches, ys, ts, rep,
+                            overflow);
         if (r != PSB_SUCCESS) return r;
     }
     if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);
@@ -6434,13 +6442,8 @@ static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *y
         cut = r != PSB_SUCCESS && rec->fail[side] == PSB__FAIL_KNOWN;
         rep->n_cut += cut;
         if (r != PSB_SUCCESS && !cut) continue;
-        for (k = 0; k < rec->path_n[side]; k++) {
-            const double *ki = psb__task_vec(p, i, 7 + side * PSB__PATH_MAX + k);
-            if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1))
-                psb__store_add(s, sw, sw->known, &sw->known_n, ki);
-        }
-        if (cut) continue;
-        r = psb__take_landing(s, sw, y0, yb, tb, max_branches, ys, ts, rep, overflow);
+        r = psb__trial_done(s, sw, y0, psb__task_vec(p, i, 7 + side * PSB__PATH_MAX), rec->path_n[side], cut, yb, tb,
+                            max_branches, ys, ts, rep, overflow);
         if (r != PSB_SUCCESS) return r;
     }
     if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);

@@ -13,11 +13,16 @@ set -u
 cd "$(dirname "$0")/.."
 large=0
 plot_only=0
-for a in "$@"; do
-    case "$a" in --large) large=1 ;; --plot) plot_only=1 ;; esac
+while [ $# -gt 0 ]; do
+    case "$1" in
+    --large) large=1 ;;
+    --plot) plot_only=1 ;;
+    *) echo "usage: bench/bench_workers.sh [--large] [--plot]" >&2; exit 2 ;;
+    esac
+    shift
 done
-mkdir -p bench/out
 export OPENBLAS_NUM_THREADS=1
+mkdir -p bench/out
 for p in fe/block fe/triangle; do [ -x "$p" ] || { echo "build $p first (make examples)"; exit 1; }; done
 
 # f22 OUTPUT: Algorithm 2.2's factorisations; crit OUTPUT: the modelled longest path
