@@ -6,6 +6,7 @@
 #   make examples  every program: the teaching examples (examples/), the FE applications (fe/)
 #                  and the frictional-contact solver (fc_solve/)
 #   make asan / make ubsan   the suite under AddressSanitizer / UndefinedBehaviorSanitizer
+#   make tsan      Algorithm 2.2 on threads (tests/test_workers.c) under ThreadSanitizer
 #   make bench     the benchmarks (bench/out/), with GetFEM side by side when python3-getfem is there
 #                  (bash bench/bench_mumps.sh --large: banded against MUMPS on 1 and 2 ranks up to M12800)
 #   make fuzz [FUZZ_SECONDS=30 | FUZZ_RUNS=N [FUZZ_SEED=1]]   every libFuzzer target in fuzz/
@@ -15,7 +16,8 @@
 #                  (find_package(pscbranch)), the docs and the programs' sources
 #   make uninstall PREFIX=... [DESTDIR=...]        removes what install put there
 #   (bash tests/packaging.sh checks install with pkg-config and CMake consumers; CI: .ci/run)
-#   make bench-large   the long benchmarks: block M12800 per backend, triangle fold studies
+#   make bench-large   the long benchmarks: block M12800 per backend and on 1 and 2 workers,
+#                  triangle fold studies
 # LAPACK_LIBS chooses the LAPACK/BLAS (default -llapack -lblas); HDF5= builds fc_solve without
 # HDF5 even when libhdf5-dev is installed; SUITESPARSE= builds the FE applications without
 # SuiteSparse; MUMPS= and MUMPS_SEQ= leave MUMPS out (below).
@@ -38,13 +40,13 @@ TESTS = $(BUILD)/test_core $(BUILD)/test_linear $(BUILD)/test_linear_dgbtrf $(BU
 	$(BUILD)/test_contact $(BUILD)/test_fc_solve $(BUILD)/test_detect $(BUILD)/test_faults \
 	$(BUILD)/test_fe $(BUILD)/test_linkage $(BUILD)/test_static $(BUILD)/test_quasistatic $(BUILD)/test_explore \
 	$(BUILD)/test_diagram $(BUILD)/test_fold_map $(BUILD)/test_count_map \
-	$(BUILD)/test_event_curve $(BUILD)/test_branch_curve $(SPARSE_TESTS)
+	$(BUILD)/test_event_curve $(BUILD)/test_branch_curve $(BUILD)/test_workers $(SPARSE_TESTS)
 # the teaching examples (examples/NN_name.c, each one file on pscbranch.h alone) and the applications
 TEACHING = $(patsubst %.c,%,$(sort $(wildcard examples/[0-9][0-9]_*.c)))
 APPS = fe/block fe/triangle fe/quasistatic fc_solve/fc_solve
 EXAMPLES = $(TEACHING) $(APPS)
 
-.PHONY: all test check demo demo-run examples bench bench-large asan ubsan fuzz fuzz-run install uninstall clean \
+.PHONY: all test check demo demo-run examples bench bench-large asan ubsan tsan fuzz fuzz-run install uninstall clean \
 	quasistatic-demo quasistatic-demo-run images images-run
 
 all: $(TESTS) $(EXAMPLES)
@@ -88,6 +90,10 @@ $(BUILD)/test_explore: tests/test_explore.c tests/harness.h tests/pl_problems.h 
 
 $(BUILD)/test_diagram: tests/test_diagram.c tests/harness.h tests/pl_problems.h tests/kink_curves.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_diagram.c -o $@ $(LIBS)
+
+# Algorithm 2.2 on workers: POSIX threads and logical workers (contrib/psb_workers.h)
+$(BUILD)/test_workers: tests/test_workers.c tests/harness.h tests/pl_problems.h contrib/psb_workers.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -Itests tests/test_workers.c -o $@ $(LIBS) -pthread
 
 $(BUILD)/test_fold_map: tests/test_fold_map.c tests/harness.h $(HEADER) | $(BUILD)
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_fold_map.c -o $@ $(LIBS)
@@ -155,6 +161,8 @@ TESTS += $(BUILD)/test_mumps
 SMOKE_MUMPS = "smoke:bash tests/mumps_ends.sh fe/block"
 ifneq ($(MPIRUN),)
 TESTS += $(BUILD)/test_mumps_np2
+# Algorithm 2.2 on 1, 2, 4 MPI ranks (contrib/psb_workers_mpi.h): fe/block --workers mpi
+SMOKE_MUMPS += "smoke:bash tests/workers_fe.sh --mpi fe/block" "smoke:bash tests/workers_fe.sh --mpi fe/block --explore"
 endif
 endif
 ifeq ($(MUMPS_SEQ),yes)
@@ -193,11 +201,11 @@ endif
 $(BUILD)/suitesparse-$(SUITESPARSE): | $(BUILD)
 	rm -f $(BUILD)/suitesparse-*
 	touch $@
-fe/block fe/triangle: fe/%: fe/%.c $(HEADER) fe/fe.h fe/explore_out.h fe/cli.h fe/fe_solvers.h \
-		contrib/psb_sparse.h contrib/psb_condense.h $(BUILD)/suitesparse-$(SUITESPARSE)
+fe/block fe/triangle: fe/%: fe/%.c $(HEADER) fe/fe.h fe/explore_out.h fe/cli.h fe/fe_solvers.h fe/fe_workers.h \
+		contrib/psb_sparse.h contrib/psb_condense.h contrib/psb_workers.h $(BUILD)/suitesparse-$(SUITESPARSE)
 	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(if $(filter fe/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
-		$(if $(filter fe/block,$@),$(BLOCK_LIBS)) $(LIBS)
-fe/block: fe/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
+		$(if $(filter fe/block,$@),$(BLOCK_LIBS)) $(LIBS) -pthread
+fe/block: fe/fe_mumps.h contrib/psb_mumps.h contrib/psb_workers_mpi.h $(BUILD)/block-mumps-$(MUMPS)
 
 $(BUILD)/test_sparse: tests/test_sparse.c tests/condense_decl.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h \
 		fe/fe.h $(HEADER) $(BUILD)/contrib_cxx.o | $(BUILD)
@@ -228,6 +236,8 @@ SMOKE = "smoke:$(BUILD)/consumer" \
 	"smoke:fe/triangle --mesh 16 --explore" \
 	"smoke:fe/triangle --mesh 16 --explore --problem fold" \
 	"smoke:fe/triangle --mesh 16 --count-map 24:25.2 --count-samples 7 > $(BUILD)/count_map16.txt && grep -q 'four branches for H1 in (24.402769[0-9]*, 24.886268' $(BUILD)/count_map16.txt" \
+	"smoke:bash tests/workers_fe.sh fe/block" "smoke:bash tests/workers_fe.sh fe/block --explore" \
+	"smoke:bash tests/workers_fe.sh fe/triangle --mesh 16" \
 	"smoke:fe/quasistatic --mesh 8 --dt 0.1" $(SMOKE_SPARSE) $(SMOKE_MUMPS) \
 	"smoke:bash tests/cli.sh" \
 	"smoke:bash tests/readme_program.sh"
@@ -298,6 +308,7 @@ bench: $(BENCH) fe/block fe/triangle examples/06_count_map $(if $(SS_LIBS),bench
 	bash bench/bench_triangle_map.sh
 	$(if $(SS_LIBS),./bench/bench_sparse --csv bench/out/sparse.csv && bash bench/bench_solvers.sh)
 	bash bench/bench_block.sh
+	bash bench/bench_workers.sh
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh,echo "bench_mumps: no MUMPS with MPI, skipped")
 	REPEAT=1 bash bench/getfem_side_by_side.sh
 
@@ -307,6 +318,7 @@ bench-large: fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse)
 	@mkdir -p bench/out
 	$(if $(SS_LIBS),./bench/bench_sparse --large --csv bench/out/sparse_large.csv && bash bench/bench_solvers.sh --large,@echo "bench-large: needs SuiteSparse (libsuitesparse-dev)")
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh --large,@echo "bench-large: MUMPS with MPI not found, its runs skipped")
+	bash bench/bench_workers.sh --large
 
 # MUMPS= : Open MPI leaves its own allocations (~120 kB, none of ours) at MPI_Finalize, which
 # LeakSanitizer reports; the sequential MUMPS build runs under AddressSanitizer instead
@@ -317,6 +329,11 @@ asan:
 ubsan:
 	@$(DEPS) cc cxx lapack
 	$(MAKE) BUILD=build-ubsan OPT="-O1 -g" SAN="-fsanitize=undefined -fno-sanitize-recover=all" EXAMPLES= SMOKE= check
+
+# the threaded runs of Algorithm 2.2 (tests/test_workers.c) under ThreadSanitizer
+tsan:
+	@$(DEPS) cc cxx lapack
+	$(MAKE) BUILD=build-tsan OPT="-O1 -g" SAN="-fsanitize=thread" EXAMPLES= SMOKE= TESTS=build-tsan/test_workers check
 
 # ---- install: header-only, so nothing is compiled; the version comes from the header ----------
 PREFIX ?= /usr/local

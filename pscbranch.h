@@ -78,6 +78,7 @@
    psb_switch_tangent           the tangent switch at a couple where steps fail
    psb_trace                    the driver: from (y, t) to a bound, budget, end point or loop
    psb_locate_end, psb_find_branches   Algorithms 2.1, 2.2: a branch's end point, the branches there
+   psb_workers_memory_size      the memory of Algorithm 2.2 on the caller's workers (section 6)
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
    psb_two_param_problem_init, _lift; psb_fold_map_memory_size(_for), _init, _start, _refine
@@ -200,7 +201,8 @@
      n_dir [20]                directions per span (branch point switch: 2 n_dir), <= 10000
      n_span [15]               counted spans, <= 10000; left at 0 (memo on), the length adapts
      n_span_max [60 if n_span is 0 and the memo is on, else n_span]  above n_span: adapts
-     max_pc [0: none]          stop the sweep once n_pc reaches this budget
+     max_pc [0: none]          stop the sweep once n_pc reaches this budget (workers: per n_dir)
+     workers [NULL: none]      Algorithm 2.2's directions on these workers (section 6, "Workers")
      expert (psb_branch_expert) for reproducing the paper and for experiments; a user leaves it 0:
      expert.as_printed [0]     1: as printed: the next three 1, restart _PAPER (_GLOBAL refused)
      expert.paper_sweep [0]    1: directions sin(a) t~1 + cos(a) t~2 as printed; closest pair first
@@ -242,8 +244,7 @@
    ||B|| I is factored and refined against B. A bit-identical A (piecewise-linear H) reuses its
    factors (stats.n_factor_reused). PSB_LINEAR_USER: problem.solver factors B itself; contrib/
    has psb_sparse.h (UMFPACK, KLU), psb_mumps.h (MUMPS), psb_condense.h (static condensation).
-   A solver also holds ~100 vectors of N+1 and Algorithm 2.2's memos, 2 or 3 x c (N+1) doubles,
-   c = min(256, max(32, 2^19 / (N+1))).
+   A solver also holds ~100 vectors of N+1 and Algorithm 2.2's memos (psb_solver_memory_size).
 
    Corrector and tangent. The tangent at y solves [dH(y); (W r)^T] t = e_{N+1}, r the reference
    direction; where that is singular or (dense) its scaled condition estimate exceeds 1/sqrt(eps),
@@ -321,14 +322,20 @@
    through y0, or an odd count restart the run with h_init / 16 (up to 3 times, staying >= 8 h).
    Random numbers: xoshiro256**, reseeded from options.seed at each call.
 
+   Workers (branch options' workers). run(ctx, n, task, arg) runs n tasks on the caller's workers
+   (threads; MPI ranks all running the program: psb_workers_task_output), each on its own solver.
+   A span goes in phases: sample tangents (memo keys first) on the workers; Step 4, the memo in
+   order; the trials, a task each sign, on the memos as the phase found them; all merged in order.
+   Counts differ from the serial sweep's (no trial sees another's memo entries), never with W.
+
    Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
    to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
    (cos a t + sin a k), r = branch h_init, 2 n_dir angles (-t, then +t first: branches 0 and 1),
    are corrected by Newton on the sphere ||y - y*||_w = r to where a branch crosses it (within r
-   sqrt(2 (1 - c_diff)): one branch); fewer than 4 branches,
-   or -t or +t lost: r/8, then r/64 (both lost: PSB_ERR_NO_CONVERGENCE). Each branch is walked back
-   towards y*; a kink on the way brings the sweep inside it (three rounds at most). A larger
-   kernel: up to 3 more directions by inverse iteration, 2 n_dir kdim^2 random trials in it.
+   sqrt(2 (1 - c_diff)): one branch); fewer than 4 branches, or -t or +t lost: r/8, then r/64
+   (both lost: PSB_ERR_NO_CONVERGENCE). Each branch is walked back towards y*; a kink on the way
+   brings the sweep inside it (three rounds at most). A larger kernel: up to 3 more directions by
+   inverse iteration, 2 n_dir kdim^2 random trials in it.
 
    Exploring the whole diagram (psb_explore). From a regular couple it traces every branch it can
    reach: nodes are special points, edges the segments between. The queue is the untraced branches,
@@ -338,24 +345,18 @@
    (nonsmooth, pc1 nodes), the branch point switch at a smooth branch point (branch node); branch 0
    is the one arrived by, the others join the queue. Folds and events are nodes on their edge. A
    branching point within node_tol + 4 (both precisions) of a node, or a chord passing that close,
-   arrives there (found through an index: the cost a node does not grow with the diagram). Two
-   branches whose signs cancel make an ordinary kink (d->n_kinks_plain): the edge goes on, or ends
-   at a kink node (kink_nodes). Odd or unbalanced nodes count in d->n_odd (they most likely miss a
-   branch). PC1 is silent where the branches a trace joins have opposite outward signs (the paper's
-   block): branch_at_kinks runs Algorithm 2.2 at every kink (kink_spans: a short look first, enough
-   where it met two pieces' tangents). JSON keys: format, version, n, param_index, complete
-   (psb_explore returned PSB_SUCCESS), failed_edges, untraced_branches, odd_nodes, nodes (id,
-   kind, param, precision, edge, event, direction, y, branches: edge, y, t), edges (id, from,
-   from_branch, to, to_branch, end, result, points, length, path: the stored points); CSV: the
-   same tables. Numbers in the C locale's notation whatever setlocale.
+   arrives there (found through an index). Two branches whose signs cancel make an ordinary kink
+   (d->n_kinks_plain): the edge goes on, or ends at a kink node (kink_nodes). Odd or unbalanced
+   nodes count in d->n_odd. PC1 is silent where the branches a trace joins have opposite outward
+   signs (the paper's block): branch_at_kinks runs Algorithm 2.2 at every kink (kink_spans: a
+   short look first). psb_diagram_write_json's declaration has the JSON keys.
 
-   Quasi-static evolution (psb_evolve_step). Step k of a discretised evolution solves H_k(u,
-   lambda_k) = 0, H_k holding the previous state (problem.user: update it between calls only).
-   Where Newton from u_{k-1} fails (a snap-through), H_k = 0 is traced from (u_{k-1},
-   lambda_{k-1}), which solves it too, through folds and kinks to its first point at lambda_k.
-   AUTO tries Newton first (kept unless farther than newton_max_jump); else y is polished (a move
-   over h_init: PSB_ERR_INPUT) and the trace is bounded at lambda_k, landing there exactly (it
-   may pass below lambda_{k-1}). Ending elsewhere: PSB_ERR_NO_CONVERGENCE (report.trace_end).
+   Quasi-static evolution (psb_evolve_step). Step k solves H_k(u, lambda_k) = 0, H_k holding the
+   previous state (in problem.user, updated between calls). Where Newton from u_{k-1} fails (a
+   snap-through), H_k = 0 is traced from (u_{k-1}, lambda_{k-1}), which solves it too, through folds
+   and kinks to its first point at lambda_k. AUTO tries Newton first (kept unless farther than
+   newton_max_jump); else y is polished (a move over h_init: PSB_ERR_INPUT) and the trace is bounded
+   at lambda_k only, landing there exactly. Else PSB_ERR_NO_CONVERGENCE (report.trace_end).
 
    Fold curves in two parameters (psb_fold_map_*). H on (x, lambda, mu): at_mu is H at mu held; fold
    is [H; sigma] = 0, mu its parameter, [H_x b; c^T 0] [v; sigma] = [0; 1] (b, c: null vectors at
@@ -374,16 +375,15 @@
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
    one piece: piece_request PSB_PIECE_DEFAULT (-1) picks it by the rules below, k >= 0 takes piece
    k's formula. Failures write nothing: PSB_ERR_NULL, _NONFINITE (also on overflow), _INPUT, _SIZE.
-   psb_proj_nonpos: min(x, 0); psb_proj_nonneg: max(x, 0). Pieces IN (x), OUT (0); x = 0: IN.
-   psb_proj_interval: min(max(x, a), b); IN, LOWER, UPPER (a == b: LOWER, or UPPER if x > b).
-   psb_proj_disk: onto {|x| <= s} in R^2 (s <= 0: {0}); IN, BOUNDARY (s x / |x|), ZERO.
-   psb_proj_cone: onto {|x_T| <= mu x_N} in R^3; IN, POLAR (0), BOUNDARY; mu = 0: IN never default.
-   psb_proj_half_active, _interval_active, _disk_active, _cone_active: the pieces active within tol.
-   psb_ac2d_node, _active, _state: a node's 2D Alart-Curnier residual, 2 x 4 Jacobian, piece;
-     its active pieces; its contact state (Haslinger et al.).
-   psb_fc3d_ac, _jm, _nat: a contact's 3D Alart-Curnier, Jean-Moreau residuals and natural map with
-     De Saxce's velocity (psb_fc3d_desaxce) (Acary et al.); psb_fc_nat_error: their eq. (15).
-   psb_contact_convert: between the two conventions (r = -lam, u_N = g - u_n, u_T = -u_t).
+   psb_proj_nonpos, _nonneg: min(x, 0), max(x, 0); IN (x), OUT (0); x = 0: IN. psb_proj_interval:
+   min(max(x, a), b); IN, LOWER, UPPER (a == b: LOWER, or UPPER if x > b). psb_proj_disk: onto
+   {|x| <= s} in R^2 (s <= 0: {0}); IN, BOUNDARY (s x / |x|), ZERO. psb_proj_cone: onto {|x_T| <=
+   mu x_N} in R^3; IN, POLAR (0), BOUNDARY; mu = 0: IN never default. psb_proj_*_active: the pieces
+   active within tol. psb_ac2d_node, _active, _state: a node's 2D Alart-Curnier residual (Haslinger
+   et al.), its 2 x 4 Jacobian and piece; its active pieces; its state. psb_fc3d_ac, _jm, _nat: a
+   contact's 3D Alart-Curnier, Jean-Moreau residuals, natural map with De Saxce's velocity
+   (psb_fc3d_desaxce) (Acary et al.); psb_fc_nat_error: their eq. (15). psb_contact_convert:
+   between the two conventions (r = -lam, u_N = g - u_n, u_T = -u_t).
 
    8. COMPILE-TIME MACROS (define before including the header) ------------------------------------
    PSCBRANCH_IMPLEMENTATION   in exactly one file: compile the implementation there
@@ -612,6 +612,29 @@ typedef struct psb_branch_expert {
                              [0: never] */
 } psb_branch_expert;
 
+/* Workers for Algorithm 2.2's sweep (psb_branch_options.workers; manual, section 6, "Workers").
+   run(ctx, n_tasks, task, arg) calls task(arg, i, w) once for each i in 0 .. n_tasks - 1, on
+   workers w in 0 .. n_workers - 1, one task at a time on each, in any order and concurrently,
+   and returns once all are done: 0, or nonzero for a failure (PSB_ERR_CALLBACK). solver[w] is
+   worker w's solver: initialised on the same problem (its own user data and backend), distinct
+   from the others and from the calling solver; each call sets its options to the caller's.
+   memory: at least psb_workers_memory_size(n, n_dir) bytes, aligned for double. Same inputs:
+   same results, reports and counters, bit for bit, whatever n_workers and the order the tasks
+   ran in; counts differ from the serial sweep's (workers NULL). contrib/psb_workers.h has a run
+   on POSIX threads and one on logical workers in turn (a model of the critical path),
+   contrib/psb_workers_mpi.h one on MPI ranks (psb_workers_task_output). */
+#define PSB_MAX_WORKERS 1024
+struct psb_solver;
+typedef void (*psb_task_fn)(void *arg, int task, int worker);
+typedef struct psb_workers {
+    int n_workers;               /* in [1, PSB_MAX_WORKERS] */
+    struct psb_solver *const *solver; /* n_workers solvers */
+    int (*run)(void *ctx, int n_tasks, psb_task_fn task, void *arg);
+    void *ctx;                   /* run's */
+    void *memory;                /* the tasks' results, bytes long */
+    size_t bytes;
+} psb_workers;
+
 /* Given to psb_locate_end, psb_find_branches and psb_branch_point_switch (NULL: defaults) and
    in psb_explore_options.branch; every zero field takes the default in brackets (manual,
    section 5). "h_min", "h_init" in brackets are psb_options', the continuation's. */
@@ -631,6 +654,7 @@ typedef struct psb_branch_options {
                              n_span_max adapts; n_span_max = n_span is a fixed length */
     long max_pc;          /* stop the sweep when n_pc reaches this budget [0: no budget] */
     psb_branch_expert expert; /* paper reproduction and experiments [all 0] */
+    const psb_workers *workers; /* Algorithm 2.2's directions on these workers [NULL: none] */
 } psb_branch_options;
 
 /* ---- counters ---------------------------------------------------------------------------- */
@@ -680,6 +704,10 @@ typedef struct psb__sweep_state {
     int branch_signs_n;          /* .. this - 1; -1: some sign cannot be told (psb__unbalanced) */
     double sweep_offset; /* span directions at angles 2 pi (i + offset) / n, */
     int sweep_n_dir;     /* i < n = this (0: n_dir) */
+    int frozen;          /* a worker's copy: the memos are read only; the last entry that would
+                            have been stored goes to held (its tangent aside) */
+    int held, held_sign;
+    unsigned long long held_key[2];
 } psb__sweep_state;
 
 /* The solver's working storage and the algorithms' state: private, treat as opaque. */
@@ -741,7 +769,8 @@ PSCBRANCH_DEF psb_branch_options psb_branch_options_resolve(const psb_branch_opt
 
 /* Bytes of memory psb_solver_init_with_memory needs for the problem (0 if its sizes are
    invalid): the backend's matrices (dense ~ 2 (n+1)^2 doubles, banded ~ (4 kl + 3 ku) n), about
-   100 vectors of n+1 and Algorithm 2.2's memos (manual, section 6, "Linear algebra"). */
+   100 vectors of n+1 and Algorithm 2.2's memos, 2 or 3 x c (n+1) doubles, c = min(256, max(32,
+   2^19 / (n+1))). */
 PSCBRANCH_DEF size_t psb_solver_memory_size(const psb_problem *p);
 /* Sets up s on caller memory (at least psb_solver_memory_size(p) bytes, aligned for double);
    never allocates. Validates the problem and the options.
@@ -999,6 +1028,18 @@ typedef struct psb_branch_report {
 PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, const double *t0,
                                            const psb_branch_options *bo, int max_branches,
                                            double *ys, double *ts, psb_branch_report *rep);
+/* Bytes of psb_workers.memory for problems of n unknowns swept in n_dir directions (0 when
+   either is below 1). With bo->workers set, psb_find_branches (psb_explore too) also returns
+   PSB_ERR_NULL (run or a solver NULL or not initialised), PSB_ERR_SIZE (n_workers out of range,
+   or a solver of another size or backend), PSB_ERR_INPUT (a solver given twice, or the calling
+   one), PSB_ERR_NOMEM (memory too small) and PSB_ERR_CALLBACK (run failed). */
+PSCBRANCH_DEF size_t psb_workers_memory_size(int n, int n_dir);
+/* For workers in address spaces of their own (MPI ranks that all run the same program on the
+   same data, each with one solver, n_workers 1): what task `task` of a run (arg as given to run)
+   writes, bytes at out, and its group; tasks of one group must run on one rank, and once they
+   ran, their bytes go to every other rank (MPI_Bcast from it: contrib/psb_workers_mpi.h). */
+PSCBRANCH_DEF void psb_workers_task_output(const void *arg, int task, int *group, void **out,
+                                           size_t *bytes);
 
 /* Branches through a smooth branch point located by psb_trace (y, t, kernel of a
    PSB_SPECIAL_BRANCH point): every branch's couple (ys[k*(n+1) ...], ts[k*(n+1) ...],
@@ -1569,10 +1610,13 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
 
 #ifdef PSCBRANCH_STDIO
 #include <stdio.h>
-/* The diagram as JSON (schema: manual section 6, "Exploring the whole diagram"), and as two
-   CSV tables, nodes and edges (either FILE may be NULL). Return PSB_SUCCESS, PSB_ERR_NULL, or
-   PSB_ERR_INPUT when writing failed. Defined where PSCBRANCH_STDIO is defined with the
-   implementation. */
+/* The diagram as JSON, and as two CSV tables, nodes and edges (either FILE may be NULL). JSON
+   keys: format, version, n, param_index, complete (psb_explore returned PSB_SUCCESS),
+   failed_edges, untraced_branches, odd_nodes, nodes (id, kind, param, precision, edge, event,
+   direction, y, branches: edge, y, t), edges (id, from, from_branch, to, to_branch, end, result,
+   points, length, path: the stored points); the CSV tables are the same. All numbers in the C
+   locale's notation whatever setlocale. Return PSB_SUCCESS, PSB_ERR_NULL, or PSB_ERR_INPUT when
+   writing failed. Defined where PSCBRANCH_STDIO is defined with the implementation. */
 PSCBRANCH_DEF psb_result psb_diagram_write_json(const psb_diagram *d, FILE *f);
 PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes, FILE *edges);
 /* The edges' stored points (psb_diagram_set_points) as CSV: edge, index, y0 ... yn, one row a
@@ -5062,6 +5106,8 @@ static psb_result psb__branch_h(psb_solver *s, const double *y)
     return PSB_SUCCESS;
 }
 
+static psb_result psb__check_workers(psb_solver *s, const psb_branch_options *b);
+
 /* Resolves and checks the branching options of a call at the point y into s->branch (left as
    it was when they are bad): where h follows the point, a set h_min is checked against it at
    y, as against a set h. */
@@ -5069,8 +5115,11 @@ static psb_result psb__branch_begin(psb_solver *s, const psb_branch_options *bo,
 {
     psb_branch_options b = psb_branch_options_resolve(bo, s);
     const char *bad = psb__check_branch(&b);
+    psb_result r;
     if (!bad && b.h == 0 && psb__point_h(s, &b, b.h_min != 0, y) < 0) bad = PSB__H_MIN_ABOVE;
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
+    r = psb__check_workers(s, &b);
+    if (r != PSB_SUCCESS) return r;
     s->branch = b;
     /* finite differences and h left at 0: h follows the difference steps at each point */
     s->internal_.branch_h_auto = b.h == 0;
@@ -5360,6 +5409,13 @@ static int psb__jmemo_get(psb_solver *s, psb__sweep_state *sw, const unsigned lo
 static void psb__jmemo_store(psb_solver *s, psb__sweep_state *sw, const unsigned long long *key, const double *t, int sign)
 {
     int m = sw->jmemo_n % sw->memo_cap;
+    if (sw->frozen) {
+        sw->held = 1;
+        sw->held_sign = sign;
+        sw->held_key[0] = key[0];
+        sw->held_key[1] = key[1];
+        return;
+    }
     sw->jmemo_key[2 * m] = key[0];
     sw->jmemo_key[2 * m + 1] = key[1];
     sw->jmemo_sign[m] = (signed char)sign;
@@ -5410,6 +5466,9 @@ typedef struct psb__trial_watch {
     unsigned long long store_key[2], dh_key[2]; /* the current iterate's memo key, dH's hash */
     int by_piece;      /* store_key is a piece id */
     int pmemo_check;   /* the next tangent is compared with the piece memo's (BR_MT) */
+    /* on a frozen sw: the memo entry each path tangent would have made (psb__task_trials) */
+    int path_held[PSB__PATH_MAX], path_sign[PSB__PATH_MAX];
+    unsigned long long path_key[2 * PSB__PATH_MAX];
 } psb__trial_watch;
 
 /* Whether a piece's tangent may decide (psb__path_memo_cut): the memo's pieces checked that
@@ -5575,10 +5634,17 @@ static int psb__trial_watch_fn(psb__corr_watch *w, psb_solver *s, psb__corr_even
         }
         return 0;
     case PSB__CORR_TANGENT:
-        if (tw->path_n < PSB__PATH_MAX)
-            psb__copy(sw->path + (size_t)tw->path_n++ * (size_t)np1, t, np1);
+        i = tw->path_n < PSB__PATH_MAX ? tw->path_n++ : -1;
+        if (i >= 0) psb__copy(sw->path + (size_t)i * (size_t)np1, t, np1);
+        sw->held = 0;
         if ((tw->store_key[0] || tw->store_key[1]) && (!tw->by_piece || psb__pmemo_trusted(s, sw, 0)))
             psb__jmemo_store(s, sw, tw->store_key, t, sign);
+        if (i >= 0) {
+            tw->path_held[i] = sw->held;
+            tw->path_sign[i] = sw->held_sign;
+            tw->path_key[2 * i] = sw->held_key[0];
+            tw->path_key[2 * i + 1] = sw->held_key[1];
+        }
         if (tw->pmemo_check) {
             double drift = psb__angle_w(s, t, PSB__VEC(s, PSB__V_BR_MT));
             tw->pmemo_check = 0;
@@ -5814,6 +5880,67 @@ static int psb__same_curved_branch(psb_solver *s, const double *y0, const double
     return psb__dist_w(s, z, yb) <= d * sqrt(2 * (1 - s->opt.c_diff));
 }
 
+/* Appends the branch (yb, tb) to (ys, ts), or sets *overflow when there is no room. */
+static void psb__add_branch(const psb_solver *s, const double *yb, const double *tb, int max_branches, double *ys,
+                            double *ts, psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->internal_.np1;
+    if (rep->n_branches >= max_branches) {
+        *overflow = 1;
+        return;
+    }
+    psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
+    psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
+    rep->n_branches++;
+}
+
+/* Step 5 for a trial from y0 that landed at yb with tangent tb (turned away from y0 here): a new
+   branch into (ys, ts) unless it lies within h of y0 or is a found one (*overflow when there is
+   no room). Returns PSB_SUCCESS or a fatal code. */
+static psb_result psb__take_landing(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *yb,
+                                    double *tb, int max_branches, double *ys, double *ts,
+                                    psb_branch_report *rep, int *overflow)
+{
+    int np1 = s->internal_.np1, j, k, is_new = 1;
+    double *pk = PSB__VEC(s, PSB__V_BR_S), dotp = 0, turn, dist = psb__dist_w(s, yb, y0);
+    /* a point closer to y0 than the sampling distance h tells nothing reliable about the
+       branches: pieces that touch the end point are active there */
+    if (dist < s->branch.h) return PSB_SUCCESS;
+    /* Step 5(i): orient away from the point */
+    for (k = 0; k < np1; k++) dotp += s->internal_.w[k] * tb[k] * (yb[k] - y0[k]);
+    if (dotp < 0)
+        for (k = 0; k < np1; k++) tb[k] = -tb[k];
+    turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
+    if (turn > sw->chord_turn_max) sw->chord_turn_max = turn;
+    if (turn < sw->chord_turn_min) sw->chord_turn_min = turn;
+    /* Step 5(ii): a new branch unless it is within c_diff of a known one */
+    for (j = 0; j < rep->n_branches; j++)
+        if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
+    for (j = 0; j < rep->n_branches && is_new; j++) {
+        int same = psb__same_curved_branch(s, y0, yb, tb, ys + (size_t)j * (size_t)np1,
+                                           ts + (size_t)j * (size_t)np1);
+        if (same < 0) return (psb_result)same;
+        is_new = !same;
+    }
+    if (!is_new) return PSB_SUCCESS;
+    psb__add_branch(s, yb, tb, max_branches, ys, ts, rep, overflow);
+    return PSB_SUCCESS;
+}
+
+/* After a trial from y0 that landed at (yb, tb) or was cut (cut): the n tangents of its path
+   (path, n + 1 apart) are known, and a landing goes to Step 5 (psb__take_landing). */
+static psb_result psb__trial_done(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *path, int n,
+                                  int cut, const double *yb, double *tb, int max_branches, double *ys, double *ts,
+                                  psb_branch_report *rep, int *overflow)
+{
+    int j, np1 = s->internal_.np1;
+    for (j = 0; j < n; j++) {
+        const double *ki = path + (size_t)j * (size_t)np1;
+        if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1)) psb__store_add(s, sw, sw->known, &sw->known_n, ki);
+    }
+    return cut ? PSB_SUCCESS : psb__take_landing(s, sw, y0, yb, tb, max_branches, ys, ts, rep, overflow);
+}
+
 /* Steps 5-7 of Algorithm 2.2 for the tangent tt: trial steps from y0 along +tt and -tt, and
    a new branch for each that converges away from y0 in a direction no known branch has.
    Skipped when tt was tried before in this call (memo). Stops before a trial when the n_pc
@@ -5848,8 +5975,7 @@ static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const do
         return PSB_SUCCESS;
     }
     for (sign = 1; sign >= -1; sign -= 2) {
-        double hh = s->branch.h_init, dotp, dist, turn;
-        int j, is_new = 1;
+        double hh = s->branch.h_init;
         own = -1;
         for (k = 0; k < np1; k++) tb[k] = sign * tt[k];
         if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
@@ -5899,41 +6025,9 @@ static psb_result psb__try_tangent(psb_solver *s, psb__sweep_state *sw, const do
            in, scaled up: that trial would land on the same ray, sooner and nearer, so the
            k_i of a trial that landed or was cut are known too (a failed trial's are not: with
            i more iterations to spare the trial along k_i might converge) */
-        for (j = 0; watched && j < tw.path_n; j++) {
-            const double *ki = sw->path + (size_t)j * (size_t)np1;
-            if (!psb__trial_known(s, sw, ki, ts, rep->n_branches, NULL, -1))
-                psb__store_add(s, sw, sw->known, &sw->known_n, ki);
-        }
-        if (cut) continue;
-        /* a point closer to y0 than the sampling distance h tells nothing reliable about the
-           branches: pieces that touch the end point are active there */
-        dist = psb__dist_w(s, yb, y0);
-        if (dist < s->branch.h) continue;
-        /* Step 5(i): orient away from the point */
-        dotp = 0;
-        for (k = 0; k < np1; k++) dotp += s->internal_.w[k] * tb[k] * (yb[k] - y0[k]);
-        if (dotp < 0)
-            for (k = 0; k < np1; k++) tb[k] = -tb[k];
-        turn = psb__chord_angle(s, y0, yb, dist, tb, pk);
-        if (turn > sw->chord_turn_max) sw->chord_turn_max = turn;
-        if (turn < sw->chord_turn_min) sw->chord_turn_min = turn;
-        /* Step 5(ii): a new branch unless it is within c_diff of a known one */
-        for (j = 0; j < rep->n_branches; j++)
-            if (psb__cos_w(s, tb, ts + (size_t)j * (size_t)np1) >= s->opt.c_diff) is_new = 0;
-        for (j = 0; j < rep->n_branches && is_new; j++) {
-            int same = psb__same_curved_branch(s, y0, yb, tb, ys + (size_t)j * (size_t)np1,
-                                               ts + (size_t)j * (size_t)np1);
-            if (same < 0) return (psb_result)same;
-            is_new = !same;
-        }
-        if (!is_new) continue;
-        if (rep->n_branches >= max_branches) {
-            *overflow = 1;
-            continue;
-        }
-        psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
-        psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
-        rep->n_branches++;
+        r = psb__trial_done(s, sw, y0, sw->path, watched ? tw.path_n : 0, cut, yb, tb, max_branches, ys, ts, rep,
+                            overflow);
+        if (r != PSB_SUCCESS) return r;
     }
     if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);
     return PSB_SUCCESS;
@@ -6017,6 +6111,620 @@ static int psb__unbalanced(psb_solver *s, psb__sweep_state *sw, const double *ys
     return sum != 0;
 }
 
+/* ---- Algorithm 2.2 on workers (psb_branch_options.workers) ----------------------------------
+   A span's directions go in batches of n_dir. Phase A, on the workers: every direction's memo
+   key, then the tangents of the keys neither the memo nor an earlier direction holds. Phase B, in
+   order on the calling solver: Step 4 and the memo choose the directions to try. Phase C, on the
+   workers: their screening tangents, then (after a screening in order) their trials, each sign a
+   task. Phase D, in order: psb__try_tangent's decisions on the trials' results. A task reads the
+   memos as its phase found them (psb__sweep_state.frozen) and writes only its own record; the
+   merges take records in order. So the result depends on the batch alone, never on which worker
+   ran what or when. */
+
+/* a direction's vectors: its tangent; for each sign the screen tangent, landing point and tangent,
+   and the trial's path (psb__trial_watch) */
+#define PSB__TASK_VECS (7 + 2 * PSB__PATH_MAX)
+
+/* What tasks spent, merged and cleared in order by psb__task_merge. */
+typedef struct psb__spent {
+    psb_stats stats;
+    long faults[4], n_ok, looks, hits, memo_cuts, n_tangents, n_pc;
+    int pchecks;
+    double pdrift, cone;
+    char message[200]; /* a fatal code's */
+} psb__spent;
+
+/* One direction's task results. */
+typedef struct psb__task {
+    int skip;                /* no direction (v was 0) */
+    psb_result ra;           /* phase A: the sample tangent's result, */
+    int from_memo;           /* and its memo hit (1, 2) */
+    int keyed, need, lead;   /* its memo key (1 dH's hash, 2 a piece id), to be computed, leads its
+                                key (stores its tangent) */
+    int follow;              /* takes its tangent from that direction's, the lead of its key (-1) */
+    int sign;                /* its outward sign (psb__jmemo_store) */
+    unsigned long long key[2];
+    int todo, pick;          /* lists: rec[j].todo the j-th task's direction, rec[j].pick the j-th
+                                chosen direction */
+    psb_result rc, rcs[2];   /* phase C: the recomputed tangent's result (unscreened trials);
+                                each sign's fatal code */
+    int seen;                /* its tangent was tried before */
+    psb_result rs[2], rt[2]; /* each sign: the screen tangent's result, the trial's; */
+    int screened[2], go[2], fail[2]; /* screened (frozen memos, earlier screening tangents), the
+                                        trial to make, why it failed */
+    int path_n[2];           /* each sign: the trial's path, and the memo entries of its screening */
+    int held[2][1 + PSB__PATH_MAX], held_sign[2][1 + PSB__PATH_MAX]; /* tangent and its path */
+    unsigned long long held_key[2][2 + 2 * PSB__PATH_MAX];
+    psb__spent spent[2];     /* by its tasks: phase A's and the first sign's, the second sign's */
+} psb__task;
+
+typedef struct psb__par {
+    psb_solver *s;                  /* the calling solver: read only while tasks run */
+    psb__sweep_state *sw;           /* its memos, frozen while tasks run */
+    const psb_workers *wk;
+    const double *y0, *t1, *q, *ts; /* the point, the span's plane, the found branches */
+    int n_br, n_dir, first;         /* found branches; directions first + i of n_dir */
+    char *mem;                      /* the records: each direction's psb__task and its */
+    size_t stride;                  /* PSB__TASK_VECS vectors, stride bytes in all */
+    int phase;                      /* the current run's tasks (PSB__PHASE_*) */
+} psb__par;
+
+/* The tasks of a run: memo keys (task j: direction j), tangents (direction rec[j].todo), screening
+   tangents and trials (direction rec[j / 2].todo, sign j % 2). */
+enum { PSB__PHASE_KEY, PSB__PHASE_TANGENT, PSB__PHASE_SCREEN, PSB__PHASE_TRIAL };
+
+/* Direction i's record. */
+static psb__task *psb__rec(const psb__par *p, int i)
+{
+    return (psb__task *)(void *)(p->mem + (size_t)i * p->stride);
+}
+
+PSCBRANCH_DEF void psb_workers_task_output(const void *arg, int task, int *group, void **out, size_t *bytes)
+{
+    const psb__par *p = (const psb__par *)arg;
+    static const int vecs[4] = {0, 1, 7, PSB__TASK_VECS}; /* the vectors each phase's tasks write */
+    int i = p->phase == PSB__PHASE_KEY ? task : psb__rec(p, p->phase == PSB__PHASE_TANGENT ? task : task / 2)->todo;
+    *group = i;
+    *out = psb__rec(p, i);
+    *bytes = sizeof(psb__task) + (size_t)vecs[p->phase] * (size_t)p->s->internal_.np1 * sizeof(double);
+}
+
+PSCBRANCH_DEF size_t psb_workers_memory_size(int n, int n_dir)
+{
+    if (n < 1 || n_dir < 1 || n_dir > PSB_MAX_DIR_LIMIT) return 0;
+    return (size_t)n_dir * (sizeof(psb__task) + (size_t)PSB__TASK_VECS * ((size_t)n + 1) * sizeof(double));
+}
+
+/* Checks s->branch.workers for a call on s (PSB_SUCCESS when there are none). */
+static psb_result psb__check_workers(psb_solver *s, const psb_branch_options *b)
+{
+    const psb_workers *wk = b->workers;
+    int w, v;
+    if (!wk) return PSB_SUCCESS;
+    if (wk->n_workers < 1 || wk->n_workers > PSB_MAX_WORKERS)
+        return psb__fail(s, PSB_ERR_SIZE, "workers: n_workers must lie in [1, PSB_MAX_WORKERS = 1024]");
+    if (!wk->run || !wk->solver || !wk->memory)
+        return psb__fail(s, PSB_ERR_NULL, "workers: run, solver or memory is NULL");
+    for (w = 0; w < wk->n_workers; w++) {
+        const psb_solver *ws = wk->solver[w];
+        if (!ws || ws->internal_.ready != PSB__READY)
+            return psb__fail(s, PSB_ERR_NULL, "workers: a solver is NULL or not initialised");
+        if (ws->internal_.np1 != s->internal_.np1 || ws->prob.param_index != s->prob.param_index ||
+            ws->prob.linear != s->prob.linear || ws->prob.kl != s->prob.kl || ws->prob.ku != s->prob.ku ||
+            ws->prob.band_lean != s->prob.band_lean || !ws->prob.jacobian != !s->prob.jacobian ||
+            !ws->prob.band_jacobian != !s->prob.band_jacobian || !ws->prob.piece != !s->prob.piece)
+            return psb__fail(s, PSB_ERR_SIZE, "workers: a solver's problem differs in size, backend or callbacks");
+        if (ws == s) return psb__fail(s, PSB_ERR_INPUT, "workers: the calling solver is a worker");
+        for (v = 0; v < w; v++)
+            if (wk->solver[v] == ws) return psb__fail(s, PSB_ERR_INPUT, "workers: a solver is given twice");
+    }
+    if (wk->bytes < psb_workers_memory_size(s->internal_.n, b->n_dir))
+        return psb__fail(s, PSB_ERR_NOMEM, "workers: memory is below psb_workers_memory_size(n, n_dir)");
+    return PSB_SUCCESS;
+}
+
+/* Vector k of direction i's task. */
+static double *psb__task_vec(const psb__par *p, int i, int k)
+{
+    return (double *)(void *)(psb__rec(p, i) + 1) + (size_t)k * (size_t)p->s->internal_.np1;
+}
+
+/* Sets the workers to the calling solver's options, weights and H(y0) (before a batch). */
+static void psb__workers_sync(psb_solver *s, const psb_workers *wk)
+{
+    int w, np1 = s->internal_.np1;
+    for (w = 0; w < wk->n_workers; w++) {
+        psb_solver *ws = wk->solver[w];
+        ws->opt = s->opt;
+        ws->branch = s->branch;
+        psb__copy(ws->internal_.w, s->internal_.w, np1);
+        psb__copy(PSB__VEC(ws, PSB__V_BR_H0), PSB__VEC(s, PSB__V_BR_H0), np1);
+    }
+}
+
+/* A task's start on worker ws: sw becomes a frozen copy of the batch's memos with ws's own path,
+   and ws forgets the factors it holds, so that what the task spends never depends on the task
+   before it. The counters are taken from here on (psb__task_end). */
+static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state *sw, psb__spent *rec)
+{
+    *sw = *p->sw;
+    sw->frozen = 1;
+    sw->path = ws->internal_.sweep.path;
+    ws->internal_.afac = NULL;
+    ws->internal_.bv_ok = ws->internal_.border_ok = 0;
+    ws->internal_.in_trace_callback = 0;
+    ws->message[0] = 0;
+    rec->stats.n_residual -= ws->stats.n_residual;
+    rec->stats.n_jacobian -= ws->stats.n_jacobian;
+    rec->stats.n_factor -= ws->stats.n_factor;
+    rec->stats.n_factor_reused -= ws->stats.n_factor_reused;
+    rec->stats.n_pc_steps -= ws->stats.n_pc_steps;
+    rec->stats.n_newton -= ws->stats.n_newton;
+    rec->stats.n_rejected -= ws->stats.n_rejected;
+    rec->stats.n_switches -= ws->stats.n_switches;
+    rec->stats.n_tangents -= ws->stats.n_tangents;
+    rec->stats.n_tangent_reused -= ws->stats.n_tangent_reused;
+    rec->faults[0] -= ws->internal_.faults[0];
+    rec->faults[1] -= ws->internal_.faults[1];
+    rec->faults[2] -= ws->internal_.faults[2];
+    rec->faults[3] -= ws->internal_.faults[3];
+    rec->n_ok -= ws->internal_.n_ok;
+}
+
+/* A task's end: what it spent into rec (the fatal message too). */
+static void psb__task_end(const psb__par *p, psb_solver *ws, const psb__sweep_state *sw, psb__spent *rec, psb_result r)
+{
+    rec->stats.n_residual += ws->stats.n_residual;
+    rec->stats.n_jacobian += ws->stats.n_jacobian;
+    rec->stats.n_factor += ws->stats.n_factor;
+    rec->stats.n_factor_reused += ws->stats.n_factor_reused;
+    rec->stats.n_pc_steps += ws->stats.n_pc_steps;
+    rec->stats.n_newton += ws->stats.n_newton;
+    rec->stats.n_rejected += ws->stats.n_rejected;
+    rec->stats.n_switches += ws->stats.n_switches;
+    rec->stats.n_tangents += ws->stats.n_tangents;
+    rec->stats.n_tangent_reused += ws->stats.n_tangent_reused;
+    rec->faults[0] += ws->internal_.faults[0];
+    rec->faults[1] += ws->internal_.faults[1];
+    rec->faults[2] += ws->internal_.faults[2];
+    rec->faults[3] += ws->internal_.faults[3];
+    rec->n_ok += ws->internal_.n_ok;
+    rec->looks += sw->jmemo_looks - p->sw->jmemo_looks;
+    rec->hits += sw->jmemo_hits - p->sw->jmemo_hits;
+    rec->memo_cuts += sw->memo_cuts - p->sw->memo_cuts;
+    rec->pchecks += sw->pmemo_checks - p->sw->pmemo_checks;
+    if (sw->pmemo_drift > rec->pdrift || isnan(sw->pmemo_drift)) rec->pdrift = sw->pmemo_drift;
+    if (sw->cone_defect > rec->cone) rec->cone = sw->cone_defect;
+    if (psb__is_fatal(r)) memcpy(rec->message, ws->message, sizeof rec->message);
+}
+
+/* Direction i's sample point pt and direction v (0: none). */
+static int psb__task_point(const psb__par *p, psb_solver *ws, int i, double *v, double *pt)
+{
+    int k, np1 = ws->internal_.np1;
+    double alpha = 6.283185307179586 * (p->first + i + p->sw->sweep_offset) / p->n_dir;
+    for (k = 0; k < np1; k++) v[k] = sin(alpha) * p->t1[k] + cos(alpha) * p->q[k];
+    if (!psb__normalize_w(ws, v)) return 0;
+    psb__axpy_to(pt, p->y0, ws->branch.h, v, np1);
+    return 1;
+}
+
+/* Phase A, direction i on worker w: the memo key of y0 + h v (psb__sample_tangent's). */
+static void psb__task_key(void *arg, int i, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    psb__task *rec = psb__rec(p, i);
+    psb__sweep_state sw;
+    double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
+    psb_result r = PSB_SUCCESS;
+    int by_piece = ws->prob.piece != NULL;
+    psb__task_begin(p, ws, &sw, rec->spent);
+    rec->skip = !psb__task_point(p, ws, i, v, pt);
+    if (!rec->skip) {
+        rec->spent[0].n_tangents++;
+        if (by_piece) r = psb__piece_key(ws, pt, rec->key, &by_piece);
+        if (r == PSB_SUCCESS && !by_piece && psb__jmemo_hashing(&sw)) {
+            ws->stats.n_tangents++;
+            r = psb__jacobian(ws, pt, NULL);
+            if (r == PSB_SUCCESS) psb__jmemo_key(ws, rec->key);
+            psb__note_fault(ws, r);
+            by_piece = -1;
+        }
+        rec->keyed = r != PSB_SUCCESS ? 0 : by_piece < 0 ? 1 : by_piece ? 2 : 0;
+    }
+    rec->ra = r;
+    psb__task_end(p, ws, &sw, rec->spent, r);
+}
+
+/* Phase A, task j on worker w: the tangent at direction rec[j].todo's sample point (phase C
+   again where phase A took it from the memo, which only chose it, and the trial goes along it). */
+static void psb__task_tangent(void *arg, int j, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    int i = psb__rec(p, j)->todo;
+    psb__task *rec = psb__rec(p, i);
+    psb__sweep_state sw;
+    double *v = PSB__VEC(ws, PSB__V_BR_V), *pt = PSB__VEC(ws, PSB__V_BR_P);
+    psb_result r;
+    psb__task_begin(p, ws, &sw, rec->spent);
+    psb__task_point(p, ws, i, v, pt);
+    r = psb__sample_tangent_at(ws, pt, v, psb__task_vec(p, i, 0));
+    psb__note_fault(ws, r);
+    rec->sign = ws->internal_.tangent_sign;
+    rec->ra = r;
+    psb__task_end(p, ws, &sw, rec->spent, r);
+}
+
+/* Phase C, task j on worker w: the screening tangent of direction rec[j / 2].todo along +tt (j
+   even) or -tt (psb__try_tangent's, on the frozen memos, its memo entry kept for the merge). */
+static void psb__task_screen(void *arg, int j, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    int i = psb__rec(p, j / 2)->todo, side = j % 2, np1 = ws->internal_.np1, k, from_memo;
+    psb__task *rec = psb__rec(p, i);
+    psb__spent *sp = rec->spent + side;
+    psb__sweep_state sw;
+    double *pk = PSB__VEC(ws, PSB__V_BR_S), *tt = psb__task_vec(p, i, 0);
+    double *kx = psb__task_vec(p, i, 1 + 3 * side), *tb = psb__task_vec(p, i, 3 + 3 * side);
+    psb_result r;
+    psb__task_begin(p, ws, &sw, sp);
+    for (k = 0; k < np1; k++) tb[k] = (side ? -1 : 1) * tt[k];
+    psb__axpy_to(pk, p->y0, ws->branch.h_init, tb, np1);
+    sp->n_tangents++;
+    sw.held = 0;
+    r = psb__sample_tangent(ws, &sw, pk, tb, kx, &from_memo, p->y0);
+    rec->held[side][0] = sw.held;
+    rec->held_sign[side][0] = sw.held_sign;
+    rec->held_key[side][0] = sw.held_key[0];
+    rec->held_key[side][1] = sw.held_key[1];
+    rec->screened[side] = r == PSB_SUCCESS && psb__trial_known(ws, &sw, kx, p->ts, p->n_br, side ? tt : NULL, -1);
+    if (r == PSB_SUCCESS && from_memo && !rec->screened[side]) r = psb__sample_tangent_at(ws, pk, tb, kx);
+    rec->rs[side] = r;
+    rec->rcs[side] = psb__is_fatal(r) ? r : PSB_SUCCESS;
+    psb__task_end(p, ws, &sw, sp, r);
+}
+
+/* Phase C, task j on worker w: the trial of direction rec[j / 2].todo along +tt (j even) or -tt,
+   when the screening let it through (go), along the screening tangent (psb__try_tangent's, on the
+   frozen memos; its memo entries and path are kept for the merge). */
+static void psb__task_trial(void *arg, int j, int w)
+{
+    psb__par *p = (psb__par *)arg;
+    psb_solver *ws = p->wk->solver[w];
+    int i = psb__rec(p, j / 2)->todo, side = j % 2, np1 = ws->internal_.np1, k, iters;
+    int watched = !ws->branch.expert.no_screen && !psb__fd_jacobian(&ws->prob);
+    psb__task *rec = psb__rec(p, i);
+    psb__spent *sp = rec->spent + side;
+    psb__sweep_state sw;
+    psb__trial_watch tw;
+    double *tt = psb__task_vec(p, i, 0), hh = ws->branch.h_init;
+    double *yb = psb__task_vec(p, i, 2 + 3 * side), *tb = psb__task_vec(p, i, 3 + 3 * side);
+    psb_result r;
+    if (!rec->go[side]) return;
+    psb__task_begin(p, ws, &sw, sp);
+    if (ws->branch.expert.no_screen || rec->rs[side] != PSB_SUCCESS)
+        for (k = 0; k < np1; k++) tb[k] = (side ? -1 : 1) * tt[k];
+    else
+        psb__copy(tb, psb__task_vec(p, i, 1 + 3 * side), np1);
+    psb__copy(yb, p->y0, np1);
+    sp->n_pc++;
+    psb__trial_watch_init(&tw, &sw, p->ts, p->n_br, -1, sw.conic_h0_ok ? p->y0 : NULL);
+    r = rec->rt[side] = psb__try_step_from(ws, yb, tb, &hh, ws->branch.expert.trial_h_min, &iters, p->y0,
+                                           watched ? &tw.base : NULL);
+    rec->fail[side] = ws->internal_.last_fail;
+    rec->path_n[side] = watched ? tw.path_n : 0;
+    for (k = 0; k < rec->path_n[side]; k++) {
+        psb__copy(psb__task_vec(p, i, 7 + side * PSB__PATH_MAX + k), sw.path + (size_t)k * (size_t)np1, np1);
+        rec->held[side][1 + k] = tw.path_held[k];
+        rec->held_sign[side][1 + k] = tw.path_sign[k];
+        rec->held_key[side][2 + 2 * k] = tw.path_key[2 * k];
+        rec->held_key[side][3 + 2 * k] = tw.path_key[2 * k + 1];
+    }
+    psb__note_fault(ws, r);
+    rec->rcs[side] = psb__is_fatal(r) ? r : PSB_SUCCESS;
+    psb__task_end(p, ws, &sw, sp, r);
+}
+
+/* Merges what direction i's tasks spent into s, sw and rep, in order; their fatal code (or
+   PSB_SUCCESS) with its message. */
+static psb_result psb__task_merge(psb_solver *s, psb__sweep_state *sw, psb__spent *rec, psb_branch_report *rep,
+                                  psb_result r)
+{
+    psb_stats *d = &rec->stats;
+    int k;
+    s->stats.n_residual += d->n_residual;
+    s->stats.n_jacobian += d->n_jacobian;
+    s->stats.n_factor += d->n_factor;
+    s->stats.n_factor_reused += d->n_factor_reused;
+    s->stats.n_pc_steps += d->n_pc_steps;
+    s->stats.n_newton += d->n_newton;
+    s->stats.n_rejected += d->n_rejected;
+    s->stats.n_switches += d->n_switches;
+    s->stats.n_tangents += d->n_tangents;
+    s->stats.n_tangent_reused += d->n_tangent_reused;
+    memset(d, 0, sizeof *d);
+    for (k = 0; k < 4; k++) s->internal_.faults[k] += rec->faults[k], rec->faults[k] = 0;
+    s->internal_.n_ok += rec->n_ok;
+    sw->jmemo_looks += rec->looks;
+    sw->jmemo_hits += rec->hits;
+    sw->memo_cuts += rec->memo_cuts;
+    rep->n_cut_memo += rec->memo_cuts;
+    sw->pmemo_checks += rec->pchecks;
+    if (rec->pdrift > sw->pmemo_drift || isnan(rec->pdrift)) sw->pmemo_drift = rec->pdrift;
+    psb__note_cone_excess(sw, rec->cone);
+    rep->n_tangents += rec->n_tangents;
+    rep->n_pc += rec->n_pc;
+    rec->n_ok = rec->looks = rec->hits = rec->memo_cuts = rec->n_tangents = rec->n_pc = 0;
+    rec->pchecks = 0;
+    rec->pdrift = rec->cone = 0;
+    if (!psb__is_fatal(r)) return PSB_SUCCESS;
+    memcpy(s->message, rec->message, sizeof s->message);
+    s->message[sizeof s->message - 1] = 0;
+    return r;
+}
+
+/* Runs n tasks on the workers. */
+static psb_result psb__par_run(psb__par *p, int n, psb_task_fn task, int phase)
+{
+    if (n == 0) return PSB_SUCCESS;
+    p->phase = phase;
+    if (p->wk->run(p->wk->ctx, n, task, p) != 0)
+        return psb__fail(p->s, PSB_ERR_CALLBACK, "workers: run failed");
+    return PSB_SUCCESS;
+}
+
+/* Which trials of the n directions rec[j].todo to make: those the screening on the frozen memos
+   let through, unless the screening tangent of one before it (in order) already stands for it,
+   as it would in the known memo of the serial sweep. A fatal screening ends the list there. */
+static void psb__par_screen(psb__par *p, int n)
+{
+    psb_solver *s = p->s;
+    int j, side, m, other, fatal = 0;
+    for (j = 0; j < n; j++)
+        for (side = 0; side < 2; side++) {
+            psb__task *rec = psb__rec(p, psb__rec(p, j)->todo);
+            const double *kx = psb__task_vec(p, psb__rec(p, j)->todo, 1 + 3 * side);
+            double nx;
+            rec->go[side] = 0;
+            if (fatal || rec->screened[side]) continue;
+            fatal = rec->rcs[side] != PSB_SUCCESS;
+            rec->go[side] = !fatal;
+            if (fatal || s->branch.expert.no_screen || rec->rs[side] != PSB_SUCCESS) continue;
+            nx = psb__norm_w(s, kx);
+            for (m = 0; m <= j && !rec->screened[side]; m++)
+                for (other = 0; other < (m < j ? 2 : side); other++) {
+                    const psb__task *o = psb__rec(p, psb__rec(p, m)->todo);
+                    if (o->go[other] && o->rs[other] == PSB_SUCCESS &&
+                        psb__cos_w_na(s, kx, nx, psb__task_vec(p, psb__rec(p, m)->todo, 1 + 3 * other)) >= s->opt.c_diff)
+                        rec->screened[side] = 1;
+                }
+            rec->go[side] = !rec->screened[side];
+        }
+}
+
+/* Orients the memo tangent tm by direction i's v into its tangent (psb__jmemo_get's test): 1, or
+   0 when v is nearly orthogonal to it (the tangent is then computed). */
+static int psb__par_oriented(psb__par *p, int i, const double *tm)
+{
+    psb_solver *s = p->s;
+    double *v = PSB__VEC(s, PSB__V_BR_V), *pt = PSB__VEC(s, PSB__V_BR_P), *tt = psb__task_vec(p, i, 0), dot;
+    int k;
+    psb__task_point(p, s, i, v, pt);
+    dot = psb__dot_w(s, tm, v);
+    if (!(fabs(dot) > 1.4901161193847656e-08 * psb__norm_w(s, v))) return 0;
+    for (k = 0; k < s->internal_.np1; k++) tt[k] = dot < 0 ? -tm[k] : tm[k];
+    s->stats.n_tangent_reused++;
+    s->internal_.n_ok++;
+    return 1;
+}
+
+/* Phase A: the sample tangents of directions 0 .. count - 1 of the batch, as psb__sample_tangent
+   gives them in order: the memo keys first (when the memo keys), then the tangents of the
+   directions whose key neither the memo nor an earlier direction holds, then of those whose
+   key's lead failed or whose memo tangent is nearly orthogonal to v. Returns PSB_SUCCESS or the
+   first fatal code in order. */
+static psb_result psb__par_tangents(psb__par *p, int count, psb_branch_report *rep)
+{
+    psb_solver *s = p->s;
+    psb__sweep_state *sw = p->sw;
+    int np1 = s->internal_.np1, i, j, m, n, round;
+    psb_result r;
+    if (s->prob.piece || psb__jmemo_hashing(sw)) {
+        r = psb__par_run(p, count, psb__task_key, PSB__PHASE_KEY);
+        if (r != PSB_SUCCESS) return r;
+    } else {
+        for (i = 0; i < count; i++) {
+            psb__rec(p, i)->skip = !psb__task_point(p, s, i, PSB__VEC(s, PSB__V_BR_V), PSB__VEC(s, PSB__V_BR_P));
+            psb__rec(p, i)->spent[0].n_tangents = !psb__rec(p, i)->skip;
+        }
+    }
+    for (i = 0; i < count; i++) {
+        psb__task *rec = psb__rec(p, i);
+        r = psb__task_merge(s, sw, rec->spent, rep, rec->ra);
+        if (r != PSB_SUCCESS) return r;
+        rec->follow = -1;
+        if (rec->skip || rec->ra != PSB_SUCCESS) continue;
+        rec->need = 1;
+        if (!rec->keyed) continue;
+        sw->jmemo_looks++;
+        m = psb__jmemo_find(sw, rec->key);
+        if (m >= 0) {
+            sw->jmemo_hits++;
+            if (psb__par_oriented(p, i, sw->jmemo_t + (size_t)m * (size_t)np1)) {
+                rec->need = 0;
+                rec->from_memo = rec->keyed;
+            }
+            continue;
+        }
+        for (j = 0; j < i; j++)
+            if (psb__rec(p, j)->lead && psb__rec(p, j)->key[0] == rec->key[0] && psb__rec(p, j)->key[1] == rec->key[1]) break;
+        if (j < i) {
+            sw->jmemo_hits++;
+            rec->need = 0;
+            rec->follow = j;
+        } else {
+            rec->lead = 1;
+        }
+    }
+    for (round = 0; round < 2; round++) {
+        for (i = n = 0; i < count; i++)
+            if (psb__rec(p, i)->need) psb__rec(p, n++)->todo = i;
+        r = psb__par_run(p, n, psb__task_tangent, PSB__PHASE_TANGENT);
+        if (r != PSB_SUCCESS) return r;
+        for (i = 0; i < count; i++) {
+            psb__task *rec = psb__rec(p, i);
+            if (rec->need) {
+                rec->need = 0;
+                r = psb__task_merge(s, sw, rec->spent, rep, rec->ra);
+                if (r != PSB_SUCCESS) return r;
+                if (rec->lead && rec->ra == PSB_SUCCESS)
+                    psb__jmemo_store(s, sw, rec->key, psb__task_vec(p, i, 0), rec->sign);
+            } else if (rec->follow >= 0) {
+                const psb__task *lead = psb__rec(p, rec->follow);
+                if (lead->ra == PSB_SUCCESS && psb__par_oriented(p, i, psb__task_vec(p, rec->follow, 0)))
+                    rec->from_memo = rec->keyed;
+                else
+                    rec->need = 1; /* computed in the next round, not stored */
+                rec->follow = -1;
+            }
+        }
+    }
+    return PSB_SUCCESS;
+}
+
+/* Phase D for direction i (phase C's results): psb__try_tangent's decisions, in order, on the
+   memos and branches as the directions before it left them. */
+static psb_result psb__par_merge(psb__par *p, int i, int max_branches, double *ys, double *ts,
+                                 psb_branch_report *rep, int *overflow)
+{
+    psb_solver *s = p->s;
+    psb__sweep_state *sw = p->sw;
+    psb__task *rec = psb__rec(p, i);
+    const double *y0 = p->y0, *tt = psb__task_vec(p, i, 0);
+    int side, k;
+    psb_result r = psb__task_merge(s, sw, rec->spent, rep, psb__is_fatal(rec->rc) ? rec->rc : rec->rcs[0]);
+    if (r == PSB_SUCCESS) r = psb__task_merge(s, sw, rec->spent + 1, rep, rec->rcs[1]);
+    if (r != PSB_SUCCESS) return r;
+    if (rec->rc != PSB_SUCCESS) return PSB_SUCCESS; /* a fault, counted */
+    if (!s->branch.expert.no_memo && (rec->seen || psb__memo_seen(s, sw, tt))) {
+        rep->n_memo++;
+        return PSB_SUCCESS;
+    }
+    for (side = 0; side < 2; side++) {
+        double *kx = psb__task_vec(p, i, 1 + 3 * side), *yb = psb__task_vec(p, i, 2 + 3 * side);
+        double *tb = psb__task_vec(p, i, 3 + 3 * side);
+        int cut;
+        if (rec->screened[side]) {
+            rep->n_screened++;
+            continue;
+        }
+        if (!s->branch.expert.no_screen && rec->rs[side] == PSB_SUCCESS) {
+            if (psb__trial_known(s, sw, kx, ts, rep->n_branches, side ? tt : NULL, -1)) {
+                rep->n_screened++;
+                continue;
+            }
+            psb__store_add(s, sw, sw->known, &sw->known_n, kx);
+        }
+        /* the memo entries the trial made, as the serial sweep makes them */
+        for (k = 0; k <= rec->path_n[side]; k++)
+            if (rec->held[side][k] && psb__jmemo_find(sw, rec->held_key[side] + 2 * k) < 0)
+                psb__jmemo_store(s, sw, rec->held_key[side] + 2 * k,
+                                 k ? psb__task_vec(p, i, 6 + side * PSB__PATH_MAX + k) : kx, rec->held_sign[side][k]);
+        r = rec->rt[side];
+        if (psb__is_fault(r)) continue;
+        cut = r != PSB_SUCCESS && rec->fail[side] == PSB__FAIL_KNOWN;
+        rep->n_cut += cut;
+        if (r != PSB_SUCCESS && !cut) continue;
+        r = psb__trial_done(s, sw, y0, psb__task_vec(p, i, 7 + side * PSB__PATH_MAX), rec->path_n[side], cut, yb, tb,
+                            max_branches, ys, ts, rep, overflow);
+        if (r != PSB_SUCCESS) return r;
+    }
+    if (!s->branch.expert.no_memo) psb__store_add(s, sw, sw->memo, &sw->memo_n, tt);
+    return PSB_SUCCESS;
+}
+
+/* psb__sweep on workers: the n_dir directions of the span of t1 and q (t2 made orthogonal), in
+   batches of s->branch.n_dir. Counts differ from the serial sweep's (the trials of a batch do not
+   see each other's memo entries), results not at all with the number of workers. */
+static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t1,
+                                 const double *q, int n_dir, int max_branches, double *ys, double *ts,
+                                 psb_branch_report *rep, int *overflow)
+{
+    const psb_workers *wk = s->branch.workers;
+    int np1 = s->internal_.np1, batch = s->branch.n_dir, first, i, j, m, n;
+    double *tprev = PSB__VEC(s, PSB__V_BR_TP);
+    psb__par p;
+    psb_result r;
+    p.s = s;
+    p.sw = sw;
+    p.wk = wk;
+    p.y0 = y0;
+    p.t1 = t1;
+    p.q = q;
+    p.n_dir = n_dir;
+    p.mem = (char *)wk->memory;
+    p.stride = sizeof(psb__task) + (size_t)PSB__TASK_VECS * (size_t)np1 * sizeof(double);
+    psb__workers_sync(s, wk);
+    for (first = 0; first < n_dir; first += batch) {
+        int count = n_dir - first < batch ? n_dir - first : batch, n_pick = 0;
+        if (s->branch.max_pc && rep->n_pc >= s->branch.max_pc) return PSB_SUCCESS;
+        for (i = 0; i < count; i++) memset(psb__rec(&p, i), 0, sizeof(psb__task));
+        p.first = first;
+        r = psb__par_tangents(&p, count, rep);
+        if (r != PSB_SUCCESS) return r;
+        /* phase B: Step 4 and the memo in order */
+        for (i = 0; i < count; i++) {
+            psb__task *rec = psb__rec(&p, i);
+            double *tt = psb__task_vec(&p, i, 0);
+            int seen = 0;
+            if (rec->skip || rec->ra != PSB_SUCCESS) continue;
+            if (first + i > 0 && fabs(psb__cos_w(s, tt, tprev)) >= s->opt.c_diff) continue;
+            psb__copy(tprev, tt, np1);
+            if (!s->branch.expert.no_memo) {
+                seen = psb__memo_seen(s, sw, tt);
+                for (m = 0; m < n_pick && !seen; m++)
+                    seen = fabs(psb__cos_w(s, tt, psb__task_vec(&p, psb__rec(&p, m)->pick, 0))) >= s->opt.c_diff;
+            }
+            if (seen) {
+                rep->n_memo++;
+                continue;
+            }
+            psb__rec(&p, n_pick++)->pick = i;
+        }
+        /* phase C: the trials (both signs apart) on the memos as they are now; phase D: their
+           merge in order. A tangent phase A took from the memo places the screening points as
+           well as the computed one would (the trials go along the tangents there), so only
+           unscreened trials wait for it to be computed */
+        p.ts = ts;
+        p.n_br = rep->n_branches;
+        for (j = n = 0; j < n_pick; j++)
+            if (psb__rec(&p, psb__rec(&p, j)->pick)->from_memo && s->branch.expert.no_screen)
+                psb__rec(&p, n++)->todo = psb__rec(&p, j)->pick;
+        r = psb__par_run(&p, n, psb__task_tangent, PSB__PHASE_TANGENT);
+        if (r != PSB_SUCCESS) return r;
+        for (j = 0; j < n; j++) psb__rec(&p, psb__rec(&p, j)->todo)->rc = psb__rec(&p, psb__rec(&p, j)->todo)->ra;
+        for (j = n = 0; j < n_pick; j++) {
+            psb__task *rec = psb__rec(&p, psb__rec(&p, j)->pick);
+            if (rec->rc == PSB_SUCCESS && !s->branch.expert.no_memo)
+                rec->seen = psb__memo_seen(s, sw, psb__task_vec(&p, psb__rec(&p, j)->pick, 0));
+            if (rec->rc == PSB_SUCCESS && !rec->seen) psb__rec(&p, n++)->todo = psb__rec(&p, j)->pick;
+        }
+        r = psb__par_run(&p, s->branch.expert.no_screen ? 0 : 2 * n, psb__task_screen, PSB__PHASE_SCREEN);
+        if (r != PSB_SUCCESS) return r;
+        psb__par_screen(&p, n);
+        r = psb__par_run(&p, 2 * n, psb__task_trial, PSB__PHASE_TRIAL);
+        if (r != PSB_SUCCESS) return r;
+        for (j = 0; j < n_pick; j++) {
+            r = psb__par_merge(&p, psb__rec(&p, j)->pick, max_branches, ys, ts, rep, overflow);
+            if (r != PSB_SUCCESS) return r;
+        }
+    }
+    return PSB_SUCCESS;
+}
+
 /* One span of Algorithm 2.2 (Steps 2-7) with the spanning tangents t1, t2. */
 static psb_result psb__sweep(psb_solver *s, psb__sweep_state *sw, const double *y0, const double *t1, const double *t2,
                              int max_branches, double *ys, double *ts, psb_branch_report *rep,
@@ -6037,6 +6745,7 @@ static psb_result psb__sweep(psb_solver *s, psb__sweep_state *sw, const double *
         if (!psb__normalize_w(s, q)) return PSB_SUCCESS; /* t2 parallel to t1: no plane */
         for (k = 0; k < np1; k++) q[k] *= psb__norm_w(s, t1);
     }
+    if (s->branch.workers) return psb__sweep_par(s, sw, y0, t1, q, n_dir, max_branches, ys, ts, rep, overflow);
     for (i = 0; i < n_dir; i++) {
         double alpha = 6.283185307179586 * (i + sw->sweep_offset) / n_dir;
         for (k = 0; k < np1; k++) v[k] = sin(alpha) * t1[k] + cos(alpha) * q[k];
@@ -6451,13 +7160,7 @@ static psb_result psb__sphere_trial(psb_solver *s, const double *y, const double
         for (j = 0; j < rep->n_branches; j++)
             if (psb__dist_w(s, yb, ys + (size_t)j * (size_t)np1) <= same) return PSB_SUCCESS;
     }
-    if (rep->n_branches >= max_branches) {
-        *overflow = 1;
-        return PSB_SUCCESS;
-    }
-    psb__copy(ys + (size_t)rep->n_branches * (size_t)np1, yb, np1);
-    psb__copy(ts + (size_t)rep->n_branches * (size_t)np1, tb, np1);
-    rep->n_branches++;
+    psb__add_branch(s, yb, tb, max_branches, ys, ts, rep, overflow);
     return PSB_SUCCESS;
 }
 

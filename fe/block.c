@@ -22,7 +22,7 @@
                 [--start -1|1]
                 [--hmin H] [--maxiter N] [--restart mixed|paper|global] [--paper-sweep] [--no-screen] [--seed S]
                 [--solver dense|banded|umfpack|klu|mumps] [--patience K] [--save FILE] [--refine FILE] [--compare FILE]...
-                [--expect-npc N]
+                [--expect-npc N] [--workers N|mpi [--logical]]
    (`block --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
    --save writes the branches' end points at |gamma| = 1; --refine reads such a file of a coarser
@@ -30,7 +30,13 @@
    from the interpolated coarse solution, skipping the branching (the finest mesh of Table 3);
    --compare (up to 4) prints the relative H1 errors of a coarser file's displacements against
    this run's, branch by branch (Table 3). --expect-npc N: exit status 1 unless Algorithm 2.2's
-   n_pc is N (the tests check Table 1's n_pc = 72 this way).
+   n_pc is N (the tests check Table 1's n_pc = 72 this way). --workers N: Algorithm 2.2's
+   directions on N threads (fe/fe_workers.h; its results are the same for every N, and differ
+   from the serial sweep's, the default, in counts); with --logical, N logical workers run one
+   after another, and the sweep's critical path in factorisations is printed. --workers mpi (a
+   build with MUMPS, so with MPI): `mpirun -np K fe/block --workers mpi` runs the whole program
+   on every rank, Algorithm 2.2's directions shared out (contrib/psb_workers_mpi.h); rank 0
+   prints what --workers N prints.
    --solver: how the bordered systems are solved (fe/fe_solvers.h); by default the banded
    LU, and UMFPACK from M12800 (in a build with SuiteSparse), where it is 1.6x faster. --solver
    mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are installed):
@@ -53,6 +59,7 @@
 
 #include "cli.h"
 #include "fe_solvers.h"
+#include "fe_workers.h"
 
 /* Limits of the command line: meshes up to 2048 x 2048 elements (4.2 million nodes, well within
    fe.h's FE_MAX_NODES; the paper's finest is 80 x 160, M12800); the counts of Algorithm 2.2 to
@@ -95,6 +102,9 @@ static const char block_usage[] =
     "  --refine FILE         re-solve a coarser nested mesh's end points on this mesh (Table 3)\n"
     "  --compare FILE        relative H1 errors of a coarser file's end points (up to 4 times)\n"
     "  --expect-npc N        fail unless Algorithm 2.2's n_pc is N\n"
+    "  --workers N|mpi       Algorithm 2.2's directions on N threads, 1..64, or the MPI ranks\n"
+    "                        (default: the serial sweep)\n"
+    "  --logical             --workers N as N logical workers in turn: the sweep's critical path\n"
     "  --out DIR             write CSV, VTK and plot.gp into DIR (created if missing)\n"
     "  --verbose             more detail on stdout\n"
     "  --quiet               no progress on stderr\n"
@@ -102,6 +112,7 @@ static const char block_usage[] =
 
 typedef struct args {
     int nx, ny, ndir, nspan, input, start, multipliers, verbose, quiet, solver, maxiter, restart, paper_sweep, patience, no_screen, explore, no_piece_memo;
+    int workers, logical; /* --workers N (0: the serial sweep; -1: mpi), --logical */
     double keep_mb;
     double kappa; /* < 0: 1/N */
     double hmin;  /* smallest trial step of Algorithm 2.2 (psb_branch_options.trial_h_min); h_init: one trial
@@ -125,7 +136,7 @@ static int parse(int argc, char **argv, args *a)
     static const char *const dirichlet[] = {"mult", "elim", NULL};
     static const char *const sides[] = {"-1", "1", NULL};
     int restart = 0, side = 0, elim = 0;
-    const char *kappa = NULL, *compare = NULL;
+    const char *kappa = NULL, *compare = NULL, *workers = NULL;
     cli c;
     memset(a, 0, sizeof *a);
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->start = -1; a->multipliers = 1; a->maxiter = 10;
@@ -139,10 +150,19 @@ static int parse(int argc, char **argv, args *a)
         else if (cli_flag(&c, "--paper-sweep")) a->paper_sweep = 1;
         else if (cli_flag(&c, "--no-screen")) a->no_screen = 1;
         else if (cli_flag(&c, "--no-piece-memo")) a->no_piece_memo = 1;
+        else if (cli_flag(&c, "--logical")) a->logical = 1;
         else if (cli_pair(&c, "--mesh", &a->nx, &a->ny, 2, BLOCK_MAX_MESH)) {}
         else if (cli_int(&c, "--ndir", &a->ndir, 1, BLOCK_MAX_NDIR)) {}
         else if (cli_int(&c, "--nspan", &a->nspan, 1, BLOCK_MAX_NSPAN)) {}
         else if (cli_int(&c, "--patience", &a->patience, 0, 1000)) {}
+        else if (cli_string(&c, "--workers", &workers)) {
+            long wn = 0;
+            if (!strcmp(workers, "mpi")) a->workers = -1;
+            else if (!cli_parse_long(&c, workers, &wn, 1, FE_MAX_WORKERS)) a->workers = (int)wn;
+#ifndef FE_MUMPS
+            if (a->workers < 0) cli_fail(&c, "--workers mpi: this build has no MPI (libopenmpi-dev, libmumps-dev, then make)");
+#endif
+        }
         else if (cli_long(&c, "--expect-npc", &a->expect_npc, 0, LONG_MAX)) {}
         else if (cli_int(&c, "--input", &a->input, 0, 6)) {}
         else if (cli_choice(&c, "--start", &side, sides)) a->start = side ? 1 : -1;
@@ -339,6 +359,7 @@ static int block_main(int argc, char **argv)
     fe_model md;
     fe_run run;
     fe_solver fs;
+    fe_workers fw;
     psb_options opt;
     psb_branch_options bo;
     double *y = NULL, *t = NULL, *w = NULL, *bw = NULL, t0, t1, tol = 1e-8;
@@ -350,6 +371,7 @@ static int block_main(int argc, char **argv)
     memset(&md, 0, sizeof md);
     memset(&run, 0, sizeof run);
     memset(&fs, 0, sizeof fs);
+    memset(&fw, 0, sizeof fw);
 
     k = parse(argc, argv, &a);
     if (k != CLI_OK) return k == CLI_HELP ? 0 : 2;
@@ -376,6 +398,11 @@ static int block_main(int argc, char **argv)
         fprintf(stderr, "block: solver set-up failed for N = %d unknowns (%s, half band %d): %s\n", n,
                 fe_solver_label(fs.kind), md.half_band, psb_solver_message(&run.s));
         goto done;
+    }
+    if (a.workers) {
+        if (fs.kind == FE_SOLVER_MUMPS) { fprintf(stderr, "block: --workers: not with --solver mumps\n"); rc = 2; goto done; }
+        if (fe_workers_init(&fw, a.workers, a.workers < 0 ? FE_WORKERS_MPI : a.logical ? FE_WORKERS_LOGICAL : FE_WORKERS_THREADS, &md, &opt, fs.kind, a.keep_mb, bo.n_dir, "block")) goto done;
+        bo.workers = &fw.wk;
     }
     run.branch = bo;
     run.prog = "block";
@@ -405,6 +432,8 @@ static int block_main(int argc, char **argv)
     if (bw) printf("  weights of Algorithms 2.1-2.2: %g kappa for multipliers\n", a.branch_mult_weight);
     printf("  Algorithms 2.1-2.2: c_diff = %g, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            opt.c_diff, bo.h, bo.h_min, bo.h_init, bo.n_dir, bo.n_span, a.seed);
+    if (a.workers < 0) printf("  Algorithm 2.2 on the MPI ranks\n");
+    else if (a.workers) printf("  Algorithm 2.2 on %d %s\n", a.workers, a.logical ? "logical workers in turn" : a.workers > 1 ? "threads" : "thread");
     t0 = seconds();
     if (a.refine) {
         if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("block", a.refine, k); goto done; }
@@ -468,6 +497,7 @@ static int block_main(int argc, char **argv)
            run.brep.n_screened, run.brep.n_cut, run.brep.n_cut_memo);
     printf("  last new branch in span %d (a run with n_span = %d: n_pc = %ld, n_rand = %d)\n",
            run.brep.span_last_new, run.brep.span_last_new, run.brep.n_pc_last_new, run.brep.n_rand_last_new);
+    if (a.workers || a.verbose) fe_workers_print(&fw, run.f22);
 table:
     t1 = seconds();
     printf("\n  branch  direction  lower vertex    gamma   contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
@@ -492,6 +522,7 @@ done: /* every exit after the model is built frees what it holds (clean under Le
     free(y); free(t); free(w); free(bw);
     fe_run_free(&run);
     fe_solver_free(&fs);
+    fe_workers_free(&fw);
     fe_model_free(&md);
     fe_mesh_free(&mesh);
     return rc;
@@ -515,6 +546,7 @@ int main(int argc, char **argv)
     fe_solver_blas_threads();
 #ifdef FE_MUMPS
     if (wants_mumps(argc, argv)) return psb_mumps_main(argc, argv, block_main);
+    if (fe_workers_wants_mpi(argc, argv)) return fe_workers_main(argc, argv, block_main);
 #endif
     return block_main(argc, argv);
 }

@@ -1781,6 +1781,7 @@ typedef struct fe_run {
     const double *branch_weights; /* inner product of Algorithms 2.1-2.2 (NULL: the run's) */
     psb_branch_report brep;
     double precision;     /* Algorithm 2.1's last h */
+    long f22;             /* factorisations of the last Algorithm 2.2 */
     const char *prog;     /* the example's name in messages ("fe" when NULL) */
     int quiet;            /* 0: progress of the long stages on stderr */
 } fe_run;
@@ -2119,7 +2120,9 @@ static inline psb_result fe_run_branching(fe_run *run, double *y, double *t)
     }
     fe_run_progress(run, "Algorithms 2.1-2.2: locating the end point and sweeping for branches");
     r = psb_locate_end(s, y, t, &run->branch, &run->precision);
+    run->f22 = s->stats.n_factor;
     if (r >= 0) r = psb_find_branches(s, y, t, &run->branch, FE_MAX_BRANCHES, run->ys, run->ts, &run->brep);
+    run->f22 = s->stats.n_factor - run->f22;
     if (s == &alt) {
         fe_stats_add(&run->s.stats, &alt.stats);
         if (r < 0) memcpy(run->s.message, alt.message, sizeof run->s.message); /* before it goes */

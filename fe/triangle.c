@@ -36,11 +36,15 @@
    point on this mesh by Newton from the interpolated coarse solution, skipping the branching;
    --compare FILE (up to 4) prints the relative H1(Omega) errors of a coarser file's
    displacements against this run's, branch by branch.
+   --workers N: Algorithm 2.2's directions on N threads, each with its own solver (fe/fe_workers.h;
+   the same results for every N, other counts than the serial sweep's, the default); --logical:
+   N logical workers in turn, and the sweep's critical path in factorisations.
 
    Usage: triangle [--mesh N] [--problem branching|fold] [--fold-trace auto|start|end] [--fold-stop-kink K] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
                    [--friction F] [--map [--map-min F] [--map-max F] [--map-step D] [--map-tol T]]
                    [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
                    [--solver dense|banded|umfpack|klu|condensed] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
+                   [--workers N [--logical]]
    (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
    Build (from the repository root; `make` adds SuiteSparse when libsuitesparse-dev is there):
@@ -57,6 +61,7 @@
 
 #include "cli.h"
 #include "fe_solvers.h"
+#include "fe_workers.h"
 
 /* Limits of the command line: n up to 2048 (2.1 million nodes, within fe.h's FE_MAX_NODES; the
    paper's finest is n = 512, M262144); the counts of Algorithm 2.2 to values that finish. */
@@ -93,6 +98,8 @@ static const char triangle_usage[] =
     "  --nspan N             spans of Algorithm 2.2 (default 10; 1..1000)\n"
     "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 1e-290 <= H <= 1)\n"
     "  --seed S              random seed, 0..2^64-1 (default 0)\n"
+    "  --workers N           Algorithm 2.2's directions on N threads, 1..64 (default: the serial sweep)\n"
+    "  --logical             --workers N as N logical workers in turn: the sweep's critical path\n"
     "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2, 1 for fold; 0 < W <= 1e12)\n"
     "  --dirichlet mult|elim Dirichlet condition by multipliers (default) or eliminated dofs\n"
@@ -113,6 +120,7 @@ static const char triangle_usage[] =
 
 typedef struct args {
     int n, fold, ndir, nspan, multipliers, verbose, quiet, solver, load_auto, explore, no_piece_memo;
+    int workers, logical; /* --workers N (0: the serial sweep), --logical */
     int fold_trace;     /* FOLD_AUTO, FOLD_START, FOLD_END */
     int fold_stop_kink; /* 0, or stop the trace from gamma = -3 on its K-th kink */
     int map;            /* --map: the limit points against the friction coefficient */
@@ -154,6 +162,8 @@ static int parse(int argc, char **argv, args *a)
         else if (cli_double(&c, "--map-max", &a->map_max, 0, 100, 1)) {}
         else if (cli_double(&c, "--map-step", &a->map_step, 1e-6, 100, 0)) {}
         else if (cli_double(&c, "--map-tol", &a->map_tol, 1e-12, 1, 0)) {}
+        else if (cli_flag(&c, "--logical")) a->logical = 1;
+        else if (cli_int(&c, "--workers", &a->workers, 1, FE_MAX_WORKERS)) {}
         else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {}
         else if (cli_int(&c, "--mesh", &a->n, 2, TRI_MAX_MESH)) {}
         else if (cli_choice(&c, "--problem", &a->fold, problems)) {}
@@ -1048,8 +1058,10 @@ int main(int argc, char **argv)
     int n, k, ndist, ok, rc = 1, files_ok;
     psb_result r;
     fe_solver fsol;
+    fe_workers fw;
 
     fe_solver_blas_threads();
+    memset(&fw, 0, sizeof fw);
     memset(&mesh, 0, sizeof mesh);
     memset(&fsol, 0, sizeof fsol);
     memset(&md, 0, sizeof md);
@@ -1070,12 +1082,18 @@ int main(int argc, char **argv)
     if (!w) { fprintf(stderr, "triangle: out of memory\n"); goto done; }
     set_options(&opt, &bo, &a, &md, w, a.fold);
     k = fe_solver_run_init(&fsol, &run, &md, &opt, a.solver, a.keep_mb, "triangle"); /* the weights are copied at init */
-    free(w);
     if (k) {
+        free(w);
         fprintf(stderr, "triangle: solver set-up failed for N = %d unknowns (half band %d): %s\n", n, md.half_band,
                 psb_solver_message(&run.s));
         goto done;
     }
+    if (a.workers) {
+        k = fe_workers_init(&fw, a.workers, a.logical ? FE_WORKERS_LOGICAL : FE_WORKERS_THREADS, &md, &opt, fsol.kind, a.keep_mb, bo.n_dir, "triangle");
+        bo.workers = &fw.wk;
+    }
+    free(w);
+    if (k) goto done;
     run.branch = bo;
     run.prog = "triangle";
     run.quiet = a.quiet;
@@ -1123,6 +1141,7 @@ int main(int argc, char **argv)
     printf("  load h = gamma (-%g, -7.5)%s\n", a.load, a.load == 26.4 ? " (the paper's)" : "");
     printf("  Algorithms 2.1-2.2: c_diff = 1 - %.0e, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            1 - opt.c_diff, run.branch.h, run.branch.h_min, run.branch.h_init, run.branch.n_dir, run.branch.n_span, a.seed);
+    if (a.workers) printf("  Algorithm 2.2 on %d %s\n", a.workers, a.logical ? "logical workers in turn" : a.workers > 1 ? "threads" : "thread");
     r = fe_run_approach(&run, y, t, a.verbose);
     if (r < 0) { fprintf(stderr, "triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
     if (a.count_to > 0) { /* the model at H1 + 1 gives the load's derivative in H1 */
@@ -1170,6 +1189,7 @@ int main(int argc, char **argv)
     printf("\n  input branch %d; Algorithm 2.1 precision %.2e; n_pc = %ld, n_rand = %d, spans = %d (+%d idle), tangents = %ld, screened = %ld, cut = %ld (by the memo %ld)\n",
            run.br[0].number, run.precision, run.brep.n_pc, run.brep.n_rand, run.brep.n_span, run.brep.n_span_idle, run.brep.n_tangents,
            run.brep.n_screened, run.brep.n_cut, run.brep.n_cut_memo);
+    if (a.workers || a.verbose) fe_workers_print(&fw, run.f22);
 table:
     printf("\n  branch  gamma   state                           contact nodes: sep stick slip+ slip-  steps  |H|      found  end\n");
     ok = 1;
@@ -1186,6 +1206,7 @@ table:
     if (!files_ok) fprintf(stderr, "triangle: FAILED (a file could not be read or written, see above)\n");
     rc = ok && files_ok ? 0 : 1;
 done: /* every exit after the model is built frees what it holds (clean under LeakSanitizer) */
-    fe_run_free(&run); fe_solver_free(&fsol); fe_model_free(&md); fe_mesh_free(&mesh); free(y); free(t); free(rv);
+    fe_run_free(&run); fe_solver_free(&fsol); fe_workers_free(&fw); fe_model_free(&md); fe_mesh_free(&mesh);
+    free(y); free(t); free(rv);
     return rc;
 }

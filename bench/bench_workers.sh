@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# bench_workers.sh - Algorithm 2.2 on workers (psb_branch_options.workers; run by `make bench`).
+#   1. wall time of whole runs of the block (M800, M3200, M12800 with --large) and the triangle
+#      (M1024): the serial sweep, and the phased sweep on 1 and 2 threads (--workers N), with
+#      OPENBLAS_NUM_THREADS=1; Algorithm 2.2's factorisations beside.
+#   2. the sweep's critical path: W = 1, 2, 4, 8, 16, 32 logical workers run one after another
+#      (--workers W --logical), the longest worker's factorisations in each parallel phase summed,
+#      the calling solver's own added; against the serial sweep's factorisations.
+# Tables on stdout; CSV in bench/out/workers_wall.csv, workers_model.csv; the log-log plot of 2 in
+# docs/img/workers_critical_path.png when gnuplot is there. Usage: bench/bench_workers.sh [--large]
+# [--plot] (--plot: only redraw the plot from bench/out/workers_model.csv)
+set -u
+cd "$(dirname "$0")/.."
+large=0
+plot_only=0
+while [ $# -gt 0 ]; do
+    case "$1" in
+    --large) large=1 ;;
+    --plot) plot_only=1 ;;
+    *) echo "usage: bench/bench_workers.sh [--large] [--plot]" >&2; exit 2 ;;
+    esac
+    shift
+done
+export OPENBLAS_NUM_THREADS=1
+mkdir -p bench/out
+for p in fe/block fe/triangle; do [ -x "$p" ] || { echo "build $p first (make examples)"; exit 1; }; done
+
+# f22 OUTPUT: Algorithm 2.2's factorisations; crit OUTPUT: the modelled longest path
+f22() { printf '%s\n' "$1" | sed -n 's/.*Algorithm 2.2: \([0-9]*\) factorisations.*/\1/p' | head -n 1; }
+crit() { printf '%s\n' "$1" | sed -n 's/.*the longest path \([0-9]*\).*/\1/p' | head -n 1; }
+
+model_csv=bench/out/workers_model.csv
+if [ "$plot_only" = 0 ]; then
+echo "bench_workers: Algorithm 2.2 on workers (nproc $(nproc), OPENBLAS_NUM_THREADS=1)"
+echo
+echo "  case            sweep       wall [s]  CPU [s]  factorisations in 2.2  branches  ratio to 1 worker"
+wall_csv=bench/out/workers_wall.csv
+echo "case,sweep,wall_seconds,cpu_seconds,factorisations_22,branches" >"$wall_csv"
+cases="block-M800:fe/block --mesh 20x40|block-M3200:fe/block --mesh 40x80|triangle-M1024:fe/triangle --mesh 32"
+[ "$large" = 1 ] && cases="$cases|block-M12800:fe/block --mesh 80x160"
+IFS='|' read -r -a list <<<"$cases"
+for c in "${list[@]}"; do
+    name=${c%%:*}
+    cmd=${c#*:}
+    one=""
+    for sweep in serial 1 2; do
+        flags="--quiet --verbose"
+        [ "$sweep" != serial ] && flags="$flags --workers $sweep"
+        t0=$(date +%s.%N)
+        out=$($cmd $flags 2>&1)
+        t1=$(date +%s.%N)
+        wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
+        cpu=$(printf '%s\n' "$out" | sed -n 's/.*time \([0-9.]*\) s (CPU).*/\1/p' | tail -n 1)
+        nbr=$(printf '%s\n' "$out" | sed -n 's/.*  \([0-9]*\) distinct branches.*/\1/p' | tail -n 1)
+        ratio=""
+        [ "$sweep" = 1 ] && one=$wall
+        [ "$sweep" = 2 ] && [ -n "$one" ] && ratio=$(awk -v a="$wall" -v b="$one" 'BEGIN { printf "%.2f", a / b }')
+        printf '  %-15s %-10s %9s %8s %23s %9s  %s\n' "$name" "$sweep" "$wall" "$cpu" "$(f22 "$out")" "$nbr" "$ratio"
+        echo "$name,$sweep,$wall,$cpu,$(f22 "$out"),$nbr" >>"$wall_csv"
+    done
+done
+
+echo
+echo "  the sweep's critical path in factorisations (logical workers in turn)"
+echo "  case            serial sweep  phased total      W=1    W=2    W=4    W=8   W=16   W=32  (W=32)/serial"
+echo "case,workers,critical_path,phased_total,serial_sweep" >"$model_csv"
+for c in "block-M200:fe/block" "block-M800:fe/block --mesh 20x40" "triangle-M256:fe/triangle --mesh 16" \
+         "triangle-M1024:fe/triangle --mesh 32"; do
+    name=${c%%:*}
+    cmd=${c#*:}
+    serial=$(f22 "$($cmd --quiet --verbose 2>&1)")
+    row=""
+    total=""
+    for w in 1 2 4 8 16 32; do
+        out=$($cmd --quiet --workers "$w" --logical 2>&1)
+        cp=$(crit "$out")
+        total=$(f22 "$out")
+        row="$row $(printf '%6s' "$cp")"
+        echo "$name,$w,$cp,$total,$serial" >>"$model_csv"
+    done
+    printf '  %-15s %12s %13s %s  %13s\n' "$name" "$serial" "$total" "$row" \
+        "$(awk -v a="$cp" -v b="$serial" 'BEGIN { printf "%.3f", a / b }')"
+done
+fi
+
+if command -v gnuplot >/dev/null 2>&1; then
+    mkdir -p docs/img
+    gnuplot <<GP
+set terminal pngcairo size 720,480 font ",11"
+set output "docs/img/workers_critical_path.png"
+set datafile separator ","
+set logscale xy 2
+set xlabel "logical workers W"
+set ylabel "factorisations on the critical path"
+set title "Algorithm 2.2 on W workers: the longest worker's factorisations (dashed: serial sweep / 8)"
+set key top right
+set grid
+set xtics (1, 2, 4, 8, 16, 32)
+cases = "block-M200 block-M800 triangle-M256 triangle-M1024"
+plot for [i = 1:4] "< grep '^".word(cases, i).",' $model_csv" using 2:3 with linespoints lc i title word(cases, i), \
+     for [i = 1:4] "< grep '^".word(cases, i).",' $model_csv" using 2:(\$5 / 8) with lines dashtype 2 lc i notitle
+GP
+    echo
+    echo "  wrote docs/img/workers_critical_path.png"
+fi

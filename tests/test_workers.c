@@ -1,0 +1,526 @@
+/* Algorithm 2.2 on workers (psb_branch_options.workers): bit-identical branch sets, reports and
+   counters for 1, 2 and 4 workers, as threads (contrib/psb_workers.h) and as logical workers run
+   in turn, on the piecewise-linear families of bench/bench_branching.c, in psb_explore on them
+   and through pitchforks; every branch the serial sweep finds is found; a callback failing on a
+   worker fails the call as it fails the serial sweep; bad workers are refused. */
+#define PSCBRANCH_IMPLEMENTATION
+#include "../pscbranch.h"
+#include "../contrib/psb_workers.h"
+#include "harness.h"
+#include "pl_problems.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_W 4
+
+/* One Algorithm 2.2 outcome: what must agree bit for bit between worker counts. */
+typedef struct outcome {
+    psb_result r;
+    psb_branch_report rep;
+    psb_stats spent;
+    double ys[PL_MAX_RAYS * (PL_MAX_N + 1)], ts[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    int matched;
+} outcome;
+
+/* Workers for one problem: solvers, the thread pool, the results' memory. */
+typedef struct team {
+    psb_solver ws[MAX_W], *wp[MAX_W];
+    psb_threads th[MAX_W + 1]; /* pools of 1, 2 and 4 threads (index = count) */
+    psb_serial_workers logical;
+    void *memory;
+    size_t bytes;
+} team;
+
+static long summary_factor[2], summary_pc[2], summary_runs; /* serial, workers */
+
+static psb_stats spent_since(const psb_stats *a, const psb_stats *b)
+{
+    psb_stats d;
+    d.n_residual = b->n_residual - a->n_residual;
+    d.n_jacobian = b->n_jacobian - a->n_jacobian;
+    d.n_factor = b->n_factor - a->n_factor;
+    d.n_factor_reused = b->n_factor_reused - a->n_factor_reused;
+    d.n_pc_steps = b->n_pc_steps - a->n_pc_steps;
+    d.n_newton = b->n_newton - a->n_newton;
+    d.n_rejected = b->n_rejected - a->n_rejected;
+    d.n_switches = b->n_switches - a->n_switches;
+    d.n_tangents = b->n_tangents - a->n_tangents;
+    d.n_tangent_reused = b->n_tangent_reused - a->n_tangent_reused;
+    return d;
+}
+
+static int team_init(team *t, const psb_problem *prob)
+{
+    int w;
+    memset(t, 0, sizeof *t);
+    for (w = 0; w < MAX_W; w++) {
+        if (psb_solver_init(&t->ws[w], prob, NULL) != PSB_SUCCESS) return -1;
+        t->wp[w] = &t->ws[w];
+    }
+    for (w = 1; w <= MAX_W; w *= 2)
+        if (psb_threads_init(&t->th[w], w) != 0) return -1;
+    t->bytes = psb_workers_memory_size(prob->n, 20);
+    t->memory = malloc(t->bytes);
+    return t->memory ? 0 : -1;
+}
+
+static void team_free(team *t)
+{
+    int w;
+    for (w = 0; w < MAX_W; w++) psb_solver_free(&t->ws[w]);
+    for (w = 1; w <= MAX_W; w *= 2) psb_threads_free(&t->th[w]);
+    free(t->memory);
+}
+
+/* The workers psb_workers for n of them: threads, or logical workers in turn. */
+static psb_workers team_workers(team *t, int n, int threads)
+{
+    psb_workers wk;
+    wk.n_workers = n;
+    wk.solver = t->wp;
+    wk.memory = t->memory;
+    wk.bytes = t->bytes;
+    if (threads) {
+        wk.run = psb_threads_run;
+        wk.ctx = &t->th[n];
+    } else {
+        t->logical.n = n;
+        t->logical.solver = t->wp;
+        wk.run = psb_serial_run;
+        wk.ctx = &t->logical;
+    }
+    return wk;
+}
+
+/* Algorithm 2.2 entered along ray `incoming`, with the options bo0 and workers wk (NULL: none),
+   into *o. */
+static void branch_on_ray(const psb_problem *prob, const double *rays, int n_rays, int incoming,
+                          const psb_branch_options *bo0, const psb_workers *wk, outcome *o)
+{
+    psb_solver s;
+    psb_branch_options bo;
+    psb_stats before;
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1];
+    int np1 = prob->n + 1;
+    psb_result r;
+    memset(o, 0, sizeof *o);
+    bo = *bo0;
+    o->r = PSB_ERR_INPUT;
+    if (psb_solver_init(&s, prob, NULL) != PSB_SUCCESS) return;
+    pl_start_on_ray(np1, rays, incoming, y, t);
+    r = pl_trace_to_kink(&s, y, t, NULL);
+    if ((r == PSB_STOPPED || r == PSB_NONSMOOTH_END) && psb_locate_end(&s, y, t, &bo, NULL) == PSB_SUCCESS) {
+        bo.workers = wk;
+        before = s.stats;
+        o->r = psb_find_branches(&s, y, t, &bo, PL_MAX_RAYS, o->ys, o->ts, &o->rep);
+        o->spent = spent_since(&before, &s.stats);
+        o->matched = pl_match_rays(o->ts, o->rep.n_branches, rays, n_rays, np1, 1e-6);
+    }
+    psb_solver_free(&s);
+}
+
+static int same_outcome(const outcome *a, const outcome *b, int np1)
+{
+    size_t len = (size_t)a->rep.n_branches * (size_t)np1 * sizeof(double);
+    return a->r == b->r && !memcmp(&a->rep, &b->rep, sizeof a->rep) && !memcmp(&a->spent, &b->spent, sizeof a->spent) &&
+           !memcmp(a->ys, b->ys, len) && !memcmp(a->ts, b->ts, len);
+}
+
+/* Every ray of a problem entered in turn with the options bo: serial, then 1, 2, 4 workers both
+   ways. */
+static void check_problem(const char *name, const psb_problem *prob, const double *rays, int n_rays,
+                          const psb_branch_options *bo)
+{
+    static outcome serial, first, other;
+    team t;
+    int incoming, np1 = prob->n + 1, bad = 0, lost = 0;
+    if (team_init(&t, prob) != 0) {
+        CHECK(!"team_init");
+        team_free(&t);
+        return;
+    }
+    for (incoming = 0; incoming < n_rays; incoming++) {
+        int n, threads;
+        branch_on_ray(prob, rays, n_rays, incoming, bo, NULL, &serial);
+        for (threads = 0; threads <= 1; threads++)
+            for (n = 1; n <= MAX_W; n *= 2) {
+                psb_workers wk = team_workers(&t, n, threads);
+                outcome *o = !threads && n == 1 ? &first : &other;
+                branch_on_ray(prob, rays, n_rays, incoming, bo, &wk, o);
+                if (o != &first) bad += !same_outcome(&first, o, np1);
+            }
+        CHECK(first.r == PSB_SUCCESS);
+        /* the phased sweep finds every branch the serial one does */
+        lost += serial.r == PSB_SUCCESS && serial.matched == n_rays && first.matched < n_rays;
+        summary_factor[0] += serial.spent.n_factor;
+        summary_factor[1] += first.spent.n_factor;
+        summary_pc[0] += serial.rep.n_pc;
+        summary_pc[1] += first.rep.n_pc;
+        summary_runs++;
+    }
+    if (bad || lost) printf("  %s: %d outcomes differ between worker counts, %d lost branches\n", name, bad, lost);
+    CHECK(bad == 0);
+    CHECK(lost == 0);
+    team_free(&t);
+}
+
+static void test_families(void)
+{
+    static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    psb_problem prob;
+    psb_branch_options bo, printed;
+    int k, d;
+    memset(&bo, 0, sizeof bo);
+    printed = bo;
+    printed.expert.as_printed = 1;
+    printed.expert.restart = PSB_RESTART_PAPER;
+    for (k = 2; k <= 4; k++) {
+        pl_problem p;
+        int n_rays = pl_crossing_kinks(&p, k, rays);
+        psb_problem_init(&prob, k, pl_residual, pl_jacobian, &p);
+        check_problem("crossing kinks", &prob, rays, n_rays, &bo);
+        if (k > 3) continue; /* the printed sweep and differences cost 10x */
+        check_problem("crossing kinks, as printed", &prob, rays, n_rays, &printed);
+        prob.jacobian = NULL;
+        check_problem("crossing kinks, differences", &prob, rays, n_rays, &bo);
+    }
+    for (k = 4; k <= 6; k += 2) {
+        unsigned long long st = 777 + (unsigned long long)k;
+        for (d = 0; d < 3; d++) {
+            pl_problem p;
+            int n_rays = pl_random_lcp(&p, k, &st, 1, rays);
+            if (!n_rays) break;
+            psb_problem_init(&prob, k, pl_residual, pl_jacobian, &p);
+            check_problem("random LCP", &prob, rays, n_rays, &bo);
+        }
+    }
+    for (k = 1; k <= 3; k++) {
+        unsigned long long st = 555 + (unsigned long long)k;
+        for (d = 0; d < 2; d++) {
+            pl_contact p;
+            int n_rays = pl_random_contact(&p, k, &st, rays);
+            if (!n_rays) break;
+            psb_problem_init(&prob, 4 * k, pl_contact_residual, pl_contact_jacobian, &p);
+            check_problem("contact system", &prob, rays, n_rays, &bo);
+        }
+    }
+    {
+        unsigned long long st = 333 + 4ull;
+        for (d = 0; d < 2; d++) {
+            pl_ave p;
+            int n_rays = pl_random_ave(&p, 4, &st, rays);
+            if (!n_rays) break;
+            psb_problem_init(&prob, 4, pl_ave_residual, pl_ave_jacobian, &p);
+            check_problem("abs. value eqs", &prob, rays, n_rays, &bo);
+        }
+    }
+    printf("  %ld runs: factorisations %ld serial, %ld on workers; n_pc %ld, %ld\n", summary_runs,
+           summary_factor[0], summary_factor[1], summary_pc[0], summary_pc[1]);
+}
+
+/* psb_explore on the crossing kinks (Algorithm 2.2 at every pc1 node): the same diagram,
+   node for node, for every worker count. */
+static void explore_once(const psb_problem *prob, const psb_workers *wk, psb_diagram *d, psb_stats *spent)
+{
+    psb_solver s;
+    psb_explore_options eo;
+    double y[4] = {0.5, 0, 0.5, 0.5}, t[4] = {-0.57735026918962576, 0, -0.57735026918962576, -0.57735026918962576};
+    double lo[4] = {-2, -2, -2, -1}, hi[4] = {2, 2, 2, 1};
+    psb_stats before;
+    psb_result r;
+    CHECK(psb_solver_init(&s, prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(d, 3, 64, 64, 64) == PSB_SUCCESS);
+    memset(&eo, 0, sizeof eo);
+    eo.box_min = lo;
+    eo.box_max = hi;
+    eo.branch_at_kinks = 1;
+    eo.branch.workers = wk;
+    before = s.stats;
+    r = psb_explore(&s, y, t, &eo, d);
+    if (r < 0) printf("  explore: %s: %s\n", psb_result_string(r), psb_solver_message(&s));
+    CHECK(r >= 0);
+    *spent = spent_since(&before, &s.stats);
+    psb_solver_free(&s);
+}
+
+static int same_diagram(const psb_diagram *a, const psb_diagram *b)
+{
+    size_t np1 = (size_t)a->n + 1;
+    int i;
+    if (a->n_nodes != b->n_nodes || a->n_edges != b->n_edges || a->n_points != b->n_points ||
+        a->n_branchings != b->n_branchings || a->n_odd != b->n_odd || a->result != b->result)
+        return 0;
+    for (i = 0; i < a->n_nodes; i++) {
+        const psb_node *p = a->nodes + i, *q = b->nodes + i;
+        size_t len = (size_t)p->n_branches * np1 * sizeof(double);
+        if (p->kind != q->kind || p->n_branches != q->n_branches || memcmp(p->y, q->y, np1 * sizeof(double)) ||
+            memcmp(&p->precision, &q->precision, sizeof p->precision) || memcmp(p->ys, q->ys, len) ||
+            memcmp(p->ts, q->ts, len) || memcmp(p->branch_edge, q->branch_edge, (size_t)p->n_branches * sizeof(int)))
+            return 0;
+    }
+    for (i = 0; i < a->n_edges; i++) {
+        const psb_edge *p = a->edges + i, *q = b->edges + i;
+        if (p->from != q->from || p->from_branch != q->from_branch || p->to != q->to || p->to_branch != q->to_branch ||
+            p->end != q->end || p->result != q->result || p->n_points != q->n_points ||
+            memcmp(&p->length, &q->length, sizeof p->length))
+            return 0;
+    }
+    return 1;
+}
+
+static void test_explore(void)
+{
+    static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    pl_problem p;
+    psb_problem prob;
+    psb_diagram first, other;
+    psb_stats s_first, s_other;
+    team t;
+    int n, threads;
+    pl_crossing_kinks(&p, 3, rays);
+    psb_problem_init(&prob, 3, pl_residual, pl_jacobian, &p);
+    if (team_init(&t, &prob) != 0) {
+        CHECK(!"team_init");
+        team_free(&t);
+        return;
+    }
+    {
+        psb_workers wk = team_workers(&t, 1, 0);
+        explore_once(&prob, &wk, &first, &s_first);
+    }
+    CHECK(first.result == PSB_SUCCESS);
+    CHECK(first.n_branchings >= 1 && first.n_nodes >= 8);
+    printf("  explore: %d nodes, %d edges, %d branchings\n", first.n_nodes, first.n_edges, first.n_branchings);
+    for (threads = 0; threads <= 1; threads++)
+        for (n = 1; n <= MAX_W; n *= 2) {
+            psb_workers wk = team_workers(&t, n, threads);
+            explore_once(&prob, &wk, &other, &s_other);
+            CHECK(same_diagram(&first, &other));
+            CHECK(!memcmp(&s_first, &s_other, sizeof s_first));
+            psb_diagram_free(&other);
+        }
+    psb_diagram_free(&first);
+    team_free(&t);
+}
+
+/* Two pitchforks, x1 at l = 0 and x2 at l = 1/2: H = (x1 (l - x1^2), x2 (l - 1/2 - x2^2)). */
+static int fork_res(const double *y, double *h, void *user)
+{
+    (void)user;
+    h[0] = y[0] * (y[2] - y[0] * y[0]);
+    h[1] = y[1] * (y[2] - 0.5 - y[1] * y[1]);
+    return 0;
+}
+
+static int fork_jac(const double *y, double *jac, int ld, void *user)
+{
+    (void)user;
+    jac[0] = y[2] - 3 * y[0] * y[0];
+    jac[1] = 0;
+    jac[ld] = 0;
+    jac[1 + ld] = y[2] - 0.5 - 3 * y[1] * y[1];
+    jac[2 * ld] = y[0];
+    jac[1 + 2 * ld] = y[1];
+    return 0;
+}
+
+/* psb_explore through the pitchforks (branch point switches, no Algorithm 2.2): the diagram
+   without workers, and the same one with 1, 2, 4 of them. */
+static void test_pitchforks(void)
+{
+    psb_problem prob;
+    psb_diagram first, other;
+    team t;
+    int k;
+    psb_problem_init(&prob, 2, fork_res, fork_jac, NULL);
+    if (team_init(&t, &prob) != 0) {
+        CHECK(!"team_init");
+        team_free(&t);
+        return;
+    }
+    for (k = 0; k < 7; k++) {
+        psb_solver s;
+        psb_explore_options eo;
+        psb_workers wk = team_workers(&t, k < 1 ? 1 : 1 << ((k - 1) % 3), k >= 4);
+        psb_diagram *d = k ? &other : &first;
+        double y[3] = {0, 0, -0.5}, tt[3] = {0, 0, 1}, lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 2};
+        CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(d, 2, 64, 64, 8) == PSB_SUCCESS);
+        memset(&eo, 0, sizeof eo);
+        eo.trace.detect = PSB_DETECT_FOLDS | PSB_DETECT_BRANCH;
+        eo.trace.param_min = -0.5;
+        eo.trace.param_max = 1.5;
+        eo.box_min = lo;
+        eo.box_max = hi;
+        eo.branch.workers = k ? &wk : NULL;
+        CHECK(psb_explore(&s, y, tt, &eo, d) == PSB_SUCCESS);
+        if (k) {
+            CHECK(same_diagram(&first, &other));
+            psb_diagram_free(&other);
+        } else {
+            CHECK(first.n_branchings == 4); /* x2's pitchfork on x1's arms too */
+        }
+        psb_solver_free(&s);
+    }
+    psb_diagram_free(&first);
+    team_free(&t);
+}
+
+/* The crossing kinks, whose callbacks fail (mode 1: > 0, a fault; -1: < 0, fatal) where x_0 < 0
+   once armed. */
+typedef struct failing {
+    pl_problem p;
+    int mode, armed;
+} failing;
+
+static int failing_res(const double *y, double *h, void *user)
+{
+    const failing *f = (const failing *)user;
+    if (f->armed && y[0] < 0) return f->mode;
+    return pl_residual(y, h, (void *)&f->p);
+}
+
+static int failing_jac(const double *y, double *jac, int ld, void *user)
+{
+    const failing *f = (const failing *)user;
+    if (f->armed && y[0] < 0) return f->mode;
+    return pl_jacobian(y, jac, ld, (void *)&f->p);
+}
+
+/* A callback's failure on a worker: the serial sweep's code, and the same code, report, counters
+   and message for every worker count. */
+static void test_failing_callbacks(void)
+{
+    static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)];
+    static outcome o;
+    failing f;
+    psb_problem prob;
+    team t;
+    int mode, k;
+    pl_crossing_kinks(&f.p, 3, rays);
+    psb_problem_init(&prob, 3, failing_res, failing_jac, &f);
+    if (team_init(&t, &prob) != 0) {
+        CHECK(!"team_init");
+        team_free(&t);
+        return;
+    }
+    for (mode = -1; mode <= 1; mode += 2) {
+        char first_message[200] = "";
+        psb_branch_report first_rep;
+        for (k = 0; k < 7; k++) {
+            psb_solver s;
+            psb_branch_options bo;
+            psb_workers wk = team_workers(&t, k < 1 ? 1 : 1 << ((k - 1) % 3), k >= 4);
+            double y[4], tt[4];
+            psb_result r;
+            f.mode = mode;
+            f.armed = 0;
+            memset(&bo, 0, sizeof bo);
+            CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+            pl_start_on_ray(4, rays, 1, y, tt);
+            r = pl_trace_to_kink(&s, y, tt, NULL);
+            CHECK(r == PSB_STOPPED || r == PSB_NONSMOOTH_END);
+            CHECK(psb_locate_end(&s, y, tt, &bo, NULL) == PSB_SUCCESS);
+            f.armed = 1;
+            bo.workers = k ? &wk : NULL;
+            r = psb_find_branches(&s, y, tt, &bo, PL_MAX_RAYS, o.ys, o.ts, &o.rep);
+            CHECK(r == (mode < 0 ? PSB_ERR_CALLBACK : PSB_ERR_CALLBACK_FAILED));
+            CHECK(s.message[0] != 0);
+            if (mode > 0) CHECK(o.rep.n_failed_callback > 0);
+            if (k == 1) {
+                first_rep = o.rep;
+                memcpy(first_message, s.message, sizeof first_message);
+            } else if (k > 1) {
+                CHECK(!memcmp(&first_rep, &o.rep, sizeof first_rep));
+                CHECK(!strcmp(first_message, s.message));
+            }
+            psb_solver_free(&s);
+        }
+    }
+    team_free(&t);
+}
+
+static int fail_run(void *ctx, int n_tasks, psb_task_fn task, void *arg)
+{
+    (void)ctx, (void)n_tasks, (void)task, (void)arg;
+    return 1;
+}
+
+/* Bad workers: each refused with its code and a message; the solver stays usable. */
+static void test_bad_workers(void)
+{
+    static double rays[PL_MAX_RAYS * (PL_MAX_N + 1)], ys[8 * 3], ts[8 * 3];
+    pl_problem p, p3;
+    psb_problem prob, prob3;
+    psb_solver s, s3;
+    psb_branch_options bo;
+    psb_workers wk;
+    team t;
+    double y[3] = {0, 0, 0}, tt[3] = {-0.57735026918962576, -0.57735026918962576, -0.57735026918962576};
+    pl_crossing_kinks(&p, 2, rays);
+    pl_crossing_kinks(&p3, 3, rays);
+    psb_problem_init(&prob, 2, pl_residual, pl_jacobian, &p);
+    psb_problem_init(&prob3, 3, pl_residual, pl_jacobian, &p3);
+    CHECK(psb_workers_memory_size(0, 20) == 0 && psb_workers_memory_size(2, 0) == 0);
+    CHECK(psb_workers_memory_size(2, 20) > 0);
+    if (team_init(&t, &prob) != 0) {
+        CHECK(!"team_init");
+        team_free(&t);
+        return;
+    }
+    CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+    CHECK(psb_solver_init(&s3, &prob3, NULL) == PSB_SUCCESS);
+    memset(&bo, 0, sizeof bo);
+    bo.workers = &wk;
+    wk = team_workers(&t, 2, 1);
+    wk.n_workers = 0;
+    CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_SIZE && s.message[0]);
+    wk.n_workers = PSB_MAX_WORKERS + 1;
+    CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_SIZE);
+    wk = team_workers(&t, 2, 1);
+    wk.run = NULL;
+    CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_NULL);
+    wk = team_workers(&t, 2, 1);
+    wk.memory = NULL;
+    CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_NULL);
+    wk = team_workers(&t, 2, 1);
+    wk.bytes--;
+    CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_NOMEM);
+    {
+        psb_solver *twice[2] = {&t.ws[0], &t.ws[0]}, *self[2] = {&t.ws[0], &s}, *other[2] = {&t.ws[0], &s3};
+        wk = team_workers(&t, 2, 1);
+        wk.solver = twice;
+        CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_INPUT);
+        wk.solver = self;
+        CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_INPUT);
+        wk.solver = other;
+        CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_SIZE);
+    }
+    psb_solver_free(&t.ws[1]);
+    wk = team_workers(&t, 2, 1);
+    CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_NULL);
+    CHECK(psb_solver_init(&t.ws[1], &prob, NULL) == PSB_SUCCESS);
+    wk.run = fail_run;
+    CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_CALLBACK);
+    CHECK(strstr(psb_solver_message(&s), "run") != NULL);
+    wk = team_workers(&t, 2, 1);
+    {
+        psb_branch_report rep;
+        CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, &rep) == PSB_SUCCESS);
+        CHECK(rep.n_branches == 4);
+    }
+    psb_solver_free(&s);
+    psb_solver_free(&s3);
+    team_free(&t);
+}
+
+int main(void)
+{
+    test_families();
+    test_explore();
+    test_pitchforks();
+    test_failing_callbacks();
+    test_bad_workers();
+    return HARNESS_END();
+}
