@@ -10001,11 +10001,9 @@ static psb_result psb__count_change(psb__count_run *c, const psb__count_state *a
             if (ch.merge) break;
         }
     }
-    /* the confirmations lie outside the bracket: else the sample's own */
-    if ((seen_a - ch.mu) * (a->mu - ch.mu) <= 0 || fabs(seen_a - ch.mu) < 0.5 * (ch.mu_hi - ch.mu_lo))
-        seen_a = a->mu;
-    if ((seen_b - ch.mu) * (b->mu - ch.mu) <= 0 || fabs(seen_b - ch.mu) < 0.5 * (ch.mu_hi - ch.mu_lo))
-        seen_b = b->mu;
+    /* a confirmation inside the bracket (or beyond it) does not count: the sample's own then */
+    if (a->mu < b->mu ? !(seen_a <= ch.mu_lo) : !(seen_a >= ch.mu_hi)) seen_a = a->mu;
+    if (a->mu < b->mu ? !(seen_b >= ch.mu_hi) : !(seen_b <= ch.mu_lo)) seen_b = b->mu;
     ch.count_lo = a->mu < b->mu ? a->n_br : b->n_br;
     ch.count_hi = a->mu < b->mu ? b->n_br : a->n_br;
     ch.mu_count_lo = a->mu < b->mu ? seen_a : seen_b;
