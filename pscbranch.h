@@ -2036,6 +2036,21 @@ static psb_result psb__fail(psb_solver *s, psb_result code, const char *what)
     return code;
 }
 
+/* to += sign d, counter by counter (sign +1 or -1). */
+static void psb__stats_add(psb_stats *to, const psb_stats *d, long sign)
+{
+    to->n_residual += sign * d->n_residual;
+    to->n_jacobian += sign * d->n_jacobian;
+    to->n_factor += sign * d->n_factor;
+    to->n_factor_reused += sign * d->n_factor_reused;
+    to->n_pc_steps += sign * d->n_pc_steps;
+    to->n_newton += sign * d->n_newton;
+    to->n_rejected += sign * d->n_rejected;
+    to->n_switches += sign * d->n_switches;
+    to->n_tangents += sign * d->n_tangents;
+    to->n_tangent_reused += sign * d->n_tangent_reused;
+}
+
 /* Checks the options after resolution; returns a message naming the field, or NULL. The upper
    limits keep every count the code forms within an int and every loop bounded: a step shrinks
    at most log(h_max / h_min) / log(1 / h_dec) times (h_dec <= 0.9: under 15000 trials). */
@@ -6254,16 +6269,7 @@ static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state 
     ws->internal_.bv_ok = ws->internal_.border_ok = 0;
     ws->internal_.in_trace_callback = 0;
     ws->message[0] = 0;
-    rec->stats.n_residual -= ws->stats.n_residual;
-    rec->stats.n_jacobian -= ws->stats.n_jacobian;
-    rec->stats.n_factor -= ws->stats.n_factor;
-    rec->stats.n_factor_reused -= ws->stats.n_factor_reused;
-    rec->stats.n_pc_steps -= ws->stats.n_pc_steps;
-    rec->stats.n_newton -= ws->stats.n_newton;
-    rec->stats.n_rejected -= ws->stats.n_rejected;
-    rec->stats.n_switches -= ws->stats.n_switches;
-    rec->stats.n_tangents -= ws->stats.n_tangents;
-    rec->stats.n_tangent_reused -= ws->stats.n_tangent_reused;
+    psb__stats_add(&rec->stats, &ws->stats, -1);
     rec->faults[0] -= ws->internal_.faults[0];
     rec->faults[1] -= ws->internal_.faults[1];
     rec->faults[2] -= ws->internal_.faults[2];
@@ -6274,16 +6280,7 @@ static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state 
 /* A task's end: what it spent into rec (the fatal message too). */
 static void psb__task_end(const psb__par *p, psb_solver *ws, const psb__sweep_state *sw, psb__spent *rec, psb_result r)
 {
-    rec->stats.n_residual += ws->stats.n_residual;
-    rec->stats.n_jacobian += ws->stats.n_jacobian;
-    rec->stats.n_factor += ws->stats.n_factor;
-    rec->stats.n_factor_reused += ws->stats.n_factor_reused;
-    rec->stats.n_pc_steps += ws->stats.n_pc_steps;
-    rec->stats.n_newton += ws->stats.n_newton;
-    rec->stats.n_rejected += ws->stats.n_rejected;
-    rec->stats.n_switches += ws->stats.n_switches;
-    rec->stats.n_tangents += ws->stats.n_tangents;
-    rec->stats.n_tangent_reused += ws->stats.n_tangent_reused;
+    psb__stats_add(&rec->stats, &ws->stats, 1);
     rec->faults[0] += ws->internal_.faults[0];
     rec->faults[1] += ws->internal_.faults[1];
     rec->faults[2] += ws->internal_.faults[2];
@@ -6433,19 +6430,9 @@ static void psb__task_trial(void *arg, int j, int w)
 static psb_result psb__task_merge(psb_solver *s, psb__sweep_state *sw, psb__spent *rec, psb_branch_report *rep,
                                   psb_result r)
 {
-    psb_stats *d = &rec->stats;
     int k;
-    s->stats.n_residual += d->n_residual;
-    s->stats.n_jacobian += d->n_jacobian;
-    s->stats.n_factor += d->n_factor;
-    s->stats.n_factor_reused += d->n_factor_reused;
-    s->stats.n_pc_steps += d->n_pc_steps;
-    s->stats.n_newton += d->n_newton;
-    s->stats.n_rejected += d->n_rejected;
-    s->stats.n_switches += d->n_switches;
-    s->stats.n_tangents += d->n_tangents;
-    s->stats.n_tangent_reused += d->n_tangent_reused;
-    memset(d, 0, sizeof *d);
+    psb__stats_add(&s->stats, &rec->stats, 1);
+    memset(&rec->stats, 0, sizeof rec->stats);
     for (k = 0; k < 4; k++) s->internal_.faults[k] += rec->faults[k], rec->faults[k] = 0;
     s->internal_.n_ok += rec->n_ok;
     sw->jmemo_looks += rec->looks;
@@ -8712,16 +8699,7 @@ PSCBRANCH_DEF psb_result psb_diagram_write_csv(const psb_diagram *d, FILE *nodes
 static psb_stats psb__stats_since(const psb_solver *s, const psb_stats *before)
 {
     psb_stats d = s->stats;
-    d.n_residual -= before->n_residual;
-    d.n_jacobian -= before->n_jacobian;
-    d.n_factor -= before->n_factor;
-    d.n_factor_reused -= before->n_factor_reused;
-    d.n_pc_steps -= before->n_pc_steps;
-    d.n_newton -= before->n_newton;
-    d.n_rejected -= before->n_rejected;
-    d.n_switches -= before->n_switches;
-    d.n_tangents -= before->n_tangents;
-    d.n_tangent_reused -= before->n_tangent_reused;
+    psb__stats_add(&d, before, -1);
     return d;
 }
 
