@@ -9687,10 +9687,7 @@ static void psb__count_copy(const psb__count_run *c, psb__count_state *to, const
 
 static psb_result psb__count_set_mu(psb__count_run *c, double mu)
 {
-    int rc = c->set_mu(mu, c->mu_user);
-    if (rc < 0) return psb__fail(c->s, PSB_ERR_CALLBACK, "set_mu asked to stop");
-    if (rc > 0) return psb__fail(c->s, PSB_ERR_CALLBACK_FAILED, "set_mu failed");
-    return PSB_SUCCESS;
+    return psb__callback_code(c->s, c->set_mu(mu, c->mu_user), "set_mu failed");
 }
 
 /* Algorithms 2.1 and 2.2 at the mu already set, from the couple (y, t) (scratch, overwritten)
@@ -9821,10 +9818,7 @@ static int psb__count_follow(psb__count_run *c, double mu, const double *q, cons
 /* The angle between two unit tangents, accurate where it is small. */
 static double psb__count_angle(const psb_solver *s, const double *a, const double *b)
 {
-    double d = 0;
-    int k;
-    for (k = 0; k < s->internal_.np1; k++) d += s->internal_.w[k] * (a[k] - b[k]) * (a[k] - b[k]);
-    return 2 * asin(fmin(1, 0.5 * sqrt(d)));
+    return 2 * asin(fmin(1, 0.5 * psb__dist_w(s, a, b)));
 }
 
 /* The followed pair at mu: its angle in *phi (0 when the two met), or -1 when a follow failed:
@@ -10349,6 +10343,16 @@ static int psb__bp_at(psb_branch_curve *c, const double *y)
     return psb__bp_factor(c, c->internal_.jac) || psb__bp_solve(c) ? 1 : 0;
 }
 
+/* psb__bp_at from the Jacobian already in the curve's jac (rows 0 .. n-1, leading dimension
+   ld): the same factors without a second evaluation. */
+static int psb__bp_at_jac(psb_branch_curve *c, const double *jac, int ld)
+{
+    int n = c->two.n, j;
+    for (j = 0; j < n + 2; j++)
+        memcpy(c->internal_.jac + (size_t)j * (size_t)n, jac + (size_t)j * (size_t)ld, (size_t)n * sizeof(double));
+    return psb__bp_factor(c, c->internal_.jac) || psb__bp_solve(c) ? 1 : 0;
+}
+
 static int psb__bp_residual(const double *yb, double *h, void *user)
 {
     psb_branch_curve *c = (psb_branch_curve *)user;
@@ -10369,7 +10373,7 @@ static int psb__bp_jacobian(const double *yb, double *jac, int ld, void *user)
     double *ye = c->internal_.y_eval;
     if (rc) return rc;
     for (i = 0; i < n; i++) jac[(size_t)(n + 2) * (size_t)ld + (size_t)i] = c->internal_.b[i];
-    if ((rc = psb__bp_at(c, yb))) return rc;
+    if ((rc = psb__bp_at_jac(c, jac, ld))) return rc;
     if (!(c->fd_step > 0 && c->fd_step < 1)) return 1;
     for (i = 0; i < 2; i++) { /* row n+i: -w^T (dH(y + e V_i) - dH(y - e V_i)) / (2 e) */
         const double *v = c->internal_.rhs + (size_t)i * (size_t)np2;
