@@ -190,9 +190,8 @@
      detect [0: none]          PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4 (not _USER), EVENTS 8
      stop_at [0]               bit 1u << PSB_SPECIAL_*: stop (PSB_STOPPED) on such a point
      locate_tol [1e-10]        precision of a special point, ||.||_w along the curve
-     n_events [0]              number of event functions (PSB_DETECT_EVENTS)
-     event, event_user [NULL]  the event callback (needed with n_events > 0) and its pointer
-     event_work [NULL]         3 n_events doubles of the caller's (needed with n_events > 0)
+     n_events [0]              number of event functions (PSB_DETECT_EVENTS); with n_events > 0:
+     event, event_user, event_work [NULL]  the callback, its pointer, 3 n_events doubles of yours
    psb_branch_options (the branching calls, NULL: defaults; checked at each call; h_min, h_init
    in brackets are psb_options'; the paper: h 5e-7, h_min h/2^14, h_init 5e-4, n_dir 20, n_span 15):
      h [h_min; differences: expert.h_fd_steps steps at the point]  h of Algorithms 2.1, 2.2
@@ -283,7 +282,7 @@
    nonsmooth point passed straight through: PC1 with special->located = 1 (for psb_find_branches as
    it is). Unseen: two sign changes in a step, det keeping its sign. PC1: the outward signs of the
    branches leaving a nonsmooth point add up to 0, so the test fires only where more than two meet,
-   not at all: to miss none, stop at kinks and run Algorithm 2.2.
+   and not at every such point: to miss none, stop at kinks and run Algorithm 2.2.
 
    Algorithm 2.1 (psb_locate_end). As in the paper, h is halved from branch h to h_min, y moving to
    the correction of y + h t whenever that converges with a tangent within c_diff of t. After a
@@ -322,11 +321,11 @@
    through y0, or an odd count restart the run with h_init / 16 (up to 3 times, staying >= 8 h).
    Random numbers: xoshiro256**, reseeded from options.seed at each call.
 
-   Workers (branch options' workers). run(ctx, n, task, arg) runs n tasks on the caller's workers
-   (threads; MPI ranks all running the program: psb_workers_task_output), each on its own solver.
-   A span goes in phases: sample tangents (memo keys first) on the workers; Step 4, the memo in
-   order; the trials, a task each sign, on the memos as the phase found them; all merged in order.
-   Counts differ from the serial sweep's (no trial sees another's memo entries), never with W.
+   Workers (branch options' workers): the caller's run puts tasks on threads or MPI ranks
+   (psb_workers_task_output), each with its own solver. A span goes in phases: sample tangents (memo
+   keys first) on the workers; Step 4, the memo in order; the trials, a task each sign, on the memos
+   as the phase found them; all merged in order. Counts differ from the serial sweep's (trials miss
+   each other's memo entries), never with W.
 
    Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
    to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
@@ -363,13 +362,12 @@
    the start; sigma's gradient: dH's central difference along v), traced through H's kinks; a FOLD
    on it is a cusp. Banded: fold's user backend eliminates on H_x's LU, refined, shifted as above.
 
-   Branch counts in two parameters (psb_count_map). At each mu the point is found from one of the
-   last's branches (walked to its first kink, Algorithm 2.1; via mu halfway if it moved far),
-   Algorithm 2.2 counts its branches, two within c_diff's angle as one: so a change is bisected by
-   counts, then the larger count's two closest branches are followed in mu, their angle driven to
-   zero by a secant in a bracket (apart at one end, met at the other). Event, branch point curves
-   (psb_event_curve_*, _branch_curve_*): [H; g_k] = 0, [H + beta b; s] = 0 (s: dH's corank-one test;
-   beta = 0 where a symmetry keeps the point), traced like fold.
+   Branch counts in two parameters (psb_count_map). At each mu the point is found again from a
+   branch of the last (continuation to its first kink, Algorithm 2.1) and Algorithm 2.2 counts its
+   branches, two within c_diff's angle as one; a change is bisected by counts, then located where
+   the larger count's two closest branches, followed in mu, meet (a bracketed secant on their
+   angle). Event and branch point curves (psb_event_curve_*, _branch_curve_*): [H; g_k] = 0, [H +
+   beta b; s] = 0 (s: a corank-one test of dH), traced like fold.
 
    7. CONTACT HELPERS (frictional contact as a PC^1 system; formulas in each declaration) ---------
    Each returns its value, one element of its B-Jacobian (column-major) and a piece id, both of
@@ -1292,8 +1290,9 @@ PSCBRANCH_DEF size_t psb_count_map_memory_size(int n, int max_branches);
    of the problem at fixed mu (any backend; set_mu(mu, mu_user) moves its mu); (y, t) the last
    couple of a branch ending at the point at mu_from, as for psb_locate_end. At each later
    sample a branch of the previous point (the incoming one first) is taken up `approach`
-   before the point, followed to its end (psb_step, then Algorithm 2.1), and Algorithm 2.2
-   counts the branches there, with bo (NULL: defaults) and max_branches per point.
+   before the point, followed to its end (psb_step, then Algorithm 2.1; through mu halfway
+   where the point moved too far), and Algorithm 2.2 counts the branches there, with bo (NULL:
+   defaults) and max_branches per point.
    Between samples whose counts differ the change is bisected by counts, then located where
    the two closest branches of the larger count merge (manual section 6). samples (n_samples)
    and changes (max_changes, in order of mu from mu_from) are written; y, t are inputs only;
