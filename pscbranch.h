@@ -2858,11 +2858,36 @@ static int psb__gbtrf(int n, int kl, int ku, double *ab, int ldab, psb__lint *ip
 }
 #endif
 
+/* A + shift I (ab: band layout, ld = kl + ku + 1) into lu (dgbtrf's layout, kl extra rows on
+   top, ldlu) and its LU, pivots in ipiv (w: psb__gbtrf's work). 0; > 0 at an exactly zero
+   pivot; < 0 when dgbtrf rejected an argument. */
+static long psb__band_factor(int n, int kl, int ku, const double *ab, double shift, double *lu, int ldlu,
+                             psb__lint *ipiv, double *w)
+{
+    int ld = kl + ku + 1, j;
+    for (j = 0; j < n; j++) {
+        double *dst = lu + (size_t)j * (size_t)ldlu;
+        memset(dst, 0, (size_t)kl * sizeof(double));
+        memcpy(dst + kl, ab + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
+        dst[kl + ku] += shift;
+    }
+#ifdef PSCBRANCH_USE_DGBTRF
+    {
+        psb__lint nn = n, kkl = kl, kku = ku, lldlu = ldlu, linfo = 0;
+        (void)w;
+        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, lu, &lldlu, ipiv, &linfo);
+        return (long)linfo;
+    }
+#else
+    return psb__gbtrf(n, kl, ku, lu, ldlu, ipiv, w);
+#endif
+}
+
 /* LU of A + shift I into lu (dgbtrf layout: kl extra rows on top), unless lu holds the
    unshifted factors of a bit-identical A already. */
 static psb_result psb__band_lu(psb_solver *s, double shift)
 {
-    int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1, j;
+    int n = s->internal_.n, kl = s->prob.kl, ku = s->prob.ku, ld = kl + ku + 1;
     size_t size = (size_t)ld * (size_t)n;
     long info;
     if (!s->internal_.band_ok) return psb__fail(s, PSB_ERR_INPUT, "no Jacobian to factor");
@@ -2873,23 +2898,10 @@ static psb_result psb__band_lu(psb_solver *s, double shift)
     }
     s->internal_.afac = NULL;
     s->internal_.bv_ok = 0;
-    for (j = 0; j < n; j++) {
-        double *dst = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu;
-        memset(dst, 0, (size_t)kl * sizeof(double));
-        memcpy(dst + kl, s->internal_.band + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
-        dst[kl + ku] += shift;
-    }
     s->stats.n_factor++;
-#ifdef PSCBRANCH_USE_DGBTRF
-    {
-        psb__lint nn = n, kkl = kl, kku = ku, ldlu = s->internal_.ldlu, linfo = 0;
-        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, s->internal_.lu, &ldlu, (psb__lint *)s->internal_.ipiv, &linfo);
-        if (linfo < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
-        info = (long)linfo;
-    }
-#else
-    info = psb__gbtrf(n, kl, ku, s->internal_.lu, s->internal_.ldlu, (psb__lint *)s->internal_.ipiv, s->internal_.gbw);
-#endif
+    info = psb__band_factor(n, kl, ku, s->internal_.band, shift, s->internal_.lu, s->internal_.ldlu,
+                            (psb__lint *)s->internal_.ipiv, s->internal_.gbw);
+    if (info < 0) return psb__fail(s, PSB_ERR_LAPACK, "dgbtrf rejected an argument");
     if (info > 0) {
         s->internal_.last_fail = PSB__FAIL_SINGULAR;
         return psb__fail(s, PSB_ERR_SINGULAR, "banded block is exactly singular");
@@ -8993,25 +9005,12 @@ static int psb__fold_solve_last(psb_fold_map *m, const char *trans, double *z)
 /* ab (+ shift I) into lu, dgbtrf's layout and pivots; 0, or 1 at an exactly zero pivot. */
 static int psb__fold_band_lu(psb_fold_map *m, double shift)
 {
-    int n = m->two.n, kl = m->two.kl, ku = m->two.ku, ld = kl + ku + 1, ldlu = ld + kl, j;
+    int kl = m->two.kl, ku = m->two.ku;
     long info;
-    for (j = 0; j < n; j++) {
-        double *dst = m->internal_.lu + (size_t)j * (size_t)ldlu;
-        memset(dst, 0, (size_t)kl * sizeof(double));
-        memcpy(dst + kl, m->internal_.ab + (size_t)j * (size_t)ld, (size_t)ld * sizeof(double));
-        dst[kl + ku] += shift;
-    }
     m->n_factor++;
-#ifdef PSCBRANCH_USE_DGBTRF
-    {
-        psb__lint nn = n, kkl = kl, kku = ku, lldlu = ldlu, linfo = 0;
-        PSCBRANCH_FORTRAN(dgbtrf)(&nn, &nn, &kkl, &kku, m->internal_.lu, &lldlu,
-                                  (psb__lint *)m->internal_.ipiv, &linfo);
-        info = linfo != 0; /* arguments are checked at init: only a zero pivot */
-    }
-#else
-    info = psb__gbtrf(n, kl, ku, m->internal_.lu, ldlu, (psb__lint *)m->internal_.ipiv, m->internal_.gbw);
-#endif
+    /* arguments are checked at init: a nonzero info is a zero pivot */
+    info = psb__band_factor(m->two.n, kl, ku, m->internal_.ab, shift, m->internal_.lu, 2 * kl + ku + 1,
+                            (psb__lint *)m->internal_.ipiv, m->internal_.gbw) != 0;
     m->internal_.shifted = shift != 0;
     m->internal_.lu_ok = info == 0;
     m->internal_.lu_gen++;
