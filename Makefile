@@ -111,7 +111,7 @@ $(BUILD)/test_quasistatic: tests/test_quasistatic.c tests/harness.h $(HEADER) | 
 	$(CC) $(ALL_CFLAGS) -Itests tests/test_quasistatic.c -o $@ $(LIBS)
 
 $(BUILD)/linkage_impl.o: tests/linkage_impl.cpp $(HEADER) | $(BUILD)
-	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -c tests/linkage_impl.cpp -o $@
+	$(CXX) -std=c++11 -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -c tests/linkage_impl.cpp -o $@
 
 # a program with a C++ object links with the C++ driver: under AddressSanitizer g++ gives the
 # C++-compiled implementation exception cleanups that need the C++ runtime
@@ -212,7 +212,7 @@ $(BUILD)/test_sparse: tests/test_sparse.c tests/condense_decl.c tests/harness.h 
 	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) -Itests tests/test_sparse.c tests/condense_decl.c -o $@ $(SS_LIBS) $(LIBS)
 # the contrib headers' implementations compile as C++ too (built, not linked)
 $(BUILD)/contrib_cxx.o: tests/contrib_cxx.cpp contrib/psb_sparse.h contrib/psb_condense.h $(HEADER) | $(BUILD)
-	$(CXX) -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -I. $(SS_CFLAGS) -c tests/contrib_cxx.cpp -o $@
+	$(CXX) -std=c++11 -Wall -Wextra -Wpedantic -Werror $(OPT) $(SAN) -I. $(SS_CFLAGS) -c tests/contrib_cxx.cpp -o $@
 fe/quasistatic: fe/quasistatic.c fe/fe.h fe/cli.h $(HEADER)
 	$(CC) $(ALL_CFLAGS) $< -o $@ $(LIBS)
 

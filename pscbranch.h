@@ -2486,11 +2486,14 @@ static unsigned long long psb__next(unsigned long long *st)
     return result;
 }
 
+/* A uniform draw in [0, 1) from the top 53 bits of a 64-bit random word. */
+static double psb__unit(unsigned long long bits) { return (double)(bits >> 11) * (1.0 / 9007199254740992.0); }
+
 /* Standard normal deviate (Box-Muller; the sine half is dropped to keep the sequence simple). */
 static double psb__gauss(unsigned long long *st)
 {
     double u1 = ((double)(psb__next(st) >> 11) + 1.0) * (1.0 / 9007199254740993.0);
-    double u2 = (double)(psb__next(st) >> 11) * (1.0 / 9007199254740992.0);
+    double u2 = psb__unit(psb__next(st));
     return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
 }
 
@@ -7713,7 +7716,7 @@ static void psb__index_direction(psb__explorer *x)
     unsigned long long seed = 0x5eed1dc0ffeeULL;
     int i, np1 = x->s->internal_.np1;
     for (i = 0; i < np1; i++) {
-        v[i] = (double)(psb__splitmix(&seed) >> 11) * (2.0 / 9007199254740992.0) - 1;
+        v[i] = 2 * psb__unit(psb__splitmix(&seed)) - 1;
         norm += v[i] * v[i];
     }
     norm = sqrt(norm);
@@ -10504,7 +10507,7 @@ PSCBRANCH_DEF psb_result psb_branch_curve_start(psb_branch_curve *c, psb_solver 
     }
     /* a first b off range(D) (any vector not orthogonal to the left null vector); the solve
        then gives that null vector (psb__bp_borders) */
-    for (k = 0; k < n; k++) c->internal_.b[k] = 0.5 + (double)(psb__splitmix(&seed) >> 11) * 0x1.0p-53;
+    for (k = 0; k < n; k++) c->internal_.b[k] = 0.5 + psb__unit(psb__splitmix(&seed));
     yb = c->internal_.y_pt; /* the point: the user's y, then beta = 0 */
     psb_two_param_lift(&c->two, y, mu, yb);
     yb[np2] = 0;
