@@ -154,6 +154,23 @@ MUMPS_PROBE = printf '\043include <mpi.h>\n\043include <dmumps_c.h>\nint main(vo
 MUMPS ?= $(shell pkg-config --exists mpi-c 2>/dev/null && $(MUMPS_PROBE) $(MPI_CFLAGS) $(MUMPS_LIBS) $(LIBS) >/dev/null 2>&1 && echo yes)
 MUMPS_SEQ ?= $(shell $(MUMPS_PROBE) $(MUMPS_SEQ_CFLAGS) $(MUMPS_SEQ_LIBS) $(LIBS) >/dev/null 2>&1 && echo yes)
 MPIRUN ?= $(shell command -v mpirun 2>/dev/null)
+# MPI alone (libopenmpi-dev): fe/block and fe/triangle are built with -DFE_MPI (--workers mpi;
+# MPI starts only then)
+MPI_PROBE = printf '\043include <mpi.h>\nint main(void) { int f = 0; return MPI_Initialized(&f); }\n' | \
+	$(CC) -x c - -o /dev/null
+MPI ?= $(shell pkg-config --exists mpi-c 2>/dev/null && $(MPI_PROBE) $(MPI_CFLAGS) $(MPI_LIBS) >/dev/null 2>&1 && echo yes)
+ifeq ($(MPI),yes)
+FE_MPI_CFLAGS = -DFE_MPI $(MPI_CFLAGS)
+FE_MPI_LIBS = $(MPI_LIBS)
+ifneq ($(MPIRUN),)
+# Algorithm 2.2 on 1, 2, 4 MPI ranks (contrib/psb_workers_mpi.h): --workers mpi
+SMOKE_MPI = "smoke:bash tests/workers_fe.sh --mpi fe/block" "smoke:bash tests/workers_fe.sh --mpi fe/block --explore" \
+	"smoke:bash tests/workers_fe.sh --mpi fe/triangle --mesh 16"
+endif
+endif
+$(BUILD)/fe-mpi-$(MPI): | $(BUILD)
+	rm -f $(BUILD)/fe-mpi-*
+	touch $@
 ifeq ($(MUMPS),yes)
 BLOCK_CFLAGS = -DFE_MUMPS $(MPI_CFLAGS)
 BLOCK_LIBS = $(MUMPS_LIBS)
@@ -161,8 +178,6 @@ TESTS += $(BUILD)/test_mumps
 SMOKE_MUMPS = "smoke:bash tests/mumps_ends.sh fe/block"
 ifneq ($(MPIRUN),)
 TESTS += $(BUILD)/test_mumps_np2
-# Algorithm 2.2 on 1, 2, 4 MPI ranks (contrib/psb_workers_mpi.h): fe/block --workers mpi
-SMOKE_MUMPS += "smoke:bash tests/workers_fe.sh --mpi fe/block" "smoke:bash tests/workers_fe.sh --mpi fe/block --explore"
 endif
 endif
 ifeq ($(MUMPS_SEQ),yes)
@@ -202,10 +217,11 @@ $(BUILD)/suitesparse-$(SUITESPARSE): | $(BUILD)
 	rm -f $(BUILD)/suitesparse-*
 	touch $@
 fe/block fe/triangle: fe/%: fe/%.c $(HEADER) fe/fe.h fe/explore_out.h fe/cli.h fe/fe_solvers.h fe/fe_workers.h \
-		contrib/psb_sparse.h contrib/psb_condense.h contrib/psb_workers.h $(BUILD)/suitesparse-$(SUITESPARSE)
-	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(if $(filter fe/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
-		$(if $(filter fe/block,$@),$(BLOCK_LIBS)) $(LIBS) -pthread
-fe/block: fe/fe_mumps.h contrib/psb_mumps.h contrib/psb_workers_mpi.h $(BUILD)/block-mumps-$(MUMPS)
+		contrib/psb_sparse.h contrib/psb_condense.h contrib/psb_workers.h contrib/psb_workers_mpi.h \
+		$(BUILD)/suitesparse-$(SUITESPARSE) $(BUILD)/fe-mpi-$(MPI)
+	$(CC) $(ALL_CFLAGS) $(SS_CFLAGS) $(FE_MPI_CFLAGS) $(if $(filter fe/block,$@),$(BLOCK_CFLAGS)) $< -o $@ $(SS_LIBS) \
+		$(if $(filter fe/block,$@),$(BLOCK_LIBS)) $(FE_MPI_LIBS) $(LIBS) -pthread
+fe/block: fe/fe_mumps.h contrib/psb_mumps.h $(BUILD)/block-mumps-$(MUMPS)
 
 $(BUILD)/test_sparse: tests/test_sparse.c tests/condense_decl.c tests/harness.h contrib/psb_sparse.h contrib/psb_condense.h \
 		fe/fe.h $(HEADER) $(BUILD)/contrib_cxx.o | $(BUILD)
@@ -238,7 +254,7 @@ SMOKE = "smoke:$(BUILD)/consumer" \
 	"smoke:fe/triangle --mesh 16 --count-map 24:25.2 --count-samples 7 > $(BUILD)/count_map16.txt && grep -q 'four branches for H1 in (24.402769[0-9]*, 24.886268' $(BUILD)/count_map16.txt" \
 	"smoke:bash tests/workers_fe.sh fe/block" "smoke:bash tests/workers_fe.sh fe/block --explore" \
 	"smoke:bash tests/workers_fe.sh fe/triangle --mesh 16" \
-	"smoke:fe/quasistatic --mesh 8 --dt 0.1" $(SMOKE_SPARSE) $(SMOKE_MUMPS) \
+	"smoke:fe/quasistatic --mesh 8 --dt 0.1" $(SMOKE_SPARSE) $(SMOKE_MUMPS) $(SMOKE_MPI) \
 	"smoke:bash tests/cli.sh" \
 	"smoke:bash tests/readme_program.sh"
 
@@ -320,11 +336,11 @@ bench-large: fe/block fe/triangle $(if $(SS_LIBS),bench/bench_sparse)
 	$(if $(filter yes,$(MUMPS)),bash bench/bench_mumps.sh --large,@echo "bench-large: MUMPS with MPI not found, its runs skipped")
 	bash bench/bench_workers.sh --large
 
-# MUMPS= : Open MPI leaves its own allocations (~120 kB, none of ours) at MPI_Finalize, which
-# LeakSanitizer reports; the sequential MUMPS build runs under AddressSanitizer instead
+# MUMPS= MPI= : Open MPI leaves its own allocations (~120 kB, none of ours) at MPI_Finalize,
+# which LeakSanitizer reports; the sequential MUMPS build runs under AddressSanitizer instead
 asan:
 	@$(DEPS) cc cxx lapack
-	$(MAKE) BUILD=build-asan OPT="-O1 -g" SAN="-fsanitize=address -fno-omit-frame-pointer" EXAMPLES= SMOKE= MUMPS= check
+	$(MAKE) BUILD=build-asan OPT="-O1 -g" SAN="-fsanitize=address -fno-omit-frame-pointer" EXAMPLES= SMOKE= MUMPS= MPI= check
 
 ubsan:
 	@$(DEPS) cc cxx lapack

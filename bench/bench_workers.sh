@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # bench_workers.sh - Algorithm 2.2 on workers (psb_branch_options.workers; run by `make bench`).
 #   1. wall time of whole runs of the block (M800, M3200, M12800 with --large) and the triangle
-#      (M1024): the serial sweep, and the phased sweep on 1 and 2 threads (--workers N), with
+#      (M1024): the serial sweep, and the phased sweep on 1 and 2 threads (--workers N) and, in
+#      builds with MPI, on 1 and 2 MPI ranks (tools/mpirun.sh K ... --workers mpi), with
 #      OPENBLAS_NUM_THREADS=1; Algorithm 2.2's factorisations beside.
 #   2. the sweep's critical path: W = 1, 2, 4, 8, 16, 32 logical workers run one after another
 #      (--workers W --logical), the longest worker's factorisations in each parallel phase summed,
 #      the calling solver's own added; against the serial sweep's factorisations.
-# Tables on stdout; CSV in bench/out/workers_wall.csv, workers_model.csv; the log-log plot of 2 in
-# docs/img/workers_critical_path.png when gnuplot is there. Usage: bench/bench_workers.sh [--large]
-# [--plot] (--plot: only redraw the plot from bench/out/workers_model.csv)
+#   3. the same for psb_explore (--explore): its traces run in turn on the calling solver, each
+#      sweep's directions on the W workers.
+# Tables on stdout; CSV in bench/out/workers_wall.csv, workers_model.csv, workers_explore.csv;
+# the log-log plot of 2 in docs/img/workers_critical_path.png when gnuplot is there.
+# Usage: bench/bench_workers.sh [--large] [--plot] (--plot: only redraw the plot from
+# bench/out/workers_model.csv)
 set -u
 cd "$(dirname "$0")/.."
 large=0
@@ -24,6 +28,11 @@ done
 export OPENBLAS_NUM_THREADS=1
 mkdir -p bench/out
 for p in fe/block fe/triangle; do [ -x "$p" ] || { echo "build $p first (make examples)"; exit 1; }; done
+sweeps="serial 1 2"
+if command -v mpirun >/dev/null && fe/block --workers mpi --help >/dev/null 2>&1 &&
+    fe/triangle --workers mpi --help >/dev/null 2>&1; then
+    sweeps="$sweeps mpi1 mpi2"
+fi
 
 # f22 OUTPUT: Algorithm 2.2's factorisations; crit OUTPUT: the modelled longest path
 f22() { printf '%s\n' "$1" | sed -n 's/.*Algorithm 2.2: \([0-9]*\) factorisations.*/\1/p' | head -n 1; }
@@ -43,18 +52,23 @@ for c in "${list[@]}"; do
     name=${c%%:*}
     cmd=${c#*:}
     one=""
-    for sweep in serial 1 2; do
+    for sweep in $sweeps; do
         flags="--quiet --verbose"
-        [ "$sweep" != serial ] && flags="$flags --workers $sweep"
+        run=$cmd
+        case "$sweep" in
+        serial) ;;
+        mpi*) flags="$flags --workers mpi"; run="sh tools/mpirun.sh ${sweep#mpi} $cmd" ;;
+        *) flags="$flags --workers $sweep" ;;
+        esac
         t0=$(date +%s.%N)
-        out=$($cmd $flags 2>&1)
+        out=$($run $flags 2>&1)
         t1=$(date +%s.%N)
         wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
         cpu=$(printf '%s\n' "$out" | sed -n 's/.*time \([0-9.]*\) s (CPU).*/\1/p' | tail -n 1)
         nbr=$(printf '%s\n' "$out" | sed -n 's/.*  \([0-9]*\) distinct branches.*/\1/p' | tail -n 1)
         ratio=""
-        [ "$sweep" = 1 ] && one=$wall
-        [ "$sweep" = 2 ] && [ -n "$one" ] && ratio=$(awk -v a="$wall" -v b="$one" 'BEGIN { printf "%.2f", a / b }')
+        case "$sweep" in 1 | mpi1) one=$wall ;; esac
+        case "$sweep" in 2 | mpi2) [ -n "$one" ] && ratio=$(awk -v a="$wall" -v b="$one" 'BEGIN { printf "%.2f", a / b }') ;; esac
         printf '  %-15s %-10s %9s %8s %23s %9s  %s\n' "$name" "$sweep" "$wall" "$cpu" "$(f22 "$out")" "$nbr" "$ratio"
         echo "$name,$sweep,$wall,$cpu,$(f22 "$out"),$nbr" >>"$wall_csv"
     done
@@ -80,6 +94,28 @@ for c in "block-M200:fe/block" "block-M800:fe/block --mesh 20x40" "triangle-M256
     done
     printf '  %-15s %12s %13s %s  %13s\n' "$name" "$serial" "$total" "$row" \
         "$(awk -v a="$cp" -v b="$serial" 'BEGIN { printf "%.3f", a / b }')"
+done
+
+echo
+echo "  the explorer's critical path in factorisations (its traces in turn, each sweep on W logical workers)"
+echo "  case            serial sweeps  phased total      W=1    W=2    W=4    W=8   W=16   W=32  caller's own"
+explore_csv=bench/out/workers_explore.csv
+echo "case,workers,critical_path,phased_total,serial_sweeps,calling_solver" >"$explore_csv"
+xf() { printf '%s\n' "$1" | sed -n 's/.*psb_explore: .*factorisations \([0-9]*\).*/\1/p' | head -n 1; }
+own() { printf '%s\n' "$1" | sed -n 's/.*(\([0-9]*\) of them on the calling solver).*/\1/p' | head -n 1; }
+for c in "block-M200:fe/block --explore" "block-M800:fe/block --mesh 20x40 --explore" \
+         "triangle-M256:fe/triangle --mesh 16 --explore" "triangle-M1024:fe/triangle --mesh 32 --explore"; do
+    name=${c%%:*}
+    cmd=${c#*:}
+    serial=$(xf "$($cmd --quiet 2>&1)")
+    row=""
+    for w in 1 2 4 8 16 32; do
+        out=$($cmd --quiet --workers "$w" --logical 2>&1)
+        cp=$(crit "$out")
+        row="$row $(printf '%6s' "$cp")"
+        echo "$name,$w,$cp,$(xf "$out"),$serial,$(own "$out")" >>"$explore_csv"
+    done
+    printf '  %-15s %13s %13s %s  %12s\n' "$name" "$serial" "$(xf "$out")" "$row" "$(own "$out")"
 done
 fi
 

@@ -34,9 +34,9 @@
    directions on N threads (fe/fe_workers.h; its results are the same for every N, and differ
    from the serial sweep's, the default, in counts); with --logical, N logical workers run one
    after another, and the sweep's critical path in factorisations is printed. --workers mpi (a
-   build with MUMPS, so with MPI): `mpirun -np K fe/block --workers mpi` runs the whole program
-   on every rank, Algorithm 2.2's directions shared out (contrib/psb_workers_mpi.h); rank 0
-   prints what --workers N prints.
+   build with MPI, which the Makefile makes when Open MPI is installed): `mpirun -np K fe/block
+   --workers mpi` runs the whole program on every rank, Algorithm 2.2's directions shared out
+   (contrib/psb_workers_mpi.h); rank 0 prints what --workers N prints.
    --solver: how the bordered systems are solved (fe/fe_solvers.h); by default the banded
    LU, and UMFPACK from M12800 (in a build with SuiteSparse), where it is 1.6x faster. --solver
    mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are installed):
@@ -46,8 +46,9 @@
      cc -std=c99 -O2 -I. fe/block.c -o fe/block -llapack -lblas -lm
      cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE fe/block.c -o fe/block \
         -lumfpack -lklu -llapack -lblas -lm
-     with MUMPS too: add -DFE_MUMPS $(pkg-config --cflags mpi-c) and -ldmumps -lmumps_common
-        $(pkg-config --libs mpi-c) */
+     with MPI too (--workers mpi): add -DFE_MPI $(pkg-config --cflags mpi-c) and
+        $(pkg-config --libs mpi-c); with MUMPS (which implies FE_MPI), -DFE_MUMPS and
+        -ldmumps -lmumps_common as well */
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
@@ -136,7 +137,7 @@ static int parse(int argc, char **argv, args *a)
     static const char *const dirichlet[] = {"mult", "elim", NULL};
     static const char *const sides[] = {"-1", "1", NULL};
     int restart = 0, side = 0, elim = 0;
-    const char *kappa = NULL, *compare = NULL, *workers = NULL;
+    const char *kappa = NULL, *compare = NULL;
     cli c;
     memset(a, 0, sizeof *a);
     a->nx = 10; a->ny = 20; a->ndir = 20; a->nspan = 15; a->start = -1; a->multipliers = 1; a->maxiter = 10;
@@ -155,14 +156,7 @@ static int parse(int argc, char **argv, args *a)
         else if (cli_int(&c, "--ndir", &a->ndir, 1, BLOCK_MAX_NDIR)) {}
         else if (cli_int(&c, "--nspan", &a->nspan, 1, BLOCK_MAX_NSPAN)) {}
         else if (cli_int(&c, "--patience", &a->patience, 0, 1000)) {}
-        else if (cli_string(&c, "--workers", &workers)) {
-            long wn = 0;
-            if (!strcmp(workers, "mpi")) a->workers = -1;
-            else if (!cli_parse_long(&c, workers, &wn, 1, FE_MAX_WORKERS)) a->workers = (int)wn;
-#ifndef FE_MUMPS
-            if (a->workers < 0) cli_fail(&c, "--workers mpi: this build has no MPI (libopenmpi-dev, libmumps-dev, then make)");
-#endif
-        }
+        else if (fe_workers_option(&c, &a->workers)) {}
         else if (cli_long(&c, "--expect-npc", &a->expect_npc, 0, LONG_MAX)) {}
         else if (cli_int(&c, "--input", &a->input, 0, 6)) {}
         else if (cli_choice(&c, "--start", &side, sides)) a->start = side ? 1 : -1;
@@ -283,6 +277,7 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     size_t bytes = sizeof(double) * (size_t)np1;
     double *yh = malloc(bytes), *th = malloc(bytes), worst = 0;
     long f_explore, f_hand;
+    fe_workers_mark mark;
     psb_diagram d;
     psb_explore_options eo;
     psb_result r;
@@ -306,10 +301,13 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     eo.on_point = xo_point;
     eo.point_user = &o;
     memset(&run->s.stats, 0, sizeof run->s.stats);
+    mark = fe_workers_mark_at(eo.branch.workers);
     r = psb_explore(&run->s, yh, th, &eo, &d);
     f_explore = run->s.stats.n_factor;
-    printf("\n  psb_explore: %s; %d nodes, %d edges, %d branchings, %d ordinary kinks, %ld points, factorisations %ld\n",
+    printf("\n  psb_explore: %s; %d nodes, %d edges, %d branchings, %d ordinary kinks, %ld points, factorisations %ld",
            psb_result_string(r), d.n_nodes, d.n_edges, d.n_branchings, d.n_kinks_plain, d.n_points, f_explore);
+    fe_workers_print_path(eo.branch.workers, mark, f_explore);
+    printf("\n");
     xo_print(&d, comp);
     if (xo_finish(&o, &d, a->out, "block", "u1 of the left-most contact node (mm)")) { xo_error(&o, "block"); write_failed = 1; }
     else if (a->out) printf("  wrote %s/diagram.json, nodes.csv, edges.csv, points.csv, marks.csv, plot.gp\n", a->out);
@@ -401,7 +399,7 @@ static int block_main(int argc, char **argv)
     }
     if (a.workers) {
         if (fs.kind == FE_SOLVER_MUMPS) { fprintf(stderr, "block: --workers: not with --solver mumps\n"); rc = 2; goto done; }
-        if (fe_workers_init(&fw, a.workers, a.workers < 0 ? FE_WORKERS_MPI : a.logical ? FE_WORKERS_LOGICAL : FE_WORKERS_THREADS, &md, &opt, fs.kind, a.keep_mb, bo.n_dir, "block")) goto done;
+        if (fe_workers_init(&fw, a.workers, fe_workers_mode(a.workers, a.logical), &md, &opt, fs.kind, a.keep_mb, bo.n_dir, "block")) goto done;
         bo.workers = &fw.wk;
     }
     run.branch = bo;
@@ -432,8 +430,7 @@ static int block_main(int argc, char **argv)
     if (bw) printf("  weights of Algorithms 2.1-2.2: %g kappa for multipliers\n", a.branch_mult_weight);
     printf("  Algorithms 2.1-2.2: c_diff = %g, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            opt.c_diff, bo.h, bo.h_min, bo.h_init, bo.n_dir, bo.n_span, a.seed);
-    if (a.workers < 0) printf("  Algorithm 2.2 on the MPI ranks\n");
-    else if (a.workers) printf("  Algorithm 2.2 on %d %s\n", a.workers, a.logical ? "logical workers in turn" : a.workers > 1 ? "threads" : "thread");
+    fe_workers_describe(a.workers, a.logical);
     t0 = seconds();
     if (a.refine) {
         if ((k = fe_run_refine_ends(&run, a.refine, classify))) { fe_ends_error("block", a.refine, k); goto done; }
@@ -546,6 +543,8 @@ int main(int argc, char **argv)
     fe_solver_blas_threads();
 #ifdef FE_MUMPS
     if (wants_mumps(argc, argv)) return psb_mumps_main(argc, argv, block_main);
+#endif
+#ifdef FE_MPI
     if (fe_workers_wants_mpi(argc, argv)) return fe_workers_main(argc, argv, block_main);
 #endif
     return block_main(argc, argv);

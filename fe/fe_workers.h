@@ -2,14 +2,19 @@
    (contrib/psb_workers.h), each worker with its own copy of the model's scratch and its own
    solver and backend (fe_solver_run_init); FE_WORKERS_LOGICAL: logical workers run one after
    another instead, counting the factorisations of the longest (psb_serial_workers: a model of
-   the critical path); FE_WORKERS_MPI (builds with FE_MUMPS, which have MPI): the MPI ranks,
-   each running the whole program, one worker each (contrib/psb_workers_mpi.h; fe_workers_main
-   starts them). Include after fe_solvers.h; link with -pthread. */
+   the critical path); FE_WORKERS_MPI (builds with FE_MPI, which FE_MUMPS implies: the Makefile
+   defines it where MPI is installed): the MPI ranks, each running the whole program, one worker
+   each (contrib/psb_workers_mpi.h; fe_workers_main starts them). Include after fe_solvers.h and
+   cli.h; link with -pthread. */
 #ifndef FE_WORKERS_H
 #define FE_WORKERS_H
 
+#if defined(FE_MUMPS) && !defined(FE_MPI)
+#define FE_MPI
+#endif
+
 #include "contrib/psb_workers.h"
-#ifdef FE_MUMPS
+#ifdef FE_MPI
 #include "contrib/psb_workers_mpi.h"
 #endif
 
@@ -25,7 +30,7 @@ typedef struct fe_workers {
     psb_solver **solver;
     psb_threads th;
     psb_serial_workers logical;
-#ifdef FE_MUMPS
+#ifdef FE_MPI
     psb_mpi_workers mpi;
 #endif
     psb_workers wk;
@@ -42,6 +47,38 @@ static inline void fe_workers_free(fe_workers *fw)
     if (fw->th.thread) psb_threads_free(&fw->th);
     free(fw->md); free(fw->fs); free(fw->run); free(fw->solver); free(fw->wk.memory);
     memset(fw, 0, sizeof *fw);
+}
+
+/* --workers N|mpi (1 when the current option is it): *workers = N, or -1 for the MPI ranks. */
+static inline int fe_workers_option(cli *c, int *workers)
+{
+    const char *v = NULL;
+    long n = 0;
+    if (!cli_string(c, "--workers", &v)) return 0;
+    if (!v) return 1;
+    if (!strcmp(v, "mpi")) {
+#ifdef FE_MPI
+        *workers = -1;
+#else
+        cli_fail(c, "--workers mpi: this build has no MPI (install libopenmpi-dev, then make)");
+#endif
+    } else if (!cli_parse_long(c, v, &n, 1, FE_MAX_WORKERS)) {
+        *workers = (int)n;
+    }
+    return 1;
+}
+
+/* The mode of --workers (fe_workers_option) and --logical. */
+static inline int fe_workers_mode(int workers, int logical)
+{
+    return workers < 0 ? FE_WORKERS_MPI : logical ? FE_WORKERS_LOGICAL : FE_WORKERS_THREADS;
+}
+
+/* The run's "Algorithm 2.2 on ..." line (none for the serial sweep). */
+static inline void fe_workers_describe(int workers, int logical)
+{
+    if (workers < 0) printf("  Algorithm 2.2 on the MPI ranks\n");
+    else if (workers) printf("  Algorithm 2.2 on %d %s\n", workers, logical ? "logical workers in turn" : workers > 1 ? "threads" : "thread");
 }
 
 /* n workers (n <= FE_MAX_WORKERS; FE_WORKERS_MPI: 1, this rank) of the kind mode for the model
@@ -82,7 +119,7 @@ static inline int fe_workers_init(fe_workers *fw, int n, int mode, const fe_mode
     }
     fw->wk.n_workers = n;
     fw->wk.solver = fw->solver;
-#ifdef FE_MUMPS
+#ifdef FE_MPI
     if (mode == FE_WORKERS_MPI) {
         fw->wk.run = psb_mpi_run;
         fw->wk.ctx = &fw->mpi;
@@ -109,18 +146,49 @@ static inline int fe_workers_init(fe_workers *fw, int n, int mode, const fe_mode
     return 0;
 }
 
-/* "Algorithm 2.2: F factorisations", F those of its last run, and with logical workers the
+/* A mark in the logical workers' counts (psb_serial_workers; zeros without them), from which
+   fe_workers_print_path tells the longest path of what a call made since. */
+typedef struct fe_workers_mark {
+    long total, critical;
+} fe_workers_mark;
+
+static inline const psb_serial_workers *fe_workers_logical(const psb_workers *wk)
+{
+    return wk && wk->run == psb_serial_run ? (const psb_serial_workers *)wk->ctx : NULL;
+}
+
+static inline fe_workers_mark fe_workers_mark_at(const psb_workers *wk)
+{
+    const psb_serial_workers *lw = fe_workers_logical(wk);
+    fe_workers_mark m = {0, 0};
+    if (lw) { m.total = lw->total; m.critical = lw->critical; }
+    return m;
+}
+
+/* With logical workers: "; on W logical workers the longest path P (C of them on the calling
+   solver)" for the f factorisations (the workers' included) made since mark m: the calling
+   solver's own C and, for each parallel phase, the longest worker's. Nothing without them. */
+static inline void fe_workers_print_path(const psb_workers *wk, fe_workers_mark m, long f)
+{
+    const psb_serial_workers *lw = fe_workers_logical(wk);
+    long own;
+    if (!lw) return;
+    own = f - (lw->total - m.total);
+    printf("; on %d logical workers the longest path %ld (%ld of them on the calling solver)", lw->n,
+           own + lw->critical - m.critical, own);
+}
+
+/* "Algorithm 2.2: F factorisations", F those of its only run, and with logical workers the
    longest path through them. */
 static inline void fe_workers_print(const fe_workers *fw, long f22)
 {
+    fe_workers_mark none = {0, 0};
     printf("  Algorithm 2.2: %ld factorisations", f22);
-    if (fw->wk.run == psb_serial_run && fw->n > 0)
-        printf("; on %d logical workers the longest path %ld (%ld of them on the calling solver)", fw->n,
-               f22 - fw->logical.total + fw->logical.critical, f22 - fw->logical.total);
+    fe_workers_print_path(&fw->wk, none, f22);
     printf("\n");
 }
 
-#ifdef FE_MUMPS
+#ifdef FE_MPI
 /* --workers mpi among the options, before any "--" */
 static inline int fe_workers_wants_mpi(int argc, char **argv)
 {

@@ -38,19 +38,23 @@
    displacements against this run's, branch by branch.
    --workers N: Algorithm 2.2's directions on N threads, each with its own solver (fe/fe_workers.h;
    the same results for every N, other counts than the serial sweep's, the default); --logical:
-   N logical workers in turn, and the sweep's critical path in factorisations.
+   N logical workers in turn, and the sweep's critical path in factorisations. --workers mpi (a
+   build with MPI, which the Makefile makes when Open MPI is installed): `mpirun -np K
+   fe/triangle --workers mpi` runs the whole program on every rank, Algorithm 2.2's directions
+   shared out (contrib/psb_workers_mpi.h); rank 0 prints what --workers N prints.
 
    Usage: triangle [--mesh N] [--problem branching|fold] [--fold-trace auto|start|end] [--fold-stop-kink K] [--ndir N] [--nspan N] [--kappa 1|1/N|V]
                    [--friction F] [--map [--map-min F] [--map-max F] [--map-step D] [--map-tol T]]
                    [--dirichlet mult|elim] [--load H1|auto] [--mult-weight W] [--hmin H] [--seed S] [--out DIR]
                    [--solver dense|banded|umfpack|klu|condensed] [--verbose] [--quiet] [--save FILE] [--refine FILE] [--compare FILE]...
-                   [--workers N [--logical]]
+                   [--workers N|mpi [--logical]]
    (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
    Build (from the repository root; `make` adds SuiteSparse when libsuitesparse-dev is there):
      cc -std=c99 -O2 -I. fe/triangle.c -o fe/triangle -llapack -lblas -lm
      cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE fe/triangle.c \
-        -o fe/triangle -lumfpack -lklu -llapack -lblas -lm */
+        -o fe/triangle -lumfpack -lklu -llapack -lblas -lm
+     with MPI too: add -DFE_MPI $(pkg-config --cflags mpi-c) and $(pkg-config --libs mpi-c) */
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
 #define PSCBRANCH_IMPLEMENTATION
@@ -98,7 +102,8 @@ static const char triangle_usage[] =
     "  --nspan N             spans of Algorithm 2.2 (default 10; 1..1000)\n"
     "  --hmin H              smallest trial step of Algorithm 2.2 (default 5e-4; 1e-290 <= H <= 1)\n"
     "  --seed S              random seed, 0..2^64-1 (default 0)\n"
-    "  --workers N           Algorithm 2.2's directions on N threads, 1..64 (default: the serial sweep)\n"
+    "  --workers N|mpi       Algorithm 2.2's directions on N threads, 1..64, or the MPI ranks\n"
+    "                        (default: the serial sweep)\n"
     "  --logical             --workers N as N logical workers in turn: the sweep's critical path\n"
     "  --kappa 1|1/N|V       weight of the displacements (default 1/N; V > 0)\n"
     "  --mult-weight W       weight of the multipliers relative to kappa (default 1/r^2, 1 for fold; 0 < W <= 1e12)\n"
@@ -163,7 +168,7 @@ static int parse(int argc, char **argv, args *a)
         else if (cli_double(&c, "--map-step", &a->map_step, 1e-6, 100, 0)) {}
         else if (cli_double(&c, "--map-tol", &a->map_tol, 1e-12, 1, 0)) {}
         else if (cli_flag(&c, "--logical")) a->logical = 1;
-        else if (cli_int(&c, "--workers", &a->workers, 1, FE_MAX_WORKERS)) {}
+        else if (fe_workers_option(&c, &a->workers)) {}
         else if (fe_solver_option(&c, &a->solver, &a->keep_mb)) {}
         else if (cli_int(&c, "--mesh", &a->n, 2, TRI_MAX_MESH)) {}
         else if (cli_choice(&c, "--problem", &a->fold, problems)) {}
@@ -866,6 +871,8 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     int n = md->n, i, ok = 1, count[5] = {0}, n_fold = 0, n_branching = 0, comp = md->udof[md->cnode[0]];
     size_t bytes = sizeof(double) * ((size_t)n + 1);
     double *ye = malloc(bytes), *te = malloc(bytes), folds[8];
+    long f0;
+    fe_workers_mark mark;
     psb_diagram d;
     psb_explore_options eo;
     psb_result r;
@@ -888,10 +895,14 @@ static int run_explore(fe_run *run, const double *y, const double *t, const args
     o.param_label = "load parameter gamma";
     eo.on_point = xo_point;
     eo.point_user = &o;
+    mark = fe_workers_mark_at(eo.branch.workers);
+    f0 = run->s.stats.n_factor;
     r = psb_explore(&run->s, ye, te, &eo, &d);
-    printf("\n  psb_explore: %s; %d nodes, %d edges, %d branchings, %d ordinary kinks, %ld points, time %.2f s (CPU), factorisations %ld\n",
+    printf("\n  psb_explore: %s; %d nodes, %d edges, %d branchings, %d ordinary kinks, %ld points, time %.2f s (CPU), factorisations %ld",
            psb_result_string(r), d.n_nodes, d.n_edges, d.n_branchings, d.n_kinks_plain, d.n_points, seconds() - t0,
            run->s.stats.n_factor);
+    fe_workers_print_path(eo.branch.workers, mark, run->s.stats.n_factor - f0);
+    printf("\n");
     xo_print(&d, comp);
     if (xo_finish(&o, &d, a->out, a->fold ? "triangle (fold)" : "triangle (branching)", "u1 of the lower left vertex (m)"))
         { xo_error(&o, "triangle"); write_failed = 1; }
@@ -1045,7 +1056,7 @@ static int run_count_map(fe_run *run, const fe_model *md_unit, const double *y, 
     return ok ? 0 : 1;
 }
 
-int main(int argc, char **argv)
+static int triangle_main(int argc, char **argv)
 {
     args a;
     fe_mesh mesh;
@@ -1089,7 +1100,7 @@ int main(int argc, char **argv)
         goto done;
     }
     if (a.workers) {
-        k = fe_workers_init(&fw, a.workers, a.logical ? FE_WORKERS_LOGICAL : FE_WORKERS_THREADS, &md, &opt, fsol.kind, a.keep_mb, bo.n_dir, "triangle");
+        k = fe_workers_init(&fw, a.workers, fe_workers_mode(a.workers, a.logical), &md, &opt, fsol.kind, a.keep_mb, bo.n_dir, "triangle");
         bo.workers = &fw.wk;
     }
     free(w);
@@ -1141,7 +1152,7 @@ int main(int argc, char **argv)
     printf("  load h = gamma (-%g, -7.5)%s\n", a.load, a.load == 26.4 ? " (the paper's)" : "");
     printf("  Algorithms 2.1-2.2: c_diff = 1 - %.0e, h = %g, h_min = %.2e, h_init = %g, n_dir = %d, n_span = %d, seed = %llu\n",
            1 - opt.c_diff, run.branch.h, run.branch.h_min, run.branch.h_init, run.branch.n_dir, run.branch.n_span, a.seed);
-    if (a.workers) printf("  Algorithm 2.2 on %d %s\n", a.workers, a.logical ? "logical workers in turn" : a.workers > 1 ? "threads" : "thread");
+    fe_workers_describe(a.workers, a.logical);
     r = fe_run_approach(&run, y, t, a.verbose);
     if (r < 0) { fprintf(stderr, "triangle: continuation to gamma = 0 failed: %s (%s)\n", psb_result_string(r), psb_solver_message(&run.s)); goto done; }
     if (a.count_to > 0) { /* the model at H1 + 1 gives the load's derivative in H1 */
@@ -1209,4 +1220,13 @@ done: /* every exit after the model is built frees what it holds (clean under Le
     fe_run_free(&run); fe_solver_free(&fsol); fe_workers_free(&fw); fe_model_free(&md); fe_mesh_free(&mesh);
     free(y); free(t); free(rv);
     return rc;
+}
+
+/* MPI starts only for --workers mpi: its start-up (~1 s) stays out of the other runs */
+int main(int argc, char **argv)
+{
+#ifdef FE_MPI
+    if (fe_workers_wants_mpi(argc, argv)) return fe_workers_main(argc, argv, triangle_main);
+#endif
+    return triangle_main(argc, argv);
 }

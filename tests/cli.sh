@@ -154,6 +154,10 @@ usage "--count-map 3: give A:B" triangle --count-map 3
 usage "--count-map 3:3: A equals B" triangle --count-map 3:3
 usage "--count-map goes with the branching problem alone" triangle --count-map 24:25 --problem fold
 usage "--count-map moves the load" triangle --count-map 24:25 --solver condensed
+usage "--workers 0: must be between 1 and 64" triangle --workers 0
+usage "--workers mpi2: expected an integer" triangle --workers mpi2
+usage "--workers needs a value" triangle --workers
+usage "--workers 65: must be between 1 and 64" block --workers 65
 usage "unexpected argument 'x'" 06_count_map x
 fails "/dev/full is not a directory" triangle --quiet --mesh 16 --problem fold --out /dev/full
 fails "cannot write /dev/full" triangle --quiet --mesh 8 --problem branching --save /dev/full
