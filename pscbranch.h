@@ -78,7 +78,7 @@
    psb_switch_tangent           the tangent switch at a couple where steps fail
    psb_trace                    the driver: from (y, t) to a bound, budget, end point or loop
    psb_locate_end, psb_find_branches   Algorithms 2.1, 2.2: a branch's end point, the branches there
-   psb_workers_memory_size      the memory of Algorithm 2.2 on the caller's workers (section 6)
+   psb_workers_memory_size, psb_workers_task_output   Algorithm 2.2 on workers (section 6)
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
    psb_two_param_problem_init, _lift; psb_fold_map_memory_size(_for), _init, _start, _refine
@@ -200,7 +200,7 @@
      n_dir [20]                directions per span (branch point switch: 2 n_dir), <= 10000
      n_span [15]               counted spans, <= 10000; left at 0 (memo on), the length adapts
      n_span_max [60 if n_span is 0 and the memo is on, else n_span]  above n_span: adapts
-     max_pc [0: none]          stop the sweep once n_pc reaches this budget (workers: per n_dir)
+     max_pc [0: none]          stop once rep.n_pc reaches it (workers: checked per n_dir directions)
      workers [NULL: none]      Algorithm 2.2's directions on these workers (section 6, "Workers")
      expert (psb_branch_expert) for reproducing the paper and for experiments; a user leaves it 0:
      expert.as_printed [0]     1: as printed: the next three 1, restart _PAPER (_GLOBAL refused)
@@ -321,11 +321,11 @@
    through y0, or an odd count restart the run with h_init / 16 (up to 3 times, staying >= 8 h).
    Random numbers: xoshiro256**, reseeded from options.seed at each call.
 
-   Workers (branch options' workers): the caller's run puts tasks on threads or MPI ranks
-   (psb_workers_task_output), each with its own solver. A span goes in phases: sample tangents (memo
-   keys first) on the workers; Step 4, the memo in order; the trials, a task each sign, on the memos
-   as the phase found them; all merged in order. Counts differ from the serial sweep's (trials miss
-   each other's memo entries), never with W.
+   Workers (psb_workers; contrib/psb_workers.h): the caller's run puts tasks on threads or MPI
+   ranks (psb_workers_task_output), each with its own solver and user data. A span goes in phases:
+   sample tangents on the workers; Step 4 (skip a repeated tangent), the memo in order; trials, a
+   task each sign, on the memos as the phase found them; merged in order. Counts differ from the
+   serial sweep's (no trial sees another's memo entries: 1.2-1.6x), never with the worker count.
 
    Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
    to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
@@ -1027,10 +1027,11 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
                                            const psb_branch_options *bo, int max_branches,
                                            double *ys, double *ts, psb_branch_report *rep);
 /* Bytes of psb_workers.memory for problems of n unknowns swept in n_dir directions (0 when
-   either is below 1). With bo->workers set, psb_find_branches (psb_explore too) also returns
-   PSB_ERR_NULL (run or a solver NULL or not initialised), PSB_ERR_SIZE (n_workers out of range,
-   or a solver of another size or backend), PSB_ERR_INPUT (a solver given twice, or the calling
-   one), PSB_ERR_NOMEM (memory too small) and PSB_ERR_CALLBACK (run failed). */
+   either is below 1). With bo->workers set, psb_find_branches, psb_locate_end,
+   psb_branch_point_switch and psb_explore (eo.branch) also return PSB_ERR_NULL (run, solver or
+   memory NULL, a solver not initialised), PSB_ERR_SIZE (n_workers out of range, or a solver of
+   another size, backend or set of callbacks), PSB_ERR_INPUT (a solver given twice, or the
+   calling one), PSB_ERR_NOMEM (memory too small) and PSB_ERR_CALLBACK (run returned nonzero). */
 PSCBRANCH_DEF size_t psb_workers_memory_size(int n, int n_dir);
 /* For workers in address spaces of their own (MPI ranks that all run the same program on the
    same data, each with one solver, n_workers 1): what task `task` of a run (arg as given to run)

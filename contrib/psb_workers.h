@@ -13,9 +13,10 @@
      psb_workers wk = {4, wp, psb_threads_run, &th, malloc(bytes), bytes};
      bo.workers = &wk;  psb_find_branches(&s, y, t, &bo, ...);
      psb_threads_free(&th);
-   psb_serial_workers runs the tasks of each call on logical workers w = task % n_workers in
-   turn, and adds to critical the most factorisations one worker made in that call: the sweep's
-   critical path on n_workers workers, the calling solver's own work aside. */
+   psb_serial_workers runs the tasks of each call one after another, each on the logical worker
+   that has made the fewest factorisations in that call (where a pool's free thread would take
+   it), and adds to critical the most one worker made: the sweep's critical path on n_workers
+   workers, the calling solver's own work aside. */
 #ifndef PSB_WORKERS_H
 #define PSB_WORKERS_H
 

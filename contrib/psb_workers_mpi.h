@@ -5,14 +5,16 @@
    its one worker; a run makes each rank run its share of the tasks, a group (one direction of
    Algorithm 2.2) on one rank, then every rank sends the results of its groups to the others
    (MPI_Bcast), so that all ranks go on with the same results. Rank 0 reports; the others
-   compute alike. Include after pscbranch.h; build with mpicc (or the flags of mpi-c). Every
-   function is static.
+   compute alike. Include after pscbranch.h; build with mpicc (or `pkg-config --cflags --libs
+   mpi-c`). Every function is static.
 
    USE
-     psb_mpi_workers m;  psb_solver mine;   // on every rank, between MPI_Init and MPI_Finalize
+     psb_mpi_workers m;  psb_solver s, mine;  // on every rank, between MPI_Init and MPI_Finalize
      psb_mpi_workers_init(&m, MPI_COMM_WORLD);
-     ... psb_solver_init(&mine, &prob, &opt); psb_solver *one = &mine;
-     psb_workers wk = {1, &one, psb_mpi_run, &m, memory, bytes};
+     ... psb_solver_init(&s, &prob, &opt);    // the solver that branches
+     ... psb_solver_init(&mine, &prob, &opt); psb_solver *one = &mine;   // its worker: another
+     size_t bytes = psb_workers_memory_size(n, bo.n_dir ? bo.n_dir : 20);
+     psb_workers wk = {1, &one, psb_mpi_run, &m, malloc(bytes), bytes};
      bo.workers = &wk;  psb_find_branches(&s, y, t, &bo, ...);   // the same call on every rank
    A rank's failure inside a run is not seen by the others: run returns -1 on that rank alone
    (a size past INT_MAX, an MPI error), and the ranks part ways. */

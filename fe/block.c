@@ -42,10 +42,10 @@
    mumps (a build with -DFE_MUMPS, which the Makefile makes when MUMPS and MPI are installed):
    MUMPS, also distributed: `mpirun -np 2 fe/block --solver mumps` runs the continuation on
    rank 0 and MUMPS's factorisations on both ranks.
-   Build (from the repository root; `make` adds SuiteSparse and MUMPS when they are installed):
-     cc -std=c99 -O2 -I. fe/block.c -o fe/block -llapack -lblas -lm
+   Build (from the repository root; `make` adds SuiteSparse, MPI and MUMPS when installed):
+     cc -std=c99 -O2 -I. fe/block.c -o fe/block -llapack -lblas -lm -pthread
      cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE fe/block.c -o fe/block \
-        -lumfpack -lklu -llapack -lblas -lm
+        -lumfpack -lklu -llapack -lblas -lm -pthread
      with MPI too (--workers mpi): add -DFE_MPI $(pkg-config --cflags mpi-c) and
         $(pkg-config --libs mpi-c); with MUMPS (which implies FE_MPI), -DFE_MUMPS and
         -ldmumps -lmumps_common as well */
@@ -537,7 +537,7 @@ static int wants_mumps(int argc, char **argv)
 }
 #endif
 
-/* MPI only for MUMPS: its start-up (~1 s) stays out of the other runs */
+/* MPI starts only for MUMPS or --workers mpi: its start-up (~1 s) stays out of the other runs */
 int main(int argc, char **argv)
 {
     fe_solver_blas_threads();

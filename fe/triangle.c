@@ -50,10 +50,10 @@
                    [--workers N|mpi [--logical]]
    (`triangle --help` lists them with their defaults and limits; progress goes to stderr unless
    --quiet; exit status 2 on a usage error, 1 when the run fails or an output cannot be written.)
-   Build (from the repository root; `make` adds SuiteSparse when libsuitesparse-dev is there):
-     cc -std=c99 -O2 -I. fe/triangle.c -o fe/triangle -llapack -lblas -lm
+   Build (from the repository root; `make` adds SuiteSparse and MPI when they are installed):
+     cc -std=c99 -O2 -I. fe/triangle.c -o fe/triangle -llapack -lblas -lm -pthread
      cc -std=c99 -O2 -I. -I/usr/include/suitesparse -DFE_SUITESPARSE fe/triangle.c \
-        -o fe/triangle -lumfpack -lklu -llapack -lblas -lm
+        -o fe/triangle -lumfpack -lklu -llapack -lblas -lm -pthread
      with MPI too: add -DFE_MPI $(pkg-config --cflags mpi-c) and $(pkg-config --libs mpi-c) */
 #define _POSIX_C_SOURCE 200809L
 #include <time.h>
