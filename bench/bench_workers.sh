@@ -9,7 +9,9 @@
 #      the calling solver's own added; against the serial sweep's factorisations.
 #   3. the same for psb_explore (--explore): its traces run in turn on the calling solver, each
 #      sweep's directions on the W workers.
-# Tables on stdout; CSV in bench/out/workers_wall.csv, workers_model.csv, workers_explore.csv;
+#   4. peak resident memory of the cases of 1 on 1, 2, 4, 8 threads (GNU time).
+# Tables on stdout; CSV in bench/out/workers_wall.csv, workers_model.csv, workers_explore.csv,
+# workers_memory.csv;
 # the log-log plot of 2 in docs/img/workers_critical_path.png when gnuplot is there.
 # Usage: bench/bench_workers.sh [--large] [--plot] (--plot: only redraw the plot from
 # bench/out/workers_model.csv)
@@ -73,6 +75,34 @@ for c in "${list[@]}"; do
         echo "$name,$sweep,$wall,$cpu,$(f22 "$out"),$nbr" >>"$wall_csv"
     done
 done
+
+# peak resident memory against the worker count (GNU time's %M): each worker holds a solver, its
+# backend's factors and the model's scratch; the tasks' records are psb_workers_memory_size
+echo
+if [ -x /usr/bin/time ] && /usr/bin/time -o /dev/null -f %M true >/dev/null 2>&1; then
+    echo "  peak resident memory [MB] on W threads (serial: no workers)"
+    echo "  case            serial    W=1    W=2    W=4    W=8  per worker"
+    mem_csv=bench/out/workers_memory.csv
+    echo "case,workers,peak_rss_kb" >"$mem_csv"
+    for c in "${list[@]}"; do
+        name=${c%%:*}
+        cmd=${c#*:}
+        row=""
+        for w in serial 1 2 4 8; do
+            flags="--quiet"
+            [ "$w" != serial ] && flags="$flags --workers $w"
+            /usr/bin/time -o bench/out/workers_rss.txt -f %M $cmd $flags >/dev/null 2>&1
+            kb=$(tail -n 1 bench/out/workers_rss.txt)
+            echo "$name,$w,$kb" >>"$mem_csv"
+            row="$row $(awk -v k="$kb" 'BEGIN { printf "%6.1f", k / 1024 }')"
+            [ "$w" = 1 ] && kb1=$kb
+            [ "$w" = 8 ] && kb8=$kb
+        done
+        printf '  %-15s%s  %10s\n' "$name" "$row" "$(awk -v a="$kb1" -v b="$kb8" 'BEGIN { printf "%.1f", (b - a) / 7 / 1024 }')"
+    done
+else
+    echo "  peak resident memory: skipped (needs GNU time as /usr/bin/time)"
+fi
 
 echo
 echo "  the sweep's critical path in factorisations (logical workers in turn)"

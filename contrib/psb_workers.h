@@ -13,6 +13,10 @@
      psb_workers wk = {4, wp, psb_threads_run, &th, malloc(bytes), bytes};
      bo.workers = &wk;  psb_find_branches(&s, y, t, &bo, ...);
      psb_threads_free(&th);
+   Memory grows linearly with the workers: each is a whole solver (psb_solver_memory_size) with
+   its own backend's factors and user data, about what the calling solver holds; the tasks'
+   records (psb_workers_memory_size) are one block for all (docs/benchmarks.md, "Algorithm 2.2
+   on workers", measures it).
    psb_serial_workers runs the tasks of each call one after another, each on the logical worker
    that has made the fewest factorisations in that call (where a pool's free thread would take
    it), and adds to critical the most one worker made: the sweep's critical path on n_workers

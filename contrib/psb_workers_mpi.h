@@ -16,6 +16,8 @@
      size_t bytes = psb_workers_memory_size(n, bo.n_dir ? bo.n_dir : 20);
      psb_workers wk = {1, &one, psb_mpi_run, &m, malloc(bytes), bytes};
      bo.workers = &wk;  psb_find_branches(&s, y, t, &bo, ...);   // the same call on every rank
+   Memory: every rank holds the whole program (the calling solver, its one worker, the records)
+   and MPI's own, the same on every rank whatever their number.
    A rank's failure inside a run is not seen by the others: run returns -1 on that rank alone
    (a size past INT_MAX, an MPI error), and the ranks part ways. */
 #ifndef PSB_WORKERS_MPI_H
