@@ -163,7 +163,9 @@ ifeq ($(MPI),yes)
 FE_MPI_CFLAGS = -DFE_MPI $(MPI_CFLAGS)
 FE_MPI_LIBS = $(MPI_LIBS)
 ifneq ($(MPIRUN),)
-# Algorithm 2.2 on 1, 2, 4 MPI ranks (contrib/psb_workers_mpi.h): --workers mpi
+# Algorithm 2.2 on 1, 2, 4 MPI ranks (contrib/psb_workers_mpi.h): tests/test_workers.c's
+# outcomes, and the programs' --workers mpi
+TESTS += $(BUILD)/test_workers_mpi_np1 $(BUILD)/test_workers_mpi_np2 $(BUILD)/test_workers_mpi_np4
 SMOKE_MPI = "smoke:bash tests/workers_fe.sh --mpi fe/block" "smoke:bash tests/workers_fe.sh --mpi fe/block --explore" \
 	"smoke:bash tests/workers_fe.sh --mpi fe/triangle --mesh 16"
 endif
@@ -171,6 +173,15 @@ endif
 $(BUILD)/fe-mpi-$(MPI): | $(BUILD)
 	rm -f $(BUILD)/fe-mpi-*
 	touch $@
+$(BUILD)/test_workers_mpi: tests/test_workers.c tests/harness.h tests/pl_problems.h contrib/psb_workers.h \
+		contrib/psb_workers_mpi.h $(HEADER) | $(BUILD)
+	$(CC) $(ALL_CFLAGS) -DTEST_WORKERS_MPI $(MPI_CFLAGS) -Itests tests/test_workers.c -o $@ $(MPI_LIBS) $(LIBS) -pthread
+# the same program on K ranks: a script, so that tests/run.sh reads its RESULT line; one BLAS
+# thread on every rank, as a rank bound to a core has (tests/workers_fe.sh)
+$(BUILD)/test_workers_mpi_np%: $(BUILD)/test_workers_mpi tools/mpirun.sh
+	printf '#!/bin/sh\nOPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 exec sh tools/mpirun.sh $* %s\n' \
+		$(BUILD)/test_workers_mpi > $@
+	chmod +x $@
 ifeq ($(MUMPS),yes)
 BLOCK_CFLAGS = -DFE_MUMPS $(MPI_CFLAGS)
 BLOCK_LIBS = $(MUMPS_LIBS)

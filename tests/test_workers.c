@@ -2,15 +2,24 @@
    counters for 1, 2 and 4 workers, as threads (contrib/psb_workers.h) and as logical workers run
    in turn, on the piecewise-linear families of bench/bench_branching.c, in psb_explore on them
    and through pitchforks; every branch the serial sweep finds is found; a callback failing on a
-   worker fails the call as it fails the serial sweep; bad workers are refused. */
+   worker fails the call as it fails the serial sweep; bad workers are refused.
+   Built with -DTEST_WORKERS_MPI and run under mpirun (build/test_workers_mpi_np1, _np2, _np4):
+   every rank makes the same calls with the ranks as workers (contrib/psb_workers_mpi.h), which
+   must give the outcomes and diagrams of one logical worker in this process; rank 0 reports. */
 #define PSCBRANCH_IMPLEMENTATION
 #include "../pscbranch.h"
 #include "../contrib/psb_workers.h"
 #include "harness.h"
 #include "pl_problems.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#ifdef TEST_WORKERS_MPI
+#include "../contrib/psb_workers_mpi.h"
+static psb_mpi_workers mpi_ranks;
+#endif
 
 #define MAX_W 4
 
@@ -93,6 +102,22 @@ static psb_workers team_workers(team *t, int n, int threads)
     return wk;
 }
 
+/* Variant v of the workers compared with variant 0, one logical worker (0 past the last):
+   logical workers 2 and 4, threads 1, 2 and 4; with TEST_WORKERS_MPI, the MPI ranks alone. */
+static int team_variant(team *t, int v, psb_workers *wk)
+{
+#ifdef TEST_WORKERS_MPI
+    if (v == 0) *wk = team_workers(t, 1, 0);
+    else if (v == 1) *wk = team_workers(t, 1, 0), wk->run = psb_mpi_run, wk->ctx = &mpi_ranks;
+    return v <= 1;
+#else
+    static const int n[6] = {1, 2, 4, 1, 2, 4};
+    if (v > 5) return 0;
+    *wk = team_workers(t, n[v], v >= 3);
+    return 1;
+#endif
+}
+
 /* Algorithm 2.2 entered along ray `incoming`, with the options bo0 and workers wk (NULL: none),
    into *o. */
 static void branch_on_ray(const psb_problem *prob, const double *rays, int n_rays, int incoming,
@@ -141,15 +166,14 @@ static void check_problem(const char *name, const psb_problem *prob, const doubl
         return;
     }
     for (incoming = 0; incoming < n_rays; incoming++) {
-        int n, threads;
+        int v;
+        psb_workers wk;
         branch_on_ray(prob, rays, n_rays, incoming, bo, NULL, &serial);
-        for (threads = 0; threads <= 1; threads++)
-            for (n = 1; n <= MAX_W; n *= 2) {
-                psb_workers wk = team_workers(&t, n, threads);
-                outcome *o = !threads && n == 1 ? &first : &other;
-                branch_on_ray(prob, rays, n_rays, incoming, bo, &wk, o);
-                if (o != &first) bad += !same_outcome(&first, o, np1);
-            }
+        for (v = 0; team_variant(&t, v, &wk); v++) {
+            outcome *o = v == 0 ? &first : &other;
+            branch_on_ray(prob, rays, n_rays, incoming, bo, &wk, o);
+            if (o != &first) bad += !same_outcome(&first, o, np1);
+        }
         CHECK(first.r == PSB_SUCCESS);
         /* the phased sweep finds every branch the serial one does */
         lost += serial.r == PSB_SUCCESS && serial.matched == n_rays && first.matched < n_rays;
@@ -180,6 +204,9 @@ static void test_families(void)
         int n_rays = pl_crossing_kinks(&p, k, rays);
         psb_problem_init(&prob, k, pl_residual, pl_jacobian, &p);
         check_problem("crossing kinks", &prob, rays, n_rays, &bo);
+#ifdef TEST_WORKERS_MPI
+        continue; /* on every rank: the default sweep alone */
+#endif
         if (k > 3) continue; /* the printed sweep and differences cost 10x */
         check_problem("crossing kinks, as printed", &prob, rays, n_rays, &printed);
         prob.jacobian = NULL;
@@ -277,7 +304,8 @@ static void test_explore(void)
     psb_diagram first, other;
     psb_stats s_first, s_other;
     team t;
-    int n, threads;
+    psb_workers wk;
+    int v;
     pl_crossing_kinks(&p, 3, rays);
     psb_problem_init(&prob, 3, pl_residual, pl_jacobian, &p);
     if (team_init(&t, &prob) != 0) {
@@ -285,25 +313,22 @@ static void test_explore(void)
         team_free(&t);
         return;
     }
-    {
-        psb_workers wk = team_workers(&t, 1, 0);
-        explore_once(&prob, &wk, &first, &s_first);
-    }
+    team_variant(&t, 0, &wk);
+    explore_once(&prob, &wk, &first, &s_first);
     CHECK(first.result == PSB_SUCCESS);
     CHECK(first.n_branchings >= 1 && first.n_nodes >= 8);
     printf("  explore: %d nodes, %d edges, %d branchings\n", first.n_nodes, first.n_edges, first.n_branchings);
-    for (threads = 0; threads <= 1; threads++)
-        for (n = 1; n <= MAX_W; n *= 2) {
-            psb_workers wk = team_workers(&t, n, threads);
-            explore_once(&prob, &wk, &other, &s_other);
-            CHECK(same_diagram(&first, &other));
-            CHECK(!memcmp(&s_first, &s_other, sizeof s_first));
-            psb_diagram_free(&other);
-        }
+    for (v = 1; team_variant(&t, v, &wk); v++) {
+        explore_once(&prob, &wk, &other, &s_other);
+        CHECK(same_diagram(&first, &other));
+        CHECK(!memcmp(&s_first, &s_other, sizeof s_first));
+        psb_diagram_free(&other);
+    }
     psb_diagram_free(&first);
     team_free(&t);
 }
 
+#ifndef TEST_WORKERS_MPI
 /* Two pitchforks, x1 at l = 0 and x2 at l = 1/2: H = (x1 (l - x1^2), x2 (l - 1/2 - x2^2)). */
 static int fork_res(const double *y, double *h, void *user)
 {
@@ -524,3 +549,21 @@ int main(void)
     test_bad_workers();
     return HARNESS_END();
 }
+#else
+int main(int argc, char **argv)
+{
+    int rc;
+    if (MPI_Init(&argc, &argv) != MPI_SUCCESS || psb_mpi_workers_init(&mpi_ranks, MPI_COMM_WORLD) != 0) {
+        printf("test_workers_mpi: MPI_Init failed\n");
+        return 1;
+    }
+    if (mpi_ranks.rank != 0 && !freopen("/dev/null", "w", stdout)) return 1;
+    printf("test_workers_mpi: %d rank%s\n", mpi_ranks.size, mpi_ranks.size > 1 ? "s" : "");
+    test_families();
+    test_explore();
+    rc = HARNESS_END();
+    MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Finalize();
+    return rc;
+}
+#endif
