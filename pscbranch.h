@@ -2941,16 +2941,16 @@ static void psb__band_axpy(int m, const double *PSB__RESTRICT c, double a, doubl
     }
 }
 
-/* x <- A^{-1} x and, when y is not NULL, y <- A^{-1} y in the same pass over dgbtrf's factors:
-   dgbtrs' substitutions ("N", column by column) with the same operations in the same order,
-   two right-hand sides sharing every load of the factors (about half the time of two dgbtrs
-   calls: bench_linear). */
-static void psb__band_subst(const psb_solver *s, double *x, double *y)
+/* x <- A^{-1} x and, when y is not NULL, y <- A^{-1} y in the same pass over dgbtrf's factors
+   lu (leading dimension ldlu, pivots ipiv) of A, n x n with kl, ku: dgbtrs' substitutions
+   ("N", column by column) with the same operations in the same order, two right-hand sides
+   sharing every load of the factors (about half the time of two dgbtrs calls: bench_linear). */
+static void psb__band_subst_lu(int n, int kl, int ku, const double *lu, size_t ldlu, const psb__lint *ipiv,
+                               double *x, double *y)
 {
-    int n = s->internal_.n, kl = s->prob.kl, kv = kl + s->prob.ku, j;
-    const psb__lint *ipiv = (const psb__lint *)s->internal_.ipiv;
+    int kv = kl + ku, j;
     for (j = 0; kl > 0 && j < n - 1; j++) {
-        const double *col = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu + kv + 1;
+        const double *col = lu + (size_t)j * ldlu + kv + 1;
         int l = (int)ipiv[j] - 1;
         if (l != j) {
             double tmp = x[l];
@@ -2961,13 +2961,20 @@ static void psb__band_subst(const psb_solver *s, double *x, double *y)
                        y ? y + j + 1 : NULL);
     }
     for (j = n - 1; j >= 0; j--) {
-        const double *col = s->internal_.lu + (size_t)j * (size_t)s->internal_.ldlu;
+        const double *col = lu + (size_t)j * ldlu;
         int above = j < kv ? j : kv; /* U's entries above the diagonal in column j */
         x[j] /= col[kv];
         if (y) y[j] /= col[kv];
         psb__band_axpy(above, col + kv - above, -x[j], x + j - above, y ? -y[j] : 0,
                        y ? y + j - above : NULL);
     }
+}
+
+/* psb__band_subst_lu on the solver's factors. */
+static void psb__band_subst(const psb_solver *s, double *x, double *y)
+{
+    psb__band_subst_lu(s->internal_.n, s->prob.kl, s->prob.ku, s->internal_.lu, (size_t)s->internal_.ldlu,
+                       (const psb__lint *)s->internal_.ipiv, x, y);
 }
 
 /* Factors A (shifted if asked) for the border row in row; w = A^{-1} b and delta = d - c.w
@@ -9021,7 +9028,7 @@ static int psb__fold_band_lu(psb_fold_map *m, double shift)
     return info != 0;
 }
 
-/* x <- A^{-1} x, or A^{-T} x with trans, on lu's factors (dgbtrs' substitutions) */
+/* x <- A^{-1} x, or A^{-T} x with trans (dgbtrs' "T" substitutions), on lu's factors */
 static void psb__fold_band_subst(const psb_fold_map *m, int trans, double *x)
 {
     int n = m->two.n, kl = m->two.kl, kv = kl + m->two.ku, i, j;
@@ -9030,18 +9037,7 @@ static void psb__fold_band_subst(const psb_fold_map *m, int trans, double *x)
     const psb__lint *ipiv = (const psb__lint *)m->internal_.ipiv;
     double tmp, sum;
     if (!trans) {
-        for (j = 0; kl > 0 && j < n - 1; j++) {
-            const double *col = lu + (size_t)j * ldlu + kv + 1;
-            int l = (int)ipiv[j] - 1, km = kl < n - 1 - j ? kl : n - 1 - j;
-            if (l != j) tmp = x[l], x[l] = x[j], x[j] = tmp;
-            for (i = 0; i < km; i++) x[j + 1 + i] -= col[i] * x[j];
-        }
-        for (j = n - 1; j >= 0; j--) {
-            const double *col = lu + (size_t)j * ldlu;
-            int above = j < kv ? j : kv;
-            x[j] /= col[kv];
-            for (i = 1; i <= above; i++) x[j - i] -= col[kv - i] * x[j];
-        }
+        psb__band_subst_lu(n, kl, m->two.ku, lu, ldlu, ipiv, x, NULL);
         return;
     }
     for (j = 0; j < n; j++) {
