@@ -8944,16 +8944,10 @@ static size_t psb__fold_layout(const psb_two_param_problem *p, psb_fold_map *m, 
 }
 
 /* at_mu's point y (n+1) with mu inserted at mu_index: the user's y (n+2). */
-static void psb__fold_lift(const psb_fold_map *m, const double *y, double mu, double *full)
-{
-    int j, k = 0;
-    for (j = 0; j < m->two.n + 2; j++) full[j] = j == m->two.mu_index ? mu : y[k++];
-}
-
 static int psb__fold_at_mu_residual(const double *y, double *h, void *user)
 {
     psb_fold_map *m = (psb_fold_map *)user;
-    psb__fold_lift(m, y, m->mu, m->internal_.y_eval);
+    psb_two_param_lift(&m->two, y, m->mu, m->internal_.y_eval);
     return m->two.residual(m->internal_.y_eval, h, m->two.user);
 }
 
@@ -8962,7 +8956,7 @@ static int psb__fold_at_mu_jacobian(const double *y, double *jac, int ld, void *
 {
     psb_fold_map *m = (psb_fold_map *)user;
     int n = m->two.n, j, k = 0, rc;
-    psb__fold_lift(m, y, m->mu, m->internal_.y_eval);
+    psb_two_param_lift(&m->two, y, m->mu, m->internal_.y_eval);
     rc = m->two.jacobian(m->internal_.y_eval, m->internal_.jac, n, m->two.user);
     if (rc) return rc;
     for (j = 0; j < n + 2; j++)
@@ -9310,7 +9304,7 @@ static int psb__fold_band_solve_user(double *b, int nrhs, void *ctx)
 static int psb__fold_at_mu_band(const double *y, double *band, int ldband, double *dparam, void *user)
 {
     psb_fold_map *m = (psb_fold_map *)user;
-    psb__fold_lift(m, y, m->mu, m->internal_.y_eval);
+    psb_two_param_lift(&m->two, y, m->mu, m->internal_.y_eval);
     return m->two.band_jacobian(m->internal_.y_eval, band, ldband, dparam, m->internal_.dpar_d + m->two.n,
                                 m->two.user);
 }
@@ -9406,6 +9400,13 @@ PSCBRANCH_DEF size_t psb_fold_map_memory_size_for(const psb_two_param_problem *p
     return p ? psb__fold_layout(p, NULL, NULL) : 0;
 }
 
+/* lambda_index and mu_index distinct columns of the n+2 */
+static int psb__two_param_indices_ok(const psb_two_param_problem *p)
+{
+    return p->lambda_index >= 0 && p->lambda_index <= p->n + 1 && p->mu_index >= 0 && p->mu_index <= p->n + 1 &&
+           p->lambda_index != p->mu_index;
+}
+
 PSCBRANCH_DEF psb_result psb_fold_map_init(psb_fold_map *m, const psb_two_param_problem *p,
                                            double mu, void *memory, size_t bytes)
 {
@@ -9418,9 +9419,7 @@ PSCBRANCH_DEF psb_result psb_fold_map_init(psb_fold_map *m, const psb_two_param_
     if (p->linear == PSB_LINEAR_BANDED ? !p->band_jacobian : !p->jacobian) return PSB_ERR_NULL;
     n = p->n;
     need = psb__fold_layout(p, NULL, NULL);
-    if (!need || p->lambda_index < 0 || p->lambda_index > n + 1 || p->mu_index < 0 ||
-        p->mu_index > n + 1 || p->lambda_index == p->mu_index)
-        return PSB_ERR_SIZE;
+    if (!need || !psb__two_param_indices_ok(p)) return PSB_ERR_SIZE;
     if (!psb__finite(mu)) return PSB_ERR_NONFINITE;
     if (bytes < need) return PSB_ERR_NOMEM;
     memset(memory, 0, need); /* zero borders until a start */
@@ -9549,11 +9548,11 @@ PSCBRANCH_DEF psb_result psb_fold_map_start(psb_fold_map *m, psb_solver *fold_so
     yl = m->internal_.y_lift;
     q = m->internal_.y_try; /* t lifted, for its state part */
     p = m->internal_.rhs;
-    psb__fold_lift(m, t, 0, q);
+    psb_two_param_lift(&m->two, t, 0, q);
     for (k = 0; k < n; k++) q[k] = q[m->internal_.state[k]];
     nq = psb__norm2(q, n);
     if (!(nq > 0)) return psb__fail(s, PSB_ERR_INPUT, "t has no state component");
-    psb__fold_lift(m, y, m->mu, yl);
+    psb_two_param_lift(&m->two, y, m->mu, yl);
     r = psb__fold_user_jacobian(m, s, yl);
     if (r != PSB_SUCCESS) return r;
     psb__fold_keep_borders(m, 0);
@@ -10178,8 +10177,7 @@ PSCBRANCH_DEF psb_result psb_event_curve_init(psb_event_curve *c, const psb_two_
     if (!c) return PSB_ERR_NULL;
     memset(c, 0, sizeof *c);
     if (!p || !event || !memory || !p->residual || !p->jacobian) return PSB_ERR_NULL;
-    if (p->n < 1 || p->n > 46000 || p->lambda_index < 0 || p->lambda_index > p->n + 1 || p->mu_index < 0 ||
-        p->mu_index > p->n + 1 || p->lambda_index == p->mu_index || n_events < 1 || k < 0 || k >= n_events)
+    if (p->n < 1 || p->n > 46000 || !psb__two_param_indices_ok(p) || n_events < 1 || k < 0 || k >= n_events)
         return PSB_ERR_SIZE;
     need = psb__event_layout(p->n, n_events, NULL, NULL);
     if (!need) return PSB_ERR_SIZE;
@@ -10407,9 +10405,7 @@ PSCBRANCH_DEF psb_result psb_branch_curve_init(psb_branch_curve *c, const psb_tw
     if (!c) return PSB_ERR_NULL;
     memset(c, 0, sizeof *c);
     if (!p || !memory || !p->residual || !p->jacobian) return PSB_ERR_NULL;
-    if (p->n < 1 || p->n > 46000 || p->lambda_index < 0 || p->lambda_index > p->n + 1 || p->mu_index < 0 ||
-        p->mu_index > p->n + 1 || p->lambda_index == p->mu_index)
-        return PSB_ERR_SIZE;
+    if (p->n < 1 || p->n > 46000 || !psb__two_param_indices_ok(p)) return PSB_ERR_SIZE;
     if (p->linear != PSB_LINEAR_DENSE) return PSB_ERR_OPTIONS;
     if (bytes < psb__bp_layout(p->n, NULL, NULL)) return PSB_ERR_NOMEM;
     c->two = *p;
