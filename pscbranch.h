@@ -45,25 +45,24 @@
    1. CONCEPTS ------------------------------------------------------------------------------------
    y = (state, parameter) has N+1 components; problem.param_index says which one is the load
    parameter (psb_problem_init: the last). A couple (y, t) is a point with H(y) ~ 0 and a unit
-   tangent t, dH(y) t = 0, ||t||_w = 1, whose sign is the direction of travel.
-   Weighted inner product <a,b>_w = sum_i w_i a_i b_i, w_i = options.kappa for the state and 1 for
-   the parameter (or options.weights). Every norm, cosine and normalisation in y uses it, so step
-   sizes, tol_correction and branching lengths are lengths in it: y in units far from 1 wants
-   weights 1/u_i^2, u_i the size of component i; unknowns weighted far below the others make
-   pieces that differ only there look alike. tol_residual is absolute (section 5).
-   H is PC^1: continuous, and near every point equal to one of finitely many C^1 selections. The
-   Jacobian callback returns the gradient of a selection active at y (a B-Jacobian element).
-   Without one, dH comes from finite differences, column j stepping fd_step max(1, |y_j|) (rescale
-   components far below 1); a quotient whose step crosses a kink mixes pieces, so give an analytic
-   selection gradient when branching at kinks. With differences and h left at 0, the h of
-   Algorithms 2.1 and 2.2 follows the point (10^4 difference steps, within [h_min, h_init / 8]),
-   Algorithm 2.2 samples tangents with steps below h / 1000 and Algorithm 2.1 keeps its entering
-   tangent: branch sets come out about as with an analytic dH.
-   A kink is a point where a curve passes from one piece to another with a different tangent; a
-   nonsmooth point (a PC^1 bifurcation) is one where more than two smooth branches meet.
-   Algorithms 2.1 and 2.2 assume the paper's (I)-(III): near the point the solutions form
-   one-sided smooth branches in distinct regions, every selection's gradient has full rank, and
-   the kernels of two different selections meet only in 0.
+   tangent t, dH(y) t = 0, ||t||_w = 1, whose sign is the direction of travel. Weighted inner
+   product <a,b>_w = sum_i w_i a_i b_i, w_i = options.kappa for the state and 1 for the parameter
+   (or options.weights). Every norm, cosine and normalisation in y uses it, so step sizes,
+   tol_correction and branching lengths are lengths in it: y in units far from 1 wants weights
+   1/u_i^2, u_i the size of component i; unknowns weighted far below the others make pieces that
+   differ only there look alike. tol_residual is absolute (section 5). H is PC^1: continuous, and
+   near every point equal to one of finitely many C^1 selections. The Jacobian callback returns the
+   gradient of a selection active at y (a B-Jacobian element). Without one, dH comes from finite
+   differences, column j stepping fd_step max(1, |y_j|) (rescale components far below 1); a quotient
+   whose step crosses a kink mixes pieces, so give an analytic selection gradient when branching at
+   kinks. With differences and h left at 0, the h of Algorithms 2.1 and 2.2 follows the point (10^4
+   difference steps, within [h_min, h_init / 8]), Algorithm 2.2 samples tangents with steps below
+   h/1000 and Algorithm 2.1 keeps its entering tangent: branch sets come out about as with an
+   analytic dH. A kink is a point where a curve passes from one piece to another with a different
+   tangent; a nonsmooth point (a PC^1 bifurcation) is one where more than two smooth branches meet.
+   Algorithms 2.1 and 2.2 assume the paper's (I)-(III): near the point the solutions form one-sided
+   smooth branches in distinct regions, every selection's gradient has full rank, and the kernels of
+   two different selections meet only in 0.
 
    2. THE API AT A GLANCE (most functions return psb_result) --------------------------------------
    psb_problem_init             zero a psb_problem; set N, callbacks, param_index = N (void)
@@ -78,7 +77,7 @@
    psb_switch_tangent           the tangent switch at a couple where steps fail
    psb_trace                    the driver: from (y, t) to a bound, budget, end point or loop
    psb_locate_end, psb_find_branches   Algorithms 2.1, 2.2: a branch's end point, the branches there
-   psb_workers_memory_size, psb_workers_task_output   Algorithm 2.2 on workers (section 6)
+   psb_workers_memory_size, _task_output; psb_explore_workers_memory_size   workers (section 6)
    psb_branch_point_switch      the branches through a smooth branch point psb_trace located
    psb_evolve_step              one time step of a quasi-static evolution, through folds
    psb_two_param_problem_init, _lift; psb_fold_map_memory_size(_for), _init, _start, _refine
@@ -87,18 +86,17 @@
    psb_diagram_init, _init_with_memory, _free, _memory_size, _set_points, _set_growth   storage
    psb_node_kind_string, psb_edge_end_string; psb_diagram_write_json, _csv, _points_csv (STDIO)
    psb_proj_*, psb_ac2d_*, psb_fc3d_*, psb_fc_nat_error, psb_contact_convert: section 7
-   Inputs are never modified on failure, but psb_trace's (y, t) hold the last accepted couple once
-   a step was accepted, the branching calls' (ys, ts) the branches found so far, psb_explore's
-   diagram the graph so far. Only psb_solver_init and psb_diagram_init allocate, and psb_explore
-   through the allocator of a diagram set to grow. Single operations (psb_solve_at_param, _tangent,
-   _correct, _step, _switch_tangent, _locate_end, _find_branches) may be called from a point or
-   event callback of psb_trace on the same solver; the other calls there return PSB_ERR_INPUT and
-   leave the trace as it was. A solver is
-   not thread-safe, but there is no global state: distinct solvers may run in distinct threads.
-   Same inputs, options and seed: same results, bit for bit. psb_solver is caller-owned; public:
-   prob (fd_step resolved), opt (resolved), branch (the latest branching call's resolved options),
-   stats (cumulative counters) and message; internal_ (type psb__internal) is opaque. A freed
-   solver, or one whose init failed, gives PSB_ERR_NULL.
+   Inputs are never modified on failure, but psb_trace's (y, t) hold the last accepted couple once a
+   step was accepted, the branching calls' (ys, ts) the branches found so far, psb_explore's diagram
+   the graph so far. Only psb_solver_init and psb_diagram_init allocate, and psb_explore through the
+   allocator of a diagram set to grow. Single operations (psb_solve_at_param, _tangent, _correct,
+   _step, _switch_tangent, _locate_end, _find_branches) may be called from a point or event callback
+   of psb_trace on the same solver; the other calls there return PSB_ERR_INPUT and leave the trace
+   as it was. A solver is not thread-safe, but there is no global state: distinct solvers may run in
+   distinct threads. Same inputs, options and seed: same results, bit for bit. psb_solver is
+   caller-owned; public: prob (fd_step resolved), opt (resolved), branch (the latest branching
+   call's resolved options), stats (cumulative counters) and message; internal_ (type psb__internal)
+   is opaque. A freed solver, or one whose init failed, gives PSB_ERR_NULL.
 
    3. CALLBACKS -----------------------------------------------------------------------------------
    int residual(const double *y, double *h, void *user)             h = H(y), N values
@@ -190,8 +188,7 @@
      detect [0: none]          PSB_DETECT_* mask: FOLDS 1, BRANCH 2, PC1 4 (not _USER), EVENTS 8
      stop_at [0]               bit 1u << PSB_SPECIAL_*: stop (PSB_STOPPED) on such a point
      locate_tol [1e-10]        precision of a special point, ||.||_w along the curve
-     n_events [0]              number of event functions (PSB_DETECT_EVENTS); with n_events > 0:
-     event, event_user, event_work [NULL]  the callback, its pointer, 3 n_events doubles of yours
+     n_events [0]; event, event_user, event_work  callback, pointer, 3 n_events doubles of yours
    psb_branch_options (the branching calls, NULL: defaults; checked at each call; h_min, h_init
    in brackets are psb_options'; the paper: h 5e-7, h_min h/2^14, h_init 5e-4, n_dir 20, n_span 15):
      h [h_min; differences: expert.h_fd_steps steps at the point]  h of Algorithms 2.1, 2.2
@@ -223,6 +220,7 @@
      kink_nodes [0]            1: ordinary kinks are nodes (PSB_NODE_KINK); implies branch_at_kinks
      node_tol [16 branch.h; differences: 16 h at the node]  branching points this close: one node
      on_point, point_user [NULL]  int on_point(int edge, const psb_point *p, void *user)
+     drafts [8; -1: none], draft_points [128]  branch.workers: edges drafted at once (section 6)
    psb_evolve_options (psb_evolve_step; NULL: defaults):
      mode [PSB_EVOLVE_AUTO]    AUTO: Newton, else continuation; _NEWTON or _CONTINUATION only
      newton_max_iter [20]      Newton's iterations at the new parameter, <= 1000
@@ -326,6 +324,8 @@
    sample tangents on the workers; Step 4 (skip a repeated tangent), the memo in order; trials, a
    task each sign, on the memos as the phase found them; merged in order. Counts differ from the
    serial sweep's (no trial sees another's memo entries: 1.2-1.6x), never with the worker count.
+   psb_explore drafts the queue's next `drafts` edges' first traces at once on the workers; in
+   order, each edge replays its draft as far as the diagram now allows: the diagram of drafts off.
 
    Branch point switch (psb_branch_point_switch). Near a simple branch point y* the branches are,
    to first order, lines through y* in the plane of t and the kernel direction k. Trials at y* + r
@@ -610,13 +610,15 @@ typedef struct psb_branch_expert {
                              [0: never] */
 } psb_branch_expert;
 
-/* Workers for Algorithm 2.2's sweep (psb_branch_options.workers; manual, section 6, "Workers").
+/* Workers for Algorithm 2.2's sweep (psb_branch_options.workers) and psb_explore's drafts
+   (psb_explore_options.drafts; manual, section 6, "Workers").
    run(ctx, n_tasks, task, arg) calls task(arg, i, w) once for each i in 0 .. n_tasks - 1, on
    workers w in 0 .. n_workers - 1, one task at a time on each, in any order and concurrently,
    and returns once all are done: 0, or nonzero for a failure (PSB_ERR_CALLBACK). solver[w] is
    worker w's solver: initialised on the same problem (its own user data and backend), distinct
    from the others and from the calling solver; each call sets its options to the caller's.
-   memory: at least psb_workers_memory_size(n, n_dir) bytes, aligned for double. Same inputs:
+   memory: at least psb_workers_memory_size(n, n_dir) bytes, aligned for double (for
+   psb_explore, psb_explore_workers_memory_size(n, n_dir, eo)). Same inputs:
    same results, reports and counters, bit for bit, whatever n_workers and the order the tasks
    ran in; counts differ from the serial sweep's (workers NULL). contrib/psb_workers.h has a run
    on POSIX threads and one on logical workers in turn (a model of the critical path),
@@ -1033,6 +1035,10 @@ PSCBRANCH_DEF psb_result psb_find_branches(psb_solver *s, const double *y0, cons
    another size, backend or set of callbacks), PSB_ERR_INPUT (a solver given twice, or the
    calling one), PSB_ERR_NOMEM (memory too small) and PSB_ERR_CALLBACK (run returned nonzero). */
 PSCBRANCH_DEF size_t psb_workers_memory_size(int n, int n_dir);
+struct psb_explore_options;
+/* Bytes of psb_workers.memory for psb_explore with options eo (NULL: defaults): the sweep's and
+   eo->drafts drafts of eo->draft_points points (0 for values out of range). */
+PSCBRANCH_DEF size_t psb_explore_workers_memory_size(int n, int n_dir, const struct psb_explore_options *eo);
 /* For workers in address spaces of their own (MPI ranks that all run the same program on the
    same data, each with one solver, n_workers 1): what task `task` of a run (arg as given to run)
    writes, bytes at out, and its group; tasks of one group must run on one rank, and once they
@@ -1494,6 +1500,12 @@ typedef struct psb_explore_options {
                           differences and branch.h left at 0: 16 times h at the node] */
     psb_explore_point_fn on_point; /* optional */
     void *point_user;
+    int drafts;        /* with branch.workers: the first traces of the queue's next edges,
+                          as many as this, run at once on the workers, trace.event too (called
+                          concurrently); the diagram is the same (manual, section 6, "Workers")
+                          [8; -1: none, edges in turn]; <= PSB_MAX_WORKERS */
+    long draft_points; /* the points a draft keeps (a longer first trace is traced again in
+                          turn) [128]; <= 10^7. Memory: psb_explore_workers_memory_size */
 } psb_explore_options;
 
 /* A caller's allocator (psb_diagram_set_growth): alloc returns a block aligned for double, or
@@ -1523,6 +1535,8 @@ typedef struct psb_diagram {
                                branches (manual section 6, "An odd count", PC1) */
     int truncated;          /* 1: a capacity ran out (nodes, edges, branches at a node, stored
                                points) */
+    int n_drafts, n_drafts_used; /* edges' first traces drafted on workers, and replayed into
+                                    the diagram (the rest were not needed or traced again) */
     psb_result result;      /* what the last psb_explore on d returned (PSB_SUCCESS: complete;
                                PSB_ERR_INPUT before the first) */
     double *points;         /* the edges' stored points, n+1 each (psb_diagram_set_points) */
@@ -1595,15 +1609,16 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    is kept, d->truncated), PSB_STEP_BUDGET (max_traces or max_points reached first),
    PSB_STOPPED (on_point asked), or a failure: PSB_ERR_NULL, PSB_ERR_SIZE (d->n differs from
    the problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN bounds or
-   node_tol, negative budgets, box_min > box_max, PSB_DETECT_PC1 with a user backend),
-   PSB_ERR_INPUT (zero t, t not within c_min of the curve's tangent at y, start outside the
+   node_tol, negative budgets, box_min > box_max, PSB_DETECT_PC1 with a user backend, drafts
+   or draft_points out of range), PSB_ERR_NOMEM (with drafts, eo->branch.workers' memory below
+   psb_explore_workers_memory_size), the workers' codes (psb_workers_memory_size), PSB_ERR_INPUT (zero t, t not within c_min of the curve's tangent at y, start outside the
    bounds or box), PSB_ERR_NONFINITE, PSB_ERR_CALLBACK (a callback returned < 0; the diagram
    so far is kept). A trace or a branching that fails otherwise ends its edge
    (PSB_EDGE_FAILURE, d->n_failed) and exploring goes on; once the queue is done (or a budget
    or capacity ran out) the call returns the first failed edge's code (edge.result:
    PSB_ERR_CALLBACK_FAILED, _NONFINITE, _SINGULAR, ...), not PSB_SUCCESS, since what lies
    beyond a failed edge is missing. On every return but PSB_ERR_NULL, _SIZE, _OPTIONS, _INPUT,
-   _NONFINITE (checked before d is reset) d holds the graph made so far; y, t and eo are
+   _NONFINITE, _NOMEM (checked before d is reset) d holds the graph made so far; y, t and eo are
    inputs only. */
 PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const double *t,
                                      const psb_explore_options *eo, psb_diagram *d);
@@ -6195,7 +6210,12 @@ typedef struct psb__task {
     psb__spent spent[2];     /* by its tasks: phase A's and the first sign's, the second sign's */
 } psb__task;
 
+/* What a run's arg is (psb_workers_task_output): a batch of a sweep's directions (psb__par) or
+   of the explorer's drafts (psb__drafts); each starts with its kind. */
+enum { PSB__RUN_SWEEP = 1, PSB__RUN_DRAFTS };
+
 typedef struct psb__par {
+    int run_kind;                   /* PSB__RUN_SWEEP */
     psb_solver *s;                  /* the calling solver: read only while tasks run */
     psb__sweep_state *sw;           /* its memos, frozen while tasks run */
     const psb_workers *wk;
@@ -6216,11 +6236,18 @@ static psb__task *psb__rec(const psb__par *p, int i)
     return (psb__task *)(void *)(p->mem + (size_t)i * p->stride);
 }
 
+static void psb__drafts_output(const void *arg, int task, int *group, void **out, size_t *bytes);
+
 PSCBRANCH_DEF void psb_workers_task_output(const void *arg, int task, int *group, void **out, size_t *bytes)
 {
     const psb__par *p = (const psb__par *)arg;
     static const int vecs[4] = {0, 1, 7, PSB__TASK_VECS}; /* the vectors each phase's tasks write */
-    int i = p->phase == PSB__PHASE_KEY ? task : psb__rec(p, p->phase == PSB__PHASE_TANGENT ? task : task / 2)->todo;
+    int i;
+    if (*(const int *)arg == PSB__RUN_DRAFTS) {
+        psb__drafts_output(arg, task, group, out, bytes);
+        return;
+    }
+    i = p->phase == PSB__PHASE_KEY ? task : psb__rec(p, p->phase == PSB__PHASE_TANGENT ? task : task / 2)->todo;
     *group = i;
     *out = psb__rec(p, i);
     *bytes = sizeof(psb__task) + (size_t)vecs[p->phase] * (size_t)p->s->internal_.np1 * sizeof(double);
@@ -6266,7 +6293,8 @@ static double *psb__task_vec(const psb__par *p, int i, int k)
     return (double *)(void *)(psb__rec(p, i) + 1) + (size_t)k * (size_t)p->s->internal_.np1;
 }
 
-/* Sets the workers to the calling solver's options, weights and H(y0) (before a batch). */
+/* Sets the workers to the calling solver's options (h following the point or not), weights and
+   H(y0) (before a batch). */
 static void psb__workers_sync(psb_solver *s, const psb_workers *wk)
 {
     int w, np1 = s->internal_.np1;
@@ -6274,40 +6302,61 @@ static void psb__workers_sync(psb_solver *s, const psb_workers *wk)
         psb_solver *ws = wk->solver[w];
         ws->opt = s->opt;
         ws->branch = s->branch;
+        ws->internal_.branch_h_auto = s->internal_.branch_h_auto;
+        ws->internal_.branch_h_min_auto = s->internal_.branch_h_min_auto;
         psb__copy(ws->internal_.w, s->internal_.w, np1);
         psb__copy(PSB__VEC(ws, PSB__V_BR_H0), PSB__VEC(s, PSB__V_BR_H0), np1);
     }
 }
 
-/* A task's start on worker ws: sw becomes a frozen copy of the batch's memos with ws's own path,
-   and ws forgets the factors it holds, so that what the task spends never depends on the task
-   before it. The counters are taken from here on (psb__task_end). */
+/* A task's start on worker ws (a sweep's or the explorer's): ws forgets the factors it holds, so
+   that what the task spends never depends on the task before it. What it spends is taken from
+   here on (psb__worker_end) into stats, faults and n_ok, which start at 0. */
+static void psb__worker_begin(psb_solver *ws, psb_stats *stats, long *faults, long *n_ok)
+{
+    int k;
+    ws->internal_.afac = NULL;
+    ws->internal_.bv_ok = ws->internal_.border_ok = 0;
+    ws->internal_.in_trace_callback = 0;
+    ws->message[0] = 0;
+    psb__stats_add(stats, &ws->stats, -1);
+    for (k = 0; k < 4; k++) faults[k] -= ws->internal_.faults[k];
+    *n_ok -= ws->internal_.n_ok;
+}
+
+static void psb__worker_end(const psb_solver *ws, psb_stats *stats, long *faults, long *n_ok)
+{
+    int k;
+    psb__stats_add(stats, &ws->stats, 1);
+    for (k = 0; k < 4; k++) faults[k] += ws->internal_.faults[k];
+    *n_ok += ws->internal_.n_ok;
+}
+
+/* Adds what a task spent to the calling solver s (in order) and clears it. */
+static void psb__worker_merge(psb_solver *s, psb_stats *stats, long *faults, long *n_ok)
+{
+    int k;
+    psb__stats_add(&s->stats, stats, 1);
+    memset(stats, 0, sizeof *stats);
+    for (k = 0; k < 4; k++) s->internal_.faults[k] += faults[k], faults[k] = 0;
+    s->internal_.n_ok += *n_ok;
+    *n_ok = 0;
+}
+
+/* A task's start on worker ws: sw becomes a frozen copy of the batch's memos with ws's own path
+   (psb__worker_begin). */
 static void psb__task_begin(const psb__par *p, psb_solver *ws, psb__sweep_state *sw, psb__spent *rec)
 {
     *sw = *p->sw;
     sw->frozen = 1;
     sw->path = ws->internal_.sweep.path;
-    ws->internal_.afac = NULL;
-    ws->internal_.bv_ok = ws->internal_.border_ok = 0;
-    ws->internal_.in_trace_callback = 0;
-    ws->message[0] = 0;
-    psb__stats_add(&rec->stats, &ws->stats, -1);
-    rec->faults[0] -= ws->internal_.faults[0];
-    rec->faults[1] -= ws->internal_.faults[1];
-    rec->faults[2] -= ws->internal_.faults[2];
-    rec->faults[3] -= ws->internal_.faults[3];
-    rec->n_ok -= ws->internal_.n_ok;
+    psb__worker_begin(ws, &rec->stats, rec->faults, &rec->n_ok);
 }
 
 /* A task's end: what it spent into rec (the fatal message too). */
 static void psb__task_end(const psb__par *p, psb_solver *ws, const psb__sweep_state *sw, psb__spent *rec, psb_result r)
 {
-    psb__stats_add(&rec->stats, &ws->stats, 1);
-    rec->faults[0] += ws->internal_.faults[0];
-    rec->faults[1] += ws->internal_.faults[1];
-    rec->faults[2] += ws->internal_.faults[2];
-    rec->faults[3] += ws->internal_.faults[3];
-    rec->n_ok += ws->internal_.n_ok;
+    psb__worker_end(ws, &rec->stats, rec->faults, &rec->n_ok);
     rec->looks += sw->jmemo_looks - p->sw->jmemo_looks;
     rec->hits += sw->jmemo_hits - p->sw->jmemo_hits;
     rec->memo_cuts += sw->memo_cuts - p->sw->memo_cuts;
@@ -6452,11 +6501,7 @@ static void psb__task_trial(void *arg, int j, int w)
 static psb_result psb__task_merge(psb_solver *s, psb__sweep_state *sw, psb__spent *rec, psb_branch_report *rep,
                                   psb_result r)
 {
-    int k;
-    psb__stats_add(&s->stats, &rec->stats, 1);
-    memset(&rec->stats, 0, sizeof rec->stats);
-    for (k = 0; k < 4; k++) s->internal_.faults[k] += rec->faults[k], rec->faults[k] = 0;
-    s->internal_.n_ok += rec->n_ok;
+    psb__worker_merge(s, &rec->stats, rec->faults, &rec->n_ok);
     sw->jmemo_looks += rec->looks;
     sw->jmemo_hits += rec->hits;
     sw->memo_cuts += rec->memo_cuts;
@@ -6466,7 +6511,7 @@ static psb_result psb__task_merge(psb_solver *s, psb__sweep_state *sw, psb__spen
     psb__note_cone_excess(sw, rec->cone);
     rep->n_tangents += rec->n_tangents;
     rep->n_pc += rec->n_pc;
-    rec->n_ok = rec->looks = rec->hits = rec->memo_cuts = rec->n_tangents = rec->n_pc = 0;
+    rec->looks = rec->hits = rec->memo_cuts = rec->n_tangents = rec->n_pc = 0;
     rec->pchecks = 0;
     rec->pdrift = rec->cone = 0;
     if (!psb__is_fatal(r)) return PSB_SUCCESS;
@@ -6667,6 +6712,7 @@ static psb_result psb__sweep_par(psb_solver *s, psb__sweep_state *sw, const doub
     double *tprev = PSB__VEC(s, PSB__V_BR_TP);
     psb__par p;
     psb_result r;
+    p.run_kind = PSB__RUN_SWEEP;
     p.s = s;
     p.sw = sw;
     p.wk = wk;
@@ -7672,9 +7718,13 @@ typedef struct psb__explorer {
        4 precisions and key magnitude among them */
     int n_index;
     double index_reach, index_abs;
+    int from_branch;  /* the edge's branch of node from */
+    double *work;     /* the scratch vectors (PSB__X_*): the diagram's, or a draft's own */
+    struct psb__draft *draft; /* a draft's trace on a worker (psb__draft_task), else NULL */
+    const struct psb__drafts *drafts; /* the drafts' slots (with draft) */
 } psb__explorer;
 
-#define PSB__XVEC(x, k) ((x)->d->work_ + (size_t)(k) * (size_t)(x)->s->internal_.np1)
+#define PSB__XVEC(x, k) ((x)->work + (size_t)(k) * (size_t)(x)->s->internal_.np1)
 
 /* node_tol at node nd: as set or resolved; with differences and h following the point, 16
    times h at the node (Algorithm 2.1 stops about a difference step short of the point, often
@@ -8044,8 +8094,7 @@ static psb_result psb__explore_branching(psb__explorer *x, int e, double *y, dou
 static int psb__explore_turned_back(const psb__explorer *x, const double *t)
 {
     double best_cos;
-    return psb__explore_arrival_branch(x, x->d->nodes + x->from, t, &best_cos) ==
-           x->d->edges[x->edge].from_branch;
+    return psb__explore_arrival_branch(x, x->d->nodes + x->from, t, &best_cos) == x->from_branch;
 }
 
 /* A kink or branching point (y, t) at the edge's origin node: the edge's own start, which it
@@ -8085,6 +8134,7 @@ static int psb__explore_special(psb__explorer *x, const psb_special *sp)
         x->stop = PSB__XS_SPECIAL;
         return 1;
     }
+    if (x->draft) return 0; /* the replay adds the node */
     j = psb__explore_add_node(x, sp->kind == PSB_SPECIAL_EVENT ? PSB_NODE_EVENT : PSB_NODE_FOLD,
                               sp->y, sp->precision, x->edge);
     if (j >= 0 && sp->kind == PSB_SPECIAL_EVENT) {
@@ -8129,9 +8179,18 @@ static int psb__explore_passed(const psb__explorer *x, const double *prev, const
     return found;
 }
 
-static int psb__explore_point(const psb_point *pt, void *user)
+/* The points the explorer has used: the diagram's, and a draft's own (the diagram counts them
+   at the replay). */
+static long psb__explore_points_used(const psb__explorer *x)
 {
-    psb__explorer *x = (psb__explorer *)user;
+    return x->d->n_points + (x->draft ? x->points : 0);
+}
+
+/* The explorer's answer to a trace's point: 1 stops the trace (x->stop says why). A draft
+   (x->draft) decides on the diagram as its round found it and changes nothing of it: the
+   replay adds the nodes and points and calls on_point. */
+static int psb__explore_decide(const psb_point *pt, psb__explorer *x)
+{
     psb_solver *s = x->s;
     const psb_explore_options *eo = x->eo;
     int np1 = s->internal_.np1, i;
@@ -8144,14 +8203,14 @@ static int psb__explore_point(const psb_point *pt, void *user)
         return 1;
     }
     if (pt->flags & PSB_POINT_SPECIAL) return psb__explore_special(x, pt->special);
-    if (eo->max_points && x->d->n_points >= eo->max_points) { /* the budget is spent: not counted */
+    if (eo->max_points && psb__explore_points_used(x) >= eo->max_points) { /* spent: not counted */
         x->stop = PSB__XS_POINTS;
         return 1;
     }
-    x->d->n_points++;
+    if (!x->draft) x->d->n_points++;
     x->points++;
     x->length += pt->h;
-    if (x->d->store_points_) {
+    if (x->d->store_points_ && !x->draft) {
         psb_diagram *d = x->d;
         if (psb__diagram_point_room(d)) {
             psb__copy(d->points + (size_t)d->n_stored_points * (size_t)np1, pt->y, np1);
@@ -8176,7 +8235,7 @@ static int psb__explore_point(const psb_point *pt, void *user)
                      psb__dist_w(s, pt->y, x->d->nodes[x->from].y) > x->away_r))
         x->away = 1;
     psb__copy(PSB__XVEC(x, PSB__X_PREV), pt->y, np1);
-    if (eo->on_point && eo->on_point(x->edge, pt, eo->point_user)) {
+    if (eo->on_point && !x->draft && eo->on_point(x->edge, pt, eo->point_user)) {
         x->stop = PSB__XS_USER;
         return 1;
     }
@@ -8194,11 +8253,20 @@ static int psb__explore_point(const psb_point *pt, void *user)
             return 1;
         }
     }
-    if (eo->max_points && x->d->n_points >= eo->max_points) {
+    if (eo->max_points && psb__explore_points_used(x) >= eo->max_points) {
         x->stop = PSB__XS_POINTS;
         return 1;
     }
     return 0;
+}
+
+static int psb__draft_keep(psb__explorer *x, const psb_point *pt, int answer);
+
+static int psb__explore_point(const psb_point *pt, void *user)
+{
+    psb__explorer *x = (psb__explorer *)user;
+    int answer = psb__explore_decide(pt, x);
+    return x->draft ? psb__draft_keep(x, pt, answer) : answer;
 }
 
 /* The edge resumes past an ordinary kink at (y, t), up to a branching radius beyond the kink
@@ -8222,15 +8290,344 @@ static int psb__explore_jumped(psb__explorer *x, const double *y, const double *
     return 1;
 }
 
-/* Traces branch k of node `from` as a new edge, to its end (psb__explore_edge). */
-static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
+/* An edge's start from branch k of node `from` on x (the explorer, or a draft's copy): its
+   couple into y, t, the first trace's options (*to), its length from the node, and x's state for
+   the edge. Returns 1 where the couple lies beyond a bound (no trace: the edge ends on it). */
+static int psb__explore_edge_start(psb__explorer *x, int from, int k, double *y, double *t,
+                                   psb_trace_options *to, double *length)
+{
+    const psb_node *nf = x->d->nodes + from;
+    int np1 = x->s->internal_.np1;
+    psb__copy(y, nf->ys + (size_t)k * (size_t)np1, np1);
+    psb__copy(t, nf->ts + (size_t)k * (size_t)np1, np1);
+    /* the branching landed beyond a bound (the node lies within a branching radius of it) */
+    if (psb__explore_beyond_bound(x, y)) return 1;
+    *length = psb__dist_w(x->s, nf->y, y);
+    *to = x->eo->trace;
+    to->on_point = psb__explore_point;
+    to->point_user = x;
+    to->detect_loop = 1;
+    to->locate_kinks = x->eo->branch_at_kinks || x->eo->kink_nodes;
+    to->stop_at = 0; /* psb__explore_special stops where a branching is due */
+    /* max_steps bounds the edge, also across the ordinary kinks it resumes at (a closed curve
+       of such arcs never closes within one trace: its detect_loop starts at each kink) */
+    to->max_steps = to->max_steps > 0 ? to->max_steps : 10000;
+    x->detect = to->detect;
+    x->from = from;
+    x->from_branch = k;
+    /* away: twice the start's distance from the origin, at least its tolerance beyond */
+    x->away = 0;
+    x->away_r = 2 * *length + psb__explore_tol(x, nf) + 4 * nf->precision;
+    return 0;
+}
+
+/* ---- Drafts: the edges' first traces on the workers (psb_explore_options.drafts) -------------
+   The queue's next untraced branches, in order, are traced at once on the workers, each on the
+   diagram as the round found it (psb__explore_decide, which changes nothing then), keeping every
+   point the explorer's callback saw with its answer. At the branch's turn its edge replays them
+   through the callback on the diagram as it is by then. The answers are the draft's, except
+   where the diagram now stops the trace sooner (a node an edge of the round added, the point
+   budget, on_point): psb_trace would have stopped there, with that point's couple and steps.
+   Nodes added later come after the round's, so a node the draft arrived at is the one the
+   diagram finds. Only a turn back depends on what can change otherwise (the origin's branches):
+   where they changed, or the draft overflowed its slot, the edge is traced in turn. What follows
+   the first trace (branchings, traces resumed past a kink) runs in turn on the calling solver.
+   So the diagram is psb_explore's with drafts off, for any number of workers; the counters add
+   the drafts' work, used or not (they depend on drafts, never on n_workers). */
+
+typedef struct psb__draft {
+    int from, k;          /* the branch (from < 0: the slot is free) */
+    int from_branches;    /* node from's n_branches when drafted */
+    int traced;           /* a trace ran (not where the couple lay beyond a bound) */
+    int overflow;         /* more points than the slot keeps: the edge is traced in turn */
+    psb_result r;         /* psb_trace's */
+    long steps, kept;     /* its rep.steps; the entries kept */
+    psb_stats stats;      /* what it spent on its worker */
+    long faults[4], n_ok;
+    char message[200];    /* a failure's */
+} psb__draft;
+
+/* A point the draft's callback saw, followed by its y and t (a special point's kernel takes the
+   next entry's y). special: the psb_special_kind + 1 (0: none). */
+typedef struct psb__draft_point {
+    int answer, flags, special, event, direction, located, has_kernel;
+    long index;
+    double h, fold_param, param, precision;
+} psb__draft_point;
+
+typedef struct psb__drafts {
+    int run_kind;         /* PSB__RUN_DRAFTS */
+    psb__explorer *x;     /* the explorer: read only while drafts run */
+    const psb_workers *wk;
+    char *mem;            /* n_slots slots of stride bytes: a psb__draft, its couple, its */
+    size_t stride, entry, out_bytes; /* entries (entry bytes each; out_bytes up to here), scratch */
+    int n_slots;
+    long max_kept;        /* entries of a slot */
+    int n_todo, todo[PSB_MAX_WORKERS]; /* the run's slots */
+} psb__drafts;
+
+#define PSB__DEFAULT_DRAFTS 8
+#define PSB__DEFAULT_DRAFT_POINTS 128
+#define PSB__MAX_DRAFT_POINTS 10000000L
+
+/* eo's drafts (0: none) and the points a draft keeps, resolved. */
+static void psb__drafts_resolve(const psb_explore_options *eo, int *drafts, long *points)
+{
+    *drafts = !eo || eo->drafts == 0 ? PSB__DEFAULT_DRAFTS : eo->drafts < 0 ? 0 : eo->drafts;
+    *points = !eo || eo->draft_points == 0 ? PSB__DEFAULT_DRAFT_POINTS : eo->draft_points;
+}
+
+/* The bytes of a slot's output (its psb__draft, couple and entries; *entry each), and in
+   *stride the slot's, with the draft's scratch and event values. */
+static size_t psb__draft_layout(int n, long points, int n_events, size_t *stride, size_t *entry)
+{
+    size_t np1 = (size_t)n + 1, e = psb__align(sizeof(psb__draft_point)) + 2 * np1 * sizeof(double);
+    size_t out = psb__align(sizeof(psb__draft)) + 2 * np1 * sizeof(double) + (size_t)points * e;
+    if (entry) *entry = e;
+    if (stride) *stride = psb__align(out + ((size_t)PSB__NX * np1 + 3 * (size_t)n_events) * sizeof(double));
+    return out;
+}
+
+PSCBRANCH_DEF size_t psb_explore_workers_memory_size(int n, int n_dir, const psb_explore_options *eo)
+{
+    size_t sweep = psb_workers_memory_size(n, n_dir), stride;
+    int drafts, n_events = eo ? eo->trace.n_events : 0;
+    long points;
+    psb__drafts_resolve(eo, &drafts, &points);
+    if (!sweep || drafts > PSB_MAX_WORKERS || points < 1 || points > PSB__MAX_DRAFT_POINTS || n_events < 0)
+        return 0;
+    if (!drafts) return sweep;
+    if ((double)drafts * ((points + 1.0) * (2.0 * n + 16) + PSB__NX * (n + 1.0) + 3.0 * n_events) * sizeof(double) >
+        (double)((size_t)-1 / 4))
+        return 0;
+    psb__draft_layout(n, points, n_events, &stride, NULL);
+    return psb__align(sweep) + (size_t)drafts * stride; /* drafts outlive a sweep */
+}
+
+static psb__draft *psb__draft_slot(const psb__drafts *q, int j)
+{
+    return (psb__draft *)(void *)(q->mem + (size_t)j * q->stride);
+}
+
+/* The draft's couple (2 vectors), its entry i, an entry's vector v (0: y, 1: t), its scratch. */
+static double *psb__draft_couple(psb__draft *dr)
+{
+    return (double *)(void *)((char *)dr + psb__align(sizeof(psb__draft)));
+}
+
+static psb__draft_point *psb__draft_entry(const psb__drafts *q, psb__draft *dr, long i)
+{
+    size_t np1 = (size_t)q->x->s->internal_.np1;
+    return (psb__draft_point *)(void *)((char *)(psb__draft_couple(dr) + 2 * np1) + (size_t)i * q->entry);
+}
+
+static double *psb__draft_point_vec(const psb__drafts *q, psb__draft_point *e, int v)
+{
+    return (double *)(void *)((char *)e + psb__align(sizeof(psb__draft_point))) +
+           (size_t)v * (size_t)q->x->s->internal_.np1;
+}
+
+static double *psb__draft_scratch(const psb__drafts *q, psb__draft *dr)
+{
+    return (double *)(void *)((char *)dr + q->out_bytes);
+}
+
+/* A draft's callback: keeps the point and the answer. A point past the slot stops the draft
+   (an overflow: its edge is traced in turn). */
+static int psb__draft_keep(psb__explorer *x, const psb_point *pt, int answer)
+{
+    const psb__drafts *q = x->drafts;
+    psb__draft *dr = x->draft;
+    const psb_special *sp = pt->special;
+    int np1 = x->s->internal_.np1, kernel = sp && sp->kernel;
+    psb__draft_point *e;
+    if (dr->kept + 1 + kernel > q->max_kept) {
+        dr->overflow = 1;
+        return 1;
+    }
+    e = psb__draft_entry(q, dr, dr->kept);
+    memset(e, 0, sizeof *e);
+    e->answer = answer;
+    e->flags = pt->flags;
+    e->index = pt->index;
+    e->h = pt->h;
+    e->fold_param = pt->fold_param;
+    psb__copy(psb__draft_point_vec(q, e, 0), pt->y, np1);
+    psb__copy(psb__draft_point_vec(q, e, 1), pt->t, np1);
+    if (sp) { /* psb_trace reports a special point at its own couple (sp->y, sp->t are pt's) */
+        e->special = (int)sp->kind + 1;
+        e->event = sp->event;
+        e->direction = sp->direction;
+        e->located = sp->located;
+        e->param = sp->param;
+        e->precision = sp->precision;
+        e->has_kernel = kernel;
+        if (kernel) psb__copy(psb__draft_point_vec(q, psb__draft_entry(q, dr, dr->kept + 1), 0), sp->kernel, np1);
+    }
+    dr->kept += 1 + kernel;
+    return answer;
+}
+
+/* Draft q->todo[task] on worker w: its edge's first trace (psb__explore_edge_start, psb_trace). */
+static void psb__draft_task(void *arg, int task, int w)
+{
+    psb__drafts *q = (psb__drafts *)arg;
+    psb_solver *ws = q->wk->solver[w];
+    psb__draft *dr = psb__draft_slot(q, q->todo[task]);
+    psb__explorer x = *q->x;
+    psb_trace_options to;
+    psb_trace_report rep;
+    int np1 = ws->internal_.np1;
+    double *y = psb__draft_couple(dr), *t = y + np1, length;
+    x.s = ws;
+    x.work = psb__draft_scratch(q, dr);
+    x.draft = dr;
+    x.drafts = q;
+    psb__copy(PSB__XVEC(&x, PSB__X_V), PSB__XVEC(q->x, PSB__X_V), np1); /* the index's direction */
+    psb__worker_begin(ws, &dr->stats, dr->faults, &dr->n_ok);
+    dr->traced = !psb__explore_edge_start(&x, dr->from, dr->k, y, t, &to, &length);
+    if (dr->traced) {
+        x.stop = PSB__XS_NONE;
+        x.points = 0;
+        x.length = 0;
+        if (to.n_events > 0) to.event_work = x.work + (size_t)PSB__NX * (size_t)np1;
+        dr->r = psb_trace(ws, y, t, &to, &rep);
+        dr->steps = rep.steps;
+        if (dr->r < 0) memcpy(dr->message, ws->message, sizeof dr->message);
+    }
+    psb__worker_end(ws, &dr->stats, dr->faults, &dr->n_ok);
+}
+
+static void psb__drafts_output(const void *arg, int task, int *group, void **out, size_t *bytes)
+{
+    const psb__drafts *q = (const psb__drafts *)arg;
+    *group = task;
+    *out = psb__draft_slot(q, q->todo[task]);
+    *bytes = q->out_bytes;
+}
+
+/* The slot drafted for branch k of node `from`, or NULL. */
+static psb__draft *psb__draft_find(const psb__drafts *q, int from, int k)
+{
+    int j;
+    for (j = 0; j < q->n_slots; j++) {
+        psb__draft *dr = psb__draft_slot(q, j);
+        if (dr->from == from && dr->k == k) return dr;
+    }
+    return NULL;
+}
+
+/* Frees a slot, its draft's spending added to the calling solver's counters. */
+static void psb__draft_free(psb_solver *s, psb__draft *dr)
+{
+    if (dr->from < 0) return;
+    psb__stats_add(&s->stats, &dr->stats, 1);
+    dr->from = -1;
+}
+
+/* A round: drafts the queue's untraced branches from branch kb of node `from` on, in order, as
+   many as there are slots and at most `budget` (< 0: no bound), keeping the drafts of the same
+   branches made before. Returns PSB_SUCCESS, or PSB_ERR_CALLBACK (run failed). */
+static psb_result psb__drafts_round(psb__drafts *q, int from, int kb, int budget)
+{
+    psb__explorer *x = q->x;
+    psb_diagram *d = x->d;
+    int want[2 * PSB_MAX_WORKERS], n_want = 0, i, j, k, m, limit = budget < 0 || budget > q->n_slots ? q->n_slots : budget;
+    for (i = from; i < d->n_nodes && n_want < limit; i++)
+        for (k = i == from ? kb : 0; k < d->nodes[i].n_branches && n_want < limit; k++)
+            if (d->nodes[i].branch_edge[k] < 0) {
+                want[2 * n_want] = i;
+                want[2 * n_want++ + 1] = k;
+            }
+    for (j = 0; j < q->n_slots; j++) { /* drafts of branches no longer wanted */
+        psb__draft *dr = psb__draft_slot(q, j);
+        int keep = 0;
+        for (m = 0; m < n_want && !keep; m++) keep = dr->from == want[2 * m] && dr->k == want[2 * m + 1];
+        if (!keep) psb__draft_free(x->s, dr);
+    }
+    q->n_todo = 0;
+    for (m = 0; m < n_want; m++) {
+        psb__draft *dr;
+        if (psb__draft_find(q, want[2 * m], want[2 * m + 1])) continue;
+        for (j = 0; psb__draft_slot(q, j)->from >= 0; j++) {}
+        dr = psb__draft_slot(q, j);
+        memset(dr, 0, sizeof *dr);
+        dr->from = want[2 * m];
+        dr->k = want[2 * m + 1];
+        dr->from_branches = d->nodes[dr->from].n_branches;
+        q->todo[q->n_todo++] = j;
+    }
+    if (!q->n_todo) return PSB_SUCCESS;
+    d->n_drafts += q->n_todo;
+    psb__workers_sync(x->s, q->wk);
+    if (q->wk->run(q->wk->ctx, q->n_todo, psb__draft_task, q) != 0) {
+        for (m = 0; m < q->n_todo; m++) psb__draft_free(x->s, psb__draft_slot(q, q->todo[m]));
+        return psb__fail(x->s, PSB_ERR_CALLBACK, "workers: run failed");
+    }
+    return PSB_SUCCESS;
+}
+
+/* The first trace of the edge being traced from draft dr: its points replayed through the
+   explorer's callback, psb_trace's result as the trace on the calling solver would have had it
+   (y, t, *steps). */
+static psb_result psb__explore_replay(psb__explorer *x, psb__draft *dr, double *y, double *t, long *steps)
+{
+    const psb__drafts *q = x->drafts;
+    psb_solver *s = x->s;
+    int np1 = s->internal_.np1, outer = s->internal_.in_trace_callback;
+    long i;
+    const double *end = psb__draft_couple(dr), *end_t = end + np1;
+    s->internal_.in_trace_callback = 1;
+    for (i = 0; i < dr->kept; i++) {
+        psb__draft_point *e = psb__draft_entry(q, dr, i);
+        psb_point pt;
+        psb_special sp;
+        memset(&pt, 0, sizeof pt);
+        pt.y = psb__draft_point_vec(q, e, 0);
+        pt.t = psb__draft_point_vec(q, e, 1);
+        pt.h = e->h;
+        pt.index = e->index;
+        pt.flags = e->flags;
+        pt.fold_param = e->fold_param;
+        if (e->special) {
+            memset(&sp, 0, sizeof sp);
+            sp.kind = (psb_special_kind)(e->special - 1);
+            sp.y = pt.y;
+            sp.t = pt.t;
+            sp.kernel = e->has_kernel ? psb__draft_point_vec(q, psb__draft_entry(q, dr, ++i), 0) : NULL;
+            sp.param = e->param;
+            sp.precision = e->precision;
+            sp.event = e->event;
+            sp.direction = e->direction;
+            sp.located = e->located;
+            pt.special = &sp;
+        }
+        if (psb__explore_point(&pt, x) && !e->answer) { /* stopped here now, as psb_trace would */
+            s->internal_.in_trace_callback = outer;
+            psb__copy(y, pt.y, np1);
+            psb__copy(t, pt.t, np1);
+            *steps = pt.index;
+            return PSB_STOPPED;
+        }
+    }
+    s->internal_.in_trace_callback = outer;
+    psb__copy(y, end, np1);
+    psb__copy(t, end_t, np1);
+    *steps = dr->steps;
+    if (dr->r < 0) memcpy(s->message, dr->message, sizeof s->message);
+    return dr->r;
+}
+
+/* Traces branch k of node `from` as a new edge, to its end (psb__explore_edge); its first trace
+   from draft dr where that holds (NULL: none). */
+static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k, psb__draft *dr)
 {
     psb_solver *s = x->s;
     psb_diagram *d = x->d;
-    psb_trace_options to = x->eo->trace;
+    psb_trace_options to;
     psb_trace_report rep;
     int np1 = s->internal_.np1, e, resume;
-    long steps_left;
+    long steps_left, steps;
     double *y = PSB__XVEC(x, PSB__X_Y), *t = PSB__XVEC(x, PSB__X_T);
     psb_result r;
     /* d may grow (psb_diagram_set_growth) wherever a node, a branch or a point is added: nodes
@@ -8248,26 +8645,12 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
     ED->to = ED->to_branch = -1;
     ED->first_point = d->n_stored_points;
     ND(from)->branch_edge[k] = e;
-    psb__copy(y, ND(from)->ys + (size_t)k * (size_t)np1, np1);
-    psb__copy(t, ND(from)->ts + (size_t)k * (size_t)np1, np1);
-    /* The branching landed beyond a bound (the node lies within a branching radius of it):
-       the branch ends on the bound. */
-    if (psb__explore_beyond_bound(x, y)) return psb__explore_end_on_bound(x, e, ND(from)->y, y);
-    ED->length = psb__dist_w(s, ND(from)->y, y);
-    to.on_point = psb__explore_point;
-    to.point_user = x;
-    to.detect_loop = 1;
-    to.locate_kinks = x->eo->branch_at_kinks || x->eo->kink_nodes;
-    to.stop_at = 0; /* psb__explore_special stops where a branching is due */
-    x->detect = to.detect;
+    if (psb__explore_edge_start(x, from, k, y, t, &to, &ED->length))
+        return psb__explore_end_on_bound(x, e, ND(from)->y, y);
     x->edge = e;
-    x->from = from;
-    /* away: twice the start's distance from the origin, at least its tolerance beyond */
-    x->away = 0;
-    x->away_r = 2 * ED->length + psb__explore_tol(x, ND(from)) + 4 * ND(from)->precision;
-    /* max_steps bounds the edge, also across the ordinary kinks it resumes at (a closed curve
-       of such arcs never closes within one trace: its detect_loop starts at each kink) */
-    steps_left = to.max_steps > 0 ? to.max_steps : 10000;
+    steps_left = to.max_steps;
+    if (dr && (!dr->traced || dr->overflow || dr->from_branches != ND(from)->n_branches)) dr = NULL;
+    if (dr) d->n_drafts_used++;
     for (;;) {
         x->stop = PSB__XS_NONE;
         x->points = 0;
@@ -8277,8 +8660,14 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
             break;
         }
         to.max_steps = steps_left;
-        r = psb_trace(s, y, t, &to, &rep);
-        steps_left -= rep.steps;
+        if (dr) {
+            r = psb__explore_replay(x, dr, y, t, &steps);
+            dr = NULL;
+        } else {
+            r = psb_trace(s, y, t, &to, &rep);
+            steps = rep.steps;
+        }
+        steps_left -= steps;
         ED->n_points += x->points;
         ED->length += x->length;
         ED->result = r;
@@ -8296,7 +8685,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k)
         if (x->stop == PSB__XS_NONE && r == PSB_NONSMOOTH_END) {
             x->stop_kind = PSB_NODE_NONSMOOTH;
             x->stop_precision = 0;
-            x->plain_ok = rep.steps > 0; /* a trace that made no step does not resume */
+            x->plain_ok = steps > 0; /* a trace that made no step does not resume */
             psb__copy(PSB__XVEC(x, PSB__X_PREV), y, np1);
             r = psb__explore_branching(x, e, y, t, 0, &resume);
             if (resume && psb__explore_jumped(x, y, t)) break;
@@ -8393,6 +8782,8 @@ static const char *psb__check_explore(const psb_solver *s, const psb_explore_opt
     if (!(eo->state_max >= 0)) return "state_max must be >= 0";
     if (eo->max_traces < 0 || eo->max_points < 0 || eo->trace.max_steps < 0)
         return "budgets must be >= 0";
+    if (eo->drafts < -1 || eo->drafts > PSB_MAX_WORKERS) return "drafts must lie in [-1, PSB_MAX_WORKERS]";
+    if (eo->draft_points < 0 || eo->draft_points > PSB__MAX_DRAFT_POINTS) return "draft_points must lie in [0, 10^7]";
     if (!eo->box_min != !eo->box_max) return "give both box_min and box_max, or neither";
     for (i = 0; eo->box_min && i < np1; i++)
         if (!(eo->box_min[i] <= eo->box_max[i])) return "need box_min <= box_max (no NaN)";
@@ -8406,11 +8797,11 @@ static const char *psb__check_explore(const psb_solver *s, const psb_explore_opt
    node, not a fold of the edge, and is dropped: with difference quotients the tangent's
    parameter component can change sign within a step of a nonsmooth point, where the pieces
    mix (an analytic dH reports none there), and a turn at the node itself is the node's. */
-static psb_result psb__explore_edge(psb__explorer *x, int from, int k)
+static psb_result psb__explore_edge(psb__explorer *x, int from, int k, psb__draft *dr)
 {
     psb_diagram *d = x->d;
     int first = d->n_nodes, e = d->n_edges, j, i, at_from = psb__is_branching_node(d->nodes[from].kind);
-    psb_result r = psb__explore_edge_trace(x, from, k);
+    psb_result r = psb__explore_edge_trace(x, from, k, dr);
     if (d->n_edges == e) return r; /* no edge: capacity */
     for (j = d->n_nodes - 1; j >= first; j--) {
         psb_node *nd = d->nodes + j, moved;
@@ -8435,9 +8826,11 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
 {
     psb_explore_options local;
     psb__explorer x;
+    psb__drafts q;
     psb_node *start;
     const char *bad;
-    int np1, p, i, k, traces = 0, max_traces;
+    int np1, p, i, k, traces = 0, max_traces, drafts;
+    long draft_points;
     psb_result r = psb__check_couple(s, y, t), result = PSB_SUCCESS;
     if (r == PSB_SUCCESS) r = psb__trace_busy(s, "psb_explore");
     if (r != PSB_SUCCESS) return r;
@@ -8455,6 +8848,11 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     if (bad) return psb__fail(s, PSB_ERR_OPTIONS, bad);
     r = psb__branch_begin(s, &eo->branch, y);
     if (r != PSB_SUCCESS) return r;
+    psb__drafts_resolve(eo, &drafts, &draft_points);
+    if (!s->branch.workers) drafts = 0;
+    if (drafts && s->branch.workers->bytes < psb_explore_workers_memory_size(s->internal_.n, s->branch.n_dir, eo))
+        return psb__fail(s, PSB_ERR_NOMEM, "workers: memory is below psb_explore_workers_memory_size(n, n_dir, eo) "
+                                           "(drafts -1: none)");
     if (eo->trace.param_min < eo->trace.param_max &&
         (y[p] < eo->trace.param_min || y[p] > eo->trace.param_max))
         return psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");
@@ -8479,12 +8877,26 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     d->n_nodes = d->n_edges = 0;
     d->n_points = d->n_stored_points = 0;
     d->n_branchings = d->n_kinks_plain = d->n_queued = d->n_failed = d->n_odd = d->truncated = 0;
+    d->n_drafts = d->n_drafts_used = 0;
     d->result = PSB_ERR_NO_CONVERGENCE; /* until the call returns */
     d->param_index = p;
     memset(&x, 0, sizeof x);
     x.s = s;
     x.d = d;
     x.eo = eo;
+    x.work = d->work_;
+    if (drafts) {
+        memset(&q, 0, sizeof q);
+        q.run_kind = PSB__RUN_DRAFTS;
+        q.x = &x;
+        q.wk = s->branch.workers;
+        q.mem = (char *)q.wk->memory + psb__align(psb_workers_memory_size(s->internal_.n, s->branch.n_dir));
+        q.n_slots = drafts;
+        q.max_kept = draft_points;
+        q.out_bytes = psb__draft_layout(s->internal_.n, draft_points, eo->trace.n_events, &q.stride, &q.entry);
+        for (i = 0; i < drafts; i++) psb__draft_slot(&q, i)->from = -1;
+        x.drafts = &q;
+    }
     x.node_tol = eo->node_tol > 0 ? eo->node_tol : 16 * s->branch.h;
     max_traces = eo->max_traces > 0 ? eo->max_traces : -1;
     psb__index_direction(&x);
@@ -8513,6 +8925,7 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     /* the queue: the first untraced branch in the order nodes were made */
     for (;;) {
         int from = -1, kb = -1;
+        psb__draft *dr;
         for (i = x.queue_from; i < d->n_nodes && from < 0; i++)
             for (k = 0; k < d->nodes[i].n_branches; k++)
                 if (d->nodes[i].branch_edge[k] < 0) {
@@ -8527,13 +8940,27 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
             break;
         }
         traces++;
-        r = psb__explore_edge(&x, from, kb);
+        dr = NULL;
+        if (drafts) {
+            dr = psb__draft_find(&q, from, kb);
+            if (!dr) {
+                r = psb__drafts_round(&q, from, kb, max_traces < 0 ? -1 : max_traces - traces + 1);
+                if (r != PSB_SUCCESS) {
+                    result = r;
+                    break;
+                }
+                dr = psb__draft_find(&q, from, kb);
+            }
+        }
+        r = psb__explore_edge(&x, from, kb, dr);
+        if (dr) psb__draft_free(s, dr);
         if (r < 0 || r == PSB_STOPPED || r == PSB_STEP_BUDGET) {
             result = r;
             break;
         }
         if (r == PSB_BRANCH_CAPACITY && d->n_edges == d->max_edges) break;
     }
+    for (i = 0; i < drafts; i++) psb__draft_free(s, psb__draft_slot(&q, i));
     for (i = 0; i < d->n_nodes; i++)
         for (k = 0; k < d->nodes[i].n_branches; k++) d->n_queued += d->nodes[i].branch_edge[k] < 0;
     if (result == PSB_SUCCESS && d->truncated) result = PSB_BRANCH_CAPACITY;

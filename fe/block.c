@@ -399,7 +399,7 @@ static int block_main(int argc, char **argv)
     }
     if (a.workers) {
         if (fs.kind == FE_SOLVER_MUMPS) { fprintf(stderr, "block: --workers: not with --solver mumps\n"); rc = 2; goto done; }
-        if (fe_workers_init(&fw, a.workers, fe_workers_mode(a.workers, a.logical), &md, &opt, fs.kind, a.keep_mb, bo.n_dir, "block")) goto done;
+        if (fe_workers_init(&fw, a.workers, fe_workers_mode(a.workers, a.logical), &md, &opt, fs.kind, a.keep_mb, bo.n_dir, a.explore, "block")) goto done;
         bo.workers = &fw.wk;
     }
     run.branch = bo;

@@ -82,10 +82,10 @@ static inline void fe_workers_describe(int workers, int logical)
 }
 
 /* n workers (n <= FE_MAX_WORKERS; FE_WORKERS_MPI: 1, this rank) of the kind mode for the model
-   md solved by `kind` with options opt, sweeping n_dir directions. 0, or -1 (said on stderr,
-   nothing held). */
+   md solved by `kind` with options opt, sweeping n_dir directions; with `explore`, room for
+   psb_explore's drafts too (its default options). 0, or -1 (said on stderr, nothing held). */
 static inline int fe_workers_init(fe_workers *fw, int n, int mode, const fe_model *md, const psb_options *opt,
-                                  int kind, double keep_mb, int n_dir, const char *prog)
+                                  int kind, double keep_mb, int n_dir, int explore, const char *prog)
 {
     int w;
     if (mode == FE_WORKERS_MPI) n = 1;
@@ -94,7 +94,7 @@ static inline int fe_workers_init(fe_workers *fw, int n, int mode, const fe_mode
     fw->fs = calloc((size_t)n, sizeof *fw->fs);
     fw->run = calloc((size_t)n, sizeof *fw->run);
     fw->solver = calloc((size_t)n, sizeof *fw->solver);
-    fw->wk.bytes = psb_workers_memory_size(md->n, n_dir);
+    fw->wk.bytes = explore ? psb_explore_workers_memory_size(md->n, n_dir, NULL) : psb_workers_memory_size(md->n, n_dir);
     fw->wk.memory = malloc(fw->wk.bytes);
     if (!fw->md || !fw->fs || !fw->run || !fw->solver || !fw->wk.memory) {
         fprintf(stderr, "%s: out of memory (workers)\n", prog);

@@ -1100,7 +1100,7 @@ static int triangle_main(int argc, char **argv)
         goto done;
     }
     if (a.workers) {
-        k = fe_workers_init(&fw, a.workers, fe_workers_mode(a.workers, a.logical), &md, &opt, fsol.kind, a.keep_mb, bo.n_dir, "triangle");
+        k = fe_workers_init(&fw, a.workers, fe_workers_mode(a.workers, a.logical), &md, &opt, fsol.kind, a.keep_mb, bo.n_dir, a.explore, "triangle");
         bo.workers = &fw.wk;
     }
     free(w);

@@ -69,7 +69,7 @@ static int team_init(team *t, const psb_problem *prob)
     }
     for (w = 1; w <= MAX_W; w *= 2)
         if (psb_threads_init(&t->th[w], w) != 0) return -1;
-    t->bytes = psb_workers_memory_size(prob->n, 20);
+    t->bytes = psb_explore_workers_memory_size(prob->n, 20, NULL);
     t->memory = malloc(t->bytes);
     return t->memory ? 0 : -1;
 }
@@ -246,10 +246,35 @@ static void test_families(void)
            summary_factor[0], summary_factor[1], summary_pc[0], summary_pc[1]);
 }
 
+/* How psb_explore runs in explore_once, and what its on_point saw. */
+typedef struct explore_setting {
+    int drafts;
+    long draft_points, max_points;
+    long stop_after;          /* on_point stops exploring at this call (0: never) */
+    int store;                /* the diagram keeps the points */
+    long calls;               /* on_point's calls, */
+    unsigned long long trail; /* and a hash of their edges, indices, flags and couples */
+} explore_setting;
+
+static int explore_point(int edge, const psb_point *pt, void *user)
+{
+    explore_setting *st = (explore_setting *)user;
+    const unsigned char *b[2];
+    int i, k;
+    b[0] = (const unsigned char *)pt->y;
+    b[1] = (const unsigned char *)pt->t;
+    st->trail = (st->trail ^ (unsigned long long)(edge * 7919 + pt->index * 31 + pt->flags)) * 1099511628211ULL;
+    for (k = 0; k < 2; k++)
+        for (i = 0; i < 4 * (int)sizeof(double); i++) st->trail = (st->trail ^ b[k][i]) * 1099511628211ULL;
+    return ++st->calls == st->stop_after;
+}
+
 /* psb_explore on the crossing kinks (Algorithm 2.2 at every pc1 node): the same diagram,
    node for node, for every worker count. */
-static void explore_once(const psb_problem *prob, const psb_workers *wk, psb_diagram *d, psb_stats *spent)
+static void explore_once(const psb_problem *prob, const psb_workers *wk, explore_setting *st, psb_diagram *d,
+                         psb_stats *spent)
 {
+    static double points[4 * 4096];
     psb_solver s;
     psb_explore_options eo;
     double y[4] = {0.5, 0, 0.5, 0.5}, t[4] = {-0.57735026918962576, 0, -0.57735026918962576, -0.57735026918962576};
@@ -263,12 +288,34 @@ static void explore_once(const psb_problem *prob, const psb_workers *wk, psb_dia
     eo.box_max = hi;
     eo.branch_at_kinks = 1;
     eo.branch.workers = wk;
+    eo.drafts = st->drafts;
+    eo.draft_points = st->draft_points;
+    eo.max_points = st->max_points;
+    eo.on_point = explore_point;
+    eo.point_user = st;
+    st->calls = 0;
+    st->trail = 14695981039346656037ULL;
+    if (st->store) CHECK(psb_diagram_set_points(d, points, 4096) == PSB_SUCCESS);
     before = s.stats;
     r = psb_explore(&s, y, t, &eo, d);
     if (r < 0) printf("  explore: %s: %s\n", psb_result_string(r), psb_solver_message(&s));
     CHECK(r >= 0);
+    if (st->store) { /* the points move out of the shared array */
+        double *copy = (double *)malloc(sizeof(double) * 4 * (size_t)(d->n_stored_points + 1));
+        CHECK(copy != NULL);
+        if (copy) memcpy(copy, points, sizeof(double) * 4 * (size_t)d->n_stored_points);
+        d->points = copy;
+    }
     *spent = spent_since(&before, &s.stats);
     psb_solver_free(&s);
+}
+
+/* Frees d and the points explore_once copied out for it. */
+static void diagram_done(psb_diagram *d)
+{
+    double *points = d->points;
+    psb_diagram_free(d);
+    free(points);
 }
 
 static int same_diagram(const psb_diagram *a, const psb_diagram *b)
@@ -276,7 +323,9 @@ static int same_diagram(const psb_diagram *a, const psb_diagram *b)
     size_t np1 = (size_t)a->n + 1;
     int i;
     if (a->n_nodes != b->n_nodes || a->n_edges != b->n_edges || a->n_points != b->n_points ||
-        a->n_branchings != b->n_branchings || a->n_odd != b->n_odd || a->result != b->result)
+        a->n_branchings != b->n_branchings || a->n_odd != b->n_odd || a->result != b->result ||
+        a->n_stored_points != b->n_stored_points || a->truncated != b->truncated ||
+        (a->n_stored_points && memcmp(a->points, b->points, np1 * sizeof(double) * (size_t)a->n_stored_points)))
         return 0;
     for (i = 0; i < a->n_nodes; i++) {
         const psb_node *p = a->nodes + i, *q = b->nodes + i;
@@ -290,9 +339,16 @@ static int same_diagram(const psb_diagram *a, const psb_diagram *b)
         const psb_edge *p = a->edges + i, *q = b->edges + i;
         if (p->from != q->from || p->from_branch != q->from_branch || p->to != q->to || p->to_branch != q->to_branch ||
             p->end != q->end || p->result != q->result || p->n_points != q->n_points ||
+            p->first_point != q->first_point || p->n_stored != q->n_stored ||
             memcmp(&p->length, &q->length, sizeof p->length))
             return 0;
     }
+    return 1;
+}
+
+static int fail_run(void *ctx, int n_tasks, psb_task_fn task, void *arg)
+{
+    (void)ctx, (void)n_tasks, (void)task, (void)arg;
     return 1;
 }
 
@@ -313,16 +369,110 @@ static void test_explore(void)
         team_free(&t);
         return;
     }
-    team_variant(&t, 0, &wk);
-    explore_once(&prob, &wk, &first, &s_first);
-    CHECK(first.result == PSB_SUCCESS);
-    CHECK(first.n_branchings >= 1 && first.n_nodes >= 8);
-    printf("  explore: %d nodes, %d edges, %d branchings\n", first.n_nodes, first.n_edges, first.n_branchings);
-    for (v = 0; team_variant(&t, v, &wk); v++) { /* variant 0 again: a repeat gives the same */
-        explore_once(&prob, &wk, &other, &s_other);
-        CHECK(same_diagram(&first, &other));
-        CHECK(!memcmp(&s_first, &s_other, sizeof s_first));
-        psb_diagram_free(&other);
+    /* the edges in turn: the diagram every run with drafts must give */
+    {
+        explore_setting st;
+        memset(&st, 0, sizeof st);
+        st.drafts = -1;
+        team_variant(&t, 0, &wk);
+        explore_once(&prob, &wk, &st, &first, &s_first);
+        CHECK(first.result == PSB_SUCCESS);
+        CHECK(first.n_branchings >= 1 && first.n_nodes >= 8);
+        CHECK(first.n_drafts == 0);
+        printf("  explore: %d nodes, %d edges, %d branchings\n", first.n_nodes, first.n_edges, first.n_branchings);
+        for (v = 0; team_variant(&t, v, &wk); v++) { /* variant 0 again: a repeat gives the same */
+            explore_once(&prob, &wk, &st, &other, &s_other);
+            CHECK(same_diagram(&first, &other));
+            CHECK(!memcmp(&s_first, &s_other, sizeof s_first));
+            psb_diagram_free(&other);
+        }
+    }
+    /* drafts (8 of 128 points; 3 of 4 points: most overflow; 1) on the whole diagram with its
+       points kept, with a point budget and with on_point stopping (both end in the round of the
+       branching node's seven edges, and cut a replay short, with 8 drafts): the
+       diagram and on_point's calls of the edges in turn; counters that depend on the drafts
+       alone */
+    {
+        static const int drafts[3] = {0, 3, 1};
+        static const long draft_points[3] = {0, 4, 0}, max_points[3] = {0, 71, 0}, stop_after[3] = {0, 0, 70};
+        static const psb_result end[3] = {PSB_SUCCESS, PSB_STEP_BUDGET, PSB_STOPPED};
+        int c, g;
+        for (g = 0; g < 3; g++) {
+            explore_setting in_turn, st;
+            psb_diagram turn;
+            psb_stats s_turn;
+            memset(&in_turn, 0, sizeof in_turn);
+            in_turn.drafts = -1;
+            in_turn.max_points = max_points[g];
+            in_turn.stop_after = stop_after[g];
+            in_turn.store = 1;
+            team_variant(&t, 0, &wk);
+            explore_once(&prob, &wk, &in_turn, &turn, &s_turn);
+            CHECK(turn.result == end[g] && turn.n_edges >= (g ? 2 : first.n_edges));
+            for (c = 0; c < 3; c++) {
+                psb_diagram base;
+                psb_stats s_base;
+                st = in_turn;
+                st.drafts = drafts[c];
+                st.draft_points = draft_points[c];
+                team_variant(&t, 0, &wk);
+                explore_once(&prob, &wk, &st, &base, &s_base);
+                CHECK(same_diagram(&turn, &base));
+                CHECK(st.calls == in_turn.calls && st.trail == in_turn.trail);
+                CHECK(base.n_drafts >= base.n_edges - 1 && base.n_drafts_used <= base.n_drafts);
+                CHECK(draft_points[c] == 4 ? base.n_drafts_used < base.n_drafts : base.n_drafts_used > 0);
+                if (!g)
+                    printf("  explore, drafts %d of %ld points: %d drafted, %d replayed, factorisations %ld "
+                           "(in turn %ld)\n", drafts[c] ? drafts[c] : 8, draft_points[c] ? draft_points[c] : 128L,
+                           base.n_drafts, base.n_drafts_used, s_base.n_factor, s_turn.n_factor);
+                for (v = 1; team_variant(&t, v, &wk); v++) {
+                    explore_once(&prob, &wk, &st, &other, &s_other);
+                    CHECK(same_diagram(&base, &other));
+                    CHECK(other.n_drafts == base.n_drafts && other.n_drafts_used == base.n_drafts_used);
+                    CHECK(!memcmp(&s_base, &s_other, sizeof s_base));
+                    diagram_done(&other);
+                }
+                diagram_done(&base);
+            }
+            diagram_done(&turn);
+        }
+    }
+    /* bad drafts: each refused with its code and a message */
+    {
+        psb_solver s;
+        psb_explore_options eo;
+        psb_diagram d;
+        psb_result r;
+        double y[4] = {0.5, 0, 0.5, 0.5}, tt[4] = {-0.57735026918962576, 0, -0.57735026918962576, -0.57735026918962576};
+        CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
+        CHECK(psb_diagram_init(&d, 3, 64, 64, 64) == PSB_SUCCESS);
+        double lo[4] = {-2, -2, -2, -1}, hi[4] = {2, 2, 2, 1};
+        memset(&eo, 0, sizeof eo);
+        eo.box_min = lo;
+        eo.box_max = hi;
+        eo.branch_at_kinks = 1;
+        eo.branch.workers = &wk;
+        wk = team_workers(&t, 2, 1);
+        wk.bytes = psb_explore_workers_memory_size(3, 20, NULL) - 1;
+        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_NOMEM);
+        CHECK(strstr(psb_solver_message(&s), "psb_explore_workers_memory_size") != NULL);
+        eo.drafts = -2;
+        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "drafts"));
+        eo.drafts = 0;
+        eo.draft_points = 10000001;
+        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "draft_points"));
+        eo.draft_points = 0;
+        wk = team_workers(&t, 2, 1);
+        wk.run = fail_run;
+        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_CALLBACK && strstr(psb_solver_message(&s), "run"));
+        eo.drafts = -1; /* no drafts: the sweep's memory is enough */
+        wk = team_workers(&t, 2, 1);
+        wk.bytes = psb_workers_memory_size(3, 20);
+        r = psb_explore(&s, y, tt, &eo, &d);
+        if (r != PSB_SUCCESS) printf("  explore: %s: %s\n", psb_result_string(r), psb_solver_message(&s));
+        CHECK(r == PSB_SUCCESS && same_diagram(&first, &d));
+        psb_diagram_free(&d);
+        psb_solver_free(&s);
     }
     psb_diagram_free(&first);
     team_free(&t);
@@ -466,12 +616,6 @@ static void test_failing_callbacks(void)
     team_free(&t);
 }
 
-static int fail_run(void *ctx, int n_tasks, psb_task_fn task, void *arg)
-{
-    (void)ctx, (void)n_tasks, (void)task, (void)arg;
-    return 1;
-}
-
 /* Bad workers: each refused with its code and a message; the solver stays usable. */
 static void test_bad_workers(void)
 {
@@ -489,6 +633,22 @@ static void test_bad_workers(void)
     psb_problem_init(&prob3, 3, pl_residual, pl_jacobian, &p3);
     CHECK(psb_workers_memory_size(0, 20) == 0 && psb_workers_memory_size(2, 0) == 0);
     CHECK(psb_workers_memory_size(2, 20) > 0);
+    {
+        psb_explore_options eo;
+        memset(&eo, 0, sizeof eo);
+        CHECK(psb_explore_workers_memory_size(2, 20, NULL) == psb_explore_workers_memory_size(2, 20, &eo));
+        CHECK(psb_explore_workers_memory_size(2, 20, NULL) > psb_workers_memory_size(2, 20));
+        eo.drafts = -1;
+        CHECK(psb_explore_workers_memory_size(2, 20, &eo) == psb_workers_memory_size(2, 20));
+        eo.drafts = PSB_MAX_WORKERS + 1;
+        CHECK(psb_explore_workers_memory_size(2, 20, &eo) == 0);
+        eo.drafts = 2;
+        eo.draft_points = -1;
+        CHECK(psb_explore_workers_memory_size(2, 20, &eo) == 0);
+        eo.draft_points = 1000;
+        CHECK(psb_explore_workers_memory_size(2, 20, &eo) > psb_explore_workers_memory_size(2, 20, NULL) / 4);
+        CHECK(psb_explore_workers_memory_size(0, 20, &eo) == 0);
+    }
     if (team_init(&t, &prob) != 0) {
         CHECK(!"team_init");
         team_free(&t);
@@ -510,7 +670,7 @@ static void test_bad_workers(void)
     wk.memory = NULL;
     CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_NULL);
     wk = team_workers(&t, 2, 1);
-    wk.bytes--;
+    wk.bytes = psb_workers_memory_size(2, 20) - 1;
     CHECK(psb_find_branches(&s, y, tt, &bo, 8, ys, ts, NULL) == PSB_ERR_NOMEM);
     {
         psb_solver *twice[2] = {&t.ws[0], &t.ws[0]}, *self[2] = {&t.ws[0], &s}, *other[2] = {&t.ws[0], &s3};
