@@ -1611,7 +1611,8 @@ PSCBRANCH_DEF const char *psb_edge_end_string(psb_edge_end end);
    the problem's), PSB_ERR_OPTIONS (eo->branch as the branching calls; NaN bounds or
    node_tol, negative budgets, box_min > box_max, PSB_DETECT_PC1 with a user backend, drafts
    or draft_points out of range), PSB_ERR_NOMEM (with drafts, eo->branch.workers' memory below
-   psb_explore_workers_memory_size), the workers' codes (psb_workers_memory_size), PSB_ERR_INPUT (zero t, t not within c_min of the curve's tangent at y, start outside the
+   psb_explore_workers_memory_size; PSB_ERR_SIZE where that overflows), the workers' codes
+   (psb_workers_memory_size), PSB_ERR_INPUT (zero t, t not within c_min of the curve's tangent at y, start outside the
    bounds or box), PSB_ERR_NONFINITE, PSB_ERR_CALLBACK (a callback returned < 0; the diagram
    so far is kept). A trace or a branching that fails otherwise ends its edge
    (PSB_EDGE_FAILURE, d->n_failed) and exploring goes on; once the queue is done (or a budget
@@ -8850,9 +8851,13 @@ PSCBRANCH_DEF psb_result psb_explore(psb_solver *s, const double *y, const doubl
     if (r != PSB_SUCCESS) return r;
     psb__drafts_resolve(eo, &drafts, &draft_points);
     if (!s->branch.workers) drafts = 0;
-    if (drafts && s->branch.workers->bytes < psb_explore_workers_memory_size(s->internal_.n, s->branch.n_dir, eo))
-        return psb__fail(s, PSB_ERR_NOMEM, "workers: memory is below psb_explore_workers_memory_size(n, n_dir, eo) "
-                                           "(drafts -1: none)");
+    if (drafts) {
+        size_t need = psb_explore_workers_memory_size(s->internal_.n, s->branch.n_dir, eo);
+        if (!need) return psb__fail(s, PSB_ERR_SIZE, "drafts: drafts x draft_points couples exceed the address space");
+        if (s->branch.workers->bytes < need)
+            return psb__fail(s, PSB_ERR_NOMEM, "workers: memory is below psb_explore_workers_memory_size(n, n_dir, eo) "
+                                               "(drafts -1: none)");
+    }
     if (eo->trace.param_min < eo->trace.param_max &&
         (y[p] < eo->trace.param_min || y[p] > eo->trace.param_max))
         return psb__fail(s, PSB_ERR_INPUT, "start point outside the parameter bounds");

@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# bench_workers.sh - Algorithm 2.2 on workers (psb_branch_options.workers; run by `make bench`).
+# bench_workers.sh - Algorithm 2.2 and psb_explore on workers (psb_branch_options.workers,
+# psb_explore_options.drafts; run by `make bench`).
 #   1. wall time of whole runs of the block (M800, M3200, M12800 with --large) and the triangle
-#      (M1024): the serial sweep, and the phased sweep on 1 and 2 threads (--workers N) and, in
+#      (M1024), and of the explorer on block M800 and triangle M1024 (--explore): the serial
+#      sweep, and the phased sweep (and drafts) on 1 and 2 threads (--workers N) and, in
 #      builds with MPI, on 1 and 2 MPI ranks (tools/mpirun.sh K ... --workers mpi), with
 #      OPENBLAS_NUM_THREADS=1; Algorithm 2.2's factorisations beside.
 #   2. the sweep's critical path: W = 1, 2, 4, 8, 16, 32 logical workers run one after another
 #      (--workers W --logical), the longest worker's factorisations in each parallel phase summed,
 #      the calling solver's own added; against the serial sweep's factorisations.
-#   3. the same for psb_explore (--explore): its traces run in turn on the calling solver, each
-#      sweep's directions on the W workers.
+#   3. the same for psb_explore (--explore): its edges drafted on the W workers, each sweep's
+#      directions too; what stays on the calling solver beside.
 #   4. peak resident memory of the cases of 1 on 1, 2, 4, 8 threads (GNU time).
 # Tables on stdout; CSV in bench/out/workers_wall.csv, workers_model.csv, workers_explore.csv,
 # workers_memory.csv;
@@ -44,10 +46,11 @@ model_csv=bench/out/workers_model.csv
 if [ "$plot_only" = 0 ]; then
 echo "bench_workers: Algorithm 2.2 on workers (nproc $(nproc), OPENBLAS_NUM_THREADS=1)"
 echo
-echo "  case            sweep       wall [s]  CPU [s]  factorisations in 2.2  branches  ratio to 1 worker"
+echo "  case                   sweep       wall [s]  CPU [s]  factorisations in 2.2  branches  ratio to 1 worker"
 wall_csv=bench/out/workers_wall.csv
 echo "case,sweep,wall_seconds,cpu_seconds,factorisations_22,branches" >"$wall_csv"
 cases="block-M800:fe/block --mesh 20x40|block-M3200:fe/block --mesh 40x80|triangle-M1024:fe/triangle --mesh 32"
+cases="$cases|explore-block-M800:fe/block --mesh 20x40 --explore|explore-triangle-M1024:fe/triangle --mesh 32 --explore"
 [ "$large" = 1 ] && cases="$cases|block-M12800:fe/block --mesh 80x160"
 IFS='|' read -r -a list <<<"$cases"
 for c in "${list[@]}"; do
@@ -71,7 +74,7 @@ for c in "${list[@]}"; do
         ratio=""
         case "$sweep" in 1 | mpi1) one=$wall ;; esac
         case "$sweep" in 2 | mpi2) [ -n "$one" ] && ratio=$(awk -v a="$wall" -v b="$one" 'BEGIN { printf "%.2f", a / b }') ;; esac
-        printf '  %-15s %-10s %9s %8s %23s %9s  %s\n' "$name" "$sweep" "$wall" "$cpu" "$(f22 "$out")" "$nbr" "$ratio"
+        printf '  %-22s %-10s %9s %8s %23s %9s  %s\n' "$name" "$sweep" "$wall" "$cpu" "$(f22 "$out")" "$nbr" "$ratio"
         echo "$name,$sweep,$wall,$cpu,$(f22 "$out"),$nbr" >>"$wall_csv"
     done
 done
@@ -81,7 +84,7 @@ done
 echo
 if [ -x /usr/bin/time ] && /usr/bin/time -o /dev/null -f %M true >/dev/null 2>&1; then
     echo "  peak resident memory [MB] on W threads (serial: no workers)"
-    echo "  case            serial    W=1    W=2    W=4    W=8  per worker"
+    echo "  case                   serial    W=1    W=2    W=4    W=8  per worker"
     mem_csv=bench/out/workers_memory.csv
     echo "case,workers,peak_rss_kb" >"$mem_csv"
     for c in "${list[@]}"; do
@@ -98,7 +101,7 @@ if [ -x /usr/bin/time ] && /usr/bin/time -o /dev/null -f %M true >/dev/null 2>&1
             [ "$w" = 1 ] && kb1=$kb
             [ "$w" = 8 ] && kb8=$kb
         done
-        printf '  %-15s%s  %10s\n' "$name" "$row" "$(awk -v a="$kb1" -v b="$kb8" 'BEGIN { printf "%.1f", (b - a) / 7 / 1024 }')"
+        printf '  %-22s%s  %10s\n' "$name" "$row" "$(awk -v a="$kb1" -v b="$kb8" 'BEGIN { printf "%.1f", (b - a) / 7 / 1024 }')"
     done
 else
     echo "  peak resident memory: skipped (needs GNU time as /usr/bin/time)"
@@ -127,7 +130,7 @@ for c in "block-M200:fe/block" "block-M800:fe/block --mesh 20x40" "triangle-M256
 done
 
 echo
-echo "  the explorer's critical path in factorisations (its traces in turn, each sweep on W logical workers)"
+echo "  the explorer's critical path in factorisations (drafts and sweeps on W logical workers)"
 echo "  case            serial sweeps  phased total      W=1    W=2    W=4    W=8   W=16   W=32  caller's own"
 explore_csv=bench/out/workers_explore.csv
 echo "case,workers,critical_path,phased_total,serial_sweeps,calling_solver" >"$explore_csv"

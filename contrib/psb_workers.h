@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* psb_workers.h - two implementations of pscbranch's psb_workers.run (Algorithm 2.2's
-   directions on several workers): POSIX threads on one machine, and logical workers run one
+   directions and psb_explore's drafts on several workers): POSIX threads on one machine, and logical workers run one
    after another that count each worker's factorisations (a model of the critical path).
    Include after pscbranch.h; link with -pthread. Every function is static.
 
@@ -12,15 +12,16 @@
      size_t bytes = psb_workers_memory_size(n, bo.n_dir ? bo.n_dir : 20);
      psb_workers wk = {4, wp, psb_threads_run, &th, malloc(bytes), bytes};
      bo.workers = &wk;  psb_find_branches(&s, y, t, &bo, ...);
+     // psb_explore: bytes = psb_explore_workers_memory_size(n, n_dir, &eo), eo.branch.workers
      psb_threads_free(&th);
    Memory grows linearly with the workers: each is a whole solver (psb_solver_memory_size) with
    its own backend's factors and user data, about what the calling solver holds; the tasks'
-   records (psb_workers_memory_size) are one block for all (docs/benchmarks.md, "Algorithm 2.2
-   on workers", measures it).
+   records (psb_workers_memory_size; psb_explore's drafts add drafts x draft_points couples) are
+   one block for all (docs/benchmarks.md, "Algorithm 2.2 on workers", measures it).
    psb_serial_workers runs the tasks of each call one after another, each on the logical worker
    that has made the fewest factorisations in that call (where a pool's free thread would take
-   it), and adds to critical the most one worker made: the sweep's critical path on n_workers
-   workers, the calling solver's own work aside. */
+   it), and adds to critical the most one worker made: the critical path on n_workers workers,
+   the calling solver's own work aside. */
 #ifndef PSB_WORKERS_H
 #define PSB_WORKERS_H
 

@@ -3,7 +3,7 @@
    program on the same data (the same problem, options and calls, so the same state, bit for
    bit: one machine, or machines whose BLAS and LAPACK round alike), each with its own solver as
    its one worker; a run makes each rank run its share of the tasks, a group (one direction of
-   Algorithm 2.2) on one rank, then every rank sends the results of its groups to the others
+   Algorithm 2.2, one draft of psb_explore) on one rank, then every rank sends the results of its groups to the others
    (MPI_Bcast), so that all ranks go on with the same results. Rank 0 reports; the others
    compute alike. Include after pscbranch.h; build with mpicc (or `pkg-config --cflags --libs
    mpi-c`). Every function is static.
@@ -17,7 +17,8 @@
      psb_workers wk = {1, &one, psb_mpi_run, &m, malloc(bytes), bytes};
      bo.workers = &wk;  psb_find_branches(&s, y, t, &bo, ...);   // the same call on every rank
    Memory: every rank holds the whole program (the calling solver, its one worker, the records)
-   and MPI's own, the same on every rank whatever their number.
+   and MPI's own, the same on every rank whatever their number. A draft of psb_explore sends its
+   whole record (draft_points couples, psb_explore_workers_memory_size), used or not.
    A rank's failure inside a run is not seen by the others: run returns -1 on that rank alone
    (a size past INT_MAX, an MPI error), and the ranks part ways. */
 #ifndef PSB_WORKERS_MPI_H

@@ -2,7 +2,10 @@
    counters for 1, 2 and 4 workers, as threads (contrib/psb_workers.h) and as logical workers run
    in turn, on the piecewise-linear families of bench/bench_branching.c, in psb_explore on them
    and through pitchforks; every branch the serial sweep finds is found; a callback failing on a
-   worker fails the call as it fails the serial sweep; bad workers are refused.
+   worker fails the call as it fails the serial sweep; bad workers are refused. psb_explore's
+   drafts (psb_explore_options.drafts): the diagram, stored points and on_point's calls of the
+   edges traced in turn, also where a point budget or on_point cuts a replay short and where
+   drafts overflow; counters alike for every worker count; bad drafts refused.
    Built with -DTEST_WORKERS_MPI and run under mpirun (build/test_workers_mpi_np1, _np2, _np4):
    every rank makes the same calls with the ranks as workers (contrib/psb_workers_mpi.h), which
    must give the outcomes and diagrams of one logical worker in this process; rank 0 reports. */
@@ -22,6 +25,7 @@ static psb_mpi_workers mpi_ranks;
 #endif
 
 #define MAX_W 4
+#define FAMILY_DRAFT_POINTS 1024
 
 /* One Algorithm 2.2 outcome: what must agree bit for bit between worker counts. */
 typedef struct outcome {
@@ -69,7 +73,12 @@ static int team_init(team *t, const psb_problem *prob)
     }
     for (w = 1; w <= MAX_W; w *= 2)
         if (psb_threads_init(&t->th[w], w) != 0) return -1;
-    t->bytes = psb_explore_workers_memory_size(prob->n, 20, NULL);
+    {
+        psb_explore_options eo;
+        memset(&eo, 0, sizeof eo);
+        eo.draft_points = FAMILY_DRAFT_POINTS;
+        t->bytes = psb_explore_workers_memory_size(prob->n, 20, &eo);
+    }
     t->memory = malloc(t->bytes);
     return t->memory ? 0 : -1;
 }
@@ -118,6 +127,8 @@ static int team_variant(team *t, int v, psb_workers *wk)
 #endif
 }
 
+static void explore_family(const char *name, const psb_problem *prob, const double *rays, team *t);
+
 /* Algorithm 2.2 entered along ray `incoming`, with the options bo0 and workers wk (NULL: none),
    into *o. */
 static void branch_on_ray(const psb_problem *prob, const double *rays, int n_rays, int incoming,
@@ -153,9 +164,9 @@ static int same_outcome(const outcome *a, const outcome *b, int np1)
 }
 
 /* Every ray of a problem entered in turn with the options bo: serial, then 1, 2, 4 workers both
-   ways. */
+   ways; with `explore`, psb_explore on it too (explore_family). */
 static void check_problem(const char *name, const psb_problem *prob, const double *rays, int n_rays,
-                          const psb_branch_options *bo)
+                          const psb_branch_options *bo, int explore)
 {
     static outcome serial, first, other;
     team t;
@@ -186,6 +197,7 @@ static void check_problem(const char *name, const psb_problem *prob, const doubl
     if (bad || lost) printf("  %s: %d outcomes differ between worker counts, %d lost branches\n", name, bad, lost);
     CHECK(bad == 0);
     CHECK(lost == 0);
+    if (explore) explore_family(name, prob, rays, &t);
     team_free(&t);
 }
 
@@ -203,14 +215,14 @@ static void test_families(void)
         pl_problem p;
         int n_rays = pl_crossing_kinks(&p, k, rays);
         psb_problem_init(&prob, k, pl_residual, pl_jacobian, &p);
-        check_problem("crossing kinks", &prob, rays, n_rays, &bo);
+        check_problem("crossing kinks", &prob, rays, n_rays, &bo, k == 2);
 #ifdef TEST_WORKERS_MPI
         continue; /* on every rank: the default sweep alone */
 #endif
         if (k > 3) continue; /* the printed sweep and differences cost 10x */
-        check_problem("crossing kinks, as printed", &prob, rays, n_rays, &printed);
+        check_problem("crossing kinks, as printed", &prob, rays, n_rays, &printed, 0);
         prob.jacobian = NULL;
-        check_problem("crossing kinks, differences", &prob, rays, n_rays, &bo);
+        check_problem("crossing kinks, differences", &prob, rays, n_rays, &bo, 0);
     }
     for (k = 4; k <= 6; k += 2) {
         unsigned long long st = 777 + (unsigned long long)k;
@@ -219,7 +231,7 @@ static void test_families(void)
             int n_rays = pl_random_lcp(&p, k, &st, 1, rays);
             if (!n_rays) break;
             psb_problem_init(&prob, k, pl_residual, pl_jacobian, &p);
-            check_problem("random LCP", &prob, rays, n_rays, &bo);
+            check_problem("random LCP", &prob, rays, n_rays, &bo, d == 0);
         }
     }
     for (k = 1; k <= 3; k++) {
@@ -229,7 +241,7 @@ static void test_families(void)
             int n_rays = pl_random_contact(&p, k, &st, rays);
             if (!n_rays) break;
             psb_problem_init(&prob, 4 * k, pl_contact_residual, pl_contact_jacobian, &p);
-            check_problem("contact system", &prob, rays, n_rays, &bo);
+            check_problem("contact system", &prob, rays, n_rays, &bo, d == 0);
         }
     }
     {
@@ -239,7 +251,7 @@ static void test_families(void)
             int n_rays = pl_random_ave(&p, 4, &st, rays);
             if (!n_rays) break;
             psb_problem_init(&prob, 4, pl_ave_residual, pl_ave_jacobian, &p);
-            check_problem("abs. value eqs", &prob, rays, n_rays, &bo);
+            check_problem("abs. value eqs", &prob, rays, n_rays, &bo, d == 0);
         }
     }
     printf("  %ld runs: factorisations %ld serial, %ld on workers; n_pc %ld, %ld\n", summary_runs,
@@ -248,6 +260,8 @@ static void test_families(void)
 
 /* How psb_explore runs in explore_once, and what its on_point saw. */
 typedef struct explore_setting {
+    const double *y, *t, *lo, *hi; /* the start couple and the box (NULL: the crossing kinks') */
+    int np1;
     int drafts;
     long draft_points, max_points;
     long stop_after;          /* on_point stops exploring at this call (0: never) */
@@ -265,7 +279,7 @@ static int explore_point(int edge, const psb_point *pt, void *user)
     b[1] = (const unsigned char *)pt->t;
     st->trail = (st->trail ^ (unsigned long long)(edge * 7919 + pt->index * 31 + pt->flags)) * 1099511628211ULL;
     for (k = 0; k < 2; k++)
-        for (i = 0; i < 4 * (int)sizeof(double); i++) st->trail = (st->trail ^ b[k][i]) * 1099511628211ULL;
+        for (i = 0; i < st->np1 * (int)sizeof(double); i++) st->trail = (st->trail ^ b[k][i]) * 1099511628211ULL;
     return ++st->calls == st->stop_after;
 }
 
@@ -274,20 +288,26 @@ static int explore_point(int edge, const psb_point *pt, void *user)
 static void explore_once(const psb_problem *prob, const psb_workers *wk, explore_setting *st, psb_diagram *d,
                          psb_stats *spent)
 {
-    static double points[4 * 4096];
+    static double points[(PL_MAX_N + 1) * 4096];
+    static const double y3[4] = {0.5, 0, 0.5, 0.5}, t3[4] = {-0.57735026918962576, 0, -0.57735026918962576,
+                                                             -0.57735026918962576};
+    static const double lo3[4] = {-2, -2, -2, -1}, hi3[4] = {2, 2, 2, 1};
     psb_solver s;
     psb_explore_options eo;
-    double y[4] = {0.5, 0, 0.5, 0.5}, t[4] = {-0.57735026918962576, 0, -0.57735026918962576, -0.57735026918962576};
-    double lo[4] = {-2, -2, -2, -1}, hi[4] = {2, 2, 2, 1};
+    double y[PL_MAX_N + 1], t[PL_MAX_N + 1];
+    int np1 = prob->n + 1;
     psb_stats before;
     psb_result r;
+    memcpy(y, st->y ? st->y : y3, sizeof(double) * (size_t)np1);
+    memcpy(t, st->t ? st->t : t3, sizeof(double) * (size_t)np1);
     CHECK(psb_solver_init(&s, prob, NULL) == PSB_SUCCESS);
-    CHECK(psb_diagram_init(d, 3, 64, 64, 64) == PSB_SUCCESS);
+    CHECK(psb_diagram_init(d, prob->n, 64, 64, 64) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
-    eo.box_min = lo;
-    eo.box_max = hi;
+    eo.box_min = st->lo ? st->lo : lo3;
+    eo.box_max = st->hi ? st->hi : hi3;
     eo.branch_at_kinks = 1;
     eo.branch.workers = wk;
+    st->np1 = np1;
     eo.drafts = st->drafts;
     eo.draft_points = st->draft_points;
     eo.max_points = st->max_points;
@@ -301,9 +321,9 @@ static void explore_once(const psb_problem *prob, const psb_workers *wk, explore
     if (r < 0) printf("  explore: %s: %s\n", psb_result_string(r), psb_solver_message(&s));
     CHECK(r >= 0);
     if (st->store) { /* the points move out of the shared array */
-        double *copy = (double *)malloc(sizeof(double) * 4 * (size_t)(d->n_stored_points + 1));
+        double *copy = (double *)malloc(sizeof(double) * (size_t)np1 * (size_t)(d->n_stored_points + 1));
         CHECK(copy != NULL);
-        if (copy) memcpy(copy, points, sizeof(double) * 4 * (size_t)d->n_stored_points);
+        if (copy) memcpy(copy, points, sizeof(double) * (size_t)np1 * (size_t)d->n_stored_points);
         d->points = copy;
     }
     *spent = spent_since(&before, &s.stats);
@@ -350,6 +370,51 @@ static int fail_run(void *ctx, int n_tasks, psb_task_fn task, void *arg)
 {
     (void)ctx, (void)n_tasks, (void)task, (void)arg;
     return 1;
+}
+
+/* psb_explore from ray 0 of a family's problem towards its nonsmooth point at 0, in the box
+   |y_i| <= 1: drafted on every worker variant, the diagram (stored points too) and on_point's
+   calls of the edges in turn; counters alike between variants. */
+static void explore_family(const char *name, const psb_problem *prob, const double *rays, team *t)
+{
+    double y[PL_MAX_N + 1], tt[PL_MAX_N + 1], lo[PL_MAX_N + 1], hi[PL_MAX_N + 1];
+    int np1 = prob->n + 1, i, v, bad = 0;
+    explore_setting in_turn, st;
+    psb_diagram turn, base, other;
+    psb_stats s_turn, s_base, s_other;
+    psb_workers wk;
+    double reach = 1;
+    pl_start_on_ray(np1, rays, 0, y, tt);
+    for (i = 0; i < np1; i++) reach = fmax(reach, 2 * fabs(y[i]));
+    for (i = 0; i < np1; i++) {
+        lo[i] = -reach;
+        hi[i] = reach;
+    }
+    memset(&in_turn, 0, sizeof in_turn);
+    in_turn.y = y;
+    in_turn.t = tt;
+    in_turn.lo = lo;
+    in_turn.hi = hi;
+    in_turn.drafts = -1;
+    in_turn.store = 1;
+    team_variant(t, 0, &wk);
+    explore_once(prob, &wk, &in_turn, &turn, &s_turn);
+    st = in_turn;
+    st.drafts = 0;
+    st.draft_points = FAMILY_DRAFT_POINTS; /* the random LCP's edges pass 800 points */
+    explore_once(prob, &wk, &st, &base, &s_base);
+    bad += !same_diagram(&turn, &base) || st.calls != in_turn.calls || st.trail != in_turn.trail;
+    for (v = 1; team_variant(t, v, &wk); v++) {
+        explore_once(prob, &wk, &st, &other, &s_other);
+        bad += !same_diagram(&base, &other) || memcmp(&s_base, &s_other, sizeof s_base) != 0;
+        diagram_done(&other);
+    }
+    printf("  %s, explore: %d nodes, %d edges, %d drafted, %d replayed%s\n", name, base.n_nodes, base.n_edges,
+           base.n_drafts, base.n_drafts_used, bad ? ": DIFFERS" : "");
+    CHECK(bad == 0);
+    CHECK(base.n_nodes >= 2 && base.n_drafts_used > 0);
+    diagram_done(&turn);
+    diagram_done(&base);
 }
 
 static void test_explore(void)
@@ -458,6 +523,9 @@ static void test_explore(void)
         CHECK(strstr(psb_solver_message(&s), "psb_explore_workers_memory_size") != NULL);
         eo.drafts = -2;
         CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "drafts"));
+        eo.drafts = PSB_MAX_WORKERS; /* 1024 drafts of 10^7 points: about 2 TB */
+        eo.draft_points = 10000000;
+        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_NOMEM);
         eo.drafts = 0;
         eo.draft_points = 10000001;
         CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "draft_points"));
