@@ -14,9 +14,10 @@
 #   4. peak resident memory of the cases of 1 on 1, 2, 4, 8 threads (GNU time).
 # Tables on stdout; CSV in bench/out/workers_wall.csv, workers_model.csv, workers_explore.csv,
 # workers_memory.csv;
-# the log-log plot of 2 in docs/img/workers_critical_path.png when gnuplot is there.
-# Usage: bench/bench_workers.sh [--large] [--plot] (--plot: only redraw the plot from
-# bench/out/workers_model.csv)
+# the log-log plots of 2 and 3 in docs/img/workers_critical_path.png and
+# explorer_critical_path.png when gnuplot is there.
+# Usage: bench/bench_workers.sh [--large] [--plot] (--plot: only redraw the plots from
+# bench/out/workers_model.csv and workers_explore.csv)
 set -u
 cd "$(dirname "$0")/.."
 large=0
@@ -43,6 +44,7 @@ f22() { printf '%s\n' "$1" | sed -n 's/.*Algorithm 2.2: \([0-9]*\) factorisation
 crit() { printf '%s\n' "$1" | sed -n 's/.*the longest path \([0-9]*\).*/\1/p' | head -n 1; }
 
 model_csv=bench/out/workers_model.csv
+explore_csv=bench/out/workers_explore.csv
 if [ "$plot_only" = 0 ]; then
 echo "bench_workers: Algorithm 2.2 on workers (nproc $(nproc), OPENBLAS_NUM_THREADS=1)"
 echo
@@ -132,7 +134,6 @@ done
 echo
 echo "  the explorer's critical path in factorisations (drafts and sweeps on W logical workers)"
 echo "  case            serial sweeps  phased total      W=1    W=2    W=4    W=8   W=16   W=32  caller's own"
-explore_csv=bench/out/workers_explore.csv
 echo "case,workers,critical_path,phased_total,serial_sweeps,calling_solver" >"$explore_csv"
 xf() { printf '%s\n' "$1" | sed -n 's/.*psb_explore: .*factorisations \([0-9]*\).*/\1/p' | head -n 1; }
 own() { printf '%s\n' "$1" | sed -n 's/.*(\([0-9]*\) of them on the calling solver).*/\1/p' | head -n 1; }
@@ -168,7 +169,11 @@ set xtics (1, 2, 4, 8, 16, 32)
 cases = "block-M200 block-M800 triangle-M256 triangle-M1024"
 plot for [i = 1:4] "< grep '^".word(cases, i).",' $model_csv" using 2:3 with linespoints lc i title word(cases, i), \
      for [i = 1:4] "< grep '^".word(cases, i).",' $model_csv" using 2:(\$5 / 8) with lines dashtype 2 lc i notitle
+set output "docs/img/explorer_critical_path.png"
+set title "The explorer on W workers: the longest worker's factorisations (dashed: the caller's)"
+plot for [i = 1:4] "< grep '^".word(cases, i).",' $explore_csv" using 2:3 with linespoints lc i title word(cases, i), \
+     for [i = 1:4] "< grep '^".word(cases, i).",' $explore_csv" using 2:6 with lines dashtype 2 lc i notitle
 GP
     echo
-    echo "  wrote docs/img/workers_critical_path.png"
+    echo "  wrote docs/img/workers_critical_path.png, explorer_critical_path.png"
 fi
