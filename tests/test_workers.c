@@ -372,8 +372,8 @@ static int fail_run(void *ctx, int n_tasks, psb_task_fn task, void *arg)
     return 1;
 }
 
-/* psb_explore from ray 0 of a family's problem towards its nonsmooth point at 0, in the box
-   |y_i| <= 1: drafted on every worker variant, the diagram (stored points too) and on_point's
+/* psb_explore from ray 0 of a family's problem towards its nonsmooth point at 0, in a box
+   about 0: drafted on every worker variant, the diagram (stored points too) and on_point's
    calls of the edges in turn; counters alike between variants. */
 static void explore_family(const char *name, const psb_problem *prob, const double *rays, team *t)
 {
@@ -383,7 +383,7 @@ static void explore_family(const char *name, const psb_problem *prob, const doub
     psb_diagram turn, base, other;
     psb_stats s_turn, s_base, s_other;
     psb_workers wk;
-    double reach = 1;
+    double reach = 1; /* the box: twice the start's reach, at least 1 */
     pl_start_on_ray(np1, rays, 0, y, tt);
     for (i = 0; i < np1; i++) reach = fmax(reach, 2 * fabs(y[i]));
     for (i = 0; i < np1; i++) {
@@ -509,9 +509,9 @@ static void test_explore(void)
         psb_diagram d;
         psb_result r;
         double y[4] = {0.5, 0, 0.5, 0.5}, tt[4] = {-0.57735026918962576, 0, -0.57735026918962576, -0.57735026918962576};
+        double lo[4] = {-2, -2, -2, -1}, hi[4] = {2, 2, 2, 1};
         CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
         CHECK(psb_diagram_init(&d, 3, 64, 64, 64) == PSB_SUCCESS);
-        double lo[4] = {-2, -2, -2, -1}, hi[4] = {2, 2, 2, 1};
         memset(&eo, 0, sizeof eo);
         eo.box_min = lo;
         eo.box_max = hi;
