@@ -8518,11 +8518,11 @@ static psb__draft *psb__draft_find(const psb__drafts *q, int from, int k)
     return NULL;
 }
 
-/* Frees a slot, its draft's spending added to the calling solver's counters. */
+/* Frees a slot, what its draft spent added to the calling solver's. */
 static void psb__draft_free(psb_solver *s, psb__draft *dr)
 {
     if (dr->from < 0) return;
-    psb__stats_add(&s->stats, &dr->stats, 1);
+    psb__worker_merge(s, &dr->stats, dr->faults, &dr->n_ok);
     dr->from = -1;
 }
 
