@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* psb_workers.h - two implementations of pscbranch's psb_workers.run (Algorithm 2.2's
-   directions and psb_explore's drafts on several workers): POSIX threads on one machine, and logical workers run one
-   after another that count each worker's factorisations (a model of the critical path).
+   directions and psb_explore's drafts on several workers): POSIX threads on one machine, and
+   logical workers run one after another that count each worker's factorisations (a model of
+   the critical path).
    Include after pscbranch.h; link with -pthread. Every function is static.
 
    USE (threads)

@@ -3,10 +3,10 @@
    program on the same data (the same problem, options and calls, so the same state, bit for
    bit: one machine, or machines whose BLAS and LAPACK round alike), each with its own solver as
    its one worker; a run makes each rank run its share of the tasks, a group (one direction of
-   Algorithm 2.2, one draft of psb_explore) on one rank, then every rank sends the results of its groups to the others
-   (MPI_Bcast), so that all ranks go on with the same results. Rank 0 reports; the others
-   compute alike. Include after pscbranch.h; build with mpicc (or `pkg-config --cflags --libs
-   mpi-c`). Every function is static.
+   Algorithm 2.2, one draft of psb_explore) on one rank, then every rank sends the results of
+   its groups to the others (MPI_Bcast), so that all ranks go on with the same results. Rank 0
+   reports; the others compute alike. Include after pscbranch.h; build with mpicc (or
+   `pkg-config --cflags --libs mpi-c`). Every function is static.
 
    USE
      psb_mpi_workers m;  psb_solver s, mine;  // on every rank, between MPI_Init and MPI_Finalize
