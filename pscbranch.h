@@ -8395,7 +8395,8 @@ PSCBRANCH_DEF size_t psb_explore_workers_memory_size(int n, int n_dir, const psb
     int drafts, n_events = eo ? eo->trace.n_events : 0;
     long points;
     psb__drafts_resolve(eo, &drafts, &points);
-    if (!sweep || drafts > PSB_MAX_WORKERS || points < 1 || points > PSB__MAX_DRAFT_POINTS || n_events < 0)
+    if (!sweep || (eo && eo->drafts < -1) || drafts > PSB_MAX_WORKERS || points < 1 || points > PSB__MAX_DRAFT_POINTS ||
+        n_events < 0)
         return 0;
     if (!drafts) return sweep;
     if ((double)drafts * ((points + 1.0) * (2.0 * n + 16) + PSB__NX * (n + 1.0) + 3.0 * n_events) * sizeof(double) >

@@ -710,6 +710,8 @@ static void test_bad_workers(void)
         CHECK(psb_explore_workers_memory_size(2, 20, &eo) == psb_workers_memory_size(2, 20));
         eo.drafts = PSB_MAX_WORKERS + 1;
         CHECK(psb_explore_workers_memory_size(2, 20, &eo) == 0);
+        eo.drafts = -2;
+        CHECK(psb_explore_workers_memory_size(2, 20, &eo) == 0);
         eo.drafts = 2;
         eo.draft_points = -1;
         CHECK(psb_explore_workers_memory_size(2, 20, &eo) == 0);
