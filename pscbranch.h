@@ -8339,7 +8339,6 @@ static int psb__explore_edge_start(psb__explorer *x, int from, int k, double *y,
 typedef struct psb__draft {
     int from, k;          /* the branch (from < 0: the slot is free) */
     int from_branches;    /* node from's n_branches when drafted */
-    int traced;           /* a trace ran (not where the couple lay beyond a bound) */
     int overflow;         /* more points than the slot keeps: the edge is traced in turn */
     psb_result r;         /* psb_trace's */
     long steps, kept;     /* its rep.steps; the entries kept */
@@ -8379,11 +8378,15 @@ static void psb__drafts_resolve(const psb_explore_options *eo, int *drafts, long
 }
 
 /* The bytes of a slot's output (its psb__draft, couple and entries; *entry each), and in
-   *stride the slot's, with the draft's scratch and event values. */
+   *stride the slot's, with the draft's scratch and event values; 0 where they would overflow. */
 static size_t psb__draft_layout(int n, long points, int n_events, size_t *stride, size_t *entry)
 {
-    size_t np1 = (size_t)n + 1, e = psb__align(sizeof(psb__draft_point)) + 2 * np1 * sizeof(double);
-    size_t out = psb__align(sizeof(psb__draft)) + 2 * np1 * sizeof(double) + (size_t)points * e;
+    size_t np1 = (size_t)n + 1, e, out;
+    if (((points + 1.0) * ((double)sizeof(psb__draft_point) + 2.0 * (n + 1.0) * sizeof(double)) + sizeof(psb__draft) +
+         (PSB__NX * (n + 1.0) + 3.0 * n_events) * sizeof(double) + 64) > (double)((size_t)-1 / 4))
+        return 0;
+    e = psb__align(sizeof(psb__draft_point)) + 2 * np1 * sizeof(double);
+    out = psb__align(sizeof(psb__draft)) + 2 * np1 * sizeof(double) + (size_t)points * e;
     if (entry) *entry = e;
     if (stride) *stride = psb__align(out + ((size_t)PSB__NX * np1 + 3 * (size_t)n_events) * sizeof(double));
     return out;
@@ -8399,10 +8402,8 @@ PSCBRANCH_DEF size_t psb_explore_workers_memory_size(int n, int n_dir, const psb
         n_events < 0)
         return 0;
     if (!drafts) return sweep;
-    if ((double)drafts * ((points + 1.0) * (2.0 * n + 16) + PSB__NX * (n + 1.0) + 3.0 * n_events) * sizeof(double) >
-        (double)((size_t)-1 / 4))
+    if (!psb__draft_layout(n, points, n_events, &stride, NULL) || (double)drafts * stride > (double)((size_t)-1 / 4))
         return 0;
-    psb__draft_layout(n, points, n_events, &stride, NULL);
     return psb__align(sweep) + (size_t)drafts * stride; /* drafts outlive a sweep */
 }
 
@@ -8487,8 +8488,8 @@ static void psb__draft_task(void *arg, int task, int w)
     x.drafts = q;
     psb__copy(PSB__XVEC(&x, PSB__X_V), PSB__XVEC(q->x, PSB__X_V), np1); /* the index's direction */
     psb__worker_begin(ws, &dr->stats, dr->faults, &dr->n_ok);
-    dr->traced = !psb__explore_edge_start(&x, dr->from, dr->k, y, t, &to, &length);
-    if (dr->traced) {
+    /* a couple beyond a bound is no trace: its edge ends on the bound (psb__explore_edge_trace) */
+    if (!psb__explore_edge_start(&x, dr->from, dr->k, y, t, &to, &length)) {
         x.stop = PSB__XS_NONE;
         x.points = 0;
         x.length = 0;
@@ -8651,7 +8652,7 @@ static psb_result psb__explore_edge_trace(psb__explorer *x, int from, int k, psb
         return psb__explore_end_on_bound(x, e, ND(from)->y, y);
     x->edge = e;
     steps_left = to.max_steps;
-    if (dr && (!dr->traced || dr->overflow || dr->from_branches != ND(from)->n_branches)) dr = NULL;
+    if (dr && (dr->overflow || dr->from_branches != ND(from)->n_branches)) dr = NULL;
     if (dr) d->n_drafts_used++;
     for (;;) {
         x->stop = PSB__XS_NONE;
