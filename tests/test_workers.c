@@ -283,28 +283,30 @@ static int explore_point(int edge, const psb_point *pt, void *user)
     return ++st->calls == st->stop_after;
 }
 
+/* The crossing kinks' (k = 3) start couple and box for psb_explore. */
+static const double xk_y[4] = {0.5, 0, 0.5, 0.5}, xk_t[4] = {-0.57735026918962576, 0, -0.57735026918962576,
+                                                            -0.57735026918962576};
+static const double xk_lo[4] = {-2, -2, -2, -1}, xk_hi[4] = {2, 2, 2, 1};
+
 /* psb_explore on the crossing kinks (Algorithm 2.2 at every pc1 node): the same diagram,
    node for node, for every worker count. */
 static void explore_once(const psb_problem *prob, const psb_workers *wk, explore_setting *st, psb_diagram *d,
                          psb_stats *spent)
 {
     static double points[(PL_MAX_N + 1) * 4096];
-    static const double y3[4] = {0.5, 0, 0.5, 0.5}, t3[4] = {-0.57735026918962576, 0, -0.57735026918962576,
-                                                             -0.57735026918962576};
-    static const double lo3[4] = {-2, -2, -2, -1}, hi3[4] = {2, 2, 2, 1};
     psb_solver s;
     psb_explore_options eo;
     double y[PL_MAX_N + 1], t[PL_MAX_N + 1];
     int np1 = prob->n + 1;
     psb_stats before;
     psb_result r;
-    memcpy(y, st->y ? st->y : y3, sizeof(double) * (size_t)np1);
-    memcpy(t, st->t ? st->t : t3, sizeof(double) * (size_t)np1);
+    memcpy(y, st->y ? st->y : xk_y, sizeof(double) * (size_t)np1);
+    memcpy(t, st->t ? st->t : xk_t, sizeof(double) * (size_t)np1);
     CHECK(psb_solver_init(&s, prob, NULL) == PSB_SUCCESS);
     CHECK(psb_diagram_init(d, prob->n, 64, 64, 64) == PSB_SUCCESS);
     memset(&eo, 0, sizeof eo);
-    eo.box_min = st->lo ? st->lo : lo3;
-    eo.box_max = st->hi ? st->hi : hi3;
+    eo.box_min = st->lo ? st->lo : xk_lo;
+    eo.box_max = st->hi ? st->hi : xk_hi;
     eo.branch_at_kinks = 1;
     eo.branch.workers = wk;
     st->np1 = np1;
@@ -508,35 +510,33 @@ static void test_explore(void)
         psb_explore_options eo;
         psb_diagram d;
         psb_result r;
-        double y[4] = {0.5, 0, 0.5, 0.5}, tt[4] = {-0.57735026918962576, 0, -0.57735026918962576, -0.57735026918962576};
-        double lo[4] = {-2, -2, -2, -1}, hi[4] = {2, 2, 2, 1};
         CHECK(psb_solver_init(&s, &prob, NULL) == PSB_SUCCESS);
         CHECK(psb_diagram_init(&d, 3, 64, 64, 64) == PSB_SUCCESS);
         memset(&eo, 0, sizeof eo);
-        eo.box_min = lo;
-        eo.box_max = hi;
+        eo.box_min = xk_lo;
+        eo.box_max = xk_hi;
         eo.branch_at_kinks = 1;
         eo.branch.workers = &wk;
         wk = team_workers(&t, 2, 1);
         wk.bytes = psb_explore_workers_memory_size(3, 20, NULL) - 1;
-        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_NOMEM);
+        CHECK(psb_explore(&s, xk_y, xk_t, &eo, &d) == PSB_ERR_NOMEM);
         CHECK(strstr(psb_solver_message(&s), "psb_explore_workers_memory_size") != NULL);
         eo.drafts = -2;
-        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "drafts"));
+        CHECK(psb_explore(&s, xk_y, xk_t, &eo, &d) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "drafts"));
         eo.drafts = PSB_MAX_WORKERS; /* 1024 drafts of 10^7 points: about 2 TB */
         eo.draft_points = 10000000;
-        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_NOMEM);
+        CHECK(psb_explore(&s, xk_y, xk_t, &eo, &d) == PSB_ERR_NOMEM);
         eo.drafts = 0;
         eo.draft_points = 10000001;
-        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "draft_points"));
+        CHECK(psb_explore(&s, xk_y, xk_t, &eo, &d) == PSB_ERR_OPTIONS && strstr(psb_solver_message(&s), "draft_points"));
         eo.draft_points = 0;
         wk = team_workers(&t, 2, 1);
         wk.run = fail_run;
-        CHECK(psb_explore(&s, y, tt, &eo, &d) == PSB_ERR_CALLBACK && strstr(psb_solver_message(&s), "run"));
+        CHECK(psb_explore(&s, xk_y, xk_t, &eo, &d) == PSB_ERR_CALLBACK && strstr(psb_solver_message(&s), "run"));
         eo.drafts = -1; /* no drafts: the sweep's memory is enough */
         wk = team_workers(&t, 2, 1);
         wk.bytes = psb_workers_memory_size(3, 20);
-        r = psb_explore(&s, y, tt, &eo, &d);
+        r = psb_explore(&s, xk_y, xk_t, &eo, &d);
         if (r != PSB_SUCCESS) printf("  explore: %s: %s\n", psb_result_string(r), psb_solver_message(&s));
         CHECK(r == PSB_SUCCESS && same_diagram(&first, &d));
         psb_diagram_free(&d);
